@@ -1,0 +1,121 @@
+"""DH table values: a row per joint, the whole table with its base and tool, all in SI units.
+
+Conventions (``convention`` of a table):
+
+- ``"standard"`` (Denavit-Hartenberg, Spong): ``T_{i-1,i} = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``;
+- ``"modified"`` (Craig): ``T_{i-1,i} = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``, the
+  row ``i`` holding ``alpha_{i-1}`` and ``a_{i-1}``.
+
+For a revolute joint the DH angle is ``q + theta`` (``theta`` is the offset); for a prismatic one
+the DH length is ``q + d`` (``d`` is the offset) and ``theta`` is fixed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from .transforms import rot_x, rot_z, translation
+
+Convention = Literal["standard", "modified"]
+JointType = Literal["revolute", "prismatic"]
+
+
+@dataclass(frozen=True)
+class DHRow:
+    """One row of a DH table, in meters and radians.
+
+    Attributes:
+        index: 1-based row number in the table.
+        name: Joint name used in the URDF.
+        joint_type: ``"revolute"`` or ``"prismatic"``.
+        a: Link length [m] (``a_i`` standard, ``a_{i-1}`` modified).
+        alpha: Link twist [rad] (``alpha_i`` standard, ``alpha_{i-1}`` modified).
+        d: Link offset [m]; for a prismatic joint, the offset added to ``q``.
+        theta: Joint angle offset [rad] added to ``q`` (revolute) or fixed angle (prismatic).
+        lower: Lower limit of the joint variable ``q`` [rad] or [m].
+        upper: Upper limit of the joint variable ``q`` [rad] or [m].
+        velocity: Velocity limit [rad/s] or [m/s].
+        effort: Effort limit [N m] or [N].
+    """
+
+    index: int
+    name: str
+    joint_type: JointType
+    a: float
+    alpha: float
+    d: float
+    theta: float
+    lower: float
+    upper: float
+    velocity: float
+    effort: float
+
+
+def _readonly(matrix: np.ndarray) -> np.ndarray:
+    out = np.array(matrix, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class DHTable:
+    """A serial arm described by DH rows, with optional fixed base and tool transforms.
+
+    Attributes:
+        name: Robot name (file stem of the table).
+        description: One line saying what the arm is.
+        source: Where the numbers come from (paper, table, datasheet).
+        convention: ``"standard"`` or ``"modified"``.
+        rows: The joint rows, base to tip.
+        T_world_base: Fixed transform from the URDF root to DH frame 0 (4x4, [m]).
+        T_last_tool: Fixed transform from the last DH frame to the tool frame (4x4, [m]).
+        path: File the table was read from, if any.
+    """
+
+    name: str
+    description: str
+    source: str
+    convention: Convention
+    rows: tuple[DHRow, ...]
+    T_world_base: np.ndarray = field(default_factory=lambda: _readonly(np.eye(4)))
+    T_last_tool: np.ndarray = field(default_factory=lambda: _readonly(np.eye(4)))
+    path: str | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "T_world_base", _readonly(self.T_world_base))
+        object.__setattr__(self, "T_last_tool", _readonly(self.T_last_tool))
+
+    @property
+    def dof(self) -> int:
+        """Number of joints."""
+        return len(self.rows)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """Joint names, base to tip."""
+        return tuple(row.name for row in self.rows)
+
+    @property
+    def lower(self) -> np.ndarray:
+        """Lower joint limits [rad] or [m]."""
+        return np.array([row.lower for row in self.rows])
+
+    @property
+    def upper(self) -> np.ndarray:
+        """Upper joint limits [rad] or [m]."""
+        return np.array([row.upper for row in self.rows])
+
+
+def dh_link_transform(
+    convention: Convention, a: float, alpha: float, d: float, theta: float
+) -> np.ndarray:
+    """Transform of one DH row with its full angle ``theta`` [rad] and length ``d`` [m].
+
+    Used for the DH-style ``[base]`` and ``[tool]`` rows of a table file.
+    """
+    if convention == "standard":
+        return rot_z(theta) @ translation(z=d) @ translation(x=a) @ rot_x(alpha)
+    return rot_x(alpha) @ translation(x=a) @ rot_z(theta) @ translation(z=d)

@@ -1,0 +1,49 @@
+"""Exceptions of the ``dh2urdf`` package: one base class, specific subclasses carrying data."""
+
+from __future__ import annotations
+
+
+class Dh2UrdfError(Exception):
+    """Base class of every error raised by ``dh2urdf``."""
+
+
+class TableError(Dh2UrdfError, ValueError):
+    """A DH table file is malformed.
+
+    Attributes:
+        path: File the table was read from (or ``"<string>"``).
+        row: 1-based index of the ``[[joints]]`` row, or None for a top-level field.
+        field: Name of the offending field, or None.
+    """
+
+    def __init__(self, path: str, message: str, row: int | None = None, field: str | None = None):
+        self.path = path
+        self.row = row
+        self.field = field
+        where = path
+        if row is not None:
+            where += f", joint row {row}"
+        if field is not None:
+            where += f", field '{field}'"
+        super().__init__(f"{where}: {message}")
+
+
+class UnknownRobotError(Dh2UrdfError, KeyError):
+    """A robot name is not in the registry.
+
+    Attributes:
+        name: The unknown name.
+        known: Sorted tuple of the known robot names.
+    """
+
+    def __init__(self, name: str, known: tuple[str, ...]):
+        self.name = name
+        self.known = known
+        super().__init__(name)
+
+    def __str__(self) -> str:
+        return f"unknown robot '{self.name}'; known robots: {', '.join(self.known)}"
+
+
+class UrdfBuildError(Dh2UrdfError):
+    """The URDF built from a table did not pass yourdfpy's validation."""

@@ -1,0 +1,244 @@
+"""Read a DH table file (TOML) into a :class:`DHTable`, with errors that name file, row and field.
+
+Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
+
+    name = "myarm"                 # optional, defaults to the file stem
+    description = "..."
+    source = "paper X, Table 1"
+    convention = "standard"        # or "modified" (Craig)
+    length_unit = "mm"             # m | cm | mm
+    angle_unit = "deg"             # deg | rad
+
+    [[joints]]                     # one per joint, base to tip
+    name = "shoulder"              # optional
+    type = "revolute"              # revolute | prismatic
+    a = 0.0
+    alpha = 90.0
+    d = 105.0
+    theta = 0.0                    # offset added to q (revolute)
+    limits = [-90.0, 90.0]         # of the joint variable q
+    velocity = 90.0                # optional, angle_unit/s or length_unit/s
+    effort = 10.0                  # optional, N m or N
+
+    [base]                         # optional: xyz + rpy, or a DH-style row a, alpha, d, theta
+    xyz = [0.0, 0.0, 0.0]
+    rpy = [0.0, 0.0, 0.0]
+
+    [tool]                         # optional, same forms as [base]
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .dh_table import DHRow, DHTable, dh_link_transform
+from .exceptions import TableError
+from .transforms import xyz_rpy
+from .units import ANGLE_UNITS, LENGTH_UNITS
+
+_TOP_KEYS = {
+    "name",
+    "description",
+    "source",
+    "notes",
+    "convention",
+    "length_unit",
+    "angle_unit",
+    "joints",
+    "base",
+    "tool",
+}
+_ROW_KEYS = {"name", "type", "a", "alpha", "d", "theta", "limits", "velocity", "effort"}
+_REQUIRED_ROW_KEYS = ("type", "a", "alpha", "d", "theta", "limits")
+_CONVENTIONS = ("modified", "standard")
+_JOINT_TYPES = ("prismatic", "revolute")
+
+#: Defaults when a row gives no velocity / effort limit (SI: rad/s or m/s, N m or N).
+DEFAULT_VELOCITY = {"revolute": math.pi, "prismatic": 0.5}
+DEFAULT_EFFORT = {"revolute": 100.0, "prismatic": 100.0}
+
+
+def _number(path: str, value: Any, row: int | None, key: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise TableError(path, f"expected a number, got {value!r}", row, key)
+    if not math.isfinite(value):
+        raise TableError(path, f"expected a finite number, got {value!r}", row, key)
+    return float(value)
+
+
+def _string(path: str, data: dict[str, Any], key: str, choices: tuple[str, ...] | None = None) -> str:
+    if key not in data:
+        hint = f" (one of: {', '.join(choices)})" if choices else ""
+        raise TableError(path, f"missing required field{hint}", None, key)
+    value = data[key]
+    if not isinstance(value, str):
+        raise TableError(path, f"expected a string, got {value!r}", None, key)
+    if choices is not None and value not in choices:
+        raise TableError(path, f"unknown value {value!r}; choose one of: {', '.join(choices)}", None, key)
+    return value
+
+
+def _check_keys(path: str, data: dict[str, Any], allowed: set[str], row: int | None, what: str) -> None:
+    unknown = sorted(set(data) - allowed)
+    if unknown:
+        raise TableError(
+            path,
+            f"unknown field in {what}; allowed fields: {', '.join(sorted(allowed))}",
+            row,
+            unknown[0],
+        )
+
+
+def _fixed_transform(
+    path: str, data: Any, key: str, convention: str, meters: float, radians: float
+) -> np.ndarray:
+    if not isinstance(data, dict):
+        raise TableError(path, "expected a table ([base] / [tool])", None, key)
+    dh_keys = {"a", "alpha", "d", "theta"}
+    if set(data) <= {"xyz", "rpy"}:
+        xyz = data.get("xyz", [0.0, 0.0, 0.0])
+        rpy = data.get("rpy", [0.0, 0.0, 0.0])
+        values = []
+        for sub, vec, scale in (("xyz", xyz, meters), ("rpy", rpy, radians)):
+            if not isinstance(vec, list) or len(vec) != 3:
+                raise TableError(path, f"expected a list of 3 numbers, got {vec!r}", None, f"{key}.{sub}")
+            values.append(tuple(_number(path, v, None, f"{key}.{sub}") * scale for v in vec))
+        return xyz_rpy(values[0], values[1])
+    if set(data) <= dh_keys:
+        p = {k: _number(path, data.get(k, 0.0), None, f"{key}.{k}") for k in dh_keys}
+        return dh_link_transform(
+            convention,  # type: ignore[arg-type]
+            p["a"] * meters,
+            p["alpha"] * radians,
+            p["d"] * meters,
+            p["theta"] * radians,
+        )
+    raise TableError(
+        path,
+        "give either xyz/rpy or a DH-style row a/alpha/d/theta, not "
+        + ", ".join(sorted(data)),
+        None,
+        key,
+    )
+
+
+def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHRow:
+    if not isinstance(data, dict):
+        raise TableError(path, "expected a table of fields", index, None)
+    _check_keys(path, data, _ROW_KEYS, index, "a joint row")
+    for key in _REQUIRED_ROW_KEYS:
+        if key not in data:
+            raise TableError(path, "missing required field", index, key)
+    joint_type = data["type"]
+    if joint_type not in _JOINT_TYPES:
+        raise TableError(
+            path, f"unknown joint type {joint_type!r}; choose one of: {', '.join(_JOINT_TYPES)}", index, "type"
+        )
+    name = data.get("name", f"joint{index}")
+    if not isinstance(name, str) or not name:
+        raise TableError(path, f"expected a non-empty string, got {name!r}", index, "name")
+    limits = data["limits"]
+    if not isinstance(limits, list) or len(limits) != 2:
+        raise TableError(path, f"expected [lower, upper], got {limits!r}", index, "limits")
+    q_scale = radians if joint_type == "revolute" else meters
+    lower = _number(path, limits[0], index, "limits") * q_scale
+    upper = _number(path, limits[1], index, "limits") * q_scale
+    if lower > upper:
+        raise TableError(path, f"lower limit {limits[0]} is above upper limit {limits[1]}", index, "limits")
+    velocity = DEFAULT_VELOCITY[joint_type]
+    if "velocity" in data:
+        velocity = _number(path, data["velocity"], index, "velocity") * q_scale
+        if velocity <= 0:
+            raise TableError(path, f"expected a positive velocity, got {data['velocity']}", index, "velocity")
+    effort = DEFAULT_EFFORT[joint_type]
+    if "effort" in data:
+        effort = _number(path, data["effort"], index, "effort")
+        if effort <= 0:
+            raise TableError(path, f"expected a positive effort, got {data['effort']}", index, "effort")
+    return DHRow(
+        index=index,
+        name=name,
+        joint_type=joint_type,
+        a=_number(path, data["a"], index, "a") * meters,
+        alpha=_number(path, data["alpha"], index, "alpha") * radians,
+        d=_number(path, data["d"], index, "d") * meters,
+        theta=_number(path, data["theta"], index, "theta") * radians,
+        lower=lower,
+        upper=upper,
+        velocity=velocity,
+        effort=effort,
+    )
+
+
+def parse_table(data: dict[str, Any], path: str = "<string>", default_name: str = "robot") -> DHTable:
+    """Build a :class:`DHTable` from parsed TOML data.
+
+    Args:
+        data: The parsed TOML document.
+        path: Where it came from, for error messages.
+        default_name: Robot name when the document has no ``name``.
+
+    Raises:
+        TableError: The document is malformed; the message names the file, row and field.
+    """
+    _check_keys(path, data, _TOP_KEYS, None, "the table")
+    convention = _string(path, data, "convention", _CONVENTIONS)
+    length_unit = _string(path, data, "length_unit", tuple(sorted(LENGTH_UNITS)))
+    angle_unit = _string(path, data, "angle_unit", tuple(sorted(ANGLE_UNITS)))
+    meters, radians = LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit]
+    texts = {}
+    for key in ("name", "description", "source"):
+        value = data.get(key, default_name if key == "name" else "")
+        if not isinstance(value, str):
+            raise TableError(path, f"expected a string, got {value!r}", None, key)
+        texts[key] = value
+    joints = data.get("joints")
+    if not isinstance(joints, list) or not joints:
+        raise TableError(path, "expected at least one [[joints]] row", None, "joints")
+    rows = tuple(_row(path, i, row, meters, radians) for i, row in enumerate(joints, start=1))
+    names = [row.name for row in rows]
+    for row in rows:
+        if names.count(row.name) > 1:
+            raise TableError(path, f"joint name {row.name!r} is used twice", row.index, "name")
+    base = np.eye(4)
+    tool = np.eye(4)
+    if "base" in data:
+        base = _fixed_transform(path, data["base"], "base", convention, meters, radians)
+    if "tool" in data:
+        tool = _fixed_transform(path, data["tool"], "tool", convention, meters, radians)
+    return DHTable(
+        name=texts["name"],
+        description=texts["description"],
+        source=texts["source"],
+        convention=convention,  # type: ignore[arg-type]
+        rows=rows,
+        T_world_base=base,
+        T_last_tool=tool,
+        path=path,
+    )
+
+
+def load_table(path: str | Path) -> DHTable:
+    """Read a DH table file.
+
+    Args:
+        path: A ``.toml`` table file.
+
+    Raises:
+        TableError: The file is missing, not TOML, or malformed.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as err:
+        raise TableError(str(path), f"cannot read the file ({err.strerror})") from err
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise TableError(str(path), f"not valid TOML: {err}") from err
+    return parse_table(data, str(path), default_name=path.stem)

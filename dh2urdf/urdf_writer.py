@@ -1,0 +1,181 @@
+"""Convert a :class:`DHTable` into a URDF (yourdfpy model), validated, in meters and radians.
+
+Frames and links of the generated URDF:
+
+- ``base_link``: the URDF root; a fixed joint ``base_joint`` places ``frame0`` (DH frame 0) on it
+  with the table's ``[base]`` transform.
+- ``frame{i}``: DH frame ``i`` (i = 0..n). Modified (Craig) tables: joint ``i`` goes from
+  ``frame{i-1}`` to ``frame{i}`` with origin ``Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``.
+  Standard tables: joint ``i`` goes from ``frame{i-1}`` to the moving link ``link{i}`` with origin
+  ``Rz(theta_i) Tz(d_i)``, and a fixed joint ``frame{i}_joint`` with origin
+  ``Tx(a_i) Rx(alpha_i)`` places ``frame{i}`` on it. Every joint moves about (or along) its z axis.
+- ``tool``: fixed on ``frame{n}`` with the table's ``[tool]`` transform.
+
+Each link gets simple visuals (a cylinder along each joint axis, thin cylinders along the link
+offsets) and an inertial, so that viewers show the arm and every loader accepts the file.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import yourdfpy
+from lxml import etree
+
+from .dh_table import DHTable
+from .exceptions import UrdfBuildError
+from .transforms import clean, rot_x, rot_z, translation
+
+#: Radius of the cylinder drawn along each joint axis [m].
+JOINT_RADIUS = 0.02
+#: Length of the cylinder drawn along each joint axis [m].
+JOINT_LENGTH = 0.06
+#: Radius of the segments drawn along link offsets [m].
+SEGMENT_RADIUS = 0.01
+#: Mass given to each link [kg]; the URDF is for kinematics, not dynamics.
+LINK_MASS = 0.1
+
+_JOINT_MATERIAL = yourdfpy.Material(name="joint", color=yourdfpy.Color(np.array([0.9, 0.5, 0.1, 1.0])))
+_LINK_MATERIAL = yourdfpy.Material(name="link", color=yourdfpy.Color(np.array([0.6, 0.6, 0.65, 1.0])))
+_TOOL_MATERIAL = yourdfpy.Material(name="tool", color=yourdfpy.Color(np.array([0.2, 0.6, 0.9, 1.0])))
+
+
+def _segment(start: np.ndarray, end: np.ndarray, name: str) -> list[yourdfpy.Visual]:
+    """A thin cylinder from ``start`` to ``end`` (link frame, [m]); none if they coincide."""
+    vector = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
+    length = float(np.linalg.norm(vector))
+    if length < 1e-9:
+        return []
+    z = vector / length
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    origin = np.eye(4)
+    origin[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+    origin[:3, 3] = (np.asarray(start) + np.asarray(end)) / 2.0
+    geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=SEGMENT_RADIUS, length=length))
+    return [yourdfpy.Visual(name=name, origin=clean(origin), geometry=geometry, material=_LINK_MATERIAL)]
+
+
+def _joint_visual(name: str, prismatic: bool = False) -> yourdfpy.Visual:
+    """A cylinder (revolute) or box (prismatic) along the z axis of the joint frame."""
+    if prismatic:
+        geometry = yourdfpy.Geometry(box=yourdfpy.Box(size=np.array([0.03, 0.03, JOINT_LENGTH])))
+    else:
+        geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=JOINT_RADIUS, length=JOINT_LENGTH))
+    return yourdfpy.Visual(name=name, origin=np.eye(4), geometry=geometry, material=_JOINT_MATERIAL)
+
+
+def _inertial() -> yourdfpy.Inertial:
+    """Inertial of a small solid sphere of radius JOINT_RADIUS and mass LINK_MASS."""
+    moment = 0.4 * LINK_MASS * JOINT_RADIUS**2
+    return yourdfpy.Inertial(origin=np.eye(4), mass=LINK_MASS, inertia=np.eye(3) * moment)
+
+
+def _link(name: str, visuals: list[yourdfpy.Visual]) -> yourdfpy.Link:
+    return yourdfpy.Link(name=name, inertial=_inertial(), visuals=visuals)
+
+
+def _fixed(name: str, parent: str, child: str, origin: np.ndarray) -> yourdfpy.Joint:
+    return yourdfpy.Joint(name=name, type="fixed", parent=parent, child=child, origin=clean(origin))
+
+
+def build_urdf(table: DHTable) -> yourdfpy.URDF:
+    """Build and validate the URDF model of a DH table.
+
+    Args:
+        table: The DH table (SI units).
+
+    Returns:
+        The yourdfpy model, without scene graph or meshes.
+
+    Raises:
+        UrdfBuildError: yourdfpy's validation rejects the model.
+    """
+    links: dict[str, yourdfpy.Link] = {}
+    visuals: dict[str, list[yourdfpy.Visual]] = {"base_link": [], "frame0": []}
+    joints: list[yourdfpy.Joint] = [_fixed("base_joint", "base_link", "frame0", table.T_world_base)]
+    order = ["base_link", "frame0"]
+    base_origin = table.T_world_base[:3, 3]
+    visuals["base_link"] += _segment(np.zeros(3), base_origin, "base_offset")
+    for i, row in enumerate(table.rows, start=1):
+        parent = f"frame{i - 1}"
+        prismatic = row.joint_type == "prismatic"
+        axis_visual = _joint_visual(f"{row.name}_axis", prismatic)
+        if table.convention == "modified":
+            pre = rot_x(row.alpha) @ translation(x=row.a)
+            origin = pre @ rot_z(row.theta) @ translation(z=row.d)
+            visuals[parent] += _segment(np.zeros(3), pre[:3, 3], f"a{i - 1}")
+            child = f"frame{i}"
+            visuals[child] = [axis_visual, *_segment(np.array([0, 0, -row.d]), np.zeros(3), f"d{i}")]
+            order.append(child)
+        else:
+            origin = rot_z(row.theta) @ translation(z=row.d)
+            visuals[parent] += _segment(np.zeros(3), np.array([0, 0, row.d]), f"d{i}")
+            child = f"link{i}"
+            visuals[child] = [axis_visual, *_segment(np.zeros(3), np.array([row.a, 0, 0]), f"a{i}")]
+            visuals[f"frame{i}"] = []
+            order += [child, f"frame{i}"]
+        joints.append(
+            yourdfpy.Joint(
+                name=row.name,
+                type=row.joint_type,
+                parent=parent,
+                child=child,
+                origin=clean(origin),
+                axis=np.array([0.0, 0.0, 1.0]),
+                limit=yourdfpy.Limit(
+                    effort=row.effort, velocity=row.velocity, lower=row.lower, upper=row.upper
+                ),
+            )
+        )
+        if table.convention == "standard":
+            joints.append(
+                _fixed(f"frame{i}_joint", child, f"frame{i}", translation(x=row.a) @ rot_x(row.alpha))
+            )
+    last = f"frame{table.dof}"
+    visuals[last] += _segment(np.zeros(3), table.T_last_tool[:3, 3], "tool_offset")
+    tool_marker = yourdfpy.Visual(
+        name="tool_marker",
+        origin=np.eye(4),
+        geometry=yourdfpy.Geometry(sphere=yourdfpy.Sphere(radius=0.015)),
+        material=_TOOL_MATERIAL,
+    )
+    visuals["tool"] = [tool_marker]
+    order.append("tool")
+    joints.append(_fixed("tool_joint", last, "tool", table.T_last_tool))
+    for name in order:
+        links[name] = _link(name, visuals[name])
+    robot = yourdfpy.Robot(
+        name=table.name,
+        links=list(links.values()),
+        joints=joints,
+        materials=[_JOINT_MATERIAL, _LINK_MATERIAL, _TOOL_MATERIAL],
+    )
+    model = yourdfpy.URDF(robot=robot, build_scene_graph=False, load_meshes=False)
+    if not model.validate():
+        raise UrdfBuildError(f"{table.path or table.name}: the generated URDF is invalid: {model.errors}")
+    return model
+
+
+def urdf_string(table: DHTable) -> str:
+    """URDF text of a table, with a header comment naming its source."""
+    model = build_urdf(table)
+    body = etree.tostring(model.write_xml(), pretty_print=True, encoding="unicode")
+    header = (
+        f"<!-- Generated by dh2urdf from the DH table '{table.name}' ({table.convention} convention).\n"
+        f"     Source: {table.source}\n"
+        "     Units: meters, radians. Do not edit: regenerate with scripts/generate_urdfs.py. -->\n"
+    )
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + header + body
+
+
+def write_urdf(table: DHTable, path: str | Path) -> Path:
+    """Write the URDF of a table to ``path`` atomically (nothing half-written on error)."""
+    text = urdf_string(table)
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+    return path

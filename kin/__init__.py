@@ -1,0 +1,20 @@
+"""Forward kinematics and frame Jacobians of DH robots, through Pinocchio (meters, radians)."""
+
+from .configuration import Configuration, as_joint_vector, limit_violations
+from .exceptions import FrameError, JointVectorError, KinError, ModelLoadError, NotWithinLimitsError
+from .robot_model import RobotModel, load_robot
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Configuration",
+    "FrameError",
+    "JointVectorError",
+    "KinError",
+    "ModelLoadError",
+    "NotWithinLimitsError",
+    "RobotModel",
+    "as_joint_vector",
+    "limit_violations",
+    "load_robot",
+]

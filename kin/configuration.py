@@ -1,0 +1,165 @@
+"""A robot configuration: Pinocchio model and data with a joint vector, and frame getters.
+
+Frames: ``world`` is the URDF root (``base_link``). Poses are ``T_world_frame`` (the frame's pose
+expressed in the world frame, meters). Jacobians map joint velocities [rad/s] or [m/s] to the
+frame's spatial velocity ``(v [m/s], omega [rad/s])``, expressed in the frame itself (``LOCAL``) or
+in axes aligned with the world at the frame's origin (``LOCAL_WORLD_ALIGNED``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+import numpy as np
+import numpy.typing as npt
+import pinocchio as pin
+
+from .exceptions import FrameError, JointVectorError, NotWithinLimitsError
+from .robot_model import RobotModel
+
+Reference = Literal["local", "local_world_aligned", "world"]
+
+_REFERENCES = {
+    "local": pin.ReferenceFrame.LOCAL,
+    "local_world_aligned": pin.ReferenceFrame.LOCAL_WORLD_ALIGNED,
+    "world": pin.ReferenceFrame.WORLD,
+}
+
+
+def as_joint_vector(robot: RobotModel, q: npt.ArrayLike) -> np.ndarray:
+    """Validate and convert a joint vector (size and finiteness).
+
+    Raises:
+        JointVectorError: Wrong number of values, non-numeric or non-finite values.
+    """
+    try:
+        array = np.array(q, dtype=float).reshape(-1)
+    except (TypeError, ValueError) as err:
+        raise JointVectorError(
+            f"joint values must be numbers, got {q!r}", robot.nq, -1
+        ) from err
+    if array.size != robot.nq:
+        raise JointVectorError(
+            f"'{robot.name}' has {robot.nq} joints ({', '.join(robot.joint_names)}), "
+            f"got {array.size} joint values",
+            robot.nq,
+            array.size,
+        )
+    if not np.isfinite(array).all():
+        raise JointVectorError(f"joint values must be finite, got {array.tolist()}", robot.nq, array.size)
+    return array
+
+
+def limit_violations(robot: RobotModel, q: np.ndarray, tol: float = 0.0) -> list[NotWithinLimitsError]:
+    """The joints of ``q`` outside their limits (widened by ``tol`` [rad] or [m]), as errors."""
+    lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
+    return [
+        NotWithinLimitsError(robot.joint_names[i], float(q[i]), float(lower[i]), float(upper[i]))
+        for i in range(robot.nq)
+        if q[i] < lower[i] - tol or q[i] > upper[i] + tol
+    ]
+
+
+class Configuration:
+    """Model, data and joint vector of a robot, with frame poses and Jacobians.
+
+    Args:
+        robot: The loaded robot.
+        q: Initial joint vector [rad] or [m]; zeros if None.
+        check_limits: Raise :class:`NotWithinLimitsError` when ``q`` is outside the limits.
+    """
+
+    def __init__(self, robot: RobotModel, q: npt.ArrayLike | None = None, check_limits: bool = False):
+        self.robot = robot
+        self.model = robot.model
+        self.data = robot.model.createData()
+        self._frame_ids: dict[str, int] = {}
+        self._nq = robot.nq
+        self._q = np.zeros(self._nq)
+        self.update(self._q if q is None else q, check_limits=check_limits)
+
+    @property
+    def q(self) -> np.ndarray:
+        """Current joint vector [rad] or [m] (a read-only view)."""
+        view = self._q.view()
+        view.setflags(write=False)
+        return view
+
+    def frame_id(self, frame: str) -> int:
+        """Pinocchio index of a frame.
+
+        Raises:
+            FrameError: No frame of that name; the message lists the frames.
+        """
+        try:
+            return self._frame_ids[frame]
+        except KeyError:
+            pass
+        if not self.model.existFrame(frame):
+            raise FrameError(frame, self.robot.frame_names)
+        self._frame_ids[frame] = fid = self.model.getFrameId(frame)
+        return fid
+
+    def update(self, q: npt.ArrayLike, check_limits: bool = False) -> None:
+        """Set the joint vector and compute the placements of all joints and frames.
+
+        Args:
+            q: Joint vector [rad] or [m].
+            check_limits: Raise :class:`NotWithinLimitsError` when ``q`` is outside the limits.
+
+        Raises:
+            JointVectorError: Wrong size or non-finite values.
+        """
+        q = as_joint_vector(self.robot, q)
+        if check_limits:
+            violations = limit_violations(self.robot, q)
+            if violations:
+                raise violations[0]
+        self._q = q
+        pin.framesForwardKinematics(self.model, self.data, q)
+
+    def fk(self, q: np.ndarray, frame: str = "tool") -> pin.SE3:
+        """Fast path: pose ``T_world_frame`` of one frame at ``q``, without changing ``self.q``.
+
+        ``q`` must be a float64 NumPy array of the model's size (size and finiteness are still
+        checked); the result is a copy.
+
+        Raises:
+            JointVectorError: Wrong size or non-finite values.
+            FrameError: Unknown frame.
+        """
+        fid = self._frame_ids.get(frame)
+        if fid is None:
+            fid = self.frame_id(frame)
+        if q.shape != (self._nq,) or not math.isfinite(q @ q):
+            as_joint_vector(self.robot, q)  # raises the detailed error
+        pin.forwardKinematics(self.model, self.data, q)
+        return pin.updateFramePlacement(self.model, self.data, fid).copy()
+
+    def transform_frame_to_world(self, frame: str = "tool") -> pin.SE3:
+        """Pose ``T_world_frame`` of ``frame`` at the current ``q`` (a copy), meters."""
+        return self.data.oMf[self.frame_id(frame)].copy()
+
+    def frame_jacobian(self, frame: str = "tool", reference: Reference = "local_world_aligned") -> np.ndarray:
+        """Frame Jacobian (6 x nq) at the current ``q``.
+
+        Args:
+            frame: Frame name.
+            reference: ``"local"`` (axes of the frame) or ``"local_world_aligned"`` (world axes at
+                the frame origin); ``"world"`` is Pinocchio's spatial Jacobian at the world origin.
+
+        Returns:
+            Rows ``(v [m/s], omega [rad/s])`` per unit joint velocity.
+        """
+        try:
+            ref = _REFERENCES[reference]
+        except KeyError:
+            raise ValueError(
+                f"unknown reference {reference!r}; choose one of: {', '.join(sorted(_REFERENCES))}"
+            ) from None
+        return pin.computeFrameJacobian(self.model, self.data, self._q, self.frame_id(frame), ref)
+
+    def within_limits(self, tol: float = 0.0) -> bool:
+        """Whether the current ``q`` is inside the joint limits (widened by ``tol``)."""
+        return not limit_violations(self.robot, self._q, tol)

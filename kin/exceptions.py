@@ -1,0 +1,62 @@
+"""Exceptions of the ``kin`` package: one base class, specific subclasses carrying data."""
+
+from __future__ import annotations
+
+
+class KinError(Exception):
+    """Base class of every error raised by ``kin``."""
+
+
+class ModelLoadError(KinError):
+    """A robot model could not be loaded (missing or broken URDF, bad table)."""
+
+
+class JointVectorError(KinError, ValueError):
+    """A joint vector has the wrong size or non-finite values.
+
+    Attributes:
+        expected: Number of joint values the model needs.
+        got: Number of values given.
+    """
+
+    def __init__(self, message: str, expected: int, got: int):
+        self.expected = expected
+        self.got = got
+        super().__init__(message)
+
+
+class FrameError(KinError, KeyError):
+    """A frame name does not exist in the model.
+
+    Attributes:
+        frame: The unknown name.
+        available: Names of the model's frames.
+    """
+
+    def __init__(self, frame: str, available: tuple[str, ...]):
+        self.frame = frame
+        self.available = available
+        super().__init__(frame)
+
+    def __str__(self) -> str:
+        return f"frame '{self.frame}' does not exist; available frames: {', '.join(self.available)}"
+
+
+class NotWithinLimitsError(KinError, ValueError):
+    """A joint value is outside its limits.
+
+    Attributes:
+        joint: Joint name.
+        value: Joint value [rad] or [m].
+        lower: Lower limit [rad] or [m].
+        upper: Upper limit [rad] or [m].
+    """
+
+    def __init__(self, joint: str, value: float, lower: float, upper: float):
+        self.joint = joint
+        self.value = value
+        self.lower = lower
+        self.upper = upper
+        super().__init__(
+            f"joint '{joint}' value {value:.6g} is outside its limits [{lower:.6g}, {upper:.6g}]"
+        )

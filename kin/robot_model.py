@@ -1,0 +1,101 @@
+"""Load a robot (registry name or DH table path) into a Pinocchio model built from its URDF."""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from dh2urdf import DHTable, get_robot, load_table, urdf_string
+
+from .exceptions import ModelLoadError
+
+
+@dataclass(frozen=True, eq=False)
+class RobotModel:
+    """A robot ready for kinematics.
+
+    Attributes:
+        name: Robot name.
+        table: Its DH table (SI units).
+        model: Pinocchio model built from the generated URDF.
+        urdf: URDF text the model was built from.
+        tool_frame: Name of the tool frame.
+    """
+
+    name: str
+    table: DHTable
+    model: pin.Model
+    urdf: str
+    tool_frame: str = "tool"
+
+    @property
+    def nq(self) -> int:
+        """Number of joint values."""
+        return int(self.model.nq)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """Names of the actuated joints, base to tip."""
+        return tuple(self.model.names[1:])
+
+    @property
+    def lower(self) -> np.ndarray:
+        """Lower joint limits [rad] or [m]."""
+        return self.model.lowerPositionLimit.copy()
+
+    @property
+    def upper(self) -> np.ndarray:
+        """Upper joint limits [rad] or [m]."""
+        return self.model.upperPositionLimit.copy()
+
+    @property
+    def frame_names(self) -> tuple[str, ...]:
+        """Names of all frames of the model."""
+        return tuple(frame.name for frame in self.model.frames)
+
+
+@functools.lru_cache(maxsize=32)
+def _load_by_name(name: str) -> RobotModel:
+    description = get_robot(name)
+    table = description.load_table()
+    path = description.urdf_path
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as err:
+        raise ModelLoadError(
+            f"{path}: cannot read the URDF of '{name}' ({err.strerror}); "
+            "run: python scripts/generate_urdfs.py"
+        ) from err
+    return _build(name, table, text, str(path))
+
+
+def _build(name: str, table: DHTable, text: str, where: str) -> RobotModel:
+    try:
+        model = pin.buildModelFromXML(text)
+    except (RuntimeError, ValueError) as err:
+        raise ModelLoadError(f"{where}: Pinocchio cannot load the URDF: {err}") from err
+    model.name = name
+    return RobotModel(name=name, table=table, model=model, urdf=text)
+
+
+def load_robot(robot: str | Path) -> RobotModel:
+    """Load a shipped robot by name, or any DH table file by path.
+
+    Args:
+        robot: Registry name (e.g. ``"ur5"``) or path to a ``.toml`` DH table.
+
+    Raises:
+        dh2urdf.UnknownRobotError: Not a known name (the message lists them) nor a path.
+        dh2urdf.TableError: The table file is malformed.
+        ModelLoadError: The URDF cannot be read or loaded.
+    """
+    text = str(robot)
+    if isinstance(robot, Path) or text.endswith(".toml") or "/" in text:
+        table = load_table(robot)
+        urdf = urdf_string(table)
+        return _build(table.name, table, urdf, text)
+    return _load_by_name(text)
