@@ -1,0 +1,96 @@
+"""Values returned by every IK solver: one solution, and the result of one solve."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+
+Status = Literal[
+    "ok",
+    "out_of_reach",
+    "outside_limits",
+    "singular",
+    "invalid_target",
+    "not_converged",
+]
+
+
+@dataclass(frozen=True, eq=False)
+class IKSolution:
+    """One joint vector that the solver returns, verified by Pinocchio's FK.
+
+    Attributes:
+        q: Joint vector [rad] (or [m] for prismatic joints).
+        branch: Branch label, e.g. ``"shoulder front, elbow up"``; ``""`` for numeric solvers.
+        within_limits: Whether ``q`` is inside the joint limits.
+        position_error: ``|p_fk(q) - p_target|`` [m], measured with Pinocchio.
+        rotation_error: Angle of ``R_fk(q)^T R_target`` [rad] (0 for position-only targets).
+    """
+
+    q: np.ndarray
+    branch: str
+    within_limits: bool
+    position_error: float
+    rotation_error: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict (``q`` in radians / meters, errors in m and rad)."""
+        return {
+            "q": [float(v) for v in self.q],
+            "branch": self.branch,
+            "within_limits": bool(self.within_limits),
+            "position_error": float(self.position_error),
+            "rotation_error": float(self.rotation_error),
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class IKResult:
+    """Outcome of one IK solve.
+
+    Attributes:
+        success: At least one solution is on target and within limits.
+        solver: Solver name (e.g. ``"closed_form:pickplace3"``, ``"mink"``, ``"nr"``).
+        status: ``"ok"`` or why there is no valid solution.
+        message: One sentence for a person (e.g. how far out of reach the target is).
+        solutions: Valid solutions (on target, within limits), closest to the seed first.
+        rejected: Solutions on target but outside the limits (or the best off-target attempt of a
+            numeric solver).
+        distance_to_workspace: For ``"out_of_reach"``, how far the target is from the reachable
+            set [m]; else None.
+        iterations: Iterations used (numeric solvers), 0 for closed form.
+        time: Wall time of the solve [s].
+    """
+
+    success: bool
+    solver: str
+    status: Status
+    message: str
+    solutions: tuple[IKSolution, ...] = field(default_factory=tuple)
+    rejected: tuple[IKSolution, ...] = field(default_factory=tuple)
+    distance_to_workspace: float | None = None
+    iterations: int = 0
+    time: float = 0.0
+
+    @property
+    def best(self) -> IKSolution | None:
+        """The first valid solution, else the first rejected one, else None."""
+        if self.solutions:
+            return self.solutions[0]
+        return self.rejected[0] if self.rejected else None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict of the result (see ``scripts/solve_ik.py --json``)."""
+        return {
+            "success": bool(self.success),
+            "solver": self.solver,
+            "status": self.status,
+            "message": self.message,
+            "solutions": [s.to_dict() for s in self.solutions],
+            "rejected": [s.to_dict() for s in self.rejected],
+            "distance_to_workspace": self.distance_to_workspace,
+            "iterations": int(self.iterations),
+            "time": float(self.time),
+        }
