@@ -1,10 +1,15 @@
-"""From a Denavit-Hartenberg table to a validated URDF (meters, radians)."""
+"""From a Denavit-Hartenberg table to a validated URDF (meters, radians).
+
+The URDF writer (``build_urdf``, ``urdf_string``, ``write_urdf``) imports yourdfpy, which is slow
+to import; it is loaded on first use so that reading tables and ``import kin`` stay fast.
+"""
+
+from typing import Any
 
 from .dh_table import DHRow, DHTable, dh_link_transform
 from .exceptions import Dh2UrdfError, TableError, UnknownRobotError, UrdfBuildError
 from .robots import ROBOTS, RobotDescription, get_robot, robot_names
 from .table_file import load_table, parse_table
-from .urdf_writer import build_urdf, urdf_string, write_urdf
 
 __version__ = "0.1.0"
 
@@ -26,3 +31,14 @@ __all__ = [
     "urdf_string",
     "write_urdf",
 ]
+
+
+_LAZY = {"build_urdf", "urdf_string", "write_urdf"}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        from . import urdf_writer
+
+        return getattr(urdf_writer, name)
+    raise AttributeError(f"module 'dh2urdf' has no attribute {name!r}")

@@ -54,8 +54,9 @@ def as_joint_vector(robot: RobotModel, q: npt.ArrayLike) -> np.ndarray:
 def limit_violations(robot: RobotModel, q: np.ndarray, tol: float = 0.0) -> list[NotWithinLimitsError]:
     """The joints of ``q`` outside their limits (widened by ``tol`` [rad] or [m]), as errors."""
     lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
+    units = ["rad" if row.joint_type == "revolute" else "m" for row in robot.table.rows]
     return [
-        NotWithinLimitsError(robot.joint_names[i], float(q[i]), float(lower[i]), float(upper[i]))
+        NotWithinLimitsError(robot.joint_names[i], float(q[i]), float(lower[i]), float(upper[i]), units[i])
         for i in range(robot.nq)
         if q[i] < lower[i] - tol or q[i] > upper[i] + tol
     ]

@@ -50,13 +50,16 @@ class NotWithinLimitsError(KinError, ValueError):
         value: Joint value [rad] or [m].
         lower: Lower limit [rad] or [m].
         upper: Upper limit [rad] or [m].
+        unit: ``"rad"`` or ``"m"``.
     """
 
-    def __init__(self, joint: str, value: float, lower: float, upper: float):
+    def __init__(self, joint: str, value: float, lower: float, upper: float, unit: str = "rad"):
         self.joint = joint
         self.value = value
         self.lower = lower
         self.upper = upper
+        self.unit = unit
         super().__init__(
-            f"joint '{joint}' value {value:.6g} is outside its limits [{lower:.6g}, {upper:.6g}]"
+            f"joint '{joint}' value {value:.6g} {unit} is outside its limits "
+            f"[{lower:.6g}, {upper:.6g}] {unit}"
         )

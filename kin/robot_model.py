@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from dh2urdf import DHTable, get_robot, load_table, urdf_string
+from dh2urdf import DHTable, get_robot, load_table
 
 from .exceptions import ModelLoadError
 
@@ -95,6 +95,8 @@ def load_robot(robot: str | Path) -> RobotModel:
     """
     text = str(robot)
     if isinstance(robot, Path) or text.endswith(".toml") or "/" in text:
+        from dh2urdf.urdf_writer import urdf_string  # imports yourdfpy: only for table files
+
         table = load_table(robot)
         urdf = urdf_string(table)
         return _build(table.name, table, urdf, text)
