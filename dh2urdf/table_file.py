@@ -201,10 +201,13 @@ def parse_table(data: dict[str, Any], path: str = "<string>", default_name: str 
     if not isinstance(joints, list) or not joints:
         raise TableError(path, "expected at least one [[joints]] row", None, "joints")
     rows = tuple(_row(path, i, row, meters, radians) for i, row in enumerate(joints, start=1))
-    names = [row.name for row in rows]
+    seen: dict[str, int] = {}
     for row in rows:
-        if names.count(row.name) > 1:
-            raise TableError(path, f"joint name {row.name!r} is used twice", row.index, "name")
+        if row.name in seen:
+            raise TableError(
+                path, f"joint name {row.name!r} is already used by row {seen[row.name]}", row.index, "name"
+            )
+        seen[row.name] = row.index
     base = np.eye(4)
     tool = np.eye(4)
     if "base" in data:

@@ -18,6 +18,8 @@ import pinocchio as pin
 from .exceptions import FrameError, JointVectorError, NotWithinLimitsError
 from .robot_model import RobotModel
 
+_FLOAT64 = np.dtype(np.float64)
+
 Reference = Literal["local", "local_world_aligned", "world"]
 
 _REFERENCES = {
@@ -34,11 +36,17 @@ def as_joint_vector(robot: RobotModel, q: npt.ArrayLike) -> np.ndarray:
         JointVectorError: Wrong number of values, non-numeric or non-finite values.
     """
     try:
-        array = np.array(q, dtype=float).reshape(-1)
+        array = np.array(q, dtype=float)
     except (TypeError, ValueError) as err:
         raise JointVectorError(
             f"joint values must be numbers, got {q!r}", robot.nq, -1
         ) from err
+    if array.ndim != 1:
+        raise JointVectorError(
+            f"joint values must be a flat vector of {robot.nq} numbers, got shape {array.shape}",
+            robot.nq,
+            array.size,
+        )
     if array.size != robot.nq:
         raise JointVectorError(
             f"'{robot.name}' has {robot.nq} joints ({', '.join(robot.joint_names)}), "
@@ -75,8 +83,10 @@ class Configuration:
         self.robot = robot
         self.model = robot.model
         self.data = robot.model.createData()
+        self._fk_data = robot.model.createData()  # scratch of fk(): self.data stays at self.q
         self._frame_ids: dict[str, int] = {}
         self._nq = robot.nq
+        self._shape = (robot.nq,)
         self._q = np.zeros(self._nq)
         self.update(self._q if q is None else q, check_limits=check_limits)
 
@@ -123,8 +133,8 @@ class Configuration:
     def fk(self, q: np.ndarray, frame: str = "tool") -> pin.SE3:
         """Fast path: pose ``T_world_frame`` of one frame at ``q``, without changing ``self.q``.
 
-        ``q`` must be a float64 NumPy array of the model's size (size and finiteness are still
-        checked); the result is a copy.
+        Fastest with a float64 NumPy array of the model's size; anything else goes through
+        :func:`as_joint_vector` (size and finiteness are always checked). The result is a copy.
 
         Raises:
             JointVectorError: Wrong size or non-finite values.
@@ -133,10 +143,12 @@ class Configuration:
         fid = self._frame_ids.get(frame)
         if fid is None:
             fid = self.frame_id(frame)
-        if q.shape != (self._nq,) or not math.isfinite(q @ q):
+        if q.__class__ is not np.ndarray or q.dtype is not _FLOAT64 or q.shape != self._shape:
+            q = as_joint_vector(self.robot, q)
+        elif not math.isfinite(q.dot(q)):
             as_joint_vector(self.robot, q)  # raises the detailed error
-        pin.forwardKinematics(self.model, self.data, q)
-        return pin.updateFramePlacement(self.model, self.data, fid).copy()
+        pin.forwardKinematics(self.model, self._fk_data, q)
+        return pin.updateFramePlacement(self.model, self._fk_data, fid).copy()
 
     def transform_frame_to_world(self, frame: str = "tool") -> pin.SE3:
         """Pose ``T_world_frame`` of ``frame`` at the current ``q`` (a copy), meters."""
