@@ -71,7 +71,9 @@ def _number(path: str, value: Any, row: int | None, key: str) -> float:
     return float(value)
 
 
-def _string(path: str, data: dict[str, Any], key: str, choices: tuple[str, ...] | None = None) -> str:
+def _string(
+    path: str, data: dict[str, Any], key: str, choices: tuple[str, ...] | None = None
+) -> str:
     if key not in data:
         hint = f" (one of: {', '.join(choices)})" if choices else ""
         raise TableError(path, f"missing required field{hint}", None, key)
@@ -79,11 +81,15 @@ def _string(path: str, data: dict[str, Any], key: str, choices: tuple[str, ...] 
     if not isinstance(value, str):
         raise TableError(path, f"expected a string, got {value!r}", None, key)
     if choices is not None and value not in choices:
-        raise TableError(path, f"unknown value {value!r}; choose one of: {', '.join(choices)}", None, key)
+        raise TableError(
+            path, f"unknown value {value!r}; choose one of: {', '.join(choices)}", None, key
+        )
     return value
 
 
-def _check_keys(path: str, data: dict[str, Any], allowed: set[str], row: int | None, what: str) -> None:
+def _check_keys(
+    path: str, data: dict[str, Any], allowed: set[str], row: int | None, what: str
+) -> None:
     unknown = sorted(set(data) - allowed)
     if unknown:
         raise TableError(
@@ -106,7 +112,9 @@ def _fixed_transform(
         values = []
         for sub, vec, scale in (("xyz", xyz, meters), ("rpy", rpy, radians)):
             if not isinstance(vec, list) or len(vec) != 3:
-                raise TableError(path, f"expected a list of 3 numbers, got {vec!r}", None, f"{key}.{sub}")
+                raise TableError(
+                    path, f"expected a list of 3 numbers, got {vec!r}", None, f"{key}.{sub}"
+                )
             values.append(tuple(_number(path, v, None, f"{key}.{sub}") * scale for v in vec))
         return xyz_rpy(values[0], values[1])
     if set(data) <= dh_keys:
@@ -120,8 +128,7 @@ def _fixed_transform(
         )
     raise TableError(
         path,
-        "give either xyz/rpy or a DH-style row a/alpha/d/theta, not "
-        + ", ".join(sorted(data)),
+        "give either xyz/rpy or a DH-style row a/alpha/d/theta, not " + ", ".join(sorted(data)),
         None,
         key,
     )
@@ -137,7 +144,10 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     joint_type = data["type"]
     if joint_type not in _JOINT_TYPES:
         raise TableError(
-            path, f"unknown joint type {joint_type!r}; choose one of: {', '.join(_JOINT_TYPES)}", index, "type"
+            path,
+            f"unknown joint type {joint_type!r}; choose one of: {', '.join(_JOINT_TYPES)}",
+            index,
+            "type",
         )
     name = data.get("name", f"joint{index}")
     if not isinstance(name, str) or not name:
@@ -149,17 +159,23 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     lower = _number(path, limits[0], index, "limits") * q_scale
     upper = _number(path, limits[1], index, "limits") * q_scale
     if lower > upper:
-        raise TableError(path, f"lower limit {limits[0]} is above upper limit {limits[1]}", index, "limits")
+        raise TableError(
+            path, f"lower limit {limits[0]} is above upper limit {limits[1]}", index, "limits"
+        )
     velocity = DEFAULT_VELOCITY[joint_type]
     if "velocity" in data:
         velocity = _number(path, data["velocity"], index, "velocity") * q_scale
         if velocity <= 0:
-            raise TableError(path, f"expected a positive velocity, got {data['velocity']}", index, "velocity")
+            raise TableError(
+                path, f"expected a positive velocity, got {data['velocity']}", index, "velocity"
+            )
     effort = DEFAULT_EFFORT[joint_type]
     if "effort" in data:
         effort = _number(path, data["effort"], index, "effort")
         if effort <= 0:
-            raise TableError(path, f"expected a positive effort, got {data['effort']}", index, "effort")
+            raise TableError(
+                path, f"expected a positive effort, got {data['effort']}", index, "effort"
+            )
     return DHRow(
         index=index,
         name=name,
@@ -175,7 +191,9 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     )
 
 
-def parse_table(data: dict[str, Any], path: str = "<string>", default_name: str = "robot") -> DHTable:
+def parse_table(
+    data: dict[str, Any], path: str = "<string>", default_name: str = "robot"
+) -> DHTable:
     """Build a :class:`DHTable` from parsed TOML data.
 
     Args:
@@ -205,7 +223,10 @@ def parse_table(data: dict[str, Any], path: str = "<string>", default_name: str 
     for row in rows:
         if row.name in seen:
             raise TableError(
-                path, f"joint name {row.name!r} is already used by row {seen[row.name]}", row.index, "name"
+                path,
+                f"joint name {row.name!r} is already used by row {seen[row.name]}",
+                row.index,
+                "name",
             )
         seen[row.name] = row.index
     base = np.eye(4)

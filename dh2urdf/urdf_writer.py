@@ -36,9 +36,15 @@ SEGMENT_RADIUS = 0.01
 #: Mass given to each link [kg]; the URDF is for kinematics, not dynamics.
 LINK_MASS = 0.1
 
-_JOINT_MATERIAL = yourdfpy.Material(name="joint", color=yourdfpy.Color(np.array([0.9, 0.5, 0.1, 1.0])))
-_LINK_MATERIAL = yourdfpy.Material(name="link", color=yourdfpy.Color(np.array([0.6, 0.6, 0.65, 1.0])))
-_TOOL_MATERIAL = yourdfpy.Material(name="tool", color=yourdfpy.Color(np.array([0.2, 0.6, 0.9, 1.0])))
+_JOINT_MATERIAL = yourdfpy.Material(
+    name="joint", color=yourdfpy.Color(np.array([0.9, 0.5, 0.1, 1.0]))
+)
+_LINK_MATERIAL = yourdfpy.Material(
+    name="link", color=yourdfpy.Color(np.array([0.6, 0.6, 0.65, 1.0]))
+)
+_TOOL_MATERIAL = yourdfpy.Material(
+    name="tool", color=yourdfpy.Color(np.array([0.2, 0.6, 0.9, 1.0]))
+)
 
 
 def _segment(start: np.ndarray, end: np.ndarray, name: str) -> list[yourdfpy.Visual]:
@@ -55,7 +61,9 @@ def _segment(start: np.ndarray, end: np.ndarray, name: str) -> list[yourdfpy.Vis
     origin[:3, :3] = np.column_stack([x, np.cross(z, x), z])
     origin[:3, 3] = (np.asarray(start) + np.asarray(end)) / 2.0
     geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=SEGMENT_RADIUS, length=length))
-    return [yourdfpy.Visual(name=name, origin=clean(origin), geometry=geometry, material=_LINK_MATERIAL)]
+    return [
+        yourdfpy.Visual(name=name, origin=clean(origin), geometry=geometry, material=_LINK_MATERIAL)
+    ]
 
 
 def _joint_visual(name: str, prismatic: bool = False) -> yourdfpy.Visual:
@@ -63,7 +71,9 @@ def _joint_visual(name: str, prismatic: bool = False) -> yourdfpy.Visual:
     if prismatic:
         geometry = yourdfpy.Geometry(box=yourdfpy.Box(size=np.array([0.03, 0.03, JOINT_LENGTH])))
     else:
-        geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=JOINT_RADIUS, length=JOINT_LENGTH))
+        geometry = yourdfpy.Geometry(
+            cylinder=yourdfpy.Cylinder(radius=JOINT_RADIUS, length=JOINT_LENGTH)
+        )
     return yourdfpy.Visual(name=name, origin=np.eye(4), geometry=geometry, material=_JOINT_MATERIAL)
 
 
@@ -108,7 +118,10 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
             origin = pre @ rot_z(row.theta) @ translation(z=row.d)
             visuals[parent] += _segment(np.zeros(3), pre[:3, 3], f"a{i - 1}")
             child = f"frame{i}"
-            visuals[child] = [axis_visual, *_segment(np.array([0, 0, -row.d]), np.zeros(3), f"d{i}")]
+            visuals[child] = [
+                axis_visual,
+                *_segment(np.array([0, 0, -row.d]), np.zeros(3), f"d{i}"),
+            ]
             order.append(child)
         else:
             origin = rot_z(row.theta) @ translation(z=row.d)
@@ -132,7 +145,9 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
         )
         if table.convention == "standard":
             joints.append(
-                _fixed(f"frame{i}_joint", child, f"frame{i}", translation(x=row.a) @ rot_x(row.alpha))
+                _fixed(
+                    f"frame{i}_joint", child, f"frame{i}", translation(x=row.a) @ rot_x(row.alpha)
+                )
             )
     last = f"frame{table.dof}"
     visuals[last] += _segment(np.zeros(3), table.T_last_tool[:3, 3], "tool_offset")
@@ -155,7 +170,9 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
     )
     model = yourdfpy.URDF(robot=robot, build_scene_graph=False, load_meshes=False)
     if not model.validate():
-        raise UrdfBuildError(f"{table.path or table.name}: the generated URDF is invalid: {model.errors}")
+        raise UrdfBuildError(
+            f"{table.path or table.name}: the generated URDF is invalid: {model.errors}"
+        )
     return model
 
 

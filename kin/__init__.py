@@ -2,7 +2,7 @@
 
 from .configuration import Configuration, as_joint_vector, limit_violations
 from .exceptions import FrameError, JointVectorError, KinError, ModelLoadError, NotWithinLimitsError
-from .robot_model import RobotModel, load_robot
+from .robot_model import RobotModel, load_robot, robot_from_table
 
 __version__ = "0.1.0"
 
@@ -17,4 +17,5 @@ __all__ = [
     "as_joint_vector",
     "limit_violations",
     "load_robot",
+    "robot_from_table",
 ]

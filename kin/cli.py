@@ -57,7 +57,9 @@ def report_error(prog: str, err: BaseException) -> int:
     return EXIT_BAD_INPUT
 
 
-def run_guarded(prog: str, body: Callable[[], int], extra: tuple[type[BaseException], ...] = ()) -> int:
+def run_guarded(
+    prog: str, body: Callable[[], int], extra: tuple[type[BaseException], ...] = ()
+) -> int:
     """Run ``body`` and turn the project's exceptions (and ``extra``) into a one-line exit 2."""
     try:
         return body()

@@ -38,9 +38,7 @@ def as_joint_vector(robot: RobotModel, q: npt.ArrayLike) -> np.ndarray:
     try:
         array = np.array(q, dtype=float)
     except (TypeError, ValueError) as err:
-        raise JointVectorError(
-            f"joint values must be numbers, got {q!r}", robot.nq, -1
-        ) from err
+        raise JointVectorError(f"joint values must be numbers, got {q!r}", robot.nq, -1) from err
     if array.ndim != 1:
         raise JointVectorError(
             f"joint values must be a flat vector of {robot.nq} numbers, got shape {array.shape}",
@@ -55,16 +53,22 @@ def as_joint_vector(robot: RobotModel, q: npt.ArrayLike) -> np.ndarray:
             array.size,
         )
     if not np.isfinite(array).all():
-        raise JointVectorError(f"joint values must be finite, got {array.tolist()}", robot.nq, array.size)
+        raise JointVectorError(
+            f"joint values must be finite, got {array.tolist()}", robot.nq, array.size
+        )
     return array
 
 
-def limit_violations(robot: RobotModel, q: np.ndarray, tol: float = 0.0) -> list[NotWithinLimitsError]:
+def limit_violations(
+    robot: RobotModel, q: np.ndarray, tol: float = 0.0
+) -> list[NotWithinLimitsError]:
     """The joints of ``q`` outside their limits (widened by ``tol`` [rad] or [m]), as errors."""
     lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
     units = ["rad" if row.joint_type == "revolute" else "m" for row in robot.table.rows]
     return [
-        NotWithinLimitsError(robot.joint_names[i], float(q[i]), float(lower[i]), float(upper[i]), units[i])
+        NotWithinLimitsError(
+            robot.joint_names[i], float(q[i]), float(lower[i]), float(upper[i]), units[i]
+        )
         for i in range(robot.nq)
         if q[i] < lower[i] - tol or q[i] > upper[i] + tol
     ]
@@ -79,7 +83,9 @@ class Configuration:
         check_limits: Raise :class:`NotWithinLimitsError` when ``q`` is outside the limits.
     """
 
-    def __init__(self, robot: RobotModel, q: npt.ArrayLike | None = None, check_limits: bool = False):
+    def __init__(
+        self, robot: RobotModel, q: npt.ArrayLike | None = None, check_limits: bool = False
+    ):
         self.robot = robot
         self.model = robot.model
         self.data = robot.model.createData()
@@ -154,7 +160,9 @@ class Configuration:
         """Pose ``T_world_frame`` of ``frame`` at the current ``q`` (a copy), meters."""
         return self.data.oMf[self.frame_id(frame)].copy()
 
-    def frame_jacobian(self, frame: str = "tool", reference: Reference = "local_world_aligned") -> np.ndarray:
+    def frame_jacobian(
+        self, frame: str = "tool", reference: Reference = "local_world_aligned"
+    ) -> np.ndarray:
         """Frame Jacobian (6 x nq) at the current ``q``.
 
         Args:

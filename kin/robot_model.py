@@ -82,6 +82,18 @@ def _build(name: str, table: DHTable, text: str, where: str) -> RobotModel:
     return RobotModel(name=name, table=table, model=model, urdf=text)
 
 
+def robot_from_table(table: DHTable) -> RobotModel:
+    """Robot of an in-memory DH table (e.g. a variant of a shipped one), through its URDF.
+
+    Raises:
+        dh2urdf.UrdfBuildError: The URDF does not validate.
+        ModelLoadError: Pinocchio cannot load it.
+    """
+    from dh2urdf.urdf_writer import urdf_string  # imports yourdfpy: only for tables built here
+
+    return _build(table.name, table, urdf_string(table), table.path or table.name)
+
+
 def load_robot(robot: str | Path) -> RobotModel:
     """Load a shipped robot by name, or any DH table file by path.
 
@@ -95,9 +107,5 @@ def load_robot(robot: str | Path) -> RobotModel:
     """
     text = str(robot)
     if isinstance(robot, Path) or text.endswith(".toml") or "/" in text:
-        from dh2urdf.urdf_writer import urdf_string  # imports yourdfpy: only for table files
-
-        table = load_table(robot)
-        urdf = urdf_string(table)
-        return _build(table.name, table, urdf, text)
+        return robot_from_table(load_table(robot))
     return _load_by_name(text)

@@ -67,16 +67,28 @@ def render(sections: Iterable[Section]) -> str:
     counts: dict[str, int] = {}
     for section in sections:
         lines += [f"## {section.title}", "", section.intro, ""]
-        lines += ["| row | paper | ours | difference | verdict | reason |", "|---|---|---|---|---|---|"]
+        lines += [
+            "| row | paper | ours | difference | verdict | reason |",
+            "|---|---|---|---|---|---|",
+        ]
         for row in section.rows:
             counts[row.verdict] = counts.get(row.verdict, 0) + 1
-            cells = (row.label, row.paper, row.ours, row.difference, f"**{row.verdict}**", row.reason)
+            cells = (
+                row.label,
+                row.paper,
+                row.ours,
+                row.difference,
+                f"**{row.verdict}**",
+                row.reason,
+            )
             lines.append("| " + " | ".join(_cell(c) for c in cells) + " |")
         lines.append("")
         for note in section.notes:
             lines.append(f"- {note}")
         if section.notes:
             lines.append("")
-    summary = ", ".join(f"{counts.get(v, 0)} {v}" for v in ("reproduced", "flagged", "not reproduced"))
+    summary = ", ".join(
+        f"{counts.get(v, 0)} {v}" for v in ("reproduced", "flagged", "not reproduced")
+    )
     lines += ["## Summary", "", f"{sum(counts.values())} rows: {summary}.", ""]
     return "\n".join(lines)

@@ -27,8 +27,12 @@ SCRIPTS = Path(__file__).resolve().parent
 def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="bench_fk.py", description=__doc__)
-    parser.add_argument("--number", type=int, default=20000, help="calls per timing (default 20000)")
-    parser.add_argument("--repeat", type=int, default=7, help="timings per figure, best kept (default 7)")
+    parser.add_argument(
+        "--number", type=int, default=20000, help="calls per timing (default 20000)"
+    )
+    parser.add_argument(
+        "--repeat", type=int, default=7, help="timings per figure, best kept (default 7)"
+    )
     parser.add_argument("--cli-runs", type=int, default=5, help="fk.py runs (default 5)")
     return parser
 

@@ -15,7 +15,9 @@ def get_argument_parser() -> ArgumentParser:
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("table", nargs="?", type=Path, help="DH table file (.toml)")
     source.add_argument("--robot", choices=robot_names(), help="a shipped robot")
-    parser.add_argument("-o", "--output", type=Path, required=True, help="URDF file to write ('-' for stdout)")
+    parser.add_argument(
+        "-o", "--output", type=Path, required=True, help="URDF file to write ('-' for stdout)"
+    )
     return parser
 
 

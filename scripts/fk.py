@@ -15,10 +15,16 @@ from kin.robot_model import load_robot
 def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="fk.py", description=__doc__)
-    parser.add_argument("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
+    parser.add_argument(
+        "--robot", required=True, help="shipped robot name, or a DH table file (.toml)"
+    )
     parser.add_argument("--q", type=finite_float, nargs="+", required=True, help="joint values")
-    parser.add_argument("--deg", action="store_true", help="revolute joint values in degrees (default radians)")
-    parser.add_argument("--unit", choices=("m", "cm", "mm"), default="m", help="output length unit (default m)")
+    parser.add_argument(
+        "--deg", action="store_true", help="revolute joint values in degrees (default radians)"
+    )
+    parser.add_argument(
+        "--unit", choices=("m", "cm", "mm"), default="m", help="output length unit (default m)"
+    )
     parser.add_argument("--frame", default="tool", help="frame to report (default: tool)")
     parser.add_argument("--json", action="store_true", help="print a JSON object")
     return parser

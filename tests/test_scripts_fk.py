@@ -21,7 +21,9 @@ def test_generate_urdfs_check_fails_on_stale_file(tmp_path, monkeypatch):
     robot = ROBOTS["planar2"]
     stale = tmp_path / "planar2.urdf"
     stale.write_text(robot.urdf_path.read_text().replace("0.3", "0.31", 1))
-    monkeypatch.setattr(type(robot), "urdf_path", property(lambda self: tmp_path / f"{self.name}.urdf"))
+    monkeypatch.setattr(
+        type(robot), "urdf_path", property(lambda self: tmp_path / f"{self.name}.urdf")
+    )
     for name in robot_names():
         if name != "planar2":
             (tmp_path / f"{name}.urdf").write_text(ROBOTS[name].load_table().name)
@@ -39,7 +41,12 @@ def test_export_urdf_from_table_path_matches_committed(tmp_path):
 
 def test_fk_json_home_pose_of_scorbot(capsys):
     """fk.py --json at q = 0 gives the SCORBOT home (603, 0, 349) mm with approach along +x."""
-    assert load_script("fk").main(["--robot", "scorbot", "--q", "0", "0", "0", "0", "0", "--unit", "mm", "--json"]) == 0
+    assert (
+        load_script("fk").main(
+            ["--robot", "scorbot", "--q", "0", "0", "0", "0", "0", "--unit", "mm", "--json"]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert out["unit"] == "mm"
     np.testing.assert_allclose(out["position"], [603.0, 0.0, 349.0], atol=1e-9)
@@ -58,7 +65,12 @@ def test_fk_degrees_equal_radians(capsys):
 
 def test_fk_warns_outside_limits(capsys):
     """A joint value outside its limits is computed but warned about on stderr."""
-    assert load_script("fk").main(["--robot", "humanoid7", "--q", "2", "0", "0", "0", "0", "0", "0", "--json"]) == 0
+    assert (
+        load_script("fk").main(
+            ["--robot", "humanoid7", "--q", "2", "0", "0", "0", "0", "0", "0", "--json"]
+        )
+        == 0
+    )
     captured = capsys.readouterr()
     assert "shoulder_yaw" in captured.err and "outside its limits" in captured.err
     assert json.loads(captured.out)["within_limits"] is False
@@ -72,7 +84,10 @@ def test_fk_warns_outside_limits(capsys):
         (["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "nan"], "not a finite number"),
         (["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "x"], "not a number"),
         (["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "0", "--unit", "km"], "invalid choice"),
-        (["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "0", "--frame", "nope"], "available frames"),
+        (
+            ["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "0", "--frame", "nope"],
+            "available frames",
+        ),
         (["--robot", "missing.toml", "--q", "0"], "missing.toml"),
     ],
 )
