@@ -1,8 +1,33 @@
 """Inverse kinematics: closed form for the small arms, numeric (QP, Newton-Raphson) for 7 DOF."""
 
+from .batch import BatchResult, BatchSolver, dh_forward_kinematics
+from .closed_form import ClosedFormSolver
+from .dispatch import NUMERIC_SOLVERS, Solver, get_solver
 from .exceptions import IKError, StructureError, TargetError
 from .result import IKResult, IKSolution
+from .structure import FiveDof, Offset3R, Planar2R, recognise
+from .target import PitchTarget, PoseTarget, PositionTarget
 
 __version__ = "0.1.0"
 
-__all__ = ["IKError", "IKResult", "IKSolution", "StructureError", "TargetError"]
+__all__ = [
+    "BatchResult",
+    "BatchSolver",
+    "ClosedFormSolver",
+    "FiveDof",
+    "IKError",
+    "IKResult",
+    "IKSolution",
+    "NUMERIC_SOLVERS",
+    "Offset3R",
+    "PitchTarget",
+    "Planar2R",
+    "PoseTarget",
+    "PositionTarget",
+    "Solver",
+    "StructureError",
+    "TargetError",
+    "dh_forward_kinematics",
+    "get_solver",
+    "recognise",
+]

@@ -9,6 +9,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from .humanoid7_fk import humanoid7_sections
+from .ik_humanoid7 import humanoid7_ik_sections
+from .ik_papers import ik_sections
 from .ned5_fk import ned5_sections
 from .pickplace3_fk import pickplace3_sections
 from .report import Section
@@ -19,6 +21,8 @@ SectionProvider = Callable[[], list[Section]]
 #: Providers in report order (by paper number).
 SECTION_PROVIDERS: list[SectionProvider] = [
     humanoid7_sections,
+    humanoid7_ik_sections,
+    ik_sections,
     ned5_sections,
     pickplace3_sections,
     scorbot_sections,

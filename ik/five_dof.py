@@ -1,0 +1,176 @@
+"""Closed-form IK of the five-joint family: base yaw, three parallel pitch joints, wrist roll.
+
+Shared by ``ned5``, ``lab5`` and ``scorbot`` (with its shoulder offset ``a1``). The roll axis and
+the tool point lie in the vertical arm plane through the base axis, so:
+
+1. the base yaw puts that plane through the target (two ways: shoulder front and back);
+2. the approach axis ``a`` (the roll axis, wrist to tool) fixes the in-plane angle
+   ``phi = theta2 + theta3 + theta4`` and the wrist centre ``p - reach a - a4 x4``;
+3. :func:`~ik.planar2r.two_link` gives ``theta2, theta3`` (elbow up and down), ``theta4`` follows;
+4. the wrist roll comes from the target rotation (full pose) or is given (position + pitch).
+
+A full pose is reachable only if ``a`` and ``p`` lie in one vertical plane through the base axis
+(5 joints for 6 constraints); other poses are reported, not approximated.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .branches import REACH_TOL, Branches
+from .offset3r import elbow_label
+from .planar2r import two_link
+from .structure import FiveDof
+
+#: Largest out-of-plane component of the approach axis (or target point, [m]) of a reachable pose.
+PLANE_TOL = 1e-9
+
+
+def _branch(
+    structure: FiveDof,
+    t1: float,
+    shoulder: str,
+    p: tuple[float, float, float],
+    a: tuple[float, float, float],
+    branches: Branches,
+    gaps: list[float],
+) -> list[tuple[float, float, float, float]]:
+    """Angles (t1, t2, t3, t4) of the elbow branches for one base angle; labels into ``branches``."""
+    s, s4 = structure.sign1, structure.sign4
+    c1, n1 = math.cos(t1), math.sin(t1)
+    a_r = a[0] * c1 + a[1] * n1  # approach along e_r
+    a_z = a[2]
+    # in-plane approach angle psi: (cos psi, sin psi) = (a . e_r, s a_z); x4 at phi = psi + s4 pi/2
+    cos_psi, sin_psi = a_r, s * a_z
+    cos_phi, sin_phi = -s4 * sin_psi, s4 * cos_psi
+    phi = math.atan2(sin_phi, cos_phi)
+    # wrist centre O3 = p - reach a - a4 x4 in plane coordinates (u along e_r from the shoulder, v up)
+    p_r = p[0] * c1 + p[1] * n1
+    u = p_r - structure.reach * a_r - structure.a4 * cos_phi - structure.a1
+    v = s * (p[2] - structure.d1) - structure.reach * sin_psi - structure.a4 * sin_phi
+    solutions, gap, singular = two_link(u, v, structure.link2, structure.link3)
+    gaps.append(gap)
+    out = []
+    for t2, t3, sin_b in solutions:
+        label = f"{shoulder}, {elbow_label(s, u, sin_b)}" if len(solutions) == 2 else f"{shoulder}, {singular}"
+        out.append((t1, t2, t3, phi - t2 - t3))
+        branches.thetas.append(((t1, t2, t3, phi - t2 - t3, 0.0), label))
+    if singular and solutions:
+        branches.singular(singular)
+    return out
+
+
+def _roll(structure: FiveDof, t: tuple[float, float, float, float], r5: list[list[float]]) -> float:
+    """DH angle of joint 5 that turns frame 4 into the roll frame ``r5`` (columns x, y, z)."""
+    s, s4 = structure.sign1, structure.sign4
+    c1, n1 = math.cos(t[0]), math.sin(t[0])
+    phi = t[1] + t[2] + t[3]
+    cp, sp = math.cos(phi), math.sin(phi)
+    # frame-1 plane axes in frame 0: x1 = e_r, y1 = s z0; x4 at phi, z4 at phi - s4 pi/2
+    x4 = (cp * c1, cp * n1, s * sp)
+    z4 = (s4 * sp * c1, s4 * sp * n1, -s * s4 * cp)
+    y4 = (z4[1] * x4[2] - z4[2] * x4[1], z4[2] * x4[0] - z4[0] * x4[2], z4[0] * x4[1] - z4[1] * x4[0])
+    x5 = (r5[0][0], r5[1][0], r5[2][0])
+    return math.atan2(
+        y4[0] * x5[0] + y4[1] * x5[1] + y4[2] * x5[2], x4[0] * x5[0] + x4[1] * x5[1] + x4[2] * x5[2]
+    )
+
+
+def _finish(structure: FiveDof, branches: Branches, gaps: list[float]) -> Branches:
+    if not branches.thetas and branches.status != "out_of_reach":
+        gap = min(gaps) if gaps else 0.0
+        branches.out_of_reach(gap, f"out of reach by {gap:.6g} m (wrist centre outside the arm's annulus)")
+    return branches
+
+
+def solve_pose(
+    structure: FiveDof,
+    p: tuple[float, float, float],
+    r_tool: list[list[float]],
+    free_t1: float = 0.0,
+) -> Branches:
+    """All branches for a full tool pose in frame 0.
+
+    Args:
+        structure: The arm's parameters.
+        p: Tool point in frame 0 [m].
+        r_tool: Tool rotation in frame 0 (rows).
+        free_t1: DH angle of joint 1 [rad] kept when it is free (tool point and approach axis on
+            the base axis).
+    """
+    branches = Branches()
+    rt = structure.R_roll_tool.tolist()
+    # roll frame r5 = r_tool rt^T; its z column is the approach axis
+    if rt == [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]:
+        r5 = r_tool
+    else:
+        r5 = [[sum(r_tool[i][k] * rt[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
+    a = (r5[0][2], r5[1][2], r5[2][2])
+    # the arm plane contains p, a and the base axis: take its direction from the largest of them
+    scale = structure.link2.length + structure.link3.length + abs(structure.reach) + abs(structure.a4)
+    candidates = [(math.hypot(p[0], p[1]), p[0], p[1]), (scale * math.hypot(a[0], a[1]), a[0], a[1])]
+    size, dx, dy = max(candidates)
+    if size <= REACH_TOL:
+        bases = [(free_t1, "shoulder front")]
+        branches.singular("tool point and approach axis on the base axis: base yaw is free (seed value kept)")
+    else:
+        t1 = math.atan2(dy, dx)
+        front = (p[0] * math.cos(t1) + p[1] * math.sin(t1)) >= 0.0 or math.hypot(p[0], p[1]) <= REACH_TOL
+        bases = [(t1, "shoulder front" if front else "shoulder back"),
+                 (t1 + math.pi, "shoulder back" if front else "shoulder front")]
+        normal = (math.sin(t1), -math.cos(t1))
+        off_axis = abs(a[0] * normal[0] + a[1] * normal[1])
+        off_point = abs(p[0] * normal[0] + p[1] * normal[1])
+        if off_axis > PLANE_TOL or off_point > PLANE_TOL:
+            return branches.out_of_reach(
+                off_point if off_point > PLANE_TOL else None,
+                f"pose not reachable by a five-joint arm: the approach axis is "
+                f"{math.degrees(math.asin(min(1.0, off_axis))):.4g} deg and the tool point {off_point:.3g} m "
+                "out of the vertical plane through the base axis that contains them",
+            )
+    gaps: list[float] = []
+    for t1, shoulder in bases:
+        first = len(branches.thetas)
+        for t in _branch(structure, t1, shoulder, p, a, branches, gaps):
+            thetas, label = branches.thetas[first]
+            branches.thetas[first] = ((*t, _roll(structure, t, r5)), label)
+            first += 1
+    return _finish(structure, branches, gaps)
+
+
+def solve_pitch(
+    structure: FiveDof,
+    p: tuple[float, float, float],
+    pitch: float,
+    t5: float,
+    free_t1: float = 0.0,
+) -> Branches:
+    """All branches for a tool point in frame 0 with the approach pitch (see :class:`PitchTarget`).
+
+    Args:
+        structure: The arm's parameters.
+        p: Tool point in frame 0 [m].
+        pitch: Approach angle below the horizontal, away from the base axis [rad].
+        t5: DH angle of the wrist roll [rad] (``q5 + theta5``).
+        free_t1: DH angle of joint 1 [rad] used when the target is on the base axis (the pitch is
+            then measured from that joint's radial direction).
+    """
+    branches = Branches()
+    rho = math.hypot(p[0], p[1])
+    if rho <= REACH_TOL:
+        h_angle = free_t1
+        bases = [(free_t1, "shoulder front")]
+        branches.singular("target on the base axis: base yaw is free (seed value kept)")
+    else:
+        h_angle = math.atan2(p[1], p[0])
+        bases = [(h_angle, "shoulder front"), (h_angle + math.pi, "shoulder back")]
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    a = (cp * math.cos(h_angle), cp * math.sin(h_angle), -sp)
+    gaps: list[float] = []
+    for t1, shoulder in bases:
+        first = len(branches.thetas)
+        for t in _branch(structure, t1, shoulder, p, a, branches, gaps):
+            thetas, label = branches.thetas[first]
+            branches.thetas[first] = ((*t, t5), label)
+            first += 1
+    return _finish(structure, branches, gaps)

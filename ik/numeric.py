@@ -1,0 +1,315 @@
+"""Numeric IK for robots without a closed form (humanoid7): fast, inside the limits, verified.
+
+The solve loop, until a solution is verified or the time budget runs out:
+
+1. Starts: the seed-table samples whose tool poses are nearest to the target (and the caller's
+   ``seed_q`` / posture preference first when its tool pose is at least as near).
+2. From each start, clamped damped Newton steps on Pinocchio (:mod:`ik.damped_newton`).
+3. When the nearest starts fail, mink QP steps with hard limits (:mod:`ik.differential_ik`) from
+   the best configuration so far, then a damped Newton polish; then random starts inside the
+   limits, alternating both, until the deadline.
+
+Pinocchio is the judge: a configuration is a solution only when :func:`ik.pose_target.measure`
+finds it within ``1e-5 m`` and ``1e-4 rad`` of the target and inside the limits. Otherwise the
+result says so (``success=False``) and carries the best configuration found and its errors.
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import time
+
+import numpy as np
+import numpy.typing as npt
+
+from kin import RobotModel, as_joint_vector, load_robot
+
+from .damped_newton import NewtonOutcome, damped_newton
+from .differential_ik import DifferentialIK
+from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
+from .result import IKResult, IKSolution
+from .seed_table import SeedTable, build_seed_table, seed_table_for
+
+logger = logging.getLogger(__name__)
+
+#: Weight of the rotation error when ranking failed attempts [m/rad].
+_RANK_WEIGHT = 0.1
+
+
+class NumericIK:
+    """Numeric IK of one robot: seed table, damped Newton fast path, mink QP fallback.
+
+    Args:
+        robot: The robot.
+        table_size: Number of sampled poses in the seed table.
+        qp_solver: QP solver of the mink fallback (``"daqp"`` or ``"osqp"``).
+        nearest: Number of seed-table starts tried before the fallback.
+        newton_iterations: Damped Newton steps per start.
+        qp_iterations: mink QP steps per fallback run.
+    """
+
+    #: Solver name reported in :class:`IKResult` (the scripts' dispatch protocol).
+    name = "mink"
+
+    def __init__(
+        self,
+        robot: RobotModel,
+        table_size: int = 20000,
+        qp_solver: str = "daqp",
+        nearest: int = 8,
+        newton_iterations: int = 20,
+        qp_iterations: int = 25,
+    ):
+        self.robot = robot
+        self.model = robot.model
+        self.data = robot.model.createData()
+        self.frame_id = robot.model.getFrameId(robot.tool_frame)
+        self.table_size = table_size
+        self.qp_solver = qp_solver
+        self.nearest = nearest
+        self.newton_iterations = newton_iterations
+        self.qp_iterations = qp_iterations
+        self.lower = robot.model.lowerPositionLimit.copy()
+        self.upper = robot.model.upperPositionLimit.copy()
+        rows = robot.table.rows
+        #: Upper bound of the tool's distance from the base origin [m] (triangle inequality).
+        self.reach = float(sum(abs(row.a) + abs(row.d) for row in rows))
+        self._table: SeedTable | None = None
+        self._differential: DifferentialIK | None = None
+
+    @property
+    def table(self) -> SeedTable:
+        """The seed table (built on first use, cached per shipped robot)."""
+        if self._table is None:
+            if _is_shipped(self.robot):
+                self._table = seed_table_for(self.robot.name, self.table_size)
+            else:  # a robot loaded from a table file: its own table
+                self._table = build_seed_table(self.robot, self.table_size)
+        return self._table
+
+    @property
+    def differential(self) -> DifferentialIK:
+        """The mink differential IK (MuJoCo model loaded on first use)."""
+        if self._differential is None:
+            self._differential = DifferentialIK(self.robot, solver=self.qp_solver)
+        return self._differential
+
+    @property
+    def target_kinds(self) -> tuple[type, ...]:
+        """Target types :meth:`solve` accepts."""
+        from .target import PoseTarget, PositionTarget
+
+        return (NumericTarget, PoseTarget, PositionTarget)
+
+    def solve(
+        self,
+        target: object,
+        seed: npt.ArrayLike | None = None,
+        timeout: float = 0.05,
+        random_seed: int = 0,
+        position_tol: float = POSITION_TOLERANCE,
+        rotation_tol: float = ROTATION_TOLERANCE,
+        max_attempts: int | None = None,
+    ) -> IKResult:
+        """Find a joint vector inside the limits that puts the tool on ``target``.
+
+        Args:
+            target: Tool target (full pose or position only, optional posture preference).
+            seed: Start joint vector [rad]; tried first when its tool pose is at least as
+                near to the target as the nearest seed-table sample.
+            timeout: Time budget [s]; the first verified solution returns earlier. Building the
+                seed table and loading the MuJoCo model (once per solver) do not count.
+            random_seed: Seed of the random restarts (results are reproducible).
+            position_tol: Success tolerance on the position [m].
+            rotation_tol: Success tolerance on the rotation [rad].
+            max_attempts: Stop after this many starts even before the deadline (with a long
+                timeout, a result that does not depend on the machine's speed), or None.
+
+        Returns:
+            ``IKResult(solver="mink")``; on failure ``rejected`` holds the best configuration.
+        """
+        _ = self.table  # built once, outside the budget
+        start = time.perf_counter()
+        deadline = start + timeout
+        target = NumericTarget.from_target(target)
+        position, rotation = target.position, target.rotation
+        inner_p, inner_r = 0.1 * position_tol, 0.1 * rotation_tol
+        starts = self._starts(target, seed)
+        best: NewtonOutcome | None = None
+        iterations = 0
+        attempts = 0
+        newton_kwargs = dict(
+            max_iterations=self.newton_iterations,
+            position_tol=inner_p,
+            rotation_tol=inner_r,
+            posture=target.posture,
+        )
+
+        def finish(outcome: NewtonOutcome, how: str) -> IKResult | None:
+            verdict = measure(self.robot, self.data, outcome.q, target)
+            if verdict.within_limits and verdict.on_target(position_tol, rotation_tol):
+                solution = IKSolution(
+                    outcome.q.copy(), "", True, verdict.position_error, verdict.rotation_error
+                )
+                return IKResult(
+                    True, "mink", "ok", how, (solution,), iterations=iterations,
+                    time=time.perf_counter() - start,
+                )
+            return None
+
+        def better(outcome: NewtonOutcome) -> bool:
+            if best is None:
+                return True
+            return (outcome.position_error + _RANK_WEIGHT * outcome.rotation_error
+                    < best.position_error + _RANK_WEIGHT * best.rotation_error)
+
+        # 1-2: nearest starts, damped Newton.
+        for label, q0 in starts:
+            outcome = damped_newton(self.model, self.data, self.frame_id, q0, position, rotation,
+                                    **newton_kwargs)
+            iterations += outcome.iterations
+            attempts += 1
+            if outcome.converged:
+                done = finish(outcome, f"damped Newton from {label}, {outcome.iterations} steps")
+                if done is not None:
+                    return done
+            if better(outcome):
+                best = outcome
+            if time.perf_counter() > deadline:
+                break
+        # 3: mink QP from the best so far, then random restarts, until the deadline.
+        rng = np.random.default_rng(random_seed)
+        q_next = None if best is None else best.q
+        use_qp = True
+        out_of_reach = float(np.linalg.norm(position)) > self.reach
+        while time.perf_counter() < deadline:
+            if q_next is None:
+                q_next = rng.uniform(self.lower, self.upper)
+            label = "mink QP"
+            if use_qp:
+                if self._differential is None:  # loaded once, outside the budget
+                    loading = time.perf_counter()
+                    _ = self.differential
+                    deadline += time.perf_counter() - loading
+                self.differential.set_target(target)
+                qp = self.differential.solve(q_next, self.qp_iterations, inner_p, inner_r, deadline)
+                iterations += qp.iterations
+                q_next = qp.q
+                label = f"mink QP ({qp.iterations} steps) + damped Newton"
+            else:
+                label = "damped Newton from a random start"
+            outcome = damped_newton(self.model, self.data, self.frame_id, q_next, position,
+                                    rotation, **newton_kwargs)
+            iterations += outcome.iterations
+            attempts += 1
+            if outcome.converged:
+                done = finish(outcome, f"{label}, attempt {attempts}")
+                if done is not None:
+                    return done
+            if better(outcome):
+                best = outcome
+            if out_of_reach and attempts > self.nearest + 2:
+                break
+            if max_attempts is not None and attempts >= max_attempts:
+                break
+            use_qp = not use_qp
+            q_next = None
+        return self._failure(target, best, iterations, attempts, time.perf_counter() - start,
+                             out_of_reach)
+
+    def _starts(
+        self, target: NumericTarget, seed_q: npt.ArrayLike | None
+    ) -> list[tuple[str, np.ndarray]]:
+        """Start joint vectors, most promising first."""
+        table = self.table
+        indices = table.nearest(target.position, target.rotation, k=self.nearest)
+        starts = [(f"seed-table sample {int(i)}", table.q[i]) for i in indices]
+        extra = []
+        if target.posture is not None:
+            extra.append(("the preferred posture", np.asarray(target.posture, dtype=float)))
+        if seed_q is not None:
+            extra.append(("the given seed", as_joint_vector(self.robot, seed_q)))
+        if extra:
+            nearest = self._pose_distance(table.q[indices[0]], target)
+            for label, q0 in reversed(extra):
+                if self._pose_distance(q0, target) <= nearest:
+                    starts.insert(0, (label, q0))
+                else:
+                    starts.insert(1, (label, q0))
+        return starts
+
+    def _pose_distance(self, q: np.ndarray, target: NumericTarget) -> float:
+        verdict = measure(self.robot, self.data, np.clip(q, self.lower, self.upper), target)
+        return verdict.position_error + self.table.rotation_weight * verdict.rotation_error
+
+    def _failure(self, target: NumericTarget, best: NewtonOutcome | None, iterations: int,
+                 attempts: int, elapsed: float, out_of_reach: bool) -> IKResult:
+        rejected: tuple[IKSolution, ...] = ()
+        detail = "no configuration"
+        if best is not None:
+            verdict = measure(self.robot, self.data, best.q, target)
+            rejected = (IKSolution(best.q.copy(), "", verdict.within_limits,
+                                   verdict.position_error, verdict.rotation_error),)
+            detail = (f"best configuration misses by {verdict.position_error:.3g} m"
+                      + ("" if target.position_only else f" and {verdict.rotation_error:.3g} rad"))
+        if out_of_reach:
+            distance = float(np.linalg.norm(target.position)) - self.reach
+            return IKResult(
+                False, "mink", "out_of_reach",
+                f"target is {distance:.4g} m beyond the arm's reach ({self.reach:.4g} m); {detail}",
+                (), rejected, distance_to_workspace=distance, iterations=iterations, time=elapsed,
+            )
+        return IKResult(
+            False, "mink", "not_converged",
+            f"no solution inside the joint limits found in {elapsed * 1e3:.0f} ms "
+            f"({attempts} starts); {detail}",
+            (), rejected, iterations=iterations, time=elapsed,
+        )
+
+
+def _is_shipped(robot: RobotModel) -> bool:
+    """Whether ``robot`` is the registry's (cached) model of its name."""
+    try:
+        return load_robot(robot.name) is robot
+    except Exception:  # noqa: BLE001 - any name the registry does not know
+        return False
+
+
+@functools.lru_cache(maxsize=8)
+def numeric_ik_for(robot_name: str) -> NumericIK:
+    """The (cached) numeric IK of a shipped robot."""
+    return NumericIK(load_robot(robot_name))
+
+
+def solve_numeric(
+    robot: RobotModel | str,
+    position: npt.ArrayLike,
+    rotation: npt.ArrayLike | None = None,
+    posture: npt.ArrayLike | None = None,
+    seed_q: npt.ArrayLike | None = None,
+    timeout: float = 0.05,
+) -> IKResult:
+    """Numeric IK in one call: position [m], optional rotation ``R_world_tool`` and posture.
+
+    Args:
+        robot: A loaded robot or a shipped robot's name.
+        position: Tool position in the world frame [m].
+        rotation: Tool rotation (3 x 3), or None for a position-only target.
+        posture: Preferred joint vector [rad] for the redundancy, or None.
+        seed_q: Start joint vector [rad], or None.
+        timeout: Time budget [s].
+    """
+    solver = numeric_ik_for(robot) if isinstance(robot, str) else NumericIK(robot)
+    target = NumericTarget.from_arrays(position, rotation, posture)
+    return solver.solve(target, seed=seed_q, timeout=timeout)
+
+
+def _register() -> None:
+    """Register the numeric solver of the robots without a closed form in ``ik.dispatch``."""
+    from .dispatch import NUMERIC_SOLVERS
+
+    NUMERIC_SOLVERS.setdefault("humanoid7", NumericIK)
+
+
+_register()

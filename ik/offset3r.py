@@ -1,0 +1,87 @@
+"""Closed-form IK of a base yaw and two parallel pitch joints with a shoulder (lateral) offset.
+
+The arm plane (joints 2 and 3) is vertical and lies at ``lateral`` from the base axis along
+``z1``. A tool point ``p`` at horizontal distance ``rho`` from the base axis is in that plane for
+``sin(q1 + theta1 - atan2(py, px)) = sign1 * lateral / rho``: two base angles (shoulder left and
+right, or front and back without offset); in the plane, :func:`~ik.planar2r.two_link` gives the
+two elbow branches of each. Four branches in all.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .branches import REACH_TOL, Branches
+from .planar2r import two_link
+from .structure import Offset3R
+
+
+def elbow_label(sign1: float, u: float, sin_b: float) -> str:
+    """``"elbow up"`` when the elbow is above the line from shoulder to wrist (world z).
+
+    Args:
+        sign1: Sign of ``alpha1`` (the plane's ``y`` is ``sign1 * z0``).
+        u: Radial coordinate of the wrist in the arm plane [m] (along the DH ``x1`` axis).
+        sin_b: Sine of the elbow angle returned by :func:`two_link`.
+    """
+    side = sign1 * (1.0 if u >= 0.0 else -1.0) * sin_b
+    return "elbow up" if side < 0.0 else "elbow down"
+
+
+def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: float = 0.0) -> Branches:
+    """All branches for a tool point in frame 0.
+
+    Labels: ``"shoulder left"``/``"shoulder right"`` say on which side of the vertical plane through
+    the base axis and the target the arm plane lies, seen from above looking at the target
+    (``"shoulder front"``/``"shoulder back"`` when there is no lateral offset: the upper arm
+    leans towards or away from the target); ``"elbow up"``/``"elbow down"`` say whether the
+    elbow is above or below the line from shoulder to wrist.
+
+    Args:
+        structure: The arm's parameters.
+        x, y, z: Tool point in frame 0 [m].
+        free_t1: DH angle of joint 1 [rad] kept when it is free (target on the base axis, no
+            lateral offset).
+    """
+    branches = Branches()
+    s, d = structure.sign1, structure.lateral
+    rho = math.hypot(x, y)
+    v = s * (z - structure.d1)
+    if rho < abs(d) - REACH_TOL:
+        gap = abs(d) - rho
+        return branches.out_of_reach(
+            gap, f"out of reach by at least {gap:.6g} m: closer to the base axis than the shoulder offset"
+        )
+    if rho <= REACH_TOL and abs(d) <= REACH_TOL:
+        bases = [(free_t1, 0.0)]
+        branches.singular("target on the base axis: base yaw is free (seed value kept)")
+    else:
+        phi = math.atan2(y, x)
+        ratio = max(-1.0, min(1.0, s * d / rho))
+        delta = math.asin(ratio)
+        reach = math.sqrt(max(0.0, rho * rho - d * d))
+        if reach <= REACH_TOL:
+            bases = [(phi + delta, 0.0)]
+            branches.singular("target at the shoulder-offset distance from the base axis: shoulder branches merge")
+        else:
+            bases = [(phi + delta, reach), (phi + math.pi - delta, -reach)]
+    gaps = []
+    for t1, radial in bases:
+        u = radial - structure.a1
+        if d == 0.0 and rho <= REACH_TOL:
+            shoulder = "shoulder front"
+        elif abs(d) <= REACH_TOL:
+            shoulder = "shoulder front" if radial >= 0.0 else "shoulder back"
+        else:
+            shoulder = "shoulder left" if -d * s * radial > 0.0 else "shoulder right"
+        solutions, gap, singular = two_link(u, v, structure.link2, structure.link3)
+        gaps.append(gap)
+        for t2, t3, sin_b in solutions:
+            label = f"{shoulder}, {elbow_label(s, u, sin_b)}" if len(solutions) == 2 else f"{shoulder}, {singular}"
+            branches.thetas.append(((t1, t2, t3), label))
+        if singular and solutions:
+            branches.singular(singular)
+    if not branches.thetas:
+        gap = min(gaps)
+        return branches.out_of_reach(gap, f"out of reach by {gap:.6g} m (measured in the arm plane)")
+    return branches

@@ -1,0 +1,94 @@
+"""Closed-form IK of two parallel revolute joints (the planar 2R arm and the elbow of larger arms).
+
+The chain is ``p = l1 (cos b1, sin b1) + l2 (cos(b1 + b2), sin(b1 + b2))`` with ``b1, b2`` the
+angles of the link vectors; the law of cosines gives ``b2`` (two signs, the elbow branches) and
+``b1`` follows. :func:`two_link` is shared by the 3- and 5-joint solvers.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .branches import REACH_TOL, Branches
+from .structure import Link, Planar2R
+
+#: |cos b2| above which the two elbow branches are merged (stretched or folded arm).
+MERGE_COS = 1.0 - 1e-13
+
+
+def two_link(
+    x: float, y: float, link1: Link, link2: Link, free_t1: float = 0.0
+) -> tuple[list[tuple[float, float, float]], float, str]:
+    """Joint angles of a two-link chain reaching ``(x, y)`` in its plane.
+
+    Args:
+        x, y: Target point in the plane of the chain, from the first joint's axis [m].
+        link1, link2: Link vectors, their angles measured from each joint's DH x axis.
+        free_t1: DH angle of joint 1 [rad] to use when it is free (target on the first axis with
+            equal link lengths).
+
+    Returns:
+        ``(solutions, gap, singular)``: per branch ``(t1, t2, sin b2)`` (DH angles [rad], and
+        the sign-carrying sine of the elbow angle), the distance to the reachable annulus [m]
+        (<= 0 when reachable), and ``""`` or the reason the branches merge or a joint is free.
+    """
+    l1, l2 = link1.length, link2.length
+    r = math.hypot(x, y)
+    gap = max(r - (l1 + l2), abs(l1 - l2) - r)
+    if gap > REACH_TOL:
+        return [], gap, ""
+    cos_b2 = (x * x + y * y - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+    singular = ""
+    if abs(cos_b2) >= MERGE_COS:
+        cos_b2 = math.copysign(1.0, cos_b2)
+        singular = "arm fully stretched" if cos_b2 > 0 else "arm fully folded"
+        signs: tuple[float, ...] = (1.0,)
+    else:
+        signs = (1.0, -1.0)
+    sin_abs = math.sqrt(max(0.0, 1.0 - cos_b2 * cos_b2))
+    free = r <= REACH_TOL and abs(l1 - l2) <= REACH_TOL
+    if free:
+        singular = "target on the first joint's axis: that joint is free (seed value kept)"
+    solutions = []
+    for sign in signs:
+        sin_b2 = sign * sin_abs
+        b2 = math.atan2(sin_b2, cos_b2)
+        if free:
+            b1 = free_t1 + link1.angle
+        else:
+            b1 = math.atan2(y, x) - math.atan2(l2 * sin_b2, l1 + l2 * cos_b2)
+        t1 = b1 - link1.angle
+        t2 = b2 - link2.angle + link1.angle
+        solutions.append((t1, t2, sin_b2))
+    return solutions, gap, singular
+
+
+def solve_planar2r(structure: Planar2R, x: float, y: float, z: float, free_t1: float = 0.0) -> Branches:
+    """Both elbow branches of a planar 2R arm for a tool point in frame 0.
+
+    Labels: ``"elbow up"`` puts the elbow on the counter-clockwise side of the line from the base
+    to the target (above it when the target is along +x), ``"elbow down"`` on the other side.
+
+    Args:
+        structure: The arm's parameters.
+        x, y, z: Tool point in frame 0 [m]; ``z`` must be the height of the plane of motion.
+        free_t1: DH angle of joint 1 [rad] kept when that joint is free.
+    """
+    branches = Branches()
+    off_plane = abs(z - structure.height)
+    solutions, gap, singular = two_link(x, y, structure.link1, structure.link2, free_t1)
+    if off_plane > REACH_TOL or not solutions:
+        total = math.hypot(off_plane, max(gap, 0.0))
+        return branches.out_of_reach(
+            total,
+            f"out of reach by {total:.6g} m ({off_plane:.3g} m off the plane of motion, "
+            f"{max(gap, 0.0):.3g} m outside the reachable annulus)",
+        )
+    for t1, t2, sin_b2 in solutions:
+        label = "elbow up" if sin_b2 < 0 else "elbow down"
+        if len(solutions) == 1:
+            label = "elbow straight" if abs(t2 + structure.link2.angle - structure.link1.angle) < 1 else "elbow folded"
+        branches.thetas.append(((t1, t2), label))
+    if singular:
+        branches.singular(singular)
+    return branches

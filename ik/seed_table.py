@@ -1,0 +1,176 @@
+"""A precomputed table of sampled joint vectors and their tool poses, to start IK near the target.
+
+The table samples joint vectors uniformly inside the limits (seeded, reproducible), computes the
+tool pose of each with Pinocchio, and answers "which samples have a tool pose nearest to this
+target?". Poses are compared in an embedding where 1 rad of rotation weighs about
+``rotation_weight`` [m]: ``(p, rotation_weight * vec(R))`` (``|R1 - R2|_F ~ sqrt(2) * angle``).
+Queries look up a uniform grid over the tool positions first: each cell holds the samples of
+its 3 x 3 x 3 neighbourhood, ranked in the pose embedding with NumPy (a few microseconds). Only
+when that cell holds fewer than ``k`` samples (the target is outside the sampled workspace, or at
+its thin edge) does the query fall back to SciPy's KD-tree (or a NumPy argmin without SciPy).
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from kin import RobotModel, load_robot
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, eq=False)
+class SeedTable:
+    """Sampled joint vectors with their tool poses.
+
+    Attributes:
+        q: Joint vectors [rad], shape (n, nq), inside the limits.
+        positions: Tool positions in the world frame [m], shape (n, 3).
+        rotations: Tool rotations ``R_world_tool`` flattened row-major, shape (n, 9).
+        rotation_weight: Weight of ``vec(R)`` in the pose embedding [m].
+    """
+
+    q: np.ndarray
+    positions: np.ndarray
+    rotations: np.ndarray
+    rotation_weight: float
+    cell_size: float = 0.06
+    _position_index: Any = None
+    _pose_index: Any = None
+    _cells: dict[int, np.ndarray] | None = None
+    _origin: np.ndarray | None = None
+    _grid_shape: tuple[int, int, int] = (0, 0, 0)
+    _embedding: np.ndarray | None = None
+
+    def __len__(self) -> int:
+        return int(self.q.shape[0])
+
+    def nearest(self, position: np.ndarray, rotation: np.ndarray | None = None, k: int = 1) -> np.ndarray:
+        """Indices of the ``k`` samples nearest to a target, nearest first.
+
+        Args:
+            position: Target position [m], shape (3,).
+            rotation: Target rotation (3 x 3), or None to compare positions only.
+            k: Number of samples.
+        """
+        k = max(1, min(int(k), len(self)))
+        found = self._nearest_in_grid(position, rotation, k)
+        if found is not None:
+            return found
+        if rotation is None:
+            point = position
+            index, points = self._position_index, self.positions
+        else:
+            point = np.concatenate((position, self.rotation_weight * rotation.reshape(-1)))
+            index, points = self._pose_index, None
+        if index is not None:
+            _, found = index.query(point, k=k)
+            return np.atleast_1d(found)
+        if points is None:
+            points = np.hstack((self.positions, self.rotation_weight * self.rotations))
+        distances = np.einsum("ij,ij->i", points - point, points - point)
+        if k == 1:
+            return np.array([int(np.argmin(distances))])
+        best = np.argpartition(distances, k - 1)[:k]
+        return best[np.argsort(distances[best])]
+
+
+    def _nearest_in_grid(self, position: np.ndarray, rotation: np.ndarray | None, k: int) -> np.ndarray | None:
+        if self._cells is None or self._origin is None or self._embedding is None:
+            return None
+        nx, ny, nz = self._grid_shape
+        i = math.floor((position[0] - self._origin[0]) / self.cell_size)
+        j = math.floor((position[1] - self._origin[1]) / self.cell_size)
+        m = math.floor((position[2] - self._origin[2]) / self.cell_size)
+        if not (0 <= i < nx and 0 <= j < ny and 0 <= m < nz):
+            return None
+        candidates = self._cells.get((i * ny + j) * nz + m)
+        if candidates is None or candidates.size < k:
+            return None
+        if rotation is None:
+            diff = self.positions[candidates] - position
+        else:
+            point = np.concatenate((position, self.rotation_weight * rotation.reshape(-1)))
+            diff = self._embedding[candidates] - point
+        distances = np.einsum("ij,ij->i", diff, diff)
+        if k == 1:
+            return candidates[[int(np.argmin(distances))]]
+        best = np.argpartition(distances, k - 1)[:k]
+        return candidates[best[np.argsort(distances[best])]]
+
+
+def _grid(positions: np.ndarray, cell_size: float) -> tuple[dict[int, np.ndarray], np.ndarray, tuple[int, int, int]]:
+    """Cells of a uniform grid, each with the samples of its 3 x 3 x 3 neighbourhood."""
+    origin = positions.min(axis=0) - cell_size
+    cell = np.floor((positions - origin) / cell_size).astype(np.int64)
+    shape = tuple(int(v) for v in cell.max(axis=0) + 2)
+    nx, ny, nz = shape
+    samples = np.arange(len(positions))
+    keys, owners = [], []
+    for offset in np.ndindex(3, 3, 3):
+        c = cell + (np.array(offset) - 1)
+        keys.append((c[:, 0] * ny + c[:, 1]) * nz + c[:, 2])
+        owners.append(samples)
+    key = np.concatenate(keys)
+    owner = np.concatenate(owners)
+    order = np.argsort(key, kind="stable")
+    key, owner = key[order], owner[order]
+    unique, starts = np.unique(key, return_index=True)
+    groups = np.split(owner, starts[1:])
+    return dict(zip(unique.tolist(), groups, strict=True)), origin, (nx, ny, nz)
+
+
+def build_seed_table(
+    robot: RobotModel,
+    size: int = 20000,
+    seed: int = 0,
+    rotation_weight: float = 0.1,
+    cell_size: float = 0.06,
+) -> SeedTable:
+    """Sample ``size`` joint vectors uniformly inside the limits and tabulate their tool poses.
+
+    Args:
+        robot: The robot.
+        size: Number of samples.
+        seed: Seed of the random generator (the table is reproducible).
+        rotation_weight: Weight of the rotation in the pose embedding [m].
+        cell_size: Edge of the lookup grid's cells [m].
+    """
+    model = robot.model
+    data = model.createData()
+    fid = model.getFrameId(robot.tool_frame)
+    rng = np.random.default_rng(seed)
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    q = rng.uniform(lower, upper, size=(size, model.nq))
+    positions = np.empty((size, 3))
+    rotations = np.empty((size, 9))
+    for i in range(size):
+        pin.forwardKinematics(model, data, q[i])
+        pose = pin.updateFramePlacement(model, data, fid)
+        positions[i] = pose.translation
+        rotations[i] = pose.rotation.reshape(-1)
+    position_index = pose_index = None
+    try:
+        from scipy.spatial import cKDTree
+    except ImportError:  # pragma: no cover
+        logger.info("SciPy not installed: seed lookup falls back to a NumPy argmin")
+    else:
+        position_index = cKDTree(positions)
+        pose_index = cKDTree(np.hstack((positions, rotation_weight * rotations)))
+    cells, origin, shape = _grid(positions, cell_size)
+    embedding = np.hstack((positions, rotation_weight * rotations))
+    return SeedTable(q, positions, rotations, rotation_weight, cell_size, position_index, pose_index,
+                     cells, origin, shape, embedding)
+
+
+@functools.lru_cache(maxsize=8)
+def seed_table_for(robot_name: str, size: int = 20000, seed: int = 0) -> SeedTable:
+    """The (cached) seed table of a shipped robot."""
+    return build_seed_table(load_robot(robot_name), size=size, seed=seed)

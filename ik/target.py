@@ -1,0 +1,129 @@
+"""IK targets: a position, a full pose, or a position with the tool pitch (and wrist roll).
+
+All targets are expressed in the world frame (the URDF root), in meters and radians. They are
+plain values: a NaN or infinite entry is accepted here and reported by the solver as an
+``"invalid_target"`` result, so that no exception escapes a solve.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from .exceptions import TargetError
+
+
+def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
+    try:
+        array = np.array(values, dtype=float).reshape(-1)
+    except (TypeError, ValueError) as err:
+        raise TargetError(f"{what} must be {size} numbers, got {values!r}") from err
+    if array.size != size:
+        raise TargetError(f"{what} must be {size} numbers, got {array.size}")
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class PositionTarget:
+    """A tool position; the orientation is free.
+
+    Attributes:
+        position: Tool point in the world frame [m], shape (3,).
+    """
+
+    position: np.ndarray
+
+    def __init__(self, position: npt.ArrayLike):
+        object.__setattr__(self, "position", _vector(position, 3, "position"))
+
+    @property
+    def finite(self) -> bool:
+        """Whether every value is finite."""
+        return bool(np.isfinite(self.position).all())
+
+
+@dataclass(frozen=True, eq=False)
+class PoseTarget:
+    """A full tool pose ``T_world_tool``.
+
+    Attributes:
+        position: Tool point in the world frame [m], shape (3,).
+        rotation: Tool axes in the world frame, shape (3, 3).
+    """
+
+    position: np.ndarray
+    rotation: np.ndarray
+
+    def __init__(self, position: npt.ArrayLike, rotation: npt.ArrayLike):
+        object.__setattr__(self, "position", _vector(position, 3, "position"))
+        object.__setattr__(self, "rotation", _vector(rotation, 9, "rotation").reshape(3, 3))
+
+    @classmethod
+    def from_matrix(cls, T_world_tool: npt.ArrayLike) -> PoseTarget:
+        """From a 4x4 homogeneous matrix (or a ``pin.SE3``)."""
+        homogeneous = getattr(T_world_tool, "homogeneous", T_world_tool)
+        matrix = np.asarray(homogeneous, dtype=float)
+        if matrix.shape != (4, 4):
+            raise TargetError(f"a pose must be a 4x4 matrix, got shape {matrix.shape}")
+        return cls(matrix[:3, 3], matrix[:3, :3])
+
+    @classmethod
+    def from_rpy(cls, position: npt.ArrayLike, rpy: npt.ArrayLike) -> PoseTarget:
+        """From a position [m] and URDF roll-pitch-yaw [rad]: ``R = Rz(yaw) Ry(pitch) Rx(roll)``."""
+        roll, pitch, yaw = _vector(rpy, 3, "rpy")
+        cr, sr = math.cos(roll), math.sin(roll)
+        cp, sp = math.cos(pitch), math.sin(pitch)
+        cy, sy = math.cos(yaw), math.sin(yaw)
+        rotation = [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+        return cls(position, rotation)
+
+    @property
+    def finite(self) -> bool:
+        """Whether every value is finite."""
+        return bool(np.isfinite(self.position).all() and np.isfinite(self.rotation).all())
+
+
+@dataclass(frozen=True, eq=False)
+class PitchTarget:
+    """A tool position with the tool pitch, and optionally the wrist roll, of a five-joint arm.
+
+    ``pitch`` is the angle of the tool's approach axis (the wrist-roll axis, pointing from the
+    wrist to the tool) *below the horizontal*, measured in the vertical plane through the base
+    axis and the target, from the horizontal direction pointing away from the base axis:
+    ``approach = cos(pitch) h - sin(pitch) z0`` with ``h`` the horizontal unit vector from the base
+    axis to the target. So 0 is "pointing straight out", +pi/2 "pointing straight down", -pi/2
+    "pointing straight up". It does not depend on the branch (shoulder front or back). For the
+    Abaas et al. arm (``lab5``, 002) with the shoulder in front, ``pitch = pi/2 - (q2 + q3 + q4)``:
+    the paper's eq. (9) ``90 - theta234 = +phi``.
+
+    Attributes:
+        position: Tool point in the world frame [m], shape (3,).
+        pitch: Approach angle below the horizontal [rad].
+        roll: Wrist-roll joint value ``q5`` [rad] (as the papers pose it), or None to keep the
+            seed's.
+    """
+
+    position: np.ndarray
+    pitch: float
+    roll: float | None = None
+
+    def __init__(self, position: npt.ArrayLike, pitch: float, roll: float | None = None):
+        object.__setattr__(self, "position", _vector(position, 3, "position"))
+        object.__setattr__(self, "pitch", float(pitch))
+        object.__setattr__(self, "roll", None if roll is None else float(roll))
+
+    @property
+    def finite(self) -> bool:
+        """Whether every value is finite."""
+        values = [self.pitch] + ([] if self.roll is None else [self.roll])
+        return bool(np.isfinite(self.position).all() and all(math.isfinite(v) for v in values))
+
+
+Target = PositionTarget | PoseTarget | PitchTarget

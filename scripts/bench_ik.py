@@ -1,0 +1,60 @@
+"""Benchmark the closed-form IK: per-call median (all branches, Pinocchio verification) and batch rate."""
+
+from __future__ import annotations
+
+import statistics
+import time
+
+import numpy as np
+
+from ik import BatchSolver, ClosedFormSolver, PoseTarget, PositionTarget, dh_forward_kinematics
+from kin.cli import ArgumentParser
+from kin.configuration import Configuration
+from kin.robot_model import load_robot
+
+ROBOTS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")
+
+
+def get_argument_parser() -> ArgumentParser:
+    """Command-line arguments."""
+    parser = ArgumentParser(prog="bench_ik.py", description=__doc__)
+    parser.add_argument("--calls", type=int, default=2000, help="per-call samples per robot (default 2000)")
+    parser.add_argument("--batch", type=int, default=100_000, help="targets per batched call (default 100000)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Print one row per robot: median and p90 per call [us], batched targets per second."""
+    args = get_argument_parser().parse_args(argv)
+    print(f"{'robot':<11} {'median [us]':>11} {'p90 [us]':>9} {'batch [targets/s]':>18}")
+    for name in ROBOTS:
+        robot = load_robot(name)
+        solver, batch = ClosedFormSolver(robot), BatchSolver(robot)
+        configuration = Configuration(robot)
+        rng = np.random.default_rng(0)
+        q = rng.uniform(robot.lower, robot.upper, size=(max(args.calls, args.batch), robot.nq))
+        targets = []
+        for row in q[: args.calls]:
+            pose = configuration.fk(row)
+            targets.append(PositionTarget(pose.translation) if robot.nq < 5 else PoseTarget.from_matrix(pose))
+        times = []
+        for target in targets:
+            start = time.perf_counter()
+            solver.solve(target)
+            times.append(time.perf_counter() - start)
+        times.sort()
+        poses = dh_forward_kinematics(robot.table, q[: args.batch])
+        best = float("inf")
+        for _ in range(3):
+            start = time.perf_counter()
+            batch.solve_positions(poses[:, :3, 3]) if robot.nq < 5 else batch.solve_poses(poses)
+            best = min(best, time.perf_counter() - start)
+        print(
+            f"{name:<11} {statistics.median(times) * 1e6:>11.1f} {times[int(0.9 * len(times))] * 1e6:>9.1f} "
+            f"{args.batch / best:>18,.0f}"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,190 @@
+"""Benchmark humanoid7 IK: success and time of ours against TRAC-IK and Robotics Toolbox's ik_LM.
+
+Targets are the tool poses of seeded random joint vectors inside the limits (so each is reachable
+inside the limits). Every solver starts from q = 0 (the singular stretched pose) and, in a
+second run, from a random joint vector inside the limits; full pose and position only. Every
+answer is judged by Pinocchio alike: position < 1e-5 m, rotation < 1e-4 rad, inside the limits.
+Peers are skipped with a note when not installed (pip install pytracik roboticstoolbox-python).
+TRAC-IK's Python binding has no position-only mode: it runs on full poses only.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ik.numeric import NumericIK
+from ik.numeric_target import NumericTarget, measure
+from kin.cli import ArgumentParser, run_guarded
+from kin.robot_model import RobotModel, load_robot
+
+#: A solver under test: (position [m], rotation or None, seed q [rad]) -> q or None.
+SolveFn = Callable[[np.ndarray, "np.ndarray | None", np.ndarray], "np.ndarray | None"]
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of the table."""
+
+    solver: str
+    task: str
+    start: str
+    success: float
+    median_ms: float
+    p90_ms: float
+    max_ms: float
+    n: int
+
+
+def get_argument_parser() -> ArgumentParser:
+    """Command-line arguments."""
+    parser = ArgumentParser(prog="bench_ik_humanoid7.py", description=__doc__)
+    parser.add_argument("--robot", default="humanoid7", choices=["humanoid7"], help="robot")
+    parser.add_argument("--n", type=int, default=1000, help="number of targets (default 1000)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed of the targets")
+    parser.add_argument("--timeout", type=float, default=50.0, help="our time budget [ms]")
+    parser.add_argument("--peers", choices=("all", "none", "tracik", "rtb"), default="all")
+    parser.add_argument("--tracik-timeout", type=float, default=20.0, help="TRAC-IK budget [ms]")
+    parser.add_argument("--rtb-searches", type=int, default=100, help="ik_LM slimit")
+    return parser
+
+
+def make_targets(robot: RobotModel, n: int, seed: int) -> tuple[np.ndarray, list[pin.SE3]]:
+    """``n`` random joint vectors inside the limits and their tool poses."""
+    rng = np.random.default_rng(seed)
+    model, data = robot.model, robot.model.createData()
+    fid = model.getFrameId(robot.tool_frame)
+    q = rng.uniform(model.lowerPositionLimit, model.upperPositionLimit, size=(n, robot.nq))
+    poses = []
+    for qi in q:
+        pin.forwardKinematics(model, data, qi)
+        poses.append(pin.updateFramePlacement(model, data, fid).copy())
+    return q, poses
+
+
+def run(robot: RobotModel, name: str, solve: SolveFn, poses: list[pin.SE3], position_only: bool,
+        starts: np.ndarray, start_label: str) -> Row:
+    """Time ``solve`` on every target and judge its answers with Pinocchio."""
+    data = robot.model.createData()
+    times, ok = [], 0
+    for pose, seed in zip(poses, starts, strict=True):
+        position = np.array(pose.translation)
+        rotation = None if position_only else np.array(pose.rotation)
+        begin = time.perf_counter()
+        q = solve(position, rotation, seed)
+        times.append(time.perf_counter() - begin)
+        if q is not None:
+            target = NumericTarget(position, rotation)
+            verdict = measure(robot, data, np.asarray(q, dtype=float), target)
+            ok += verdict.within_limits and verdict.on_target()
+    ms = np.array(times) * 1e3
+    return Row(name, "position" if position_only else "full pose", start_label, ok / len(poses),
+               float(np.median(ms)), float(np.percentile(ms, 90)), float(ms.max()), len(poses))
+
+
+def ours(robot: RobotModel, timeout_ms: float) -> SolveFn:
+    """Our solver (seed table + damped Newton + mink QP fallback)."""
+    solver = NumericIK(robot)
+    _ = solver.table, solver.differential  # one-time setup outside the timing
+
+    def solve(position, rotation, seed):
+        result = solver.solve(NumericTarget(position, rotation), seed=seed, timeout=timeout_ms / 1e3)
+        return result.solutions[0].q if result.success else None
+
+    return solve
+
+
+def tracik(robot: RobotModel, timeout_ms: float) -> SolveFn | str:
+    """TRAC-IK (Speed mode) through pytracik, or why it is skipped."""
+    try:
+        from trac_ik import TracIK
+    except ImportError as err:
+        return f"TRAC-IK skipped: {err} (pip install pytracik)"
+    from dh2urdf import get_robot
+
+    path = str(get_robot(robot.name).urdf_path)
+    solver = TracIK("base_link", robot.tool_frame, path, timeout=timeout_ms / 1e3, epsilon=1e-6,
+                    solver_type="Speed")
+
+    def solve(position, rotation, seed):
+        if rotation is None:
+            return None
+        return solver.ik(position, rotation, seed_jnt_values=seed)
+
+    return solve
+
+
+def rtb_lm(robot: RobotModel, searches: int) -> SolveFn | str:
+    """Robotics Toolbox's C++ ik_LM (Chan's damping, k = 0.1), or why it is skipped."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            import roboticstoolbox as rtb
+
+            from dh2urdf import get_robot
+
+            ets = rtb.Robot.URDF(str(get_robot(robot.name).urdf_path)).ets(end=robot.tool_frame)
+    except Exception as err:  # noqa: BLE001 - any import or load failure skips the peer
+        return f"Robotics Toolbox skipped: {err} (pip install roboticstoolbox-python)"
+    full_mask = np.ones(6)
+    position_mask = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+
+    def solve(position, rotation, seed):
+        pose = np.eye(4)
+        pose[:3, 3] = position
+        if rotation is not None:
+            pose[:3, :3] = rotation
+        solution = ets.ik_LM(pose, q0=seed, ilimit=30, slimit=searches, tol=1e-12,
+                             mask=position_mask if rotation is None else full_mask,
+                             joint_limits=True, k=0.1, method="chan")
+        return np.asarray(solution.q) if solution.success else None
+
+    return solve
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Print the table; exit 0."""
+    args = get_argument_parser().parse_args(argv)
+
+    def body() -> int:
+        robot = load_robot(args.robot)
+        _, poses = make_targets(robot, args.n, args.seed)
+        rng = np.random.default_rng(args.seed + 1)
+        starts = {
+            "q = 0": np.zeros((args.n, robot.nq)),
+            "random q": rng.uniform(robot.lower, robot.upper, size=(args.n, robot.nq)),
+        }
+        solvers: list[tuple[str, SolveFn | str]] = [("ours (mink)", ours(robot, args.timeout))]
+        if args.peers in ("all", "tracik"):
+            solvers.append(("TRAC-IK", tracik(robot, args.tracik_timeout)))
+        if args.peers in ("all", "rtb"):
+            solvers.append(("RTB ik_LM", rtb_lm(robot, args.rtb_searches)))
+        rows: list[Row] = []
+        for name, solve in solvers:
+            if isinstance(solve, str):
+                print(solve)
+                continue
+            for position_only in (False, True):
+                if name == "TRAC-IK" and position_only:
+                    continue
+                for label, seeds in starts.items():
+                    rows.append(run(robot, name, solve, poses, position_only, seeds, label))
+        print(f"{robot.name}: {args.n} reachable targets (seed {args.seed}); success = Pinocchio "
+              "error < 1e-5 m and 1e-4 rad, inside the limits")
+        print(f"{'solver':<12} {'task':<10} {'start':<9} {'success':>8} {'median ms':>10} "
+              f"{'p90 ms':>8} {'max ms':>8}")
+        for row in rows:
+            print(f"{row.solver:<12} {row.task:<10} {row.start:<9} {100 * row.success:7.1f}% "
+                  f"{row.median_ms:10.3f} {row.p90_ms:8.3f} {row.max_ms:8.2f}")
+        return 0
+
+    return run_guarded("bench_ik_humanoid7.py", body)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
