@@ -43,6 +43,11 @@ TWO_PI = 2.0 * math.pi
 LIMIT_TOL = 1e-10
 
 
+#: Below this distance from the seed [rad] the copy of an angle nearest the seed is the one
+#: :func:`_nearest_copy` picks when it is inside the limits (the others are ``2 pi`` further).
+_FAST_COPY = math.pi - 1e-9
+
+
 def _nearest_copy(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
     """The ``value + 2 pi k`` inside ``[lower, upper]`` closest to ``seed``, else the least outside."""
     base = value - TWO_PI * round((value - seed) / TWO_PI)
@@ -53,6 +58,10 @@ def _nearest_copy(value: float, seed: float, lower: float, upper: float) -> tupl
         if key < best_key:
             best, best_key = candidate, key
     return best, best_key[0] == 0.0
+
+
+def _rows(matrix: np.ndarray) -> tuple[tuple[float, ...], ...]:
+    return tuple(tuple(row) for row in matrix.tolist())
 
 
 class ClosedFormSolver:
@@ -81,8 +90,20 @@ class ClosedFormSolver:
         self._offsets = [row.theta for row in robot.table.rows]
         base = np.asarray(robot.table.T_world_base, dtype=float)
         self._base = None if np.allclose(base, np.eye(4), atol=0.0) else np.linalg.inv(base)
+        # Everything below depends only on the table: computed once, as floats and tuples, so that
+        # a solve runs on the math module rather than on small NumPy arrays.
+        self._kinds = self.target_kinds
+        self._zero_seed = [0.0] * len(self._lower)
+        # per joint: DH offset, lower bound with its slack, upper bound, raw limits (slow path)
+        self._joints = tuple(
+            (offset, lower - LIMIT_TOL, upper, lower, upper)
+            for offset, lower, upper in zip(self._offsets, self._lower, self._upper)
+        )
+        # frame 0 from the world (3 x 4 rows), and the world from frame 0 (3 x 3 rows)
+        self._base_rows = None if self._base is None else _rows(self._base[:3, :])
+        self._world_rows = None if self._base is None else _rows(base[:3, :3])
         if isinstance(self.structure, FiveDof):
-            self._approach_in_tool = self.structure.R_roll_tool[2, :].tolist()
+            self._approach_in_tool = tuple(self.structure.R_roll_tool[2, :].tolist())
 
     @property
     def target_kinds(self) -> tuple[type, ...]:
@@ -101,28 +122,32 @@ class ClosedFormSolver:
             time=time.perf_counter() - start,
         )
 
-    def _in_frame0(self, position: np.ndarray, rotation: np.ndarray | None) -> tuple[list[float], list[list[float]] | None]:
-        if self._base is None:
-            return position.tolist(), None if rotation is None else rotation.tolist()
-        p = self._base[:3, :3] @ position + self._base[:3, 3]
-        r = None if rotation is None else (self._base[:3, :3] @ rotation).tolist()
-        return p.tolist(), r
+    def _point_in_frame0(self, p: list[float]) -> list[float]:
+        rows = self._base_rows
+        if rows is None:
+            return p
+        x, y, z = p
+        return [r[0] * x + r[1] * y + r[2] * z + r[3] for r in rows]
 
-    def _branches(self, target: Target, seed: list[float]) -> Branches:
+    def _rotation_in_frame0(self, r: list[list[float]]) -> list[list[float]]:
+        rows = self._base_rows
+        if rows is None:
+            return r
+        return [[b[0] * r[0][j] + b[1] * r[1][j] + b[2] * r[2][j] for j in range(3)] for b in rows]
+
+    def _branches(self, target: Target, seed: list[float], p: list[float], r: list[list[float]] | None) -> Branches:
+        """Branches for the target whose position (and rotation) in the world are ``p`` (``r``)."""
         structure, offsets = self.structure, self._offsets
         free_t1 = seed[0] + offsets[0]
+        x, y, z = self._point_in_frame0(p)
         if isinstance(structure, Planar2R):
-            p, _ = self._in_frame0(target.position, None)
-            return solve_planar2r(structure, *p, free_t1=free_t1)
+            return solve_planar2r(structure, x, y, z, free_t1=free_t1)
         if isinstance(structure, Offset3R):
-            p, _ = self._in_frame0(target.position, None)
-            return solve_offset3r(structure, *p, free_t1=free_t1)
-        if isinstance(target, PoseTarget):
-            p, r = self._in_frame0(target.position, target.rotation)
-            return solve_pose(structure, tuple(p), r, free_t1=free_t1)
-        p, _ = self._in_frame0(target.position, None)
-        roll = seed[4] if target.roll is None else target.roll
-        return solve_pitch(structure, tuple(p), target.pitch, roll + offsets[4], free_t1=free_t1)
+            return solve_offset3r(structure, x, y, z, free_t1=free_t1)
+        if r is not None:
+            return solve_pose(structure, (x, y, z), self._rotation_in_frame0(r), free_t1=free_t1)
+        roll = seed[4] if target.roll is None else target.roll  # type: ignore[union-attr]
+        return solve_pitch(structure, (x, y, z), target.pitch, roll + offsets[4], free_t1=free_t1)  # type: ignore[union-attr]
 
     def solve(self, target: Target, seed: npt.ArrayLike | None = None) -> IKResult:
         """Every branch reaching ``target``, valid ones ordered by distance to ``seed``.
@@ -140,14 +165,14 @@ class ClosedFormSolver:
             TargetError: The target kind does not fit the arm, or the seed has the wrong size.
         """
         start = time.perf_counter()
-        if not isinstance(target, self.target_kinds):
-            kinds = " or ".join(kind.__name__ for kind in self.target_kinds)
+        if not isinstance(target, self._kinds):
+            kinds = " or ".join(kind.__name__ for kind in self._kinds)
             raise TargetError(
                 f"'{self.robot.name}' ({self.name}) takes a {kinds}, got a {type(target).__name__}"
             )
         nq = len(self._lower)
         if seed is None:
-            seed_list = [0.0] * nq
+            seed_list = self._zero_seed
         else:
             seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
             if len(seed_list) != nq:
@@ -156,12 +181,15 @@ class ClosedFormSolver:
                 raise TargetError(f"the seed must be finite, got {seed_list}")
         if not target.finite:
             return self._failure("invalid_target", "the target has a NaN or infinite value", start)
-        branches = self._branches(target, seed_list)
+        p = target.position.tolist()
+        r = target.rotation.tolist() if isinstance(target, PoseTarget) else None
+        branches = self._branches(target, seed_list, p, r)
         if branches.status == "out_of_reach":
             return self._failure("out_of_reach", branches.message, start, branches.gap)
-        valid, rejected = self._verify(target, branches, seed_list)
-        valid.sort(key=lambda pair: pair[0])
-        solutions = tuple(solution for _, solution in valid)
+        valid, rejected = self._verify(target, branches, seed_list, p, r)
+        if len(valid) > 1:
+            valid.sort(key=_first)
+        solutions = tuple([solution for _, solution in valid])
         rejected_solutions = tuple(rejected)
         if solutions:
             status, message = branches.status, branches.message or f"{len(solutions)} valid solution(s)"
@@ -180,50 +208,75 @@ class ClosedFormSolver:
             time=time.perf_counter() - start,
         )
 
+    def _approach(self, target: PitchTarget, seed: list[float], p: list[float]) -> tuple[float, float, float]:
+        """The target's approach axis in the world frame."""
+        p0 = self._point_in_frame0(p)
+        rho = math.hypot(p0[0], p0[1])
+        angle = math.atan2(p0[1], p0[0]) if rho > 0.0 else seed[0] + self._offsets[0]
+        cp = math.cos(target.pitch)
+        a = (cp * math.cos(angle), cp * math.sin(angle), -math.sin(target.pitch))
+        rows = self._world_rows
+        if rows is None:
+            return a
+        return tuple(row[0] * a[0] + row[1] * a[1] + row[2] * a[2] for row in rows)  # type: ignore[return-value]
+
     def _verify(
-        self, target: Target, branches: Branches, seed: list[float]
+        self, target: Target, branches: Branches, seed: list[float], p: list[float], r: list[list[float]] | None
     ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
+        """Per branch: the joint vector, its Pinocchio FK errors, and where it goes (valid, rejected, dropped)."""
         model, data, frame = self._model, self._data, self._frame
-        lower, upper, offsets = self._lower, self._upper, self._offsets
-        px, py, pz = target.position.tolist()
-        if isinstance(target, PoseTarget):
-            r_target = target.rotation.ravel()
-        elif isinstance(target, PitchTarget):
-            p0, _ = self._in_frame0(target.position, None)
-            rho = math.hypot(p0[0], p0[1])
-            angle = math.atan2(p0[1], p0[0]) if rho > 0.0 else seed[0] + offsets[0]
-            cp = math.cos(target.pitch)
-            approach = np.array([cp * math.cos(angle), cp * math.sin(angle), -math.sin(target.pitch)])
-            if self._base is not None:
-                approach = np.linalg.solve(self._base[:3, :3], approach)
+        joints = self._joints
+        forward, update, array = pin.forwardKinematics, pin.updateFramePlacement, np.array
+        sqrt, asin, fast = math.sqrt, math.asin, _FAST_COPY
+        tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
+        px, py, pz = p
+        pitch = isinstance(target, PitchTarget)
+        if r is not None:
+            (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r
+        elif pitch:
+            ax, ay, az = self._approach(target, seed, p)  # type: ignore[arg-type]
+            tx, ty, tz = self._approach_in_tool
         valid: list[tuple[float, IKSolution]] = []
         rejected: list[IKSolution] = []
         for thetas, label in branches.thetas:
             q_list = []
             inside = True
             distance = 0.0
-            for i, theta in enumerate(thetas):
-                value, ok = _nearest_copy(theta - offsets[i], seed[i], lower[i], upper[i])
+            for theta, s, (offset, lower_tol, upper, lower, upper_raw) in zip(thetas, seed, joints):
+                value = theta - offset
+                # the copy nearest the seed, if inside the limits; else search (see _nearest_copy)
+                base = value - TWO_PI * round((value - s) / TWO_PI)
+                d = base - s
+                if -fast < d < fast and lower_tol - base <= 0.0 and base - upper - LIMIT_TOL <= 0.0:
+                    value = base
+                else:
+                    value, ok = _nearest_copy(value, s, lower, upper_raw)
+                    inside = inside and ok
+                    d = value - s
                 q_list.append(value)
-                inside = inside and ok
-                distance += (value - seed[i]) ** 2
-            q = np.array(q_list)
-            pin.forwardKinematics(model, data, q)
-            placement = pin.updateFramePlacement(model, data, frame)
-            ex, ey, ez = (placement.translation - target.position).tolist()
-            position_error = math.sqrt(ex * ex + ey * ey + ez * ez)
-            if isinstance(target, PoseTarget):
-                diff = placement.rotation.ravel() - r_target
-                rotation_error = 2.0 * math.asin(min(1.0, math.sqrt(float(diff @ diff) / 8.0)))
-            elif isinstance(target, PitchTarget):
-                ux, uy, uz = (placement.rotation @ self._approach_in_tool).tolist()
-                ax, ay, az = approach.tolist()
+                distance += d * d
+            q = array(q_list)
+            forward(model, data, q)
+            h0, h1, h2, _ = update(model, data, frame).homogeneous.tolist()
+            ex, ey, ez = h0[3] - px, h1[3] - py, h2[3] - pz
+            position_error = sqrt(ex * ex + ey * ey + ez * ez)
+            if r is not None:
+                # |R_fk - R_target|_F = 2 sqrt(2) sin(angle / 2): accurate for small angles
+                d0, d1, d2 = h0[0] - r00, h0[1] - r01, h0[2] - r02
+                d3, d4, d5 = h1[0] - r10, h1[1] - r11, h1[2] - r12
+                d6, d7, d8 = h2[0] - r20, h2[1] - r21, h2[2] - r22
+                squares = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4 + d5 * d5 + d6 * d6 + d7 * d7 + d8 * d8
+                rotation_error = 2.0 * asin(min(1.0, sqrt(squares / 8.0)))
+            elif pitch:
+                ux = h0[0] * tx + h0[1] * ty + h0[2] * tz
+                uy = h1[0] * tx + h1[1] * ty + h1[2] * tz
+                uz = h2[0] * tx + h2[1] * ty + h2[2] * tz
                 cx, cy, cz = uy * az - uz * ay, uz * ax - ux * az, ux * ay - uy * ax
-                rotation_error = math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), ux * ax + uy * ay + uz * az)
+                rotation_error = math.atan2(sqrt(cx * cx + cy * cy + cz * cz), ux * ax + uy * ay + uz * az)
             else:
                 rotation_error = 0.0
             solution = IKSolution(q, label, inside, position_error, rotation_error)
-            if position_error > self.tolerance_position or rotation_error > self.tolerance_rotation:
+            if position_error > tol_p or rotation_error > tol_r:
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
                     self.robot.name, label, position_error, rotation_error,
@@ -234,3 +287,7 @@ class ClosedFormSolver:
             else:
                 rejected.append(solution)
         return valid, rejected
+
+
+def _first(pair: tuple[float, IKSolution]) -> float:
+    return pair[0]

@@ -15,9 +15,8 @@ step recomputed once: the other joints take over its share.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -36,6 +35,7 @@ except ImportError:  # pragma: no cover - SciPy comes with osqp
             return np.linalg.solve(matrix, rhs), 0
         except np.linalg.LinAlgError:
             return rhs, 1
+
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 

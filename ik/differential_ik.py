@@ -115,7 +115,9 @@ class DifferentialIK:
     def set_target(self, target: NumericTarget) -> None:
         """Set the tool target (and the posture preference when the target has one)."""
         rotation = np.eye(3) if target.rotation is None else target.rotation
-        self.frame_task.set_orientation_cost(0.0 if target.position_only else self._orientation_cost)
+        self.frame_task.set_orientation_cost(
+            0.0 if target.position_only else self._orientation_cost
+        )
         self.frame_task.set_target(
             self._mink.SE3.from_rotation_and_translation(
                 self._mink.SO3.from_matrix(rotation), np.asarray(target.position, dtype=float)

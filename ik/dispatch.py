@@ -1,7 +1,7 @@
 """Which IK solver a robot uses: one small mapping, shared by the scripts.
 
-Robots listed in :data:`NUMERIC_SOLVERS` use the numeric solver registered there (added by the
-numeric-IK modules, e.g. for ``humanoid7``); every other robot gets a :class:`ClosedFormSolver`
+Robots listed in :data:`NUMERIC_SOLVERS` (the redundant ``humanoid7``) use the numeric solver
+registered there; every other robot gets a :class:`ClosedFormSolver`
 if its DH table fits one of the closed-form structures, else a :class:`StructureError`.
 """
 
@@ -15,6 +15,7 @@ import numpy.typing as npt
 from kin import RobotModel
 
 from .closed_form import ClosedFormSolver
+from .numeric import NumericIK
 from .result import IKResult
 
 
@@ -30,7 +31,7 @@ class Solver(Protocol):
 
 
 #: Robot name -> factory of its numeric solver (sorted by name).
-NUMERIC_SOLVERS: dict[str, Callable[[RobotModel], Solver]] = {}
+NUMERIC_SOLVERS: dict[str, Callable[[RobotModel], Solver]] = {"humanoid7": NumericIK}
 
 
 def get_solver(robot: RobotModel) -> Solver:

@@ -87,23 +87,43 @@ def newton_raphson(
     verdict = measure(robot, data, q, target)
     solution = IKSolution(q, "", verdict.within_limits, verdict.position_error, 0.0)
     on_target = verdict.on_target()
-    note = f" ({singular_steps} singular step(s) through the SVD pseudo-inverse)" if singular_steps else ""
+    note = (
+        f" ({singular_steps} singular step(s) through the SVD pseudo-inverse)"
+        if singular_steps
+        else ""
+    )
     if on_target and verdict.within_limits:
-        return IKResult(True, "nr", "ok", f"converged in {iterations} iterations{note}", (solution,),
-                        iterations=iterations, time=elapsed)
+        return IKResult(
+            True,
+            "nr",
+            "ok",
+            f"converged in {iterations} iterations{note}",
+            (solution,),
+            iterations=iterations,
+            time=elapsed,
+        )
     if on_target:
-        message = (f"on target in {iterations} iterations but outside the joint limits: "
-                   + _violations(robot, q) + note)
+        message = (
+            f"on target in {iterations} iterations but outside the joint limits: "
+            + _violations(robot, q)
+            + note
+        )
         status = "outside_limits"
     elif stalled:
-        message = (f"stopped at a singular configuration after {iterations} iterations: the error "
-                   f"({verdict.position_error:.3g} m) lies in the direction the arm cannot move")
+        message = (
+            f"stopped at a singular configuration after {iterations} iterations: the error "
+            f"({verdict.position_error:.3g} m) lies in the direction the arm cannot move"
+        )
         status = "singular"
     else:
-        message = (f"no convergence in {iterations} iterations; error {verdict.position_error:.3g} m"
-                   + note)
+        message = (
+            f"no convergence in {iterations} iterations; error {verdict.position_error:.3g} m"
+            + note
+        )
         status = "not_converged"
-    return IKResult(False, "nr", status, message, (), (solution,), iterations=iterations, time=elapsed)
+    return IKResult(
+        False, "nr", status, message, (), (solution,), iterations=iterations, time=elapsed
+    )
 
 
 def _violations(robot: RobotModel, q: np.ndarray) -> str:

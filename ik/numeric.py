@@ -23,10 +23,11 @@ import time
 import numpy as np
 import numpy.typing as npt
 
-from kin import RobotModel, as_joint_vector, load_robot
+from kin import KinError, RobotModel, as_joint_vector, load_robot
 
 from .damped_newton import NewtonOutcome, damped_newton
 from .differential_ik import DifferentialIK
+from .exceptions import TargetError
 from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
 from .result import IKResult, IKSolution
 from .seed_table import SeedTable, build_seed_table, seed_table_for
@@ -128,10 +129,17 @@ class NumericIK:
 
         Returns:
             ``IKResult(solver="mink")``; on failure ``rejected`` holds the best configuration.
+            A non-finite ``ik.target`` value gives ``status="invalid_target"``.
+
+        Raises:
+            TargetError: A target of another kind (e.g. ``PitchTarget``), a malformed one, or a
+                seed of the wrong size.
         """
         _ = self.table  # built once, outside the budget
         start = time.perf_counter()
         deadline = start + timeout
+        if not getattr(target, "finite", True):  # ik.target values accept NaN; report it
+            return IKResult(False, "mink", "invalid_target", f"target is not finite: {target}")
         target = NumericTarget.from_target(target)
         position, rotation = target.position, target.rotation
         inner_p, inner_r = 0.1 * position_tol, 0.1 * rotation_tol
@@ -153,7 +161,12 @@ class NumericIK:
                     outcome.q.copy(), "", True, verdict.position_error, verdict.rotation_error
                 )
                 return IKResult(
-                    True, "mink", "ok", how, (solution,), iterations=iterations,
+                    True,
+                    "mink",
+                    "ok",
+                    how,
+                    (solution,),
+                    iterations=iterations,
                     time=time.perf_counter() - start,
                 )
             return None
@@ -161,13 +174,16 @@ class NumericIK:
         def better(outcome: NewtonOutcome) -> bool:
             if best is None:
                 return True
-            return (outcome.position_error + _RANK_WEIGHT * outcome.rotation_error
-                    < best.position_error + _RANK_WEIGHT * best.rotation_error)
+            return (
+                outcome.position_error + _RANK_WEIGHT * outcome.rotation_error
+                < best.position_error + _RANK_WEIGHT * best.rotation_error
+            )
 
         # 1-2: nearest starts, damped Newton.
         for label, q0 in starts:
-            outcome = damped_newton(self.model, self.data, self.frame_id, q0, position, rotation,
-                                    **newton_kwargs)
+            outcome = damped_newton(
+                self.model, self.data, self.frame_id, q0, position, rotation, **newton_kwargs
+            )
             iterations += outcome.iterations
             attempts += 1
             if outcome.converged:
@@ -199,8 +215,9 @@ class NumericIK:
                 label = f"mink QP ({qp.iterations} steps) + damped Newton"
             else:
                 label = "damped Newton from a random start"
-            outcome = damped_newton(self.model, self.data, self.frame_id, q_next, position,
-                                    rotation, **newton_kwargs)
+            outcome = damped_newton(
+                self.model, self.data, self.frame_id, q_next, position, rotation, **newton_kwargs
+            )
             iterations += outcome.iterations
             attempts += 1
             if outcome.converged:
@@ -215,8 +232,9 @@ class NumericIK:
                 break
             use_qp = not use_qp
             q_next = None
-        return self._failure(target, best, iterations, attempts, time.perf_counter() - start,
-                             out_of_reach)
+        return self._failure(
+            target, best, iterations, attempts, time.perf_counter() - start, out_of_reach
+        )
 
     def _starts(
         self, target: NumericTarget, seed_q: npt.ArrayLike | None
@@ -229,7 +247,10 @@ class NumericIK:
         if target.posture is not None:
             extra.append(("the preferred posture", np.asarray(target.posture, dtype=float)))
         if seed_q is not None:
-            extra.append(("the given seed", as_joint_vector(self.robot, seed_q)))
+            try:
+                extra.append(("the given seed", as_joint_vector(self.robot, seed_q)))
+            except KinError as err:
+                raise TargetError(f"seed of '{self.robot.name}': {err}") from err
         if extra:
             nearest = self._pose_distance(table.q[indices[0]], target)
             for label, q0 in reversed(extra):
@@ -243,28 +264,54 @@ class NumericIK:
         verdict = measure(self.robot, self.data, np.clip(q, self.lower, self.upper), target)
         return verdict.position_error + self.table.rotation_weight * verdict.rotation_error
 
-    def _failure(self, target: NumericTarget, best: NewtonOutcome | None, iterations: int,
-                 attempts: int, elapsed: float, out_of_reach: bool) -> IKResult:
+    def _failure(
+        self,
+        target: NumericTarget,
+        best: NewtonOutcome | None,
+        iterations: int,
+        attempts: int,
+        elapsed: float,
+        out_of_reach: bool,
+    ) -> IKResult:
         rejected: tuple[IKSolution, ...] = ()
         detail = "no configuration"
         if best is not None:
             verdict = measure(self.robot, self.data, best.q, target)
-            rejected = (IKSolution(best.q.copy(), "", verdict.within_limits,
-                                   verdict.position_error, verdict.rotation_error),)
-            detail = (f"best configuration misses by {verdict.position_error:.3g} m"
-                      + ("" if target.position_only else f" and {verdict.rotation_error:.3g} rad"))
+            rejected = (
+                IKSolution(
+                    best.q.copy(),
+                    "",
+                    verdict.within_limits,
+                    verdict.position_error,
+                    verdict.rotation_error,
+                ),
+            )
+            detail = f"best configuration misses by {verdict.position_error:.3g} m" + (
+                "" if target.position_only else f" and {verdict.rotation_error:.3g} rad"
+            )
         if out_of_reach:
             distance = float(np.linalg.norm(target.position)) - self.reach
             return IKResult(
-                False, "mink", "out_of_reach",
+                False,
+                "mink",
+                "out_of_reach",
                 f"target is {distance:.4g} m beyond the arm's reach ({self.reach:.4g} m); {detail}",
-                (), rejected, distance_to_workspace=distance, iterations=iterations, time=elapsed,
+                (),
+                rejected,
+                distance_to_workspace=distance,
+                iterations=iterations,
+                time=elapsed,
             )
         return IKResult(
-            False, "mink", "not_converged",
+            False,
+            "mink",
+            "not_converged",
             f"no solution inside the joint limits found in {elapsed * 1e3:.0f} ms "
             f"({attempts} starts); {detail}",
-            (), rejected, iterations=iterations, time=elapsed,
+            (),
+            rejected,
+            iterations=iterations,
+            time=elapsed,
         )
 
 
@@ -303,13 +350,3 @@ def solve_numeric(
     solver = numeric_ik_for(robot) if isinstance(robot, str) else NumericIK(robot)
     target = NumericTarget.from_arrays(position, rotation, posture)
     return solver.solve(target, seed=seed_q, timeout=timeout)
-
-
-def _register() -> None:
-    """Register the numeric solver of the robots without a closed form in ``ik.dispatch``."""
-    from .dispatch import NUMERIC_SOLVERS
-
-    NUMERIC_SOLVERS.setdefault("humanoid7", NumericIK)
-
-
-_register()

@@ -122,7 +122,9 @@ class Measurement:
     rotation_error: float
     within_limits: bool
 
-    def on_target(self, position_tol: float = POSITION_TOLERANCE, rotation_tol: float = ROTATION_TOLERANCE) -> bool:
+    def on_target(
+        self, position_tol: float = POSITION_TOLERANCE, rotation_tol: float = ROTATION_TOLERANCE
+    ) -> bool:
         """Whether both errors are below the tolerances ([m], [rad])."""
         return self.position_error < position_tol and self.rotation_error < rotation_tol
 

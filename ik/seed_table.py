@@ -52,7 +52,9 @@ class SeedTable:
     def __len__(self) -> int:
         return int(self.q.shape[0])
 
-    def nearest(self, position: np.ndarray, rotation: np.ndarray | None = None, k: int = 1) -> np.ndarray:
+    def nearest(
+        self, position: np.ndarray, rotation: np.ndarray | None = None, k: int = 1
+    ) -> np.ndarray:
         """Indices of the ``k`` samples nearest to a target, nearest first.
 
         Args:
@@ -81,8 +83,9 @@ class SeedTable:
         best = np.argpartition(distances, k - 1)[:k]
         return best[np.argsort(distances[best])]
 
-
-    def _nearest_in_grid(self, position: np.ndarray, rotation: np.ndarray | None, k: int) -> np.ndarray | None:
+    def _nearest_in_grid(
+        self, position: np.ndarray, rotation: np.ndarray | None, k: int
+    ) -> np.ndarray | None:
         if self._cells is None or self._origin is None or self._embedding is None:
             return None
         nx, ny, nz = self._grid_shape
@@ -106,7 +109,9 @@ class SeedTable:
         return candidates[best[np.argsort(distances[best])]]
 
 
-def _grid(positions: np.ndarray, cell_size: float) -> tuple[dict[int, np.ndarray], np.ndarray, tuple[int, int, int]]:
+def _grid(
+    positions: np.ndarray, cell_size: float
+) -> tuple[dict[int, np.ndarray], np.ndarray, tuple[int, int, int]]:
     """Cells of a uniform grid, each with the samples of its 3 x 3 x 3 neighbourhood."""
     origin = positions.min(axis=0) - cell_size
     cell = np.floor((positions - origin) / cell_size).astype(np.int64)
@@ -166,8 +171,19 @@ def build_seed_table(
         pose_index = cKDTree(np.hstack((positions, rotation_weight * rotations)))
     cells, origin, shape = _grid(positions, cell_size)
     embedding = np.hstack((positions, rotation_weight * rotations))
-    return SeedTable(q, positions, rotations, rotation_weight, cell_size, position_index, pose_index,
-                     cells, origin, shape, embedding)
+    return SeedTable(
+        q,
+        positions,
+        rotations,
+        rotation_weight,
+        cell_size,
+        position_index,
+        pose_index,
+        cells,
+        origin,
+        shape,
+        embedding,
+    )
 
 
 @functools.lru_cache(maxsize=8)

@@ -27,16 +27,26 @@ _CM = 0.01
 
 #: (desired position [cm] as printed, joint angles [deg] as printed), Table IX cases 1-5.
 _CASES: tuple[tuple[tuple[str, str, str], tuple[float, ...]], ...] = (
-    (("-37.457", "-2.759", "18.861"),
-     (41.1993, 81.4092, 58.1782, 44.0594, 71.1285, -4.2767, 82.1326)),
-    (("-25.0268", "-1.213", "7.236"),
-     (-7.1897, 18.0251, -17.6146, 106.0547, 59.4423, -261.358, -52.1622)),
-    (("3.6541", "-19.2130", "8.2360"),
-     (-1.0431, -98.6014, 13.8213, 216.9353, -23.2666, -107.4704, 109.7496)),
-    (("-6.5897", "14.213", "1.236"),
-     (-24.3368, 10.9158, 1.8683, 108.8973, -87.3327, -291.8013, -87.3327)),
-    (("61.3598", "4.2130", "13.2360"),
-     (-5.0702, -119.9461, 33.7745, -4.1809, -100.6893, -783.2957, -66.0657)),
+    (
+        ("-37.457", "-2.759", "18.861"),
+        (41.1993, 81.4092, 58.1782, 44.0594, 71.1285, -4.2767, 82.1326),
+    ),
+    (
+        ("-25.0268", "-1.213", "7.236"),
+        (-7.1897, 18.0251, -17.6146, 106.0547, 59.4423, -261.358, -52.1622),
+    ),
+    (
+        ("3.6541", "-19.2130", "8.2360"),
+        (-1.0431, -98.6014, 13.8213, 216.9353, -23.2666, -107.4704, 109.7496),
+    ),
+    (
+        ("-6.5897", "14.213", "1.236"),
+        (-24.3368, 10.9158, 1.8683, 108.8973, -87.3327, -291.8013, -87.3327),
+    ),
+    (
+        ("61.3598", "4.2130", "13.2360"),
+        (-5.0702, -119.9461, 33.7745, -4.1809, -100.6893, -783.2957, -66.0657),
+    ),
 )
 
 #: Starts of our solver per case (deterministic report).
@@ -98,30 +108,47 @@ def humanoid7_ik_sections() -> list[Section]:
             verdict, reason = "reproduced", f"read as {ours_label}"
         elif hits:
             verdict = "flagged"
-            reason = (f"only read as {', '.join(hits)} (the L2 of some FK columns); with our "
-                      f"L2 = 28.774 cm it misses by {np.linalg.norm(ours_position - desired):.4f} cm")
+            reason = (
+                f"only read as {', '.join(hits)} (the L2 of some FK columns); with our "
+                f"L2 = 28.774 cm it misses by {np.linalg.norm(ours_position - desired):.4f} cm"
+            )
         else:
             verdict = "not reproduced"
-            reason = ("no reading puts the tool there ("
-                      + "; ".join(f"{label}: {vector(tuple(p), 2, 'cm')}" for label, p, _ in reached)
-                      + "): the printed angles do not solve the printed target")
-        rows.append(Row(f"Table IX, case {case}: tool position at the printed angles",
-                        paper_position, vector(tuple(best_position), places, "cm"),
-                        f"{miss:.4f} cm", verdict, reason))
+            reason = (
+                "no reading puts the tool there ("
+                + "; ".join(f"{label}: {vector(tuple(p), 2, 'cm')}" for label, p, _ in reached)
+                + "): the printed angles do not solve the printed target"
+            )
+        rows.append(
+            Row(
+                f"Table IX, case {case}: tool position at the printed angles",
+                paper_position,
+                vector(tuple(best_position), places, "cm"),
+                f"{miss:.4f} cm",
+                verdict,
+                reason,
+            )
+        )
         # 2. How far outside the limits are the printed angles (as DH angles)?
         q_paper = dh_angles_to_q(robot, angles)
         text, worst = _limit_text(robot, q_paper)
         wrapped = [math.degrees(math.remainder(math.radians(v), 2 * math.pi)) for v in q_paper]
         wrapped_text, wrapped_worst = _limit_text(robot, wrapped)
-        rows.append(Row(
-            f"Table IX, case {case}: printed angles against the +-90 deg limits (q = angle - offset)",
-            ", ".join(str(a) for a in angles) + " deg",
-            text,
-            f"{worst:.1f} deg beyond at most",
-            "flagged" if worst > 0 else "reproduced",
-            ("the paper's Newton-Raphson ignores the joint limits; wrapped to (-180, 180] deg: "
-             + (wrapped_text if wrapped_worst > 0 else "all inside")) if worst > 0 else "",
-        ))
+        rows.append(
+            Row(
+                f"Table IX, case {case}: printed angles against the +-90 deg limits (q = angle - offset)",
+                ", ".join(str(a) for a in angles) + " deg",
+                text,
+                f"{worst:.1f} deg beyond at most",
+                "flagged" if worst > 0 else "reproduced",
+                (
+                    "the paper's Newton-Raphson ignores the joint limits; wrapped to (-180, 180] deg: "
+                    + (wrapped_text if wrapped_worst > 0 else "all inside")
+                )
+                if worst > 0
+                else "",
+            )
+        )
         # 3. Our solver, inside the limits.
         target = NumericTarget.from_arrays(desired * _CM)
         result = solver.solve(target, timeout=600.0, max_attempts=_ATTEMPTS)
@@ -129,34 +156,48 @@ def humanoid7_ik_sections() -> list[Section]:
         assert best is not None
         q_deg = ", ".join(f"{v:.2f}" for v in np.degrees(best.q))
         if result.success:
-            rows.append(Row(
-                f"Table IX, case {case}: our solver inside the limits",
-                paper_position, f"q = ({q_deg}) deg",
-                f"{best.position_error / _CM:.1e} cm", "reproduced",
-                "the target is reachable inside the limits",
-            ))
+            rows.append(
+                Row(
+                    f"Table IX, case {case}: our solver inside the limits",
+                    paper_position,
+                    f"q = ({q_deg}) deg",
+                    f"{best.position_error / _CM:.1e} cm",
+                    "reproduced",
+                    "the target is reachable inside the limits",
+                )
+            )
         else:
-            rows.append(Row(
-                f"Table IX, case {case}: our solver inside the limits",
-                paper_position, f"closest found: q = ({q_deg}) deg",
-                f"{best.position_error / _CM:.2f} cm", "flagged",
-                f"no configuration inside the limits found in {_ATTEMPTS} starts; the closest is "
-                f"{best.position_error / _CM:.2f} cm away (an upper bound of the distance to the "
-                "in-limits workspace): the paper's answer needs joints beyond the limits",
-            ))
+            rows.append(
+                Row(
+                    f"Table IX, case {case}: our solver inside the limits",
+                    paper_position,
+                    f"closest found: q = ({q_deg}) deg",
+                    f"{best.position_error / _CM:.2f} cm",
+                    "flagged",
+                    f"no configuration inside the limits found in {_ATTEMPTS} starts; the closest is "
+                    f"{best.position_error / _CM:.2f} cm away (an upper bound of the distance to the "
+                    "in-limits workspace): the paper's answer needs joints beyond the limits",
+                )
+            )
         # 4. The paper's method, from the stretched home pose.
         nr = newton_raphson(robot, desired * _CM)
         nr_best = nr.best
         assert nr_best is not None
         nr_text, nr_worst = _limit_text(robot, list(np.degrees(nr_best.q)))
-        rows.append(Row(
-            f"Table IX, case {case}: the paper's Newton-Raphson (ours) from q = 0",
-            f"{paper_position} reached", f"reached in {nr.iterations} iterations"
-            if nr_best.position_error < 1e-5 else f"not reached ({nr.status})",
-            f"{nr_best.position_error / _CM:.1e} cm; {nr_worst:.0f} deg beyond the limits at most",
-            "reproduced" if nr_best.position_error < 1e-5 else "not reproduced",
-            f"on target but outside the limits: {nr_text}" if nr_worst > 0 else "inside the limits",
-        ))
+        rows.append(
+            Row(
+                f"Table IX, case {case}: the paper's Newton-Raphson (ours) from q = 0",
+                f"{paper_position} reached",
+                f"reached in {nr.iterations} iterations"
+                if nr_best.position_error < 1e-5
+                else f"not reached ({nr.status})",
+                f"{nr_best.position_error / _CM:.1e} cm; {nr_worst:.0f} deg beyond the limits at most",
+                "reproduced" if nr_best.position_error < 1e-5 else "not reproduced",
+                f"on target but outside the limits: {nr_text}"
+                if nr_worst > 0
+                else "inside the limits",
+            )
+        )
     notes = (
         "The paper does not state the initial guess of its Newton-Raphson; a redundant arm has a "
         "continuum of answers, so its printed angles cannot be expected from ours, only checked.",
@@ -172,5 +213,8 @@ def humanoid7_ik_sections() -> list[Section]:
         f"(seed table, damped Newton, mink QP, {_ATTEMPTS} starts) must stay inside the +-90 deg "
         "limits and is judged by Pinocchio (1e-5 m)."
     )
-    return [Section("000 Table IX: humanoid7 Newton-Raphson inverse kinematics", intro,
-                    tuple(rows), notes)]
+    return [
+        Section(
+            "000 Table IX: humanoid7 Newton-Raphson inverse kinematics", intro, tuple(rows), notes
+        )
+    ]

@@ -1,9 +1,17 @@
-"""Benchmark the closed-form IK: per-call median (all branches, Pinocchio verification) and batch rate."""
+"""Benchmark the closed-form IK: per-call median (all branches, Pinocchio verification) and batch rate.
+
+With ``--robot humanoid7`` it runs the numeric-IK benchmark instead (``bench_ik_humanoid7.py``:
+success and time from q = 0 and from random q, full pose and position only, beside TRAC-IK and the
+Robotics Toolbox's ik_LM when installed); the remaining options are passed on to it.
+"""
 
 from __future__ import annotations
 
+import importlib.util
 import statistics
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -20,14 +28,33 @@ def get_argument_parser() -> ArgumentParser:
     parser = ArgumentParser(prog="bench_ik.py", description=__doc__)
     parser.add_argument("--calls", type=int, default=2000, help="per-call samples per robot (default 2000)")
     parser.add_argument("--batch", type=int, default=100_000, help="targets per batched call (default 100000)")
+    parser.add_argument(
+        "--robot",
+        choices=(*ROBOTS, "humanoid7"),
+        help="one robot only; humanoid7 runs the numeric-IK benchmark (see bench_ik_humanoid7.py -h)",
+    )
     return parser
+
+
+def _humanoid7_benchmark():
+    """The module of ``scripts/bench_ik_humanoid7.py`` (a sibling script, not a package)."""
+    path = Path(__file__).resolve().with_name("bench_ik_humanoid7.py")
+    spec = importlib.util.spec_from_file_location("bench_ik_humanoid7", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
 
 
 def main(argv: list[str] | None = None) -> int:
     """Print one row per robot: median and p90 per call [us], batched targets per second."""
-    args = get_argument_parser().parse_args(argv)
+    args, rest = get_argument_parser().parse_known_args(argv)
+    if args.robot == "humanoid7":
+        return _humanoid7_benchmark().main(rest)
+    if rest:
+        get_argument_parser().error(f"unrecognized arguments: {' '.join(rest)}")
     print(f"{'robot':<11} {'median [us]':>11} {'p90 [us]':>9} {'batch [targets/s]':>18}")
-    for name in ROBOTS:
+    for name in (args.robot,) if args.robot else ROBOTS:
         robot = load_robot(name)
         solver, batch = ClosedFormSolver(robot), BatchSolver(robot)
         configuration = Configuration(robot)

@@ -88,8 +88,10 @@ def test_posture_preference_pulls_the_redundancy(robot, solver):
     """Two posture preferences give two solutions of the same target, each nearer its own."""
     q_true = np.array([0.3, 0.4, -0.2, 0.8, 0.1, -0.3, 0.2])
     pose = tool_pose(robot, q_true)
-    postures = (np.array([0.8, 0.4, -0.8, 0.8, 0.6, -0.3, 0.2]),
-                np.array([-0.2, 0.4, 0.4, 0.8, -0.4, -0.3, 0.2]))
+    postures = (
+        np.array([0.8, 0.4, -0.8, 0.8, 0.6, -0.3, 0.2]),
+        np.array([-0.2, 0.4, 0.4, 0.8, -0.4, -0.3, 0.2]),
+    )
     solutions = []
     for posture in postures:
         target = NumericTarget.from_arrays(pose.translation, None, posture)
@@ -146,8 +148,9 @@ def test_damped_newton_converges_near_a_solution(robot):
     fid = model.getFrameId("tool")
     for q in random_q(robot, 20, 6) * 0.8:
         pose = tool_pose(robot, q)
-        outcome = damped_newton(model, data, fid, q + 0.1, pose.translation, pose.rotation,
-                                max_iterations=10)
+        outcome = damped_newton(
+            model, data, fid, q + 0.1, pose.translation, pose.rotation, max_iterations=10
+        )
         assert outcome.converged, f"{outcome=}"
         assert outcome.position_error < 1e-6 and outcome.rotation_error < 1e-5
 
@@ -245,8 +248,19 @@ def test_cli_humanoid7_full_pose_json(capsys):
     robot = load_robot(ROBOT)
     pose = tool_pose(robot, np.array([0.3, 0.4, -0.2, 0.8, 0.1, -0.3, 0.2]))
     rpy = pin.rpy.matrixToRpy(pose.rotation)
-    argv = ["--robot", ROBOT, "--target", *map(str, pose.translation * 100), "--unit", "cm",
-            "--rpy", *map(str, rpy), "--timeout", "500", "--json"]
+    argv = [
+        "--robot",
+        ROBOT,
+        "--target",
+        *map(str, pose.translation * 100),
+        "--unit",
+        "cm",
+        "--rpy",
+        *map(str, rpy),
+        "--timeout",
+        "500",
+        "--json",
+    ]
     assert _solve_ik_main()(argv) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["success"] and out["solver"] == "mink" and out["unit"] == "cm"
@@ -265,8 +279,19 @@ def test_cli_humanoid7_unreachable_exits_1_with_best(capsys):
 
 def test_cli_nr_reports_the_limits(capsys):
     """--solver nr reaches Table IX case 1 outside the limits: exit 1, status outside_limits."""
-    argv = ["--robot", ROBOT, "--target", "-37.457", "-2.759", "18.861", "--unit", "cm",
-            "--solver", "nr", "--json"]
+    argv = [
+        "--robot",
+        ROBOT,
+        "--target",
+        "-37.457",
+        "-2.759",
+        "18.861",
+        "--unit",
+        "cm",
+        "--solver",
+        "nr",
+        "--json",
+    ]
     import json
 
     assert _solve_ik_main()(argv) == 1
@@ -275,12 +300,15 @@ def test_cli_nr_reports_the_limits(capsys):
     assert out["rejected"][0]["position_error"] < 1e-7
 
 
-@pytest.mark.parametrize("extra", [
-    ["--quat", "1", "0", "0", "0", "--rpy", "0", "0", "0"],
-    ["--position-only", "--rpy", "0", "0", "0"],
-    ["--quat", "0", "0", "0", "0"],
-    ["--solver", "nr", "--rpy", "0", "0", "0"],
-])
+@pytest.mark.parametrize(
+    "extra",
+    [
+        ["--quat", "1", "0", "0", "0", "--rpy", "0", "0", "0"],
+        ["--position-only", "--rpy", "0", "0", "0"],
+        ["--quat", "0", "0", "0", "0"],
+        ["--solver", "nr", "--rpy", "0", "0", "0"],
+    ],
+)
 def test_cli_bad_input_exits_2(capsys, extra):
     """Contradictory or invalid orientation options: exit 2, one line on stderr."""
     argv = ["--robot", ROBOT, "--target", "0.5", "0", "0", *extra]
@@ -299,12 +327,22 @@ def test_cli_quaternion_equals_rpy(capsys):
     pose = tool_pose(robot, np.array([0.3, 0.4, -0.2, 0.8, 0.1, -0.3, 0.2]))
     quat = pin.Quaternion(pose.rotation)
     position = list(map(str, pose.translation))
-    argv = ["--robot", ROBOT, "--target", *position, "--timeout", "500", "--json", "--quat",
-            *map(str, (quat.w, quat.x, quat.y, quat.z))]
+    argv = [
+        "--robot",
+        ROBOT,
+        "--target",
+        *position,
+        "--timeout",
+        "500",
+        "--json",
+        "--quat",
+        *map(str, (quat.w, quat.x, quat.y, quat.z)),
+    ]
     assert _solve_ik_main()(argv) == 0
     solution = json.loads(capsys.readouterr().out)["solutions"][0]
-    verdict = measure(robot, robot.model.createData(), np.array(solution["q"]),
-                      NumericTarget.from_se3(pose))
+    verdict = measure(
+        robot, robot.model.createData(), np.array(solution["q"]), NumericTarget.from_se3(pose)
+    )
     assert verdict.on_target() and verdict.within_limits
 
 
@@ -325,5 +363,26 @@ def test_reproduction_section_has_four_rows_per_case():
     (section,) = humanoid7_ik_sections()
     assert len(section.rows) == 20
     ours = [row for row in section.rows if "our solver" in row.label]
-    assert [row.verdict for row in ours] == ["reproduced", "flagged", "flagged", "flagged",
-                                             "reproduced"]
+    assert [row.verdict for row in ours] == [
+        "reproduced",
+        "flagged",
+        "flagged",
+        "flagged",
+        "reproduced",
+    ]
+
+
+def test_non_finite_target_is_an_invalid_target_result(solver):
+    """An ik.target PositionTarget with a NaN gives status invalid_target, no exception."""
+    from ik.target import PositionTarget
+
+    result = solver.solve(PositionTarget([0.3, float("nan"), 0.0]))
+    assert not result.success and result.status == "invalid_target"
+
+
+def test_pitch_target_is_rejected(solver):
+    """A PitchTarget (five-joint arms) is a TargetError naming the accepted kinds."""
+    from ik.target import PitchTarget
+
+    with pytest.raises(TargetError, match="PositionTarget, PoseTarget or NumericTarget"):
+        solver.solve(PitchTarget([0.3, 0.0, 0.0], 0.5))
