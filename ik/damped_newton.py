@@ -93,62 +93,94 @@ def damped_newton(
         posture: Preferred joint vector [rad] pulled toward in the null space, or None.
         posture_gain: Fraction of the posture error pulled per step [1].
     """
+    # The loop runs a few microseconds per step: names are bound once, buffers are reused,
+    # scalar work is done on Python floats (a NumPy call costs about a microsecond).
     lower, upper = model.lowerPositionLimit, model.upperPositionLimit
     q = np.minimum(np.maximum(np.asarray(q0, dtype=float), lower), upper)
+    bounds = tuple(zip(lower.tolist(), upper.tolist(), strict=True))
     full = rotation is not None
-    rows = slice(0, 6) if full else slice(0, 3)
     m = 6 if full else 3
+    identity = _IDENTITY[m]
     e = np.empty(m)
-    diagonal = slice(None, None, m + 1)
-    frame_placements = data.oMf
+    e_position = e[:3]
+    e_rotation = e[3:]
+    normal = np.empty((m, m))
+    normal_diagonal = np.einsum("ii->i", normal)  # a writable view of the diagonal
+    # Views of the tool placement in ``data``: every Jacobian call below refreshes them.
+    pose = data.oMf[frame_id]
+    translation, orientation = pose.translation, pose.rotation
+    jacobian_of, log3, subtract, matmul = pin.computeFrameJacobian, pin.log3, np.subtract, np.matmul
+    solve_spd = _solve_spd
+    position_tol2, rotation_tol2 = position_tol * position_tol, rotation_tol * rotation_tol
+    rotation_error2 = 0.0
     iterations = 0
     while True:
-        # One Pinocchio call gives the Jacobian and updates the frame placement (data.oMf).
-        jacobian = pin.computeFrameJacobian(model, data, q, frame_id, _LWA)[rows]
-        pose = frame_placements[frame_id]
-        e[:3] = position - pose.translation
-        position_error = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
-        rotation_error = 0.0
+        # One Pinocchio call: forward kinematics, the tool placement and its Jacobian.
+        jacobian = jacobian_of(model, data, q, frame_id, _LWA)
+        subtract(position, translation, out=e_position)
         if full:
-            e[3:] = pin.log3(rotation @ pose.rotation.T)
-            rotation_error = math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
-        if position_error < position_tol and rotation_error < rotation_tol:
-            return NewtonOutcome(q, True, iterations, position_error, rotation_error)
+            e_rotation[:] = log3(rotation @ orientation.T)
+        else:
+            jacobian = jacobian[:3]
+        squares = (e * e).tolist()
+        position_error2 = squares[0] + squares[1] + squares[2]
+        if full:
+            rotation_error2 = squares[3] + squares[4] + squares[5]
+        if position_error2 < position_tol2 and rotation_error2 < rotation_tol2:
+            return NewtonOutcome(
+                q, True, iterations, math.sqrt(position_error2), math.sqrt(rotation_error2)
+            )
         if iterations >= max_iterations:
-            return NewtonOutcome(q, False, iterations, position_error, rotation_error)
+            return NewtonOutcome(
+                q, False, iterations, math.sqrt(position_error2), math.sqrt(rotation_error2)
+            )
         iterations += 1
-        squared = position_error * position_error + rotation_error * rotation_error
+        squared = position_error2 + rotation_error2
         lam = damping + error_damping * squared
-        z = None if posture is None else posture_gain * (posture - q)
-        dq = _step(jacobian, e, lam, diagonal, z)
+        if posture is None:  # the common case, inlined: dq = J^T (J J^T + lam I)^-1 e
+            z = None
+            matmul(jacobian, jacobian.T, out=normal)
+            normal_diagonal += lam
+            x, info = solve_spd(normal, e)
+            dq = x @ jacobian if info == 0 else _step(jacobian, e, lam, identity, None)
+        else:
+            z = posture_gain * (posture - q)
+            dq = _step(jacobian, e, lam, identity, z)
         if squared > 1e-4:  # far from the target: bound the step
-            scale = float(np.abs(dq).max())
-            if scale > max_step:
-                dq *= max_step / scale
+            _bound(dq, max_step)
         stepped = q + dq
-        blocked = (stepped < lower) | (stepped > upper)
-        if blocked.any():
+        values = stepped.tolist()
+        if any(v < lo or v > hi for v, (lo, hi) in zip(values, bounds)):
+            # Freeze the joints the clamp stops while the step pushes them outward.
+            blocked = (stepped < lower) | (stepped > upper)
             jacobian = jacobian.copy()
             jacobian[:, blocked] = 0.0
             if z is not None:
                 z[blocked] = 0.0
-            dq = _step(jacobian, e, lam, diagonal, z)
-            scale = float(np.abs(dq).max())
-            if scale > max_step:
-                dq *= max_step / scale
+            dq = _step(jacobian, e, lam, identity, z)
+            _bound(dq, max_step)
             stepped = np.minimum(np.maximum(q + dq, lower), upper)
         q = stepped
 
 
+_IDENTITY = {3: np.eye(3), 6: np.eye(6)}
+
+
+def _bound(dq: np.ndarray, max_step: float) -> None:
+    """Scale ``dq`` in place so that its largest entry is at most ``max_step`` [rad]."""
+    scale = max(map(abs, dq.tolist()))
+    if scale > max_step:
+        dq *= max_step / scale
+
+
 def _step(
-    jacobian: np.ndarray, e: np.ndarray, lam: float, diagonal: slice, z: np.ndarray | None
+    jacobian: np.ndarray, e: np.ndarray, lam: float, identity: np.ndarray, z: np.ndarray | None
 ) -> np.ndarray:
     """``z + J^T (J J^T + lam I)^-1 (e - J z)`` through a Cholesky solve."""
     rhs = e if z is None else e - jacobian @ z
-    normal = jacobian @ jacobian.T
-    normal.flat[diagonal] += lam
+    normal = jacobian @ jacobian.T + lam * identity
     x, info = _solve_spd(normal, rhs)
     if info != 0:  # not positive definite (no damping at an exact singularity)
         x = np.linalg.lstsq(normal, rhs, rcond=None)[0]
-    dq = jacobian.T @ x
+    dq = x @ jacobian
     return dq if z is None else dq + z

@@ -19,9 +19,11 @@ from __future__ import annotations
 import functools
 import logging
 import time
+from collections.abc import Iterator
 
 import numpy as np
 import numpy.typing as npt
+import pinocchio as pin
 
 from kin import KinError, RobotModel, as_joint_vector, load_robot
 
@@ -143,7 +145,6 @@ class NumericIK:
         target = NumericTarget.from_target(target)
         position, rotation = target.position, target.rotation
         inner_p, inner_r = 0.1 * position_tol, 0.1 * rotation_tol
-        starts = self._starts(target, seed)
         best: NewtonOutcome | None = None
         iterations = 0
         attempts = 0
@@ -180,7 +181,7 @@ class NumericIK:
             )
 
         # 1-2: nearest starts, damped Newton.
-        for label, q0 in starts:
+        for label, q0 in self._starts(target, seed):
             outcome = damped_newton(
                 self.model, self.data, self.frame_id, q0, position, rotation, **newton_kwargs
             )
@@ -238,11 +239,9 @@ class NumericIK:
 
     def _starts(
         self, target: NumericTarget, seed_q: npt.ArrayLike | None
-    ) -> list[tuple[str, np.ndarray]]:
-        """Start joint vectors, most promising first."""
+    ) -> Iterator[tuple[str, np.ndarray]]:
+        """Start joint vectors, most promising first (ranked lazily: most targets need one)."""
         table = self.table
-        indices = table.nearest(target.position, target.rotation, k=self.nearest)
-        starts = [(f"seed-table sample {int(i)}", table.q[i]) for i in indices]
         extra = []
         if target.posture is not None:
             extra.append(("the preferred posture", np.asarray(target.posture, dtype=float)))
@@ -251,18 +250,48 @@ class NumericIK:
                 extra.append(("the given seed", as_joint_vector(self.robot, seed_q)))
             except KinError as err:
                 raise TargetError(f"seed of '{self.robot.name}': {err}") from err
+        found = table.ranked(target.position, target.rotation)
+        if found is None or found[0].size < self.nearest:  # outside the grid: the KD-tree
+            order = table.nearest(target.position, target.rotation, k=self.nearest)
+            candidates, distances = order, None
+            first = 0
+        else:
+            candidates, distances = found
+            first = int(distances.argmin())
+        # A caller's start goes first when its tool pose is at least as near as the nearest
+        # sample's (in the table's pose embedding), else second.
+        ahead, behind = [], []
         if extra:
-            nearest = self._pose_distance(table.q[indices[0]], target)
-            for label, q0 in reversed(extra):
-                if self._pose_distance(q0, target) <= nearest:
-                    starts.insert(0, (label, q0))
-                else:
-                    starts.insert(1, (label, q0))
-        return starts
+            nearest = (
+                self._embedding_distance(table.q[candidates[first]], target)
+                if distances is None
+                else float(distances[first])
+            )
+            for label, q0 in extra:
+                near = self._embedding_distance(q0, target) <= nearest
+                (ahead if near else behind).append((label, q0))
+        yield from ahead
+        yield f"seed-table sample {int(candidates[first])}", table.q[candidates[first]]
+        yield from behind
+        if distances is None:
+            rest = candidates[1:]
+        else:
+            ranked = np.argsort(distances, kind="stable")[: self.nearest]
+            rest = [candidates[i] for i in ranked if i != first][: self.nearest - 1]
+        for i in rest:
+            yield f"seed-table sample {int(i)}", table.q[i]
 
-    def _pose_distance(self, q: np.ndarray, target: NumericTarget) -> float:
-        verdict = measure(self.robot, self.data, np.clip(q, self.lower, self.upper), target)
-        return verdict.position_error + self.table.rotation_weight * verdict.rotation_error
+    def _embedding_distance(self, q: np.ndarray, target: NumericTarget) -> float:
+        """Squared distance of ``q``'s tool pose to the target in the seed table's embedding."""
+        model, data = self.model, self.data
+        pin.forwardKinematics(model, data, np.minimum(np.maximum(q, self.lower), self.upper))
+        pose = pin.updateFramePlacement(model, data, self.frame_id)
+        d = pose.translation - target.position
+        distance = float(d @ d)
+        if target.rotation is not None:
+            r = pose.rotation - target.rotation
+            distance += self.table.rotation_weight**2 * float(np.einsum("ij,ij->", r, r))
+        return distance
 
     def _failure(
         self,

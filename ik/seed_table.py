@@ -5,7 +5,8 @@ tool pose of each with Pinocchio, and answers "which samples have a tool pose ne
 target?". Poses are compared in an embedding where 1 rad of rotation weighs about
 ``rotation_weight`` [m]: ``(p, rotation_weight * vec(R))`` (``|R1 - R2|_F ~ sqrt(2) * angle``).
 Queries look up a uniform grid over the tool positions first: each cell holds the samples of
-its 3 x 3 x 3 neighbourhood, ranked in the pose embedding with NumPy (a few microseconds). Only
+its 3 x 3 x 3 neighbourhood as one contiguous float32 block of embeddings (no gather), ranked in
+the pose embedding with NumPy (a few microseconds). Only
 when that cell holds fewer than ``k`` samples (the target is outside the sampled workspace, or at
 its thin edge) does the query fall back to SciPy's KD-tree (or a NumPy argmin without SciPy).
 """
@@ -24,6 +25,9 @@ import pinocchio as pin
 from kin import RobotModel, load_robot
 
 logger = logging.getLogger(__name__)
+
+#: Second entropy word of the table's random generator (any fixed value; keeps it apart).
+_TABLE_STREAM = 0x5EED7AB1E
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,10 +48,11 @@ class SeedTable:
     cell_size: float = 0.06
     _position_index: Any = None
     _pose_index: Any = None
-    _cells: dict[int, np.ndarray] | None = None
+    _cells: dict[int, tuple[int, int]] | None = None
     _origin: np.ndarray | None = None
     _grid_shape: tuple[int, int, int] = (0, 0, 0)
     _embedding: np.ndarray | None = None
+    _owners: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.q.shape[0])
@@ -83,36 +88,72 @@ class SeedTable:
         best = np.argpartition(distances, k - 1)[:k]
         return best[np.argsort(distances[best])]
 
-    def _nearest_in_grid(
-        self, position: np.ndarray, rotation: np.ndarray | None, k: int
-    ) -> np.ndarray | None:
+    def ranked(
+        self, position: np.ndarray, rotation: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The samples of the target's grid neighbourhood and their squared pose distances.
+
+        Args:
+            position: Target position [m], shape (3,).
+            rotation: Target rotation (3 x 3), or None to compare positions only.
+
+        Returns:
+            ``(indices, squared distances [m^2])`` in no particular order, or None when the
+            target's cell is outside the grid or empty.
+        """
         if self._cells is None or self._origin is None or self._embedding is None:
             return None
         nx, ny, nz = self._grid_shape
-        i = math.floor((position[0] - self._origin[0]) / self.cell_size)
-        j = math.floor((position[1] - self._origin[1]) / self.cell_size)
-        m = math.floor((position[2] - self._origin[2]) / self.cell_size)
+        origin, size = self._origin, self.cell_size
+        i = math.floor((position[0] - origin[0]) / size)
+        j = math.floor((position[1] - origin[1]) / size)
+        m = math.floor((position[2] - origin[2]) / size)
         if not (0 <= i < nx and 0 <= j < ny and 0 <= m < nz):
             return None
-        candidates = self._cells.get((i * ny + j) * nz + m)
-        if candidates is None or candidates.size < k:
+        span = self._cells.get((i * ny + j) * nz + m)
+        if span is None:
             return None
+        # The cell's samples are a contiguous block of the cell-sorted copies: no gather.
+        begin, end = span
         if rotation is None:
-            diff = self.positions[candidates] - position
+            diff = self._embedding[begin:end, :3] - position
         else:
-            point = np.concatenate((position, self.rotation_weight * rotation.reshape(-1)))
-            diff = self._embedding[candidates] - point
-        distances = np.einsum("ij,ij->i", diff, diff)
+            diff = self._embedding[begin:end] - _pose_point(
+                position, rotation, self.rotation_weight
+            )
+        return self._owners[begin:end], np.einsum("ij,ij->i", diff, diff)
+
+    def _nearest_in_grid(
+        self, position: np.ndarray, rotation: np.ndarray | None, k: int
+    ) -> np.ndarray | None:
+        found = self.ranked(position, rotation)
+        if found is None or found[0].size < k:
+            return None
+        candidates, distances = found
         if k == 1:
             return candidates[[int(np.argmin(distances))]]
         best = np.argpartition(distances, k - 1)[:k]
         return candidates[best[np.argsort(distances[best])]]
 
 
+def _pose_point(position: np.ndarray, rotation: np.ndarray, weight: float) -> np.ndarray:
+    """A pose in the table's embedding: ``(p, weight * vec(R))``."""
+    point = np.empty(12)
+    point[:3] = position
+    point[3:] = rotation.reshape(-1)
+    point[3:] *= weight
+    return point
+
+
 def _grid(
     positions: np.ndarray, cell_size: float
-) -> tuple[dict[int, np.ndarray], np.ndarray, tuple[int, int, int]]:
-    """Cells of a uniform grid, each with the samples of its 3 x 3 x 3 neighbourhood."""
+) -> tuple[dict[int, tuple[int, int]], np.ndarray, np.ndarray, tuple[int, int, int]]:
+    """A uniform grid whose cells hold the samples of their 3 x 3 x 3 neighbourhood.
+
+    Returns:
+        ``(spans, owners, origin, shape)``: cell key -> ``(begin, end)`` into ``owners``, the
+        sample indices sorted by cell (each sample appears in 27 cells).
+    """
     origin = positions.min(axis=0) - cell_size
     cell = np.floor((positions - origin) / cell_size).astype(np.int64)
     shape = tuple(int(v) for v in cell.max(axis=0) + 2)
@@ -128,8 +169,11 @@ def _grid(
     order = np.argsort(key, kind="stable")
     key, owner = key[order], owner[order]
     unique, starts = np.unique(key, return_index=True)
-    groups = np.split(owner, starts[1:])
-    return dict(zip(unique.tolist(), groups, strict=True)), origin, (nx, ny, nz)
+    ends = np.append(starts[1:], len(key))
+    spans = dict(
+        zip(unique.tolist(), zip(starts.tolist(), ends.tolist(), strict=True), strict=True)
+    )
+    return spans, owner, origin, (nx, ny, nz)
 
 
 def build_seed_table(
@@ -151,7 +195,8 @@ def build_seed_table(
     model = robot.model
     data = model.createData()
     fid = model.getFrameId(robot.tool_frame)
-    rng = np.random.default_rng(seed)
+    # A stream of its own: a caller's ``default_rng(seed)`` draws are never table samples.
+    rng = np.random.default_rng([seed, _TABLE_STREAM])
     lower, upper = model.lowerPositionLimit, model.upperPositionLimit
     q = rng.uniform(lower, upper, size=(size, model.nq))
     positions = np.empty((size, 3))
@@ -169,8 +214,9 @@ def build_seed_table(
     else:
         position_index = cKDTree(positions)
         pose_index = cKDTree(np.hstack((positions, rotation_weight * rotations)))
-    cells, origin, shape = _grid(positions, cell_size)
-    embedding = np.hstack((positions, rotation_weight * rotations))
+    cells, owners, origin, shape = _grid(positions, cell_size)
+    # The embedding of every sample, copied once per cell in cell order (contiguous blocks).
+    embedding = np.hstack((positions, rotation_weight * rotations))[owners].astype(np.float32)
     return SeedTable(
         q,
         positions,
@@ -183,6 +229,7 @@ def build_seed_table(
         origin,
         shape,
         embedding,
+        owners,
     )
 
 

@@ -386,3 +386,13 @@ def test_pitch_target_is_rejected(solver):
 
     with pytest.raises(TargetError, match="PositionTarget, PoseTarget or NumericTarget"):
         solver.solve(PitchTarget([0.3, 0.0, 0.0], 0.5))
+
+
+def test_bench_targets_are_not_seed_table_samples(robot):
+    """The seed table draws from a stream of its own: a default_rng(seed) target is never a sample."""
+    table = numeric_ik_for(ROBOT).table
+    for seed in (0, 1):
+        for q in random_q(robot, 20, seed):
+            pose = tool_pose(robot, q)
+            (i,) = table.nearest(pose.translation, pose.rotation, k=1)
+            assert np.abs(table.q[i] - q).max() > 1e-3, f"{seed=} {q=}"
