@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import logging
 import math
+import operator
 import time
 
 import numpy as np
@@ -43,9 +44,11 @@ TWO_PI = 2.0 * math.pi
 LIMIT_TOL = 1e-10
 
 
-#: Below this distance from the seed [rad] the copy of an angle nearest the seed is the one
-#: :func:`_nearest_copy` picks when it is inside the limits (the others are ``2 pi`` further).
+#: Closer than this to the seed [rad], an angle inside the limits is the copy that
+#: :func:`_nearest_copy` picks (the other copies are more than ``pi`` away). The margin below
+#: ``pi`` covers the round-off of seeds up to :data:`_FAST_SEED` in magnitude.
 _FAST_COPY = math.pi - 1e-9
+_FAST_SEED = 1e5
 
 
 def _nearest_copy(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
@@ -58,6 +61,44 @@ def _nearest_copy(value: float, seed: float, lower: float, upper: float) -> tupl
         if key < best_key:
             best, best_key = candidate, key
     return best, best_key[0] == 0.0
+
+
+def _wrap(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
+    """:func:`_nearest_copy`, comparing only the candidates that can win (same keys, same order).
+
+    When the copy nearest the seed, ``base``, is below the limits, the copies below it have a
+    larger violation and never win; going up, a copy that is no longer below the limits (inside
+    or above them) beats every copy after it. Likewise above the limits.
+    """
+    base = value - TWO_PI * round((value - seed) / TWO_PI)
+    lower_tol = lower - LIMIT_TOL
+    violation = lower_tol - base
+    if violation > 0.0:
+        step = TWO_PI
+    else:
+        violation = base - upper - LIMIT_TOL
+        if violation > 0.0:
+            step = -TWO_PI
+        elif -_FAST_COPY < base - seed < _FAST_COPY:
+            return base, True
+        else:
+            return _nearest_copy(value, seed, lower, upper)
+    best, distance = base, abs(base - seed)
+    for candidate in (base + step, base + 2 * step):
+        below, above = lower_tol - candidate, candidate - upper - LIMIT_TOL
+        candidate_violation = max(below, above, 0.0)
+        candidate_distance = abs(candidate - seed)
+        if candidate_violation < violation or (
+            candidate_violation == violation and candidate_distance < distance
+        ):
+            best, violation, distance = candidate, candidate_violation, candidate_distance
+        if (below if step > 0.0 else above) <= 0.0:
+            break  # inside or past the limits: every further copy is worse
+    return best, violation == 0.0
+
+
+#: Sort key of the (distance to the seed, solution) pairs.
+_DISTANCE = operator.itemgetter(0)
 
 
 def _rows(matrix: np.ndarray) -> tuple[tuple[float, ...], ...]:
@@ -94,11 +135,7 @@ class ClosedFormSolver:
         # a solve runs on the math module rather than on small NumPy arrays.
         self._kinds = self.target_kinds
         self._zero_seed = [0.0] * len(self._lower)
-        # per joint: DH offset, lower bound with its slack, upper bound, raw limits (slow path)
-        self._joints = tuple(
-            (offset, lower - LIMIT_TOL, upper, lower, upper)
-            for offset, lower, upper in zip(self._offsets, self._lower, self._upper)
-        )
+        self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # frame 0 from the world (3 x 4 rows), and the world from frame 0 (3 x 3 rows)
         self._base_rows = None if self._base is None else _rows(self._base[:3, :])
         self._world_rows = None if self._base is None else _rows(base[:3, :3])
@@ -122,6 +159,21 @@ class ClosedFormSolver:
             time=time.perf_counter() - start,
         )
 
+    def _joints(self, seed: list[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """Per joint, the open interval of angles that need no wrapping (lower ends, upper ends).
+
+        Inside it an angle is within the limits and is already the copy nearest the seed.
+        """
+        lows, highs = [], []
+        for s, lower, upper in zip(seed, self._lower, self._upper):
+            if abs(s) < _FAST_SEED:
+                lows.append(max(lower, s - _FAST_COPY))
+                highs.append(min(upper, s + _FAST_COPY))
+            else:  # every angle takes the exact path
+                lows.append(math.nan)
+                highs.append(math.nan)
+        return tuple(lows), tuple(highs)
+
     def _point_in_frame0(self, p: list[float]) -> list[float]:
         rows = self._base_rows
         if rows is None:
@@ -139,7 +191,7 @@ class ClosedFormSolver:
         """Branches for the target whose position (and rotation) in the world are ``p`` (``r``)."""
         structure, offsets = self.structure, self._offsets
         free_t1 = seed[0] + offsets[0]
-        x, y, z = self._point_in_frame0(p)
+        x, y, z = p if self._base_rows is None else self._point_in_frame0(p)
         if isinstance(structure, Planar2R):
             return solve_planar2r(structure, x, y, z, free_t1=free_t1)
         if isinstance(structure, Offset3R):
@@ -188,7 +240,7 @@ class ClosedFormSolver:
             return self._failure("out_of_reach", branches.message, start, branches.gap)
         valid, rejected = self._verify(target, branches, seed_list, p, r)
         if len(valid) > 1:
-            valid.sort(key=_first)
+            valid.sort(key=_DISTANCE)
         solutions = tuple([solution for _, solution in valid])
         rejected_solutions = tuple(rejected)
         if solutions:
@@ -225,69 +277,64 @@ class ClosedFormSolver:
     ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
         """Per branch: the joint vector, its Pinocchio FK errors, and where it goes (valid, rejected, dropped)."""
         model, data, frame = self._model, self._data, self._frame
-        joints = self._joints
+        lows, highs = self._joints_zero_seed if seed is self._zero_seed else self._joints(seed)
+        offsets, lower, upper = self._offsets, self._lower, self._upper
+        sub, lt, dist = operator.sub, operator.lt, math.dist
         forward, update, array = pin.forwardKinematics, pin.updateFramePlacement, np.array
-        sqrt, asin, fast = math.sqrt, math.asin, _FAST_COPY
+        sqrt, asin = math.sqrt, math.asin
         tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
         px, py, pz = p
-        pitch = isinstance(target, PitchTarget)
+        position_only = isinstance(target, PositionTarget)
         if r is not None:
             (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r
-        elif pitch:
+        elif not position_only:
             ax, ay, az = self._approach(target, seed, p)  # type: ignore[arg-type]
             tx, ty, tz = self._approach_in_tool
         valid: list[tuple[float, IKSolution]] = []
         rejected: list[IKSolution] = []
         for thetas, label in branches.thetas:
-            q_list = []
+            q_list = list(map(sub, thetas, offsets))
             inside = True
-            distance = 0.0
-            for theta, s, (offset, lower_tol, upper, lower, upper_raw) in zip(thetas, seed, joints):
-                value = theta - offset
-                # the copy nearest the seed, if inside the limits; else search (see _nearest_copy)
-                base = value - TWO_PI * round((value - s) / TWO_PI)
-                d = base - s
-                if -fast < d < fast and lower_tol - base <= 0.0 and base - upper - LIMIT_TOL <= 0.0:
-                    value = base
-                else:
-                    value, ok = _nearest_copy(value, s, lower, upper_raw)
-                    inside = inside and ok
-                    d = value - s
-                q_list.append(value)
-                distance += d * d
+            if not (all(map(lt, lows, q_list)) and all(map(lt, q_list, highs))):
+                for i, (value, low, high) in enumerate(zip(q_list, lows, highs)):
+                    if not low < value < high:  # else: inside the limits, the copy nearest the seed
+                        q_list[i], ok = _wrap(value, seed[i], lower[i], upper[i])
+                        inside = inside and ok
+            distance = dist(q_list, seed)
             q = array(q_list)
             forward(model, data, q)
-            h0, h1, h2, _ = update(model, data, frame).homogeneous.tolist()
-            ex, ey, ez = h0[3] - px, h1[3] - py, h2[3] - pz
+            placement = update(model, data, frame)
+            if position_only:
+                hx, hy, hz = placement.translation.tolist()
+            else:
+                (m00, m01, m02, hx), (m10, m11, m12, hy), (m20, m21, m22, hz), _ = placement.homogeneous.tolist()
+            ex, ey, ez = hx - px, hy - py, hz - pz
             position_error = sqrt(ex * ex + ey * ey + ez * ez)
-            if r is not None:
+            if position_only:
+                rotation_error = 0.0
+            elif r is not None:
                 # |R_fk - R_target|_F = 2 sqrt(2) sin(angle / 2): accurate for small angles
-                d0, d1, d2 = h0[0] - r00, h0[1] - r01, h0[2] - r02
-                d3, d4, d5 = h1[0] - r10, h1[1] - r11, h1[2] - r12
-                d6, d7, d8 = h2[0] - r20, h2[1] - r21, h2[2] - r22
+                d0, d1, d2 = m00 - r00, m01 - r01, m02 - r02
+                d3, d4, d5 = m10 - r10, m11 - r11, m12 - r12
+                d6, d7, d8 = m20 - r20, m21 - r21, m22 - r22
                 squares = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4 + d5 * d5 + d6 * d6 + d7 * d7 + d8 * d8
                 rotation_error = 2.0 * asin(min(1.0, sqrt(squares / 8.0)))
-            elif pitch:
-                ux = h0[0] * tx + h0[1] * ty + h0[2] * tz
-                uy = h1[0] * tx + h1[1] * ty + h1[2] * tz
-                uz = h2[0] * tx + h2[1] * ty + h2[2] * tz
+            else:
+                ux = m00 * tx + m01 * ty + m02 * tz
+                uy = m10 * tx + m11 * ty + m12 * tz
+                uz = m20 * tx + m21 * ty + m22 * tz
                 cx, cy, cz = uy * az - uz * ay, uz * ax - ux * az, ux * ay - uy * ax
                 rotation_error = math.atan2(sqrt(cx * cx + cy * cy + cz * cz), ux * ax + uy * ay + uz * az)
-            else:
-                rotation_error = 0.0
-            solution = IKSolution(q, label, inside, position_error, rotation_error)
             if position_error > tol_p or rotation_error > tol_r:
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
                     self.robot.name, label, position_error, rotation_error,
                 )
                 continue
+            solution = IKSolution(q, label, inside, position_error, rotation_error)
             if inside:
                 valid.append((distance, solution))
             else:
                 rejected.append(solution)
         return valid, rejected
 
-
-def _first(pair: tuple[float, IKSolution]) -> float:
-    return pair[0]

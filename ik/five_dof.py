@@ -32,10 +32,16 @@ def _branch(
     shoulder: str,
     p: tuple[float, float, float],
     a: tuple[float, float, float],
+    r5: list[list[float]] | None,
+    t5: float,
     branches: Branches,
     gaps: list[float],
-) -> list[tuple[float, float, float, float]]:
-    """Angles (t1, t2, t3, t4) of the elbow branches for one base angle; labels into ``branches``."""
+) -> None:
+    """Append the elbow branches of one base angle to ``branches``.
+
+    The wrist roll is ``t5``, or, for a full pose, the angle that turns frame 4 into the roll frame
+    ``r5`` (the same for both elbow branches: it depends on ``t1`` and ``phi`` only).
+    """
     s, s4 = structure.sign1, structure.sign4
     c1, n1 = math.cos(t1), math.sin(t1)
     a_r = a[0] * c1 + a[1] * n1  # approach along e_r
@@ -50,30 +56,41 @@ def _branch(
     v = s * (p[2] - structure.d1) - structure.reach * sin_psi - structure.a4 * sin_phi
     solutions, gap, singular = two_link(u, v, structure.link2, structure.link3)
     gaps.append(gap)
-    out = []
-    for t2, t3, sin_b in solutions:
-        label = f"{shoulder}, {elbow_label(s, u, sin_b)}" if len(solutions) == 2 else f"{shoulder}, {singular}"
-        out.append((t1, t2, t3, phi - t2 - t3))
-        branches.thetas.append(((t1, t2, t3, phi - t2 - t3, 0.0), label))
-    if singular and solutions:
+    if not solutions:
+        return
+    if r5 is not None:
+        t5 = _roll(s, s4, c1, n1, phi, r5)
+    append = branches.thetas.append
+    if len(solutions) == 2:
+        # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
+        (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
+        elbow = elbow_label(s, u, sin_b)
+        append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {elbow}"))
+        elbow = "elbow down" if elbow == "elbow up" else "elbow up"
+        append(((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), f"{shoulder}, {elbow}"))
+    else:
+        for t2, t3, _ in solutions:
+            append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {singular}"))
+    if singular:
         branches.singular(singular)
-    return out
 
 
-def _roll(structure: FiveDof, t: tuple[float, float, float, float], r5: list[list[float]]) -> float:
-    """DH angle of joint 5 that turns frame 4 into the roll frame ``r5`` (columns x, y, z)."""
-    s, s4 = structure.sign1, structure.sign4
-    c1, n1 = math.cos(t[0]), math.sin(t[0])
-    phi = t[1] + t[2] + t[3]
-    cp, sp = math.cos(phi), math.sin(phi)
-    # frame-1 plane axes in frame 0: x1 = e_r, y1 = s z0; x4 at phi, z4 at phi - s4 pi/2
-    x4 = (cp * c1, cp * n1, s * sp)
-    z4 = (s4 * sp * c1, s4 * sp * n1, -s * s4 * cp)
-    y4 = (z4[1] * x4[2] - z4[2] * x4[1], z4[2] * x4[0] - z4[0] * x4[2], z4[0] * x4[1] - z4[1] * x4[0])
-    x5 = (r5[0][0], r5[1][0], r5[2][0])
-    return math.atan2(
-        y4[0] * x5[0] + y4[1] * x5[1] + y4[2] * x5[2], x4[0] * x5[0] + x4[1] * x5[1] + x4[2] * x5[2]
-    )
+def _roll(s: float, s4: float, c1: float, n1: float, phi: float, r5: list[list[float]]) -> float:
+    """DH angle of joint 5 that turns frame 4 into the roll frame ``r5`` (columns x, y, z).
+
+    In frame 0, ``x4 = (cos phi e_r, s sin phi)`` and ``y4 = z4 x x4 = s s4 (sin t1, -cos t1, 0)``
+    (``e_r = (cos t1, sin t1, 0)``); the roll is the angle of ``x5`` in the ``(x4, y4)`` plane.
+
+    Args:
+        s: Sign of ``alpha1``.
+        s4: Sign of ``alpha4``.
+        c1: Cosine of the DH angle ``t1`` of joint 1.
+        n1: Sine of ``t1``.
+        phi: In-plane angle of ``x4`` (``theta2 + theta3 + theta4``) [rad].
+        r5: Roll frame in frame 0 (rows).
+    """
+    x, y, z = r5[0][0], r5[1][0], r5[2][0]
+    return math.atan2(s * s4 * (n1 * x - c1 * y), math.cos(phi) * (c1 * x + n1 * y) + s * math.sin(phi) * z)
 
 
 def _finish(structure: FiveDof, branches: Branches, gaps: list[float]) -> Branches:
@@ -99,26 +116,27 @@ def solve_pose(
             the base axis).
     """
     branches = Branches()
-    rt = structure.R_roll_tool.tolist()
+    rt = structure.roll_tool_rows
     # roll frame r5 = r_tool rt^T; its z column is the approach axis
-    if rt == [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]:
+    if rt is None:
         r5 = r_tool
     else:
         r5 = [[sum(r_tool[i][k] * rt[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
     a = (r5[0][2], r5[1][2], r5[2][2])
     # the arm plane contains p, a and the base axis: take its direction from the largest of them
     scale = structure.link2.length + structure.link3.length + abs(structure.reach) + abs(structure.a4)
-    candidates = [(math.hypot(p[0], p[1]), p[0], p[1]), (scale * math.hypot(a[0], a[1]), a[0], a[1])]
-    size, dx, dy = max(candidates)
+    rho = math.hypot(p[0], p[1])
+    size, dx, dy = max((rho, p[0], p[1]), (scale * math.hypot(a[0], a[1]), a[0], a[1]))
     if size <= REACH_TOL:
         bases = [(free_t1, "shoulder front")]
         branches.singular("tool point and approach axis on the base axis: base yaw is free (seed value kept)")
     else:
         t1 = math.atan2(dy, dx)
-        front = (p[0] * math.cos(t1) + p[1] * math.sin(t1)) >= 0.0 or math.hypot(p[0], p[1]) <= REACH_TOL
+        c1, n1 = math.cos(t1), math.sin(t1)
+        front = (p[0] * c1 + p[1] * n1) >= 0.0 or rho <= REACH_TOL
         bases = [(t1, "shoulder front" if front else "shoulder back"),
                  (t1 + math.pi, "shoulder back" if front else "shoulder front")]
-        normal = (math.sin(t1), -math.cos(t1))
+        normal = (n1, -c1)
         off_axis = abs(a[0] * normal[0] + a[1] * normal[1])
         off_point = abs(p[0] * normal[0] + p[1] * normal[1])
         if off_axis > PLANE_TOL or off_point > PLANE_TOL:
@@ -130,11 +148,7 @@ def solve_pose(
             )
     gaps: list[float] = []
     for t1, shoulder in bases:
-        first = len(branches.thetas)
-        for t in _branch(structure, t1, shoulder, p, a, branches, gaps):
-            thetas, label = branches.thetas[first]
-            branches.thetas[first] = ((*t, _roll(structure, t, r5)), label)
-            first += 1
+        _branch(structure, t1, shoulder, p, a, r5, 0.0, branches, gaps)
     return _finish(structure, branches, gaps)
 
 
@@ -168,9 +182,5 @@ def solve_pitch(
     a = (cp * math.cos(h_angle), cp * math.sin(h_angle), -sp)
     gaps: list[float] = []
     for t1, shoulder in bases:
-        first = len(branches.thetas)
-        for t in _branch(structure, t1, shoulder, p, a, branches, gaps):
-            thetas, label = branches.thetas[first]
-            branches.thetas[first] = ((*t, t5), label)
-            first += 1
+        _branch(structure, t1, shoulder, p, a, None, t5, branches, gaps)
     return _finish(structure, branches, gaps)

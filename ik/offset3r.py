@@ -76,9 +76,16 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
             shoulder = "shoulder left" if -d * s * radial > 0.0 else "shoulder right"
         solutions, gap, singular = two_link(u, v, structure.link2, structure.link3)
         gaps.append(gap)
-        for t2, t3, sin_b in solutions:
-            label = f"{shoulder}, {elbow_label(s, u, sin_b)}" if len(solutions) == 2 else f"{shoulder}, {singular}"
-            branches.thetas.append(((t1, t2, t3), label))
+        if len(solutions) == 2:
+            # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
+            (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
+            elbow = elbow_label(s, u, sin_b)
+            branches.thetas.append(((t1, t2, t3), f"{shoulder}, {elbow}"))
+            elbow = "elbow down" if elbow == "elbow up" else "elbow up"
+            branches.thetas.append(((t1, t2_other, t3_other), f"{shoulder}, {elbow}"))
+        else:
+            for t2, t3, _ in solutions:
+                branches.thetas.append(((t1, t2, t3), f"{shoulder}, {singular}"))
         if singular and solutions:
             branches.singular(singular)
     if not branches.thetas:

@@ -38,6 +38,19 @@ def two_link(
     if gap > REACH_TOL:
         return [], gap, ""
     cos_b2 = (x * x + y * y - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+    if abs(cos_b2) < MERGE_COS and r > REACH_TOL:
+        # the usual case, two distinct elbow branches (the same values as the general case below)
+        sin_b2 = math.sqrt(1.0 - cos_b2 * cos_b2)
+        a1, a2 = link1.angle, link2.angle
+        base, k1, k2 = math.atan2(y, x), l1 + l2 * cos_b2, l2 * sin_b2
+        return (
+            [
+                (base - math.atan2(k2, k1) - a1, math.atan2(sin_b2, cos_b2) - a2 + a1, sin_b2),
+                (base - math.atan2(-k2, k1) - a1, math.atan2(-sin_b2, cos_b2) - a2 + a1, -sin_b2),
+            ],
+            gap,
+            "",
+        )
     singular = ""
     if abs(cos_b2) >= MERGE_COS:
         cos_b2 = math.copysign(1.0, cos_b2)

@@ -35,6 +35,19 @@ class IKSolution:
     position_error: float
     rotation_error: float
 
+    def __init__(
+        self, q: np.ndarray, branch: str, within_limits: bool, position_error: float, rotation_error: float
+    ):
+        # The generated frozen __init__ sets each field through object.__setattr__ (about 1 us in
+        # all): too slow for the closed-form solvers' per-call budget. Same fields, still frozen.
+        self.__dict__.update(
+            q=q,
+            branch=branch,
+            within_limits=within_limits,
+            position_error=position_error,
+            rotation_error=rotation_error,
+        )
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (``q`` in radians / meters, errors in m and rad)."""
         return {
@@ -73,6 +86,32 @@ class IKResult:
     distance_to_workspace: float | None = None
     iterations: int = 0
     time: float = 0.0
+
+    def __init__(
+        self,
+        success: bool,
+        solver: str,
+        status: Status,
+        message: str,
+        solutions: tuple[IKSolution, ...] = (),
+        rejected: tuple[IKSolution, ...] = (),
+        distance_to_workspace: float | None = None,
+        iterations: int = 0,
+        time: float = 0.0,
+    ):
+        # Same fields and defaults as the generated frozen __init__, without its per-field
+        # object.__setattr__ calls (see IKSolution).
+        self.__dict__.update(
+            success=success,
+            solver=solver,
+            status=status,
+            message=message,
+            solutions=solutions,
+            rejected=rejected,
+            distance_to_workspace=distance_to_workspace,
+            iterations=iterations,
+            time=time,
+        )
 
     @property
     def best(self) -> IKSolution | None:

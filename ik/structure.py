@@ -17,7 +17,7 @@ the same structure with other numbers works unchanged. A table that does not fit
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -98,6 +98,8 @@ class FiveDof:
         R_roll_tool: Rotation of the tool in the frame ``Rz(theta5)`` leaves (``Rx(alpha5)`` times
             the tool rotation).
         offsets: DH angle offsets [rad].
+        roll_tool_rows: ``R_roll_tool`` as rows of floats, or None when it is the identity
+            (derived, for the scalar solver).
     """
 
     sign1: float
@@ -110,6 +112,12 @@ class FiveDof:
     reach: float
     R_roll_tool: np.ndarray
     offsets: tuple[float, ...]
+    roll_tool_rows: tuple[tuple[float, ...], ...] | None = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        rows = tuple(tuple(row) for row in np.asarray(self.R_roll_tool, dtype=float).tolist())
+        identity = rows == ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+        object.__setattr__(self, "roll_tool_rows", None if identity else rows)
 
 
 Structure = Planar2R | Offset3R | FiveDof

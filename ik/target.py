@@ -42,7 +42,7 @@ class PositionTarget:
     @property
     def finite(self) -> bool:
         """Whether every value is finite."""
-        return bool(np.isfinite(self.position).all())
+        return all(map(math.isfinite, self.position.tolist()))
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,7 +87,8 @@ class PoseTarget:
     @property
     def finite(self) -> bool:
         """Whether every value is finite."""
-        return bool(np.isfinite(self.position).all() and np.isfinite(self.rotation).all())
+        isfinite = math.isfinite
+        return all(map(isfinite, self.position.tolist())) and all(map(isfinite, self.rotation.ravel().tolist()))
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,8 +123,12 @@ class PitchTarget:
     @property
     def finite(self) -> bool:
         """Whether every value is finite."""
-        values = [self.pitch] + ([] if self.roll is None else [self.roll])
-        return bool(np.isfinite(self.position).all() and all(math.isfinite(v) for v in values))
+        isfinite = math.isfinite
+        return (
+            all(map(isfinite, self.position.tolist()))
+            and isfinite(self.pitch)
+            and (self.roll is None or isfinite(self.roll))
+        )
 
 
 Target = PositionTarget | PoseTarget | PitchTarget

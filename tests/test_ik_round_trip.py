@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 
 import kin
-from ik import BatchSolver, ClosedFormSolver, PitchTarget, PoseTarget, PositionTarget, dh_forward_kinematics
+from ik import (
+    BatchSolver,
+    ClosedFormSolver,
+    PitchTarget,
+    PoseTarget,
+    PositionTarget,
+    dh_forward_kinematics,
+)
 
 SMALL_ROBOTS = ["lab5", "ned5", "pickplace3", "planar2", "scorbot"]
 SAMPLES = 10_000

@@ -7,10 +7,17 @@ import numpy as np
 import pytest
 from scripts_helper import exit_code, load_script
 
-import kin
 import ik
+import kin
 from dh2urdf import DHRow, DHTable
-from ik import ClosedFormSolver, PitchTarget, PoseTarget, PositionTarget, StructureError, TargetError
+from ik import (
+    ClosedFormSolver,
+    PitchTarget,
+    PoseTarget,
+    PositionTarget,
+    StructureError,
+    TargetError,
+)
 from ik.structure import five_dof, recognise
 
 
