@@ -6,6 +6,11 @@ Targets (foundation issue): kin FK at most 1.5x the raw
 
 from __future__ import annotations
 
+import os
+
+# One BLAS thread: idle OpenBLAS threads spinning on a 2-core machine make timings noisy.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import statistics
 import subprocess
 import sys

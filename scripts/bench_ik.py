@@ -7,6 +7,11 @@ Robotics Toolbox's ik_LM when installed); the remaining options are passed on to
 
 from __future__ import annotations
 
+import os
+
+# One BLAS thread: idle OpenBLAS threads spinning on a 2-core machine make timings noisy.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import importlib.util
 import statistics
 import sys

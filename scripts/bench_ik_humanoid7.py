@@ -11,6 +11,11 @@ limits in float32 (pi/2 + 4.4e-8 rad), so its answers are clipped into the limit
 
 from __future__ import annotations
 
+import os
+
+# One BLAS thread: idle OpenBLAS threads spinning on a 2-core machine make timings noisy.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import time
 import warnings
 from collections.abc import Callable
