@@ -195,6 +195,38 @@ def rtb_lm(robot: RobotModel, searches: int) -> SolveFn | str:
     return solve
 
 
+#: Issue targets per task: (minimum success, maximum median [ms]).
+TARGETS = {"full pose": (0.999, 0.5), "position": (1.0, 0.3)}
+#: Our median must be at most this fraction of the best peer's median (same run).
+PEER_RATIO = 0.5
+
+
+def print_verdicts(rows: list[Row], ours_name: str) -> None:
+    """Print, per task and start, the issue's targets and whether this run meets them."""
+    print("targets: success and median per task; ours <= 0.5 x the best peer's median at >= success")
+    for row in rows:
+        if row.solver != ours_name:
+            continue
+        min_success, max_median = TARGETS.get(row.task, (1.0, float("inf")))
+        own = row.success >= min_success and row.median_ms <= max_median
+        peers = [
+            r for r in rows if r.solver != ours_name and r.task == row.task and r.start == row.start
+        ]
+        line = (
+            f"{row.task:<10} {row.start:<9} ours {100 * row.success:.1f}% {row.median_ms:.3f} ms "
+            f"(target >= {100 * min_success:.1f}%, <= {max_median} ms): {'met' if own else 'NOT met'}"
+        )
+        if peers:
+            best = min(peers, key=lambda r: r.median_ms)
+            ratio = row.median_ms / best.median_ms
+            ok = ratio <= PEER_RATIO and row.success >= best.success
+            line += (
+                f"; best peer {best.solver} {100 * best.success:.1f}% {best.median_ms:.3f} ms, "
+                f"ratio {ratio:.2f} (target <= {PEER_RATIO}): {'met' if ok else 'NOT met'}"
+            )
+        print(line)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Print the table; exit 0."""
     args = get_argument_parser().parse_args(argv)
@@ -237,6 +269,7 @@ def main(argv: list[str] | None = None) -> int:
                 f"{row.solver:<12} {row.task:<10} {row.start:<9} {100 * row.success:7.1f}% "
                 f"{row.median_ms:10.3f} {row.p90_ms:8.3f} {row.max_ms:8.2f}"
             )
+        print_verdicts(rows, list(ready)[0])
         return 0
 
     return run_guarded("bench_ik_humanoid7.py", body)
