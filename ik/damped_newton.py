@@ -17,16 +17,26 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from operator import le
 
 import numpy as np
 import pinocchio as pin
 
 try:
-    from scipy.linalg import lapack
+    from scipy.linalg import blas, lapack
 
     def _solve_spd(matrix: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, int]:
         _, x, info = lapack.dposv(matrix, rhs)
         return x, info
+
+    def _posv(upper: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, int]:
+        """Solve with a symmetric positive definite matrix given by its upper triangle."""
+        _, x, info = lapack.dposv(upper, rhs)
+        return x, info
+
+    def _syrk(alpha: float, a: np.ndarray, beta: float, c: np.ndarray) -> np.ndarray:
+        """Upper triangle of ``alpha A A^T + beta C`` (``C`` symmetric, not overwritten)."""
+        return blas.dsyrk(alpha, a, beta, c)
 
 except ImportError:  # pragma: no cover - SciPy comes with osqp
 
@@ -35,6 +45,11 @@ except ImportError:  # pragma: no cover - SciPy comes with osqp
             return np.linalg.solve(matrix, rhs), 0
         except np.linalg.LinAlgError:
             return rhs, 1
+
+    _posv = _solve_spd
+
+    def _syrk(alpha: float, a: np.ndarray, beta: float, c: np.ndarray) -> np.ndarray:
+        return alpha * (a @ a.T) + beta * c
 
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -74,12 +89,14 @@ def damped_newton(
     max_step: float = 0.5,
     posture: np.ndarray | None = None,
     posture_gain: float = 0.1,
+    patience: int | None = None,
 ) -> NewtonOutcome:
     """Run clamped damped Newton steps from ``q0`` toward a tool target.
 
     Args:
         model: Pinocchio model (its position limits are the clamp).
-        data: Pinocchio data of ``model`` (overwritten).
+        data: Pinocchio data of ``model`` (overwritten; on return it holds the forward
+            kinematics at the returned ``q``).
         frame_id: Index of the tool frame.
         q0: Start joint vector [rad] (clipped into the limits).
         position: Target position in the world frame [m].
@@ -92,75 +109,138 @@ def damped_newton(
         max_step: Largest joint change per step, infinity norm [rad].
         posture: Preferred joint vector [rad] pulled toward in the null space, or None.
         posture_gain: Fraction of the posture error pulled per step [1].
+        patience: Give up (``converged=False``) after this many steps in a row that do not
+            halve the best error ``|e|`` so far (a start stuck at a limit or a local minimum),
+            or None to always run ``max_iterations`` steps.
     """
     # The loop runs a few microseconds per step: names are bound once, buffers are reused,
     # scalar work is done on Python floats (a NumPy call costs about a microsecond).
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
-    q = np.minimum(np.maximum(np.asarray(q0, dtype=float), lower), upper)
-    bounds = tuple(zip(lower.tolist(), upper.tolist(), strict=True))
+    lower, upper, lows, highs, translation, orientation, e6, e3 = _workspace(model, data, frame_id)
+    q = np.array(q0, dtype=float)  # a copy: the caller's array is never returned
+    values = q.tolist()
+    if not (all(map(le, lows, values)) and all(map(le, values, highs))):
+        q = np.minimum(np.maximum(q, lower), upper)
     full = rotation is not None
     m = 6 if full else 3
     identity = _IDENTITY[m]
-    e = np.empty(m)
+    e = e6 if full else e3
     e_position = e[:3]
     e_rotation = e[3:]
-    normal = np.empty((m, m))
-    normal_diagonal = np.einsum("ii->i", normal)  # a writable view of the diagonal
-    # Views of the tool placement in ``data``: every Jacobian call below refreshes them.
-    pose = data.oMf[frame_id]
-    translation, orientation = pose.translation, pose.rotation
-    jacobian_of, log3, subtract, matmul = pin.computeFrameJacobian, pin.log3, np.subtract, np.matmul
-    solve_spd = _solve_spd
+    jacobian_of, log3, subtract, dot = pin.computeFrameJacobian, pin.log3, np.subtract, np.dot
+    syrk, posv = _syrk, _posv
     position_tol2, rotation_tol2 = position_tol * position_tol, rotation_tol * rotation_tol
     rotation_error2 = 0.0
     iterations = 0
+    best = math.inf  # best squared error so far
+    stalled = 0
+    wait = max_iterations + 1 if patience is None else patience
     while True:
         # One Pinocchio call: forward kinematics, the tool placement and its Jacobian.
         jacobian = jacobian_of(model, data, q, frame_id, _LWA)
         subtract(position, translation, out=e_position)
         if full:
-            e_rotation[:] = log3(rotation @ orientation.T)
+            e_rotation[:] = log3(dot(rotation, orientation.T))
+            ex, ey, ez, wx, wy, wz = e.tolist()
+            rotation_error2 = wx * wx + wy * wy + wz * wz
         else:
             jacobian = jacobian[:3]
-        squares = (e * e).tolist()
-        position_error2 = squares[0] + squares[1] + squares[2]
-        if full:
-            rotation_error2 = squares[3] + squares[4] + squares[5]
+            ex, ey, ez = e.tolist()
+        position_error2 = ex * ex + ey * ey + ez * ez
         if position_error2 < position_tol2 and rotation_error2 < rotation_tol2:
             return NewtonOutcome(
                 q, True, iterations, math.sqrt(position_error2), math.sqrt(rotation_error2)
             )
-        if iterations >= max_iterations:
+        squared = position_error2 + rotation_error2
+        if squared < 0.25 * best:  # the error halved: progress
+            best = squared
+            stalled = 0
+        else:
+            stalled += 1
+        if iterations >= max_iterations or stalled >= wait:
             return NewtonOutcome(
                 q, False, iterations, math.sqrt(position_error2), math.sqrt(rotation_error2)
             )
         iterations += 1
-        squared = position_error2 + rotation_error2
         lam = damping + error_damping * squared
         if posture is None:  # the common case, inlined: dq = J^T (J J^T + lam I)^-1 e
             z = None
-            matmul(jacobian, jacobian.T, out=normal)
-            normal_diagonal += lam
-            x, info = solve_spd(normal, e)
-            dq = x @ jacobian if info == 0 else _step(jacobian, e, lam, identity, None)
+            if full:
+                # Upper triangle of J J^T + lam I in one BLAS call, then a Cholesky solve.
+                x, info = posv(syrk(1.0, jacobian, lam, identity), e)
+                dq = dot(x, jacobian) if info == 0 else _step(jacobian, e, lam, identity, None)
+            else:  # 3 x 3: the adjugate in Python floats beats a LAPACK call
+                (a, b, c), (_, d, f), (_, _, g) = dot(jacobian, jacobian.T).tolist()
+                a += lam
+                d += lam
+                g += lam
+                c0, c1, c2 = d * g - f * f, c * f - b * g, b * f - c * d
+                det = a * c0 + b * c1 + c * c2
+                if det > 1e-300:
+                    c4, c5, c8 = a * g - c * c, b * c - a * f, a * d - b * b
+                    dq = dot(
+                        (
+                            (c0 * ex + c1 * ey + c2 * ez) / det,
+                            (c1 * ex + c4 * ey + c5 * ez) / det,
+                            (c2 * ex + c5 * ey + c8 * ez) / det,
+                        ),
+                        jacobian,
+                    )
+                else:
+                    dq = _step(jacobian, e, lam, identity, None)
         else:
             z = posture_gain * (posture - q)
             dq = _step(jacobian, e, lam, identity, z)
-        if squared > 1e-4:  # far from the target: bound the step
-            _bound(dq, max_step)
+        if squared > 1e-4:  # far from the target: bound the step (inlined ``_bound``)
+            values = dq.tolist()
+            scale = max(max(values), -min(values))
+            if scale > max_step:
+                dq *= max_step / scale
         stepped = q + dq
         values = stepped.tolist()
-        if any(v < lo or v > hi for v, (lo, hi) in zip(values, bounds)):
+        if not (all(map(le, lows, values)) and all(map(le, values, highs))):
             # Freeze the joints the clamp stops while the step pushes them outward.
             blocked = (stepped < lower) | (stepped > upper)
-            jacobian = jacobian.copy()
-            jacobian[:, blocked] = 0.0
-            if z is not None:
+            jacobian = jacobian * ~blocked  # a copy with the blocked columns zeroed
+            if z is None:
+                x, info = posv(syrk(1.0, jacobian, lam, identity), e)
+                dq = dot(x, jacobian) if info == 0 else _step(jacobian, e, lam, identity, None)
+            else:
                 z[blocked] = 0.0
-            dq = _step(jacobian, e, lam, identity, z)
+                dq = _step(jacobian, e, lam, identity, z)
             _bound(dq, max_step)
             stepped = np.minimum(np.maximum(q + dq, lower), upper)
         q = stepped
+
+
+def _workspace(model: pin.Model, data: pin.Data, frame_id: int) -> tuple:
+    """Limits (arrays and lists), tool placement views into ``data`` and error buffers.
+
+    Cached per ``data`` (and its model and frame): the views stay valid while ``data`` lives (the
+    cache holds it) and every Jacobian call on ``data`` refreshes them.
+    """
+    entry = _WORKSPACES.get(id(data))
+    if entry is not None and entry[0] is data and entry[1] is model and entry[2] == frame_id:
+        return entry[3]
+    lower = model.lowerPositionLimit.copy()
+    upper = model.upperPositionLimit.copy()
+    pose = data.oMf[frame_id]
+    work = (
+        lower,
+        upper,
+        lower.tolist(),
+        upper.tolist(),
+        pose.translation,
+        pose.rotation,
+        np.empty(6),
+        np.empty(3),
+    )
+    if len(_WORKSPACES) >= 32:  # many short-lived solvers: forget the old ones
+        _WORKSPACES.clear()
+    _WORKSPACES[id(data)] = (data, model, frame_id, work)
+    return work
+
+
+_WORKSPACES: dict[int, tuple] = {}
 
 
 _IDENTITY = {3: np.eye(3), 6: np.eye(6)}

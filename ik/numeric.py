@@ -9,17 +9,22 @@ The solve loop, until a solution is verified or the time budget runs out:
    the best configuration so far, then a damped Newton polish; then random starts inside the
    limits, alternating both, until the deadline.
 
-Pinocchio is the judge: a configuration is a solution only when :func:`ik.pose_target.measure`
-finds it within ``1e-5 m`` and ``1e-4 rad`` of the target and inside the limits. Otherwise the
-result says so (``success=False``) and carries the best configuration found and its errors.
+Pinocchio is the judge: a configuration is a solution only when Pinocchio's forward kinematics
+at it finds it within ``1e-5 m`` and ``1e-4 rad`` of the target and inside the limits. The
+damped Newton run's last evaluation is that forward kinematics at the returned ``q`` (the numbers
+:func:`ik.numeric_target.measure` would recompute), so a success costs no extra evaluation.
+Otherwise the result says so (``success=False``) and carries the best configuration found and its
+errors (measured by :func:`ik.numeric_target.measure`).
 """
 
 from __future__ import annotations
 
 import functools
 import logging
+import math
 import time
 from collections.abc import Iterator
+from operator import le
 
 import numpy as np
 import numpy.typing as npt
@@ -50,6 +55,13 @@ class NumericIK:
         nearest: Number of seed-table starts tried before the fallback.
         newton_iterations: Damped Newton steps per start.
         qp_iterations: mink QP steps per fallback run.
+        patience: A nearest start is abandoned after this many damped Newton steps in a row
+            that do not halve its error (None: always ``newton_iterations`` steps).
+        random_starts: Random starts tried after the nearest ones and before the first mink
+            QP run (a QP run costs as much as dozens of damped Newton starts).
+        random_between: Random starts between two mink QP runs.
+        random_patience: ``patience`` of the random starts (a mink QP run is always followed
+            by ``newton_iterations`` damped Newton steps).
     """
 
     #: Solver name reported in :class:`IKResult` (the scripts' dispatch protocol).
@@ -63,6 +75,10 @@ class NumericIK:
         nearest: int = 8,
         newton_iterations: int = 20,
         qp_iterations: int = 25,
+        patience: int | None = 3,
+        random_starts: int = 10,
+        random_between: int = 3,
+        random_patience: int | None = 3,
     ):
         self.robot = robot
         self.model = robot.model
@@ -73,11 +89,17 @@ class NumericIK:
         self.nearest = nearest
         self.newton_iterations = newton_iterations
         self.qp_iterations = qp_iterations
+        self.patience = patience
+        self.random_starts = random_starts
+        self.random_between = random_between
+        self.random_patience = random_patience
         self.lower = robot.model.lowerPositionLimit.copy()
         self.upper = robot.model.upperPositionLimit.copy()
+        self._lows, self._highs = self.lower.tolist(), self.upper.tolist()
         rows = robot.table.rows
         #: Upper bound of the tool's distance from the base origin [m] (triangle inequality).
         self.reach = float(sum(abs(row.a) + abs(row.d) for row in rows))
+        self._shape = (robot.model.nq,)
         self._table: SeedTable | None = None
         self._differential: DifferentialIK | None = None
 
@@ -148,29 +170,43 @@ class NumericIK:
         best: NewtonOutcome | None = None
         iterations = 0
         attempts = 0
+        lows, highs = self._lows, self._highs
         newton_kwargs = dict(
             max_iterations=self.newton_iterations,
             position_tol=inner_p,
             rotation_tol=inner_r,
             posture=target.posture,
         )
+        # The nearest starts give up early when stuck: the next start is cheaper than the
+        # remaining steps (the fallback below always runs its full steps).
+        start_kwargs = dict(newton_kwargs, patience=self.patience)
+        random_kwargs = dict(newton_kwargs, patience=self.random_patience)
 
         def finish(outcome: NewtonOutcome, how: str) -> IKResult | None:
-            verdict = measure(self.robot, self.data, outcome.q, target)
-            if verdict.within_limits and verdict.on_target(position_tol, rotation_tol):
-                solution = IKSolution(
-                    outcome.q.copy(), "", True, verdict.position_error, verdict.rotation_error
-                )
-                return IKResult(
-                    True,
-                    "mink",
-                    "ok",
-                    how,
-                    (solution,),
-                    iterations=iterations,
-                    time=time.perf_counter() - start,
-                )
-            return None
+            # The last Newton evaluation ran Pinocchio's forward kinematics at ``outcome.q``
+            # itself: its errors are the judge's measurement (``measure`` would recompute the
+            # same numbers), the limits are checked on the returned values.
+            q = outcome.q
+            values = q.tolist()
+            if not (
+                outcome.position_error < position_tol
+                and outcome.rotation_error < rotation_tol
+                and all(map(le, lows, values))
+                and all(map(le, values, highs))
+            ):
+                return None
+            solution = IKSolution(
+                q.copy(), "", True, outcome.position_error, outcome.rotation_error
+            )
+            return IKResult(
+                True,
+                "mink",
+                "ok",
+                how,
+                (solution,),
+                iterations=iterations,
+                time=time.perf_counter() - start,
+            )
 
         def better(outcome: NewtonOutcome) -> bool:
             if best is None:
@@ -183,7 +219,7 @@ class NumericIK:
         # 1-2: nearest starts, damped Newton.
         for label, q0 in self._starts(target, seed):
             outcome = damped_newton(
-                self.model, self.data, self.frame_id, q0, position, rotation, **newton_kwargs
+                self.model, self.data, self.frame_id, q0, position, rotation, **start_kwargs
             )
             iterations += outcome.iterations
             attempts += 1
@@ -195,16 +231,26 @@ class NumericIK:
                 best = outcome
             if time.perf_counter() > deadline:
                 break
-        # 3: mink QP from the best so far, then random restarts, until the deadline.
+        # 3: random restarts and mink QP runs (the first from the best so far), until the deadline.
         rng = np.random.default_rng(random_seed)
-        q_next = None if best is None else best.q
-        use_qp = True
+        fallback = qp_runs = 0
+        nearest_best = best
+        best_from_qp = False
         out_of_reach = float(np.linalg.norm(position)) > self.reach
         while time.perf_counter() < deadline:
-            if q_next is None:
-                q_next = rng.uniform(self.lower, self.upper)
             label = "mink QP"
+            # Out of reach: mink QP from the best so far first (the closest configuration);
+            # else ``random_starts`` cheap random starts first. Then mink QP runs with
+            # ``random_between`` random starts between them.
+            k = fallback if out_of_reach else fallback - self.random_starts
+            use_qp = k >= 0 and k % (self.random_between + 1) == 0
+            fallback += 1
+            if use_qp and not qp_runs and nearest_best is not None:
+                q_next = nearest_best.q  # the first run: from the nearest starts' best
+            else:
+                q_next = rng.uniform(self.lower, self.upper)
             if use_qp:
+                qp_runs += 1
                 if self._differential is None:  # loaded once, outside the budget
                     loading = time.perf_counter()
                     _ = self.differential
@@ -217,7 +263,13 @@ class NumericIK:
             else:
                 label = "damped Newton from a random start"
             outcome = damped_newton(
-                self.model, self.data, self.frame_id, q_next, position, rotation, **newton_kwargs
+                self.model,
+                self.data,
+                self.frame_id,
+                q_next,
+                position,
+                rotation,
+                **(newton_kwargs if use_qp else random_kwargs),
             )
             iterations += outcome.iterations
             attempts += 1
@@ -227,12 +279,24 @@ class NumericIK:
                     return done
             if better(outcome):
                 best = outcome
+                best_from_qp = use_qp
             if out_of_reach and attempts > self.nearest + 2:
                 break
             if max_attempts is not None and attempts >= max_attempts:
                 break
-            use_qp = not use_qp
-            q_next = None
+        if best is not None and not best_from_qp and time.perf_counter() < deadline:
+            # No solution, stopped by ``max_attempts``: a last mink QP run from the best
+            # configuration (a random start's, stopped early) tightens it.
+            self.differential.set_target(target)
+            qp = self.differential.solve(best.q, self.qp_iterations, inner_p, inner_r, deadline)
+            outcome = damped_newton(
+                self.model, self.data, self.frame_id, qp.q, position, rotation, **newton_kwargs
+            )
+            iterations += qp.iterations + outcome.iterations
+            if outcome.converged and (done := finish(outcome, "mink QP from the best")):
+                return done
+            if better(outcome):
+                best = outcome
         return self._failure(
             target, best, iterations, attempts, time.perf_counter() - start, out_of_reach
         )
@@ -246,10 +310,7 @@ class NumericIK:
         if target.posture is not None:
             extra.append(("the preferred posture", np.asarray(target.posture, dtype=float)))
         if seed_q is not None:
-            try:
-                extra.append(("the given seed", as_joint_vector(self.robot, seed_q)))
-            except KinError as err:
-                raise TargetError(f"seed of '{self.robot.name}': {err}") from err
+            extra.append(("the given seed", self._seed_vector(seed_q)))
         found = table.ranked(target.position, target.rotation)
         if found is None or found[0].size < self.nearest:  # outside the grid: the KD-tree
             order = table.nearest(target.position, target.rotation, k=self.nearest)
@@ -281,16 +342,33 @@ class NumericIK:
         for i in rest:
             yield f"seed-table sample {int(i)}", table.q[i]
 
+    def _seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
+        """The caller's seed as a finite joint vector (the solver never writes into it)."""
+        if (
+            type(seed_q) is np.ndarray
+            and seed_q.shape == self._shape
+            and seed_q.dtype == np.float64
+            and math.isfinite(sum(seed_q.tolist()))
+        ):
+            return seed_q  # already valid: no copy, no validation
+        try:
+            return as_joint_vector(self.robot, seed_q)
+        except KinError as err:
+            raise TargetError(f"seed of '{self.robot.name}': {err}") from err
+
     def _embedding_distance(self, q: np.ndarray, target: NumericTarget) -> float:
         """Squared distance of ``q``'s tool pose to the target in the seed table's embedding."""
         model, data = self.model, self.data
-        pin.forwardKinematics(model, data, np.minimum(np.maximum(q, self.lower), self.upper))
+        values = q.tolist()
+        if not (all(map(le, self._lows, values)) and all(map(le, values, self._highs))):
+            q = np.minimum(np.maximum(q, self.lower), self.upper)
+        pin.forwardKinematics(model, data, q)
         pose = pin.updateFramePlacement(model, data, self.frame_id)
-        d = pose.translation - target.position
-        distance = float(d @ d)
-        if target.rotation is not None:
-            r = pose.rotation - target.rotation
-            distance += self.table.rotation_weight**2 * float(np.einsum("ij,ij->", r, r))
+        x, y, z = np.subtract(pose.translation, target.position).tolist()
+        distance = x * x + y * y + z * z
+        if target.rotation is not None:  # |R - R_t|_F^2 = 6 - 2 <R, R_t> for rotations
+            inner = float(np.vdot(pose.rotation, target.rotation))
+            distance += self.table.rotation_weight**2 * (6.0 - 2.0 * inner)
         return distance
 
     def _failure(

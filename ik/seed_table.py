@@ -5,8 +5,8 @@ tool pose of each with Pinocchio, and answers "which samples have a tool pose ne
 target?". Poses are compared in an embedding where 1 rad of rotation weighs about
 ``rotation_weight`` [m]: ``(p, rotation_weight * vec(R))`` (``|R1 - R2|_F ~ sqrt(2) * angle``).
 Queries look up a uniform grid over the tool positions first: each cell holds the samples of
-its 3 x 3 x 3 neighbourhood as one contiguous float32 block of embeddings (no gather), ranked in
-the pose embedding with NumPy (a few microseconds). Only
+its 3 x 3 x 3 neighbourhood as one contiguous block of lifted embeddings (no gather), ranked in
+the pose embedding by one matrix-vector product (a few microseconds). Only
 when that cell holds fewer than ``k`` samples (the target is outside the sampled workspace, or at
 its thin edge) does the query fall back to SciPy's KD-tree (or a NumPy argmin without SciPy).
 """
@@ -53,6 +53,10 @@ class SeedTable:
     _grid_shape: tuple[int, int, int] = (0, 0, 0)
     _embedding: np.ndarray | None = None
     _owners: np.ndarray | None = None
+
+    @functools.cached_property
+    def _origin_list(self) -> list[float]:
+        return [] if self._origin is None else self._origin.tolist()
 
     def __len__(self) -> int:
         return int(self.q.shape[0])
@@ -104,24 +108,29 @@ class SeedTable:
         if self._cells is None or self._origin is None or self._embedding is None:
             return None
         nx, ny, nz = self._grid_shape
-        origin, size = self._origin, self.cell_size
-        i = math.floor((position[0] - origin[0]) / size)
-        j = math.floor((position[1] - origin[1]) / size)
-        m = math.floor((position[2] - origin[2]) / size)
+        ox, oy, oz = self._origin_list
+        size = self.cell_size
+        px, py, pz = position.tolist()
+        i = math.floor((px - ox) / size)
+        j = math.floor((py - oy) / size)
+        m = math.floor((pz - oz) / size)
         if not (0 <= i < nx and 0 <= j < ny and 0 <= m < nz):
             return None
         span = self._cells.get((i * ny + j) * nz + m)
         if span is None:
             return None
-        # The cell's samples are a contiguous block of the cell-sorted copies: no gather.
+        # The cell's samples are a contiguous block of the cell-sorted copies: no gather. Each
+        # row is ``(-2 p, -2 w^2 vec(R), |p|^2, 1)``: its product with
+        # ``(p_t, vec(R_t), 1, |p_t|^2 + 6 w^2)`` is the squared distance (``|vec(R)|^2 = 3``
+        # for a rotation); a position-only query has ``R_t = 0`` and no ``6 w^2``.
         begin, end = span
+        offset = px * px + py * py + pz * pz
         if rotation is None:
-            diff = self._embedding[begin:end, :3] - position
+            query = np.array((px, py, pz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, offset))
         else:
-            diff = self._embedding[begin:end] - _pose_point(
-                position, rotation, self.rotation_weight
-            )
-        return self._owners[begin:end], np.einsum("ij,ij->i", diff, diff)
+            offset += 6.0 * self.rotation_weight * self.rotation_weight
+            query = np.array([px, py, pz, *rotation.ravel().tolist(), 1.0, offset])
+        return self._owners[begin:end], np.dot(self._embedding[begin:end], query)
 
     def _nearest_in_grid(
         self, position: np.ndarray, rotation: np.ndarray | None, k: int
@@ -134,15 +143,6 @@ class SeedTable:
             return candidates[[int(np.argmin(distances))]]
         best = np.argpartition(distances, k - 1)[:k]
         return candidates[best[np.argsort(distances[best])]]
-
-
-def _pose_point(position: np.ndarray, rotation: np.ndarray, weight: float) -> np.ndarray:
-    """A pose in the table's embedding: ``(p, weight * vec(R))``."""
-    point = np.empty(12)
-    point[:3] = position
-    point[3:] = rotation.reshape(-1)
-    point[3:] *= weight
-    return point
 
 
 def _grid(
@@ -215,8 +215,17 @@ def build_seed_table(
         position_index = cKDTree(positions)
         pose_index = cKDTree(np.hstack((positions, rotation_weight * rotations)))
     cells, owners, origin, shape = _grid(positions, cell_size)
-    # The embedding of every sample, copied once per cell in cell order (contiguous blocks).
-    embedding = np.hstack((positions, rotation_weight * rotations))[owners].astype(np.float32)
+    # The lifted embedding of every sample (see ``SeedTable.ranked``), copied once per cell in
+    # cell order (contiguous blocks).
+    lifted = np.hstack(
+        (
+            -2.0 * positions,
+            (-2.0 * rotation_weight**2) * rotations,
+            np.einsum("ij,ij->i", positions, positions)[:, None],
+            np.ones((size, 1)),
+        )
+    )
+    embedding = np.ascontiguousarray(lifted[owners])
     return SeedTable(
         q,
         positions,

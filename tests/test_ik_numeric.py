@@ -396,3 +396,67 @@ def test_bench_targets_are_not_seed_table_samples(robot):
             pose = tool_pose(robot, q)
             (i,) = table.nearest(pose.translation, pose.rotation, k=1)
             assert np.abs(table.q[i] - q).max() > 1e-3, f"{seed=} {q=}"
+
+
+def test_seed_table_ranking_equals_the_embedding_distance(robot):
+    """The grid's one-product ranking gives the plain embedding distances (pose and position)."""
+    table = build_seed_table(robot, 4000)
+    rng = np.random.default_rng(7)
+    for i in rng.choice(len(table), 20, replace=False):
+        position = table.positions[i] + rng.normal(0.0, 0.01, 3)
+        rotation = pin.exp3(rng.normal(0.0, 1.0, 3))
+        for target_rotation in (rotation, None):
+            found = table.ranked(position, target_rotation)
+            assert found is not None, f"{position=}"
+            indices, distances = found
+            expected = np.sum((table.positions[indices] - position) ** 2, axis=1)
+            if target_rotation is not None:
+                r = table.rotations[indices] - target_rotation.reshape(-1)
+                expected += table.rotation_weight**2 * np.sum(r * r, axis=1)
+            np.testing.assert_allclose(distances, expected, rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("position_only", [False, True])
+def test_success_errors_are_pinocchios_at_the_returned_q(robot, solver, position_only):
+    """The reported errors of a success are Pinocchio's at the returned q, which is a copy."""
+    for q in random_q(robot, 20, 8):
+        pose = tool_pose(robot, q)
+        target = NumericTarget.from_se3(pose, position_only=position_only)
+        seed = np.zeros(robot.nq)
+        result = solver.solve(target, seed=seed, timeout=TIMEOUT)
+        check_solution(robot, result, target)
+        solution = result.solutions[0]
+        verdict = measure(robot, robot.model.createData(), solution.q, target)
+        assert solution.rotation_error == pytest.approx(verdict.rotation_error, abs=1e-12)
+        assert solution.q is not seed and not np.shares_memory(solution.q, seed)
+        assert not np.shares_memory(solution.q, solver.table.q)
+        np.testing.assert_array_equal(seed, np.zeros(robot.nq))
+
+
+def test_damped_newton_gives_up_when_the_error_stops_halving(robot):
+    """With patience, a start whose error stalls (target out of reach) stops early."""
+    model, data = robot.model, robot.model.createData()
+    fid = model.getFrameId(robot.tool_frame)
+    far = np.array([5.0, 0.0, 0.0])  # [m], far outside the reach
+    q0 = np.zeros(robot.nq)
+    patient = damped_newton(model, data, fid, q0, far, None, max_iterations=30, patience=3)
+    stubborn = damped_newton(model, data, fid, q0, far, None, max_iterations=30)
+    assert not patient.converged and not stubborn.converged
+    assert patient.iterations < 30, f"{patient.iterations=}"
+    assert stubborn.iterations == 30, f"{stubborn.iterations=}"
+
+
+@pytest.mark.parametrize("position_only", [False, True])
+def test_damped_newton_leaves_the_start_untouched(robot, position_only):
+    """The start array is neither written nor returned (table rows are starts)."""
+    model, data = robot.model, robot.model.createData()
+    fid = model.getFrameId(robot.tool_frame)
+    q_goal = random_q(robot, 1, 9)[0]
+    pose = tool_pose(robot, q_goal)
+    q0 = q_goal + 0.05
+    before = q0.copy()
+    rotation = None if position_only else pose.rotation
+    outcome = damped_newton(model, data, fid, q0, pose.translation, rotation, max_iterations=20)
+    assert outcome.converged, f"{outcome=}"
+    assert outcome.q is not q0
+    np.testing.assert_array_equal(q0, before)
