@@ -68,33 +68,35 @@ def _wrap(value: float, seed: float, lower: float, upper: float) -> tuple[float,
 
     When the copy nearest the seed, ``base``, is below the limits, the copies below it have a
     larger violation and never win; going up, a copy that is no longer below the limits (inside
-    or above them) beats every copy after it. Likewise above the limits.
+    or above them) beats every copy after it: usually the first one up, the only one compared
+    here (the others go through :func:`_nearest_copy`). Likewise above the limits.
     """
     base = value - TWO_PI * round((value - seed) / TWO_PI)
     lower_tol = lower - LIMIT_TOL
     violation = lower_tol - base
-    if violation > 0.0:
-        step = TWO_PI
+    if violation > 0.0:  # below the limits: the copy above decides
+        candidate = base + TWO_PI
+        if lower_tol - candidate > 0.0:  # still below
+            return _nearest_copy(value, seed, lower, upper)
+        candidate_violation = candidate - upper - LIMIT_TOL
     else:
         violation = base - upper - LIMIT_TOL
-        if violation > 0.0:
-            step = -TWO_PI
+        if violation > 0.0:  # above the limits: the copy below decides
+            candidate = base - TWO_PI
+            if candidate - upper - LIMIT_TOL > 0.0:  # still above
+                return _nearest_copy(value, seed, lower, upper)
+            candidate_violation = lower_tol - candidate
         elif -_FAST_COPY < base - seed < _FAST_COPY:
             return base, True
         else:
             return _nearest_copy(value, seed, lower, upper)
-    best, distance = base, abs(base - seed)
-    for candidate in (base + step, base + 2 * step):
-        below, above = lower_tol - candidate, candidate - upper - LIMIT_TOL
-        candidate_violation = max(below, above, 0.0)
-        candidate_distance = abs(candidate - seed)
-        if candidate_violation < violation or (
-            candidate_violation == violation and candidate_distance < distance
-        ):
-            best, violation, distance = candidate, candidate_violation, candidate_distance
-        if (below if step > 0.0 else above) <= 0.0:
-            break  # inside or past the limits: every further copy is worse
-    return best, violation == 0.0
+    if candidate_violation < 0.0:
+        candidate_violation = 0.0
+    if candidate_violation < violation or (
+        candidate_violation == violation and abs(candidate - seed) < abs(base - seed)
+    ):
+        return candidate, candidate_violation == 0.0
+    return base, False
 
 
 #: Sort key of the (distance to the seed, solution) pairs.
@@ -129,6 +131,7 @@ class ClosedFormSolver:
         self._lower = robot.model.lowerPositionLimit.tolist()
         self._upper = robot.model.upperPositionLimit.tolist()
         self._offsets = [row.theta for row in robot.table.rows]
+        self._has_offsets = any(self._offsets)
         base = np.asarray(robot.table.T_world_base, dtype=float)
         self._base = None if np.allclose(base, np.eye(4), atol=0.0) else np.linalg.inv(base)
         # Everything below depends only on the table: computed once, as floats and tuples, so that
@@ -222,10 +225,10 @@ class ClosedFormSolver:
             raise TargetError(
                 f"'{self.robot.name}' ({self.name}) takes a {kinds}, got a {type(target).__name__}"
             )
-        nq = len(self._lower)
         if seed is None:
             seed_list = self._zero_seed
         else:
+            nq = len(self._lower)
             seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
             if len(seed_list) != nq:
                 raise TargetError(f"the seed of '{self.robot.name}' must have {nq} values, got {len(seed_list)}")
@@ -292,22 +295,26 @@ class ClosedFormSolver:
             tx, ty, tz = self._approach_in_tool
         valid: list[tuple[float, IKSolution]] = []
         rejected: list[IKSolution] = []
+        has_offsets = self._has_offsets
         for thetas, label in branches.thetas:
-            q_list = list(map(sub, thetas, offsets))
+            q_list = list(map(sub, thetas, offsets)) if has_offsets else list(thetas)
             inside = True
             if not (all(map(lt, lows, q_list)) and all(map(lt, q_list, highs))):
-                for i, (value, low, high) in enumerate(zip(q_list, lows, highs)):
-                    if not low < value < high:  # else: inside the limits, the copy nearest the seed
+                i = 0
+                for value in q_list:
+                    if not lows[i] < value < highs[i]:  # else: inside the limits, the copy nearest the seed
                         q_list[i], ok = _wrap(value, seed[i], lower[i], upper[i])
-                        inside = inside and ok
-            distance = dist(q_list, seed)
+                        if not ok:
+                            inside = False
+                    i += 1
             q = array(q_list)
             forward(model, data, q)
-            placement = update(model, data, frame)
             if position_only:
-                hx, hy, hz = placement.translation.tolist()
+                hx, hy, hz = update(model, data, frame).translation.tolist()
             else:
-                (m00, m01, m02, hx), (m10, m11, m12, hy), (m20, m21, m22, hz), _ = placement.homogeneous.tolist()
+                (m00, m01, m02, hx), (m10, m11, m12, hy), (m20, m21, m22, hz), _ = update(
+                    model, data, frame
+                ).homogeneous.tolist()
             ex, ey, ez = hx - px, hy - py, hz - pz
             position_error = sqrt(ex * ex + ey * ey + ez * ez)
             if position_only:
@@ -333,7 +340,7 @@ class ClosedFormSolver:
                 continue
             solution = IKSolution(q, label, inside, position_error, rotation_error)
             if inside:
-                valid.append((distance, solution))
+                valid.append((dist(q_list, seed), solution))
             else:
                 rejected.append(solution)
         return valid, rejected

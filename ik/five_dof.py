@@ -18,79 +18,90 @@ from __future__ import annotations
 import math
 
 from .branches import REACH_TOL, Branches
-from .offset3r import elbow_label
-from .planar2r import two_link
+from .offset3r import ELBOW_LABELS, elbow_label
+from .planar2r import MERGE_COS, two_link
 from .structure import FiveDof
 
 #: Largest out-of-plane component of the approach axis (or target point, [m]) of a reachable pose.
 PLANE_TOL = 1e-9
 
 
-def _branch(
+def _branches(
     structure: FiveDof,
-    t1: float,
-    shoulder: str,
+    bases: list[tuple[float, str]],
     p: tuple[float, float, float],
     a: tuple[float, float, float],
     r5: list[list[float]] | None,
     t5: float,
     branches: Branches,
-    gaps: list[float],
-) -> None:
-    """Append the elbow branches of one base angle to ``branches``.
+) -> list[float]:
+    """Append the elbow branches of each base angle to ``branches``; return the gaps of the wrist centre.
 
     The wrist roll is ``t5``, or, for a full pose, the angle that turns frame 4 into the roll frame
     ``r5`` (the same for both elbow branches: it depends on ``t1`` and ``phi`` only).
     """
     s, s4 = structure.sign1, structure.sign4
-    c1, n1 = math.cos(t1), math.sin(t1)
-    a_r = a[0] * c1 + a[1] * n1  # approach along e_r
-    a_z = a[2]
+    reach, a4, a1 = structure.reach, structure.a4, structure.a1
+    link2, link3 = structure.link2, structure.link3
+    l1, l2, angle1, angle2 = link2.length, link3.length, link2.angle, link3.angle
+    px, py, pz = p
+    ax, ay, a_z = a
+    height = s * (pz - structure.d1)
     # in-plane approach angle psi: (cos psi, sin psi) = (a . e_r, s a_z); x4 at phi = psi + s4 pi/2
-    cos_psi, sin_psi = a_r, s * a_z
-    cos_phi, sin_phi = -s4 * sin_psi, s4 * cos_psi
-    phi = math.atan2(sin_phi, cos_phi)
-    # wrist centre O3 = p - reach a - a4 x4 in plane coordinates (u along e_r from the shoulder, v up)
-    p_r = p[0] * c1 + p[1] * n1
-    u = p_r - structure.reach * a_r - structure.a4 * cos_phi - structure.a1
-    v = s * (p[2] - structure.d1) - structure.reach * sin_psi - structure.a4 * sin_phi
-    solutions, gap, singular = two_link(u, v, structure.link2, structure.link3)
-    gaps.append(gap)
-    if not solutions:
-        return
+    sin_psi = s * a_z
+    cos_phi = -s4 * sin_psi
     if r5 is not None:
-        t5 = _roll(s, s4, c1, n1, phi, r5)
+        rx, ry, rz = r5[0][0], r5[1][0], r5[2][0]
     append = branches.thetas.append
-    if len(solutions) == 2:
-        # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
-        (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
-        elbow = elbow_label(s, u, sin_b)
-        append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {elbow}"))
-        elbow = "elbow down" if elbow == "elbow up" else "elbow up"
-        append(((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), f"{shoulder}, {elbow}"))
-    else:
-        for t2, t3, _ in solutions:
-            append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {singular}"))
-    if singular:
-        branches.singular(singular)
-
-
-def _roll(s: float, s4: float, c1: float, n1: float, phi: float, r5: list[list[float]]) -> float:
-    """DH angle of joint 5 that turns frame 4 into the roll frame ``r5`` (columns x, y, z).
-
-    In frame 0, ``x4 = (cos phi e_r, s sin phi)`` and ``y4 = z4 x x4 = s s4 (sin t1, -cos t1, 0)``
-    (``e_r = (cos t1, sin t1, 0)``); the roll is the angle of ``x5`` in the ``(x4, y4)`` plane.
-
-    Args:
-        s: Sign of ``alpha1``.
-        s4: Sign of ``alpha4``.
-        c1: Cosine of the DH angle ``t1`` of joint 1.
-        n1: Sine of ``t1``.
-        phi: In-plane angle of ``x4`` (``theta2 + theta3 + theta4``) [rad].
-        r5: Roll frame in frame 0 (rows).
-    """
-    x, y, z = r5[0][0], r5[1][0], r5[2][0]
-    return math.atan2(s * s4 * (n1 * x - c1 * y), math.cos(phi) * (c1 * x + n1 * y) + s * math.sin(phi) * z)
+    gaps = []
+    for t1, shoulder in bases:
+        c1, n1 = math.cos(t1), math.sin(t1)
+        a_r = ax * c1 + ay * n1  # approach along e_r
+        sin_phi = s4 * a_r
+        phi = math.atan2(sin_phi, cos_phi)
+        # wrist centre O3 = p - reach a - a4 x4 in plane coordinates (u along e_r from the shoulder, v up)
+        p_r = px * c1 + py * n1
+        u = p_r - reach * a_r - a4 * cos_phi - a1
+        v = height - reach * sin_psi - a4 * sin_phi
+        # two_link's usual case inlined (same expressions, same values); the rest goes through it
+        r = math.hypot(u, v)
+        gap = max(r - (l1 + l2), abs(l1 - l2) - r)
+        gaps.append(gap)
+        if gap > REACH_TOL:
+            continue
+        if r5 is not None:
+            # the roll is the angle of x5 = r5[:, 0] in the (x4, y4) plane; in frame 0,
+            # x4 = (cos phi e_r, s sin phi) and y4 = z4 x x4 = s s4 (sin t1, -cos t1, 0)
+            t5 = math.atan2(
+                s * s4 * (n1 * rx - c1 * ry), math.cos(phi) * (c1 * rx + n1 * ry) + s * math.sin(phi) * rz
+            )
+        cos_b = (u * u + v * v - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+        if abs(cos_b) < MERGE_COS and r > REACH_TOL:
+            sin_b = math.sqrt(1.0 - cos_b * cos_b)
+            base, k1, k2 = math.atan2(v, u), l1 + l2 * cos_b, l2 * sin_b
+            t2, t2_other = base - math.atan2(k2, k1) - angle1, base - math.atan2(-k2, k1) - angle1
+            b = math.atan2(sin_b, cos_b)
+            t3, t3_other = b - angle2 + angle1, -b - angle2 + angle1
+            # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
+            up, down = ELBOW_LABELS[shoulder]
+            if s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0:  # elbow_label(s, u, sin_b) == "elbow up"
+                up, down = down, up
+            append(((t1, t2, t3, phi - t2 - t3, t5), down))
+            append(((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), up))
+            continue
+        solutions, _, singular = two_link(u, v, link2, link3)
+        if len(solutions) == 2:
+            (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
+            elbow = elbow_label(s, u, sin_b)
+            append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {elbow}"))
+            elbow = "elbow down" if elbow == "elbow up" else "elbow up"
+            append(((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), f"{shoulder}, {elbow}"))
+        else:
+            for t2, t3, _ in solutions:
+                append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {singular}"))
+        if singular and solutions:
+            branches.singular(singular)
+    return gaps
 
 
 def _finish(structure: FiveDof, branches: Branches, gaps: list[float]) -> Branches:
@@ -146,10 +157,7 @@ def solve_pose(
                 f"{math.degrees(math.asin(min(1.0, off_axis))):.4g} deg and the tool point {off_point:.3g} m "
                 "out of the vertical plane through the base axis that contains them",
             )
-    gaps: list[float] = []
-    for t1, shoulder in bases:
-        _branch(structure, t1, shoulder, p, a, r5, 0.0, branches, gaps)
-    return _finish(structure, branches, gaps)
+    return _finish(structure, branches, _branches(structure, bases, p, a, r5, 0.0, branches))
 
 
 def solve_pitch(
@@ -180,7 +188,4 @@ def solve_pitch(
         bases = [(h_angle, "shoulder front"), (h_angle + math.pi, "shoulder back")]
     cp, sp = math.cos(pitch), math.sin(pitch)
     a = (cp * math.cos(h_angle), cp * math.sin(h_angle), -sp)
-    gaps: list[float] = []
-    for t1, shoulder in bases:
-        _branch(structure, t1, shoulder, p, a, None, t5, branches, gaps)
-    return _finish(structure, branches, gaps)
+    return _finish(structure, branches, _branches(structure, bases, p, a, None, t5, branches))

@@ -12,8 +12,14 @@ from __future__ import annotations
 import math
 
 from .branches import REACH_TOL, Branches
-from .planar2r import two_link
+from .planar2r import MERGE_COS, two_link
 from .structure import Offset3R
+
+#: Per shoulder label, the labels of its two elbow branches (up, down).
+ELBOW_LABELS = {
+    shoulder: (f"{shoulder}, elbow up", f"{shoulder}, elbow down")
+    for shoulder in ("shoulder back", "shoulder front", "shoulder left", "shoulder right")
+}
 
 
 def elbow_label(sign1: float, u: float, sin_b: float) -> str:
@@ -39,7 +45,9 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
 
     Args:
         structure: The arm's parameters.
-        x, y, z: Tool point in frame 0 [m].
+        x: Tool point in frame 0, x [m].
+        y: Tool point in frame 0, y [m].
+        z: Tool point in frame 0, z [m].
         free_t1: DH angle of joint 1 [rad] kept when it is free (target on the base axis, no
             lateral offset).
     """
@@ -66,6 +74,9 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
         else:
             bases = [(phi + delta, reach), (phi + math.pi - delta, -reach)]
     gaps = []
+    append = branches.thetas.append
+    link2, link3 = structure.link2, structure.link3
+    l1, l2, angle1, angle2 = link2.length, link3.length, link2.angle, link3.angle
     for t1, radial in bases:
         u = radial - structure.a1
         if d == 0.0 and rho <= REACH_TOL:
@@ -74,18 +85,38 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
             shoulder = "shoulder front" if radial >= 0.0 else "shoulder back"
         else:
             shoulder = "shoulder left" if -d * s * radial > 0.0 else "shoulder right"
-        solutions, gap, singular = two_link(u, v, structure.link2, structure.link3)
+        # two_link's usual case inlined (same expressions, same values); the rest goes through it
+        r = math.hypot(u, v)
+        gap = max(r - (l1 + l2), abs(l1 - l2) - r)
         gaps.append(gap)
-        if len(solutions) == 2:
+        if gap > REACH_TOL:
+            continue
+        cos_b = (u * u + v * v - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+        if abs(cos_b) < MERGE_COS and r > REACH_TOL:
+            sin_b = math.sqrt(1.0 - cos_b * cos_b)
+            base, k1, k2 = math.atan2(v, u), l1 + l2 * cos_b, l2 * sin_b
+            t2, t2_other = base - math.atan2(k2, k1) - angle1, base - math.atan2(-k2, k1) - angle1
+            b = math.atan2(sin_b, cos_b)
+            t3, t3_other = b - angle2 + angle1, -b - angle2 + angle1
             # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
+            up, down = ELBOW_LABELS[shoulder]
+            if s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0:  # elbow_label(s, u, sin_b) == "elbow up"
+                append(((t1, t2, t3), up))
+                append(((t1, t2_other, t3_other), down))
+            else:
+                append(((t1, t2, t3), down))
+                append(((t1, t2_other, t3_other), up))
+            continue
+        solutions, gap, singular = two_link(u, v, link2, link3)
+        if len(solutions) == 2:
             (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
             elbow = elbow_label(s, u, sin_b)
-            branches.thetas.append(((t1, t2, t3), f"{shoulder}, {elbow}"))
+            append(((t1, t2, t3), f"{shoulder}, {elbow}"))
             elbow = "elbow down" if elbow == "elbow up" else "elbow up"
-            branches.thetas.append(((t1, t2_other, t3_other), f"{shoulder}, {elbow}"))
+            append(((t1, t2_other, t3_other), f"{shoulder}, {elbow}"))
         else:
             for t2, t3, _ in solutions:
-                branches.thetas.append(((t1, t2, t3), f"{shoulder}, {singular}"))
+                append(((t1, t2, t3), f"{shoulder}, {singular}"))
         if singular and solutions:
             branches.singular(singular)
     if not branches.thetas:

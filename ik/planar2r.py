@@ -22,8 +22,10 @@ def two_link(
     """Joint angles of a two-link chain reaching ``(x, y)`` in its plane.
 
     Args:
-        x, y: Target point in the plane of the chain, from the first joint's axis [m].
-        link1, link2: Link vectors, their angles measured from each joint's DH x axis.
+        x: Target point in the plane of the chain, from the first joint's axis, x [m].
+        y: Target point, y [m].
+        link1: First link vector, its angle measured from joint 1's DH x axis.
+        link2: Second link vector, its angle measured from joint 2's DH x axis.
         free_t1: DH angle of joint 1 [rad] to use when it is free (target on the first axis with
             equal link lengths).
 
@@ -84,7 +86,9 @@ def solve_planar2r(structure: Planar2R, x: float, y: float, z: float, free_t1: f
 
     Args:
         structure: The arm's parameters.
-        x, y, z: Tool point in frame 0 [m]; ``z`` must be the height of the plane of motion.
+        x: Tool point in frame 0, x [m].
+        y: Tool point in frame 0, y [m].
+        z: Tool point in frame 0, z [m]; must be the height of the plane of motion.
         free_t1: DH angle of joint 1 [rad] kept when that joint is free.
     """
     branches = Branches()
