@@ -12,7 +12,8 @@ Frames and links of the generated URDF:
 - ``tool``: fixed on ``frame{n}`` with the table's ``[tool]`` transform.
 
 Each link gets simple visuals (a cylinder along each joint axis, thin cylinders along the link
-offsets) and an inertial, so that viewers show the arm and every loader accepts the file.
+offsets) and an inertial (but the root ``base_link``, which KDL wants without one), so that viewers show
+the arm and every loader accepts the file.
 """
 
 from __future__ import annotations
@@ -84,7 +85,9 @@ def _inertial() -> yourdfpy.Inertial:
 
 
 def _link(name: str, visuals: list[yourdfpy.Visual]) -> yourdfpy.Link:
-    return yourdfpy.Link(name=name, inertial=_inertial(), visuals=visuals)
+    # The root link carries no inertial: KDL (ROS tools, TRAC-IK) rejects a root inertia.
+    inertial = None if name == "base_link" else _inertial()
+    return yourdfpy.Link(name=name, inertial=inertial, visuals=visuals)
 
 
 def _fixed(name: str, parent: str, child: str, origin: np.ndarray) -> yourdfpy.Joint:
