@@ -44,8 +44,11 @@ def _fk_columns(table: DHTable, q: np.ndarray) -> tuple[list[np.ndarray], np.nda
         ca, sa = round(math.cos(row.alpha), 15), round(math.sin(row.alpha), 15)
         if i == 0 and identity:
             zero = np.zeros(m)
-            cols = [np.stack([ct, st, zero]), np.stack([-st * ca, ct * ca, sa * ones]),
-                    np.stack([st * sa, -ct * sa, ca * ones])]
+            cols = [
+                np.stack([ct, st, zero]),
+                np.stack([-st * ca, ct * ca, sa * ones]),
+                np.stack([st * sa, -ct * sa, ca * ones]),
+            ]
             p = np.stack([row.a * ct, row.a * st, row.d * ones])
             continue
         c0, c1, c2 = cols
@@ -139,8 +142,17 @@ def _chunked(solve, n: int, *arrays: np.ndarray) -> BatchResult:  # noqa: ANN001
     first = parts[0]
     return BatchResult(
         first.branch_names,
-        *(np.concatenate([getattr(r, f) for r in parts]) for f in
-          ("q", "reached", "within_limits", "elbow_up", "position_error", "rotation_error")),
+        *(
+            np.concatenate([getattr(r, f) for r in parts])
+            for f in (
+                "q",
+                "reached",
+                "within_limits",
+                "elbow_up",
+                "position_error",
+                "rotation_error",
+            )
+        ),
     )
 
 
@@ -156,7 +168,9 @@ class BatchSolver:
         StructureError: The table fits no closed form.
     """
 
-    def __init__(self, robot: RobotModel, tolerance_position: float = 1e-9, tolerance_rotation: float = 1e-9):
+    def __init__(
+        self, robot: RobotModel, tolerance_position: float = 1e-9, tolerance_rotation: float = 1e-9
+    ):
         self.robot = robot
         self.table = robot.table
         self.structure = recognise(robot.table)
@@ -219,13 +233,17 @@ class BatchSolver:
                 t2, t3, sin_b, exists = _two_link(u, v, s.link2, s.link3)
                 exists = exists & (rho >= abs(s.lateral) - REACH_TOL)[:, None]
                 up = s.sign1 * np.where(u >= 0, 1.0, -1.0)[:, None] * sin_b < 0
-                columns.append((np.stack([np.broadcast_to(base[:, None], t2.shape), t2, t3], -1), exists, up))
+                columns.append(
+                    (np.stack([np.broadcast_to(base[:, None], t2.shape), t2, t3], -1), exists, up)
+                )
             thetas = np.concatenate([c[0] for c in columns], axis=1)
             exists = np.concatenate([c[1] for c in columns], axis=1)
             up = np.concatenate([c[2] for c in columns], axis=1)
             names = ("base 1, elbow +", "base 1, elbow -", "base 2, elbow +", "base 2, elbow -")
             return self._finish(names, thetas, exists, up, p, None, None)
-        raise TargetError(f"'{self.robot.name}' is a five-joint arm: use solve_poses or solve_pitch")
+        raise TargetError(
+            f"'{self.robot.name}' is a five-joint arm: use solve_poses or solve_pitch"
+        )
 
     def _five(self, p0: np.ndarray, a0: np.ndarray, base1: np.ndarray) -> tuple[np.ndarray, ...]:
         s = self.structure
@@ -250,7 +268,12 @@ class BatchSolver:
         up = np.concatenate([c[2] for c in columns], axis=1)
         return thetas, exists, up
 
-    _FIVE_NAMES = ("shoulder 1, elbow +", "shoulder 1, elbow -", "shoulder 2, elbow +", "shoulder 2, elbow -")
+    _FIVE_NAMES = (
+        "shoulder 1, elbow +",
+        "shoulder 1, elbow -",
+        "shoulder 2, elbow +",
+        "shoulder 2, elbow -",
+    )
 
     def solve_poses(self, poses: npt.ArrayLike) -> BatchResult:
         """All branches for N tool poses ``T_world_tool`` (N, 4, 4) of a five-joint arm."""
@@ -264,10 +287,14 @@ class BatchSolver:
         p0 = T0[:, :3, 3]
         r5 = T0[:, :3, :3] if self._tool_identity else T0[:, :3, :3] @ s.R_roll_tool.T
         a0 = r5[:, :, 2]
-        use_p = np.hypot(p0[:, 0], p0[:, 1]) >= np.hypot(a0[:, 0], a0[:, 1]) * (s.link2.length + s.link3.length)
+        use_p = np.hypot(p0[:, 0], p0[:, 1]) >= np.hypot(a0[:, 0], a0[:, 1]) * (
+            s.link2.length + s.link3.length
+        )
         base1 = np.where(use_p, np.arctan2(p0[:, 1], p0[:, 0]), np.arctan2(a0[:, 1], a0[:, 0]))
         normal = np.stack([np.sin(base1), -np.cos(base1)], -1)
-        in_plane = (np.abs((a0[:, :2] * normal).sum(-1)) <= 1e-9) & (np.abs((p0[:, :2] * normal).sum(-1)) <= 1e-9)
+        in_plane = (np.abs((a0[:, :2] * normal).sum(-1)) <= 1e-9) & (
+            np.abs((p0[:, :2] * normal).sum(-1)) <= 1e-9
+        )
         thetas, exists, up = self._five(p0, a0, base1)
         exists = exists & in_plane[:, None]
         # wrist roll: angle from x4 to the roll frame's x axis about the approach axis
@@ -282,11 +309,14 @@ class BatchSolver:
         )
         x5 = [r5[:, k, 0][:, None] for k in range(3)]
         thetas[..., 4] = np.arctan2(
-            y4[0] * x5[0] + y4[1] * x5[1] + y4[2] * x5[2], x4[0] * x5[0] + x4[1] * x5[1] + x4[2] * x5[2]
+            y4[0] * x5[0] + y4[1] * x5[1] + y4[2] * x5[2],
+            x4[0] * x5[0] + x4[1] * x5[1] + x4[2] * x5[2],
         )
         return self._finish(self._FIVE_NAMES, thetas, exists, up, T[:, :3, 3], T[:, :3, :3], None)
 
-    def solve_pitch(self, positions: npt.ArrayLike, pitch: npt.ArrayLike, roll: npt.ArrayLike = 0.0) -> BatchResult:
+    def solve_pitch(
+        self, positions: npt.ArrayLike, pitch: npt.ArrayLike, roll: npt.ArrayLike = 0.0
+    ) -> BatchResult:
         """All branches for N tool points (N, 3) with approach pitch [rad] and wrist roll q5 [rad]."""
         s = self.structure
         if not isinstance(s, FiveDof):
@@ -331,4 +361,6 @@ class BatchSolver:
             & (rotation_error <= self.tolerance_rotation)
         )
         q = np.where(exists[..., None], q, np.nan)
-        return BatchResult(tuple(names), q, reached, inside & exists, up, position_error, rotation_error)
+        return BatchResult(
+            tuple(names), q, reached, inside & exists, up, position_error, rotation_error
+        )

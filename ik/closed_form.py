@@ -119,7 +119,9 @@ class ClosedFormSolver:
         StructureError: The table does not fit a closed-form solver.
     """
 
-    def __init__(self, robot: RobotModel, tolerance_position: float = 1e-9, tolerance_rotation: float = 1e-9):
+    def __init__(
+        self, robot: RobotModel, tolerance_position: float = 1e-9, tolerance_rotation: float = 1e-9
+    ):
         self.robot = robot
         self.structure: Structure = recognise(robot.table)
         self.name = f"closed_form:{type(self.structure).__name__.lower()}"
@@ -152,7 +154,9 @@ class ClosedFormSolver:
             return (PoseTarget, PitchTarget)
         return (PositionTarget,)
 
-    def _failure(self, status: str, message: str, start: float, gap: float | None = None) -> IKResult:
+    def _failure(
+        self, status: str, message: str, start: float, gap: float | None = None
+    ) -> IKResult:
         return IKResult(
             success=False,
             solver=self.name,
@@ -190,7 +194,9 @@ class ClosedFormSolver:
             return r
         return [[b[0] * r[0][j] + b[1] * r[1][j] + b[2] * r[2][j] for j in range(3)] for b in rows]
 
-    def _branches(self, target: Target, seed: list[float], p: list[float], r: list[list[float]] | None) -> Branches:
+    def _branches(
+        self, target: Target, seed: list[float], p: list[float], r: list[list[float]] | None
+    ) -> Branches:
         """Branches for the target whose position (and rotation) in the world are ``p`` (``r``)."""
         structure, offsets = self.structure, self._offsets
         free_t1 = seed[0] + offsets[0]
@@ -231,7 +237,9 @@ class ClosedFormSolver:
             nq = len(self._lower)
             seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
             if len(seed_list) != nq:
-                raise TargetError(f"the seed of '{self.robot.name}' must have {nq} values, got {len(seed_list)}")
+                raise TargetError(
+                    f"the seed of '{self.robot.name}' must have {nq} values, got {len(seed_list)}"
+                )
             if not all(math.isfinite(v) for v in seed_list):
                 raise TargetError(f"the seed must be finite, got {seed_list}")
         if not target.finite:
@@ -247,10 +255,15 @@ class ClosedFormSolver:
         solutions = tuple([solution for _, solution in valid])
         rejected_solutions = tuple(rejected)
         if solutions:
-            status, message = branches.status, branches.message or f"{len(solutions)} valid solution(s)"
+            status, message = (
+                branches.status,
+                branches.message or f"{len(solutions)} valid solution(s)",
+            )
         elif rejected_solutions:
             status = "outside_limits"
-            message = f"reachable only outside the joint limits ({len(rejected_solutions)} branch(es))"
+            message = (
+                f"reachable only outside the joint limits ({len(rejected_solutions)} branch(es))"
+            )
         else:
             status, message = "singular", branches.message or "no branch verified on target"
         return IKResult(
@@ -263,7 +276,9 @@ class ClosedFormSolver:
             time=time.perf_counter() - start,
         )
 
-    def _approach(self, target: PitchTarget, seed: list[float], p: list[float]) -> tuple[float, float, float]:
+    def _approach(
+        self, target: PitchTarget, seed: list[float], p: list[float]
+    ) -> tuple[float, float, float]:
         """The target's approach axis in the world frame."""
         p0 = self._point_in_frame0(p)
         rho = math.hypot(p0[0], p0[1])
@@ -276,7 +291,12 @@ class ClosedFormSolver:
         return tuple(row[0] * a[0] + row[1] * a[1] + row[2] * a[2] for row in rows)  # type: ignore[return-value]
 
     def _verify(
-        self, target: Target, branches: Branches, seed: list[float], p: list[float], r: list[list[float]] | None
+        self,
+        target: Target,
+        branches: Branches,
+        seed: list[float],
+        p: list[float],
+        r: list[list[float]] | None,
     ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
         """Per branch: the joint vector, its Pinocchio FK errors, and where it goes (valid, rejected, dropped)."""
         model, data, frame = self._model, self._data, self._frame
@@ -302,7 +322,9 @@ class ClosedFormSolver:
             if not (all(map(lt, lows, q_list)) and all(map(lt, q_list, highs))):
                 i = 0
                 for value in q_list:
-                    if not lows[i] < value < highs[i]:  # else: inside the limits, the copy nearest the seed
+                    if (
+                        not lows[i] < value < highs[i]
+                    ):  # else: inside the limits, the copy nearest the seed
                         q_list[i], ok = _wrap(value, seed[i], lower[i], upper[i])
                         if not ok:
                             inside = False
@@ -324,18 +346,33 @@ class ClosedFormSolver:
                 d0, d1, d2 = m00 - r00, m01 - r01, m02 - r02
                 d3, d4, d5 = m10 - r10, m11 - r11, m12 - r12
                 d6, d7, d8 = m20 - r20, m21 - r21, m22 - r22
-                squares = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4 + d5 * d5 + d6 * d6 + d7 * d7 + d8 * d8
+                squares = (
+                    d0 * d0
+                    + d1 * d1
+                    + d2 * d2
+                    + d3 * d3
+                    + d4 * d4
+                    + d5 * d5
+                    + d6 * d6
+                    + d7 * d7
+                    + d8 * d8
+                )
                 rotation_error = 2.0 * asin(min(1.0, sqrt(squares / 8.0)))
             else:
                 ux = m00 * tx + m01 * ty + m02 * tz
                 uy = m10 * tx + m11 * ty + m12 * tz
                 uz = m20 * tx + m21 * ty + m22 * tz
                 cx, cy, cz = uy * az - uz * ay, uz * ax - ux * az, ux * ay - uy * ax
-                rotation_error = math.atan2(sqrt(cx * cx + cy * cy + cz * cz), ux * ax + uy * ay + uz * az)
+                rotation_error = math.atan2(
+                    sqrt(cx * cx + cy * cy + cz * cz), ux * ax + uy * ay + uz * az
+                )
             if position_error > tol_p or rotation_error > tol_r:
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
-                    self.robot.name, label, position_error, rotation_error,
+                    self.robot.name,
+                    label,
+                    position_error,
+                    rotation_error,
                 )
                 continue
             solution = IKSolution(q, label, inside, position_error, rotation_error)
@@ -344,4 +381,3 @@ class ClosedFormSolver:
             else:
                 rejected.append(solution)
         return valid, rejected
-

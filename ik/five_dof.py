@@ -73,7 +73,8 @@ def _branches(
             # the roll is the angle of x5 = r5[:, 0] in the (x4, y4) plane; in frame 0,
             # x4 = (cos phi e_r, s sin phi) and y4 = z4 x x4 = s s4 (sin t1, -cos t1, 0)
             t5 = math.atan2(
-                s * s4 * (n1 * rx - c1 * ry), math.cos(phi) * (c1 * rx + n1 * ry) + s * math.sin(phi) * rz
+                s * s4 * (n1 * rx - c1 * ry),
+                math.cos(phi) * (c1 * rx + n1 * ry) + s * math.sin(phi) * rz,
             )
         cos_b = (u * u + v * v - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
         if abs(cos_b) < MERGE_COS and r > REACH_TOL:
@@ -84,7 +85,9 @@ def _branches(
             t3, t3_other = b - angle2 + angle1, -b - angle2 + angle1
             # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
             up, down = ELBOW_LABELS[shoulder]
-            if s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0:  # elbow_label(s, u, sin_b) == "elbow up"
+            if (
+                s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0
+            ):  # elbow_label(s, u, sin_b) == "elbow up"
                 up, down = down, up
             append(((t1, t2, t3, phi - t2 - t3, t5), down))
             append(((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), up))
@@ -95,7 +98,9 @@ def _branches(
             elbow = elbow_label(s, u, sin_b)
             append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {elbow}"))
             elbow = "elbow down" if elbow == "elbow up" else "elbow up"
-            append(((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), f"{shoulder}, {elbow}"))
+            append(
+                ((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), f"{shoulder}, {elbow}")
+            )
         else:
             for t2, t3, _ in solutions:
                 append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {singular}"))
@@ -107,7 +112,9 @@ def _branches(
 def _finish(structure: FiveDof, branches: Branches, gaps: list[float]) -> Branches:
     if not branches.thetas and branches.status != "out_of_reach":
         gap = min(gaps) if gaps else 0.0
-        branches.out_of_reach(gap, f"out of reach by {gap:.6g} m (wrist centre outside the arm's annulus)")
+        branches.out_of_reach(
+            gap, f"out of reach by {gap:.6g} m (wrist centre outside the arm's annulus)"
+        )
     return branches
 
 
@@ -135,18 +142,24 @@ def solve_pose(
         r5 = [[sum(r_tool[i][k] * rt[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
     a = (r5[0][2], r5[1][2], r5[2][2])
     # the arm plane contains p, a and the base axis: take its direction from the largest of them
-    scale = structure.link2.length + structure.link3.length + abs(structure.reach) + abs(structure.a4)
+    scale = (
+        structure.link2.length + structure.link3.length + abs(structure.reach) + abs(structure.a4)
+    )
     rho = math.hypot(p[0], p[1])
     size, dx, dy = max((rho, p[0], p[1]), (scale * math.hypot(a[0], a[1]), a[0], a[1]))
     if size <= REACH_TOL:
         bases = [(free_t1, "shoulder front")]
-        branches.singular("tool point and approach axis on the base axis: base yaw is free (seed value kept)")
+        branches.singular(
+            "tool point and approach axis on the base axis: base yaw is free (seed value kept)"
+        )
     else:
         t1 = math.atan2(dy, dx)
         c1, n1 = math.cos(t1), math.sin(t1)
         front = (p[0] * c1 + p[1] * n1) >= 0.0 or rho <= REACH_TOL
-        bases = [(t1, "shoulder front" if front else "shoulder back"),
-                 (t1 + math.pi, "shoulder back" if front else "shoulder front")]
+        bases = [
+            (t1, "shoulder front" if front else "shoulder back"),
+            (t1 + math.pi, "shoulder back" if front else "shoulder front"),
+        ]
         normal = (n1, -c1)
         off_axis = abs(a[0] * normal[0] + a[1] * normal[1])
         off_point = abs(p[0] * normal[0] + p[1] * normal[1])

@@ -34,7 +34,9 @@ def elbow_label(sign1: float, u: float, sin_b: float) -> str:
     return "elbow up" if side < 0.0 else "elbow down"
 
 
-def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: float = 0.0) -> Branches:
+def solve_offset3r(
+    structure: Offset3R, x: float, y: float, z: float, free_t1: float = 0.0
+) -> Branches:
     """All branches for a tool point in frame 0.
 
     Labels: ``"shoulder left"``/``"shoulder right"`` say on which side of the vertical plane through
@@ -58,7 +60,8 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
     if rho < abs(d) - REACH_TOL:
         gap = abs(d) - rho
         return branches.out_of_reach(
-            gap, f"out of reach by at least {gap:.6g} m: closer to the base axis than the shoulder offset"
+            gap,
+            f"out of reach by at least {gap:.6g} m: closer to the base axis than the shoulder offset",
         )
     if rho <= REACH_TOL and abs(d) <= REACH_TOL:
         bases = [(free_t1, 0.0)]
@@ -70,7 +73,9 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
         reach = math.sqrt(max(0.0, rho * rho - d * d))
         if reach <= REACH_TOL:
             bases = [(phi + delta, 0.0)]
-            branches.singular("target at the shoulder-offset distance from the base axis: shoulder branches merge")
+            branches.singular(
+                "target at the shoulder-offset distance from the base axis: shoulder branches merge"
+            )
         else:
             bases = [(phi + delta, reach), (phi + math.pi - delta, -reach)]
     gaps = []
@@ -100,7 +105,9 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
             t3, t3_other = b - angle2 + angle1, -b - angle2 + angle1
             # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
             up, down = ELBOW_LABELS[shoulder]
-            if s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0:  # elbow_label(s, u, sin_b) == "elbow up"
+            if (
+                s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0
+            ):  # elbow_label(s, u, sin_b) == "elbow up"
                 append(((t1, t2, t3), up))
                 append(((t1, t2_other, t3_other), down))
             else:
@@ -121,5 +128,7 @@ def solve_offset3r(structure: Offset3R, x: float, y: float, z: float, free_t1: f
             branches.singular(singular)
     if not branches.thetas:
         gap = min(gaps)
-        return branches.out_of_reach(gap, f"out of reach by {gap:.6g} m (measured in the arm plane)")
+        return branches.out_of_reach(
+            gap, f"out of reach by {gap:.6g} m (measured in the arm plane)"
+        )
     return branches

@@ -78,7 +78,9 @@ def two_link(
     return solutions, gap, singular
 
 
-def solve_planar2r(structure: Planar2R, x: float, y: float, z: float, free_t1: float = 0.0) -> Branches:
+def solve_planar2r(
+    structure: Planar2R, x: float, y: float, z: float, free_t1: float = 0.0
+) -> Branches:
     """Both elbow branches of a planar 2R arm for a tool point in frame 0.
 
     Labels: ``"elbow up"`` puts the elbow on the counter-clockwise side of the line from the base
@@ -104,7 +106,11 @@ def solve_planar2r(structure: Planar2R, x: float, y: float, z: float, free_t1: f
     for t1, t2, sin_b2 in solutions:
         label = "elbow up" if sin_b2 < 0 else "elbow down"
         if len(solutions) == 1:
-            label = "elbow straight" if abs(t2 + structure.link2.angle - structure.link1.angle) < 1 else "elbow folded"
+            label = (
+                "elbow straight"
+                if abs(t2 + structure.link2.angle - structure.link1.angle) < 1
+                else "elbow folded"
+            )
         branches.thetas.append(((t1, t2), label))
     if singular:
         branches.singular(singular)

@@ -36,7 +36,12 @@ class IKSolution:
     rotation_error: float
 
     def __init__(
-        self, q: np.ndarray, branch: str, within_limits: bool, position_error: float, rotation_error: float
+        self,
+        q: np.ndarray,
+        branch: str,
+        within_limits: bool,
+        position_error: float,
+        rotation_error: float,
     ):
         # The generated frozen __init__ sets each field through object.__setattr__ (about 1 us in
         # all): too slow for the closed-form solvers' per-call budget. Same fields, still frozen.

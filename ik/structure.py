@@ -112,7 +112,9 @@ class FiveDof:
     reach: float
     R_roll_tool: np.ndarray
     offsets: tuple[float, ...]
-    roll_tool_rows: tuple[tuple[float, ...], ...] | None = field(init=False, repr=False, compare=False)
+    roll_tool_rows: tuple[tuple[float, ...], ...] | None = field(
+        init=False, repr=False, compare=False
+    )
 
     def __post_init__(self) -> None:
         rows = tuple(tuple(row) for row in np.asarray(self.R_roll_tool, dtype=float).tolist())
@@ -152,19 +154,25 @@ class _Checker:
             raise self.fail(f"{self.table.dof} joints, expected {count}")
         for row in self.table.rows:
             if row.joint_type != "revolute":
-                raise self.fail(f"row {row.index} ('{row.name}') is {row.joint_type}, expected revolute")
+                raise self.fail(
+                    f"row {row.index} ('{row.name}') is {row.joint_type}, expected revolute"
+                )
 
     def alpha(self, row: DHRow, choices: tuple[float, ...]) -> float:
         for value in choices:
             if _angle_near(row.alpha, value):
                 return value
         wanted = " or ".join(_deg(v) for v in choices)
-        raise self.fail(f"row {row.index} ('{row.name}'): alpha = {_deg(row.alpha)}, expected {wanted}")
+        raise self.fail(
+            f"row {row.index} ('{row.name}'): alpha = {_deg(row.alpha)}, expected {wanted}"
+        )
 
     def zero(self, row: DHRow, field: str, why: str) -> None:
         value = getattr(row, field)
         if not _near(value, 0.0, LENGTH_TOL):
-            raise self.fail(f"row {row.index} ('{row.name}'): {field} = {value:g} m, expected 0 ({why})")
+            raise self.fail(
+                f"row {row.index} ('{row.name}'): {field} = {value:g} m, expected 0 ({why})"
+            )
 
     def link(self, x: float, y: float, where: str) -> Link:
         length = math.hypot(x, y)

@@ -88,7 +88,9 @@ class PoseTarget:
     def finite(self) -> bool:
         """Whether every value is finite."""
         isfinite = math.isfinite
-        return all(map(isfinite, self.position.tolist())) and all(map(isfinite, self.rotation.ravel().tolist()))
+        return all(map(isfinite, self.position.tolist())) and all(
+            map(isfinite, self.rotation.ravel().tolist())
+        )
 
 
 @dataclass(frozen=True, eq=False)

@@ -44,27 +44,49 @@ def _table5() -> Section:
         paper = np.array(paper)
         best = ours[best_branch]
         diff = np.abs(np.round(best, 4) - paper).max()
-        within = all(s.within_limits for s in result.solutions + result.rejected if s.branch == best_branch)
+        within = all(
+            s.within_limits for s in result.solutions + result.rejected if s.branch == best_branch
+        )
         if diff <= 0.00005:
             verdict, reason = "reproduced", f"{best_branch}"
         elif abs(best[0] - paper[0]) <= 0.00005 and label.startswith("case 2"):
-            verdict, reason = "flagged", (f"{best_branch}: q3 printed with the wrong sign (elbow down has "
-                                          f"q3 = +{abs(paper[2]):.4f}); q1, q2 reproduced")
-        else:
-            verdict, reason = "flagged", (
-                f"q1 = {best[0]:.4f} reproduced ({best_branch}, outside the range [-120, 120] deg"
-                f"{'' if within else ': not a valid solution'}); q2, q3 copied from cases 1-2: this "
-                f"branch has q2 = {best[1]:.4f}, q3 = {best[2]:.4f}"
+            verdict, reason = (
+                "flagged",
+                (
+                    f"{best_branch}: q3 printed with the wrong sign (elbow down has "
+                    f"q3 = +{abs(paper[2]):.4f}); q1, q2 reproduced"
+                ),
             )
-        rows.append(Row(f"Table 5 {label}", _fmt(paper) + " deg", _fmt(best) + " deg", f"{diff:.4f} deg max",
-                        verdict, reason))
+        else:
+            verdict, reason = (
+                "flagged",
+                (
+                    f"q1 = {best[0]:.4f} reproduced ({best_branch}, outside the range [-120, 120] deg"
+                    f"{'' if within else ': not a valid solution'}); q2, q3 copied from cases 1-2: this "
+                    f"branch has q2 = {best[1]:.4f}, q3 = {best[2]:.4f}"
+                ),
+            )
+        rows.append(
+            Row(
+                f"Table 5 {label}",
+                _fmt(paper) + " deg",
+                _fmt(best) + " deg",
+                f"{diff:.4f} deg max",
+                verdict,
+                reason,
+            )
+        )
     return Section(
         title="003 Table 5: pickplace3 inverse kinematics of (390, 80, 300) mm",
-        intro=("All four closed-form branches of the pickplace3 table (alpha1 = +90, d2 = -10 mm), each "
-               "verified with Pinocchio (residual < 1e-12 m); each printed row is compared with the "
-               "closest branch, at the printed 4 decimals."),
+        intro=(
+            "All four closed-form branches of the pickplace3 table (alpha1 = +90, d2 = -10 mm), each "
+            "verified with Pinocchio (residual < 1e-12 m); each printed row is compared with the "
+            "closest branch, at the printed 4 decimals."
+        ),
         rows=tuple(rows),
-        notes=("The 'Actual' column (stepper-quantised angles) is not a model output and is not compared.",),
+        notes=(
+            "The 'Actual' column (stepper-quantised angles) is not a model output and is not compared.",
+        ),
     )
 
 
@@ -77,32 +99,49 @@ def _table2() -> Section:
         q = np.radians(angles)
         fk = configuration.fk(q).translation * 1000.0
         fk_diff = np.abs(np.round(fk, 4) - np.array(measured)).max()
-        rows.append(Row(
-            f"Table 2 case {index}: FK of the printed angles vs printed 'measured' position",
-            _fmt(measured) + " mm", _fmt(fk) + " mm", f"{fk_diff:.4f} mm max",
-            "reproduced" if fk_diff <= 0.00005 else "not reproduced",
-            "" if fk_diff <= 0.00005 else "the printed angles put through FK of Table 1 do not give the "
-            "printed 'measured' position; " + (f"they miss the target by {np.linalg.norm(fk - target):.4f} mm"),
-        ))
+        rows.append(
+            Row(
+                f"Table 2 case {index}: FK of the printed angles vs printed 'measured' position",
+                _fmt(measured) + " mm",
+                _fmt(fk) + " mm",
+                f"{fk_diff:.4f} mm max",
+                "reproduced" if fk_diff <= 0.00005 else "not reproduced",
+                ""
+                if fk_diff <= 0.00005
+                else "the printed angles put through FK of Table 1 do not give the "
+                "printed 'measured' position; "
+                + (f"they miss the target by {np.linalg.norm(fk - target):.4f} mm"),
+            )
+        )
         theta234 = round(sum(angles[1:4]))  # printed sums are 79, 78, 78, 80 deg to 1e-4
         pitch = math.radians(90.0 - theta234)
-        result = solver.solve(PitchTarget(np.array(target) / 1000.0, pitch, roll=math.radians(angles[4])))
+        result = solver.solve(
+            PitchTarget(np.array(target) / 1000.0, pitch, roll=math.radians(angles[4]))
+        )
         candidates = [np.degrees(s.q) for s in result.solutions + result.rejected]
         best = min(candidates, key=lambda c: np.abs(c - np.array(angles)).max())
         diff = np.abs(np.round(best, 4) - np.array(angles)).max()
-        rows.append(Row(
-            f"Table 2 case {index}: exact IK of the target with pitch 90 - theta234 = {90 - theta234:.4f} deg",
-            _fmt(angles) + " deg", _fmt(best) + " deg", f"{diff:.4f} deg max",
-            "reproduced" if diff <= 0.00005 else "not reproduced",
-            "" if diff <= 0.00005 else "the printed angles are not the exact IK of the printed target "
-            "(closest branch shown)",
-        ))
+        rows.append(
+            Row(
+                f"Table 2 case {index}: exact IK of the target with pitch 90 - theta234 = {90 - theta234:.4f} deg",
+                _fmt(angles) + " deg",
+                _fmt(best) + " deg",
+                f"{diff:.4f} deg max",
+                "reproduced" if diff <= 0.00005 else "not reproduced",
+                ""
+                if diff <= 0.00005
+                else "the printed angles are not the exact IK of the printed target "
+                "(closest branch shown)",
+            )
+        )
     return Section(
         title="002 Table 2: lab5 inverse kinematics and the 'measured' errors",
-        intro=("For each case: (1) the printed joint angles through FK of Table 1 (Pinocchio), against "
-               "the printed 'End-Effector Position Measured'; (2) the exact closed-form IK of the printed "
-               "target with the pitch of eq. (9), 90 - theta234 = +phi (theta234 = sum of the printed "
-               "q2..q4, which is a whole number of degrees to 1e-4) and q5 = 90 deg, against the printed angles."),
+        intro=(
+            "For each case: (1) the printed joint angles through FK of Table 1 (Pinocchio), against "
+            "the printed 'End-Effector Position Measured'; (2) the exact closed-form IK of the printed "
+            "target with the pitch of eq. (9), 90 - theta234 = +phi (theta234 = sum of the printed "
+            "q2..q4, which is a whole number of degrees to 1e-4) and q5 = 90 deg, against the printed angles."
+        ),
         rows=tuple(rows),
         notes=(
             "Where the printed angles are the exact IK and FK of them gives the target itself, the paper's "
@@ -120,21 +159,34 @@ def _homes() -> Section:
     result = solver.solve(PoseTarget([0.438, 0.0, 0.01], home.rotation))
     q = result.solutions[0].q if result.solutions else np.full(5, np.nan)
     ok = result.success and np.abs(q).max() < 1e-9
-    rows.append(Row("001 home check: (43.8, 0, 1) cm with the home orientation -> q", "(0, 0, 0, 0, 0) deg",
-                    _fmt(np.degrees(q)) + " deg", f"{np.degrees(np.abs(q).max()):.2e} deg",
-                    "reproduced" if ok else "not reproduced",
-                    f"{result.status}: {result.message} (fully stretched arm: one branch)"))
+    rows.append(
+        Row(
+            "001 home check: (43.8, 0, 1) cm with the home orientation -> q",
+            "(0, 0, 0, 0, 0) deg",
+            _fmt(np.degrees(q)) + " deg",
+            f"{np.degrees(np.abs(q).max()):.2e} deg",
+            "reproduced" if ok else "not reproduced",
+            f"{result.status}: {result.message} (fully stretched arm: one branch)",
+        )
+    )
     scorbot = kin.load_robot("scorbot")
     solver = ClosedFormSolver(scorbot)
     home = kin.Configuration(scorbot).fk(np.zeros(5))
     result = solver.solve(PoseTarget.from_matrix(home))
     q = result.solutions[0].q if result.solutions else np.full(5, np.nan)
     ok = result.success and np.abs(q).max() < 1e-9
-    rows.append(Row("004 SCORBOT home (603, 0, 349) mm, approach +x -> q", "(0, 0, 0, 0, 0) deg",
-                    _fmt(np.degrees(q)) + " deg", f"{np.degrees(np.abs(q).max()):.2e} deg",
-                    "reproduced" if ok else "not reproduced",
-                    f"{result.status}: {result.message}; residual {result.solutions[0].position_error:.1e} m"
-                    if result.solutions else result.message))
+    rows.append(
+        Row(
+            "004 SCORBOT home (603, 0, 349) mm, approach +x -> q",
+            "(0, 0, 0, 0, 0) deg",
+            _fmt(np.degrees(q)) + " deg",
+            f"{np.degrees(np.abs(q).max()):.2e} deg",
+            "reproduced" if ok else "not reproduced",
+            f"{result.status}: {result.message}; residual {result.solutions[0].position_error:.1e} m"
+            if result.solutions
+            else result.message,
+        )
+    )
     return Section(
         title="001 / 004 home poses through the closed-form IK",
         intro="FK of q = 0 (Pinocchio), then the closed-form IK of that pose; the solution nearest zero.",

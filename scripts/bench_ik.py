@@ -32,9 +32,15 @@ ROBOTS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")
 def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="bench_ik.py", description=__doc__)
-    parser.add_argument("--calls", type=int, default=2000, help="per-call samples per robot (default 2000)")
-    parser.add_argument("--batch", type=int, default=100_000, help="targets per batched call (default 100000)")
-    parser.add_argument("--repeat", type=int, default=5, help="passes per target, fastest kept (default 5)")
+    parser.add_argument(
+        "--calls", type=int, default=2000, help="per-call samples per robot (default 2000)"
+    )
+    parser.add_argument(
+        "--batch", type=int, default=100_000, help="targets per batched call (default 100000)"
+    )
+    parser.add_argument(
+        "--repeat", type=int, default=5, help="passes per target, fastest kept (default 5)"
+    )
     parser.add_argument(
         "--robot",
         choices=(*ROBOTS, "humanoid7"),
@@ -91,7 +97,9 @@ def main(argv: list[str] | None = None) -> int:
         targets = []
         for row in q[: args.calls]:
             pose = configuration.fk(row)
-            targets.append(PositionTarget(pose.translation) if robot.nq < 5 else PoseTarget.from_matrix(pose))
+            targets.append(
+                PositionTarget(pose.translation) if robot.nq < 5 else PoseTarget.from_matrix(pose)
+            )
         times = per_call_times(solver, targets, args.repeat)
         poses = dh_forward_kinematics(robot.table, q[: args.batch])
         best = float("inf")

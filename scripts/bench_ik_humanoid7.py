@@ -203,7 +203,9 @@ PEER_RATIO = 0.5
 
 def print_verdicts(rows: list[Row], ours_name: str) -> None:
     """Print, per task and start, the issue's targets and whether this run meets them."""
-    print("targets: success and median per task; ours <= 0.5 x the best peer's median at >= success")
+    print(
+        "targets: success and median per task; ours <= 0.5 x the best peer's median at >= success"
+    )
     for row in rows:
         if row.solver != ours_name:
             continue

@@ -31,30 +31,74 @@ EXIT_NO_SOLUTION = 1
 def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="solve_ik.py", description=__doc__)
-    parser.add_argument("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
-    parser.add_argument("--target", type=finite_float, nargs=3, required=True, metavar=("X", "Y", "Z"),
-                        help="tool position in the world frame, in --unit")
-    parser.add_argument("--pitch", type=finite_float, help="approach angle below the horizontal (five-joint arms)")
-    parser.add_argument("--roll", type=finite_float, help="wrist-roll joint value q5 with --pitch (default: seed's)")
-    parser.add_argument("--rpy", type=finite_float, nargs=3, metavar=("R", "P", "Y"),
-                        help="tool orientation, URDF roll-pitch-yaw (five-joint arms)")
-    parser.add_argument("--unit", choices=("m", "cm", "mm"), default="m", help="length unit (default m)")
-    parser.add_argument("--deg", action="store_true", help="angles in and out in degrees (default radians)")
-    parser.add_argument("--seed-q", type=finite_float, nargs="+", help="current joint vector (default zeros)")
-    parser.add_argument("--all", action="store_true", help="print every solution, also those outside the limits")
-    parser.add_argument("--json", action="store_true", help="print a JSON object (q in radians, errors in m and rad)")
-    parser.add_argument("--quat", type=finite_float, nargs=4, metavar=("W", "X", "Y", "Z"),
-                        help="tool orientation as a unit quaternion (numeric solver)")
+    parser.add_argument(
+        "--robot", required=True, help="shipped robot name, or a DH table file (.toml)"
+    )
+    parser.add_argument(
+        "--target",
+        type=finite_float,
+        nargs=3,
+        required=True,
+        metavar=("X", "Y", "Z"),
+        help="tool position in the world frame, in --unit",
+    )
+    parser.add_argument(
+        "--pitch", type=finite_float, help="approach angle below the horizontal (five-joint arms)"
+    )
+    parser.add_argument(
+        "--roll", type=finite_float, help="wrist-roll joint value q5 with --pitch (default: seed's)"
+    )
+    parser.add_argument(
+        "--rpy",
+        type=finite_float,
+        nargs=3,
+        metavar=("R", "P", "Y"),
+        help="tool orientation, URDF roll-pitch-yaw (five-joint arms)",
+    )
+    parser.add_argument(
+        "--unit", choices=("m", "cm", "mm"), default="m", help="length unit (default m)"
+    )
+    parser.add_argument(
+        "--deg", action="store_true", help="angles in and out in degrees (default radians)"
+    )
+    parser.add_argument(
+        "--seed-q", type=finite_float, nargs="+", help="current joint vector (default zeros)"
+    )
+    parser.add_argument(
+        "--all", action="store_true", help="print every solution, also those outside the limits"
+    )
+    parser.add_argument(
+        "--json",
+        action="store_true",
+        help="print a JSON object (q in radians, errors in m and rad)",
+    )
+    parser.add_argument(
+        "--quat",
+        type=finite_float,
+        nargs=4,
+        metavar=("W", "X", "Y", "Z"),
+        help="tool orientation as a unit quaternion (numeric solver)",
+    )
     parser.add_argument("--position-only", action="store_true", help="ignore the tool orientation")
-    parser.add_argument("--solver", choices=("mink", "nr"),
-                        help="numeric solver: mink (default for humanoid7) or nr (the paper's Newton-Raphson)")
-    parser.add_argument("--timeout", type=finite_float, default=50.0, help="numeric solver time budget [ms] (default 50)")
+    parser.add_argument(
+        "--solver",
+        choices=("mink", "nr"),
+        help="numeric solver: mink (default for humanoid7) or nr (the paper's Newton-Raphson)",
+    )
+    parser.add_argument(
+        "--timeout",
+        type=finite_float,
+        default=50.0,
+        help="numeric solver time budget [ms] (default 50)",
+    )
     return parser
 
 
 def _target(args, angle: float, length: float):  # noqa: ANN001, ANN202
     position = np.array(args.target) * length
-    if args.position_only and (args.rpy is not None or args.quat is not None or args.pitch is not None):
+    if args.position_only and (
+        args.rpy is not None or args.quat is not None or args.pitch is not None
+    ):
         raise IKError("--position-only excludes --rpy, --quat and --pitch")
     if args.quat is not None:
         if args.rpy is not None or args.pitch is not None:
@@ -75,7 +119,9 @@ def _target(args, angle: float, length: float):  # noqa: ANN001, ANN202
     if args.rpy is not None:
         return PoseTarget.from_rpy(position, np.array(args.rpy) * angle)
     if args.pitch is not None:
-        return PitchTarget(position, args.pitch * angle, None if args.roll is None else args.roll * angle)
+        return PitchTarget(
+            position, args.pitch * angle, None if args.roll is None else args.roll * angle
+        )
     if args.roll is not None:
         raise IKError("--roll needs --pitch")
     return PositionTarget(position)
@@ -87,17 +133,27 @@ def main(argv: list[str] | None = None) -> int:
 
     def body() -> int:
         robot = load_robot(args.robot)
-        solver = NumericIK(robot) if args.solver == "mink" else None if args.solver == "nr" else get_solver(robot)
+        solver = (
+            NumericIK(robot)
+            if args.solver == "mink"
+            else None
+            if args.solver == "nr"
+            else get_solver(robot)
+        )
         angle, length = angle_scale(args.deg), length_scale(args.unit)
         target = _target(args, angle, length)
         seed = None
         if args.seed_q is not None:
             if len(args.seed_q) != robot.nq:
-                raise IKError(f"--seed-q needs {robot.nq} values for '{robot.name}', got {len(args.seed_q)}")
+                raise IKError(
+                    f"--seed-q needs {robot.nq} values for '{robot.name}', got {len(args.seed_q)}"
+                )
             seed = np.array(args.seed_q) * angle
         if args.solver == "nr":
             if not isinstance(target, PositionTarget):
-                raise IKError("--solver nr is the paper's position-only method: drop --rpy/--quat/--pitch")
+                raise IKError(
+                    "--solver nr is the paper's position-only method: drop --rpy/--quat/--pitch"
+                )
             result = newton_raphson(robot, target.position, seed)
         elif isinstance(solver, NumericIK):
             result = solver.solve(target, seed, timeout=args.timeout / 1e3)
@@ -117,7 +173,9 @@ def main(argv: list[str] | None = None) -> int:
         angle_unit = "deg" if args.deg else "rad"
         print(f"{robot.name} ({result.solver}): {result.status}: {result.message}")
         if result.distance_to_workspace is not None:
-            print(f"distance to the workspace: {result.distance_to_workspace / length:.6g} {args.unit}")
+            print(
+                f"distance to the workspace: {result.distance_to_workspace / length:.6g} {args.unit}"
+            )
         if numeric:
             print(f"iterations: {result.iterations}, time: {result.time * 1e3:.3f} ms")
         if shown:

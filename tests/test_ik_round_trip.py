@@ -28,7 +28,9 @@ def _angle_gap(a, b):
 
 def _near_singular(robot, q):
     elbow = q[1] if robot.nq == 2 else q[2]
-    return abs(math.sin(elbow + robot.table.rows[1 if robot.nq == 2 else 2].theta)) < SINGULAR_MARGIN
+    return (
+        abs(math.sin(elbow + robot.table.rows[1 if robot.nq == 2 else 2].theta)) < SINGULAR_MARGIN
+    )
 
 
 @pytest.mark.parametrize("name", SMALL_ROBOTS)
@@ -47,7 +49,9 @@ def test_round_trip_every_branch_on_target_and_q_among_them(name):
         solutions = result.solutions + result.rejected
         assert result.success or result.status == "outside_limits", f"{name=} {q=} {result.message}"
         for solution in solutions:
-            assert solution.position_error <= 1e-9 and solution.rotation_error <= 1e-9, f"{name=} {q=}"
+            assert solution.position_error <= 1e-9 and solution.rotation_error <= 1e-9, (
+                f"{name=} {q=}"
+            )
         if not any(_angle_gap(s.q, q).max() < 1e-6 for s in solutions):
             if _near_singular(robot, q):
                 near_singular += 1
@@ -91,14 +95,18 @@ def test_pitch_targets_round_trip(name):
         pitch = math.atan2(-a[2], a[:2] @ h)
         result = solver.solve(PitchTarget(p, pitch, roll=q[4]))
         solutions = result.solutions + result.rejected
-        assert all(s.position_error <= 1e-9 and s.rotation_error <= 1e-9 for s in solutions), f"{name=}"
+        assert all(s.position_error <= 1e-9 and s.rotation_error <= 1e-9 for s in solutions), (
+            f"{name=}"
+        )
         assert any(_angle_gap(s.q, q).max() < 1e-6 for s in solutions), f"{name=} {q=}"
 
 
 def test_lab5_pitch_is_ninety_minus_theta234_with_shoulder_in_front():
     """002 eq. (9): for lab5, shoulder front, pitch = 90 deg - (q2 + q3 + q4)."""
     solver = ClosedFormSolver(kin.load_robot("lab5"))
-    result = solver.solve(PitchTarget([0.22, 0.161, 0.22], math.radians(11.0), roll=math.radians(90)))
+    result = solver.solve(
+        PitchTarget([0.22, 0.161, 0.22], math.radians(11.0), roll=math.radians(90))
+    )
     for solution in result.solutions:
         if solution.branch.startswith("shoulder front"):
             assert math.degrees(solution.q[1:4].sum()) == pytest.approx(79.0, abs=1e-9)
@@ -120,5 +128,7 @@ def test_batch_agrees_with_scalar_and_pinocchio(name):
     assert found.all(), f"{name=}"
     scalar = ClosedFormSolver(robot)
     for i in range(0, 500, 25):
-        target = PositionTarget(poses[i, :3, 3]) if robot.nq < 5 else PoseTarget.from_matrix(poses[i])
+        target = (
+            PositionTarget(poses[i, :3, 3]) if robot.nq < 5 else PoseTarget.from_matrix(poses[i])
+        )
         assert len(scalar.solve(target).solutions) == int(result.valid[i].sum()), f"{name=} {i=}"

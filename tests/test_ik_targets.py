@@ -32,7 +32,9 @@ def test_all_names_exist_and_sorted():
 def test_non_finite_target_is_invalid_not_an_exception(name, value):
     """NaN or infinite target values give status invalid_target."""
     solver = ClosedFormSolver(kin.load_robot(name))
-    target = PositionTarget([value, 0, 0]) if name != "lab5" else PitchTarget([0.2, value, 0.1], 0.0)
+    target = (
+        PositionTarget([value, 0, 0]) if name != "lab5" else PitchTarget([0.2, value, 0.1], 0.0)
+    )
     result = solver.solve(target)
     assert not result.success and result.status == "invalid_target"
 
@@ -94,8 +96,13 @@ def _row(i, a=0.0, alpha=0.0, d=0.0):
 
 def test_structure_error_names_row_and_parameter():
     """A five-joint table with alpha2 = 90 deg is refused, naming row 2 and alpha."""
-    rows = (_row(1, alpha=math.pi / 2, d=0.1), _row(2, a=0.1, alpha=math.pi / 2), _row(3, a=0.1),
-            _row(4, alpha=math.pi / 2), _row(5, d=0.1))
+    rows = (
+        _row(1, alpha=math.pi / 2, d=0.1),
+        _row(2, a=0.1, alpha=math.pi / 2),
+        _row(3, a=0.1),
+        _row(4, alpha=math.pi / 2),
+        _row(5, d=0.1),
+    )
     table = DHTable("bad5", "", "", "standard", rows)
     with pytest.raises(StructureError, match=r"row 2 \('j2'\): alpha = 90 deg"):
         five_dof(table)
@@ -105,8 +112,13 @@ def test_structure_error_names_row_and_parameter():
 
 def test_other_lengths_work_unchanged():
     """A lab5-like table with other lengths is recognised and reads its lengths from the table."""
-    rows = (_row(1, alpha=math.pi / 2, d=0.2), _row(2, a=0.3), _row(3, a=0.25), _row(4, alpha=math.pi / 2),
-            _row(5, d=0.05))
+    rows = (
+        _row(1, alpha=math.pi / 2, d=0.2),
+        _row(2, a=0.3),
+        _row(3, a=0.25),
+        _row(4, alpha=math.pi / 2),
+        _row(5, d=0.05),
+    )
     structure = five_dof(DHTable("big5", "", "", "standard", rows))
     assert (structure.link2.length, structure.link3.length, structure.reach) == (0.3, 0.25, 0.05)
 
@@ -114,10 +126,19 @@ def test_other_lengths_work_unchanged():
 def test_cli_json_and_exit_codes(capsys):
     """--json has success, solver, unit and solutions; 1 when unreachable, 2 for bad input."""
     solve = load_script("solve_ik").main
-    assert solve(["--robot", "pickplace3", "--target", "390", "80", "300", "--unit", "mm", "--json"]) == 0
+    assert (
+        solve(["--robot", "pickplace3", "--target", "390", "80", "300", "--unit", "mm", "--json"])
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert out["success"] and out["unit"] == "mm" and out["solver"].startswith("closed_form")
-    assert set(out["solutions"][0]) == {"q", "branch", "within_limits", "position_error", "rotation_error"}
+    assert set(out["solutions"][0]) == {
+        "q",
+        "branch",
+        "within_limits",
+        "position_error",
+        "rotation_error",
+    }
     assert solve(["--robot", "planar2", "--target", "2", "0", "0", "--json"]) == 1
     capsys.readouterr()
     for argv in (
@@ -136,6 +157,22 @@ def test_cli_json_and_exit_codes(capsys):
 def test_cli_table_all_deg(capsys):
     """--all --deg prints the four pickplace3 branches of 003 Table 5, limits flagged."""
     solve = load_script("solve_ik").main
-    assert solve(["--robot", "pickplace3", "--target", "390", "80", "300", "--unit", "mm", "--deg", "--all"]) == 0
+    assert (
+        solve(
+            [
+                "--robot",
+                "pickplace3",
+                "--target",
+                "390",
+                "80",
+                "300",
+                "--unit",
+                "mm",
+                "--deg",
+                "--all",
+            ]
+        )
+        == 0
+    )
     out = capsys.readouterr().out
     assert "10.1529" in out and "-166.9685" in out and out.count("OUT") == 2
