@@ -22,7 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from dh2urdf import robot_names
-from kin.cli import ArgumentParser
+from kin.cli import ArgumentParser, positive_int
 from kin.configuration import Configuration
 from kin.robot_model import load_robot
 
@@ -33,12 +33,12 @@ def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="bench_fk.py", description=__doc__)
     parser.add_argument(
-        "--number", type=int, default=20000, help="calls per timing (default 20000)"
+        "--number", type=positive_int, default=20000, help="calls per timing (default 20000)"
     )
     parser.add_argument(
-        "--repeat", type=int, default=7, help="timings per figure, best kept (default 7)"
+        "--repeat", type=positive_int, default=7, help="timings per figure, best kept (default 7)"
     )
-    parser.add_argument("--cli-runs", type=int, default=5, help="fk.py runs (default 5)")
+    parser.add_argument("--cli-runs", type=positive_int, default=5, help="fk.py runs (default 5)")
     return parser
 
 

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ik import BatchSolver, ClosedFormSolver, PoseTarget, PositionTarget, dh_forward_kinematics
-from kin.cli import ArgumentParser
+from kin.cli import ArgumentParser, positive_int
 from kin.configuration import Configuration
 from kin.robot_model import load_robot
 
@@ -33,13 +33,16 @@ def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="bench_ik.py", description=__doc__)
     parser.add_argument(
-        "--calls", type=int, default=2000, help="per-call samples per robot (default 2000)"
+        "--calls", type=positive_int, default=2000, help="per-call samples per robot (default 2000)"
     )
     parser.add_argument(
-        "--batch", type=int, default=100_000, help="targets per batched call (default 100000)"
+        "--batch",
+        type=positive_int,
+        default=100_000,
+        help="targets per batched call (default 100000)",
     )
     parser.add_argument(
-        "--repeat", type=int, default=5, help="passes per target, fastest kept (default 5)"
+        "--repeat", type=positive_int, default=5, help="passes per target, fastest kept (default 5)"
     )
     parser.add_argument(
         "--robot",

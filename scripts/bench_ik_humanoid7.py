@@ -26,7 +26,7 @@ import pinocchio as pin
 
 from ik.numeric import NumericIK
 from ik.numeric_target import NumericTarget, measure
-from kin.cli import ArgumentParser, run_guarded
+from kin.cli import ArgumentParser, positive_float, positive_int, run_guarded
 from kin.robot_model import RobotModel, load_robot
 
 #: A solver under test: (position [m], rotation or None, seed q [rad]) -> q or None.
@@ -51,12 +51,16 @@ def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="bench_ik_humanoid7.py", description=__doc__)
     parser.add_argument("--robot", default="humanoid7", choices=["humanoid7"], help="robot")
-    parser.add_argument("--n", type=int, default=1000, help="number of targets (default 1000)")
+    parser.add_argument(
+        "--n", type=positive_int, default=1000, help="number of targets (default 1000)"
+    )
     parser.add_argument("--seed", type=int, default=0, help="random seed of the targets")
-    parser.add_argument("--timeout", type=float, default=50.0, help="our time budget [ms]")
+    parser.add_argument("--timeout", type=positive_float, default=50.0, help="our time budget [ms]")
     parser.add_argument("--peers", choices=("all", "none", "tracik", "rtb"), default="all")
-    parser.add_argument("--tracik-timeout", type=float, default=20.0, help="TRAC-IK budget [ms]")
-    parser.add_argument("--rtb-searches", type=int, default=100, help="ik_LM slimit")
+    parser.add_argument(
+        "--tracik-timeout", type=positive_float, default=20.0, help="TRAC-IK budget [ms]"
+    )
+    parser.add_argument("--rtb-searches", type=positive_int, default=100, help="ik_LM slimit")
     return parser
 
 

@@ -22,7 +22,14 @@ from ik import PitchTarget, PoseTarget, PositionTarget, get_solver
 from ik.exceptions import IKError
 from ik.newton_raphson import newton_raphson
 from ik.numeric import NumericIK
-from kin.cli import ArgumentParser, angle_scale, finite_float, length_scale, run_guarded
+from kin.cli import (
+    ArgumentParser,
+    angle_scale,
+    finite_float,
+    length_scale,
+    positive_float,
+    run_guarded,
+)
 from kin.robot_model import load_robot
 
 EXIT_NO_SOLUTION = 1
@@ -87,7 +94,7 @@ def get_argument_parser() -> ArgumentParser:
     )
     parser.add_argument(
         "--timeout",
-        type=finite_float,
+        type=positive_float,
         default=50.0,
         help="numeric solver time budget [ms] (default 50)",
     )
