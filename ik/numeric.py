@@ -34,10 +34,12 @@ from kin import KinError, RobotModel, as_joint_vector, load_robot
 
 from .damped_newton import NewtonOutcome, damped_newton
 from .differential_ik import DifferentialIK
-from .exceptions import TargetError
+from .exceptions import StructureError, TargetError
 from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
 from .result import IKResult, IKSolution
 from .seed_table import SeedTable, build_seed_table, seed_table_for
+from .seven_dof import SevenDofIK
+from .structure import seven_dof
 
 logger = logging.getLogger(__name__)
 
@@ -62,6 +64,11 @@ class NumericIK:
         random_between: Random starts between two mink QP runs.
         random_patience: ``patience`` of the random starts (a mink QP run is always followed
             by ``newton_iterations`` damped Newton steps).
+        closed_form: Try the closed form first when the arm has the
+            :class:`~ik.structure.SevenDof` structure (False: damped Newton and mink only).
+        closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
+        closed_form_step: Joint-1 scan step of the first closed-form start [rad]: when its
+            joint 1 gives no branch inside the limits, joint 1 is scanned outward from there.
     """
 
     #: Solver name reported in :class:`IKResult` (the scripts' dispatch protocol).
@@ -79,6 +86,9 @@ class NumericIK:
         random_starts: int = 10,
         random_between: int = 3,
         random_patience: int | None = 3,
+        closed_form: bool = True,
+        closed_form_starts: int = 32,
+        closed_form_step: float = 0.01,
     ):
         self.robot = robot
         self.model = robot.model
@@ -102,6 +112,15 @@ class NumericIK:
         self._shape = (robot.model.nq,)
         self._table: SeedTable | None = None
         self._differential: DifferentialIK | None = None
+        #: Closed form for chosen free joints, or None (the arm does not have the structure).
+        self.closed_form: SevenDofIK | None = None
+        if closed_form:
+            try:
+                self.closed_form = SevenDofIK(seven_dof(robot.table), self.lower, self.upper)
+            except StructureError:
+                pass
+        self.closed_form_starts = closed_form_starts
+        self.closed_form_step = closed_form_step
 
     @property
     def table(self) -> SeedTable:
@@ -216,8 +235,13 @@ class NumericIK:
                 < best.position_error + _RANK_WEIGHT * best.rotation_error
             )
 
+        # 0: the closed form from the nearest starts' free joints (no posture preference).
+        if target.posture is None and self.closed_form is not None:
+            done = self._closed_form(target, seed, position_tol, rotation_tol, start)
+            if done is not None:
+                return done
         # 1-2: nearest starts, damped Newton.
-        for label, q0 in self._starts(target, seed):
+        for label, q0, _ in self._starts(target, seed):
             outcome = damped_newton(
                 self.model, self.data, self.frame_id, q0, position, rotation, **start_kwargs
             )
@@ -303,14 +327,17 @@ class NumericIK:
 
     def _starts(
         self, target: NumericTarget, seed_q: npt.ArrayLike | None
-    ) -> Iterator[tuple[str, np.ndarray]]:
-        """Start joint vectors, most promising first (ranked lazily: most targets need one)."""
+    ) -> Iterator[tuple[str, np.ndarray, int]]:
+        """Start joint vectors, most promising first (ranked lazily: most targets need one).
+
+        Yields ``(label, q0, index)``: ``index`` is the seed-table sample's, -1 for the caller's.
+        """
         table = self.table
         extra = []
         if target.posture is not None:
-            extra.append(("the preferred posture", np.asarray(target.posture, dtype=float)))
+            extra.append(("the preferred posture", np.asarray(target.posture, dtype=float), -1))
         if seed_q is not None:
-            extra.append(("the given seed", self._seed_vector(seed_q)))
+            extra.append(("the given seed", self._seed_vector(seed_q), -1))
         found = table.ranked(target.position, target.rotation)
         if found is None or found[0].size < self.nearest:  # outside the grid: the KD-tree
             order = table.nearest(target.position, target.rotation, k=self.nearest)
@@ -328,11 +355,12 @@ class NumericIK:
                 if distances is None
                 else float(distances[first])
             )
-            for label, q0 in extra:
-                near = self._embedding_distance(q0, target) <= nearest
-                (ahead if near else behind).append((label, q0))
+            for start in extra:
+                near = self._embedding_distance(start[1], target) <= nearest
+                (ahead if near else behind).append(start)
         yield from ahead
-        yield f"seed-table sample {int(candidates[first])}", table.q[candidates[first]]
+        index = int(candidates[first])
+        yield f"seed-table sample {index}", table.q[index], index
         yield from behind
         if distances is None:
             rest = candidates[1:]
@@ -340,7 +368,107 @@ class NumericIK:
             ranked = np.argsort(distances, kind="stable")[: self.nearest]
             rest = [candidates[i] for i in ranked if i != first][: self.nearest - 1]
         for i in rest:
-            yield f"seed-table sample {int(i)}", table.q[i]
+            index = int(i)
+            yield f"seed-table sample {index}", table.q[index], index
+
+    def _closed_form(
+        self,
+        target: NumericTarget,
+        seed_q: npt.ArrayLike | None,
+        position_tol: float,
+        rotation_tol: float,
+        start: float,
+    ) -> IKResult | None:
+        """The closed form with the free joints of the nearest starts; None if none verifies.
+
+        Starts: the seed-table samples near the target (for a full pose ranked by pose distance,
+        the nearest alone first; for a position by distance to the grid cell's centre), at most
+        ``closed_form_starts`` of them, and the caller's seed, first when its tool pose is at
+        least as near as the nearest sample's, else second. From each start: joint 1 (and, for a
+        position target, joints 5-7) as the start has them, the other joints in closed form, the
+        branch nearest the start (:meth:`~ik.seven_dof.SevenDofIK.first`). Pinocchio measures it.
+        """
+        closed, table = self.closed_form, self.table
+        position, rotation = target.position, target.rotation
+        if rotation is None:
+            candidates = table.cell_samples(position)
+            if candidates is None:
+                return None
+            first = int(candidates[0])
+            x, y, z = np.subtract(table.positions[first], position).tolist()
+            nearest = x * x + y * y + z * z
+        else:
+            found = table.ranked(position, rotation)
+            if found is None or not found[0].size:
+                return None
+            candidates, distances = found
+            i = int(distances.argmin())
+            first, nearest = int(candidates[i]), float(distances[i])
+        seed_first = False
+        if seed_q is not None:
+            seed_q = self._seed_vector(seed_q)
+            seed_first = self._embedding_distance(seed_q, target) <= nearest
+        count = self.closed_form_starts
+        out = np.empty(7)
+        prepared = closed.prepare(position, rotation)
+        step = self.closed_form_step
+        sample = table.q[first : first + 1]
+        # Start blocks in order, each (label, starts): most targets need the first block only.
+        blocks: list[tuple[str | None, np.ndarray]] = [(None, sample)]
+        if seed_q is not None:
+            blocks.insert(0 if seed_first else 1, ("the given seed", seed_q[None]))
+        for k in range(len(blocks) + 1):
+            if k == len(blocks):  # the other samples, nearest first
+                if rotation is None:
+                    rest = candidates[1:count]
+                else:
+                    rest = candidates[np.argsort(distances, kind="stable")[:count]]
+                    rest = rest[rest != first]
+                if not rest.size:
+                    break
+                label, starts = None, table.q[rest]
+            else:
+                label, starts = blocks[k]
+            offset = 0
+            while offset < len(starts):
+                index = closed.first(prepared, starts[offset:], out, step if k == 0 else 0.0)
+                if index < 0:
+                    break
+                offset += index + 1
+                solution = self._verified(out, target, position_tol, rotation_tol)
+                if solution is not None:
+                    if label is None:
+                        j = first if k < len(blocks) else int(rest[offset - 1])
+                        label = f"seed-table sample {j}"
+                    return IKResult(
+                        True,
+                        "mink",
+                        "ok",
+                        f"closed form with the free joints of {label}",
+                        (solution,),
+                        iterations=0,
+                        time=time.perf_counter() - start,
+                    )
+        return None
+
+    def _verified(
+        self, q: np.ndarray, target: NumericTarget, position_tol: float, rotation_tol: float
+    ) -> IKSolution | None:
+        """``q`` as a solution if Pinocchio finds it on target (limits: the caller's business)."""
+        model, data = self.model, self.data
+        pin.forwardKinematics(model, data, q)
+        pose = pin.updateFramePlacement(model, data, self.frame_id)
+        x, y, z = np.subtract(pose.translation, target.position).tolist()
+        position_error = math.sqrt(x * x + y * y + z * z)
+        if position_error >= position_tol:
+            return None
+        rotation_error = 0.0
+        if target.rotation is not None:
+            x, y, z = pin.log3(np.dot(pose.rotation.T, target.rotation)).tolist()
+            rotation_error = math.sqrt(x * x + y * y + z * z)
+            if rotation_error >= rotation_tol:
+                return None
+        return IKSolution(q.copy(), "", True, position_error, rotation_error)
 
     def _seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
         """The caller's seed as a finite joint vector (the solver never writes into it)."""

@@ -132,6 +132,32 @@ class SeedTable:
             query = np.array([px, py, pz, *rotation.ravel().tolist(), 1.0, offset])
         return self._owners[begin:end], np.dot(self._embedding[begin:end], query)
 
+    def cell_samples(self, position: np.ndarray) -> np.ndarray | None:
+        """The samples of the target's grid neighbourhood, nearest to the cell's centre first.
+
+        A position-only lookup with no distance computed (the cell's order is precomputed): the
+        first samples are near the target, not necessarily the nearest.
+
+        Args:
+            position: Target position [m], shape (3,).
+
+        Returns:
+            Sample indices, or None when the target's cell is outside the grid or empty.
+        """
+        if self._cells is None or self._owners is None:
+            return None
+        nx, ny, nz = self._grid_shape
+        ox, oy, oz = self._origin_list
+        size = self.cell_size
+        px, py, pz = position.tolist()
+        i = math.floor((px - ox) / size)
+        j = math.floor((py - oy) / size)
+        m = math.floor((pz - oz) / size)
+        if not (0 <= i < nx and 0 <= j < ny and 0 <= m < nz):
+            return None
+        span = self._cells.get((i * ny + j) * nz + m)
+        return None if span is None else self._owners[span[0] : span[1]]
+
     def _nearest_in_grid(
         self, position: np.ndarray, rotation: np.ndarray | None, k: int
     ) -> np.ndarray | None:
@@ -152,21 +178,24 @@ def _grid(
 
     Returns:
         ``(spans, owners, origin, shape)``: cell key -> ``(begin, end)`` into ``owners``, the
-        sample indices sorted by cell (each sample appears in 27 cells).
+        sample indices sorted by cell (each sample appears in 27 cells), and within a cell by
+        distance to the cell's centre.
     """
     origin = positions.min(axis=0) - cell_size
     cell = np.floor((positions - origin) / cell_size).astype(np.int64)
     shape = tuple(int(v) for v in cell.max(axis=0) + 2)
     nx, ny, nz = shape
     samples = np.arange(len(positions))
-    keys, owners = [], []
+    keys, owners, distances = [], [], []
     for offset in np.ndindex(3, 3, 3):
         c = cell + (np.array(offset) - 1)
         keys.append((c[:, 0] * ny + c[:, 1]) * nz + c[:, 2])
         owners.append(samples)
+        gap = positions - (origin + (c + 0.5) * cell_size)
+        distances.append(np.einsum("ij,ij->i", gap, gap))
     key = np.concatenate(keys)
     owner = np.concatenate(owners)
-    order = np.argsort(key, kind="stable")
+    order = np.lexsort((np.concatenate(distances), key))
     key, owner = key[order], owner[order]
     unique, starts = np.unique(key, return_index=True)
     ends = np.append(starts[1:], len(key))

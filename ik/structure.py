@@ -1,6 +1,6 @@
 """Recognise, from a DH table, which closed-form solver fits the arm, and read its parameters.
 
-Three structures are recognised (standard DH, revolute joints only):
+Four structures are recognised (standard DH, revolute joints only):
 
 - :class:`Planar2R`: two joints with parallel axes (``alpha1 = 0``); the tool point moves in a plane.
 - :class:`Offset3R`: base yaw, then two parallel pitch joints (``alpha1 = +-90 deg``,
@@ -8,6 +8,9 @@ Three structures are recognised (standard DH, revolute joints only):
 - :class:`FiveDof`: base yaw, three parallel pitch joints and a wrist roll (``alpha1 = +-90``,
   ``alpha2 = alpha3 = 0``, ``alpha4 = +-90``, ``a5 = 0``) with the tool point on the roll axis and
   no lateral offset (``d2 + d3 + d4 = 0``); ``a1`` (SCORBOT shoulder offset) and ``a4`` are allowed.
+- :class:`SevenDof`: seven joints, axes 2 and 3 meeting at a shoulder point, axes 5-7 at a wrist
+  centre (humanoid7). Redundant: :func:`recognise` leaves it to the numeric solver, which solves
+  it in closed form for chosen joint-1 angles (:mod:`ik.seven_dof`).
 
 Everything the solvers use (link lengths, offsets, signs) is read here from the table, so an arm of
 the same structure with other numbers works unchanged. A table that does not fit raises
@@ -120,6 +123,32 @@ class FiveDof:
         rows = tuple(tuple(row) for row in np.asarray(self.R_roll_tool, dtype=float).tolist())
         identity = rows == ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
         object.__setattr__(self, "roll_tool_rows", None if identity else rows)
+
+
+@dataclass(frozen=True)
+class SevenDof:
+    """Seven revolute joints with a shoulder point and a spherical wrist (redundant: joint 1 free).
+
+    The axes of joints 2 and 3 meet at the shoulder point (``a2 = 0``, ``alpha2`` not 0 or 180 deg)
+    and the axes of joints 5, 6 and 7 at the wrist centre (``a5 = a6 = d6 = 0``, ``alpha5`` not 0 or
+    180 deg). Joint 1 and the elbow (joint 4) are general. For a given joint-1 angle the rest is a 6R
+    arm with a spherical wrist: closed form, up to 8 branches (:mod:`ik.seven_dof`).
+
+    Attributes:
+        a: DH lengths ``a1 .. a7`` [m].
+        alpha: DH twists ``alpha1 .. alpha7`` [rad].
+        d: DH offsets ``d1 .. d7`` [m].
+        offsets: DH angle offsets ``theta1 .. theta7`` [rad] (DH angle = q + offset).
+        T_world_base: Fixed transform from the URDF root to DH frame 0 (4x4, [m]).
+        T_last_tool: Fixed transform from DH frame 7 to the tool frame (4x4, [m]).
+    """
+
+    a: tuple[float, ...]
+    alpha: tuple[float, ...]
+    d: tuple[float, ...]
+    offsets: tuple[float, ...]
+    T_world_base: np.ndarray = field(repr=False)
+    T_last_tool: np.ndarray = field(repr=False)
 
 
 Structure = Planar2R | Offset3R | FiveDof
@@ -267,6 +296,35 @@ def five_dof(table: DHTable) -> FiveDof:
         reach=row5.d + float(tool[2]),
         R_roll_tool=rot_x @ np.asarray(table.T_last_tool[:3, :3], dtype=float),
         offsets=tuple(row.theta for row in table.rows),
+    )
+
+
+def seven_dof(table: DHTable) -> SevenDof:
+    """Parameters of a 7R arm with a shoulder point (axes 2, 3) and a spherical wrist (axes 5-7).
+
+    Raises:
+        StructureError: The table does not have that structure.
+    """
+    check = _Checker(table, "seven-joint (shoulder point, spherical wrist)")
+    check.rows(7)
+    rows = table.rows
+    check.zero(rows[1], "a", "the axes of joints 2 and 3 must meet")
+    for row in (rows[1], rows[4]):
+        if abs(math.sin(row.alpha)) <= ANGLE_TOL:
+            raise check.fail(
+                f"row {row.index} ('{row.name}'): alpha = {_deg(row.alpha)}, expected an angle "
+                "other than 0 or 180 deg (the next axis must not be parallel)"
+            )
+    check.zero(rows[4], "a", "the wrist axes 5, 6 and 7 must meet")
+    check.zero(rows[5], "a", "the wrist axes 5, 6 and 7 must meet")
+    check.zero(rows[5], "d", "the wrist axes 5, 6 and 7 must meet")
+    return SevenDof(
+        a=tuple(row.a for row in rows),
+        alpha=tuple(row.alpha for row in rows),
+        d=tuple(row.d for row in rows),
+        offsets=tuple(row.theta for row in rows),
+        T_world_base=np.array(table.T_world_base, dtype=float),
+        T_last_tool=np.array(table.T_last_tool, dtype=float),
     )
 
 
