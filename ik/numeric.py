@@ -1,7 +1,12 @@
-"""Numeric IK for robots without a closed form (humanoid7): fast, inside the limits, verified.
+"""IK of the redundant 7-DOF arm (humanoid7): fast, inside the limits, verified by Pinocchio.
 
 The solve loop, until a solution is verified or the time budget runs out:
 
+0. Closed form, for an arm of the :class:`~ik.structure.SevenDof` structure (humanoid7) and a
+   target without posture preference: joint 1 (and, for a position target, joints 5-7) from a
+   start, the other joints in closed form (:mod:`ik.seven_dof`), joint 1 scanned outward when it
+   gives no branch inside the limits. Starts: the caller's seed, then the seed-table samples
+   near the target. Most targets end here, in tens of microseconds.
 1. Starts: the seed-table samples whose tool poses are nearest to the target (and the caller's
    ``seed_q`` / posture preference first when its tool pose is at least as near).
 2. From each start, clamped damped Newton steps on Pinocchio (:mod:`ik.damped_newton`).
@@ -160,8 +165,11 @@ class NumericIK:
 
         Args:
             target: Tool target (full pose or position only, optional posture preference).
-            seed: Start joint vector [rad]; tried first when its tool pose is at least as
-                near to the target as the nearest seed-table sample.
+            seed: Start joint vector [rad]. The closed form (an arm of the
+                :class:`~ik.structure.SevenDof` structure) starts from it first: the answer
+                keeps its joint 1 as nearly as the target allows and takes the branch nearest
+                it. Damped Newton tries it first when its tool pose is at least as near to the
+                target as the nearest seed-table sample's.
             timeout: Time budget [s]; the first verified solution returns earlier. Building the
                 seed table and loading the MuJoCo model (once per solver) do not count.
             random_seed: Seed of the random restarts (results are reproducible).
@@ -379,67 +387,29 @@ class NumericIK:
         rotation_tol: float,
         start: float,
     ) -> IKResult | None:
-        """The closed form with the free joints of the nearest starts; None if none verifies.
+        """The closed form from the caller's seed, then from seed-table samples; None if none verifies.
 
-        Starts: the seed-table samples near the target (for a full pose ranked by pose distance,
-        the nearest alone first; for a position by distance to the grid cell's centre), at most
-        ``closed_form_starts`` of them, and the caller's seed, first when its tool pose is at
-        least as near as the nearest sample's, else second. From each start: joint 1 (and, for a
-        position target, joints 5-7) as the start has them, the other joints in closed form, the
-        branch nearest the start (:meth:`~ik.seven_dof.SevenDofIK.first`). Pinocchio measures it.
+        From a start: joint 1 (and, for a position target, joints 5-7) as the start has them, the
+        other joints in closed form, the branch nearest the start
+        (:meth:`~ik.seven_dof.SevenDofIK.first`). When that joint 1 gives no branch inside the
+        limits, the seed and the first sample scan joint 1 outward from there (by
+        ``closed_form_step``): the answer keeps the start's joint 1 as nearly as the target
+        allows. Pinocchio measures the answer.
         """
-        closed, table = self.closed_form, self.table
-        position, rotation = target.position, target.rotation
-        if rotation is None:
-            candidates = table.cell_samples(position)
-            if candidates is None:
-                return None
-            first = int(candidates[0])
-            x, y, z = np.subtract(table.positions[first], position).tolist()
-            nearest = x * x + y * y + z * z
-        else:
-            found = table.ranked(position, rotation)
-            if found is None or not found[0].size:
-                return None
-            candidates, distances = found
-            i = int(distances.argmin())
-            first, nearest = int(candidates[i]), float(distances[i])
-        seed_first = False
-        if seed_q is not None:
-            seed_q = self._seed_vector(seed_q)
-            seed_first = self._embedding_distance(seed_q, target) <= nearest
-        count = self.closed_form_starts
+        closed = self.closed_form
+        prepared = closed.prepare(target.position, target.rotation)
         out = np.empty(7)
-        prepared = closed.prepare(position, rotation)
-        step = self.closed_form_step
-        sample = table.q[first : first + 1]
-        # Start blocks in order, each (label, starts): most targets need the first block only.
-        blocks: list[tuple[str | None, np.ndarray]] = [(None, sample)]
-        if seed_q is not None:
-            blocks.insert(0 if seed_first else 1, ("the given seed", seed_q[None]))
-        for k in range(len(blocks) + 1):
-            if k == len(blocks):  # the other samples, nearest first
-                if rotation is None:
-                    rest = candidates[1:count]
-                else:
-                    rest = candidates[np.argsort(distances, kind="stable")[:count]]
-                    rest = rest[rest != first]
-                if not rest.size:
-                    break
-                label, starts = None, table.q[rest]
-            else:
-                label, starts = blocks[k]
+        for label, starts, indices, step in self._closed_form_starts(target, seed_q):
             offset = 0
             while offset < len(starts):
-                index = closed.first(prepared, starts[offset:], out, step if k == 0 else 0.0)
+                index = closed.first(prepared, starts[offset:], out, step)
                 if index < 0:
                     break
                 offset += index + 1
                 solution = self._verified(out, target, position_tol, rotation_tol)
                 if solution is not None:
                     if label is None:
-                        j = first if k < len(blocks) else int(rest[offset - 1])
-                        label = f"seed-table sample {j}"
+                        label = f"seed-table sample {int(indices[offset - 1])}"
                     return IKResult(
                         True,
                         "mink",
@@ -450,6 +420,39 @@ class NumericIK:
                         time=time.perf_counter() - start,
                     )
         return None
+
+    def _closed_form_starts(
+        self, target: NumericTarget, seed_q: npt.ArrayLike | None
+    ) -> Iterator[tuple[str | None, np.ndarray, np.ndarray | None, float]]:
+        """Blocks of closed-form starts, in order: ``(label, starts, sample indices, step)``.
+
+        The caller's seed (scanned); the seed-table sample nearest the target (scanned; for a
+        full pose by pose distance, for a position the nearest to the target's grid cell centre);
+        the next ``closed_form_starts`` samples (not scanned). Looked up lazily: most targets need
+        the first block only.
+        """
+        step = self.closed_form_step
+        if seed_q is not None:
+            yield "the given seed", self._seed_vector(seed_q)[None], None, step
+        table = self.table
+        position, rotation = target.position, target.rotation
+        if rotation is None:
+            candidates = table.cell_samples(position)
+            if candidates is None:
+                return
+            yield None, table.q[candidates[:1]], candidates, step
+            rest = candidates[1 : self.closed_form_starts]
+        else:
+            found = table.ranked(position, rotation)
+            if found is None or not found[0].size:
+                return
+            candidates, distances = found
+            first = int(distances.argmin())
+            yield None, table.q[candidates[first : first + 1]], candidates[first:], step
+            order = np.argsort(distances, kind="stable")[: self.closed_form_starts]
+            rest = candidates[order[order != first]]
+        if rest.size:
+            yield None, table.q[rest], rest, 0.0
 
     def _verified(
         self, q: np.ndarray, target: NumericTarget, position_tol: float, rotation_tol: float
