@@ -43,7 +43,7 @@ from .exceptions import StructureError, TargetError
 from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
 from .result import IKResult, IKSolution
 from .seed_table import SeedTable, build_seed_table, seed_table_for
-from .seven_dof import SevenDofIK
+from .seven_dof import COMPILED, SevenDofIK
 from .structure import seven_dof
 
 logger = logging.getLogger(__name__)
@@ -72,8 +72,9 @@ class NumericIK:
         closed_form: Try the closed form first when the arm has the
             :class:`~ik.structure.SevenDof` structure (False: damped Newton and mink only).
         closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
-        closed_form_step: Joint-1 scan step of the first closed-form start [rad]: when its
-            joint 1 gives no branch inside the limits, joint 1 is scanned outward from there.
+        closed_form_step: Joint-1 scan step of the first closed-form starts [rad]: when its
+            joint 1 gives no branch inside the limits, joint 1 is scanned outward from there
+            (None: 0.01 rad with the compiled twin of :mod:`ik.seven_dof`, 0.05 rad without).
     """
 
     #: Solver name reported in :class:`IKResult` (the scripts' dispatch protocol).
@@ -93,7 +94,7 @@ class NumericIK:
         random_patience: int | None = 3,
         closed_form: bool = True,
         closed_form_starts: int = 32,
-        closed_form_step: float = 0.01,
+        closed_form_step: float | None = None,
     ):
         self.robot = robot
         self.model = robot.model
@@ -125,6 +126,8 @@ class NumericIK:
             except StructureError:
                 pass
         self.closed_form_starts = closed_form_starts
+        if closed_form_step is None:
+            closed_form_step = 0.01 if COMPILED else 0.05
         self.closed_form_step = closed_form_step
 
     @property

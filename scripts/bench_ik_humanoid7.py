@@ -7,6 +7,7 @@ answer is judged by Pinocchio alike: position < 1e-5 m, rotation < 1e-4 rad, ins
 Peers are skipped with a note when not installed (pip install pytracik roboticstoolbox-python).
 TRAC-IK's Python binding has no position-only mode: it runs on full poses only; it stores the
 limits in float32 (pi/2 + 4.4e-8 rad), so its answers are clipped into the limits before judging.
+The peers' settings are options (--rtb-*, --tracik-*); sweep_ik_peers.py searches for the best.
 """
 
 from __future__ import annotations
@@ -31,6 +32,11 @@ from kin.robot_model import RobotModel, load_robot
 
 #: A solver under test: (position [m], rotation or None, seed q [rad]) -> q or None.
 SolveFn = Callable[[np.ndarray, "np.ndarray | None", np.ndarray], "np.ndarray | None"]
+
+#: TRAC-IK's solve types (pytracik's ``solver_type``).
+TRACIK_SOLVER_TYPES = ("Speed", "Distance", "Manip1", "Manip2")
+#: ik_LM's damping methods.
+RTB_METHODS = ("chan", "wampler", "sugihara")
 
 
 @dataclass(frozen=True)
@@ -60,7 +66,22 @@ def get_argument_parser() -> ArgumentParser:
     parser.add_argument(
         "--tracik-timeout", type=positive_float, default=20.0, help="TRAC-IK budget [ms]"
     )
+    parser.add_argument(
+        "--tracik-solver",
+        choices=TRACIK_SOLVER_TYPES,
+        default="Speed",
+        help="TRAC-IK solver_type (default Speed)",
+    )
     parser.add_argument("--rtb-searches", type=positive_int, default=100, help="ik_LM slimit")
+    parser.add_argument(
+        "--rtb-method", choices=RTB_METHODS, default="chan", help="ik_LM damping (default chan)"
+    )
+    parser.add_argument(
+        "--rtb-k", type=positive_float, default=0.1, help="ik_LM damping gain k (default 0.1)"
+    )
+    parser.add_argument(
+        "--rtb-ilimit", type=positive_int, default=30, help="ik_LM iterations per search (30)"
+    )
     return parser
 
 
@@ -75,6 +96,15 @@ def make_targets(robot: RobotModel, n: int, seed: int) -> tuple[np.ndarray, list
         pin.forwardKinematics(model, data, qi)
         poses.append(pin.updateFramePlacement(model, data, fid).copy())
     return q, poses
+
+
+def make_starts(robot: RobotModel, n: int, seed: int) -> dict[str, np.ndarray]:
+    """The start joint vectors by label: all zeros, and seeded random ones inside the limits."""
+    rng = np.random.default_rng(seed + 1)
+    return {
+        "q = 0": np.zeros((n, robot.nq)),
+        "random q": rng.uniform(robot.lower, robot.upper, size=(n, robot.nq)),
+    }
 
 
 def run(
@@ -135,8 +165,20 @@ def ours(robot: RobotModel, timeout_ms: float) -> SolveFn:
     return solve
 
 
-def tracik(robot: RobotModel, timeout_ms: float) -> SolveFn | str:
-    """TRAC-IK (Speed mode) through pytracik, or why it is skipped."""
+def tracik(
+    robot: RobotModel, timeout_ms: float = 20.0, solver_type: str = "Speed"
+) -> SolveFn | str:
+    """TRAC-IK through pytracik (epsilon 1e-6), or why it is skipped.
+
+    Args:
+        robot: the robot.
+        timeout_ms: the time budget per call [ms].
+        solver_type: one of ``TRACIK_SOLVER_TYPES``.
+    """
+    if solver_type not in TRACIK_SOLVER_TYPES:
+        raise ValueError(
+            f"TRAC-IK solver_type must be one of {TRACIK_SOLVER_TYPES}: {solver_type!r}"
+        )
     try:
         from trac_ik import TracIK
     except ImportError as err:
@@ -150,7 +192,7 @@ def tracik(robot: RobotModel, timeout_ms: float) -> SolveFn | str:
         path,
         timeout=timeout_ms / 1e3,
         epsilon=1e-6,
-        solver_type="Speed",
+        solver_type=solver_type,
     )
 
     def solve(position, rotation, seed):
@@ -163,8 +205,24 @@ def tracik(robot: RobotModel, timeout_ms: float) -> SolveFn | str:
     return solve
 
 
-def rtb_lm(robot: RobotModel, searches: int) -> SolveFn | str:
-    """Robotics Toolbox's C++ ik_LM (Chan's damping, k = 0.1), or why it is skipped."""
+def rtb_lm(
+    robot: RobotModel,
+    searches: int = 100,
+    method: str = "chan",
+    k: float = 0.1,
+    ilimit: int = 30,
+) -> SolveFn | str:
+    """Robotics Toolbox's C++ ik_LM (tol 1e-12, joint limits on), or why it is skipped.
+
+    Args:
+        robot: the robot.
+        searches: ik_LM ``slimit``, the number of restarts from random joint vectors.
+        method: the damping, one of ``RTB_METHODS``.
+        k: the damping gain.
+        ilimit: iterations per search.
+    """
+    if method not in RTB_METHODS:
+        raise ValueError(f"ik_LM method must be one of {RTB_METHODS}: {method!r}")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -186,13 +244,13 @@ def rtb_lm(robot: RobotModel, searches: int) -> SolveFn | str:
         solution = ets.ik_LM(
             pose,
             q0=seed,
-            ilimit=30,
+            ilimit=ilimit,
             slimit=searches,
             tol=1e-12,
             mask=position_mask if rotation is None else full_mask,
             joint_limits=True,
-            k=0.1,
-            method="chan",
+            k=k,
+            method=method,
         )
         return np.asarray(solution.q) if solution.success else None
 
@@ -240,16 +298,13 @@ def main(argv: list[str] | None = None) -> int:
     def body() -> int:
         robot = load_robot(args.robot)
         _, poses = make_targets(robot, args.n, args.seed)
-        rng = np.random.default_rng(args.seed + 1)
-        starts = {
-            "q = 0": np.zeros((args.n, robot.nq)),
-            "random q": rng.uniform(robot.lower, robot.upper, size=(args.n, robot.nq)),
-        }
+        starts = make_starts(robot, args.n, args.seed)
         solvers: list[tuple[str, SolveFn | str]] = [("ours (mink)", ours(robot, args.timeout))]
         if args.peers in ("all", "tracik"):
-            solvers.append(("TRAC-IK", tracik(robot, args.tracik_timeout)))
+            solvers.append(("TRAC-IK", tracik(robot, args.tracik_timeout, args.tracik_solver)))
         if args.peers in ("all", "rtb"):
-            solvers.append(("RTB ik_LM", rtb_lm(robot, args.rtb_searches)))
+            rtb = rtb_lm(robot, args.rtb_searches, args.rtb_method, args.rtb_k, args.rtb_ilimit)
+            solvers.append(("RTB ik_LM", rtb))
         ready: dict[str, SolveFn] = {}
         for name, solve in solvers:
             if isinstance(solve, str):
