@@ -195,6 +195,11 @@ class NumericIK:
         if not getattr(target, "finite", True):  # ik.target values accept NaN; report it
             return IKResult(False, "mink", "invalid_target", f"target is not finite: {target}")
         target = NumericTarget.from_target(target)
+        # 0: the closed form from the seed's or samples' free joints (no posture preference).
+        if target.posture is None and self.closed_form is not None:
+            done = self._closed_form(target, seed, position_tol, rotation_tol, start)
+            if done is not None:
+                return done
         position, rotation = target.position, target.rotation
         inner_p, inner_r = 0.1 * position_tol, 0.1 * rotation_tol
         best: NewtonOutcome | None = None
@@ -246,11 +251,6 @@ class NumericIK:
                 < best.position_error + _RANK_WEIGHT * best.rotation_error
             )
 
-        # 0: the closed form from the nearest starts' free joints (no posture preference).
-        if target.posture is None and self.closed_form is not None:
-            done = self._closed_form(target, seed, position_tol, rotation_tol, start)
-            if done is not None:
-                return done
         # 1-2: nearest starts, damped Newton.
         for label, q0, _ in self._starts(target, seed):
             outcome = damped_newton(
