@@ -8,8 +8,9 @@
  *   params: float64[PARAM_COUNT], SevenDofIK.c_params (layout below);
  *   mode:   0 = full pose, target = float64[12]: tool origin of DH frame 7 in frame 0 (3), then
  *           R_0_7 row-major (9); 1 = position, target = float64[3]: the tool point in frame 0;
- *   starts: float64[k * 7], start joint vectors (clipped into the limits here). Joint 1 (and, for
- *           a position, joints 5-7) are taken from the start, the others solved;
+ *   starts: float64[k, 7], start joint vectors (clipped into the limits here; a row with a value
+ *           that is not finite is skipped). Joint 1 (and, for a position, joints 5-7) are taken
+ *           from the start, the others solved;
  *   out:    float64[7], receives the solution.
  *   step:   when > 0, a start whose joint 1 gives no branch inside the limits scans joint 1 from
  *           there outward, q1 +- step, q1 +- 2 step, ... inside its limits [rad].
@@ -19,6 +20,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
+#include <string.h>
 
 enum {
     P_OFF = 0,   /* theta offsets, 7 */
@@ -213,20 +215,51 @@ static void elbow_vector(const double *P, double q5, double q6, double q7, doubl
     u[2] = P[P_D + 3] + S[3] * y + C[3] * z;
 }
 
+/* A C-contiguous float64 buffer of `obj` (writable if asked); 0 and a Python error otherwise. */
+static int get_doubles(PyObject *obj, Py_buffer *view, int writable, const char *name)
+{
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0) return 0;
+    if (view->format == NULL || strcmp(view->format, "d") != 0 || view->itemsize != sizeof(double)) {
+        PyBuffer_Release(view);
+        PyErr_Format(PyExc_TypeError, "%s: expected a C-contiguous float64 array", name);
+        return 0;
+    }
+    return 1;
+}
+
 static PyObject *first(PyObject *self, PyObject *args)
 {
+    PyObject *params_obj, *target_obj, *starts_obj, *out_obj;
     Py_buffer params, target, starts, out;
     int mode;
     double step;
-    if (!PyArg_ParseTuple(args, "y*iy*y*w*d", &params, &mode, &target, &starts, &out, &step))
+    if (!PyArg_ParseTuple(args, "OiOOOd", &params_obj, &mode, &target_obj, &starts_obj, &out_obj,
+                          &step))
         return NULL;
+    if (!get_doubles(params_obj, &params, 0, "params")) return NULL;
+    if (!get_doubles(target_obj, &target, 0, "target")) {
+        PyBuffer_Release(&params);
+        return NULL;
+    }
+    if (!get_doubles(starts_obj, &starts, 0, "starts")) {
+        PyBuffer_Release(&params);
+        PyBuffer_Release(&target);
+        return NULL;
+    }
+    if (!get_doubles(out_obj, &out, 1, "out")) {
+        PyBuffer_Release(&params);
+        PyBuffer_Release(&target);
+        PyBuffer_Release(&starts);
+        return NULL;
+    }
     long found = -1;
     const char *error = NULL;
     Py_ssize_t need = mode == 0 ? 12 : 3;
     if (params.len != PARAM_COUNT * (Py_ssize_t)sizeof(double)) error = "params: wrong size";
     else if (mode != 0 && mode != 1) error = "mode must be 0 (pose) or 1 (position)";
     else if (target.len != need * (Py_ssize_t)sizeof(double)) error = "target: wrong size";
-    else if (starts.len % (7 * sizeof(double)) != 0) error = "starts: not k x 7 float64";
+    else if (starts.ndim != 2 || starts.shape[1] != 7) error = "starts: not k x 7 float64";
     else if (out.len != 7 * (Py_ssize_t)sizeof(double)) error = "out: not 7 float64";
     if (error == NULL) {
         const double *P = params.buf, *T = target.buf, *Q = starts.buf;
@@ -244,11 +277,13 @@ static PyObject *first(PyObject *self, PyObject *args)
         }
         for (Py_ssize_t r = 0; r < k && found < 0; r++) {
             double v[7], sol[8][7];
-            int n = 0;
+            int n = 0, finite = 1;
             for (int i = 0; i < 7; i++) {
                 double x = Q[7 * r + i];
+                finite = finite && isfinite(x);
                 v[i] = x < P[P_LO + i] ? P[P_LO + i] : (x > P[P_HI + i] ? P[P_HI + i] : x);
             }
+            if (!finite) continue; /* a start with a NaN or an infinity has no joint 1 to keep */
             double u[3];
             if (mode == 1) elbow_vector(P, v[4], v[5], v[6], u);
             for (long j = 0; n == 0; j++) {

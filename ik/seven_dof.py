@@ -155,13 +155,15 @@ class SevenDofIK:
             for a full pose.
         """
         if rotation is None:
-            return 1, position if self._plain else np.array(self.frame0(position))
+            if self._plain:
+                return 1, np.ascontiguousarray(position, dtype=float)
+            return 1, np.array(self.frame0(position))
         if self._plain:
             r0, p0 = rotation, position
         else:
             r0 = self._base_r.T @ rotation @ self._tool_r.T
             p0 = self._base_r.T @ (position - self._base_t) - r0 @ self._tool_t
-        return 0, np.concatenate((p0, r0.ravel()))
+        return 0, np.concatenate((p0, r0.ravel()), dtype=float)
 
     def first(
         self,
@@ -181,8 +183,9 @@ class SevenDofIK:
 
         Args:
             target: :meth:`prepare` of the target.
-            starts: Start joint vectors [rad], shape (k, 7); clipped into the limits. Joint 1 (and
-                for a position joints 5-7) are kept, the others solved.
+            starts: Start joint vectors [rad], shape (k, 7); clipped into the limits, a row with a
+                value that is not finite skipped. Joint 1 (and for a position joints 5-7) are
+                kept, the others solved.
             out: Receives the branch nearest that start [rad], shape (7,).
             step: Joint-1 scan step [rad] (0: no scan).
             compiled: Use the compiled twin when it is built (False: this module's Python).
@@ -194,15 +197,19 @@ class SevenDofIK:
         if compiled and _closed7 is not None:
             if not values.flags.c_contiguous:
                 values = np.ascontiguousarray(values)
-            if not starts.flags.c_contiguous:
-                starts = np.ascontiguousarray(starts)
+            if not starts.flags.c_contiguous or starts.dtype != np.float64:
+                starts = np.ascontiguousarray(starts, dtype=float)
             return _closed7.first(self.c_params, mode, values, starts, out, step)
         lows, highs = self.lower, self.upper
         if mode == 0:
             frame = self._frame_of(values[:3].tolist(), values[3:].reshape(3, 3).tolist())
         else:
             point = values.tolist()
+        if starts.ndim != 2 or starts.shape[1] != 7:
+            raise ValueError(f"starts: not k x 7, got shape {starts.shape}")
         for index, start in enumerate(starts.tolist()):
+            if not all(map(math.isfinite, start)):
+                continue  # no joint 1 to keep
             clipped = [min(max(v, lo), hi) for v, lo, hi in zip(start, lows, highs)]
             u = None if mode == 0 else self.elbow_vector(*clipped[4:])
             found = []
