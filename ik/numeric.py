@@ -72,9 +72,10 @@ class NumericIK:
         closed_form: Try the closed form first when the arm has the
             :class:`~ik.structure.SevenDof` structure (False: damped Newton and mink only).
         closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
-        closed_form_step: Joint-1 scan step of the first closed-form starts [rad]: when its
-            joint 1 gives no branch inside the limits, joint 1 is scanned outward from there
-            (None: 0.01 rad with the compiled twin of :mod:`ik.seven_dof`, 0.05 rad without).
+        closed_form_steps: Joint-1 scan steps of the first closed-form starts [rad], coarse to
+            fine: when a start's joint 1 gives no branch inside the limits, joint 1 is scanned
+            outward from there, on the coarse grid first (None: 0.05 then 0.01 rad with the
+            compiled twin of :mod:`ik.seven_dof`, 0.05 rad without).
     """
 
     #: Solver name reported in :class:`IKResult` (the scripts' dispatch protocol).
@@ -94,7 +95,7 @@ class NumericIK:
         random_patience: int | None = 3,
         closed_form: bool = True,
         closed_form_starts: int = 32,
-        closed_form_step: float | None = None,
+        closed_form_steps: tuple[float, ...] | None = None,
     ):
         self.robot = robot
         self.model = robot.model
@@ -126,9 +127,9 @@ class NumericIK:
             except StructureError:
                 pass
         self.closed_form_starts = closed_form_starts
-        if closed_form_step is None:
-            closed_form_step = 0.01 if COMPILED else 0.05
-        self.closed_form_step = closed_form_step
+        if closed_form_steps is None:
+            closed_form_steps = (0.05, 0.01) if COMPILED else (0.05,)
+        self.closed_form_steps = tuple(closed_form_steps)
 
     @property
     def table(self) -> SeedTable:
@@ -396,7 +397,7 @@ class NumericIK:
         other joints in closed form, the branch nearest the start
         (:meth:`~ik.seven_dof.SevenDofIK.first`). When that joint 1 gives no branch inside the
         limits, the seed and the first sample scan joint 1 outward from there (by
-        ``closed_form_step``): the answer keeps the start's joint 1 as nearly as the target
+        ``closed_form_steps``, coarse to fine): the answer keeps the start's joint 1 as nearly as the target
         allows. Pinocchio measures the answer.
         """
         closed = self.closed_form
@@ -429,21 +430,25 @@ class NumericIK:
     ) -> Iterator[tuple[str | None, np.ndarray, np.ndarray | None, float]]:
         """Blocks of closed-form starts, in order: ``(label, starts, sample indices, step)``.
 
-        The caller's seed (scanned); the seed-table sample nearest the target (scanned; for a
+        The caller's seed (scanned, coarse then fine); the seed-table sample nearest the target
+        (scanned likewise; for a
         full pose by pose distance, for a position the nearest to the target's grid cell centre);
         the next ``closed_form_starts`` samples (not scanned). Looked up lazily: most targets need
         the first block only.
         """
-        step = self.closed_form_step
+        steps = self.closed_form_steps
         if seed_q is not None:
-            yield "the given seed", self._seed_vector(seed_q)[None], None, step
+            seed = self._seed_vector(seed_q)[None]
+            for step in steps:
+                yield "the given seed", seed, None, step
         table = self.table
         position, rotation = target.position, target.rotation
         if rotation is None:
             candidates = table.cell_samples(position)
             if candidates is None:
                 return
-            yield None, table.q[candidates[:1]], candidates, step
+            for step in steps:
+                yield None, table.q[candidates[:1]], candidates, step
             rest = candidates[1 : self.closed_form_starts]
         else:
             found = table.ranked(position, rotation)
@@ -451,7 +456,8 @@ class NumericIK:
                 return
             candidates, distances = found
             first = int(distances.argmin())
-            yield None, table.q[candidates[first : first + 1]], candidates[first:], step
+            for step in steps:
+                yield None, table.q[candidates[first : first + 1]], candidates[first:], step
             order = np.argsort(distances, kind="stable")[: self.closed_form_starts]
             rest = candidates[order[order != first]]
         if rest.size:
