@@ -186,7 +186,7 @@ def run(
 
 
 def ours(robot: RobotModel, timeout_ms: float) -> SolveFn:
-    """Our solver (seed table + damped Newton + mink QP fallback)."""
+    """Our solver (ik.numeric: closed form from the seed or the seed table, then damped Newton and mink QP)."""
     solver = NumericIK(robot)
     _ = solver.table, solver.differential  # one-time setup outside the timing
 
@@ -333,7 +333,7 @@ def main(argv: list[str] | None = None) -> int:
         robot = load_robot(args.robot)
         _, poses = make_targets(robot, args.n, args.seed)
         starts = make_starts(robot, args.n, args.seed)
-        solvers: list[tuple[str, SolveFn | str]] = [("ours (mink)", ours(robot, args.timeout))]
+        solvers: list[tuple[str, SolveFn | str]] = [("ours", ours(robot, args.timeout))]
         if args.peers in ("all", "tracik"):
             solvers.append(("TRAC-IK", tracik(robot, args.tracik_timeout, args.tracik_solver)))
         if args.peers in ("all", "rtb"):
