@@ -9,7 +9,8 @@ from .newton_raphson import newton_raphson
 from .numeric import NumericIK, solve_numeric
 from .numeric_target import NumericTarget
 from .result import IKResult, IKSolution
-from .structure import FiveDof, Offset3R, Planar2R, recognise
+from .seven_dof import SevenDofIK
+from .structure import FiveDof, Offset3R, Planar2R, SevenDof, recognise
 from .target import PitchTarget, PoseTarget, PositionTarget
 
 __version__ = "0.1.0"
@@ -31,6 +32,8 @@ __all__ = [
     "Planar2R",
     "PoseTarget",
     "PositionTarget",
+    "SevenDof",
+    "SevenDofIK",
     "Solver",
     "StructureError",
     "TargetError",
