@@ -11,8 +11,9 @@ from .table_file import load_table
 
 #: Folder of the shipped DH tables.
 TABLES_DIR = Path(__file__).resolve().parent / "tables"
-#: Folder of the generated, committed URDFs (top level of the repository).
-URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
+#: Folder of the generated URDFs shipped with the package. In the repository ``dh2urdf/urdf`` is a
+#: link to the committed, diffable copy at the top (``urdf/``); the wheel holds the files.
+URDF_DIR = Path(__file__).parent / "urdf"
 
 
 @dataclass(frozen=True)

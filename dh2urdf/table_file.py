@@ -30,7 +30,12 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
 from __future__ import annotations
 
 import math
-import tomllib
+import sys
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # Python 3.10
+    import tomli as tomllib
 from pathlib import Path
 from typing import Any
 

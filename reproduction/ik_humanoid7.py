@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from ik.newton_raphson import newton_raphson
-from ik.numeric import NumericIK
-from ik.numeric_target import NumericTarget
+from kin.ik.numeric.newton_raphson import newton_raphson
+from kin.ik.numeric.numeric_target import NumericTarget
+from kin.ik.numeric.solver import NumericIK
 from kin.robot_model import RobotModel, load_robot
 
 from ._robots import dh_angles_to_q, tool_position_deg, variant

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 import kin
-from ik import ClosedFormSolver, PitchTarget, PoseTarget, PositionTarget
+from kin.ik import ClosedFormSolver, PitchTarget, PoseTarget, PositionTarget
 
 from .report import Row, Section
 

@@ -21,9 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ik import BatchSolver, ClosedFormSolver, PoseTarget, PositionTarget, dh_forward_kinematics
 from kin.cli import ArgumentParser, positive_int
 from kin.configuration import Configuration
+from kin.ik import BatchSolver, ClosedFormSolver, PoseTarget, PositionTarget, dh_forward_kinematics
 from kin.robot_model import load_robot
 
 ROBOTS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")

@@ -30,9 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ik.numeric import NumericIK
-from ik.numeric_target import NumericTarget, measure
 from kin.cli import ArgumentParser, positive_float, positive_int, run_guarded
+from kin.ik.numeric.numeric_target import NumericTarget, measure
+from kin.ik.numeric.solver import NumericIK
 from kin.robot_model import RobotModel, load_robot
 
 #: A solver under test: (position [m], rotation or None, seed q [rad]) -> q or None.

@@ -18,10 +18,6 @@ import json
 
 import numpy as np
 
-from ik import PitchTarget, PoseTarget, PositionTarget, get_solver
-from ik.exceptions import IKError
-from ik.newton_raphson import newton_raphson
-from ik.numeric import NumericIK
 from kin.cli import (
     ArgumentParser,
     angle_scale,
@@ -30,6 +26,10 @@ from kin.cli import (
     positive_float,
     run_guarded,
 )
+from kin.ik import PitchTarget, PoseTarget, PositionTarget, get_solver
+from kin.ik.exceptions import IKError
+from kin.ik.numeric.newton_raphson import newton_raphson
+from kin.ik.numeric.solver import NumericIK
 from kin.robot_model import load_robot
 
 EXIT_NO_SOLUTION = 1

@@ -6,14 +6,19 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from ik.damped_newton import damped_newton
-from ik.differential_ik import DifferentialIK, tool_pose_mujoco
-from ik.exceptions import TargetError
-from ik.newton_raphson import newton_raphson
-from ik.numeric import NumericIK, numeric_ik_for, solve_numeric
-from ik.numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
-from ik.seed_table import build_seed_table
 from kin import load_robot
+from kin.ik.exceptions import TargetError
+from kin.ik.numeric.damped_newton import damped_newton
+from kin.ik.numeric.differential_ik import DifferentialIK, tool_pose_mujoco
+from kin.ik.numeric.newton_raphson import newton_raphson
+from kin.ik.numeric.numeric_target import (
+    POSITION_TOLERANCE,
+    ROTATION_TOLERANCE,
+    NumericTarget,
+    measure,
+)
+from kin.ik.numeric.seed_table import build_seed_table
+from kin.ik.numeric.solver import NumericIK, numeric_ik_for, solve_numeric
 
 ROBOT = "humanoid7"
 TIMEOUT = 0.5  # [s], generous: CI machines are slow; the first solution returns at once
@@ -75,7 +80,7 @@ def test_round_trip_reaches_every_target(robot, solver, position_only):
 
 def test_accepts_the_closed_form_target_types(robot, solver):
     """ik.target's PoseTarget and PositionTarget are solved like a NumericTarget."""
-    from ik.target import PoseTarget, PositionTarget
+    from kin.ik.target import PoseTarget, PositionTarget
 
     pose = tool_pose(robot, random_q(robot, 1, 3)[0])
     full = solver.solve(PoseTarget.from_matrix(pose), timeout=TIMEOUT)
@@ -214,7 +219,7 @@ def test_newton_raphson_at_the_singular_home_does_not_blow_up(robot):
 
 def test_numeric_solver_registered_for_humanoid7(robot):
     """ik.dispatch gives humanoid7 the numeric solver."""
-    from ik.dispatch import get_solver
+    from kin.ik.dispatch import get_solver
 
     solver = get_solver(robot)
     assert isinstance(solver, NumericIK)
@@ -374,7 +379,7 @@ def test_reproduction_section_has_four_rows_per_case():
 
 def test_non_finite_target_is_an_invalid_target_result(solver):
     """An ik.target PositionTarget with a NaN gives status invalid_target, no exception."""
-    from ik.target import PositionTarget
+    from kin.ik.target import PositionTarget
 
     result = solver.solve(PositionTarget([0.3, float("nan"), 0.0]))
     assert not result.success and result.status == "invalid_target"
@@ -382,7 +387,7 @@ def test_non_finite_target_is_an_invalid_target_result(solver):
 
 def test_pitch_target_is_rejected(solver):
     """A PitchTarget (five-joint arms) is a TargetError naming the accepted kinds."""
-    from ik.target import PitchTarget
+    from kin.ik.target import PitchTarget
 
     with pytest.raises(TargetError, match="PositionTarget, PoseTarget or NumericTarget"):
         solver.solve(PitchTarget([0.3, 0.0, 0.0], 0.5))

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import kin
-from ik import (
+from kin.ik import (
     BatchSolver,
     ClosedFormSolver,
     PitchTarget,

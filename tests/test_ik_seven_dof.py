@@ -25,11 +25,16 @@ import pinocchio as pin
 import pytest
 
 import kin
-from ik.exceptions import StructureError
-from ik.numeric import NumericIK, numeric_ik_for
-from ik.numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
-from ik.seven_dof import COMPILED, SevenDofIK
-from ik.structure import seven_dof
+from kin.ik.analytic.seven_dof import COMPILED, SevenDofIK
+from kin.ik.analytic.structure import seven_dof
+from kin.ik.exceptions import StructureError
+from kin.ik.numeric.numeric_target import (
+    POSITION_TOLERANCE,
+    ROTATION_TOLERANCE,
+    NumericTarget,
+    measure,
+)
+from kin.ik.numeric.solver import NumericIK, numeric_ik_for
 from kin.robot_model import robot_from_table
 
 ROBOT = "humanoid7"
@@ -642,7 +647,7 @@ def _c_args():
     ],
 )
 def test_compiled_function_rejects_bad_inputs(changes, error, message):
-    from ik import _closed7
+    from kin.ik.analytic import _closed7
 
     args = {**_c_args(), **changes}
     with pytest.raises(error, match=message):
@@ -653,7 +658,7 @@ def test_compiled_function_rejects_bad_inputs(changes, error, message):
 
 @pytest.mark.skipif(not COMPILED, reason="ik/_closed7 not built")
 def test_compiled_function_with_no_start_or_read_only_out():
-    from ik import _closed7
+    from kin.ik.analytic import _closed7
 
     args = {**_c_args(), "starts": np.zeros((0, 7))}
     assert _closed7.first(*args.values()) == -1

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from scripts_helper import exit_code, load_script
 
-import ik
 import kin
+import kin.ik as ik
 from dh2urdf import DHRow, DHTable
-from ik import (
+from kin.ik import (
     ClosedFormSolver,
     PitchTarget,
     PoseTarget,
@@ -18,7 +18,7 @@ from ik import (
     StructureError,
     TargetError,
 )
-from ik.structure import five_dof, recognise
+from kin.ik.analytic.structure import five_dof, recognise
 
 
 def test_all_names_exist_and_sorted():

@@ -26,7 +26,7 @@ import numpy as np
 
 from dh2urdf import DHRow, DHTable
 
-from .exceptions import StructureError
+from ..exceptions import StructureError
 
 #: Tolerance on DH angles [rad] and lengths [m] when matching a structure.
 ANGLE_TOL = 1e-9

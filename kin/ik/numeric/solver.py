@@ -37,14 +37,14 @@ import pinocchio as pin
 
 from kin import KinError, RobotModel, as_joint_vector, load_robot
 
+from ..analytic.seven_dof import COMPILED, SevenDofIK
+from ..analytic.structure import seven_dof
+from ..exceptions import StructureError, TargetError
+from ..result import IKResult, IKSolution
 from .damped_newton import NewtonOutcome, damped_newton
 from .differential_ik import DifferentialIK
-from .exceptions import StructureError, TargetError
 from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
-from .result import IKResult, IKSolution
 from .seed_table import SeedTable, build_seed_table, seed_table_for
-from .seven_dof import COMPILED, SevenDofIK
-from .structure import seven_dof
 
 logger = logging.getLogger(__name__)
 
@@ -151,7 +151,7 @@ class NumericIK:
     @property
     def target_kinds(self) -> tuple[type, ...]:
         """Target types :meth:`solve` accepts."""
-        from .target import PoseTarget, PositionTarget
+        from ..target import PoseTarget, PositionTarget
 
         return (NumericTarget, PoseTarget, PositionTarget)
 

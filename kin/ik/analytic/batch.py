@@ -23,8 +23,8 @@ import numpy.typing as npt
 from dh2urdf import DHTable
 from kin import RobotModel
 
+from ..exceptions import TargetError
 from .branches import REACH_TOL
-from .exceptions import TargetError
 from .planar2r import MERGE_COS
 from .structure import FiveDof, Link, Offset3R, Planar2R, recognise
 

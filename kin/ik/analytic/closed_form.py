@@ -28,14 +28,14 @@ import pinocchio as pin
 
 from kin import RobotModel
 
+from ..exceptions import TargetError
+from ..result import IKResult, IKSolution
+from ..target import PitchTarget, PoseTarget, PositionTarget, Target
 from .branches import Branches
-from .exceptions import TargetError
 from .five_dof import solve_pitch, solve_pose
 from .offset3r import solve_offset3r
 from .planar2r import solve_planar2r
-from .result import IKResult, IKSolution
 from .structure import FiveDof, Offset3R, Planar2R, Structure, recognise
-from .target import PitchTarget, PoseTarget, PositionTarget, Target
 
 logger = logging.getLogger(__name__)
 

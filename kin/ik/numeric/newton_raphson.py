@@ -27,8 +27,8 @@ import pinocchio as pin
 
 from kin import RobotModel
 
+from ..result import IKResult, IKSolution
 from .numeric_target import NumericTarget, measure
-from .result import IKResult, IKSolution
 
 CM = 0.01  # [m]
 

@@ -14,8 +14,8 @@ import numpy.typing as npt
 
 from kin import RobotModel
 
-from .closed_form import ClosedFormSolver
-from .numeric import NumericIK
+from .analytic.closed_form import ClosedFormSolver
+from .numeric.solver import NumericIK
 from .result import IKResult
 
 

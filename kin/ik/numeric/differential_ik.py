@@ -25,7 +25,7 @@ import pinocchio as pin
 
 from kin import RobotModel
 
-from .exceptions import IKError
+from ..exceptions import IKError
 from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
 
 logger = logging.getLogger(__name__)

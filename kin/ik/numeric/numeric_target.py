@@ -17,7 +17,7 @@ import pinocchio as pin
 
 from kin import RobotModel
 
-from .exceptions import TargetError
+from ..exceptions import TargetError
 
 #: Default tolerances of a numeric solution, measured by Pinocchio.
 POSITION_TOLERANCE = 1e-5  # [m]
@@ -74,7 +74,7 @@ class NumericTarget:
         """
         if isinstance(target, NumericTarget):
             return target
-        from .target import PoseTarget, PositionTarget
+        from ..target import PoseTarget, PositionTarget
 
         if isinstance(target, PoseTarget):
             return cls.from_arrays(target.position, target.rotation)
