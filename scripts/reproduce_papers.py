@@ -9,8 +9,12 @@ from pathlib import Path
 
 from kin.cli import ArgumentParser, run_guarded
 
+#: The repository: ``reproduction/`` is its tool for the papers, not an installed package.
+ROOT = Path(__file__).resolve().parent.parent
 #: The committed report.
-DEFAULT_OUTPUT = Path(__file__).resolve().parent.parent / "docs" / "reproduction.md"
+DEFAULT_OUTPUT = ROOT / "docs" / "reproduction.md"
+if str(ROOT) not in sys.path:
+    sys.path.append(str(ROOT))  # after site-packages: the installed dh2urdf and kin come first
 
 
 def get_argument_parser() -> ArgumentParser:

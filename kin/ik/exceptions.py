@@ -1,10 +1,12 @@
-"""Exceptions of the ``ik`` package: one base class, specific subclasses carrying data."""
+"""Exceptions of ``kin.ik``: one base class (a :class:`kin.KinError`), specific subclasses."""
 
 from __future__ import annotations
 
+from ..exceptions import KinError
 
-class IKError(Exception):
-    """Base class of every error raised by ``ik``."""
+
+class IKError(KinError):
+    """Base class of every error raised by ``kin.ik``."""
 
 
 class StructureError(IKError, ValueError):
