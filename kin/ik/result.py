@@ -26,14 +26,15 @@ class IKSolution:
         branch: Branch label, e.g. ``"shoulder front, elbow up"``; ``""`` for numeric solvers.
         within_limits: Whether ``q`` is inside the joint limits.
         position_error: ``|p_fk(q) - p_target|`` [m], measured with Pinocchio.
-        rotation_error: Angle of ``R_fk(q)^T R_target`` [rad] (0 for position-only targets).
+        rotation_error: Angle of ``R_fk(q)^T R_target`` [rad]; None when the target does not
+            constrain the orientation (a position target).
     """
 
     q: np.ndarray
     branch: str
     within_limits: bool
     position_error: float
-    rotation_error: float
+    rotation_error: float | None
 
     def __init__(
         self,
@@ -41,7 +42,7 @@ class IKSolution:
         branch: str,
         within_limits: bool,
         position_error: float,
-        rotation_error: float,
+        rotation_error: float | None,
     ):
         # The generated frozen __init__ sets each field through object.__setattr__ (about 1 us in
         # all): too slow for the closed-form solvers' per-call budget. Same fields, still frozen.
@@ -54,13 +55,15 @@ class IKSolution:
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict (``q`` in radians / meters, errors in m and rad)."""
+        """JSON-ready dict, SI: ``q`` in rad (revolute) / m (prismatic), errors in m and rad."""
         return {
             "q": [float(v) for v in self.q],
             "branch": self.branch,
             "within_limits": bool(self.within_limits),
-            "position_error": float(self.position_error),
-            "rotation_error": float(self.rotation_error),
+            "position_error_m": float(self.position_error),
+            "rotation_error_rad": (
+                None if self.rotation_error is None else float(self.rotation_error)
+            ),
         }
 
 
@@ -70,7 +73,10 @@ class IKResult:
 
     Attributes:
         success: At least one solution is on target and within limits.
-        solver: Solver name (e.g. ``"closed_form:pickplace3"``, ``"mink"``, ``"nr"``).
+        solver: The pipeline that was asked (e.g. ``"closed_form:pickplace3"``, ``"numeric"``,
+            ``"nr"``).
+        method: The stage of that pipeline that answered (e.g. ``"closed_form"``,
+            ``"damped_newton"``, ``"mink_qp"``); ``""`` when none did.
         status: ``"ok"`` or why there is no valid solution.
         message: One sentence for a person (e.g. how far out of reach the target is).
         solutions: Valid solutions (on target, within limits), closest to the seed first.
@@ -91,6 +97,7 @@ class IKResult:
     distance_to_workspace: float | None = None
     iterations: int = 0
     time: float = 0.0
+    method: str = ""
 
     def __init__(
         self,
@@ -103,6 +110,7 @@ class IKResult:
         distance_to_workspace: float | None = None,
         iterations: int = 0,
         time: float = 0.0,
+        method: str = "",
     ):
         # Same fields and defaults as the generated frozen __init__, without its per-field
         # object.__setattr__ calls (see IKSolution).
@@ -116,6 +124,7 @@ class IKResult:
             distance_to_workspace=distance_to_workspace,
             iterations=iterations,
             time=time,
+            method=method,
         )
 
     @property
@@ -134,7 +143,8 @@ class IKResult:
             "message": self.message,
             "solutions": [s.to_dict() for s in self.solutions],
             "rejected": [s.to_dict() for s in self.rejected],
-            "distance_to_workspace": self.distance_to_workspace,
+            "method": self.method,
+            "distance_to_workspace_m": self.distance_to_workspace,
             "iterations": int(self.iterations),
-            "time": float(self.time),
+            "time_s": float(self.time),
         }
