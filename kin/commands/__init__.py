@@ -1,0 +1,54 @@
+"""The ``kin`` command: one entry point, a thin subcommand per task.
+
+``kin robots`` lists the shipped robots, ``kin fk`` prints a frame pose, ``kin ik`` solves the
+inverse kinematics (one target, or a stream of JSON targets with ``--stdin``). Each subcommand
+is a module with ``main(argv, prog)``, imported only when chosen, so that ``kin fk`` never loads
+the IK solvers.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+from dh2urdf.command_line import EXIT_BAD_INPUT, ArgumentParser
+
+__all__ = ["COMMANDS", "get_argument_parser", "main"]
+
+#: Subcommand -> one-line summary (the module is ``kin.commands.<name>``).
+COMMANDS: dict[str, str] = {
+    "fk": "pose of a robot frame at a joint vector",
+    "ik": "inverse kinematics of a tool target (or JSON targets on stdin)",
+    "robots": "the shipped robots: joints and source of each DH table",
+}
+
+
+def get_argument_parser() -> ArgumentParser:
+    """The top-level parser: ``kin [--version] COMMAND ...``."""
+    from .. import __version__
+
+    epilog = "commands:\n" + "\n".join(f"  {name:<8}{text}" for name, text in COMMANDS.items())
+    parser = ArgumentParser(
+        prog="kin",
+        description=__doc__.split("\n\n")[0],
+        epilog=epilog + "\n\nkin COMMAND --help shows the options of a command.",
+        formatter_class=__import__("argparse").RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--version", action="version", version=f"kin {__version__}")
+    parser.add_argument("command", choices=tuple(COMMANDS), metavar="COMMAND", help="see below")
+    parser.add_argument("args", nargs="...", help="options of the command")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run ``kin COMMAND ...``; with no command print the usage and return 2."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] in COMMANDS:
+        module = importlib.import_module(f"{__name__}.{argv[0]}")
+        return module.main(argv[1:], prog=f"kin {argv[0]}")
+    parser = get_argument_parser()
+    if not argv:
+        parser.print_usage(sys.stderr)
+        return EXIT_BAD_INPUT
+    parser.parse_args(argv)  # --help, --version, or a one-line error (exit 2)
+    return EXIT_BAD_INPUT  # not reached: argv[0] was not a command

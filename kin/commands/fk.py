@@ -1,0 +1,85 @@
+"""Print the pose (position and rotation) of a robot frame at a joint vector.
+
+Joint values: revolute in radians (degrees with --deg), prismatic in --unit, like every length.
+The text output names the unit of each number; --json is SI (q in rad / m, as "q_units" says;
+"position_m" in meters).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
+
+PROG = "kin fk"
+
+
+def get_argument_parser(prog: str = PROG) -> ArgumentParser:
+    """Command-line arguments of ``kin fk``."""
+    parser = ArgumentParser(prog=prog, description=__doc__)
+    parser.add_argument(
+        "--robot", required=True, help="shipped robot name, or a DH table file (.toml)"
+    )
+    parser.add_argument(
+        "--q",
+        type=finite_float,
+        nargs="+",
+        required=True,
+        help="joint values, base to tip: revolute [rad, or deg with --deg], prismatic [--unit]",
+    )
+    parser.add_argument(
+        "--deg", action="store_true", help="revolute joint values in degrees (default radians)"
+    )
+    parser.add_argument(
+        "--unit",
+        choices=("m", "cm", "mm"),
+        default="m",
+        help="length unit of prismatic joint values and of the printed position (default m)",
+    )
+    parser.add_argument("--frame", default="tool", help="frame to report (default: tool)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object, SI units")
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = PROG) -> int:
+    """Print the pose; exit 0, or 2 with one line on stderr for bad input."""
+    args = get_argument_parser(prog).parse_args(argv)
+
+    def body() -> int:
+        from ..configuration import Configuration, limit_violations
+        from ..robot_model import load_robot
+        from .joint_units import JointUnits
+
+        robot = load_robot(args.robot)
+        units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
+        configuration = Configuration(robot, units.to_si(args.q, "--q"))
+        violations = limit_violations(robot, configuration.q)
+        for violation in violations:
+            print(f"{prog}: warning: {violation}", file=sys.stderr)
+        pose = configuration.transform_frame_to_world(args.frame)
+        if args.json:
+            record = {
+                "robot": robot.name,
+                "frame": args.frame,
+                "joint_names": list(units.joint_names),
+                "q": configuration.q.tolist(),
+                "q_units": list(units.si_labels),
+                "within_limits": not violations,
+                "position_m": pose.translation.tolist(),
+                "rotation": pose.rotation.tolist(),
+            }
+            print(json.dumps(record))
+            return 0
+        position = pose.translation / length_scale(args.unit)
+        q_shown = units.from_si(configuration.q)
+        print(f"{robot.name}: pose of '{args.frame}' in the world frame")
+        shown = (f"{n} {v:.6g} {u}" for n, v, u in zip(units.joint_names, q_shown, units.labels))
+        print("q: " + ", ".join(shown))
+        print(f"position [{args.unit}]: " + "  ".join(f"{v:.6f}" for v in position))
+        print("rotation (columns: frame axes in world axes):")
+        for line in pose.rotation:
+            print("  " + "  ".join(f"{v:+.6f}" for v in line))
+        return 0
+
+    return run_guarded(prog, body)

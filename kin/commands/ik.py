@@ -1,0 +1,180 @@
+"""Solve the inverse kinematics of a robot for a tool target and print the solutions.
+
+The solver is the robot's own (kin.ik.get_solver): the closed form when the DH table fits one,
+with every branch, else the numeric solver (seed table, damped Newton, mink QP, inside the
+limits, within --timeout); --solver mink forces the numeric one, --solver nr is the paper's
+Newton-Raphson (position only, no limits). Targets: a position; a full pose (--rpy, URDF
+roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll); or --quat); or, for five-joint arms, a position
+with --pitch, the angle of the tool's approach axis BELOW the horizontal in the vertical plane
+through the base axis and the target (0 = straight out, 90 deg = straight down), with --roll the
+wrist-roll joint value q5 (default: the seed's).
+
+Units: every length (target, prismatic joint values in and out) in --unit; revolute joint values
+and the --rpy/--pitch/--roll angles in radians, degrees with --deg. --json and --stdin answers are
+SI (q in rad / m as "q_units" says, errors in m and rad, time in s).
+
+--stdin reads one JSON target per line ({"target": [x, y, z], "rpy": [r, p, y]} or "quat",
+"pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes one JSON answer per
+line ({"error": ...} for a bad line).
+
+Exit 0 when a valid solution exists, 1 when none (success false), 2 for bad input; with --stdin,
+0 once the input ends.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from ..cli import (
+    ArgumentParser,
+    angle_scale,
+    finite_float,
+    length_scale,
+    positive_float,
+    run_guarded,
+)
+
+PROG = "kin ik"
+EXIT_NO_SOLUTION = 1
+
+
+def get_argument_parser(prog: str = PROG) -> ArgumentParser:
+    """Command-line arguments of ``kin ik``."""
+    parser = ArgumentParser(prog=prog, description=__doc__)
+    add = parser.add_argument
+    add("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
+    add(
+        "--target",
+        type=finite_float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="tool position in the world frame [--unit] (required unless --stdin)",
+    )
+    add("--pitch", type=finite_float, help="approach angle below the horizontal (five-joint arms)")
+    add(
+        "--roll", type=finite_float, help="wrist-roll joint value q5 with --pitch (default: seed's)"
+    )
+    add("--rpy", type=finite_float, nargs=3, metavar=("R", "P", "Y"), help="URDF roll-pitch-yaw")
+    add("--quat", type=finite_float, nargs=4, metavar=("W", "X", "Y", "Z"), help="unit quaternion")
+    add("--position-only", action="store_true", help="ignore the tool orientation")
+    add(
+        "--unit",
+        choices=("m", "cm", "mm"),
+        default="m",
+        help="unit of every length, prismatic joint values included (default m)",
+    )
+    add("--deg", action="store_true", help="revolute joint values and angles in degrees")
+    add(
+        "--seed-q",
+        type=finite_float,
+        nargs="+",
+        help="current joint vector: revolute [rad or deg], prismatic [--unit] (default zeros)",
+    )
+    add("--all", action="store_true", help="print every solution, also those outside the limits")
+    add("--json", action="store_true", help="print one JSON object, SI units")
+    add("--solver", choices=("mink", "nr"), help="force the numeric solver: mink, or nr (paper's)")
+    add(
+        "--timeout",
+        type=positive_float,
+        default=50.0,
+        help="time budget of a numeric solve [ms] (default 50)",
+    )
+    add("--stdin", action="store_true", help="read JSON targets from stdin, one per line")
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = PROG) -> int:
+    """Solve and print; exit 0, 1 (no valid solution) or 2 (bad input)."""
+    parser = get_argument_parser(prog)
+    args = parser.parse_args(argv)
+    target_options = [
+        name
+        for name, value in (
+            ("--target", args.target),
+            ("--rpy", args.rpy),
+            ("--quat", args.quat),
+            ("--pitch", args.pitch),
+            ("--roll", args.roll),
+        )
+        if value is not None
+    ] + (["--position-only"] if args.position_only else [])
+    if args.stdin and target_options:
+        parser.error(f"--stdin reads the targets from stdin: drop {', '.join(target_options)}")
+    if not args.stdin and args.target is None:
+        parser.error("the following arguments are required: --target (or --stdin)")
+    return run_guarded(prog, lambda: _run(args))
+
+
+def _run(args) -> int:  # noqa: ANN001
+    from ..ik.target import PositionTarget
+    from ..robot_model import load_robot
+    from .joint_units import JointUnits
+    from .solver_choice import NewtonRaphsonSolver, choose_solver, solve_function, target_kinds
+    from .targets import build_target, check_kind
+
+    robot = load_robot(args.robot)
+    units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
+    seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
+    solver = choose_solver(robot, args.solver)
+    solve = solve_function(solver, args.timeout / 1e3)
+    kinds = None if isinstance(solver, NewtonRaphsonSolver) else target_kinds(solver)
+    length = length_scale(args.unit)
+    angle = angle_scale(args.deg)
+    if args.stdin:
+        from .ik_stream import run_stream
+
+        return run_stream(sys.stdin, sys.stdout, robot, units, solve, kinds, seed, length, angle)
+    target, given = build_target(
+        args.target,
+        rpy=args.rpy,
+        quat=args.quat,
+        pitch=args.pitch,
+        roll=args.roll,
+        position_only=args.position_only,
+        length=length,
+        angle=angle,
+    )
+    if kinds is not None:
+        check_kind(robot.name, robot.nq, kinds, target, given)
+    result = solve(target, seed)
+    if args.json:
+        from .ik_stream import result_record
+
+        record = result_record(result, target)
+        record.update(robot=robot.name, joint_names=list(units.joint_names))
+        record["q_units"] = list(units.si_labels)
+        print(json.dumps(record))
+    else:
+        free_rotation = isinstance(target, PositionTarget)
+        _print_result(result, robot.name, units, args.unit, args.all, free_rotation)
+    return 0 if result.success else EXIT_NO_SOLUTION
+
+
+def _print_result(  # noqa: ANN001
+    result, robot: str, units, unit: str, show_all: bool, free_rotation: bool
+) -> None:
+    """The result as text, every number with its unit."""
+    length = length_scale(unit)
+    method = f", {result.method}" if result.method else ""
+    print(f"{robot} ({result.solver}{method}): {result.status}: {result.message}")
+    if result.distance_to_workspace is not None:
+        print(f"distance to the workspace: {result.distance_to_workspace / length:.6g} {unit}")
+    print(f"iterations: {result.iterations}, time: {result.time * 1e3:.3f} ms")
+    shown = list(result.solutions) + (list(result.rejected) if show_all else [])
+    if not show_all:
+        shown = shown[:1] or list(result.rejected[:1])  # else the best configuration found
+    if not shown:
+        return
+    columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]
+    widths = [max(10, len(c)) for c in columns]
+    header = "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths))
+    print(f"{'branch':<34} {header}  limits  pos.err [{unit}]  rot.err [rad]")
+    for solution in shown:
+        values = "  ".join(f"{v:>{w}.4f}" for v, w in zip(units.from_si(solution.q), widths))
+        error = None if free_rotation else solution.rotation_error
+        rotation = "-" if error is None else f"{error:.3g}"
+        print(
+            f"{solution.branch:<34} {values}  {'ok' if solution.within_limits else 'OUT':>6}  "
+            f"{solution.position_error / length:.3g}  {rotation}"
+        )

@@ -1,0 +1,99 @@
+"""The units rule of every command: ``--unit`` for every length, ``--deg`` for revolute angles.
+
+A joint value is a length when the joint is prismatic (in ``--unit``, like every position) and an
+angle when it is revolute (degrees with ``--deg``, else radians). Inside, everything is SI: meters
+and radians. JSON output stays SI and says so per joint (``"q_units": ["rad", "m", ...]``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from dh2urdf import DHTable
+from dh2urdf.command_line import angle_scale, length_scale
+
+from ..exceptions import JointVectorError
+
+
+def joint_types_code(table: DHTable) -> str:
+    """Joint types as runs, base to tip: ``"6R"``, ``"2R1P1R"`` (two revolute, one prismatic, ...)."""
+    runs: list[list] = []
+    for row in table.rows:
+        letter = "R" if row.joint_type == "revolute" else "P"
+        if runs and runs[-1][1] == letter:
+            runs[-1][0] += 1
+        else:
+            runs.append([1, letter])
+    return "".join(f"{count}{letter}" for count, letter in runs)
+
+
+@dataclass(frozen=True, eq=False)
+class JointUnits:
+    """Per-joint units of one robot on the command line.
+
+    Attributes:
+        robot: Robot name (for messages).
+        joint_names: Joint names, base to tip.
+        scales: SI value per command-line unit, per joint ([rad]/[deg or rad], [m]/[--unit]).
+        labels: Command-line unit per joint (``"deg"``, ``"rad"``, ``"mm"``, ...).
+        si_labels: SI unit per joint (``"rad"`` or ``"m"``).
+    """
+
+    robot: str
+    joint_names: tuple[str, ...]
+    scales: np.ndarray
+    labels: tuple[str, ...]
+    si_labels: tuple[str, ...]
+
+    @classmethod
+    def of(cls, name: str, table: DHTable, unit: str = "m", degrees: bool = False) -> JointUnits:
+        """Units of the joints of ``table`` for ``--unit unit`` and ``--deg``."""
+        revolute = [row.joint_type == "revolute" for row in table.rows]
+        angle, length = angle_scale(degrees), length_scale(unit)
+        angle_label = "deg" if degrees else "rad"
+        scales = np.array([angle if r else length for r in revolute], dtype=float)
+        scales.setflags(write=False)
+        return cls(
+            robot=name,
+            joint_names=table.joint_names,
+            scales=scales,
+            labels=tuple(angle_label if r else unit for r in revolute),
+            si_labels=tuple("rad" if r else "m" for r in revolute),
+        )
+
+    def describe(self) -> str:
+        """``"name [unit], ..."`` of every joint, for messages and headers."""
+        return ", ".join(f"{n} [{u}]" for n, u in zip(self.joint_names, self.labels))
+
+    def to_si(self, values: Sequence[float], option: str = "--q") -> np.ndarray:
+        """Joint values given in command-line units, in SI ([rad] or [m]).
+
+        Raises:
+            JointVectorError: Not one value per joint; the message names the robot and joints.
+        """
+        nq = len(self.joint_names)
+        try:
+            array = np.array(values, dtype=float).reshape(-1)
+        except (TypeError, ValueError) as err:
+            raise JointVectorError(
+                f"{option} must be numbers for '{self.robot}', got {values!r}", nq, -1
+            ) from err
+        if array.size != nq:
+            raise JointVectorError(
+                f"{option} needs {nq} values for '{self.robot}' ({self.describe()}), "
+                f"got {array.size}",
+                nq,
+                array.size,
+            )
+        if not np.isfinite(array).all():
+            raise JointVectorError(
+                f"{option} values must be finite, got {array.tolist()}", nq, array.size
+            )
+        return array * self.scales
+
+    def from_si(self, q: np.ndarray) -> np.ndarray:
+        """SI joint values ([rad] or [m]) in command-line units."""
+        return np.asarray(q, dtype=float) / self.scales

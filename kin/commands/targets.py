@@ -1,0 +1,132 @@
+"""IK targets from command-line terms, and target-kind errors worded in those terms.
+
+A target is a tool position (``--target X Y Z``) with, optionally, an orientation: ``--rpy``
+(URDF roll-pitch-yaw), ``--quat`` (unit quaternion w x y z) or ``--pitch`` (approach angle of a
+five-joint arm, with ``--roll``). ``kin ik --stdin`` reads the same fields from JSON lines
+(``"target"``, ``"rpy"``, ``"quat"``, ``"pitch"``, ``"roll"``, ``"position_only"``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..ik.exceptions import TargetError
+from ..ik.target import PitchTarget, PoseTarget, PositionTarget, Target
+
+#: What each target class is called on the command line.
+KIND_TERMS: dict[type, str] = {
+    PoseTarget: "--rpy, --quat",
+    PitchTarget: "--pitch [--roll]",
+    PositionTarget: "a position target",
+}
+
+
+def _finite(values: Sequence[float] | float, size: int, what: str) -> list[float]:
+    items = [values] if size == 1 and not isinstance(values, (list, tuple)) else values
+    if not isinstance(items, (list, tuple)) or len(items) != size:
+        raise TargetError(f"{what} must be {size} number(s), got {values!r}")
+    out = []
+    for value in items:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TargetError(f"{what} must be numbers, got {values!r}")
+        if not math.isfinite(value):
+            raise TargetError(f"{what} must be finite, got {values!r}")
+        out.append(float(value))
+    return out
+
+
+def quaternion_matrix(w: float, x: float, y: float, z: float) -> list[list[float]]:
+    """Rotation matrix of the quaternion ``w + xi + yj + zk`` (normalised here).
+
+    Raises:
+        TargetError: A zero quaternion.
+    """
+    norm = math.sqrt(w * w + x * x + y * y + z * z)
+    if norm < 1e-9:
+        raise TargetError(f"--quat must not be zero, got {[w, x, y, z]}")
+    w, x, y, z = w / norm, x / norm, y / norm, z / norm
+    return [
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ]
+
+
+def build_target(
+    position: Sequence[float],
+    *,
+    rpy: Sequence[float] | None = None,
+    quat: Sequence[float] | None = None,
+    pitch: float | None = None,
+    roll: float | None = None,
+    position_only: bool = False,
+    length: float = 1.0,
+    angle: float = 1.0,
+) -> tuple[Target, str]:
+    """The target of the command-line values, and the option that chose its kind.
+
+    Args:
+        position: Tool position in the world frame [--unit].
+        rpy: URDF roll, pitch, yaw [rad or deg], or None.
+        quat: Unit quaternion ``w, x, y, z``, or None.
+        pitch: Approach angle below the horizontal [rad or deg], or None.
+        roll: Wrist-roll joint value with ``pitch`` [rad or deg], or None.
+        position_only: Ignore the orientation (no ``rpy``, ``quat`` or ``pitch`` allowed).
+        length: Meters per ``--unit``.
+        angle: Radians per input angle unit.
+
+    Returns:
+        The target in SI units, and ``"--rpy"``, ``"--quat"``, ``"--pitch"`` or
+        ``"a position target"``.
+
+    Raises:
+        TargetError: Contradictory options or malformed values.
+    """
+    p = np.array(_finite(position, 3, "the target position"), dtype=float) * length
+    given = [
+        name for name, v in (("--rpy", rpy), ("--quat", quat), ("--pitch", pitch)) if v is not None
+    ]
+    if position_only and given:
+        raise TargetError(f"--position-only excludes {', '.join(given)}")
+    if len(given) > 1:
+        raise TargetError(f"give one of --rpy, --quat, --pitch; got {' and '.join(given)}")
+    if roll is not None and pitch is None:
+        raise TargetError("--roll needs --pitch")
+    if quat is not None:
+        return PoseTarget(p, quaternion_matrix(*_finite(quat, 4, "--quat"))), "--quat"
+    if rpy is not None:
+        rpy_si = [v * angle for v in _finite(rpy, 3, "--rpy")]
+        return PoseTarget.from_rpy(p, rpy_si), "--rpy"
+    if pitch is not None:
+        pitch_si = _finite(pitch, 1, "--pitch")[0] * angle
+        roll_si = None if roll is None else _finite(roll, 1, "--roll")[0] * angle
+        return PitchTarget(p, pitch_si, roll_si), "--pitch"
+    return PositionTarget(p), "a position target"
+
+
+def check_kind(robot: str, nq: int, kinds: tuple[type, ...], target: Target, given: str) -> None:
+    """Raise when the solver cannot take ``target``, naming the kinds it can, in CLI terms.
+
+    Args:
+        robot: Robot name.
+        nq: Number of joints.
+        kinds: Target classes the solver accepts.
+        target: The target.
+        given: The option that chose the target's kind (see :func:`build_target`).
+
+    Raises:
+        TargetError: ``target`` is not of one of ``kinds``.
+    """
+    if isinstance(target, kinds):
+        return
+    terms = [term for kind, term in KIND_TERMS.items() if kind in kinds]
+    takes = ", ".join(terms[:-1]) + ", or " + terms[-1] if len(terms) > 1 else "".join(terms)
+    if isinstance(target, PoseTarget) and nq < 6:
+        raise TargetError(
+            f"a full pose needs at least 6 joints; '{robot}' ({nq} joints) takes {takes}: "
+            "drop --rpy/--quat"
+        )
+    raise TargetError(f"'{robot}' ({nq} joints) takes: {takes}; got {given}")
