@@ -97,7 +97,8 @@ def batch_forward_kinematics(
 
 
 def batch_tool_positions(table: DHTable, q: npt.ArrayLike) -> np.ndarray:
-    """Tool points ``p_world_tool`` (N, 3) [m] of N joint vectors (see
-    :func:`batch_forward_kinematics`).
+    """Tool points ``p_world_tool`` (N, 3) [m] of N joint vectors.
+
+    See :func:`batch_forward_kinematics` for the arguments.
     """
     return batch_forward_kinematics(table, q)[:, :3, 3]
