@@ -122,9 +122,12 @@ def _run(args) -> int:  # noqa: ANN001
     length = length_scale(args.unit)
     angle = angle_scale(args.deg)
     if args.stdin:
-        from .ik_stream import run_stream
+        from .ik_stream import StreamSolver
 
-        return run_stream(sys.stdin, sys.stdout, robot, units, solve, kinds, seed, length, angle)
+        stream = StreamSolver(
+            robot.name, robot.nq, units, solve, kinds, seed, length, angle, args.all
+        )
+        return stream.run(sys.stdin, sys.stdout)
     target, given = build_target(
         args.target,
         rpy=args.rpy,

@@ -4,8 +4,11 @@ Start-up (imports, model, solver, seed table) is paid once; then each line costs
 input line is an object: ``"target": [x, y, z]`` [--unit], optionally one of ``"rpy"``,
 ``"quat"``, ``"pitch"`` (with ``"roll"``) [rad, or deg with --deg], ``"position_only"``, and
 ``"seed_q"`` (revolute [rad or deg], prismatic [--unit]; default: the command's --seed-q).
-An answer is :meth:`kin.ik.IKResult.to_dict` (SI) with ``"line"`` (1-based input line number)
-and ``"q_units"``; a bad line gives ``{"line": n, "error": "..."}`` and the run goes on. Blank
+
+An answer is :meth:`kin.ik.IKResult.to_dict` (SI: q in rad / m, errors in m and rad, time in s)
+with ``"line"`` (the 1-based input line number) and ``"q_units"``; ``"rejected"`` (solutions
+outside the limits) is filled only with --all or when there is no valid solution (then it holds
+the best attempt). A bad line gives ``{"line": n, "error": "..."}`` and the run goes on. Blank
 lines are skipped. Nothing else is written on stdout.
 """
 
@@ -13,14 +16,14 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable, Iterable
-from typing import TextIO
+from dataclasses import dataclass
+from typing import Any, TextIO
 
 import numpy as np
 
 from ..exceptions import KinError
 from ..ik.result import IKResult
 from ..ik.target import PositionTarget, Target
-from ..robot_model import RobotModel
 from .joint_units import JointUnits
 from .targets import build_target, check_kind
 
@@ -29,54 +32,17 @@ KEYS = ("target", "rpy", "quat", "pitch", "roll", "position_only", "seed_q")
 _KEYS = frozenset(KEYS)
 
 
-def _answer(
-    line: str,
-    robot: RobotModel,
-    units: JointUnits,
-    solve: Callable[[Target, np.ndarray | None], IKResult],
-    kinds: tuple[type, ...] | None,
-    seed: np.ndarray | None,
-    length: float,
-    angle: float,
-) -> dict:
-    """The answer to one input line (raises for a bad line)."""
-    try:
-        request = json.loads(line)
-    except ValueError as err:
-        raise ValueError(f"not JSON: {err}") from None
-    if not isinstance(request, dict):
-        raise ValueError(f"a line must be a JSON object, got {type(request).__name__}")
-    unknown = request.keys() - _KEYS
-    if unknown:
-        raise ValueError(f"unknown key(s) {sorted(unknown)}; known: {', '.join(KEYS)}")
-    if "target" not in request:
-        raise ValueError('missing "target": [x, y, z]')
-    position_only = request.get("position_only", False)
-    if not isinstance(position_only, bool):
-        raise ValueError(f'"position_only" must be true or false, got {position_only!r}')
-    target, given = build_target(
-        request["target"],
-        rpy=request.get("rpy"),
-        quat=request.get("quat"),
-        pitch=request.get("pitch"),
-        roll=request.get("roll"),
-        position_only=position_only,
-        length=length,
-        angle=angle,
-    )
-    if kinds is not None:
-        check_kind(robot.name, robot.nq, kinds, target, given)
-    seed_q = request.get("seed_q")
-    if seed_q is not None:
-        if not isinstance(seed_q, list):
-            raise ValueError(f'"seed_q" must be a list of numbers, got {seed_q!r}')
-        seed = units.to_si(seed_q, '"seed_q"')
-    return result_record(solve(target, seed), target)
+def result_record(result: IKResult, target: Target, rejected: bool = True) -> dict[str, Any]:
+    """``result.to_dict()`` (SI), rotation errors null when ``target`` leaves the rotation free.
 
-
-def result_record(result: IKResult, target: Target) -> dict:
-    """``result.to_dict()`` (SI); rotation errors null when ``target`` leaves the rotation free."""
+    Args:
+        result: The result.
+        target: Its target.
+        rejected: Keep the rejected solutions even when there are valid ones.
+    """
     record = result.to_dict()
+    if not rejected and record["solutions"]:
+        record["rejected"] = []
     if isinstance(target, PositionTarget):
         for key in ("solutions", "rejected"):
             for solution in record[key]:
@@ -84,42 +50,86 @@ def result_record(result: IKResult, target: Target) -> dict:
     return record
 
 
-def run_stream(
-    lines: Iterable[str],
-    out: TextIO,
-    robot: RobotModel,
-    units: JointUnits,
-    solve: Callable[[Target, np.ndarray | None], IKResult],
-    kinds: tuple[type, ...] | None,
-    seed: np.ndarray | None,
-    length: float,
-    angle: float,
-) -> int:
-    """Answer every line of ``lines`` on ``out``, one flushed JSON line each; return 0.
+@dataclass(frozen=True)
+class StreamSolver:
+    """Answers JSON target lines for one robot and solver.
 
-    Args:
-        lines: Input lines (e.g. ``sys.stdin``).
-        out: Output stream.
-        robot: The robot.
+    Attributes:
+        robot: Robot name.
+        nq: Number of joints.
         units: Its joint units on the command line.
         solve: ``solve(target, seed)`` of the chosen solver, time budget bound.
         kinds: Target classes the solver accepts (None: the solver checks).
         seed: Default seed [rad] / [m], or None.
         length: Meters per ``--unit``.
         angle: Radians per input angle unit.
+        all_solutions: Answers keep the rejected solutions (``--all``).
     """
-    q_units = list(units.si_labels)
-    write, flush, dumps = out.write, out.flush, json.dumps
-    for number, line in enumerate(lines, start=1):
-        if not line.strip():
-            continue
+
+    robot: str
+    nq: int
+    units: JointUnits
+    solve: Callable[[Target, np.ndarray | None], IKResult]
+    kinds: tuple[type, ...] | None
+    seed: np.ndarray | None
+    length: float
+    angle: float
+    all_solutions: bool = False
+
+    def answer(self, line: str) -> dict[str, Any]:
+        """The answer to one input line.
+
+        Raises:
+            KinError, ValueError: A bad line (not JSON, unknown key, bad values, wrong kind).
+        """
         try:
-            record = _answer(line, robot, units, solve, kinds, seed, length, angle)
-        except (KinError, ValueError, TypeError) as err:
-            record = {"line": number, "error": " ".join(str(err).split())}
-        else:
-            record["line"] = number
-            record["q_units"] = q_units
-        write(dumps(record) + "\n")
-        flush()
-    return 0
+            request = json.loads(line)
+        except ValueError as err:
+            raise ValueError(f"not JSON: {err}") from None
+        if not isinstance(request, dict):
+            raise ValueError(f"a line must be a JSON object, got {type(request).__name__}")
+        if not request.keys() <= _KEYS:
+            unknown = sorted(request.keys() - _KEYS)
+            raise ValueError(f"unknown key(s) {unknown}; known: {', '.join(KEYS)}")
+        if "target" not in request:
+            raise ValueError('missing "target": [x, y, z]')
+        position_only = request.get("position_only", False)
+        if position_only is not True and position_only is not False:
+            raise ValueError(f'"position_only" must be true or false, got {position_only!r}')
+        target, given = build_target(
+            request["target"],
+            rpy=request.get("rpy"),
+            quat=request.get("quat"),
+            pitch=request.get("pitch"),
+            roll=request.get("roll"),
+            position_only=position_only,
+            length=self.length,
+            angle=self.angle,
+        )
+        if self.kinds is not None:
+            check_kind(self.robot, self.nq, self.kinds, target, given)
+        seed = self.seed
+        seed_q = request.get("seed_q")
+        if seed_q is not None:
+            if not isinstance(seed_q, list):
+                raise ValueError(f'"seed_q" must be a list of numbers, got {seed_q!r}')
+            seed = self.units.to_si(seed_q, '"seed_q"')
+        return result_record(self.solve(target, seed), target, self.all_solutions)
+
+    def run(self, lines: Iterable[str], out: TextIO) -> int:
+        """Answer every line of ``lines`` on ``out``, one flushed JSON line each; return 0."""
+        q_units = list(self.units.si_labels)
+        write, flush, dumps, answer = out.write, out.flush, json.dumps, self.answer
+        for number, line in enumerate(lines, start=1):
+            if not line or line.isspace():
+                continue
+            try:
+                record = answer(line)
+            except (KinError, ValueError, TypeError) as err:
+                record = {"line": number, "error": " ".join(str(err).split())}
+            else:
+                record["line"] = number
+                record["q_units"] = q_units
+            write(dumps(record) + "\n")
+            flush()
+        return 0

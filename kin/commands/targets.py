@@ -85,7 +85,11 @@ def build_target(
     Raises:
         TargetError: Contradictory options or malformed values.
     """
-    p = np.array(_finite(position, 3, "the target position"), dtype=float) * length
+    p = np.array(_finite(position, 3, "the target position"), dtype=float)
+    if length != 1.0:
+        p *= length
+    if rpy is None and quat is None and pitch is None and roll is None:
+        return PositionTarget(p), "a position target"
     given = [
         name for name, v in (("--rpy", rpy), ("--quat", quat), ("--pitch", pitch)) if v is not None
     ]
