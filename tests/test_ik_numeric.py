@@ -268,18 +268,19 @@ def test_cli_humanoid7_full_pose_json(capsys):
     ]
     assert _solve_ik_main()(argv) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["success"] and out["solver"] == "mink" and out["unit"] == "cm"
+    assert out["success"] and "unit" not in out and out["q_units"] == ["rad"] * 7
     solution = out["solutions"][0]
-    assert solution["within_limits"] and solution["position_error"] < 1e-5
-    assert solution["rotation_error"] < 1e-4
-    assert out["iterations"] >= 0 and out["time"] > 0
+    assert solution["within_limits"] and solution["position_error_m"] < 1e-5
+    assert solution["rotation_error_rad"] < 1e-4
+    assert out["iterations"] >= 0 and out["time_s"] > 0
 
 
 def test_cli_humanoid7_unreachable_exits_1_with_best(capsys):
     """An unreachable target prints the best configuration and its error, exit code 1."""
     assert _solve_ik_main()(["--robot", ROBOT, "--target", "1.2", "0", "0", "--timeout", "20"]) == 1
     out = capsys.readouterr().out
-    assert "out_of_reach" in out and "iterations:" in out
+    assert "out_of_reach" in out and "iterations:" in out and " ms" in out
+    assert "distance to the workspace: 0.33" in out  # 1.2 m against a 0.864 m reach
 
 
 def test_cli_nr_reports_the_limits(capsys):
@@ -302,7 +303,7 @@ def test_cli_nr_reports_the_limits(capsys):
     assert _solve_ik_main()(argv) == 1
     out = json.loads(capsys.readouterr().out)
     assert out["status"] == "outside_limits" and out["solver"] == "nr"
-    assert out["rejected"][0]["position_error"] < 1e-7
+    assert out["rejected"][0]["position_error_m"] < 1e-7
 
 
 @pytest.mark.parametrize(

@@ -48,8 +48,8 @@ def test_fk_json_home_pose_of_scorbot(capsys):
         == 0
     )
     out = json.loads(capsys.readouterr().out)
-    assert out["unit"] == "mm"
-    np.testing.assert_allclose(out["position"], [603.0, 0.0, 349.0], atol=1e-9)
+    assert "unit" not in out and out["q_units"] == ["rad"] * 5  # JSON is SI, and says so
+    np.testing.assert_allclose(out["position_m"], [0.603, 0.0, 0.349], atol=1e-12)
     np.testing.assert_allclose(np.array(out["rotation"])[:, 2], [1.0, 0.0, 0.0], atol=1e-12)
 
 
@@ -60,7 +60,8 @@ def test_fk_degrees_equal_radians(capsys):
     deg = json.loads(capsys.readouterr().out)
     fk.main(["--robot", "ur5", "--q", "0", str(np.pi / 2), "0", "0", "0", "0", "--json"])
     rad = json.loads(capsys.readouterr().out)
-    np.testing.assert_allclose(deg["position"], rad["position"], atol=1e-12)
+    np.testing.assert_allclose(deg["position_m"], rad["position_m"], atol=1e-12)
+    np.testing.assert_allclose(deg["q"], rad["q"], atol=1e-15)  # radians under "rad"
 
 
 def test_fk_warns_outside_limits(capsys):
@@ -80,7 +81,7 @@ def test_fk_warns_outside_limits(capsys):
     "argv, needle",
     [
         (["--robot", "nope", "--q", "0"], "known robots: humanoid7"),
-        (["--robot", "ur5", "--q", "0", "0"], "has 6 joints"),
+        (["--robot", "ur5", "--q", "0", "0"], "--q needs 6 values for 'ur5'"),
         (["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "nan"], "not a finite number"),
         (["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "x"], "not a number"),
         (["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "0", "--unit", "km"], "invalid choice"),
@@ -96,4 +97,4 @@ def test_fk_bad_input_exits_2_with_one_line(argv, needle, capsys):
     assert exit_code(load_script("fk").main, argv) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1, err
-    assert needle in err and "Traceback" not in err
+    assert needle in err and "Traceback" not in err and err.startswith("fk.py: error:")

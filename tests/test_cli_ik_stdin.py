@@ -1,0 +1,168 @@
+"""`kin ik --stdin`: one JSON answer per JSON target line, errors as lines, throughput."""
+
+from __future__ import annotations
+
+import io
+import json
+import subprocess
+import time
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from cli_helper import kin_command, write_rrpr4
+from dh_reference import fk_frames, load_reference
+
+from kin import Configuration, load_robot
+from kin.commands import ik
+
+
+def _pose_lines(name: str, count: int, full: bool, seed: int = 0) -> tuple[list[str], np.ndarray]:
+    """JSON lines of the tool poses of ``count`` random q within the limits, and the q."""
+    robot = load_robot(name)
+    configuration = Configuration(robot)
+    q_all = np.random.default_rng(seed).uniform(robot.lower, robot.upper, size=(count, robot.nq))
+    lines = []
+    for q in q_all:
+        pose = configuration.fk(q)
+        record = {"target": pose.translation.tolist()}
+        if full:
+            record["rpy"] = pin.rpy.matrixToRpy(pose.rotation).tolist()
+        lines.append(json.dumps(record))
+    return lines, q_all
+
+
+def _stream(monkeypatch, capsys, argv: list[str], lines: list[str]) -> list[dict]:
+    monkeypatch.setattr("sys.stdin", io.StringIO("".join(line + "\n" for line in lines)))
+    assert ik.main([*argv, "--stdin"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    return [json.loads(line) for line in captured.out.splitlines()]
+
+
+def test_humanoid7_full_poses_all_on_target(monkeypatch, capsys):
+    """50 full poses from FK of random q: 50 answers, each verified on the pose by Pinocchio."""
+    lines, _ = _pose_lines("humanoid7", 50, full=True)
+    answers = _stream(monkeypatch, capsys, ["--robot", "humanoid7"], lines)
+    robot = load_robot("humanoid7")
+    configuration = Configuration(robot)
+    assert [a["line"] for a in answers] == list(range(1, 51))
+    for answer, line in zip(answers, lines):
+        request = json.loads(line)
+        assert answer["success"] and answer["q_units"] == ["rad"] * 7
+        reached = configuration.fk(np.array(answer["solutions"][0]["q"]))
+        np.testing.assert_allclose(reached.translation, request["target"], atol=1e-5)
+        target = pin.rpy.rpyToMatrix(np.array(request["rpy"]))
+        np.testing.assert_allclose(reached.rotation, target, atol=1e-4)
+
+
+def test_answers_equal_single_solves_in_mm_deg(monkeypatch, capsys):
+    """Lines in mm / deg with a per-line seed_q answer as `kin ik` does for the same options."""
+    lines = [
+        json.dumps({"target": [390, 80, 300]}),
+        json.dumps({"target": [390, 80, 300], "seed_q": [10, 40, -40]}),
+        json.dumps({"target": [300, -50, 250], "position_only": True}),
+    ]
+    argv = ["--robot", "pickplace3", "--unit", "mm", "--deg"]
+    answers = _stream(monkeypatch, capsys, argv, lines)
+    singles = []
+    for extra in ([], ["--seed-q", "10", "40", "-40"]):
+        assert ik.main([*argv, "--target", "390", "80", "300", "--json", *extra]) == 0
+        singles.append(json.loads(capsys.readouterr().out))
+    for answer, single in zip(answers, singles):
+        assert [s["q"] for s in answer["solutions"]] == [s["q"] for s in single["solutions"]]
+    assert answers[0]["solutions"][0]["q"] != answers[1]["solutions"][0]["q"]  # nearest the seed
+    assert answers[0]["rejected"] == [] and len(singles[0]["rejected"]) == 2  # rejected with --all
+    reached = Configuration(load_robot("pickplace3")).fk(np.array(answers[2]["solutions"][0]["q"]))
+    np.testing.assert_allclose(reached.translation, [0.3, -0.05, 0.25], atol=1e-9)
+
+
+def test_prismatic_seed_q_in_mm(tmp_path, monkeypatch, capsys):
+    """seed_q of a prismatic joint is in --unit; the answer (SI) reaches the target (NumPy DH)."""
+    path = write_rrpr4(tmp_path)
+    lines = [json.dumps({"target": [300, 100, 100], "seed_q": [10, 10, 50, 0]})]
+    argv = ["--robot", str(path), "--unit", "mm", "--deg", "--solver", "nr"]
+    (answer,) = _stream(monkeypatch, capsys, argv, lines)
+    q = np.array(answer["solutions"][0]["q"])
+    assert answer["q_units"] == ["rad", "rad", "m", "rad"] and abs(q[2] - 0.130) < 1e-9
+    np.testing.assert_allclose(
+        fk_frames(load_reference(path), q)[0, -1, :3, 3], [0.3, 0.1, 0.1], atol=1e-7
+    )
+
+
+@pytest.mark.parametrize(
+    "line, needle",
+    [
+        ("not json", "not JSON"),
+        ("[1, 2, 3]", "must be a JSON object"),
+        ('{"tgt": [0, 0, 0]}', "unknown key(s) ['tgt']"),
+        ('{"rpy": [0, 0, 0]}', 'missing "target"'),
+        ('{"target": [1, 2]}', "must be 3 number(s)"),
+        ('{"target": [NaN, 0, 0]}', "must be finite"),
+        ('{"target": ["a", 0, 0]}', "must be numbers"),
+        ('{"target": [0.3, 0, 0.3], "rpy": [0, 0, 0]}', "a full pose needs at least 6 joints"),
+        ('{"target": [0.3, 0, 0.3], "seed_q": [0]}', "\"seed_q\" needs 3 values for 'pickplace3'"),
+        ('{"target": [0.3, 0, 0.3], "seed_q": 5}', '"seed_q" must be a list'),
+        ('{"target": [0.3, 0, 0.3], "position_only": 1}', '"position_only" must be true or false'),
+        ('{"target": [0.3, 0, 0.3], "roll": 1}', "--roll needs --pitch"),
+    ],
+)
+def test_bad_line_gives_an_error_line_and_the_run_goes_on(line, needle, monkeypatch, capsys):
+    """A bad line answers {"line": n, "error": ...}; the next line is still solved."""
+    good = json.dumps({"target": [0.39, 0.08, 0.3]})
+    answers = _stream(monkeypatch, capsys, ["--robot", "pickplace3"], [good, line, "", good])
+    assert len(answers) == 3 and answers[1] == {"line": 2, "error": answers[1]["error"]}
+    assert needle in answers[1]["error"]
+    assert answers[0]["success"] and answers[2]["success"] and answers[2]["line"] == 4
+
+
+def _throughput(name: str, lines: list[str]) -> float:
+    """Answers per second of `kin ik --stdin` in a subprocess, start-up excluded."""
+    data = "".join(line + "\n" for line in lines).encode()
+    process = subprocess.Popen(
+        [*kin_command(), "ik", "--robot", name, "--stdin"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+    )
+    process.stdin.write(data[: data.index(b"\n") + 1])
+    process.stdin.flush()
+    first = process.stdout.readline()  # start-up and the first answer
+    start = time.perf_counter()
+    rest, _ = process.communicate(data[data.index(b"\n") + 1 :], timeout=120)
+    elapsed = time.perf_counter() - start
+    assert process.returncode == 0 and json.loads(first)["success"]
+    answers = rest.decode().splitlines()
+    assert len(answers) == len(lines) - 1 and all(json.loads(a)["success"] for a in answers)
+    return (len(lines) - 1) / elapsed
+
+
+def test_throughput_in_a_subprocess():
+    """Start-up paid once: thousands of answers per second (bench_cli.py measures the figures).
+
+    The bounds are a quarter of the targets (2,000/s humanoid7 full pose, 10,000/s closed form),
+    so that a loaded test machine does not fail the suite.
+    """
+    humanoid7, _ = _pose_lines("humanoid7", 1000, full=True)
+    pickplace3, _ = _pose_lines("pickplace3", 4000, full=False)
+    assert _throughput("humanoid7", humanoid7) > 500
+    assert _throughput("pickplace3", pickplace3) > 2500
+
+
+def test_closed_pipe_ends_the_stream_quietly(tmp_path):
+    """`kin ik --stdin < many | head -c 10`: exit 0, nothing on stderr."""
+    lines, _ = _pose_lines("pickplace3", 3000, full=False)
+    source = tmp_path / "targets.jsonl"
+    source.write_text("".join(line + "\n" for line in lines))
+    with source.open("rb") as stdin:
+        writer = subprocess.Popen(
+            [*kin_command(), "ik", "--robot", "pickplace3", "--stdin"],
+            stdin=stdin,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
+        reader = subprocess.Popen(["head", "-c", "10"], stdin=writer.stdout, stdout=subprocess.PIPE)
+        writer.stdout.close()
+        head, _ = reader.communicate(timeout=60)
+        err = writer.stderr.read()
+        writer.stderr.close()
+        assert writer.wait(timeout=60) == 0 and err == b"" and len(head) == 10
