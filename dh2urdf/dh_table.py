@@ -17,6 +17,7 @@ from typing import Literal
 
 import numpy as np
 
+from .drive_section import JointDrive
 from .transforms import rot_x, rot_z, translation
 
 Convention = Literal["standard", "modified"]
@@ -73,6 +74,7 @@ class DHTable:
         T_world_base: Fixed transform from the URDF root to DH frame 0 (4x4, [m]).
         T_last_tool: Fixed transform from the last DH frame to the tool frame (4x4, [m]).
         path: File the table was read from, if any.
+        drives: Stepper drives of some joints (``[drives]`` section), in row order.
     """
 
     name: str
@@ -83,6 +85,7 @@ class DHTable:
     T_world_base: np.ndarray = field(default_factory=lambda: _readonly(np.eye(4)))
     T_last_tool: np.ndarray = field(default_factory=lambda: _readonly(np.eye(4)))
     path: str | None = None
+    drives: tuple[JointDrive, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "T_world_base", _readonly(self.T_world_base))

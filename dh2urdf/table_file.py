@@ -25,6 +25,8 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     rpy = [0.0, 0.0, 0.0]
 
     [tool]                         # optional, same forms as [base]
+
+    [drives.shoulder]              # optional stepper drives: dh2urdf/drive_section.py
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ from typing import Any
 import numpy as np
 
 from .dh_table import DHRow, DHTable, dh_link_transform
+from .drive_section import parse_drives
 from .exceptions import TableError
 from .transforms import xyz_rpy
 from .units import ANGLE_UNITS, LENGTH_UNITS
@@ -57,6 +60,7 @@ _TOP_KEYS = {
     "joints",
     "base",
     "tool",
+    "drives",
 }
 _ROW_KEYS = {"name", "type", "a", "alpha", "d", "theta", "limits", "velocity", "effort"}
 _REQUIRED_ROW_KEYS = ("type", "a", "alpha", "d", "theta", "limits")
@@ -249,6 +253,7 @@ def parse_table(
         T_world_base=base,
         T_last_tool=tool,
         path=path,
+        drives=parse_drives(path, data["drives"], rows, radians) if "drives" in data else (),
     )
 
 

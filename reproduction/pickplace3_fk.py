@@ -9,11 +9,13 @@ d2 = +10 mm) is evaluated too.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
 from dh2urdf import get_robot
+from kin.drives import angles_to_pulses, pulses_to_angles, table_drives
 from kin.robot_model import RobotModel, load_robot
 
 from ._robots import tool_position_deg, variant
@@ -31,17 +33,23 @@ _CASE1 = ("258", "10", "367")
 _CASE2 = ("398.3923", "-218.4649", "187.1697")
 _CASE2_ACTUAL = ("398.3570", "-218.5304", "187.1793")
 _CASE2_ABS = ("0.035329", "0.065428", "0.009597")
-#: Table 2, total pulses per revolution of each joint.
-_PULSES_PER_REV = (12800, 42962, 24000)
 
 
-def actual_angles(q_deg: tuple[float, ...], home_deg: tuple[float, ...]) -> list[float]:
-    """Joint angles [deg] the steppers reach: eq. (27) pulses from ``home_deg``, eq. (28) back."""
-    out = []
-    for q, home, total in zip(q_deg, home_deg, _PULSES_PER_REV, strict=True):
-        pulses = round((q - home) * total / 360.0)
-        out.append(home + pulses * 360.0 / total)
-    return out
+def actual_angles(
+    q_deg: tuple[float, ...], home_deg: tuple[float, ...] | None = None
+) -> list[float]:
+    """Joint angles [deg] the steppers reach: eqs. (27)-(28) through :mod:`kin.drives`.
+
+    Pulses are counted from the table's ``[drives]`` home (the GUI home), or from ``home_deg``.
+    """
+    drives = table_drives(get_robot("pickplace3").load_table())
+    if home_deg is not None:
+        drives = tuple(
+            dataclasses.replace(d, home=math.radians(h))
+            for d, h in zip(drives, home_deg, strict=True)
+        )
+    pulses = angles_to_pulses(drives, np.radians(q_deg))
+    return np.degrees(pulses_to_angles(drives, pulses)).tolist()
 
 
 def _verdict(value: float, printed: str) -> tuple[Verdict, str]:
@@ -107,7 +115,7 @@ def pickplace3_sections() -> list[Section]:
         reason="given at the GUI home of Fig. 4 (Pz = d1 + a2), not at the printed q",
     )
     rows += _rows("Table 4 case 2, q = [-30, 5, -5] deg, Theoretical", ours, _Q2, _CASE2)
-    actual = actual_angles(_Q2, _GUI_HOME)
+    actual = actual_angles(_Q2)
     rows += _rows(
         "Table 4 case 2, Actual",
         ours,

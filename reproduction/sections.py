@@ -12,6 +12,7 @@ from .humanoid7_fk import humanoid7_sections
 from .ik_humanoid7 import humanoid7_ik_sections
 from .ik_papers import ik_sections
 from .ned5_fk import ned5_sections
+from .pickplace3_drives import pickplace3_drive_sections
 from .pickplace3_fk import pickplace3_sections
 from .report import Section
 from .scorbot_fk import scorbot_sections
@@ -25,6 +26,7 @@ SECTION_PROVIDERS: list[SectionProvider] = [
     ik_sections,
     ned5_sections,
     pickplace3_sections,
+    pickplace3_drive_sections,
     scorbot_sections,
 ]
 
