@@ -40,9 +40,7 @@ def result_record(result: IKResult, target: Target, rejected: bool = True) -> di
         target: Its target.
         rejected: Keep the rejected solutions even when there are valid ones.
     """
-    record = result.to_dict()
-    if not rejected and record["solutions"]:
-        record["rejected"] = []
+    record = result.to_dict(rejected)
     if isinstance(target, PositionTarget):
         for key in ("solutions", "rejected"):
             for solution in record[key]:

@@ -11,8 +11,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import numpy as np
-
 from ..ik.exceptions import TargetError
 from ..ik.target import PitchTarget, PoseTarget, PositionTarget, Target
 
@@ -25,17 +23,18 @@ KIND_TERMS: dict[type, str] = {
 
 
 def _finite(values: Sequence[float] | float, size: int, what: str) -> list[float]:
+    """``values`` as ``size`` finite floats (JSON numbers or argparse floats; no booleans)."""
     items = [values] if size == 1 and not isinstance(values, (list, tuple)) else values
     if not isinstance(items, (list, tuple)) or len(items) != size:
         raise TargetError(f"{what} must be {size} number(s), got {values!r}")
-    out = []
     for value in items:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+        if value.__class__ is not float and (
+            isinstance(value, bool) or not isinstance(value, (int, float))
+        ):
             raise TargetError(f"{what} must be numbers, got {values!r}")
-        if not math.isfinite(value):
-            raise TargetError(f"{what} must be finite, got {values!r}")
-        out.append(float(value))
-    return out
+    if not all(map(math.isfinite, items)):
+        raise TargetError(f"{what} must be finite, got {values!r}")
+    return [float(v) for v in items]
 
 
 def quaternion_matrix(w: float, x: float, y: float, z: float) -> list[list[float]]:
@@ -85,9 +84,9 @@ def build_target(
     Raises:
         TargetError: Contradictory options or malformed values.
     """
-    p = np.array(_finite(position, 3, "the target position"), dtype=float)
+    p = _finite(position, 3, "the target position")
     if length != 1.0:
-        p *= length
+        p = [v * length for v in p]
     if rpy is None and quat is None and pitch is None and roll is None:
         return PositionTarget(p), "a position target"
     given = [

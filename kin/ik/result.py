@@ -56,8 +56,9 @@ class IKSolution:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict, SI: ``q`` in rad (revolute) / m (prismatic), errors in m and rad."""
+        q = self.q
         return {
-            "q": [float(v) for v in self.q],
+            "q": q.tolist() if q.__class__ is np.ndarray else [float(v) for v in q],
             "branch": self.branch,
             "within_limits": bool(self.within_limits),
             "position_error_m": float(self.position_error),
@@ -134,15 +135,21 @@ class IKResult:
             return self.solutions[0]
         return self.rejected[0] if self.rejected else None
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict of the result (see ``scripts/solve_ik.py --json``)."""
+    def to_dict(self, rejected: bool = True) -> dict[str, Any]:
+        """JSON-ready dict of the result, SI (see ``kin ik --json``).
+
+        Args:
+            rejected: Include the rejected solutions even when there are valid ones (False:
+                ``"rejected"`` is filled only when ``solutions`` is empty, with the best attempts).
+        """
+        keep = rejected or not self.solutions
         return {
             "success": bool(self.success),
             "solver": self.solver,
             "status": self.status,
             "message": self.message,
             "solutions": [s.to_dict() for s in self.solutions],
-            "rejected": [s.to_dict() for s in self.rejected],
+            "rejected": [s.to_dict() for s in self.rejected] if keep else [],
             "method": self.method,
             "distance_to_workspace_m": self.distance_to_workspace,
             "iterations": int(self.iterations),
