@@ -166,3 +166,13 @@ def test_closed_pipe_ends_the_stream_quietly(tmp_path):
         err = writer.stderr.read()
         writer.stderr.close()
         assert writer.wait(timeout=60) == 0 and err == b"" and len(head) == 10
+
+
+def test_no_valid_solution_keeps_the_best_attempt(monkeypatch, capsys):
+    """Without a valid solution the answer keeps the rejected one (nr: Table IX case 1, cm)."""
+    lines = [json.dumps({"target": [-37.457, -2.759, 18.861]})]
+    argv = ["--robot", "humanoid7", "--unit", "cm", "--solver", "nr"]
+    (answer,) = _stream(monkeypatch, capsys, argv, lines)
+    assert not answer["success"] and answer["status"] == "outside_limits"
+    assert answer["solutions"] == [] and answer["rejected"][0]["position_error_m"] < 1e-7
+    assert answer["rejected"][0]["rotation_error_rad"] is None
