@@ -23,8 +23,10 @@ Exit 0 when a valid solution exists, 1 when none (success false), 2 for bad inpu
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
+from typing import TYPE_CHECKING
 
 from ..cli import (
     ArgumentParser,
@@ -34,6 +36,10 @@ from ..cli import (
     positive_float,
     run_guarded,
 )
+
+if TYPE_CHECKING:
+    from ..ik.result import IKResult
+    from .joint_units import JointUnits
 
 PROG = "kin ik"
 EXIT_NO_SOLUTION = 1
@@ -106,7 +112,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     return run_guarded(prog, lambda: _run(args))
 
 
-def _run(args) -> int:  # noqa: ANN001
+def _run(args: argparse.Namespace) -> int:
+    """Load the robot and its solver, then solve the target or the stdin stream."""
     from ..ik.target import PositionTarget
     from ..robot_model import load_robot
     from .joint_units import JointUnits
@@ -154,8 +161,13 @@ def _run(args) -> int:  # noqa: ANN001
     return 0 if result.success else EXIT_NO_SOLUTION
 
 
-def _print_result(  # noqa: ANN001
-    result, robot: str, units, unit: str, show_all: bool, free_rotation: bool
+def _print_result(
+    result: IKResult,
+    robot: str,
+    units: JointUnits,
+    unit: str,
+    show_all: bool,
+    free_rotation: bool,
 ) -> None:
     """The result as text, every number with its unit."""
     length = length_scale(unit)
