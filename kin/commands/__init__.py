@@ -20,7 +20,9 @@ COMMANDS: dict[str, str] = {
     "drives": "stepper pulses of a joint vector, the angles reached and the tool error",
     "fk": "pose of a robot frame at a joint vector",
     "ik": "inverse kinematics of a tool target (or JSON targets on stdin)",
+    "preview": "browser view (meshcat) of the arm, its frames, a target and the IK motion",
     "robots": "the shipped robots: joints and source of each DH table",
+    "workspace": "Monte Carlo workspace: reach, bounding box, volume, PNG of the views",
 }
 
 

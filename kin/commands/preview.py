@@ -1,0 +1,157 @@
+"""Show a robot in the browser (meshcat): its URDF visuals, base and tool frames, a target.
+
+The arm stands at --q (default zeros, clipped to the limits). --frames adds an axis triad on
+every DH frame (frame0..frameN; x red, y green, z blue): a wrong twist sign shows at a glance.
+--target marks a tool position (a sphere; with --rpy, URDF roll-pitch-yaw, also a triad); --ik
+solves it from --q and animates the joint-space motion to the answer (meshcat's "Animations"
+controls replay it).
+
+Without --html: start meshcat's server, print the viewer URL and serve until Ctrl-C (exit 130).
+With --html FILE: write one self-contained page (three.js inlined; no server, no network
+needed to view it) and exit.
+
+Units: every length (target, prismatic joint values) in --unit; revolute joint values and --rpy
+in radians, degrees with --deg. Exit 0, 1 when --ik finds no valid solution (--html), 2 for bad
+input.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+import time
+
+from ..cli import (
+    ArgumentParser,
+    angle_scale,
+    finite_float,
+    length_scale,
+    positive_float,
+    run_guarded,
+)
+
+PROG = "kin preview"
+EXIT_NO_SOLUTION = 1
+
+
+def get_argument_parser(prog: str = PROG) -> ArgumentParser:
+    """Command-line arguments of ``kin preview``."""
+    parser = ArgumentParser(prog=prog, description=__doc__)
+    add = parser.add_argument
+    add("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
+    add(
+        "--q",
+        type=finite_float,
+        nargs="+",
+        help="joint values, base to tip: revolute [rad, or deg with --deg], prismatic [--unit]",
+    )
+    add("--deg", action="store_true", help="revolute joint values and angles in degrees")
+    add("--unit", choices=("m", "cm", "mm"), default="m", help="unit of every length (default m)")
+    add(
+        "--target",
+        type=finite_float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="tool target position in the world frame [--unit]",
+    )
+    add("--rpy", type=finite_float, nargs=3, metavar=("R", "P", "Y"), help="target orientation")
+    add("--ik", action="store_true", help="solve the target and animate the motion from --q")
+    add("--frames", action="store_true", help="axis triads on every DH frame")
+    add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
+    add("--duration", type=positive_float, default=2.0, help="--ik animation length [s]")
+    add("--timeout", type=positive_float, default=200.0, help="numeric IK budget [ms]")
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = PROG) -> int:
+    """Preview; exit 0, 1 (--ik without a valid solution, --html), 130 (Ctrl-C) or 2."""
+    parser = get_argument_parser(prog)
+    args = parser.parse_args(argv)
+    if args.ik and args.target is None:
+        parser.error("--ik needs --target X Y Z")
+    if args.rpy is not None and args.target is None:
+        parser.error("--rpy needs --target X Y Z")
+    return run_guarded(prog, lambda: _run(args, prog), extra=(ModuleNotFoundError,))
+
+
+def _run(args, prog: str) -> int:  # noqa: ANN001
+    import numpy as np
+
+    from ..configuration import limit_violations
+    from ..robot_model import load_robot
+    from .joint_units import JointUnits
+    from .targets import build_target
+
+    robot = load_robot(args.robot)
+    units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
+    if args.q is None:
+        q_start = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
+    else:
+        q_start = units.to_si(args.q, "--q")
+    for violation in limit_violations(robot, q_start):
+        print(f"{prog}: warning: {violation}", file=sys.stderr)
+    target = None
+    if args.target is not None:
+        length = length_scale(args.unit)
+        target, _ = build_target(
+            args.target, rpy=args.rpy, length=length, angle=angle_scale(args.deg)
+        )
+    q_goal = _solve(robot, target, q_start, args, units, prog) if args.ik else None
+
+    from ..viewer import RobotViewer, write_page  # meshcat: only now
+
+    viewer = RobotViewer(robot, serve=args.html is None)
+    try:
+        frames = ["base_link", robot.tool_frame]
+        viewer.show_frames(frames)
+        if args.frames:
+            dh_frames = [f"frame{i}" for i in range(len(robot.table.rows) + 1)]
+            viewer.show_frames(dh_frames, length=0.06 * viewer.arm_length)
+        viewer.display(q_start)
+        if target is not None:
+            viewer.show_target(target.position, getattr(target, "rotation", None))
+        if q_goal is not None:
+            steps = max(2, int(round(args.duration * 30)) + 1)
+            path = np.linspace(q_start, q_goal, steps)
+            viewer.show_path(path, dt=args.duration / (steps - 1))
+        viewer.fit_camera(None if target is None else [target.position])
+        if args.html is not None:
+            written = write_page(args.html, viewer.static_html())
+            print(f"{robot.name}: preview written to {written}")
+            return EXIT_NO_SOLUTION if args.ik and q_goal is None else 0
+        print(viewer.url, flush=True)
+        signal.signal(signal.SIGTERM, _interrupt)
+        while True:
+            time.sleep(3600.0)
+    finally:
+        viewer.close()
+
+
+def _solve(robot, target, q_start, args, units, prog: str):  # noqa: ANN001, ANN202
+    """IK answer nearest the solver's choice from ``q_start``, or None (with a warning line)."""
+    from ..ik.exceptions import StructureError
+    from .solver_choice import choose_solver, solve_function, target_kinds
+    from .targets import check_kind
+
+    try:
+        solver = choose_solver(robot)
+    except StructureError:  # no closed form: the numeric solver takes any chain
+        solver = choose_solver(robot, "mink")
+    kinds = target_kinds(solver)
+    if kinds is not None:
+        given = "--rpy" if args.rpy is not None else "a position target"
+        check_kind(robot.name, robot.nq, kinds, target, given)
+    result = solve_function(solver, args.timeout / 1e3)(target, q_start)
+    if not result.solutions:
+        print(f"{prog}: warning: no IK solution: {result.message}", file=sys.stderr)
+        return None
+    q_goal = result.solutions[0].q
+    shown = ", ".join(f"{v:.4g} {u}" for v, u in zip(units.from_si(q_goal), units.labels))
+    branch = result.solutions[0].branch or result.method or result.solver
+    print(f"{robot.name}: IK ({branch}): q = {shown}")
+    return q_goal
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    """SIGTERM stops the server like Ctrl-C."""
+    raise KeyboardInterrupt

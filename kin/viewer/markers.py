@@ -1,0 +1,107 @@
+"""Marker geometry drawn with meshcat's primitives: axis triads, target spheres, point clouds.
+
+Every function draws under one meshcat node (a ``meshcat.Visualizer`` path) and leaves the
+node's own transform to the caller, so that a marker can follow a robot frame or be animated.
+Lengths in meters, colors as RGB in [0, 1].
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import meshcat.geometry as mg
+import meshcat.transformations as tf
+import numpy as np
+import numpy.typing as npt
+
+from .exceptions import ViewerInputError
+
+__all__ = ["AXIS_COLORS", "draw_points", "draw_sphere", "draw_triad", "hex_color"]
+
+#: Colors of the x, y and z axes of a triad (red, green, blue).
+AXIS_COLORS: tuple[int, int, int] = (0xE0302A, 0x2DB83D, 0x2A64E0)
+
+# meshcat's cylinder lies along its y axis: the rotation that lays it along x, y and z.
+_AXIS_ROTATIONS = (
+    tf.rotation_matrix(-np.pi / 2, [0.0, 0.0, 1.0]),
+    np.eye(4),
+    tf.rotation_matrix(np.pi / 2, [1.0, 0.0, 0.0]),
+)
+
+
+def hex_color(rgb: Sequence[float]) -> int:
+    """``0xRRGGBB`` of an RGB triple in [0, 1].
+
+    Raises:
+        ViewerInputError: Not three numbers in [0, 1].
+    """
+    values = np.asarray(rgb, dtype=float).reshape(-1)
+    if values.shape != (3,) or not np.all((values >= 0.0) & (values <= 1.0)):
+        raise ViewerInputError(f"a color is three numbers in [0, 1], got {list(rgb)!r}")
+    red, green, blue = (int(round(255 * v)) for v in values)
+    return (red << 16) | (green << 8) | blue
+
+
+def draw_triad(node: object, length: float, radius: float | None = None) -> None:
+    """Draw the x (red), y (green) and z (blue) axes of a frame as cylinders from its origin.
+
+    Args:
+        node: meshcat node of the frame; its transform is the frame pose ``T_world_frame``.
+        length: Axis length [m].
+        radius: Axis radius [m] (default ``length / 25``).
+    """
+    radius = length / 25.0 if radius is None else radius
+    for name, rotation, color in zip("xyz", _AXIS_ROTATIONS, AXIS_COLORS):
+        axis = node[name]  # type: ignore[index]
+        axis.set_object(mg.Cylinder(length, radius), mg.MeshLambertMaterial(color=color))
+        offset = tf.translation_matrix(0.5 * length * np.eye(3)["xyz".index(name)])
+        axis.set_transform(offset @ rotation)
+
+
+def draw_sphere(node: object, radius: float, rgb: Sequence[float], opacity: float = 1.0) -> None:
+    """Draw a sphere centred on the node's origin.
+
+    Args:
+        node: meshcat node; its transform places the centre.
+        radius: Sphere radius [m].
+        rgb: Color, RGB in [0, 1].
+        opacity: 1 opaque, 0 invisible.
+    """
+    material = mg.MeshLambertMaterial(
+        color=hex_color(rgb), opacity=opacity, transparent=opacity < 1.0
+    )
+    node.set_object(mg.Sphere(radius), material)  # type: ignore[attr-defined]
+
+
+def draw_points(node: object, points: npt.ArrayLike, rgb: npt.ArrayLike, size: float = 0.01) -> int:
+    """Draw a point cloud.
+
+    Args:
+        node: meshcat node; the points are in its frame (the world when it has no transform).
+        points: Positions, shape (N, 3) [m].
+        rgb: One color for all points (3,) or one per point (N, 3), RGB in [0, 1].
+        size: Point size [m] (perspective: far points look smaller).
+
+    Returns:
+        The number of points drawn.
+
+    Raises:
+        ViewerInputError: Points not (N, 3) finite with N >= 1, or colors of the wrong shape.
+    """
+    position = np.asarray(points, dtype=float)
+    if position.ndim != 2 or position.shape[1] != 3 or len(position) == 0:
+        raise ViewerInputError(f"points must have shape (N, 3) with N >= 1, got {position.shape}")
+    if not np.all(np.isfinite(position)):
+        raise ViewerInputError("points must be finite")
+    colors = np.asarray(rgb, dtype=float)
+    if colors.shape == (3,):
+        colors = np.broadcast_to(colors, position.shape)
+    if colors.shape != position.shape or not np.all((colors >= 0.0) & (colors <= 1.0)):
+        raise ViewerInputError(
+            f"point colors must be (3,) or {position.shape} in [0, 1], got shape {colors.shape}"
+        )
+    cloud = mg.PointCloud(
+        position.T.astype(np.float32), colors.T.astype(np.float32), size=float(size)
+    )
+    node.set_object(cloud)  # type: ignore[attr-defined]
+    return len(position)
