@@ -1,0 +1,135 @@
+"""Monte Carlo workspace of a robot: reach, bounding box, volume, and a PNG of the views.
+
+Joint vectors are drawn uniformly within the limits (seeded; the same --seed and --n give the
+same numbers with any --workers or --scheduler), tool points by batched FK. Lengths are printed
+in --unit; --json is SI with unit-named keys (max_radius_m, volume_m3, ...). Ctrl-C stops with
+one line and exit 130, leaving no half-written PNG.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+
+from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
+
+PROG = "kin workspace"
+
+
+def get_argument_parser(prog: str = PROG) -> ArgumentParser:
+    """Command-line arguments of ``kin workspace``."""
+    parser = ArgumentParser(prog=prog, description=__doc__)
+    parser.add_argument(
+        "--robot", required=True, help="shipped robot name, or a DH table file (.toml)"
+    )
+    parser.add_argument(
+        "--n", type=positive_int, default=1_000_000, help="joint vectors (default 1000000)"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("-o", "--output", help="write the PNG of the views to this file")
+    parser.add_argument("--json", action="store_true", help="print one JSON object, SI units")
+    parser.add_argument(
+        "--workers", type=positive_int, default=1, help="processes for the chunks (default 1)"
+    )
+    parser.add_argument(
+        "--scheduler", metavar="ADDRESS", help="run the chunks on this Dask scheduler (needs dask)"
+    )
+    parser.add_argument(
+        "--unit", choices=("m", "cm", "mm"), default="m", help="length unit (default m)"
+    )
+    parser.add_argument(
+        "--voxel", type=positive_float, help="voxel edge in --unit (default reach bound / 50)"
+    )
+    parser.add_argument(
+        "--chunk-size", type=positive_int, default=100_000, help="joint vectors per chunk"
+    )
+    return parser
+
+
+class _Progress:
+    """A line on stderr at most every 2 s, once the run has taken 2 s."""
+
+    def __init__(self, prog: str):
+        self.prog = prog
+        self.start = self.last = time.monotonic()
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        if now - self.last >= 2.0 and done < total:
+            self.last = now
+            rate = done / (now - self.start)
+            print(
+                f"{self.prog}: {done:,}/{total:,} samples ({100 * done / total:.0f}%), "
+                f"{rate / 1e6:.2f} M/s, {(total - done) / rate:.0f} s left",
+                file=sys.stderr,
+                flush=True,
+            )
+
+
+def _print_text(stats, unit: str) -> None:  # noqa: ANN001
+    s = length_scale(unit)
+    print(
+        f"{stats.robot}: workspace of the tool from {stats.n_samples:,} joint vectors "
+        f"(seed {stats.seed}), lengths in {unit}"
+    )
+    print(
+        f"radius from the base z axis:     {stats.min_radius_m / s:.6g} .. {stats.max_radius_m / s:.6g}"
+    )
+    print(
+        f"distance from DH frame 1 origin: {stats.min_shoulder_distance_m / s:.6g} .. "
+        f"{stats.max_shoulder_distance_m / s:.6g}"
+    )
+    print(f"reach bound (sum |a|+|d|+tool):  {stats.reach_bound_m / s:.6g}")
+    for axis, lo, hi in zip("xyz", stats.bbox_min_m, stats.bbox_max_m):
+        print(f"bounding box {axis}:                  {lo / s:.6g} .. {hi / s:.6g}")
+    v = stats.voxel_size_m / s
+    print(
+        f"volume ({stats.occupied_voxels:,} voxels of {v:.4g} {unit}): "
+        f"{stats.volume_m3 / s**3:.6g} {unit}^3 +- {stats.volume_error_m3 / s**3:.2g} (half samples)"
+    )
+    print(
+        f"area seen from above: {stats.area_xy_m2 / s**2:.6g} {unit}^2 "
+        f"+- {stats.area_xy_error_m2 / s**2:.2g}"
+    )
+
+
+def main(argv: list[str] | None = None, prog: str = PROG) -> int:
+    """Sample, print the statistics (and write the PNG); exit 0, 2 for bad input, 130 on Ctrl-C."""
+    args = get_argument_parser(prog).parse_args(argv)
+
+    def body() -> int:
+        from contextlib import nullcontext
+
+        from ..robot_model import load_robot
+        from ..workspace import workspace
+        from ..workspace_run import dask_client
+
+        table = load_robot(args.robot).table
+        scale = length_scale(args.unit)
+        voxel = None if args.voxel is None else args.voxel * scale
+        context = dask_client(args.scheduler) if args.scheduler else nullcontext()
+        with context as client:
+            work = workspace(
+                table,
+                args.n,
+                args.seed,
+                voxel_size_m=voxel,
+                chunk_size=args.chunk_size,
+                workers=args.workers,
+                client=client,
+                progress=_Progress(prog),
+            )
+        if args.output:
+            from ..workspace_plot import plot_workspace
+
+            plot_workspace(work, args.output, args.unit)
+        if args.json:
+            print(json.dumps(work.stats.to_dict()))
+        else:
+            _print_text(work.stats, args.unit)
+            if args.output:
+                print(f"wrote {args.output}")
+        return 0
+
+    return run_guarded(prog, body)

@@ -1,0 +1,301 @@
+"""Monte Carlo workspace of a DH table: reach statistics, bounding box, voxel volume (meters).
+
+Joint vectors are drawn uniformly within the joint limits, the tool points computed by batched
+NumPy FK (:mod:`kin.batch_fk`), and the points reduced chunk by chunk: minima and maxima, a
+voxel occupancy grid and three projected histograms, so that memory stays bounded for any number
+of samples. Chunk ``i`` draws from ``SeedSequence(seed).spawn(n_chunks)[i]`` and every reduction
+is exact (min, max, logical or, integer sums), so the statistics depend on ``seed``, ``n`` and
+``chunk_size`` only, never on how the chunks are spread over processes or a Dask cluster
+(:mod:`kin.workspace_run`).
+
+Points of reference: the *base axis* is the world z axis through the origin of DH frame 0 (the
+base frame); the *shoulder* is the origin of DH frame 1 of each sample (it moves with joint 1 when
+``a1`` or ``d1`` is swept around, as for a prismatic joint 1 or an offset shoulder).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from dh2urdf import DHTable
+
+from .batch_fk import batch_frame_origins
+from .exceptions import KinError
+
+#: Joint vectors per chunk: the unit of seeding, work and reduction.
+DEFAULT_CHUNK_SIZE = 100_000
+#: Voxels along each side of the grid by default (the voxel is ``2 * reach_bound / this``).
+DEFAULT_VOXELS_PER_SIDE = 100
+_MAX_VOXELS_PER_SIDE = 256
+
+
+def reach_bound(table: DHTable) -> float:
+    """Upper bound of the tool's distance from the base frame origin [m].
+
+    The sum over rows of ``|a| + |d|`` (a prismatic joint adds ``max(|lower|, |upper|)``) plus
+    the length of the tool offset: each DH step moves the point by at most that much.
+    """
+    total = float(np.linalg.norm(np.asarray(table.T_last_tool)[:3, 3]))
+    for row in table.rows:
+        total += abs(row.a) + abs(row.d)
+        if row.joint_type == "prismatic":
+            total += max(abs(row.lower), abs(row.upper))
+    return total
+
+
+@dataclass(frozen=True)
+class WorkspaceGrid:
+    """A cubic voxel grid around the base frame origin that holds every reachable point.
+
+    Attributes:
+        origin_m: Lower corner of the grid in world axes [m].
+        voxel_size_m: Edge of a voxel [m].
+        voxels_per_side: Voxels along x, y and z.
+    """
+
+    origin_m: tuple[float, float, float]
+    voxel_size_m: float
+    voxels_per_side: int
+
+    @classmethod
+    def around(cls, table: DHTable, voxel_size_m: float | None = None) -> WorkspaceGrid:
+        """The grid of ``table``: centred on DH frame 0's origin, sides 2 x :func:`reach_bound`.
+
+        Raises:
+            KinError: ``voxel_size_m`` would need more than 256 voxels per side.
+        """
+        bound = max(reach_bound(table), 1e-6)
+        size = voxel_size_m or 2.0 * bound / DEFAULT_VOXELS_PER_SIDE
+        side = math.ceil(2.0 * bound / size) + 1
+        if not size > 0 or side > _MAX_VOXELS_PER_SIDE:
+            raise KinError(
+                f"voxel size {size:g} m needs {side} voxels per side for a reach of "
+                f"{bound:g} m; at most {_MAX_VOXELS_PER_SIDE}: give a voxel of at least "
+                f"{2.0 * bound / (_MAX_VOXELS_PER_SIDE - 1):.3g} m"
+            )
+        center = np.asarray(table.T_world_base)[:3, 3]
+        origin = tuple(float(c - side * size / 2.0) for c in center)
+        return cls(origin, float(size), side)  # type: ignore[arg-type]
+
+    def indices(self, points: np.ndarray) -> np.ndarray:
+        """Voxel indices (3, N) of points (3, N) [m], clipped to the grid."""
+        scaled = (points - np.asarray(self.origin_m)[:, None]) / self.voxel_size_m
+        return np.clip(np.floor(scaled), 0, self.voxels_per_side - 1).astype(np.int64)
+
+
+@dataclass(frozen=True, eq=False)
+class ChunkReduction:
+    """Reduced samples of one or more chunks (exact to merge, in any order).
+
+    Attributes:
+        n_samples: Joint vectors drawn.
+        extremes: Minima and maxima: radius from the base axis, distance from the shoulder
+            [m] (4,) as (min_r, -max_r, min_s, -max_s), then bounding box (-min xyz, max xyz).
+        occupancy: Packed voxel occupancy of the even and odd samples, (2, bytes).
+        projections: Sample counts per column of the grid seen along z, y and x: (3, side, side).
+    """
+
+    n_samples: int
+    extremes: np.ndarray
+    occupancy: np.ndarray
+    projections: np.ndarray
+
+    def merge(self, other: ChunkReduction) -> ChunkReduction:
+        """Both reductions together."""
+        return ChunkReduction(
+            self.n_samples + other.n_samples,
+            np.minimum(self.extremes, other.extremes),
+            self.occupancy | other.occupancy,
+            self.projections + other.projections,
+        )
+
+
+def reduce_chunk(table: DHTable, grid: WorkspaceGrid, n: int, seed: np.random.SeedSequence):
+    """Draw ``n`` joint vectors from ``seed`` and reduce their tool points (one chunk)."""
+    rng = np.random.default_rng(seed)
+    q = table.lower + (table.upper - table.lower) * rng.random((n, table.dof))
+    shoulder, tool = batch_frame_origins(table, q, (1,))
+    base = np.asarray(table.T_world_base)[:3, 3][:, None]
+    radius = np.hypot(tool[0] - base[0], tool[1] - base[1])
+    distance = np.linalg.norm(tool - shoulder, axis=0)
+    extremes = np.concatenate(
+        [
+            [radius.min(), -radius.max(), distance.min(), -distance.max()],
+            -tool.min(axis=1),
+            tool.max(axis=1),
+        ]
+    )
+    side = grid.voxels_per_side
+    ix, iy, iz = grid.indices(tool)
+    flat = (ix * side + iy) * side + iz
+    occupancy = np.zeros((2, side**3), dtype=bool)
+    occupancy[0, flat[0::2]] = True
+    occupancy[1, flat[1::2]] = True
+    projections = np.stack(
+        [
+            np.bincount(a * side + b, minlength=side * side).reshape(side, side)
+            for a, b in ((ix, iy), (ix, iz), (iy, iz))
+        ]
+    )
+    return ChunkReduction(n, extremes, np.packbits(occupancy, axis=1), projections)
+
+
+@dataclass(frozen=True)
+class WorkspaceStats:
+    """Reach of the tool over N joint vectors drawn uniformly within the limits (SI units).
+
+    The volume is that of the voxels hit by at least one sample (``voxel_size_m`` edges): it
+    overestimates the true volume by about half a voxel layer over the surface and misses
+    voxels no sample hit yet. ``volume_error_m3`` estimates the latter from half samples: the
+    even and the odd samples give volumes ``V_even`` and ``V_odd`` of N/2 samples each, and
+    ``V_N - (V_even + V_odd) / 2`` (the growth from N/2 to N samples) is how far the estimate
+    still moves when the sample doubles; it shrinks to 0 as the occupancy converges. The same
+    for ``area_xy_m2``, the area of the workspace seen from above (grid columns hit), which for
+    a planar arm in the xy plane is its workspace area.
+
+    Attributes:
+        robot: Table name.
+        n_samples: Joint vectors drawn.
+        seed: Seed of ``np.random.SeedSequence``.
+        chunk_size: Joint vectors per chunk (with ``seed``, fixes the samples).
+        voxel_size_m: Voxel edge of the volume and area [m].
+        reach_bound_m: Upper bound of the distance from the base origin (:func:`reach_bound`).
+        min_radius_m: Smallest tool distance from the base axis [m].
+        max_radius_m: Largest tool distance from the base axis [m].
+        min_shoulder_distance_m: Smallest tool distance from the origin of DH frame 1 [m].
+        max_shoulder_distance_m: Largest tool distance from the origin of DH frame 1 [m].
+        bbox_min_m: Smallest x, y, z of the tool in world axes [m].
+        bbox_max_m: Largest x, y, z of the tool in world axes [m].
+        occupied_voxels: Voxels hit.
+        volume_m3: ``occupied_voxels * voxel_size_m**3`` [m^3].
+        volume_error_m3: Half-sample estimate of the sampling error of the volume [m^3].
+        area_xy_m2: Area of the grid columns hit, seen along z [m^2].
+        area_xy_error_m2: Half-sample estimate of its sampling error [m^2].
+    """
+
+    robot: str
+    n_samples: int
+    seed: int
+    chunk_size: int
+    voxel_size_m: float
+    reach_bound_m: float
+    min_radius_m: float
+    max_radius_m: float
+    min_shoulder_distance_m: float
+    max_shoulder_distance_m: float
+    bbox_min_m: tuple[float, float, float]
+    bbox_max_m: tuple[float, float, float]
+    occupied_voxels: int
+    volume_m3: float
+    volume_error_m3: float
+    area_xy_m2: float
+    area_xy_error_m2: float
+
+    def to_dict(self) -> dict:
+        """The fields as a JSON-ready dict (keys name their units)."""
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
+
+
+@dataclass(frozen=True, eq=False)
+class WorkspaceMap:
+    """The statistics, with the grid and reductions the pictures are drawn from.
+
+    Attributes:
+        stats: The reach statistics.
+        grid: The voxel grid.
+        occupancy: Voxels hit, (side, side, side) bool, indexed (x, y, z).
+        projections: Sample counts per grid column seen along z (xy), y (xz) and x (yz).
+    """
+
+    stats: WorkspaceStats
+    grid: WorkspaceGrid
+    occupancy: np.ndarray
+    projections: np.ndarray
+
+    @property
+    def base_origin_m(self) -> tuple[float, float, float]:
+        """Origin of DH frame 0 in world axes [m] (the grid's centre)."""
+        half = self.grid.voxels_per_side * self.grid.voxel_size_m / 2.0
+        return tuple(o + half for o in self.grid.origin_m)  # type: ignore[return-value]
+
+
+def chunk_sizes(n: int, chunk_size: int = DEFAULT_CHUNK_SIZE) -> list[int]:
+    """Sizes of the chunks of ``n`` samples: ``chunk_size`` each, the last one the rest."""
+    if n < 1 or chunk_size < 1:
+        raise KinError(f"need at least one sample and chunk size 1, got n={n}, {chunk_size=}")
+    return [min(chunk_size, n - start) for start in range(0, n, chunk_size)]
+
+
+def summarize(
+    table: DHTable, grid: WorkspaceGrid, total: ChunkReduction, seed: int, chunk_size: int
+) -> WorkspaceMap:
+    """The :class:`WorkspaceMap` of the merged reduction of every chunk."""
+    side, v = grid.voxels_per_side, grid.voxel_size_m
+    halves = np.unpackbits(total.occupancy, axis=1, count=side**3).astype(bool)
+    occupancy = (halves[0] | halves[1]).reshape(side, side, side)
+    half_grids = halves.reshape(2, side, side, side)
+    voxels = int(occupancy.sum())
+    half_voxels = half_grids.sum(axis=(1, 2, 3))
+    columns = int(occupancy.any(axis=2).sum())
+    half_columns = half_grids.any(axis=3).sum(axis=(1, 2))
+    e = total.extremes
+    stats = WorkspaceStats(
+        robot=table.name,
+        n_samples=total.n_samples,
+        seed=seed,
+        chunk_size=chunk_size,
+        voxel_size_m=v,
+        reach_bound_m=reach_bound(table),
+        min_radius_m=float(e[0]),
+        max_radius_m=float(-e[1]),
+        min_shoulder_distance_m=float(e[2]),
+        max_shoulder_distance_m=float(-e[3]),
+        bbox_min_m=tuple(float(-x) for x in e[4:7]),  # type: ignore[arg-type]
+        bbox_max_m=tuple(float(x) for x in e[7:10]),  # type: ignore[arg-type]
+        occupied_voxels=voxels,
+        volume_m3=voxels * v**3,
+        volume_error_m3=float(voxels - half_voxels.mean()) * v**3,
+        area_xy_m2=columns * v**2,
+        area_xy_error_m2=float(columns - half_columns.mean()) * v**2,
+    )
+    return WorkspaceMap(stats, grid, occupancy, total.projections)
+
+
+def workspace(
+    table: DHTable,
+    n: int,
+    seed: int = 0,
+    *,
+    voxel_size_m: float | None = None,
+    chunk_size: int = DEFAULT_CHUNK_SIZE,
+    workers: int = 1,
+    client: object | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> WorkspaceMap:
+    """Sample the workspace of ``table`` with ``n`` joint vectors.
+
+    Args:
+        table: The DH table (SI units).
+        n: Number of joint vectors.
+        seed: Seed of the ``np.random.SeedSequence`` whose children seed the chunks.
+        voxel_size_m: Voxel edge [m]; default ``2 * reach_bound / 100``.
+        chunk_size: Joint vectors per chunk.
+        workers: Processes (1: in this process).
+        client: A ``distributed.Client``: the chunks run on its cluster (``workers`` ignored).
+        progress: Called with (samples done, n) as chunks finish.
+
+    Raises:
+        KinError: Bad ``n``, ``chunk_size`` or voxel size.
+    """
+    from .workspace_run import run_chunks
+
+    grid = WorkspaceGrid.around(table, voxel_size_m)
+    sizes = chunk_sizes(n, chunk_size)
+    seeds = np.random.SeedSequence(seed).spawn(len(sizes))
+    tasks = [(table, grid, size, child) for size, child in zip(sizes, seeds, strict=True)]
+    total = run_chunks(tasks, workers=workers, client=client, progress=progress, n=n)
+    return summarize(table, grid, total, seed, chunk_size)
