@@ -94,7 +94,8 @@ class ChunkReduction:
     Attributes:
         n_samples: Joint vectors drawn.
         extremes: Minima and maxima: radius from the base axis, distance from the shoulder
-            [m] (4,) as (min_r, -max_r, min_s, -max_s), then bounding box (-min xyz, max xyz).
+            [m] as (min_r, -max_r, min_s, -max_s, min x, min y, min z, -max x, -max y, -max z):
+            every entry merges by ``np.minimum``.
         occupancy: Packed voxel occupancy of the even and odd samples, (2, bytes).
         projections: Sample counts per column of the grid seen along z, y and x: (3, side, side).
     """
@@ -125,8 +126,8 @@ def reduce_chunk(table: DHTable, grid: WorkspaceGrid, n: int, seed: np.random.Se
     extremes = np.concatenate(
         [
             [radius.min(), -radius.max(), distance.min(), -distance.max()],
-            -tool.min(axis=1),
-            tool.max(axis=1),
+            tool.min(axis=1),
+            -tool.max(axis=1),
         ]
     )
     side = grid.voxels_per_side
@@ -254,8 +255,8 @@ def summarize(
         max_radius_m=float(-e[1]),
         min_shoulder_distance_m=float(e[2]),
         max_shoulder_distance_m=float(-e[3]),
-        bbox_min_m=tuple(float(-x) for x in e[4:7]),  # type: ignore[arg-type]
-        bbox_max_m=tuple(float(x) for x in e[7:10]),  # type: ignore[arg-type]
+        bbox_min_m=tuple(float(x) for x in e[4:7]),  # type: ignore[arg-type]
+        bbox_max_m=tuple(float(-x) for x in e[7:10]),  # type: ignore[arg-type]
         occupied_voxels=voxels,
         volume_m3=voxels * v**3,
         volume_error_m3=float(voxels - half_voxels.mean()) * v**3,
