@@ -1,7 +1,9 @@
-"""Benchmark the kin FK call against the raw Pinocchio call, and fk.py's wall time; print a table.
+"""Benchmark the kin FK call against the raw Pinocchio call, fk.py's wall time, and batched FK.
 
 Targets (foundation issue): kin FK at most 1.5x the raw
 ``pin.forwardKinematics + updateFramePlacement + oMf`` call; ``fk.py`` under 0.6 s wall.
+Batched NumPy FK (``kin.batch_forward_kinematics``, issue 9): at least 1,000,000 humanoid7
+configurations/s, printed beside a loop of raw Pinocchio calls over the same configurations.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from dh2urdf import robot_names
+from kin.batch_fk import batch_forward_kinematics
 from kin.cli import ArgumentParser, positive_int
 from kin.configuration import Configuration
 from kin.robot_model import load_robot
@@ -39,6 +42,12 @@ def get_argument_parser() -> ArgumentParser:
         "--repeat", type=positive_int, default=7, help="timings per figure, best kept (default 7)"
     )
     parser.add_argument("--cli-runs", type=positive_int, default=5, help="fk.py runs (default 5)")
+    parser.add_argument(
+        "--batch",
+        type=positive_int,
+        default=1_000_000,
+        help="configurations of the batched FK timing (default 1000000)",
+    )
     return parser
 
 
@@ -84,7 +93,33 @@ def main(argv: list[str] | None = None) -> int:
         f"fk.py wall time over {args.cli_runs} runs [s]: median {statistics.median(walls):.3f}, "
         f"max {max(walls):.3f}  target < 0.6"
     )
+    _bench_batch(args.batch, args.repeat)
     return 0
+
+
+def _bench_batch(n: int, repeat: int) -> None:
+    """Print batched NumPy FK and a raw Pinocchio loop in humanoid7 configurations/s."""
+    robot = load_robot("humanoid7")
+    q = np.random.default_rng(1).uniform(robot.lower, robot.upper, size=(n, robot.nq))
+    best = min(
+        timeit.repeat(lambda: batch_forward_kinematics(robot.table, q), number=1, repeat=repeat)
+    )
+    model, data = robot.model, robot.model.createData()
+    fid = model.getFrameId(robot.tool_frame)
+    loop_n = min(n, 20_000)
+
+    def loop() -> None:
+        for qi in q[:loop_n]:
+            pin.forwardKinematics(model, data, qi)
+            pin.updateFramePlacement(model, data, fid)
+
+    loop_best = min(timeit.repeat(loop, number=1, repeat=3))
+    batch_rate, loop_rate = n / best, loop_n / loop_best
+    print(
+        f"humanoid7 batched FK (tool pose, N = {n:,}): numpy {batch_rate:,.0f} configurations/s, "
+        f"Pinocchio loop {loop_rate:,.0f} configurations/s ({batch_rate / loop_rate:.1f}x)  "
+        f"target >= 1,000,000"
+    )
 
 
 if __name__ == "__main__":
