@@ -40,6 +40,9 @@ __all__ = ["RobotViewer"]
 #: Target marker color (RGB in [0, 1]).
 TARGET_RGB = (0.95, 0.75, 0.1)
 
+# Scales of meshcat's grid (20 m, 0.5 m cells): 0.1 gives a 2 m grid of 5 cm cells.
+_GRID_SCALES = (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0)
+
 
 class RobotViewer:
     """A robot shown in meshcat: arm, frame triads, markers, animations.
@@ -71,6 +74,9 @@ class RobotViewer:
         self._followed: dict[str, tuple[int, float]] = {}  # frame -> (frame id, triad length)
         self.q = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
         self.arm_length = _arm_length(robot, self.q)
+        # meshcat's grid is 20 m wide in 0.5 m cells: shrink it to the arm, round cell sizes
+        self.grid_scale = max([s for s in _GRID_SCALES if 10.0 * s <= self.arm_length] or [0.01])
+        self.viewer["/Grid"].set_transform(tf.scale_matrix(self.grid_scale))
         self.display(self.q)
 
     @property
@@ -201,7 +207,7 @@ class RobotViewer:
         offset = _finite(position, (3,), "camera position") - target
         shift = tf.translation_matrix(-target)  # meshcat's camera looks at its world origin
         self.scene.set_transform(shift)
-        self.viewer["/Grid"].set_transform(shift)
+        self.viewer["/Grid"].set_transform(shift @ tf.scale_matrix(self.grid_scale))
         # the camera sits in meshcat's y-up frame "rotated": world (x, y, z) is (x, -z, y) there
         camera = self.viewer["/Cameras/default/rotated/<object>"]
         camera.set_property("position", [offset[0], offset[2], -offset[1]])
