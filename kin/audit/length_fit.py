@@ -3,8 +3,8 @@
 The tool position is affine in each DH length ``a_i`` or ``d_i`` (the rotations do not depend on
 it), so the best value of one length, all else fixed, is a one-dimensional linear least-squares
 problem: two batched FK evaluations (the length at 0 and at 1 m) give the line, the printed
-positions give the value. The value is then written with the fewest decimals (of the table's
-length unit) that reproduce as many samples as the exact one: the number a source would print.
+positions give the value, written with the fewest decimals that reproduce as many samples (the
+number a source would print), never more decimals than the table file's most precise length.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from .printed import SampleScore, predicted_values, score_readings
 from .readings import Change, Reading, apply_changes
 from .samples import SampleSet
 
-#: Decimals (in the table's length unit) tried for a refitted length.
-DECIMALS = (0, 1, 2, 3, 4)
+#: Samples a refitted length must reproduce beyond the reading without it.
+MIN_GAIN = 2
 
 
 def _set_length(reading: Reading, row: int, field: str, value_m: float) -> Reading:
@@ -53,45 +53,59 @@ def length_candidates(
     return out
 
 
-def length_refits(audited: AuditedTable, samples: SampleSet, reading: Reading) -> list[SampleScore]:
-    """Readings of ``reading`` plus one refitted length, for every nonzero length of the table.
+def _places(value: float) -> int:
+    """Fewest decimals that write ``value`` (at most 6)."""
+    return next((k for k in range(7) if abs(round(value, k) - value) < 1e-9), 6)
+
+
+def length_refits(
+    audited: AuditedTable, samples: SampleSet, base: SampleScore
+) -> list[SampleScore]:
+    """The reading of ``base`` plus one refitted length, for every nonzero length of the table.
+
+    A refitted length is written with no more decimals than the table file's most precise length
+    (the precision its source prints), and kept only when it reproduces at least
+    :data:`MIN_GAIN` more samples than ``base`` (one free number can always fit one sample).
 
     Returns:
-        The scores of the refitted readings (unsorted); each adds a ``length`` change whose
-        value has the fewest decimals that reproduce as many samples as the exact value.
+        The scores of the kept readings (unsorted), at most one per length: the one with the
+        most samples reproduced, then the fewest decimals.
     """
+    reading = base.reading
+    lengths = [v / audited.meters for r in audited.table.rows for v in (r.a, r.d)]
+    decimals = range(max(_places(v) for v in lengths) + 1)
     candidates: list[Reading] = []
     meta: list[tuple[tuple[int, str], int]] = []  # (row, field), decimals of the value
-    for original in audited.table.rows:
+    for row in reading.table.rows:
         for field in ("a", "d"):
-            if getattr(original, field) == 0.0:
+            old = getattr(row, field) / audited.meters
+            if old == 0.0 or (field == "d" and row.joint_type != "revolute"):
                 continue
-            if field == "d" and original.joint_type != "revolute":
-                continue
-            old = getattr(original, field) / audited.meters
             options: dict[float, int] = {}
-            for exact in length_candidates(audited, samples, reading, original.index, field):
-                for k in reversed(DECIMALS):
+            for exact in length_candidates(audited, samples, reading, row.index, field):
+                for k in reversed(decimals):
                     value = round(exact / audited.meters, k)
                     options[value] = min(k, options.get(value, k))
             for value, places in options.items():
-                if abs(value - old) < 1e-12:
+                if f"{value:.6g}" == f"{old:.6g}":
                     continue
                 change = Change(
                     "length",
-                    original.index,
+                    row.index,
                     f"{field}={value * audited.meters!r}",
-                    f"{field}{original.index}: {old:.6g} -> {value:.6g} {audited.length_unit}",
-                    f"row {original.index}: {field} = {value:.6g}",
+                    f"{field}{row.index}: {old:.6g} -> {value:.6g} {audited.length_unit}",
+                    f"row {row.index}: {field} = {value:.6g}",
                 )
                 candidates.append(apply_changes(audited, (*reading.changes, change)))
-                meta.append(((original.index, field), places))
+                meta.append(((row.index, field), places))
     if not candidates:
         return []
     scores = score_readings(audited, samples, candidates)
     places_of = {id(r): m for r, m in zip(candidates, meta, strict=True)}
     best: dict[tuple[int, str], tuple[tuple, SampleScore]] = {}
-    for score in scores:  # per length: the fewest decimals among the best counts
+    for score in scores:  # per length: the most samples, then the fewest decimals
+        if score.count < base.count + MIN_GAIN:
+            continue
         key, places = places_of[id(score.reading)]
         rank = (score.count, score.values_reproduced, -places)
         if key not in best or rank > best[key][0]:

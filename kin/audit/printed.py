@@ -16,7 +16,7 @@ import numpy as np
 
 from ..batch_fk import batch_forward_kinematics
 from .audited_table import AuditedTable
-from .readings import Reading, sample_radians
+from .readings import Reading, sample_meters, sample_radians
 from .samples import SampleSet
 
 #: Slack [printed unit] for values on a rounding tie or a truncation edge (floating-point noise).
@@ -85,14 +85,14 @@ def rpy_of(rotations: np.ndarray) -> np.ndarray:
 def _joint_values(audited: AuditedTable, reading: Reading, q: np.ndarray) -> np.ndarray:
     """Joint values [rad] / [m] of the printed ones under ``reading``."""
     revolute = np.array([r.joint_type == "revolute" for r in audited.table.rows])
-    return np.where(revolute, q * sample_radians(reading), q * audited.meters)
+    return np.where(revolute, q * sample_radians(reading), q * sample_meters(reading))
 
 
 def predicted_values(audited: AuditedTable, samples: SampleSet, reading: Reading) -> np.ndarray:
     """The values (N, K) ``reading`` computes for the samples, in the printed units."""
     q = _joint_values(audited, reading, samples.q)
     poses = batch_forward_kinematics(reading.table, q)
-    parts = [poses[:, :3, 3] / audited.meters]
+    parts = [poses[:, :3, 3] / sample_meters(reading)]
     if samples.orientation == "rpy":
         parts.append(rpy_of(poses[:, :3, :3]) / sample_radians(reading))
     elif samples.orientation == "matrix":
@@ -138,7 +138,8 @@ def score_readings(
     reproduced = ok.all(axis=2)
     values_ok = (ok & given).sum(axis=(1, 2))
     difference = np.where(given, computed - printed, 0.0)
-    position = np.linalg.norm(difference[:, :, :3], axis=2) * audited.meters
+    meters = np.array([sample_meters(r) for r in readings])[:, None]
+    position = np.linalg.norm(difference[:, :, :3], axis=2) * meters
     if samples.orientation == "none":
         orientation = np.full(position.shape, np.nan)
     else:

@@ -28,6 +28,7 @@ ChangeKind = Literal[
     "offsets",
     "angle_unit",
     "length_unit",
+    "sample_length_unit",
     "twist_all",
     "twist",
     "d_sign",
@@ -38,7 +39,7 @@ ChangeKind = Literal[
 ]
 
 #: Changes that only concern how the samples are read (not the table, not a URDF comparison).
-SAMPLE_KINDS: frozenset[str] = frozenset({"angle_unit", "truncated"})
+SAMPLE_KINDS: frozenset[str] = frozenset({"angle_unit", "sample_length_unit", "truncated"})
 
 
 @dataclass(frozen=True)
@@ -48,7 +49,7 @@ class Change:
     Attributes:
         kind: What changes (see :data:`ChangeKind`).
         row: 1-based table row it concerns, or None.
-        value: The new unit name for ``length_unit`` and ``angle_unit``; for ``length``,
+        value: The new unit name for the unit kinds; for ``length``,
             ``"a=<meters>"`` or ``"d=<meters>"`` (a refitted length); else None.
         text: What changes, in the file's units (``"alpha1: -90 -> 90 deg"``).
         edit: The edit of the table file (or of the reading of the samples) it implies.
@@ -69,12 +70,15 @@ class Reading:
         changes: The changes from the table as written (empty: the table as written).
         table: The table variant (SI values).
         sample_angle_unit: Unit the samples' angles (joint values, roll-pitch-yaw) are read in.
+        sample_length_unit: Unit the samples' lengths (positions, prismatic joint values) are
+            read in.
         truncated: The source truncates its printed values instead of rounding them.
     """
 
     changes: tuple[Change, ...]
     table: DHTable
     sample_angle_unit: str
+    sample_length_unit: str
     truncated: bool
 
     @property
@@ -138,10 +142,22 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
                     "length_unit",
                     None,
                     unit,
-                    f"length unit: {lu} -> {unit}",
+                    f"length unit of the table: {lu} -> {unit}",
                     f'length_unit = "{unit}" (the samples stay in {lu})',
                 )
             )
+    if samples:
+        for unit in sorted(LENGTH_UNITS):
+            if unit != lu:
+                out.append(
+                    Change(
+                        "sample_length_unit",
+                        None,
+                        unit,
+                        f"length unit of the samples: {lu} -> {unit}",
+                        f"the samples' lengths are in {unit} (no table edit)",
+                    )
+                )
     twists = [r for r in table.rows if abs(math.sin(r.alpha)) > 1e-12]
     if len(twists) > 1:
         out.append(
@@ -200,7 +216,7 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
     rows = list(table.rows)
     convention = table.convention
     base, tool = np.array(table.T_world_base), np.array(table.T_last_tool)
-    angle_unit, truncated = audited.angle_unit, False
+    angle_unit, length_unit, truncated = audited.angle_unit, audited.length_unit, False
     for change in changes:
         i = (change.row or 0) - 1
         if change.kind == "convention":
@@ -214,6 +230,8 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
             ]
         elif change.kind == "angle_unit":
             angle_unit = str(change.value)
+        elif change.kind == "sample_length_unit":
+            length_unit = str(change.value)
         elif change.kind == "length_unit":
             k = LENGTH_UNITS[str(change.value)] / audited.meters
             rows = [dataclasses.replace(r, a=r.a * k, d=r.d * k) for r in rows]
@@ -237,7 +255,7 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
         T_world_base=base,
         T_last_tool=tool,
     )
-    return Reading(changes, variant, angle_unit, truncated)
+    return Reading(changes, variant, angle_unit, length_unit, truncated)
 
 
 def _signature(reading: Reading) -> tuple:
@@ -249,6 +267,7 @@ def _signature(reading: Reading) -> tuple:
         t.T_world_base.tobytes(),
         t.T_last_tool.tobytes(),
         reading.sample_angle_unit,
+        reading.sample_length_unit,
         reading.truncated,
     )
 
@@ -289,3 +308,8 @@ def candidate_readings(
 def sample_radians(reading: Reading) -> float:
     """Radians per unit of the samples' angles under ``reading``."""
     return ANGLE_UNITS[reading.sample_angle_unit]
+
+
+def sample_meters(reading: Reading) -> float:
+    """Meters per unit of the samples' lengths under ``reading``."""
+    return LENGTH_UNITS[reading.sample_length_unit]

@@ -67,7 +67,7 @@ def audit_samples(
     if refit and scores[0].count < len(samples):
         extra: list[SampleScore] = []
         for score in scores[:REFIT_TOP]:
-            extra += length_refits(audited, samples, score.reading)
+            extra += length_refits(audited, samples, score)
         order = len(scores)
         merged = [*scores, *(_renumber(s, order + k) for k, s in enumerate(extra))]
         scores = sorted(merged, key=lambda s: s.rank_key)

@@ -1,0 +1,176 @@
+"""The audit recovers a known corruption of a correct table, one kind at a time and by pairs.
+
+A correct 7-joint table (standard DH, cm, deg, offsets, a tool offset) gives 20 samples through
+the batched FK (rounded to 3 decimals of a cm); then the table file or the samples are corrupted
+the way papers are (the other convention, DH angles printed for joint values, a twist sign, all
+twist signs, a length sign, lengths in mm, samples in mm, joint values in rad, digits truncated),
+and the audit's best reading must undo exactly that corruption.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+
+import numpy as np
+import pytest
+
+from dh2urdf import parse_table
+from kin import batch_forward_kinematics
+from kin.audit import audit_samples
+
+#: (a [cm], alpha [deg], d [cm], theta [deg]) per row.
+ROWS = (
+    (5.0, -90.0, 30.0, 0.0),
+    (25.0, 0.0, 4.0, -90.0),
+    (3.0, 90.0, 0.0, 90.0),
+    (0.0, -90.0, 22.0, 0.0),
+    (0.0, 90.0, 0.0, 30.0),
+    (2.0, -90.0, 0.0, 0.0),
+    (0.0, 0.0, 8.0, 0.0),
+)
+TOOL = "[tool]\nxyz = [1.0, 2.0, 6.0]\nrpy = [0.0, 0.0, 0.0]\n"
+SAMPLES = 20
+DECIMALS = 3
+
+#: Corruption -> the change (kind, row, value) the audit must find.
+EXPECTED = {
+    "convention": ("convention", None, None),
+    "offsets": ("offsets", None, None),
+    "twist3": ("twist", 3, None),
+    "twist6": ("twist", 6, None),
+    "twist_all": ("twist_all", None, None),
+    "d_sign4": ("d_sign", 4, None),
+    "table_in_mm": ("length_unit", None, "mm"),
+    "samples_in_mm": ("sample_length_unit", None, "mm"),
+    "angles_in_rad": ("angle_unit", None, "rad"),
+    "truncated": ("truncated", None, None),
+}
+
+
+def table_toml(rows=ROWS, convention="standard", scale=1.0, tool=TOOL, name="syn7") -> str:
+    """A table file text: ``scale`` multiplies the lengths (their unit stays cm)."""
+    text = f'name = "{name}"\nconvention = "{convention}"\nlength_unit = "cm"\nangle_unit = "deg"\n'
+    for a, alpha, d, theta in rows:
+        text += (
+            f'\n[[joints]]\ntype = "revolute"\na = {a * scale}\nalpha = {alpha}\n'
+            f"d = {d * scale}\ntheta = {theta}\nlimits = [-170.0, 170.0]\n"
+        )
+    if tool:
+        xyz = ", ".join(str(v * scale) for v in (1.0, 2.0, 6.0))
+        text += f"\n[tool]\nxyz = [{xyz}]\nrpy = [0.0, 0.0, 0.0]\n"
+    return text
+
+
+def printed(value: float, truncate: bool, places: int = DECIMALS) -> str:
+    """``value`` with ``places`` decimals, rounded or truncated toward zero."""
+    if truncate:
+        value = math.trunc(value * 10**places) / 10**places
+    return f"{value:.{places}f}"
+
+
+def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
+    """Write the corrupted table and samples; return their paths."""
+    import tomllib
+
+    rows = [list(r) for r in rows]
+    correct = parse_table(tomllib.loads(table_toml(rows, tool=tool)))
+    q_deg = np.random.default_rng(7).uniform(-150, 150, size=(SAMPLES, len(rows)))
+    poses = batch_forward_kinematics(correct, np.radians(q_deg))
+    for c in corruptions:
+        if c.startswith("twist") and c != "twist_all":
+            rows[int(c[5:]) - 1][1] *= -1
+        elif c == "twist_all":
+            for r in rows:
+                r[1] *= -1
+        elif c == "d_sign4":
+            rows[3][2] *= -1
+    convention = "modified" if "convention" in corruptions else "standard"
+    scale = 10.0 if "table_in_mm" in corruptions else 1.0
+    table = tmp_path / "table.toml"
+    table.write_text(table_toml(rows, convention, scale, tool), encoding="utf-8")
+    joint = q_deg + (np.array([r[3] for r in ROWS]) if "offsets" in corruptions else 0.0)
+    if "angles_in_rad" in corruptions:
+        joint = np.radians(joint)
+    length = 10.0 if "samples_in_mm" in corruptions else 1.0  # cm -> mm
+    truncate = "truncated" in corruptions
+    header = [f"q{i}" for i in range(1, len(rows) + 1)] + ["x", "y", "z"]
+    if orientation:
+        header += ["roll", "pitch", "yaw"]
+    lines = [",".join(header)]
+    from kin.audit.printed import rpy_of
+
+    for k in range(SAMPLES):
+        values = [printed(v, truncate) for v in poses[k, :3, 3] * 100.0 * length]
+        if orientation:
+            values += [printed(v, truncate, 4) for v in np.degrees(rpy_of(poses[k, :3, :3]))]
+        lines.append(",".join([*(repr(float(v)) for v in joint[k]), *values]))
+    samples = tmp_path / "samples.csv"
+    samples.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return table, samples
+
+
+def found(audit) -> set[tuple]:
+    """The best reading's changes as (kind, row, value), values only for unit kinds."""
+    units = {"length_unit", "sample_length_unit", "angle_unit"}
+    return {
+        (c.kind, c.row, c.value if c.kind in units else None) for c in audit.best.reading.changes
+    }
+
+
+#: Lengths of the table and of the samples both in mm: one consistent arm, nothing to find.
+UNIFORM = ("table_in_mm", "samples_in_mm")
+CASES = [(c,) for c in EXPECTED] + [
+    pair for pair in itertools.combinations(EXPECTED, 2) if pair != UNIFORM
+]
+
+
+@pytest.mark.parametrize("corruptions", CASES, ids=["+".join(c) for c in CASES])
+def test_audit_recovers_the_corruption(tmp_path, corruptions):
+    """The best reading is exactly the corruption, and it reproduces every sample."""
+    table, samples = write_case(tmp_path, corruptions)
+    audit = audit_samples(table, samples)
+    expected = {EXPECTED[c] for c in corruptions}
+    assert found(audit) == expected, f"{corruptions=} best: {audit.best.reading.label}"
+    assert audit.best.count == SAMPLES, f"{corruptions=} {audit.best.count=}"
+
+
+def test_correct_table_is_the_best_reading(tmp_path):
+    """Samples of the table itself: the table as written ranks first, every sample reproduced."""
+    table, samples = write_case(tmp_path, ())
+    audit = audit_samples(table, samples)
+    assert audit.best.reading.changes == (), audit.best.reading.label
+    assert audit.best.count == SAMPLES
+    assert audit.best.max_residual_m < math.sqrt(3) * 0.5e-5  # half of 0.001 cm per axis
+
+
+def test_uniform_unit_error_is_no_error(tmp_path):
+    """Table and samples both written in mm under a cm label: the table as written reproduces."""
+    table, samples = write_case(tmp_path, UNIFORM)
+    audit = audit_samples(table, samples)
+    assert audit.best.reading.changes == (), audit.best.reading.label
+    assert audit.best.count == SAMPLES
+
+
+def test_last_twist_needs_the_orientation(tmp_path):
+    """Without a tool offset the last twist moves no point: only printed rpy reveal its sign."""
+    rows = [*ROWS[:6], (0.0, 90.0, 8.0, 0.0)]
+    table, samples = write_case(tmp_path, ("twist7",), rows=rows, tool="")
+    blind = audit_samples(table, samples)
+    assert blind.best.reading.changes == (), blind.best.reading.label
+    table, samples = write_case(tmp_path, ("twist7",), rows=rows, tool="", orientation=True)
+    audit = audit_samples(table, samples)
+    assert found(audit) == {("twist", 7, None)}, audit.best.reading.label
+    assert audit.as_written().count == 0
+
+
+def test_seven_joints_twenty_samples_under_two_seconds(tmp_path):
+    """A 7-joint table with 20 samples, pairs and refits included, is audited in under 2 s."""
+    table, samples = write_case(tmp_path, ("convention", "twist3"))
+    audit_samples(table, samples)  # warm-up: imports, first calls
+    start = time.perf_counter()
+    audit = audit_samples(table, samples)
+    elapsed = time.perf_counter() - start
+    assert len(audit.scores) > 300, len(audit.scores)
+    assert elapsed < 2.0, f"{elapsed=:.2f} s"
