@@ -117,7 +117,9 @@ class StreamSolver:
     def run(self, lines: Iterable[str], out: TextIO) -> int:
         """Answer every line of ``lines`` on ``out``, one flushed JSON line each; return 0."""
         q_units = list(self.units.si_labels)
-        write, flush, dumps, answer = out.write, out.flush, json.dumps, self.answer
+        # the records are fresh trees of dicts and lists: no need to look for cycles
+        dumps = json.JSONEncoder(check_circular=False).encode
+        write, flush, answer = out.write, out.flush, self.answer
         for number, line in enumerate(lines, start=1):
             if not line or line.isspace():
                 continue
