@@ -176,3 +176,21 @@ def test_no_valid_solution_keeps_the_best_attempt(monkeypatch, capsys):
     assert not answer["success"] and answer["status"] == "outside_limits"
     assert answer["solutions"] == [] and answer["rejected"][0]["position_error_m"] < 1e-7
     assert answer["rejected"][0]["rotation_error_rad"] is None
+
+
+def test_ctrl_c_while_waiting_for_input_exits_130():
+    """Ctrl-C while the stream waits for a line: `kin ik: interrupted` on stderr, exit 130."""
+    import signal
+
+    process = subprocess.Popen(
+        [*kin_command(), "ik", "--robot", "pickplace3", "--stdin"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    process.stdin.write(b'{"target": [0.39, 0.08, 0.3]}\n')
+    process.stdin.flush()
+    assert json.loads(process.stdout.readline())["success"]  # started, now waiting
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130 and err.decode().splitlines() == ["kin ik: interrupted"]
