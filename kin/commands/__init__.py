@@ -8,6 +8,7 @@ the IK solvers.
 
 from __future__ import annotations
 
+import argparse
 import importlib
 import sys
 
@@ -33,9 +34,9 @@ def get_argument_parser() -> ArgumentParser:
     epilog = "commands:\n" + "\n".join(f"  {name:<8}{text}" for name, text in COMMANDS.items())
     parser = ArgumentParser(
         prog="kin",
-        description=__doc__.split("\n\n")[0],
+        description="kin: forward and inverse kinematics of DH robots, one subcommand per task.",
         epilog=epilog + "\n\nkin COMMAND --help shows the options of a command.",
-        formatter_class=__import__("argparse").RawDescriptionHelpFormatter,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"kin {__version__}")
     parser.add_argument("command", choices=tuple(COMMANDS), metavar="COMMAND", help="see below")
