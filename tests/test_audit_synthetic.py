@@ -16,9 +16,10 @@ import time
 import numpy as np
 import pytest
 
-from dh2urdf import parse_table
+from dh2urdf import load_table
 from kin import batch_forward_kinematics
 from kin.audit import audit_samples
+from kin.audit.printed import rpy_of
 
 #: (a [cm], alpha [deg], d [cm], theta [deg]) per row.
 ROWS = (
@@ -72,10 +73,10 @@ def printed(value: float, truncate: bool, places: int = DECIMALS) -> str:
 
 def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
     """Write the corrupted table and samples; return their paths."""
-    import tomllib
-
     rows = [list(r) for r in rows]
-    correct = parse_table(tomllib.loads(table_toml(rows, tool=tool)))
+    reference = tmp_path / "correct.toml"
+    reference.write_text(table_toml(rows, tool=tool), encoding="utf-8")
+    correct = load_table(reference)
     q_deg = np.random.default_rng(7).uniform(-150, 150, size=(SAMPLES, len(rows)))
     poses = batch_forward_kinematics(correct, np.radians(q_deg))
     for c in corruptions:
@@ -99,8 +100,6 @@ def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
     if orientation:
         header += ["roll", "pitch", "yaw"]
     lines = [",".join(header)]
-    from kin.audit.printed import rpy_of
-
     for k in range(SAMPLES):
         values = [printed(v, truncate) for v in poses[k, :3, 3] * 100.0 * length]
         if orientation:

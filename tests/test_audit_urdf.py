@@ -1,0 +1,122 @@
+"""The audit against example-robot-data's URDFs finds the base rotation found by hand.
+
+tests/test_example_robot_data.py states T_erd_our = Rz(pi) for ur5 (tool = tool0) and identity
+for panda (tool = panda_link8); the audit must find the same from the URDFs alone, to 1e-9, and
+find a twist sign, the convention or the length unit when we corrupt our table.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dh2urdf import get_robot
+from kin.audit import AuditError, audit_urdf
+from kin.audit.command import main
+
+TOL = 1e-9
+RZ_PI = np.diag([-1.0, -1.0, 1.0, 1.0])
+
+#: robot -> (URDF inside example-robot-data's robots folder, frame, expected base B).
+CASES = {
+    "panda": ("panda_description/urdf/panda.urdf", "panda_link8", np.eye(4)),
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0", RZ_PI),
+}
+
+
+def erd_urdf(relative: str) -> Path:
+    """Absolute path of an example-robot-data URDF (``robots/<relative>``)."""
+    suffix = f"example-robot-data/robots/{relative}"
+    for file in importlib.metadata.files("example-robot-data") or ():
+        if str(file).endswith(suffix):
+            return Path(str(file.locate()))
+    raise FileNotFoundError(suffix)
+
+
+@pytest.mark.parametrize("robot", sorted(CASES))
+def test_finds_the_base_transform_of_example_robot_data(robot):
+    """Table as written, base Rz(pi) (ur5) or identity (panda), tool identity, to 1e-9."""
+    relative, frame, base = CASES[robot]
+    audit = audit_urdf(robot, erd_urdf(relative), frame)
+    best = audit.best
+    assert best.reading.changes == (), f"{robot=} {best.reading.label}"
+    assert best.reproduced
+    assert np.abs(best.fit.T_ref_base - base).max() < TOL, f"{robot=} {best.fit.T_ref_base}"
+    assert np.abs(best.fit.T_tool_ref - np.eye(4)).max() < TOL, f"{robot=} {best.fit.T_tool_ref}"
+    assert best.fit.position_residual_m < TOL and best.fit.rotation_residual_rad < 1e-10
+    assert audit.reference.mapped_by == "name"
+
+
+def corrupted_ur5(tmp_path: Path, *, row: int = 0, convention: str = "", millimeters: bool = False):
+    """ur5.toml with the twist of ``row`` negated, another convention, or lengths in mm."""
+    text = get_robot("ur5").table_path.read_text(encoding="utf-8")
+    head, *blocks = text.split("[[joints]]")
+    if row:
+        blocks[row - 1] = blocks[row - 1].replace("alpha = ", "alpha = -").replace("--", "")
+    if convention:
+        head = head.replace('convention = "standard"', f'convention = "{convention}"')
+    if millimeters:
+        for k, block in enumerate(blocks):
+            lines = []
+            for line in block.splitlines():
+                key, _, value = line.partition(" = ")
+                if key in ("a", "d"):
+                    line = f"{key} = {float(value) * 1000.0!r}"
+                lines.append(line)
+            blocks[k] = "\n".join(lines) + "\n"
+    path = tmp_path / "ur5_corrupted.toml"
+    path.write_text("[[joints]]".join([head, *blocks]), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("options", "expected"),
+    [
+        ({"row": 4}, "alpha4: -1.5708 -> 1.5708 rad"),
+        ({"convention": "modified"}, "convention: modified -> standard"),
+        ({"millimeters": True}, "length unit of the table: m -> mm"),
+    ],
+)
+def test_finds_a_corruption_of_our_ur5(tmp_path, options, expected):
+    """A corrupted ur5 table: the best reading undoes it and gives Rz(pi) again."""
+    table = corrupted_ur5(tmp_path, **options)
+    audit = audit_urdf(table, erd_urdf(CASES["ur5"][0]), "tool0")
+    assert [c.text for c in audit.best.reading.changes] == [expected], audit.best.reading.label
+    assert audit.best.reproduced
+    assert np.abs(audit.best.fit.T_ref_base - RZ_PI).max() < TOL
+    assert not next(s for s in audit.scores if not s.reading.changes).reproduced
+
+
+def test_joints_matched_by_order_when_names_differ(tmp_path):
+    """Our ur5 with other joint names still maps onto the URDF's joints, by order."""
+    text = get_robot("ur5").table_path.read_text(encoding="utf-8")
+    path = tmp_path / "renamed.toml"
+    path.write_text(text.replace('name = "shoulder_', 'name = "my_shoulder_'), encoding="utf-8")
+    audit = audit_urdf(path, erd_urdf(CASES["ur5"][0]), "tool0", pairs=False)
+    assert audit.reference.mapped_by == "order"
+    assert audit.best.reading.changes == () and audit.best.reproduced
+
+
+def test_missing_frame_names_it():
+    """A frame the URDF lacks: AuditError naming the frame and listing the URDF's frames."""
+    with pytest.raises(AuditError, match=r"no frame 'tool9'; available frames: .*tool0"):
+        audit_urdf("ur5", erd_urdf(CASES["ur5"][0]), "tool9")
+
+
+def test_json_gives_base_and_tool_in_the_table_units(capsys):
+    """--json: readings best first, base rpy (0, 0, +-pi) rad for ur5, residuals in SI."""
+    code = main(["ur5", "--urdf", str(erd_urdf(CASES["ur5"][0])), "--frame", "tool0", "--json"])
+    assert code == 0
+    record = json.loads(capsys.readouterr().out)
+    best = record["readings"][0]
+    assert best["changes"] == [] and best["reproduced"] is True
+    assert np.allclose(best["base"]["xyz"], 0.0, atol=TOL)
+    roll, pitch, yaw = best["base"]["rpy"]
+    assert abs(roll) < TOL and abs(pitch) < TOL and abs(abs(yaw) - math.pi) < TOL
+    assert best["position_residual_m"] < TOL
+    assert record["joints_matched_by"] == "name" and record["frame"] == "tool0"
