@@ -114,7 +114,7 @@ def batch_forward_kinematics(
     q = _joint_array(table, q)
     n = q.shape[0]
     out = np.zeros((n, table.dof + 2 if frames else 1, 4, 4))
-    keep = None if frames else frozenset()
+    keep: frozenset[int] | None = None if frames else frozenset()
     for start in range(0, n, _BLOCK):
         block = out[start : start + _BLOCK]
         for f, (_, frame_cols, frame_p) in enumerate(

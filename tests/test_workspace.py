@@ -182,3 +182,11 @@ def test_import_kin_loads_neither_dask_nor_matplotlib():
         [sys.executable, "-c", code], check=True, capture_output=True, text=True, cwd=Path.cwd()
     ).stdout
     assert out.strip() == "[]"
+
+
+def test_progress_reports_every_chunk_up_to_n():
+    """progress gets the samples done after each chunk, increasing to n."""
+    calls: list[tuple[int, int]] = []
+    table = get_robot("planar2").load_table()
+    workspace(table, 2_500, chunk_size=1_000, progress=lambda done, n: calls.append((done, n)))
+    assert calls == [(1_000, 2_500), (2_000, 2_500), (2_500, 2_500)]
