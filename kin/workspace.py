@@ -9,8 +9,9 @@ is exact (min, max, logical or, integer sums), so the statistics depend on ``see
 (:mod:`kin.workspace_run`).
 
 Points of reference: the *base axis* is the world z axis through the origin of DH frame 0 (the
-base frame); the *shoulder* is the origin of DH frame 1 of each sample (it moves with joint 1 when
-``a1`` or ``d1`` is swept around, as for a prismatic joint 1 or an offset shoulder).
+base frame); the *shoulder* is the origin of DH frame 1 of each sample. With ``a1 = 0`` (humanoid7,
+pickplace3, ur5) that point is fixed on joint 1's axis, the shoulder; otherwise it turns with
+joint 1 (scorbot's 16 mm offset), and for planar2 (``a1 = 0.3 m``) it is the elbow.
 """
 
 from __future__ import annotations
