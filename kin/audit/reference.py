@@ -7,8 +7,15 @@ neutral value. Continuous joints (``nq = 2`` in Pinocchio) are set through ``(co
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
+import tempfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO
+from xml.etree import ElementTree
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +70,21 @@ class ReferenceUrdf:
         return out
 
 
+@contextlib.contextmanager
+def _captured_stderr() -> Iterator[IO[str]]:
+    """Send what C++ code writes on file descriptor 2 (urdfdom's parse errors) to a file."""
+    sys.stderr.flush()
+    with tempfile.TemporaryFile(mode="w+") as sink:
+        saved = os.dup(2)
+        try:
+            os.dup2(sink.fileno(), 2)
+            yield sink
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            sink.seek(0)
+
+
 def load_reference(path: str | Path, frame: str, table: DHTable) -> ReferenceUrdf:
     """Load ``path`` and find ``frame`` and the joints of ``table`` in it.
 
@@ -76,13 +98,22 @@ def load_reference(path: str | Path, frame: str, table: DHTable) -> ReferenceUrd
     if not Path(path).is_file():
         raise AuditError("no such URDF file", where)
     try:
-        model = pin.buildModelFromUrdf(where)
-    except (RuntimeError, ValueError) as err:
-        raise AuditError(f"Pinocchio cannot load the URDF: {err}", where) from err
-    names = [f.name for f in model.frames]
+        root = ElementTree.parse(where).getroot()
+    except ElementTree.ParseError as err:
+        raise AuditError(f"not valid XML: {err}", where) from err
+    if root.tag != "robot":
+        raise AuditError(f"not a URDF: the root element is <{root.tag}>, not <robot>", where)
+    with _captured_stderr() as messages:
+        try:
+            model = pin.buildModelFromUrdf(where)
+        except (RuntimeError, ValueError) as err:
+            said = " ".join(messages.read().split()) or str(err)
+            raise AuditError(f"Pinocchio cannot load the URDF: {said}", where) from err
     if not model.existFrame(frame):
-        shown = ", ".join(dict.fromkeys(n for n in names if n != "universe"))
-        raise AuditError(f"the URDF has no frame '{frame}'; available frames: {shown}", where)
+        links = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
+        raise AuditError(
+            f"the URDF has no frame '{frame}'; available frames: {', '.join(links)}", where
+        )
     actuated = [j for j in range(1, model.njoints) if model.joints[j].nv == 1]
     joint_names = [model.names[j] for j in actuated]
     if all(name in joint_names for name in table.joint_names):
