@@ -9,7 +9,9 @@ which writes the page of ``kin preview --robot humanoid7 --q 20 30 0 60 0 30 0 -
 
     chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
         --disable-background-networking --disable-component-update --disable-sync \
-        --use-angle=swiftshader --enable-unsafe-swiftshader --user-data-dir=PROFILE \
+        --use-angle=swiftshader --enable-unsafe-swiftshader --hide-scrollbars \
+        --host-resolver-rules="MAP * ~NOTFOUND" --proxy-server=http://127.0.0.1:9 \
+        --user-data-dir=PROFILE \
         --window-size=800,600 --virtual-time-budget=4000 --screenshot=docs/preview.png \
         file:///.../PAGE
 
@@ -33,7 +35,7 @@ DOCS_PREVIEW = (
     "--robot humanoid7 --q 20 30 0 60 0 30 0 --deg --target 30 20 -20 --unit cm --frames --ik"
 ).split()
 
-#: Chromium flags: headless, no network services, software WebGL (SwiftShader).
+#: Chromium flags: headless, no network at all, software WebGL (SwiftShader).
 CHROMIUM_FLAGS = (
     "--headless",
     "--no-sandbox",
@@ -46,6 +48,9 @@ CHROMIUM_FLAGS = (
     "--use-angle=swiftshader",
     "--enable-unsafe-swiftshader",
     "--hide-scrollbars",
+    # no network: every host unresolvable, every request through a closed proxy port
+    "--host-resolver-rules=MAP * ~NOTFOUND",
+    "--proxy-server=http://127.0.0.1:9",
 )
 
 
