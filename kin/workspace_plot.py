@@ -39,7 +39,7 @@ def _figure(work: WorkspaceMap, unit: str):  # noqa: ANN202
         from matplotlib.colors import LogNorm
         from matplotlib.figure import Figure
     except ImportError as err:
-        raise KinError('pictures need matplotlib: pip install "dh-kinematics[viz]"') from err
+        raise KinError("pictures need matplotlib: pip install 'matplotlib>=3.7'") from err
     stats, grid = work.stats, work.grid
     scale = length_scale(unit)
     v = grid.voxel_size_m / scale
