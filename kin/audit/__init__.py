@@ -10,9 +10,10 @@ The command is ``dh2urdf audit`` (:mod:`kin.audit.command`).
 """
 
 from .audited_table import AuditedTable, load_audited_table
+from .changes import Change, elementary_changes
 from .exceptions import AuditError
 from .printed import SampleScore, score_readings
-from .readings import Change, Reading, apply_changes, candidate_readings, elementary_changes
+from .readings import Reading, apply_changes, candidate_readings
 from .sample_audit import SampleAudit, audit_samples
 from .samples import SampleSet, read_samples
 from .se3_fit import BaseToolFit, fit_base_tool

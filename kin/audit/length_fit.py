@@ -14,8 +14,9 @@ import dataclasses
 import numpy as np
 
 from .audited_table import AuditedTable
+from .changes import Change
 from .printed import SampleScore, predicted_values, score_readings
-from .readings import Change, Reading, apply_changes
+from .readings import Reading, apply_changes, with_field
 from .samples import SampleSet
 
 #: Samples a refitted length must reproduce beyond the reading without it.
@@ -24,7 +25,7 @@ MIN_GAIN = 2
 
 def _set_length(reading: Reading, row: int, field: str, value_m: float) -> Reading:
     rows = list(reading.table.rows)
-    rows[row - 1] = dataclasses.replace(rows[row - 1], **{field: value_m})
+    rows[row - 1] = with_field(rows[row - 1], field, value_m)
     table = dataclasses.replace(reading.table, rows=tuple(rows))
     return dataclasses.replace(reading, table=table)
 
