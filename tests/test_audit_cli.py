@@ -137,3 +137,22 @@ def test_text_report_and_check(capsys):
     assert 'convention: modified -> standard: convention = "standard"' in out
     assert main(["ned5", "--samples", HOME, "--check"]) == 0
     assert "the best reading is the table as written: no edit" in capsys.readouterr().out
+
+
+def test_json_has_per_sample_residuals(capsys):
+    """--json: every reading lists its reproduced samples and one residual [m] per sample."""
+    assert main(["pickplace3", "--samples", str(DATA / "pickplace3_table4.csv"), "--json"]) == 0
+    best = json.loads(capsys.readouterr().out)["readings"][0]
+    assert best["reproduced_samples"] == ["case 2"]
+    assert len(best["residuals_m"]) == 2
+    assert abs(best["residuals_m"][0] - 0.394) < 1e-9  # case 1: Pz 367 mm printed, -27 mm ours
+    assert best["residuals_m"][1] < 1e-6
+
+
+def test_package_names():
+    """kin.audit's __all__ is sorted, without duplicates, and every name exists."""
+    import kin.audit
+
+    names = list(kin.audit.__all__)
+    assert names == sorted(names) and len(names) == len(set(names))
+    assert all(hasattr(kin.audit, name) for name in names)

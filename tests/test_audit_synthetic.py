@@ -173,3 +173,46 @@ def test_seven_joints_twenty_samples_under_two_seconds(tmp_path):
     elapsed = time.perf_counter() - start
     assert len(audit.scores) > 300, len(audit.scores)
     assert elapsed < 2.0, f"{elapsed=:.2f} s"
+
+
+@pytest.mark.parametrize(
+    ("corruption", "expected"),
+    [
+        ("convention", {("convention", None, None)}),
+        ("slide_length", {("offsets", None, None)}),
+        ("samples_in_cm", {("sample_length_unit", None, "cm")}),
+    ],
+)
+def test_prismatic_joint(tmp_path, corruption, expected):
+    """A SCARA-like arm (mm, a prismatic joint): its values are lengths, its offset is d."""
+    from cli_helper import write_rrpr4
+
+    path = write_rrpr4(tmp_path)
+    correct = load_table(path)
+    rng = np.random.default_rng(3)
+    q = np.column_stack(
+        [
+            rng.uniform(-150, 150, (SAMPLES, 2)),
+            rng.uniform(0, 200, SAMPLES),
+            rng.uniform(-180, 180, SAMPLES),
+        ]
+    )
+    q_si = np.column_stack([np.radians(q[:, :2]), q[:, 2] / 1000.0, np.radians(q[:, 3])])
+    positions = batch_forward_kinematics(correct, q_si)[:, :3, 3] * 1000.0  # mm
+    if corruption == "convention":
+        text = path.read_text(encoding="utf-8").replace('"standard"', '"modified"')
+        path.write_text(text, encoding="utf-8")
+    if corruption == "slide_length":
+        q[:, 2] += 20.0  # the printed value is the DH length q + d
+    scale = 0.1 if corruption == "samples_in_cm" else 1.0
+    if corruption == "samples_in_cm":
+        q[:, 2] *= scale
+    lines = ["q1,q2,q3,q4,x,y,z"]
+    for k in range(SAMPLES):
+        xyz = [printed(v * scale, False, 4) for v in positions[k]]
+        lines.append(",".join([*(repr(float(v)) for v in q[k]), *xyz]))
+    samples = tmp_path / "samples.csv"
+    samples.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    audit = audit_samples(path, samples)
+    assert found(audit) == expected, audit.best.reading.label
+    assert audit.best.count == SAMPLES

@@ -36,6 +36,7 @@ def sample_audit_json(audit: SampleAudit) -> dict[str, Any]:
                 "reproduced_samples": [
                     lab for lab, ok in zip(labels, s.reproduced, strict=True) if ok
                 ],
+                "residuals_m": [float(v) for v in s.position_residual_m],
             }
         )
     a = audit.audited
