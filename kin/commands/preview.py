@@ -114,7 +114,8 @@ def _run(args, prog: str) -> int:  # noqa: ANN001
             steps = max(2, int(round(args.duration * 30)) + 1)
             path = np.linspace(q_start, q_goal, steps)
             viewer.show_path(path, dt=args.duration / (steps - 1))
-        viewer.fit_camera(None if target is None else [target.position])
+        in_view = [q_start] if q_goal is None else [q_start, q_goal]
+        viewer.fit_camera(None if target is None else [target.position], in_view)
         if args.html is not None:
             written = write_page(args.html, viewer.static_html())
             print(f"{robot.name}: preview written to {written}")

@@ -212,19 +212,30 @@ class RobotViewer:
         camera = self.viewer["/Cameras/default/rotated/<object>"]
         camera.set_property("position", [offset[0], offset[2], -offset[1]])
 
-    def fit_camera(self, extra_points: npt.ArrayLike | None = None) -> None:
-        """Aim the camera at the arm (frames at the current q) and ``extra_points`` (M, 3) [m]."""
+    def fit_camera(
+        self,
+        extra_points: npt.ArrayLike | None = None,
+        configurations: Sequence[npt.ArrayLike] | None = None,
+    ) -> None:
+        """Aim the camera at every frame of the arm and at ``extra_points``.
+
+        Args:
+            extra_points: More points to keep in view, shape (M, 3), world frame [m].
+            configurations: Joint vectors whose frames must be in view (default: the current q).
+        """
         data = self.robot.model.createData()
-        pin.framesForwardKinematics(self.robot.model, data, self.q)
-        points = [frame.translation for frame in data.oMf]
+        corners: list[np.ndarray] = []
+        for q in [self.q] if configurations is None else configurations:
+            pin.framesForwardKinematics(self.robot.model, data, as_joint_vector(self.robot, q))
+            corners.extend(frame.translation.copy() for frame in data.oMf)
         if extra_points is not None:
-            points.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
-        points = np.array(points)
-        low, high = points.min(axis=0), points.max(axis=0)
+            corners.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
+        cloud = np.array(corners)
+        low, high = cloud.min(axis=0), cloud.max(axis=0)
         centre = 0.5 * (low + high)
         size = max(float(np.linalg.norm(high - low)), 0.5 * self.arm_length, 0.05)
         direction = np.array([1.0, 0.8, 0.7]) / np.linalg.norm([1.0, 0.8, 0.7])
-        self.set_camera(centre, centre + 1.2 * size * direction)
+        self.set_camera(centre, centre + 0.9 * size * direction)
 
     def static_html(self) -> str:
         """The scene as one self-contained HTML page (meshcat's export, three.js inlined)."""
