@@ -66,17 +66,22 @@ def pictures(tmp_path_factory) -> dict[str, np.ndarray]:
     for robot, (q_a, q_b) in CONFIGURATIONS.items():
         pages[f"{robot}-a"] = robot_page(robot, q_a)
         pages[f"{robot}-b"] = robot_page(robot, q_b)
-    # the --ik page after its 2 s animation, and the still page at the IK answer
-    argv = ["--robot", "pickplace3", "--unit", "mm", "--target", "390", "80", "300"]
+    # the --ik page after its 2 s animation, and a still page of the IK answer built through the
+    # API as the command builds its page (base and tool triads, target, camera on start and end)
+    page = folder / "ik.html"
+    argv = ["--robot", "pickplace3", "--unit", "mm", "--target", "390", "80", "300", "--ik"]
+    assert command.main([*argv, "--html", str(page)]) == 0
+    pages["ik"] = page.read_text(encoding="utf-8")
     from kin.ik import PositionTarget, get_solver
 
-    robot = load_robot("pickplace3")
-    q_goal = get_solver(robot).solve(PositionTarget([0.39, 0.08, 0.3]), np.zeros(3)).solutions[0].q
-    runs = {"ik": ["--ik"], "goal": ["--q", *map(repr, q_goal.tolist())]}
-    for name, extra in runs.items():
-        path = folder / f"{name}.html"
-        assert command.main([*argv, *extra, "--html", str(path)]) == 0
-        pages[name] = path.read_text(encoding="utf-8")
+    robot, target, q_start = load_robot("pickplace3"), np.array([0.39, 0.08, 0.3]), np.zeros(3)
+    q_goal = get_solver(robot).solve(PositionTarget(target), q_start).solutions[0].q
+    still = viewer_module.RobotViewer(robot)
+    still.show_frames(["base_link", "tool"])
+    still.display(q_goal)
+    still.show_target(target)
+    still.fit_camera([target], [q_start, q_goal])
+    pages["goal"] = still.static_html()
     for name, html in pages.items():
         (folder / f"{name}.html").write_text(html, encoding="utf-8")
 
