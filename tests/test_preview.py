@@ -155,12 +155,49 @@ def test_show_points_and_show_path_api():
         (["--robot", "ur5", "--rpy", "0", "0", "0"], "--rpy needs --target"),
         (["--robot", "ur5", "--q", "0", "0"], "--q needs 6 values"),
         (["--robot", "ur5", "--frames", "--html", "/nonexistent/folder/page.html"], "cannot write"),
+        (
+            [
+                "--robot",
+                "pickplace3",
+                "--target",
+                "0.3",
+                "0",
+                "0.3",
+                "--rpy",
+                "0",
+                "0",
+                "0",
+                "--ik",
+            ],
+            "a full pose needs at least 6 joints",
+        ),
     ],
 )
 def test_bad_input_exits_2_with_one_line_and_no_file(argv, needle, tmp_path, capsys):
     """Bad input: exit 2, one stderr line naming the problem, no page written."""
     argv = argv if "--html" in argv else [*argv, "--html", str(tmp_path / "page.html")]
     assert_one_line_error(call(command.main, argv), capsys.readouterr().err, needle)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_ik_without_a_solution_still_writes_the_page_and_exits_1(tmp_path, capsys):
+    """--ik out of reach: a warning line, the page (target, no animation), exit 1."""
+    page = tmp_path / "page.html"
+    argv = ["--robot", "pickplace3", "--target", "5", "0", "0", "--ik", "--html", str(page)]
+    assert command.main(argv) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("kin preview: warning: no IK solution") and len(err.splitlines()) == 1
+    commands = page_commands(page.read_text(encoding="utf-8"))
+    assert "/meshcat/scene/markers/target/sphere" in object_paths(commands)
+    assert not [c for c in commands if c["type"] == "set_animation"]
+
+
+def test_missing_meshcat_is_one_line_with_the_install_hint(tmp_path, capsys, monkeypatch):
+    """Without meshcat: exit 2, one line saying how to install it, no page."""
+    monkeypatch.setitem(sys.modules, "meshcat", None)  # import meshcat now fails
+    monkeypatch.delitem(sys.modules, "kin.viewer")
+    code = call(command.main, ["--robot", "planar2", "--html", str(tmp_path / "page.html")])
+    assert_one_line_error(code, capsys.readouterr().err, "pip install meshcat")
     assert list(tmp_path.iterdir()) == []
 
 

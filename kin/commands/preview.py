@@ -17,9 +17,11 @@ input.
 
 from __future__ import annotations
 
+import argparse
 import signal
 import sys
 import time
+from typing import TYPE_CHECKING
 
 from ..cli import (
     ArgumentParser,
@@ -29,6 +31,13 @@ from ..cli import (
     positive_float,
     run_guarded,
 )
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..ik.target import Target
+    from ..robot_model import RobotModel
+    from .joint_units import JointUnits
 
 PROG = "kin preview"
 EXIT_NO_SOLUTION = 1
@@ -74,7 +83,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     return run_guarded(prog, lambda: _run(args, prog), extra=(ModuleNotFoundError,))
 
 
-def _run(args, prog: str) -> int:  # noqa: ANN001
+def _run(args: argparse.Namespace, prog: str) -> int:
+    """Build the scene, then write the page or serve it."""
     import numpy as np
 
     from ..configuration import limit_violations
@@ -96,7 +106,9 @@ def _run(args, prog: str) -> int:  # noqa: ANN001
         target, _ = build_target(
             args.target, rpy=args.rpy, length=length, angle=angle_scale(args.deg)
         )
-    q_goal = _solve(robot, target, q_start, args, units, prog) if args.ik else None
+    q_goal = None
+    if args.ik and target is not None:
+        q_goal = _solve(robot, target, q_start, args, units, prog)
 
     from ..viewer import RobotViewer, write_page  # meshcat: only now
 
@@ -128,8 +140,15 @@ def _run(args, prog: str) -> int:  # noqa: ANN001
         viewer.close()
 
 
-def _solve(robot, target, q_start, args, units, prog: str):  # noqa: ANN001, ANN202
-    """IK answer nearest the solver's choice from ``q_start``, or None (with a warning line)."""
+def _solve(
+    robot: RobotModel,
+    target: Target,
+    q_start: np.ndarray,
+    args: argparse.Namespace,
+    units: JointUnits,
+    prog: str,
+) -> np.ndarray | None:
+    """The valid IK answer closest to ``q_start`` [rad, m], or None after a warning line."""
     from ..ik.exceptions import StructureError
     from .solver_choice import choose_solver, solve_function, target_kinds
     from .targets import check_kind
