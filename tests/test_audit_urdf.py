@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dh2urdf import get_robot
+from dh2urdf import ROBOTS, get_robot
 from kin.audit import AuditError, audit_urdf
 from kin.audit.command import main
 
@@ -120,3 +120,14 @@ def test_json_gives_base_and_tool_in_the_table_units(capsys):
     assert abs(roll) < TOL and abs(pitch) < TOL and abs(abs(yaw) - math.pi) < TOL
     assert best["position_residual_m"] < TOL
     assert record["joints_matched_by"] == "name" and record["frame"] == "tool0"
+
+
+@pytest.mark.parametrize("robot", sorted(ROBOTS))
+def test_each_table_matches_its_own_urdf(robot):
+    """Every shipped table against its generated URDF: as written, B = E = identity."""
+    audit = audit_urdf(robot, get_robot(robot).urdf_path, "tool", pairs=False)
+    fit = audit.best.fit
+    assert audit.best.reading.changes == (), f"{robot=} {audit.best.reading.label}"
+    assert np.abs(fit.T_ref_base - np.eye(4)).max() < TOL, f"{robot=}"
+    assert np.abs(fit.T_tool_ref - np.eye(4)).max() < TOL, f"{robot=}"
+    assert fit.unique == (robot != "planar2"), f"{robot=} {fit.unique=}"

@@ -156,17 +156,23 @@ def urdf_audit_text(audit: UrdfAudit, top: int = 10) -> str:
         ("tool", best.fit.T_tool_ref, f"pose of '{ref.frame}' in the table's tool frame"),
     ):
         pose = _pose(matrix, a.meters, a.radians)
-        xyz = ", ".join(f"{v:.9g}" for v in pose["xyz"])
-        rpy = ", ".join(f"{v:.9g}" for v in pose["rpy"])
+        xyz = ", ".join(_shown(v) for v in pose["xyz"])
+        rpy = ", ".join(_shown(v) for v in pose["rpy"])
         lines.append(
             f"  {name}: xyz = ({xyz}) {a.length_unit}, rpy = ({rpy}) {a.angle_unit}  ({meaning})"
         )
-    same = [
-        s.reading.label
-        for s in audit.scores[1:]
-        if s.reproduced and best.reproduced and len(s.reading.changes) <= 2
-    ]
+    if not best.fit.unique:
+        lines.append(
+            "  base and tool are not unique: a motion of both leaves every sample in place "
+            "(e.g. a planar arm: a shift or turn along the common joint axis)"
+        )
+    same = [f"[{s.reading.label}]" for s in audit.scores[1:] if s.reproduced and best.reproduced]
     if same:
-        shown = "; ".join(same[:5]) + (f"; ... ({len(same)} in all)" if len(same) > 5 else "")
+        shown = ", ".join(same[:5]) + (f", ... ({len(same)} in all)" if len(same) > 5 else "")
         lines.append(f"  equally good (absorbed by the base or tool transform): {shown}")
     return "\n".join(lines)
+
+
+def _shown(value: float) -> str:
+    """A number for the text report, round-off below 1e-12 shown as 0."""
+    return f"{value if abs(value) > 1e-12 else 0.0:.9g}"

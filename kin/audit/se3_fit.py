@@ -3,8 +3,12 @@
 Rotations first, in closed form: ``R_ref = R_B R_table R_E`` gives ``R_B R_table - R_ref R_E^T
 = 0``, linear and homogeneous in the 18 entries of ``R_B`` and ``R_E^T``; the right singular
 vector of the smallest singular value, scaled to determinant 1 and projected onto SO(3), is the
-least-squares answer (exact for exact data). Then the translations, linear least squares in
-``p_B`` and ``p_E``: ``p_ref - R_B p_table = R_B R_table p_E + p_B``.
+least-squares answer (exact for exact data). When the rotations leave that null space wider than
+one vector (all joint axes parallel: a planar arm), the positions decide instead: the
+joint linear least-squares problem in ``R_B``, ``p_B``, ``R_E^T``, ``p_E^*`` (24 unknowns, with
+``R_B p_table + p_B = R_ref p_E^* + p_ref``), minimum-norm, then projected. Then the
+translations, linear least squares in ``p_B`` and ``p_E``:
+``p_ref - R_B p_table = R_B R_table p_E + p_B``.
 """
 
 from __future__ import annotations
@@ -23,15 +27,20 @@ class BaseToolFit:
         T_tool_ref: ``E``, pose of the reference frame in the table's tool frame (4x4) [m].
         position_residual_m: Largest distance between ``B T_table E`` and the reference [m].
         rotation_residual_rad: Largest rotation angle between them [rad].
-        rotation_rank_gap: Ratio of the two smallest singular values of the rotation problem;
-            near 1 the rotations do not determine ``B`` and ``E`` uniquely (e.g. a planar arm).
+        unique: The samples determine ``B`` and ``E``; False when a motion of both leaves every
+            sample in place (a planar arm: a shift or turn along the common joint axis).
     """
 
     T_ref_base: np.ndarray
     T_tool_ref: np.ndarray
     position_residual_m: float
     rotation_residual_rad: float
-    rotation_rank_gap: float
+    unique: bool
+
+
+#: Second smallest over largest singular value of the rotation problem below which the rotations
+#: leave ``B`` and ``E`` undetermined (more than one null vector).
+UNIQUE_GAP = 1e-6
 
 
 def project_to_so3(matrix: np.ndarray) -> np.ndarray:
@@ -62,22 +71,47 @@ def fit_base_tool(T_table: np.ndarray, T_ref: np.ndarray) -> BaseToolFit:
     right = np.einsum("ij,nkl->nikjl", eye, r_u).reshape(n, 9, 9)
     system = np.concatenate([left, -right], axis=2).reshape(9 * n, 18)
     _, singular, vt = np.linalg.svd(system, full_matrices=False)
-    v = vt[-1]
-    x, y = v[:9].reshape(3, 3, order="F"), v[9:].reshape(3, 3, order="F")
-    scale = np.cbrt(np.linalg.det(x))
-    if scale == 0.0:
-        scale = 1.0
-    r_b = project_to_so3(x / scale)
-    r_e = project_to_so3(y / scale).T
-    gap = float(singular[-1] / singular[-2]) if singular[-2] > 0 else 1.0
+    determined = singular[-2] > UNIQUE_GAP * singular[0]  # null space of one vector at most
+    if determined:
+        v = vt[-1]
+        x, y = v[:9].reshape(3, 3, order="F"), v[9:].reshape(3, 3, order="F")
+        scale = np.cbrt(np.linalg.det(x)) or 1.0
+        x, y = x / scale, y / scale
+    else:
+        x, y = _joint_rotations(T_table, T_ref)
+    r_b = project_to_so3(x)
+    r_e = project_to_so3(y).T
     # Translations: [R_B R_t, I] [p_E; p_B] = p_u - R_B p_t.
     lhs = np.concatenate([r_b @ r_t, np.broadcast_to(eye, (n, 3, 3))], axis=2).reshape(3 * n, 6)
     rhs = (T_ref[:, :3, 3] - T_table[:, :3, 3] @ r_b.T).reshape(3 * n)
-    solution = np.linalg.lstsq(lhs, rhs, rcond=None)[0]
+    solution, _, rank, _ = np.linalg.lstsq(lhs, rhs, rcond=None)
     base, tool = np.eye(4), np.eye(4)
     base[:3, :3], base[:3, 3] = r_b, solution[3:]
     tool[:3, :3], tool[:3, 3] = r_e, solution[:3]
     mapped = base @ T_table @ tool
     position = np.linalg.norm(mapped[:, :3, 3] - T_ref[:, :3, 3], axis=1)
     rotation = rotation_angles(mapped[:, :3, :3], r_u)
-    return BaseToolFit(base, tool, float(position.max()), float(rotation.max()), gap)
+    unique = bool(determined) and rank == 6
+    return BaseToolFit(base, tool, float(position.max()), float(rotation.max()), unique)
+
+
+def _joint_rotations(T_table: np.ndarray, T_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``R_B`` and ``R_E^T`` (unprojected) from rotations and positions together, minimum-norm.
+
+    Unknowns ``vec(R_B), p_B, vec(F), p_F`` with ``F = R_E^T``: per sample ``R_B R_t - R_u F = 0``
+    and ``R_B p_t + p_B - R_u p_F = p_u``, the position rows divided by the reach (unit weight).
+    """
+    r_t, r_u, p_t, p_u = T_table[:, :3, :3], T_ref[:, :3, :3], T_table[:, :3, 3], T_ref[:, :3, 3]
+    n, eye = len(r_t), np.eye(3)
+    reach = max(float(np.abs(p_u).max()), float(np.abs(p_t).max()), 1e-9)
+    rotation = np.zeros((n, 9, 24))
+    rotation[:, :, :9] = np.einsum("nji,kl->nikjl", r_t, eye).reshape(n, 9, 9)
+    rotation[:, :, 12:21] = -np.einsum("ij,nkl->nikjl", eye, r_u).reshape(n, 9, 9)
+    position = np.zeros((n, 3, 24))
+    position[:, :, :9] = np.einsum("nj,kl->nkjl", p_t, eye).reshape(n, 3, 9)
+    position[:, :, 9:12] = eye
+    position[:, :, 21:24] = -r_u
+    lhs = np.concatenate([rotation.reshape(9 * n, 24), position.reshape(3 * n, 24) / reach])
+    rhs = np.concatenate([np.zeros(9 * n), p_u.reshape(3 * n) / reach])
+    x = np.linalg.lstsq(lhs, rhs, rcond=None)[0]
+    return x[:9].reshape(3, 3, order="F"), x[12:21].reshape(3, 3, order="F")
