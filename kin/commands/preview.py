@@ -63,12 +63,25 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         metavar=("X", "Y", "Z"),
         help="tool target position in the world frame [--unit]",
     )
-    add("--rpy", type=finite_float, nargs=3, metavar=("R", "P", "Y"), help="target orientation")
+    add(
+        "--rpy",
+        type=finite_float,
+        nargs=3,
+        metavar=("R", "P", "Y"),
+        help="target orientation: URDF roll-pitch-yaw [rad, or deg with --deg]",
+    )
     add("--ik", action="store_true", help="solve the target and animate the motion from --q")
     add("--frames", action="store_true", help="axis triads on every DH frame")
     add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
-    add("--duration", type=positive_float, default=2.0, help="--ik animation length [s]")
-    add("--timeout", type=positive_float, default=200.0, help="numeric IK budget [ms]")
+    add(
+        "--duration", type=positive_float, default=2.0, help="--ik animation length [s] (default 2)"
+    )
+    add(
+        "--timeout",
+        type=positive_float,
+        default=200.0,
+        help="numeric IK time budget [ms] (default 200)",
+    )
     return parser
 
 

@@ -71,7 +71,7 @@ class RobotViewer:
         self.scene = self.viewer["scene"]
         self._pin.loadViewerModel(rootNodeName="scene/robot")
         self.viewer["/Axes"].set_property("visible", False)  # the base triad stands for them
-        self._followed: dict[str, tuple[int, float]] = {}  # frame -> (frame id, triad length)
+        self._followed: dict[str, int] = {}  # frame name -> Pinocchio frame id
         self.q = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
         self.arm_length = _arm_length(robot, self.q)
         # meshcat's grid is 20 m wide in 0.5 m cells: shrink it to the arm, round cell sizes
@@ -86,7 +86,7 @@ class RobotViewer:
 
     @property
     def geometry_nodes(self) -> tuple[str, ...]:
-        """Meshcat paths of the arm's visual geometries (``robot/visuals/<name>``)."""
+        """Meshcat paths of the arm's visual geometries (``scene/robot/visuals/<name>``)."""
         return tuple(f"scene/robot/visuals/{g.name}" for g in self.visual_model.geometryObjects)
 
     def display(self, q: npt.ArrayLike) -> None:
@@ -113,7 +113,7 @@ class RobotViewer:
             if not self.robot.model.existFrame(name):
                 raise FrameError(name, self.robot.frame_names)
             draw_triad(self.scene["frames"][name], length)
-            self._followed[name] = (self.robot.model.getFrameId(name), length)
+            self._followed[name] = self.robot.model.getFrameId(name)
         self._place(self.q, self.viewer)
 
     def show_target(
@@ -257,7 +257,7 @@ class RobotViewer:
         finally:
             self._pin.viewer = live
         data = self._pin.data
-        for name, (frame_id, _) in self._followed.items():
+        for name, frame_id in self._followed.items():
             pin.updateFramePlacement(self.robot.model, data, frame_id)
             viewer["scene/frames"][name].set_transform(data.oMf[frame_id].homogeneous)  # type: ignore[index]
 
