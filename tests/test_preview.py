@@ -262,3 +262,10 @@ def test_import_kin_does_not_load_meshcat():
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0 and done.stdout.strip() == "[]", done.stderr
+
+
+def test_viewer_all_is_sorted_and_exists():
+    """kin.viewer.__all__: sorted, no duplicates, every name defined (9 public names)."""
+    names = list(viewer_module.__all__)
+    assert names == sorted(set(names)) and len(names) == 9
+    assert all(hasattr(viewer_module, name) for name in names)
