@@ -97,15 +97,18 @@ def sample_audit_text(audit: SampleAudit, top: int = 10) -> str:
     lines = [
         f"audit of {a.table.name} ({a.path}: {a.table.convention} DH, {a.length_unit}, "
         f"{a.angle_unit}) against {samples.path}: {n} samples, {audit.best.values} printed values",
-        f"{len(audit.scores)} readings tried; best first:",
+        f"{len(audit.scores)} readings tried; best first (most samples reproduced, then those "
+        "with joint values within the table's limits, then printed values, then fewest changes):",
         "",
-        f"{'rank':>4}  {'samples':>7}  {'values':>7}  {'max residual':>12}  reading",
+        f"{'rank':>4}  {'samples':>7}  {'in limits':>9}  {'values':>7}  {'max residual':>12}  "
+        "reading",
     ]
     for rank, s in enumerate(audit.scores[:top], start=1):
         residual = _length(s.max_residual_m, a.meters, a.length_unit)
+        inside = int((s.reproduced & s.within_limits).sum())
         lines.append(
-            f"{rank:>4}  {f'{s.count}/{n}':>7}  {f'{s.values_reproduced}/{s.values}':>7}  "
-            f"{residual:>12}  {s.reading.label}"
+            f"{rank:>4}  {f'{s.count}/{n}':>7}  {inside:>9}  "
+            f"{f'{s.values_reproduced}/{s.values}':>7}  {residual:>12}  {s.reading.label}"
         )
     written = audit.as_written()
     rank = audit.scores.index(written) + 1
