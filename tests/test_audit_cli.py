@@ -156,3 +156,16 @@ def test_package_names():
     names = list(kin.audit.__all__)
     assert names == sorted(names) and len(names) == len(set(names))
     assert all(hasattr(kin.audit, name) for name in names)
+
+
+def test_quoted_labels_comments_and_bom(tmp_path, capsys):
+    """A spreadsheet's file: BOM, quoted label with a comma, comments, blank and empty cells."""
+    path = tmp_path / "home.csv"
+    path.write_text(
+        '\ufefflabel,q1,q2,q3,q4,q5,x,y,z  # header\n\n"home, Fig. 10",0,0,0,0,0,43.8,,1\n',
+        encoding="utf-8",
+    )
+    assert main(["ned5", "--samples", str(path), "--json"]) == 0
+    best = json.loads(capsys.readouterr().out)["readings"][0]
+    assert best["reproduced_samples"] == ["home, Fig. 10"]
+    assert (best["values_reproduced"], best["values"]) == (2, 2)

@@ -68,6 +68,7 @@ def urdf_audit_json(audit: UrdfAudit) -> dict[str, Any]:
                 "reproduced": s.reproduced,
                 "position_residual_m": s.fit.position_residual_m,
                 "rotation_residual_rad": s.fit.rotation_residual_rad,
+                "unique": bool(s.fit.unique),
                 "base": _pose(s.fit.T_ref_base, a.meters, a.radians),
                 "tool": _pose(s.fit.T_tool_ref, a.meters, a.radians),
                 "T_urdf_base": s.fit.T_ref_base.tolist(),

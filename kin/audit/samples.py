@@ -15,7 +15,8 @@ Columns, in any order, named in the header:
 - optionally an orientation: ``roll``, ``pitch``, ``yaw`` (URDF convention
   ``Rz(yaw) Ry(pitch) Rx(roll)``, in the table's ``angle_unit``) or ``r11`` .. ``r33`` (the
   rotation matrix, row by row: column ``j`` is tool axis ``j`` in world axes);
-- optionally ``label``: a name for the sample (default ``line <n>``).
+- optionally ``label``: a name for the sample (default ``line <n>``); quote it if it holds a
+  comma (``"Table II, case 1"``).
 
 A printed value may be left empty when the source does not give it. The number of decimals of
 each printed value is its precision: a sample is reproduced when every printed value is the
@@ -24,6 +25,7 @@ computed one at that precision (rounded, or truncated under that reading).
 
 from __future__ import annotations
 
+import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -112,7 +114,9 @@ def _header(path: str, line: int, names: list[str], dof: int) -> tuple[list[str]
 
 
 def _cells(raw: str) -> list[str]:
-    return [cell.strip() for cell in raw.split("#", 1)[0].split(",")]
+    """The comma-separated cells of a line (quotes allowed), without its ``#`` comment."""
+    text = raw.split("#", 1)[0]
+    return [cell.strip() for cell in next(csv.reader([text]), [""])] if text.strip() else [""]
 
 
 def read_samples(path: str | Path, dof: int) -> SampleSet:
@@ -125,7 +129,7 @@ def read_samples(path: str | Path, dof: int) -> SampleSet:
     """
     where = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")  # a spreadsheet's BOM is no header
     except (OSError, UnicodeDecodeError) as err:
         raise AuditError(f"cannot read the sample file ({err})", where) from err
     rows = [(n, _cells(raw)) for n, raw in enumerate(text.splitlines(), start=1)]

@@ -91,7 +91,7 @@ def fit_base_tool(T_table: np.ndarray, T_ref: np.ndarray) -> BaseToolFit:
     mapped = base @ T_table @ tool
     position = np.linalg.norm(mapped[:, :3, 3] - T_ref[:, :3, 3], axis=1)
     rotation = rotation_angles(mapped[:, :3, :3], r_u)
-    unique = bool(determined) and rank == 6
+    unique = bool(determined and rank == 6)
     return BaseToolFit(base, tool, float(position.max()), float(rotation.max()), unique)
 
 
