@@ -113,3 +113,34 @@ def test_scorbot_0t5_is_its_table():
     audit = audit_samples("scorbot", DATA / "scorbot_0t5.csv")
     assert audit.best.reading.changes == ()
     assert audit.best.count == 2 and audit.best.values_reproduced == audit.best.values == 24
+
+
+def _docs_humanoid7_cells() -> list[tuple[str, str, str]]:
+    """(column, verdict, reason) of each 000 cell row of docs/reproduction.md."""
+    text = (DATA.parents[2] / "docs" / "reproduction.md").read_text(encoding="utf-8")
+    section = text.split("## 000 Tables II-VIII")[1].split("\n## ")[0]
+    cells = []
+    for line in section.splitlines():
+        if line.startswith("| Table ") and "(case" in line:
+            parts = [p.strip() for p in line.strip("|").split("|")]
+            column = parts[0].rsplit(", ", 1)[1]
+            cells.append((column, parts[4].strip("*"), parts[5]))
+    return cells
+
+
+@pytest.mark.parametrize("column", sorted(HUMANOID7_L2))
+def test_humanoid7_cell_counts_agree_with_the_reproduction_report(column):
+    """000, per column: the offsets reading reproduces (rounded) exactly the cells the report
+    marks reproduced; with truncation, at least those plus its 'printed truncated' cells."""
+    name = {"dh_solution": "DH solution", "uv_solution": "UV solution"}.get(
+        column, column.replace("_", " ").title().replace("Roboanalyzer", "RoboAnalyzer")
+    )
+    cells = [c for c in _docs_humanoid7_cells() if c[0] == name]
+    assert len(cells) == 21, f"{column=} {len(cells)=}"
+    reproduced = sum(1 for _, verdict, _ in cells if verdict == "reproduced")
+    truncated = sum(1 for _, _, reason in cells if reason.startswith("printed truncated"))
+    audit = audit_samples("humanoid7", DATA / f"humanoid7_{column}.csv", refit=False)
+    offsets = next(s for s in audit.scores if kinds(s) == {("offsets", None)})
+    both = next(s for s in audit.scores if kinds(s) == {("offsets", None), ("truncated", None)})
+    assert offsets.values_reproduced == reproduced, column
+    assert both.values_reproduced >= reproduced + truncated, column
