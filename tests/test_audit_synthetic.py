@@ -3,7 +3,8 @@
 A correct 7-joint table (standard DH, cm, deg, offsets, a tool offset) gives 20 samples through
 the batched FK (rounded to 3 decimals of a cm); then the table file or the samples are corrupted
 the way papers are (the other convention, DH angles printed for joint values, a twist sign, all
-twist signs, a length sign, lengths in mm, samples in mm, joint values in rad, digits truncated),
+twist signs, a length sign, lengths in mm, twists and offsets in rad, samples in mm, joint
+values in rad, digits truncated),
 and the audit's best reading must undo exactly that corruption.
 """
 
@@ -44,6 +45,7 @@ EXPECTED = {
     "twist_all": ("twist_all", None, None),
     "d_sign4": ("d_sign", 4, None),
     "table_in_mm": ("length_unit", None, "mm"),
+    "table_angles_in_rad": ("table_angle_unit", None, "rad"),
     "samples_in_mm": ("sample_length_unit", None, "mm"),
     "angles_in_rad": ("angle_unit", None, "rad"),
     "truncated": ("truncated", None, None),
@@ -87,6 +89,9 @@ def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
                 r[1] *= -1
         elif c == "d_sign4":
             rows[3][2] *= -1
+    if "table_angles_in_rad" in corruptions:  # the numbers in rad, the file still says deg
+        for r in rows:
+            r[1], r[3] = math.radians(r[1]), math.radians(r[3])
     convention = "modified" if "convention" in corruptions else "standard"
     scale = 10.0 if "table_in_mm" in corruptions else 1.0
     table = tmp_path / "table.toml"
@@ -112,7 +117,7 @@ def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
 
 def found(audit) -> set[tuple]:
     """The best reading's changes as (kind, row, value), values only for unit kinds."""
-    units = {"length_unit", "sample_length_unit", "angle_unit"}
+    units = {"length_unit", "table_angle_unit", "sample_length_unit", "angle_unit"}
     return {
         (c.kind, c.row, c.value if c.kind in units else None) for c in audit.best.reading.changes
     }

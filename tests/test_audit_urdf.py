@@ -52,14 +52,24 @@ def test_finds_the_base_transform_of_example_robot_data(robot):
     assert audit.reference.mapped_by == "name"
 
 
-def corrupted_ur5(tmp_path: Path, *, row: int = 0, convention: str = "", millimeters: bool = False):
-    """ur5.toml with the twist of ``row`` negated, another convention, or lengths in mm."""
+def corrupted_ur5(
+    tmp_path: Path,
+    *,
+    row: int = 0,
+    convention: str = "",
+    millimeters: bool = False,
+    degrees: bool = False,
+):
+    """ur5.toml with the twist of ``row`` negated, another convention, lengths in mm, or its
+    radians labelled degrees."""
     text = get_robot("ur5").table_path.read_text(encoding="utf-8")
     head, *blocks = text.split("[[joints]]")
     if row:
         blocks[row - 1] = blocks[row - 1].replace("alpha = ", "alpha = -").replace("--", "")
     if convention:
         head = head.replace('convention = "standard"', f'convention = "{convention}"')
+    if degrees:
+        head = head.replace('angle_unit = "rad"', 'angle_unit = "deg"')
     if millimeters:
         for k, block in enumerate(blocks):
             lines = []
@@ -80,6 +90,7 @@ def corrupted_ur5(tmp_path: Path, *, row: int = 0, convention: str = "", millime
         ({"row": 4}, "alpha4: -1.5708 -> 1.5708 rad"),
         ({"convention": "modified"}, "convention: modified -> standard"),
         ({"millimeters": True}, "length unit of the table: m -> mm"),
+        ({"degrees": True}, "angle unit of the table: deg -> rad"),
     ],
 )
 def test_finds_a_corruption_of_our_ur5(tmp_path, options, expected):

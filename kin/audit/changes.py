@@ -3,7 +3,7 @@
 Each :class:`Change` is one difference between the table as written and what its source may
 have computed with: the other DH convention, joint offsets not applied (the printed joint values
 are DH angles), one twist sign flipped (or all of them), the sign of a length or of an offset
-flipped, the table's lengths in another unit, the samples' lengths or angles in another unit,
+flipped, the table's lengths or angles in another unit, the samples' lengths or angles in another unit,
 the printed values truncated rather than rounded, or (:mod:`kin.audit.length_fit`) one link
 length refitted. Each says what changes in the file's units and the edit it implies.
 """
@@ -23,6 +23,7 @@ ChangeKind = Literal[
     "offsets",
     "angle_unit",
     "length_unit",
+    "table_angle_unit",
     "sample_length_unit",
     "twist_all",
     "twist",
@@ -116,6 +117,16 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
                     f'length_unit = "{unit}" (the samples stay in {lu})',
                 )
             )
+    other_table_angle = "rad" if au == "deg" else "deg"
+    out.append(
+        Change(
+            "table_angle_unit",
+            None,
+            other_table_angle,
+            f"angle unit of the table: {au} -> {other_table_angle}",
+            f'angle_unit = "{other_table_angle}" for alpha and theta (the samples stay in {au})',
+        )
+    )
     if samples:
         for unit in sorted(LENGTH_UNITS):
             if unit != lu:

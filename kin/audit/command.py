@@ -5,9 +5,9 @@ twist sign flipped (and all), length and offset signs flipped, lengths in anothe
 values in the other angle unit, printed values truncated, every pair of these, and one link
 length refitted; ranks them by the samples they reproduce at the printed precision. With --urdf:
 fits the constant base and tool transforms T_urdf(q) = B T_table(q) E for every reading and
-ranks the residuals. Sample file format: python -c "import kin.audit.samples as s; help(s)",
-or the comment at the top of kin/audit/samples.py (CSV with a header q1..qN, x, y, z, optional
-roll, pitch, yaw or r11..r33, optional label; # comments).
+ranks the residuals. Sample file: CSV with a header naming q1..qN, x, y, z, optionally roll,
+pitch, yaw or r11..r33, optionally label; # starts a comment; values in the table's units
+(docs/audit/README.md).
 """
 
 from __future__ import annotations

@@ -82,6 +82,9 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
             rows = [dataclasses.replace(r, a=r.a * k, d=r.d * k) for r in rows]
             base[:3, 3] *= k
             tool[:3, 3] *= k
+        elif change.kind == "table_angle_unit":
+            k = ANGLE_UNITS[str(change.value)] / audited.radians
+            rows = [dataclasses.replace(r, alpha=r.alpha * k, theta=r.theta * k) for r in rows]
         elif change.kind == "twist_all":
             rows = [dataclasses.replace(r, alpha=-r.alpha) for r in rows]
         elif change.kind == "truncated":
