@@ -100,6 +100,7 @@ def throughput(name: str, lines: list[str]) -> tuple[float, int]:
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
     )
+    assert process.stdin is not None and process.stdout is not None
     process.stdin.write(lines[0].encode())
     process.stdin.flush()
     first = process.stdout.readline()

@@ -82,9 +82,9 @@ def solve_function(
     """
     solve = solver.solve  # type: ignore[attr-defined]
     try:
-        parameters = inspect.signature(solve).parameters
+        takes_timeout = "timeout" in inspect.signature(solve).parameters
     except (TypeError, ValueError):  # a compiled solve: assume the common interface
-        parameters = {"timeout": None}
-    if "timeout" in parameters:
+        takes_timeout = True
+    if takes_timeout:
         return lambda target, seed: solve(target, seed, timeout=timeout)
     return lambda target, seed: solve(target, seed)

@@ -22,7 +22,7 @@ KIND_TERMS: dict[type, str] = {
 }
 
 
-def _finite(values: Sequence[float] | float, size: int, what: str) -> list[float]:
+def _finite(values: object, size: int, what: str) -> list[float]:
     """``values`` as ``size`` finite floats (JSON numbers or argparse floats; no booleans)."""
     items = [values] if size == 1 and not isinstance(values, (list, tuple)) else values
     if not isinstance(items, (list, tuple)) or len(items) != size:
@@ -34,7 +34,7 @@ def _finite(values: Sequence[float] | float, size: int, what: str) -> list[float
             raise TargetError(f"{what} must be numbers, got {values!r}")
     if not all(map(math.isfinite, items)):
         raise TargetError(f"{what} must be finite, got {values!r}")
-    return [float(v) for v in items]
+    return [float(v) for v in items]  # type: ignore[arg-type]  # checked above
 
 
 def quaternion_matrix(w: float, x: float, y: float, z: float) -> list[list[float]]:
