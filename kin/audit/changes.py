@@ -85,13 +85,17 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
     ]
     if offset_rows:
         rows = ", ".join(str(i) for i in offset_rows)
+        types = {table.rows[i - 1].joint_type for i in offset_rows}
+        values = " and ".join(
+            n for t, n in (("revolute", "angles"), ("prismatic", "lengths")) if t in types
+        )
         out.append(
             Change(
                 "offsets",
                 None,
                 None,
-                "offsets: applied -> not applied (joint values are DH angles)",
-                f"read the joint values as DH angles, q = value - offset (rows {rows});"
+                f"offsets: applied -> not applied (joint values are DH {values})",
+                f"read the joint values as DH {values}, q = value - offset (rows {rows});"
                 " or set the offsets of rows " + rows + " to 0",
             )
         )

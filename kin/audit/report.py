@@ -120,6 +120,11 @@ def sample_audit_text(audit: SampleAudit, top: int = 10) -> str:
         f"{_length(written.max_residual_m, a.meters, a.length_unit)}",
     ]
     best = audit.best
+    if best.count == 0:
+        lines.append(
+            "no reading reproduces a sample: the printed values are no FK of the printed joint "
+            "values under any reading tried (the best is the closest)"
+        )
     if best.reading.changes:
         lines.append("the best reading implies:")
         lines += [f"  - {c.text}: {c.edit}" for c in best.reading.changes]
