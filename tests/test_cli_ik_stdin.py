@@ -194,3 +194,37 @@ def test_ctrl_c_while_waiting_for_input_exits_130():
     process.send_signal(signal.SIGINT)
     _, err = process.communicate(timeout=60)
     assert process.returncode == 130 and err.decode().splitlines() == ["kin ik: interrupted"]
+
+
+def test_each_answer_comes_before_the_next_line_is_written():
+    """A client that writes a line and waits gets its answer: three rounds, one line each."""
+    process = subprocess.Popen(
+        [*kin_command(), "ik", "--robot", "pickplace3", "--unit", "mm", "--stdin"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+    )
+    targets = [[390, 80, 300], [300, -50, 250], [1, 2]]
+    answers = []
+    for target in targets:
+        process.stdin.write((json.dumps({"target": target}) + "\n").encode())
+        process.stdin.flush()
+        answers.append(json.loads(process.stdout.readline()))  # blocks if not flushed
+    process.stdin.close()
+    assert process.wait(timeout=60) == 0 and process.stdout.read() == b""
+    assert [a["line"] for a in answers] == [1, 2, 3]
+    assert answers[0]["success"] and answers[1]["success"] and "error" in answers[2]
+    reached = Configuration(load_robot("pickplace3")).fk(np.array(answers[1]["solutions"][0]["q"]))
+    np.testing.assert_allclose(reached.translation, [0.3, -0.05, 0.25], atol=1e-9)
+
+
+def test_line_batches_of_a_pipe_keep_every_line(tmp_path):
+    """Lines read in batches from a file descriptor: all there, in order, the last one unended."""
+    from kin.commands.ik_stream import line_batches
+
+    path = tmp_path / "lines.txt"
+    path.write_bytes(b"".join(b'{"target": [%d, 0, 0]}\n' % i for i in range(20000)) + b"tail")
+    with path.open("rb") as source:
+        batches = list(line_batches(source))
+    lines = [line for batch in batches for line in batch]
+    assert len(batches) > 1 and len(lines) == 20001 and lines[-1] == b"tail"
+    assert [json.loads(line)["target"][0] for line in lines[:-1]] == list(range(20000))

@@ -10,12 +10,17 @@ with ``"line"`` (the 1-based input line number) and ``"q_units"``; ``"rejected"`
 outside the limits) is filled only with --all or when there is no valid solution (then it holds
 the best attempt). A bad line gives ``{"line": n, "error": "..."}`` and the run goes on. Blank
 lines are skipped. Nothing else is written on stdout.
+
+Answers are flushed before the command waits for more input, and at least every
+:data:`FLUSH_EVERY` answers: a client that writes one line and waits gets its answer at once,
+while a producer that queues thousands of lines does not pay one write per line.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Iterable
+import os
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, TextIO
 
@@ -26,6 +31,11 @@ from ..ik.result import IKResult
 from ..ik.target import PositionTarget, Target
 from .joint_units import JointUnits
 from .targets import build_target, check_kind
+
+#: Most answers written between two flushes while input lines are already there.
+FLUSH_EVERY = 32
+#: Bytes per read of the input [B].
+_CHUNK = 1 << 16
 
 #: Keys an input line may have.
 KEYS = ("target", "rpy", "quat", "pitch", "roll", "position_only", "seed_q")
@@ -74,7 +84,7 @@ class StreamSolver:
     angle: float
     all_solutions: bool = False
 
-    def answer(self, line: str) -> dict[str, Any]:
+    def answer(self, line: str | bytes) -> dict[str, Any]:
         """The answer to one input line.
 
         Raises:
@@ -114,22 +124,58 @@ class StreamSolver:
             seed = self.units.to_si(seed_q, '"seed_q"')
         return result_record(self.solve(target, seed), target, self.all_solutions)
 
-    def run(self, lines: Iterable[str], out: TextIO) -> int:
-        """Answer every line of ``lines`` on ``out``, one flushed JSON line each; return 0."""
+    def run(self, source: TextIO | Iterable[str], out: TextIO) -> int:
+        """Answer every line of ``source`` on ``out``, one JSON line each; return 0.
+
+        Every answer is flushed before the stream waits for more input (see
+        :func:`line_batches`): a client that writes a line and waits gets its answer.
+        """
         q_units = list(self.units.si_labels)
         # the records are fresh trees of dicts and lists: no need to look for cycles
         dumps = json.JSONEncoder(check_circular=False).encode
         write, flush, answer = out.write, out.flush, self.answer
-        for number, line in enumerate(lines, start=1):
-            if not line or line.isspace():
-                continue
-            try:
-                record = answer(line)
-            except (KinError, ValueError, TypeError) as err:
-                record = {"line": number, "error": " ".join(str(err).split())}
-            else:
-                record["line"] = number
-                record["q_units"] = q_units
-            write(dumps(record) + "\n")
+        number = 0
+        for batch in line_batches(source):
+            for count, line in enumerate(batch, start=1):
+                number += 1
+                if not line or line.isspace():
+                    continue
+                try:
+                    record = answer(line)
+                except (KinError, ValueError, TypeError) as err:
+                    record = {"line": number, "error": " ".join(str(err).split())}
+                else:
+                    record["line"] = number
+                    record["q_units"] = q_units
+                write(dumps(record) + "\n")
+                if count % FLUSH_EVERY == 0:
+                    flush()
             flush()
         return 0
+
+
+def line_batches(source: TextIO | Iterable[str]) -> Iterator[Sequence[str | bytes]]:
+    """The input lines, in batches of those already there (read without waiting).
+
+    From a file descriptor (pipe, terminal, file): one ``os.read`` per batch, its complete lines
+    (a line typed or written alone is a batch of one). From anything else (e.g. ``StringIO``):
+    one line per batch. The caller flushes its answers after each batch, so it never sits on
+    an answer while waiting for input, and a fast producer does not cost a write per line.
+    """
+    try:
+        fd = source.fileno()  # type: ignore[union-attr]
+    except (AttributeError, OSError, ValueError):  # io.UnsupportedOperation is an OSError
+        for line in source:
+            yield [line]
+        return
+    pending = b""
+    while True:
+        chunk = os.read(fd, _CHUNK)
+        if not chunk:
+            if pending:
+                yield [pending]
+            return
+        lines = (pending + chunk).split(b"\n")
+        pending = lines.pop()
+        if lines:
+            yield lines
