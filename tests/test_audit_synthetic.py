@@ -75,6 +75,7 @@ def printed(value: float, truncate: bool, places: int = DECIMALS) -> str:
 
 def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
     """Write the corrupted table and samples; return their paths."""
+    offsets = np.array([r[3] for r in rows])
     rows = [list(r) for r in rows]
     reference = tmp_path / "correct.toml"
     reference.write_text(table_toml(rows, tool=tool), encoding="utf-8")
@@ -96,7 +97,7 @@ def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
     scale = 10.0 if "table_in_mm" in corruptions else 1.0
     table = tmp_path / "table.toml"
     table.write_text(table_toml(rows, convention, scale, tool), encoding="utf-8")
-    joint = q_deg + (np.array([r[3] for r in ROWS]) if "offsets" in corruptions else 0.0)
+    joint = q_deg + (offsets if "offsets" in corruptions else 0.0)
     if "angles_in_rad" in corruptions:
         joint = np.radians(joint)
     length = 10.0 if "samples_in_mm" in corruptions else 1.0  # cm -> mm
@@ -221,3 +222,56 @@ def test_prismatic_joint(tmp_path, corruption, expected):
     audit = audit_samples(path, samples)
     assert found(audit) == expected, audit.best.reading.label
     assert audit.best.count == SAMPLES
+
+
+def random_rows(seed: int) -> tuple[tuple[float, float, float, float], ...]:
+    """A random 7-joint table (cm, deg) with the rows the corruptions need (twists 3 and 6,
+    d4, an offset in row 2)."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for _ in range(7):
+        a = round(float(rng.choice([0.0, rng.uniform(2.0, 30.0)])), 2)
+        d = round(float(rng.choice([0.0, rng.uniform(2.0, 30.0)])), 2)
+        alpha = float(rng.choice([-90.0, 90.0, 0.0, 45.0]))
+        theta = float(rng.choice([0.0, 0.0, 90.0, -90.0, 30.0]))
+        rows.append([a, alpha, d, theta])
+    rows[2][1], rows[5][1], rows[3][2], rows[1][3] = 90.0, -90.0, 12.5, 90.0
+    return tuple(tuple(r) for r in rows)
+
+
+RANDOM_CASES = [
+    (seed, corruption)
+    for seed in (100, 101, 102)
+    for k, corruption in enumerate(CASES)
+    if len(corruption) == 1 or k % 3 == seed % 3
+]
+
+
+@pytest.mark.parametrize(("seed", "corruptions"), RANDOM_CASES)
+def test_random_tables_give_back_the_correct_table(tmp_path, seed, corruptions):
+    """Random tables: the best reading's table and sample units are those of the correct table
+    (however its changes are described: all twists but one may be the other ones flipped)."""
+    from kin.audit import apply_changes, elementary_changes, load_audited_table
+
+    rows = random_rows(seed)
+    table, samples = write_case(tmp_path, corruptions, rows=rows)
+    audit = audit_samples(table, samples)
+    audited = load_audited_table(table)
+    wanted = {EXPECTED[c] for c in corruptions}
+    units = {"length_unit", "table_angle_unit", "sample_length_unit", "angle_unit"}
+    changes = tuple(
+        c
+        for c in elementary_changes(audited)
+        if (c.kind, c.row, c.value if c.kind in units else None) in wanted
+    )
+    expected = apply_changes(audited, changes)
+    best = audit.best.reading
+    assert audit.best.count == SAMPLES, f"{seed=} {corruptions=} {best.label}"
+    assert best.table.convention == expected.table.convention
+    params = [[(r.a, r.alpha, r.d, r.theta) for r in t.rows] for t in (best.table, expected.table)]
+    assert np.allclose(params[0], params[1], atol=1e-12), f"{seed=} {corruptions=} {best.label}"
+    assert (best.sample_angle_unit, best.sample_length_unit, best.truncated) == (
+        expected.sample_angle_unit,
+        expected.sample_length_unit,
+        expected.truncated,
+    ), f"{seed=} {corruptions=} {best.label}"

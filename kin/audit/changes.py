@@ -144,16 +144,6 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
                     )
                 )
     twists = [r for r in table.rows if abs(math.sin(r.alpha)) > 1e-12]
-    if len(twists) > 1:
-        out.append(
-            Change(
-                "twist_all",
-                None,
-                None,
-                "every twist sign flipped",
-                "alpha = -alpha in rows " + ", ".join(str(r.index) for r in twists),
-            )
-        )
     for r in twists:
         old = r.alpha / audited.radians
         out.append(
@@ -163,6 +153,16 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
                 None,
                 f"alpha{r.index}: {_num(old)} -> {_num(-old)} {au}",
                 f"row {r.index}: alpha = {_num(-old)}",
+            )
+        )
+    if len(twists) > 1:  # after the rows: a pair of rows reads better than all-but-one
+        out.append(
+            Change(
+                "twist_all",
+                None,
+                None,
+                "every twist sign flipped",
+                "alpha = -alpha in rows " + ", ".join(str(r.index) for r in twists),
             )
         )
     signs: tuple[tuple[ChangeKind, str, str, float], ...] = (

@@ -120,6 +120,12 @@ def _signature(reading: Reading) -> tuple:
     )
 
 
+def _same_scale(x: Change, y: Change) -> bool:
+    """Table and samples both read in the same other length unit: the table as written again."""
+    kinds = {x.kind, y.kind}
+    return kinds == {"length_unit", "sample_length_unit"} and x.value == y.value
+
+
 def candidate_readings(
     audited: AuditedTable, *, samples: bool = True, pairs: bool = True
 ) -> list[Reading]:
@@ -140,7 +146,7 @@ def candidate_readings(
         sets += [
             (x, y)
             for x, y in itertools.combinations(singles, 2)
-            if x.kind != y.kind or x.row is not None
+            if (x.kind != y.kind or x.row is not None) and not _same_scale(x, y)
         ]
     seen: set[tuple] = set()
     out = []
