@@ -142,3 +142,25 @@ def test_each_table_matches_its_own_urdf(robot):
     assert np.abs(fit.T_ref_base - np.eye(4)).max() < TOL, f"{robot=}"
     assert np.abs(fit.T_tool_ref - np.eye(4)).max() < TOL, f"{robot=}"
     assert fit.unique == (robot != "planar2"), f"{robot=} {fit.unique=}"
+
+
+def test_fits_a_general_base_and_tool(tmp_path):
+    """ur5 with a [base] and a [tool] (turned about every axis) as the reference URDF: the plain
+    ur5 table fits it with exactly those transforms."""
+    from dh2urdf import load_table, urdf_string
+    from dh2urdf.transforms import xyz_rpy
+
+    base_xyz, base_rpy = (0.1, -0.2, 0.3), (0.3, -0.2, 1.0)
+    tool_xyz, tool_rpy = (0.01, 0.02, 0.15), (0.5, 0.1, -0.4)
+    text = get_robot("ur5").table_path.read_text(encoding="utf-8")
+    text += f"\n[base]\nxyz = {list(base_xyz)}\nrpy = {list(base_rpy)}\n"
+    text += f"\n[tool]\nxyz = {list(tool_xyz)}\nrpy = {list(tool_rpy)}\n"
+    table_path = tmp_path / "ur5_mounted.toml"
+    table_path.write_text(text, encoding="utf-8")
+    urdf = tmp_path / "ur5_mounted.urdf"
+    urdf.write_text(urdf_string(load_table(table_path)), encoding="utf-8")
+    audit = audit_urdf("ur5", urdf, "tool")
+    fit = audit.best.fit
+    assert audit.best.reading.changes == () and fit.unique
+    assert np.abs(fit.T_ref_base - xyz_rpy(base_xyz, base_rpy)).max() < TOL
+    assert np.abs(fit.T_tool_ref - xyz_rpy(tool_xyz, tool_rpy)).max() < TOL
