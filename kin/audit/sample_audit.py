@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from .audited_table import AuditedTable, load_audited_table
@@ -75,6 +75,4 @@ def audit_samples(
 
 
 def _renumber(score: SampleScore, order: int) -> SampleScore:
-    from dataclasses import replace
-
     return replace(score, order=order)
