@@ -169,3 +169,12 @@ def test_quoted_labels_comments_and_bom(tmp_path, capsys):
     best = json.loads(capsys.readouterr().out)["readings"][0]
     assert best["reproduced_samples"] == ["home, Fig. 10"]
     assert (best["values_reproduced"], best["values"]) == (2, 2)
+
+
+def test_dh2urdf_dispatches_audit(capsys):
+    """``dh2urdf audit ...`` runs this command (skipped until dh2urdf.command exists)."""
+    command = pytest.importorskip("dh2urdf.command")
+    table = str(DATA / "ned5_as_printed.toml")
+    assert command.main(["audit", table, "--samples", HOME, "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["readings"][0]["changes"] == ["convention: modified -> standard"]
