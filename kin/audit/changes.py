@@ -30,6 +30,7 @@ ChangeKind = Literal[
     "d_sign",
     "a_sign",
     "theta_sign",
+    "theta_shift",
     "truncated",
     "length",
 ]
@@ -183,6 +184,21 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
                         f"row {r.index}: {field} = {_num(-old)}",
                     )
                 )
+    for r in table.rows:  # one offset not applied, or a joint zero a quarter turn away
+        if r.joint_type != "revolute":
+            continue
+        old = r.theta / audited.radians
+        quarter = math.pi / 2 / audited.radians
+        for new in ([0.0] if old != 0.0 else []) + [old + quarter, old - quarter]:
+            out.append(
+                Change(
+                    "theta_shift",
+                    r.index,
+                    repr(new * audited.radians),
+                    f"theta{r.index}: {_num(old)} -> {_num(new)} {au}",
+                    f"row {r.index}: theta = {_num(new)}",
+                )
+            )
     if samples:
         out.append(
             Change(

@@ -41,8 +41,8 @@ def length_candidates(
     """
     printed = samples.values[:, :3]
     given = ~np.isnan(printed)
-    at0 = predicted_values(audited, samples, _set_length(reading, row, field, 0.0))[:, :3]
-    at1 = predicted_values(audited, samples, _set_length(reading, row, field, 1.0))[:, :3]
+    ends = [_set_length(reading, row, field, value) for value in (0.0, 1.0)]
+    at0, at1 = predicted_values(audited, samples, ends)[:, :, :3]
     slope = np.where(given, at1 - at0, 0.0)  # [file unit] per meter
     gap = np.where(given, printed - at0, 0.0)
     norm = float(np.sum(slope * slope))

@@ -1,8 +1,8 @@
 """Match the readings of a table against printed samples, all readings and samples at once.
 
-Every reading's forward kinematics of the samples goes through :func:`kin.batch_forward_kinematics`;
-the comparison with the printed values is one array operation over (readings, samples, values).
-A printed value is reproduced when the computed one gives it at its printed precision: rounded
+The forward kinematics of every reading at every sample is one array computation
+(:mod:`kin.audit.fk_many`), and so is the comparison with the printed values, over (readings,
+samples, values). A printed value is reproduced when the computed one gives it at its printed precision: rounded
 (``|computed - printed| <= 10**-decimals / 2``), or, under the reading "printed values truncated",
 also truncated (the printed digits are the computed ones cut short). A sample is reproduced when
 all its printed values are.
@@ -14,10 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..batch_fk import batch_forward_kinematics
 from .audited_table import AuditedTable
+from .fk_many import many_tool_poses
 from .readings import Reading, sample_meters, sample_radians
 from .samples import SampleSet
+
+#: Configurations (readings x samples) computed per block.
+BLOCK = 100_000
 
 #: Slack [printed unit] for values on a rounding tie or a truncation edge (floating-point noise).
 EPS = 1e-9
@@ -88,16 +91,30 @@ def _joint_values(audited: AuditedTable, reading: Reading, q: np.ndarray) -> np.
     return np.where(revolute, q * sample_radians(reading), q * sample_meters(reading))
 
 
-def predicted_values(audited: AuditedTable, samples: SampleSet, reading: Reading) -> np.ndarray:
-    """The values (N, K) ``reading`` computes for the samples, in the printed units."""
-    q = _joint_values(audited, reading, samples.q)
-    poses = batch_forward_kinematics(reading.table, q)
-    parts = [poses[:, :3, 3] / sample_meters(reading)]
-    if samples.orientation == "rpy":
-        parts.append(rpy_of(poses[:, :3, :3]) / sample_radians(reading))
-    elif samples.orientation == "matrix":
-        parts.append(poses[:, :3, :3].reshape(-1, 9))
-    return np.concatenate(parts, axis=1)
+def predicted_values(
+    audited: AuditedTable, samples: SampleSet, readings: list[Reading]
+) -> np.ndarray:
+    """The values (R, N, K) each reading computes for the samples, in the printed units.
+
+    All readings at once (:func:`kin.audit.fk_many.many_tool_poses`), in blocks of about
+    :data:`BLOCK` configurations.
+    """
+    revolute = np.array([r.joint_type == "revolute" for r in audited.table.rows])
+    out = []
+    step = max(1, BLOCK // max(len(samples), 1))
+    for start in range(0, len(readings), step):
+        chunk = readings[start : start + step]
+        rad = np.array([sample_radians(r) for r in chunk])[:, None, None]
+        met = np.array([sample_meters(r) for r in chunk])[:, None, None]
+        q = np.where(revolute, samples.q[None] * rad, samples.q[None] * met)
+        poses = many_tool_poses([r.table for r in chunk], q)
+        parts = [poses[..., :3, 3] / met]
+        if samples.orientation == "rpy":
+            parts.append(rpy_of(poses[..., :3, :3]) / rad)
+        elif samples.orientation == "matrix":
+            parts.append(poses[..., :3, :3].reshape(len(chunk), len(samples), 9))
+        out.append(np.concatenate(parts, axis=2))
+    return np.concatenate(out)
 
 
 def _within_limits(audited: AuditedTable, reading: Reading, q_printed: np.ndarray) -> np.ndarray:
@@ -120,7 +137,7 @@ def score_readings(
         samples: The printed samples.
         readings: The readings to try (e.g. :func:`kin.audit.readings.candidate_readings`).
     """
-    computed = np.stack([predicted_values(audited, samples, r) for r in readings])  # (R, N, K)
+    computed = predicted_values(audited, samples, readings)  # (R, N, K)
     printed = samples.values[None]
     given = ~np.isnan(printed)
     unit = 10.0 ** (-samples.decimals[None].astype(float))

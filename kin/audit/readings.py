@@ -85,6 +85,8 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
         elif change.kind == "table_angle_unit":
             k = ANGLE_UNITS[str(change.value)] / audited.radians
             rows = [dataclasses.replace(r, alpha=r.alpha * k, theta=r.theta * k) for r in rows]
+        elif change.kind == "theta_shift":
+            rows[i] = with_field(rows[i], "theta", float(str(change.value)))
         elif change.kind == "twist_all":
             rows = [dataclasses.replace(r, alpha=-r.alpha) for r in rows]
         elif change.kind == "truncated":

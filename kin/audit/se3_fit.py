@@ -44,10 +44,12 @@ UNIQUE_GAP = 1e-6
 
 
 def project_to_so3(matrix: np.ndarray) -> np.ndarray:
-    """The rotation nearest to ``matrix`` (3x3) in the Frobenius norm."""
+    """The rotations nearest to ``matrix`` (..., 3, 3) in the Frobenius norm."""
     u, _, vt = np.linalg.svd(matrix)
-    d = np.sign(np.linalg.det(u @ vt)) or 1.0
-    return u @ np.diag([1.0, 1.0, d]) @ vt
+    d = np.sign(np.linalg.det(u @ vt))
+    u = u.copy()
+    u[..., :, 2] *= np.where(d == 0.0, 1.0, d)[..., None]
+    return u @ vt
 
 
 def rotation_angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -63,36 +65,70 @@ def fit_base_tool(T_table: np.ndarray, T_ref: np.ndarray) -> BaseToolFit:
         T_table: Poses of the table's tool in its world frame (N, 4, 4) [m].
         T_ref: Poses of the reference frame in the reference root (N, 4, 4) [m].
     """
-    r_t, r_u = T_table[:, :3, :3], T_ref[:, :3, :3]
+    return fit_base_tool_many(T_table[None], T_ref)[0]
+
+
+def fit_base_tool_many(T_table: np.ndarray, T_ref: np.ndarray) -> list[BaseToolFit]:
+    """:func:`fit_base_tool` for R tables against one reference, the R problems at once.
+
+    Args:
+        T_table: Poses of each table's tool (R, N, 4, 4) [m].
+        T_ref: Poses of the reference frame (N, 4, 4) [m].
+
+    The rotation system ``[R_t^T kron I, -(I kron R_u)]`` (9N x 18) is solved through its
+    18 x 18 Gram matrix, whose diagonal blocks are ``N I`` (rotations are orthonormal): the
+    eigenvector of its smallest eigenvalue is the null vector.
+    """
+    count, n = T_table.shape[:2]
+    r_t, r_u = T_table[..., :3, :3], T_ref[:, :3, :3]
     eye = np.eye(3)
     # Column-major vec: vec(X R_t) = (R_t^T kron I) vec(X); vec(R_u Y) = (I kron R_u) vec(Y).
-    n = len(r_t)
-    left = np.einsum("nji,kl->nikjl", r_t, eye).reshape(n, 9, 9)
+    left = np.einsum("rnji,kl->rnikjl", r_t, eye).reshape(count, n, 9, 9)
     right = np.einsum("ij,nkl->nikjl", eye, r_u).reshape(n, 9, 9)
-    system = np.concatenate([left, -right], axis=2).reshape(9 * n, 18)
-    _, singular, vt = np.linalg.svd(system, full_matrices=False)
-    determined = singular[-2] > UNIQUE_GAP * singular[0]  # null space of one vector at most
-    if determined:
-        v = vt[-1]
-        x, y = v[:9].reshape(3, 3, order="F"), v[9:].reshape(3, 3, order="F")
-        scale = np.cbrt(np.linalg.det(x)) or 1.0
-        x, y = x / scale, y / scale
-    else:
-        x, y = _joint_rotations(T_table, T_ref)
+    cross = np.einsum("rnij,nik->rjk", left, right)
+    gram = np.zeros((count, 18, 18))
+    gram[:, :9, :9] = gram[:, 9:, 9:] = n * np.eye(9)
+    gram[:, :9, 9:], gram[:, 9:, :9] = -cross, -cross.transpose(0, 2, 1)
+    values, vectors = np.linalg.eigh(gram)
+    determined = values[:, 1] > UNIQUE_GAP**2 * values[:, -1]  # a null space of one vector
+    v = vectors[:, :, 0]
+    x = v[:, :9].reshape(count, 3, 3).transpose(0, 2, 1)  # column-major
+    y = v[:, 9:].reshape(count, 3, 3).transpose(0, 2, 1)
+    scale = np.cbrt(np.linalg.det(x))
+    scale = np.where(scale == 0.0, 1.0, scale)[:, None, None]
+    x, y = x / scale, y / scale
+    for k in np.flatnonzero(~determined):
+        x[k], y[k] = _joint_rotations(T_table[k], T_ref)
     r_b = project_to_so3(x)
-    r_e = project_to_so3(y).T
-    # Translations: [R_B R_t, I] [p_E; p_B] = p_u - R_B p_t.
-    lhs = np.concatenate([r_b @ r_t, np.broadcast_to(eye, (n, 3, 3))], axis=2).reshape(3 * n, 6)
-    rhs = (T_ref[:, :3, 3] - T_table[:, :3, 3] @ r_b.T).reshape(3 * n)
-    solution, _, rank, _ = np.linalg.lstsq(lhs, rhs, rcond=None)
-    base, tool = np.eye(4), np.eye(4)
-    base[:3, :3], base[:3, 3] = r_b, solution[3:]
-    tool[:3, :3], tool[:3, 3] = r_e, solution[:3]
-    mapped = base @ T_table @ tool
-    position = np.linalg.norm(mapped[:, :3, 3] - T_ref[:, :3, 3], axis=1)
-    rotation = rotation_angles(mapped[:, :3, :3], r_u)
-    unique = bool(determined and rank == 6)
-    return BaseToolFit(base, tool, float(position.max()), float(rotation.max()), unique)
+    r_e = project_to_so3(y).transpose(0, 2, 1)
+    # Translations: [R_B R_t, I] [p_E; p_B] = p_u - R_B p_t, through the 6 x 6 normal equations.
+    turned = r_b[:, None] @ r_t  # (R, N, 3, 3)
+    rhs = T_ref[None, :, :3, 3] - np.einsum("rij,rnj->rni", r_b, T_table[..., :3, 3])
+    normal = np.zeros((count, 6, 6))
+    normal[:, :3, :3] = normal[:, 3:, 3:] = n * eye
+    normal[:, 3:, :3] = turned.sum(axis=1)
+    normal[:, :3, 3:] = normal[:, 3:, :3].transpose(0, 2, 1)
+    projected = np.concatenate([np.einsum("rnji,rnj->ri", turned, rhs), rhs.sum(axis=1)], axis=1)
+    solution = np.einsum("rij,rj->ri", np.linalg.pinv(normal, rcond=1e-10), projected)
+    spread = np.linalg.eigvalsh(normal)
+    full_rank = spread[:, 0] > 1e-10 * spread[:, -1]
+    base = np.broadcast_to(np.eye(4), (count, 4, 4)).copy()
+    tool = base.copy()
+    base[:, :3, :3], base[:, :3, 3] = r_b, solution[:, 3:]
+    tool[:, :3, :3], tool[:, :3, 3] = r_e, solution[:, :3]
+    mapped = base[:, None] @ T_table @ tool[:, None]
+    position = np.linalg.norm(mapped[..., :3, 3] - T_ref[None, :, :3, 3], axis=2).max(axis=1)
+    rotation = rotation_angles(mapped[..., :3, :3], r_u[None]).max(axis=1)
+    return [
+        BaseToolFit(
+            base[k],
+            tool[k],
+            float(position[k]),
+            float(rotation[k]),
+            bool(determined[k] and full_rank[k]),
+        )
+        for k in range(count)
+    ]
 
 
 def _joint_rotations(T_table: np.ndarray, T_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..batch_fk import batch_forward_kinematics
 from .audited_table import AuditedTable, load_audited_table
+from .fk_many import many_tool_poses
 from .readings import Reading, candidate_readings
 from .reference import ReferenceUrdf, load_reference, sample_joint_vectors
-from .se3_fit import BaseToolFit, fit_base_tool
+from .se3_fit import BaseToolFit, fit_base_tool_many
 
 #: Default number of joint vectors sampled.
 COUNT = 64
@@ -110,9 +110,13 @@ def audit_urdf(
     reference = load_reference(urdf, frame, audited.table)
     q = sample_joint_vectors(audited.table, reference, count, seed)
     T_ref = reference.poses(q)
+    readings = candidate_readings(audited, samples=False, pairs=pairs)
+    q_all = np.broadcast_to(q, (len(readings), *q.shape))
+    T_table = many_tool_poses([r.table for r in readings], q_all)
     scores = []
-    for order, reading in enumerate(candidate_readings(audited, samples=False, pairs=pairs)):
-        fit = fit_base_tool(batch_forward_kinematics(reading.table, q), T_ref)
+    for order, (reading, fit) in enumerate(
+        zip(readings, fit_base_tool_many(T_table, T_ref), strict=True)
+    ):
         ok = fit.position_residual_m <= position_tol and fit.rotation_residual_rad <= rotation_tol
         scores.append(UrdfScore(reading, fit, ok, order))
     ranked = tuple(sorted(scores, key=lambda s: s.rank_key))
