@@ -49,6 +49,8 @@ EXPECTED = {
     "samples_in_mm": ("sample_length_unit", None, "mm"),
     "angles_in_rad": ("angle_unit", None, "rad"),
     "truncated": ("truncated", None, None),
+    "offset2_printed": ("theta_shift", 2, "0"),
+    "zero3_quarter_turn": ("theta_shift", 3, "180"),
 }
 
 
@@ -98,6 +100,10 @@ def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
     table = tmp_path / "table.toml"
     table.write_text(table_toml(rows, convention, scale, tool), encoding="utf-8")
     joint = q_deg + (offsets if "offsets" in corruptions else 0.0)
+    if "offset2_printed" in corruptions:  # joint 2 printed as its DH angle
+        joint[:, 1] = q_deg[:, 1] + offsets[1]
+    if "zero3_quarter_turn" in corruptions:  # joint 3 counted from a zero a quarter turn away
+        joint[:, 2] -= 90.0
     if "angles_in_rad" in corruptions:
         joint = np.radians(joint)
     length = 10.0 if "samples_in_mm" in corruptions else 1.0  # cm -> mm
@@ -116,18 +122,37 @@ def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
     return table, samples
 
 
+UNITS = {"length_unit", "table_angle_unit", "sample_length_unit", "angle_unit"}
+
+
+def key(change) -> tuple:
+    """(kind, row, value): the unit's name, a new offset [deg], else None."""
+    value = change.value if change.kind in UNITS else None
+    if change.kind == "theta_shift":
+        value = f"{math.degrees(float(change.value)):.6g}"
+    return (change.kind, change.row, value)
+
+
 def found(audit) -> set[tuple]:
-    """The best reading's changes as (kind, row, value), values only for unit kinds."""
-    units = {"length_unit", "table_angle_unit", "sample_length_unit", "angle_unit"}
-    return {
-        (c.kind, c.row, c.value if c.kind in units else None) for c in audit.best.reading.changes
-    }
+    """The best reading's changes as (kind, row, value)."""
+    return {key(c) for c in audit.best.reading.changes}
 
 
 #: Lengths of the table and of the samples both in mm: one consistent arm, nothing to find.
 UNIFORM = ("table_in_mm", "samples_in_mm")
+#: Pairs that say nothing more than one of them (joint 2's offset with all offsets), that other
+#: changes say as well (all offsets printed and joint 3 a quarter turn back: the offsets of
+#: rows 2 and 5 dropped), or that no pair of changes undoes (a quarter turn added to an offset
+#: written in the wrong unit).
+OVERLAPPING = {
+    ("offsets", "offset2_printed"),
+    ("offsets", "zero3_quarter_turn"),
+    ("table_angles_in_rad", "zero3_quarter_turn"),
+}
 CASES = [(c,) for c in EXPECTED] + [
-    pair for pair in itertools.combinations(EXPECTED, 2) if pair != UNIFORM
+    pair
+    for pair in itertools.combinations(EXPECTED, 2)
+    if pair != UNIFORM and pair not in OVERLAPPING
 ]
 
 
@@ -257,13 +282,9 @@ def test_random_tables_give_back_the_correct_table(tmp_path, seed, corruptions):
     table, samples = write_case(tmp_path, corruptions, rows=rows)
     audit = audit_samples(table, samples)
     audited = load_audited_table(table)
-    wanted = {EXPECTED[c] for c in corruptions}
-    units = {"length_unit", "table_angle_unit", "sample_length_unit", "angle_unit"}
-    changes = tuple(
-        c
-        for c in elementary_changes(audited)
-        if (c.kind, c.row, c.value if c.kind in units else None) in wanted
-    )
+    shifted = ("theta_shift", 3, f"{rows[2][3] + 90.0:.6g}")  # this table's offset + 90 deg
+    wanted = {shifted if c == "zero3_quarter_turn" else EXPECTED[c] for c in corruptions}
+    changes = tuple(c for c in elementary_changes(audited) if key(c) in wanted)
     expected = apply_changes(audited, changes)
     best = audit.best.reading
     assert audit.best.count == SAMPLES, f"{seed=} {corruptions=} {best.label}"
