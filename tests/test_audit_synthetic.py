@@ -296,3 +296,16 @@ def test_random_tables_give_back_the_correct_table(tmp_path, seed, corruptions):
         expected.sample_length_unit,
         expected.truncated,
     ), f"{seed=} {corruptions=} {best.label}"
+
+
+def test_coinciding_axes_leave_the_offset_undecided(tmp_path):
+    """Joints 1 and 2 about one axis (alpha1 = 0, a1 = 0): an offset printed into joint 2 may as
+    well belong to joint 1; the report names the other reading as equally good."""
+    from kin.audit.report import equally_good, sample_audit_text
+
+    rows = ((0.0, 0.0, 30.0, 0.0), (25.0, 90.0, 4.0, 90.0), *ROWS[2:])
+    table, samples = write_case(tmp_path, ("offset2_printed",), rows=rows)
+    audit = audit_samples(table, samples)
+    labels = {audit.best.reading.label, *(s.reading.label for s in equally_good(audit))}
+    assert {"theta2: 90 -> 0 deg", "theta1: 0 -> -90 deg"} <= labels, labels
+    assert "equally good (the samples cannot tell them apart)" in sample_audit_text(audit)

@@ -91,6 +91,23 @@ def _length(value_m: float, audit_meters: float, unit: str) -> str:
     return f"{value_m / audit_meters:.4g} {unit}"
 
 
+def equally_good(audit: SampleAudit, tol_m: float = 1e-9) -> list[SampleScore]:
+    """Readings as good as the best: the samples cannot tell their tables apart.
+
+    Same counts, same number of changes, same residuals to ``tol_m`` [m] per sample: e.g. an
+    offset moved between two joints whose axes coincide.
+    """
+    best = audit.best
+    return [
+        s
+        for s in audit.scores[1:]
+        if s.count == best.count
+        and s.values_reproduced == best.values_reproduced
+        and len(s.reading.changes) == len(best.reading.changes)
+        and np.allclose(s.position_residual_m, best.position_residual_m, rtol=0.0, atol=tol_m)
+    ]
+
+
 def sample_audit_text(audit: SampleAudit, top: int = 10) -> str:
     """A readable report: the ``top`` readings, the edits of the best, each sample under it."""
     a, samples = audit.audited, audit.samples
@@ -130,6 +147,11 @@ def sample_audit_text(audit: SampleAudit, top: int = 10) -> str:
         lines += [f"  - {c.text}: {c.edit}" for c in best.reading.changes]
     else:
         lines.append("the best reading is the table as written: no edit")
+    same = equally_good(audit)
+    if same:
+        shown = ", ".join(f"[{s.reading.label}]" for s in same[:5])
+        more = f", ... ({len(same)} in all)" if len(same) > 5 else ""
+        lines.append(f"equally good (the samples cannot tell them apart): {shown}{more}")
     lines.append("samples under the best reading:")
     width = max(len(label) for label in samples.labels)
     for k, label in enumerate(samples.labels):
