@@ -2,7 +2,7 @@
 
 Each :class:`Change` is one difference between the table as written and what its source may
 have computed with: the other DH convention, joint offsets not applied (the printed joint values
-are DH angles), one twist sign flipped (or all of them), the sign of a length or of an offset
+are DH angles), one offset not applied or a joint zero a quarter turn away, one twist sign flipped (or all of them), the sign of a length or of an offset
 flipped, the table's lengths or angles in another unit, the samples' lengths or angles in another unit,
 the printed values truncated rather than rounded, or (:mod:`kin.audit.length_fit`) one link
 length refitted. Each says what changes in the file's units and the edit it implies.
@@ -34,9 +34,6 @@ ChangeKind = Literal[
     "truncated",
     "length",
 ]
-
-#: Changes that only concern how the samples are read (not the table, not a URDF comparison).
-SAMPLE_KINDS: frozenset[str] = frozenset({"angle_unit", "sample_length_unit", "truncated"})
 
 
 @dataclass(frozen=True)
