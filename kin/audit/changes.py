@@ -1,11 +1,12 @@
 """Elementary changes of a DH table: the ways a source may differ from the table as written.
 
 Each :class:`Change` is one difference between the table as written and what its source may
-have computed with: the other DH convention, joint offsets not applied (the printed joint values
-are DH angles), one offset not applied or a joint zero a quarter turn away, one twist sign flipped (or all of them), the sign of a length or of an offset
-flipped, the table's lengths or angles in another unit, the samples' lengths or angles in another unit,
-the printed values truncated rather than rounded, or (:mod:`kin.audit.length_fit`) one link
-length refitted. Each says what changes in the file's units and the edit it implies.
+have computed with: the other DH convention; joint offsets not applied (the printed joint values
+are DH angles); one offset not applied, or a joint zero a quarter turn away; one twist sign
+flipped, or all of them; the sign of a length or of an offset flipped; the table's lengths or
+angles in another unit; the samples' lengths or angles in another unit; the printed values
+truncated rather than rounded; or (:mod:`kin.audit.length_fit`) one link length refitted. Each
+says what changes, in the file's units, and the edit it implies.
 """
 
 from __future__ import annotations
