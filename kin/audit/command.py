@@ -1,9 +1,9 @@
 """Audit a DH table: find the reading of it that reproduces a source's printed numbers or a URDF.
 
-With --samples: tries the table as written, the other DH convention, offsets not applied, each
-twist sign flipped (and all), length and offset signs flipped, lengths in another unit, joint
-values in the other angle unit, printed values truncated, every pair of these, and one link
-length refitted; ranks them by the samples they reproduce at the printed precision. With --urdf:
+With --samples: tries the table as written, the other DH convention, offsets not applied (all,
+or one), joint zeros a quarter turn away, each twist sign flipped (and all), length and offset
+signs flipped, the table's or the samples' units, printed values truncated, every pair of these,
+and one link length refitted; ranks them by the samples they reproduce at the printed precision. With --urdf:
 fits the constant base and tool transforms T_urdf(q) = B T_table(q) E for every reading and
 ranks the residuals. Sample file: CSV with a header naming q1..qN, x, y, z, optionally roll,
 pitch, yaw or r11..r33, optionally label; # starts a comment; values in the table's units
