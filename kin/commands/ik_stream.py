@@ -40,6 +40,7 @@ _CHUNK = 1 << 16
 #: Keys an input line may have.
 KEYS = ("target", "rpy", "quat", "pitch", "roll", "position_only", "seed_q")
 _KEYS = frozenset(KEYS)
+_decode = json.JSONDecoder().decode
 
 
 def result_record(result: IKResult, target: Target, rejected: bool = True) -> dict[str, Any]:
@@ -91,7 +92,8 @@ class StreamSolver:
             KinError, ValueError: A bad line (not JSON, unknown key, bad values, wrong kind).
         """
         try:
-            request = json.loads(line)
+            text = line.decode() if isinstance(line, bytes) else line
+            request = _decode(text)
         except ValueError as err:
             raise ValueError(f"not JSON: {err}") from None
         if not isinstance(request, dict):
