@@ -51,6 +51,7 @@ EXPECTED = {
     "truncated": ("truncated", None, None),
     "offset2_printed": ("theta_shift", 2, "0"),
     "zero3_quarter_turn": ("theta_shift", 3, "180"),
+    "joint5_reversed": ("joint_sign", 5, None),
 }
 
 
@@ -104,6 +105,8 @@ def write_case(tmp_path, corruptions, rows=ROWS, tool=TOOL, orientation=False):
         joint[:, 1] = q_deg[:, 1] + offsets[1]
     if "zero3_quarter_turn" in corruptions:  # joint 3 counted from a zero a quarter turn away
         joint[:, 2] -= 90.0
+    if "joint5_reversed" in corruptions:  # joint 5 counted the other way
+        joint[:, 4] *= -1.0
     if "angles_in_rad" in corruptions:
         joint = np.radians(joint)
     length = 10.0 if "samples_in_mm" in corruptions else 1.0  # cm -> mm

@@ -164,3 +164,25 @@ def test_fits_a_general_base_and_tool(tmp_path):
     assert audit.best.reading.changes == () and fit.unique
     assert np.abs(fit.T_ref_base - xyz_rpy(base_xyz, base_rpy)).max() < TOL
     assert np.abs(fit.T_tool_ref - xyz_rpy(tool_xyz, tool_rpy)).max() < TOL
+
+
+def test_finds_a_joint_that_turns_the_other_way(tmp_path):
+    """Our ur5 URDF with wrist_1 turning about -z: the reading 'q4 reversed' fits it exactly."""
+    text = get_robot("ur5").urdf_path.read_text(encoding="utf-8")
+    head, tail = text.split('<joint name="wrist_1_joint"', 1)
+    tail = tail.replace('<axis xyz="0.0 0.0 1.0"/>', '<axis xyz="0.0 0.0 -1.0"/>', 1)
+    urdf = tmp_path / "ur5_reversed.urdf"
+    urdf.write_text(head + '<joint name="wrist_1_joint"' + tail, encoding="utf-8")
+    audit = audit_urdf("ur5", urdf, "tool")
+    assert [c.kind for c in audit.best.reading.changes] == ["joint_sign"]
+    assert audit.best.reading.changes[0].row == 4 and audit.best.reproduced
+
+
+def test_continuous_joints(tmp_path):
+    """A URDF whose joints are continuous (cos, sin configuration): the table as written fits."""
+    text = get_robot("ur5").urdf_path.read_text(encoding="utf-8")
+    urdf = tmp_path / "ur5_continuous.urdf"
+    urdf.write_text(text.replace('type="revolute"', 'type="continuous"'), encoding="utf-8")
+    audit = audit_urdf("ur5", urdf, "tool", pairs=False)
+    assert audit.best.reading.changes == () and audit.best.reproduced
+    assert all(audit.reference.continuous)

@@ -2,7 +2,7 @@
 
 Each :class:`Change` is one difference between the table as written and what its source may
 have computed with: the other DH convention; joint offsets not applied (the printed joint values
-are DH angles); one offset not applied, or a joint zero a quarter turn away; one twist sign
+are DH angles); one offset not applied, or a joint zero a quarter turn away; one joint moving the other way; one twist sign
 flipped, or all of them; the sign of a length or of an offset flipped; the table's lengths or
 angles in another unit; the samples' lengths or angles in another unit; the printed values
 truncated rather than rounded; or (:mod:`kin.audit.length_fit`) one link length refitted. Each
@@ -32,6 +32,7 @@ ChangeKind = Literal[
     "a_sign",
     "theta_sign",
     "theta_shift",
+    "joint_sign",
     "truncated",
     "length",
 ]
@@ -197,6 +198,16 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
                     f"row {r.index}: theta = {_num(new)}",
                 )
             )
+    for r in table.rows:
+        out.append(
+            Change(
+                "joint_sign",
+                r.index,
+                None,
+                f"q{r.index}: reversed (the source's joint {r.index} moves the other way)",
+                f"joint {r.index}: the source's value is -q (or flip its axis)",
+            )
+        )
     if samples:
         out.append(
             Change(

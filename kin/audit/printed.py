@@ -88,7 +88,8 @@ def rpy_of(rotations: np.ndarray) -> np.ndarray:
 def _joint_values(audited: AuditedTable, reading: Reading, q: np.ndarray) -> np.ndarray:
     """Joint values [rad] / [m] of the printed ones under ``reading``."""
     revolute = np.array([r.joint_type == "revolute" for r in audited.table.rows])
-    return np.where(revolute, q * sample_radians(reading), q * sample_meters(reading))
+    scaled = np.where(revolute, q * sample_radians(reading), q * sample_meters(reading))
+    return scaled * reading.signs
 
 
 def predicted_values(
@@ -106,7 +107,8 @@ def predicted_values(
         chunk = readings[start : start + step]
         rad = np.array([sample_radians(r) for r in chunk])[:, None, None]
         met = np.array([sample_meters(r) for r in chunk])[:, None, None]
-        q = np.where(revolute, samples.q[None] * rad, samples.q[None] * met)
+        signs = np.stack([r.signs for r in chunk])[:, None, :]
+        q = np.where(revolute, samples.q[None] * rad, samples.q[None] * met) * signs
         poses = many_tool_poses([r.table for r in chunk], q)
         parts = [poses[..., :3, 3] / met]
         if samples.orientation == "rpy":

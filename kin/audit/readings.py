@@ -1,6 +1,7 @@
 """Readings of a DH table: zero, one or two changes and the table variant they give.
 
-:func:`apply_changes` builds the variant (SI values) and how the samples are read under it;
+:func:`apply_changes` builds the variant (SI values) and how the joint values (the samples', or a
+reference URDF's) are read under it;
 :func:`candidate_readings` lists the table as written, every single change of
 :func:`kin.audit.changes.elementary_changes` and every pair, each variant once.
 """
@@ -51,6 +52,12 @@ class Reading:
     sample_angle_unit: str
     sample_length_unit: str
     truncated: bool
+    joint_signs: tuple[float, ...] = ()
+
+    @property
+    def signs(self) -> np.ndarray:
+        """Per joint, +1, or -1 where the source's joint turns (or slides) the other way."""
+        return np.array(self.joint_signs or (1.0,) * self.table.dof)
 
     @property
     def label(self) -> str:
@@ -65,6 +72,7 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
     convention = table.convention
     base, tool = np.array(table.T_world_base), np.array(table.T_last_tool)
     angle_unit, length_unit, truncated = audited.angle_unit, audited.length_unit, False
+    signs = [1.0] * table.dof
     for change in changes:
         i = (change.row or 0) - 1
         if change.kind == "convention":
@@ -87,6 +95,8 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
             rows = [dataclasses.replace(r, alpha=r.alpha * k, theta=r.theta * k) for r in rows]
         elif change.kind == "theta_shift":
             rows[i] = with_field(rows[i], "theta", float(str(change.value)))
+        elif change.kind == "joint_sign":
+            signs[i] = -signs[i]
         elif change.kind == "twist_all":
             rows = [dataclasses.replace(r, alpha=-r.alpha) for r in rows]
         elif change.kind == "truncated":
@@ -105,7 +115,7 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
         T_world_base=base,
         T_last_tool=tool,
     )
-    return Reading(changes, variant, angle_unit, length_unit, truncated)
+    return Reading(changes, variant, angle_unit, length_unit, truncated, tuple(signs))
 
 
 def _signature(reading: Reading) -> tuple:
@@ -119,6 +129,7 @@ def _signature(reading: Reading) -> tuple:
         reading.sample_angle_unit,
         reading.sample_length_unit,
         reading.truncated,
+        reading.joint_signs,
     )
 
 

@@ -111,7 +111,7 @@ def audit_urdf(
     q = sample_joint_vectors(audited.table, reference, count, seed)
     T_ref = reference.poses(q)
     readings = candidate_readings(audited, samples=False, pairs=pairs)
-    q_all = np.broadcast_to(q, (len(readings), *q.shape))
+    q_all = q[None] * np.stack([r.signs for r in readings])[:, None, :]  # the table's q
     T_table = many_tool_poses([r.table for r in readings], q_all)
     scores = []
     for order, (reading, fit) in enumerate(
