@@ -40,6 +40,8 @@ class DHRow:
         upper: Upper limit of the joint variable ``q`` [rad] or [m].
         velocity: Velocity limit [rad/s] or [m/s].
         effort: Effort limit [N m] or [N].
+        acceleration: Acceleration limit [rad/s^2] or [m/s^2], or None when the table gives
+            none (path timing then uses its default).
     """
 
     index: int
@@ -53,6 +55,7 @@ class DHRow:
     upper: float
     velocity: float
     effort: float
+    acceleration: float | None = None
 
 
 def _readonly(matrix: np.ndarray) -> np.ndarray:

@@ -19,6 +19,7 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     limits = [-90.0, 90.0]         # of the joint variable q
     velocity = 90.0                # optional, angle_unit/s or length_unit/s
     effort = 10.0                  # optional, N m or N
+    acceleration = 360.0           # optional, angle_unit/s^2 or length_unit/s^2 (path timing)
 
     [base]                         # optional: xyz + rpy, or a DH-style row a, alpha, d, theta
     xyz = [0.0, 0.0, 0.0]
@@ -62,7 +63,18 @@ _TOP_KEYS = {
     "tool",
     "drives",
 }
-_ROW_KEYS = {"name", "type", "a", "alpha", "d", "theta", "limits", "velocity", "effort"}
+_ROW_KEYS = {
+    "name",
+    "type",
+    "a",
+    "alpha",
+    "d",
+    "theta",
+    "limits",
+    "velocity",
+    "effort",
+    "acceleration",
+}
 _REQUIRED_ROW_KEYS = ("type", "a", "alpha", "d", "theta", "limits")
 _CONVENTIONS = ("modified", "standard")
 _JOINT_TYPES = ("prismatic", "revolute")
@@ -185,6 +197,16 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
             raise TableError(
                 path, f"expected a positive effort, got {data['effort']}", index, "effort"
             )
+    acceleration = None
+    if "acceleration" in data:
+        acceleration = _number(path, data["acceleration"], index, "acceleration") * q_scale
+        if acceleration <= 0:
+            raise TableError(
+                path,
+                f"expected a positive acceleration, got {data['acceleration']}",
+                index,
+                "acceleration",
+            )
     return DHRow(
         index=index,
         name=name,
@@ -197,6 +219,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         upper=upper,
         velocity=velocity,
         effort=effort,
+        acceleration=acceleration,
     )
 
 
