@@ -1,0 +1,153 @@
+"""Inverse kinematics along a Cartesian path: one joint vector per sample, each from the last.
+
+:func:`follow_path` picks the method from the robot's solver (:func:`kin.ik.get_solver`):
+
+- a closed-form solver: every sample in closed form, on one branch
+  (:func:`~kin.path.branch_follow.follow_closed_form`);
+- a numeric solver, or no solver that fits (a 6-DOF arm without a closed form): the first sample
+  by the numeric solver (:class:`kin.ik.NumericIK`), the others by velocity-limited differential
+  IK sub-steps (:func:`~kin.path.differential_follow.follow_differential`).
+
+Either way the result is measured by forward kinematics (:func:`~kin.path.result.measure_path`),
+and a sample that cannot be reached without a jump stops the motion there (``stopped_at``).
+"""
+
+from __future__ import annotations
+
+import inspect
+import logging
+from typing import Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from ..configuration import as_joint_vector
+from ..ik import ClosedFormSolver, NumericIK, StructureError, get_solver
+from ..robot_model import RobotModel
+from .branch_follow import follow_closed_form
+from .cartesian import CartesianPath
+from .differential_follow import follow_differential
+from .exceptions import PathError
+from .result import PathResult, Trace, measure_path
+
+logger = logging.getLogger(__name__)
+
+Method = Literal["auto", "closed_form", "differential"]
+
+#: Default largest change of one joint between two samples [rad] / [m].
+MAX_JOINT_STEP = 0.35
+
+
+def follow_path(
+    robot: RobotModel,
+    path: CartesianPath,
+    seed: npt.ArrayLike | None = None,
+    *,
+    method: Method = "auto",
+    branch: str | None = None,
+    max_joint_step: float = MAX_JOINT_STEP,
+    substep: float = 0.05,
+    max_substeps: int = 40,
+    position_tol: float = 1e-6,
+    rotation_tol: float = 1e-5,
+    timeout: float = 0.5,
+    between: int = 1,
+) -> PathResult:
+    """Joint path along ``path``, each sample's IK seeded from the previous one.
+
+    Args:
+        robot: The robot.
+        path: The Cartesian path (:func:`~kin.path.cartesian.line`, ``polyline``).
+        seed: Joint vector the first sample's solution should be near [rad] / [m], or None.
+        method: ``"auto"`` (from the robot's solver), ``"closed_form"`` or ``"differential"``.
+        branch: Closed form: branch label of the first sample (None: nearest ``seed``).
+        max_joint_step: Largest change of one joint between samples [rad] / [m]; a larger one
+            stops the motion (a jump is not a path).
+        substep: Differential method: largest change of one joint per sub-step [rad] / [m].
+        max_substeps: Differential method: sub-steps allowed per sample.
+        position_tol: Differential method: a sample is reached this close [m].
+        rotation_tol: Differential method: ... and turned this little from it [rad].
+        timeout: Time budget of the numeric solve of the first sample [s].
+        between: Points checked between consecutive samples for the deviation (1: midpoint).
+
+    Raises:
+        PathError: Unknown method, a branch the first sample does not have, a pitch path for the
+            differential method.
+        kin.ik.TargetError: The robot's solver does not take this kind of target.
+        kin.JointVectorError: ``seed`` is not one finite value per joint.
+    """
+    seed_q = None if seed is None else as_joint_vector(robot, seed)
+    solver = _solver(robot, method)
+    if isinstance(solver, ClosedFormSolver):
+        chosen = "closed_form"
+        trace = follow_closed_form(robot, solver, path, seed_q, branch, max_joint_step)
+    else:
+        chosen = "differential"
+        start = _solve_first(solver, path, seed_q, timeout)
+        if isinstance(start, Trace):
+            trace = start
+        else:
+            trace = follow_differential(
+                robot,
+                path,
+                start,
+                substep=substep,
+                max_substeps=max_substeps,
+                position_tol=position_tol,
+                rotation_tol=rotation_tol,
+                max_joint_step=max_joint_step,
+            )
+    q = np.array(trace.q, dtype=float).reshape(-1, robot.nq)
+    measured = measure_path(robot, path, q, between)
+    logger.debug("path of %d samples: %s", len(path), trace.message or "complete")
+    return PathResult(
+        success=trace.stopped_at is None,
+        q=q,
+        path=path,
+        method=chosen,
+        branches=tuple(trace.branches),
+        branch_changes=tuple(trace.branch_changes),
+        stopped_at=trace.stopped_at,
+        message=trace.message,
+        max_deviation=measured.max_deviation,
+        max_rotation_error=measured.max_rotation_error,
+        max_joint_step=measured.max_joint_step,
+        max_step_joint=measured.max_step_joint,
+    )
+
+
+def _solver(robot: RobotModel, method: str) -> object:
+    """The robot's solver, or the numeric one when asked or when no closed form fits."""
+    if method not in ("auto", "closed_form", "differential"):
+        raise PathError(
+            f"unknown method {method!r}; choose one of: auto, closed_form, differential", "method"
+        )
+    if method == "differential":
+        return NumericIK(robot)
+    try:
+        solver = get_solver(robot)
+    except StructureError:
+        if method == "closed_form":
+            raise
+        return NumericIK(robot)
+    if method == "closed_form" and not isinstance(solver, ClosedFormSolver):
+        raise PathError(f"'{robot.name}' has no closed-form solver", "method")
+    return solver
+
+
+def _solve_first(
+    solver: object, path: CartesianPath, seed: np.ndarray | None, timeout: float
+) -> np.ndarray | Trace:
+    """A solution of sample 0 nearest ``seed``, or the stopped trace saying why there is none."""
+    solve = solver.solve  # type: ignore[attr-defined]
+    takes_timeout = "timeout" in inspect.signature(solve).parameters
+    target = path.target(0)
+    result = solve(target, seed, timeout=timeout) if takes_timeout else solve(target, seed)
+    if not result.solutions:
+        return Trace(q=[], branches=[], branch_changes=[]).stop(
+            0, f"no solution inside the limits ({result.status}: {result.message})"
+        )
+    solutions = [s.q for s in result.solutions]
+    if seed is None:
+        return np.asarray(solutions[0], dtype=float)
+    return np.asarray(min(solutions, key=lambda q: float(np.abs(q - seed).max())), dtype=float)
