@@ -82,7 +82,9 @@ def test_bad_input_through_the_script_has_no_traceback(tmp_path):
 )
 def test_bad_urdf_is_one_line(tmp_path, capfd, urdf_text, frame, expected):
     """A URDF without the frame, or not a URDF: exit 2, one line naming the frame or file."""
-    path = ROOT / "urdf" / "ur5.urdf"
+    from dh2urdf import get_robot
+
+    path = get_robot("ur5").urdf_path
     if urdf_text is not None:
         path = tmp_path / "bad.urdf"
         path.write_text(urdf_text, encoding="utf-8")
