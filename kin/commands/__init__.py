@@ -21,6 +21,7 @@ COMMANDS: dict[str, str] = {
     "drives": "stepper pulses of a joint vector, the angles reached and the tool error",
     "fk": "pose of a robot frame at a joint vector",
     "ik": "inverse kinematics of a tool target (or JSON targets on stdin)",
+    "path": "joint path along a Cartesian line or polyline, optionally time-optimal (toppra)",
     "preview": "browser view (meshcat) of the arm, its frames, a target and the IK motion",
     "robots": "the shipped robots: joints and source of each DH table",
     "workspace": "Monte Carlo workspace: reach, bounding box, volume, PNG of the views",

@@ -44,6 +44,7 @@ def follow_path(
     seed: npt.ArrayLike | None = None,
     *,
     method: Method = "auto",
+    solver: object | None = None,
     branch: str | None = None,
     max_joint_step: float = MAX_JOINT_STEP,
     substep: float = 0.05,
@@ -60,6 +61,7 @@ def follow_path(
         path: The Cartesian path (:func:`~kin.path.cartesian.line`, ``polyline``).
         seed: Joint vector the first sample's solution should be near [rad] / [m], or None.
         method: ``"auto"`` (from the robot's solver), ``"closed_form"`` or ``"differential"``.
+        solver: The solver :func:`path_solver` gives for ``method`` (None: built here).
         branch: Closed form: branch label of the first sample (None: nearest ``seed``).
         max_joint_step: Largest change of one joint between samples [rad] / [m]; a larger one
             stops the motion (a jump is not a path).
@@ -77,7 +79,7 @@ def follow_path(
         kin.JointVectorError: ``seed`` is not one finite value per joint.
     """
     seed_q = None if seed is None else as_joint_vector(robot, seed)
-    solver = _solver(robot, method)
+    solver = path_solver(robot, method) if solver is None else solver
     if isinstance(solver, ClosedFormSolver):
         chosen = "closed_form"
         trace = follow_closed_form(robot, solver, path, seed_q, branch, max_joint_step)
@@ -116,8 +118,15 @@ def follow_path(
     )
 
 
-def _solver(robot: RobotModel, method: str) -> object:
-    """The robot's solver, or the numeric one when asked or when no closed form fits."""
+def path_solver(robot: RobotModel, method: Method = "auto") -> object:
+    """The solver of ``robot``'s paths: its own, or the numeric one (asked, or no closed form).
+
+    Its ``target_kinds`` say which waypoints the path takes.
+
+    Raises:
+        PathError: Unknown method, or ``"closed_form"`` for a robot whose solver is numeric.
+        kin.ik.StructureError: ``"closed_form"`` for a robot no closed form fits.
+    """
     if method not in ("auto", "closed_form", "differential"):
         raise PathError(
             f"unknown method {method!r}; choose one of: auto, closed_form, differential", "method"

@@ -1,0 +1,280 @@
+"""Follow a straight line or a polyline of tool poses with the joints, and optionally time it.
+
+The tool moves from --from through each --via (in the order given) to --to, in --steps steps in
+all: positions on straight segments, orientations turning about one axis (slerp). A point takes
+its orientation from the option right after it: --rpy R P Y (URDF roll-pitch-yaw, full pose) or,
+for five-joint arms, --pitch P [--roll R]; give one at every point or at none. Closed-form arms
+stay on one branch (the one nearest --seed-q, or --branch); redundant and numeric-only arms move
+by velocity-limited differential IK steps. A joint limit, an unreachable point or a jump larger
+than --max-step stops the motion there: "stopped_at" is that sample.
+
+--time adds the time-optimal timing (toppra) under the joint velocity and acceleration limits of
+the DH table (rows' "velocity" and "acceleration"), or --vmax / --amax (one value, or one per
+joint).
+
+Units: every length (points, prismatic joint values and their rates) in --unit; revolute joint
+values, angles and their rates in radians, degrees with --deg. --json and --csv are SI (q in rad /
+m as "q_units" says, deviations in m, times in s).
+
+Exit 0 when the whole path is followed, 1 when the motion stopped, 2 for bad input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import sys
+from typing import TYPE_CHECKING, Any
+
+from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
+
+if TYPE_CHECKING:
+    from ..path import PathResult, TimedPath
+    from .joint_units import JointUnits
+
+PROG = "kin path"
+EXIT_STOPPED = 1
+POINTS = ("--from", "--via", "--to")
+ORIENTATIONS = ("--rpy", "--pitch", "--roll")
+
+
+class _PointAction(argparse.Action):
+    """``--from/--via/--to X Y Z`` start a point; ``--rpy/--pitch/--roll`` complete the last."""
+
+    def __call__(self, parser, namespace, values, option_string=None):  # noqa: ANN001, D102
+        points = list(getattr(namespace, "points", None) or [])
+        if option_string in POINTS:
+            points.append({"option": option_string, "xyz": values})
+        else:
+            if not points:
+                parser.error(f"{option_string} must follow --from, --via or --to")
+            key = option_string.lstrip("-")
+            if key in points[-1]:
+                parser.error(f"{option_string} given twice for {points[-1]['option']}")
+            points[-1][key] = values
+        namespace.points = points
+
+
+def get_argument_parser(prog: str = PROG) -> ArgumentParser:
+    """Command-line arguments of ``kin path``."""
+    parser = ArgumentParser(prog=prog, description=__doc__)
+    add = parser.add_argument
+    add("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
+    xyz = {"type": finite_float, "nargs": 3, "metavar": ("X", "Y", "Z"), "action": _PointAction}
+    add("--from", help="start point of the tool, world frame [--unit]", **xyz)
+    add("--via", help="intermediate point (repeat for a polyline) [--unit]", **xyz)
+    add("--to", help="end point of the tool [--unit]", **xyz)
+    add(
+        "--rpy",
+        type=finite_float,
+        nargs=3,
+        metavar=("R", "P", "Y"),
+        action=_PointAction,
+        help="orientation of the point before it: URDF roll-pitch-yaw",
+    )
+    add("--pitch", type=finite_float, action=_PointAction, help="five-joint arms: approach angle")
+    add("--roll", type=finite_float, action=_PointAction, help="with --pitch: wrist-roll q5")
+    add("--steps", type=positive_int, required=True, help="number of steps along the whole path")
+    add("--unit", choices=("m", "cm", "mm"), default="m", help="unit of every length (default m)")
+    add("--deg", action="store_true", help="revolute joint values and angles in degrees")
+    add("--seed-q", type=finite_float, nargs="+", help="joint vector the start should be near")
+    add("--branch", help="closed form: branch label of the start (e.g. 'shoulder front, elbow up')")
+    add(
+        "--max-step",
+        type=positive_float,
+        help="largest joint change between samples: revolute [rad or deg], prismatic [--unit] "
+        "(default 0.35 rad or m)",
+    )
+    add("--time", action="store_true", help="time-optimal timing under the joint limits")
+    add(
+        "--vmax", type=positive_float, nargs="+", help="joint velocity limits [unit/s], with --time"
+    )
+    add(
+        "--amax", type=positive_float, nargs="+", help="joint accel. limits [unit/s^2], with --time"
+    )
+    add("--dt", type=positive_float, help="with --time: resample the motion every DT [s]")
+    add("--json", action="store_true", help="print one JSON object, SI units")
+    add("--csv", metavar="FILE", help="write the joint path (SI, header with units) to FILE")
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = PROG) -> int:
+    """Follow the path and print it; exit 0, 1 (stopped) or 2 (bad input)."""
+    parser = get_argument_parser(prog)
+    args = parser.parse_args(argv)
+    points = getattr(args, "points", None) or []
+    for option in ("--from", "--to"):
+        count = sum(p["option"] == option for p in points)
+        if count != 1:
+            parser.error(f"give {option} exactly once, got it {count} times")
+    for option in ("--vmax", "--amax", "--dt"):
+        if getattr(args, option[2:]) is not None and not args.time:
+            parser.error(f"{option} needs --time")
+    return run_guarded(prog, lambda: _run(args, points))
+
+
+def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
+    """Build the path, follow it, time it, and write the outputs."""
+    from ..cli import angle_scale, length_scale
+    from ..path import follow_path, path_solver, polyline
+    from ..robot_model import load_robot
+    from .joint_units import JointUnits
+    from .targets import build_target, check_kind
+
+    robot = load_robot(args.robot)
+    units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
+    length, angle = length_scale(args.unit), angle_scale(args.deg)
+    ordered = [p for p in points if p["option"] == "--from"]
+    ordered += [p for p in points if p["option"] == "--via"]
+    ordered += [p for p in points if p["option"] == "--to"]
+    _check_orientations(ordered)
+    solver = path_solver(robot)
+    waypoints = []
+    for point in ordered:
+        target, given = build_target(
+            point["xyz"],
+            rpy=point.get("rpy"),
+            pitch=point.get("pitch"),
+            roll=point.get("roll"),
+            length=length,
+            angle=angle,
+        )
+        check_kind(robot.name, robot.nq, tuple(solver.target_kinds), target, given)  # type: ignore[attr-defined]
+        waypoints.append(target)
+    seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
+    max_step = {} if args.max_step is None else {"max_joint_step": _max_step(args, units)}
+    path = polyline(waypoints, args.steps)
+    result = follow_path(robot, path, seed, solver=solver, branch=args.branch, **max_step)
+    timed = _timing(args, robot, units, result) if args.time and len(result.q) >= 2 else None
+    if args.csv:
+        _write_csv(args.csv, units, result, timed, args.dt is not None)
+    if args.json:
+        print(json.dumps(_record(robot.name, units, result, timed, args.dt is not None)))
+    else:
+        _print_text(robot.name, units, args.unit, length, result, timed)
+    return 0 if result.success else EXIT_STOPPED
+
+
+def _check_orientations(points: list[dict[str, Any]]) -> None:
+    """Every point gives the same kind of orientation (--rpy, --pitch, or none)."""
+    from ..path import PathError
+
+    def kind(point: dict[str, Any]) -> str:
+        return "--rpy" if "rpy" in point else "--pitch" if "pitch" in point else "none"
+
+    first = kind(points[0])
+    for point in points[1:]:
+        if kind(point) != first:
+            raise PathError(
+                f"give the same orientation option at every point (--from has {first}, "
+                f"{point['option']} has {kind(point)})",
+                point["option"],
+            )
+
+
+def _max_step(args: argparse.Namespace, units: JointUnits) -> float:
+    """--max-step in SI: revolute [rad] when the arm has a revolute joint, else prismatic [m]."""
+    revolute = [label == "rad" for label in units.si_labels]
+    scale = units.scales[revolute.index(True)] if any(revolute) else units.scales[0]
+    return float(args.max_step * scale)
+
+
+def _per_joint(values: list[float], units: JointUnits, option: str) -> Any:
+    """One value for every joint, or one per joint, in SI."""
+    nq = len(units.joint_names)
+    return units.to_si(values * nq if len(values) == 1 else values, option)
+
+
+def _timing(
+    args: argparse.Namespace, robot: Any, units: JointUnits, result: PathResult
+) -> TimedPath:
+    from ..path import table_limits, time_optimal
+
+    vmax, amax = table_limits(robot.table)
+    if args.vmax is not None:
+        vmax = _per_joint(args.vmax, units, "--vmax")
+    if args.amax is not None:
+        amax = _per_joint(args.amax, units, "--amax")
+    return time_optimal(result.q, vmax, amax, dt=args.dt)
+
+
+def _record(
+    robot: str, units: JointUnits, result: PathResult, timed: TimedPath | None, dense: bool
+) -> dict[str, Any]:
+    """The JSON answer, SI."""
+    record = {"robot": robot, **result.to_dict()}
+    record["joint_names"] = list(units.joint_names)
+    record["q_units"] = list(units.si_labels)
+    joint = result.max_step_joint
+    record["max_joint_step_unit"] = units.si_labels[joint] if joint >= 0 else None
+    record["max_joint_step_joint"] = units.joint_names[joint] if joint >= 0 else None
+    if timed is not None:
+        record["duration_s"] = timed.duration
+        record["t_s"] = timed.waypoint_times.tolist()
+        record["qd"] = timed.waypoint_qd.tolist()
+        record["qd_units"] = [f"{u}/s" for u in units.si_labels]
+        if dense:
+            record["trajectory"] = {
+                "t_s": timed.t.tolist(),
+                "q": timed.q.tolist(),
+                "qd": timed.qd.tolist(),
+            }
+    return record
+
+
+def _write_csv(
+    file: str, units: JointUnits, result: PathResult, timed: TimedPath | None, dense: bool
+) -> None:
+    """One row per sample (per --dt sample with --dt), SI, header with units."""
+    names, labels = units.joint_names, units.si_labels
+    header = ["sample"] + (["t [s]"] if timed is not None else [])
+    header += [f"{n} [{u}]" for n, u in zip(names, labels)]
+    if timed is not None:
+        header += [f"{n} velocity [{u}/s]" for n, u in zip(names, labels)]
+    if timed is not None and dense:
+        rows = zip(timed.t, timed.q, timed.qd)
+    elif timed is not None:
+        rows = zip(timed.waypoint_times, result.q, timed.waypoint_qd)
+    else:
+        rows = ((None, q, None) for q in result.q)
+    with open(file, "w", newline="", encoding="utf-8") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(header)
+        for index, (t, q, qd) in enumerate(rows):
+            row = [index] + ([] if t is None else [f"{t:.9g}"])
+            row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v:.9g}" for v in qd])
+            writer.writerow(row)
+
+
+def _print_text(
+    robot: str,
+    units: JointUnits,
+    unit: str,
+    length: float,
+    result: PathResult,
+    timed: TimedPath | None,
+) -> None:
+    """A summary, then one line per sample in command-line units."""
+    out = sys.stdout.write
+    status = "followed" if result.success else result.message
+    out(f"{robot} ({result.method}): {len(result.path)} samples, {status}\n")
+    out(f"max deviation from the path: {result.max_deviation / length:.3g} {unit}\n")
+    if result.max_step_joint >= 0:
+        j = result.max_step_joint
+        step = result.max_joint_step / units.scales[j]
+        out(f"max joint step: {step:.4g} {units.labels[j]} ({units.joint_names[j]})\n")
+    changes = ", ".join(map(str, result.branch_changes)) or "none"
+    out(f"branch changes at samples: {changes}\n")
+    times = None
+    if timed is not None:
+        out(f"duration: {timed.duration:.4g} s\n")
+        times = timed.waypoint_times
+    columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]
+    widths = [max(10, len(c)) for c in columns]
+    head = "sample" + ("     t [s]" if times is not None else "")
+    out(head + "  " + "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths)) + "  branch\n")
+    for i, q in enumerate(result.q):
+        values = "  ".join(f"{v:>{w}.4f}" for v, w in zip(units.from_si(q), widths))
+        t = f"{times[i]:>10.4f}" if times is not None else ""
+        out(f"{i:>6}{t}  {values}  {result.branches[i]}\n")
