@@ -35,6 +35,11 @@ class _Unwrapper:
         self.lower = robot.lower
         self.upper = robot.upper
 
+    def free(self, q: np.ndarray, reference: np.ndarray) -> np.ndarray:
+        """Shifted toward ``reference`` by whole turns, limits ignored."""
+        turns = np.round((reference - q) / TWO_PI) * self.revolute
+        return np.asarray(q, dtype=float) + TWO_PI * turns
+
     def __call__(self, q: np.ndarray, reference: np.ndarray | None) -> np.ndarray:
         if reference is None:
             return np.asarray(q, dtype=float)
@@ -138,9 +143,11 @@ def _why_not(
     bound: float,
 ) -> str:
     """Why no solution continues the motion from ``previous``."""
-    near = [s for s in result.rejected if np.abs(unwrap(s.q, previous) - previous).max() <= bound]
-    if near:
-        return f"joint limit: {_outside(robot, unwrap(near[0].q, previous))}"
+    for solution in result.solutions + result.rejected:
+        # The continuation may be a whole turn away from the value in the limits.
+        q = unwrap.free(solution.q, previous)
+        if np.abs(q - previous).max() <= bound and not _inside(robot, q):
+            return f"joint limit: {_outside(robot, q)}"
     if not result.solutions and not result.rejected:
         return f"unreachable: {result.message}"
     every = [unwrap(s.q, previous) for s in result.solutions + result.rejected]
@@ -149,6 +156,10 @@ def _why_not(
         f"no solution within {bound:.3g} of the previous joint vector (nearest {gap:.3g} away): "
         "the motion would jump (a singularity or a branch boundary)"
     )
+
+
+def _inside(robot: RobotModel, q: np.ndarray) -> bool:
+    return bool(((q >= robot.lower) & (q <= robot.upper)).all())
 
 
 def _outside(robot: RobotModel, q: np.ndarray) -> str:
