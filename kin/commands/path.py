@@ -196,7 +196,8 @@ def _timing(
         vmax = _per_joint(args.vmax, units, "--vmax")
     if args.amax is not None:
         amax = _per_joint(args.amax, units, "--amax")
-    return time_optimal(result.q, vmax, amax, dt=args.dt)
+    stops = [i for i in result.path.waypoint_indices if i < len(result.q)]
+    return time_optimal(result.q, vmax, amax, dt=args.dt, stops=stops)
 
 
 def _record(
