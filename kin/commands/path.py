@@ -260,7 +260,8 @@ def _print_text(
     out = sys.stdout.write
     status = "followed" if result.success else result.message
     out(f"{robot} ({result.method}): {len(result.path)} samples, {status}\n")
-    out(f"max deviation from the path: {result.max_deviation / length:.3g} {unit}\n")
+    if len(result.q):
+        out(f"max deviation from the path: {result.max_deviation / length:.3g} {unit}\n")
     if result.max_step_joint >= 0:
         j = result.max_step_joint
         step = result.max_joint_step / units.scales[j]

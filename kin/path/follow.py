@@ -36,6 +36,8 @@ Method = Literal["auto", "closed_form", "differential"]
 
 #: Default largest change of one joint between two samples [rad] / [m].
 MAX_JOINT_STEP = 0.35
+#: Random starts of the first sample's numeric solve when no seed is given.
+START_SEEDS = 8
 
 
 def follow_path(
@@ -85,7 +87,7 @@ def follow_path(
         trace = follow_closed_form(robot, solver, path, seed_q, branch, max_joint_step)
     else:
         chosen = "differential"
-        start = _solve_first(solver, path, seed_q, timeout)
+        start = _solve_first(robot, solver, path, seed_q, timeout)
         if isinstance(start, Trace):
             trace = start
         else:
@@ -145,18 +147,39 @@ def path_solver(robot: RobotModel, method: Method = "auto") -> object:
 
 
 def _solve_first(
-    solver: object, path: CartesianPath, seed: np.ndarray | None, timeout: float
+    robot: RobotModel,
+    solver: object,
+    path: CartesianPath,
+    seed: np.ndarray | None,
+    timeout: float,
 ) -> np.ndarray | Trace:
-    """A solution of sample 0 nearest ``seed``, or the stopped trace saying why there is none."""
+    """A solution of sample 0, or the stopped trace saying why there is none.
+
+    With ``seed``, the solution nearest it. Without, the solver is started from the middle of
+    the limits and from :data:`START_SEEDS` seeded random joint vectors, and the solution farthest
+    from the joint limits (relative to each range) is kept: a start at a limit leaves the
+    differential steps no room.
+    """
     solve = solver.solve  # type: ignore[attr-defined]
     takes_timeout = "timeout" in inspect.signature(solve).parameters
     target = path.target(0)
-    result = solve(target, seed, timeout=timeout) if takes_timeout else solve(target, seed)
-    if not result.solutions:
+    if seed is not None:
+        starts = [seed]
+    else:
+        lower, upper = robot.lower, robot.upper
+        random = np.random.default_rng(0).uniform(lower, upper, (START_SEEDS, robot.nq))
+        starts = [(lower + upper) / 2.0, *random]
+    solutions, last = [], None
+    for start in starts:
+        budget = timeout / len(starts)
+        last = solve(target, start, timeout=budget) if takes_timeout else solve(target, start)
+        solutions += [np.asarray(s.q, dtype=float) for s in last.solutions]
+    if not solutions:
         return Trace(q=[], branches=[], branch_changes=[]).stop(
-            0, f"no solution inside the limits ({result.status}: {result.message})"
+            0, f"no solution inside the limits ({last.status}: {last.message})"
         )
-    solutions = [s.q for s in result.solutions]
-    if seed is None:
-        return np.asarray(solutions[0], dtype=float)
-    return np.asarray(min(solutions, key=lambda q: float(np.abs(q - seed).max())), dtype=float)
+    if seed is not None:
+        return min(solutions, key=lambda q: float(np.abs(q - seed).max()))
+    lower, upper = robot.lower, robot.upper
+    span = np.maximum(upper - lower, 1e-12)
+    return max(solutions, key=lambda q: float((np.minimum(q - lower, upper - q) / span).min()))
