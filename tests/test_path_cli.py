@@ -232,3 +232,20 @@ def test_kin_path_is_a_kin_command():
     """``python -m kin path`` runs the command (exit 2 and one line for a missing --to)."""
     process = run(["path", "--robot", "scorbot", "--from", "0.4", "0", "0.3", "--steps", "3"])
     assert_one_line_error(process.returncode, process.stderr, "--to")
+
+
+def test_script_shim_names_itself_in_errors(capsys):
+    """scripts/path.py is ``kin path`` with its own name: --steps 0 exits 2 with one line."""
+    from scripts_helper import load_script
+
+    code = call(load_script("path").main, ["--robot", "scorbot", "--steps", "0"])
+    _, err = capsys.readouterr()
+    assert_one_line_error(code, err, "path.py: error: argument --steps")
+
+
+def test_kin_path_all_is_sorted_and_exists():
+    """kin.path re-exports each name of its sorted __all__."""
+    import kin.path
+
+    names = list(kin.path.__all__)
+    assert names == sorted(names) and all(hasattr(kin.path, n) for n in names)
