@@ -25,6 +25,7 @@ import argparse
 import csv
 import json
 import sys
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
@@ -61,10 +62,19 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     parser = ArgumentParser(prog=prog, description=__doc__)
     add = parser.add_argument
     add("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
-    xyz = {"type": finite_float, "nargs": 3, "metavar": ("X", "Y", "Z"), "action": _PointAction}
-    add("--from", help="start point of the tool, world frame [--unit]", **xyz)
-    add("--via", help="intermediate point (repeat for a polyline) [--unit]", **xyz)
-    add("--to", help="end point of the tool [--unit]", **xyz)
+    for option, text in (
+        ("--from", "start point of the tool, world frame [--unit]"),
+        ("--via", "intermediate point (repeat for a polyline) [--unit]"),
+        ("--to", "end point of the tool [--unit]"),
+    ):
+        add(
+            option,
+            type=finite_float,
+            nargs=3,
+            metavar=("X", "Y", "Z"),
+            action=_PointAction,
+            help=text,
+        )
     add(
         "--rpy",
         type=finite_float,
@@ -118,6 +128,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
     """Build the path, follow it, time it, and write the outputs."""
     from ..cli import angle_scale, length_scale
     from ..path import follow_path, path_solver, polyline
+    from ..path.follow import MAX_JOINT_STEP
     from ..robot_model import load_robot
     from .joint_units import JointUnits
     from .targets import build_target, check_kind
@@ -143,9 +154,11 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
         check_kind(robot.name, robot.nq, tuple(solver.target_kinds), target, given)  # type: ignore[attr-defined]
         waypoints.append(target)
     seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
-    max_step = {} if args.max_step is None else {"max_joint_step": _max_step(args, units)}
+    max_step = MAX_JOINT_STEP if args.max_step is None else _max_step(args, units)
     path = polyline(waypoints, args.steps)
-    result = follow_path(robot, path, seed, solver=solver, branch=args.branch, **max_step)
+    result = follow_path(
+        robot, path, seed, solver=solver, branch=args.branch, max_joint_step=max_step
+    )
     timed = _timing(args, robot, units, result) if args.time and len(result.q) >= 2 else None
     if args.csv:
         _write_csv(args.csv, units, result, timed, args.dt is not None)
@@ -233,6 +246,7 @@ def _write_csv(
     header += [f"{n} [{u}]" for n, u in zip(names, labels)]
     if timed is not None:
         header += [f"{n} velocity [{u}/s]" for n, u in zip(names, labels)]
+    rows: Iterable[tuple[Any, Any, Any]]
     if timed is not None and dense:
         rows = zip(timed.t, timed.q, timed.qd)
     elif timed is not None:
@@ -244,7 +258,7 @@ def _write_csv(
         writer.writerow(header)
         for index, (t, q, qd) in enumerate(rows):
             row = [index] + ([] if t is None else [f"{t:.9g}"])
-            row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v:.9g}" for v in qd])
+            row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v + 0.0:.9g}" for v in qd])
             writer.writerow(row)
 
 

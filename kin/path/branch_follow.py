@@ -95,13 +95,13 @@ def follow_closed_form(
             trace.q.append(pick[1])
             trace.branches.append(pick[0].branch)
             continue
-        pick = _continue(candidates, previous, trace.branches[-1], max_joint_step)
-        if pick is None:
+        chosen = _continue(candidates, previous, trace.branches[-1], max_joint_step)
+        if chosen is None:
             return trace.stop(index, _why_not(robot, result, previous, unwrap, max_joint_step))
-        if pick[0].branch != trace.branches[-1]:
+        if chosen[0].branch != trace.branches[-1]:
             trace.branch_changes.append(index)
-        trace.q.append(pick[1])
-        trace.branches.append(pick[0].branch)
+        trace.q.append(chosen[1])
+        trace.branches.append(chosen[0].branch)
     return trace
 
 

@@ -113,12 +113,12 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
     for k, (a, b) in enumerate(zip(waypoints, waypoints[1:])):
         fractions = np.arange(0 if k == 0 else 1, counts[k] + 1) / counts[k]
         positions.append(a.position + np.outer(fractions, b.position - a.position))
-        if kind is PoseTarget:
+        if isinstance(a, PoseTarget) and isinstance(b, PoseTarget):
             qa, qb = pin.Quaternion(a.rotation), pin.Quaternion(b.rotation)
             rotations += [qa.slerp(float(f), qb).toRotationMatrix() for f in fractions]
-        elif kind is PitchTarget:
+        elif isinstance(a, PitchTarget) and isinstance(b, PitchTarget):
             pitches.append(a.pitch + fractions * (b.pitch - a.pitch))
-            if all(rolls_given):
+            if a.roll is not None and b.roll is not None:
                 rolls.append(a.roll + fractions * (b.roll - a.roll))
         indices.append(indices[-1] + counts[k])
     return CartesianPath(
@@ -134,13 +134,13 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
 def _segment_length(a: Target, b: Target) -> float:
     """Position change [m] plus :data:`ROTATION_LENGTH` times the angle change [rad]."""
     length = float(np.linalg.norm(b.position - a.position))
-    if isinstance(a, PoseTarget):
-        turn = pin.log3(a.rotation.T @ b.rotation)  # type: ignore[attr-defined]
+    if isinstance(a, PoseTarget) and isinstance(b, PoseTarget):
+        turn = pin.log3(a.rotation.T @ b.rotation)
         length += ROTATION_LENGTH * math.sqrt(float(turn @ turn))
-    elif isinstance(a, PitchTarget):
-        length += ROTATION_LENGTH * abs(b.pitch - a.pitch)  # type: ignore[attr-defined]
-        if a.roll is not None:
-            length += ROTATION_LENGTH * abs(b.roll - a.roll)  # type: ignore[attr-defined]
+    elif isinstance(a, PitchTarget) and isinstance(b, PitchTarget):
+        length += ROTATION_LENGTH * abs(b.pitch - a.pitch)
+        if a.roll is not None and b.roll is not None:
+            length += ROTATION_LENGTH * abs(b.roll - a.roll)
     return length
 
 

@@ -169,14 +169,15 @@ def _solve_first(
         lower, upper = robot.lower, robot.upper
         random = np.random.default_rng(0).uniform(lower, upper, (START_SEEDS, robot.nq))
         starts = [(lower + upper) / 2.0, *random]
-    solutions, last = [], None
+    solutions, why = [], ""
     for start in starts:
         budget = timeout / len(starts)
-        last = solve(target, start, timeout=budget) if takes_timeout else solve(target, start)
-        solutions += [np.asarray(s.q, dtype=float) for s in last.solutions]
+        result = solve(target, start, timeout=budget) if takes_timeout else solve(target, start)
+        solutions += [np.asarray(s.q, dtype=float) for s in result.solutions]
+        why = f"{result.status}: {result.message}"
     if not solutions:
         return Trace(q=[], branches=[], branch_changes=[]).stop(
-            0, f"no solution inside the limits ({last.status}: {last.message})"
+            0, f"no solution inside the limits ({why})"
         )
     if seed is not None:
         return min(solutions, key=lambda q: float(np.abs(q - seed).max()))
