@@ -124,6 +124,16 @@ def test_humanoid7_polyline_with_poses(capsys):
     assert record["max_joint_step"] < 0.1
 
 
+def test_quat_and_rpy_give_the_same_path(capsys):
+    """ur5: --quat 1 0 0 0 at every point is --rpy 0 0 0."""
+    line = ["--robot", "ur5", "--steps", "6", "--json", "--from", "0.4", "0.1", "0.3"]
+    rpy = line + ["--rpy", "0", "0", "0", "--to", "0.4", "0.2", "0.3", "--rpy", "0", "0", "0"]
+    quat = line + ["--quat", "1", "0", "0", "0", "--to", "0.4", "0.2", "0.3", "--quat", "1", "0", "0", "0"]  # fmt: skip
+    first, second = (json.loads(run_main(capsys, argv)[1]) for argv in (rpy, quat))
+    assert first["success"], first["message"]
+    np.testing.assert_allclose(first["q"], second["q"], atol=1e-9)
+
+
 @pytest.mark.parametrize(
     ("argv", "needle"),
     [

@@ -2,8 +2,8 @@
 
 The tool moves from --from through each --via (in the order given) to --to, in --steps steps in
 all: positions on straight segments, orientations turning about one axis (slerp). A point takes
-its orientation from the option right after it: --rpy R P Y (URDF roll-pitch-yaw, full pose) or,
-for five-joint arms, --pitch P [--roll R]; give one at every point or at none. Closed-form arms
+its orientation from the option right after it: --rpy R P Y (URDF roll-pitch-yaw) or --quat W X
+Y Z (full pose), or, for five-joint arms, --pitch P [--roll R]; give one at every point or none. Closed-form arms
 stay on one branch (the one nearest --seed-q, or --branch); redundant and numeric-only arms move
 by velocity-limited differential IK steps. A joint limit, an unreachable point or a jump larger
 than --max-step stops the motion there: "stopped_at" is that sample.
@@ -37,11 +37,10 @@ if TYPE_CHECKING:
 PROG = "kin path"
 EXIT_STOPPED = 1
 POINTS = ("--from", "--via", "--to")
-ORIENTATIONS = ("--rpy", "--pitch", "--roll")
 
 
 class _PointAction(argparse.Action):
-    """``--from/--via/--to X Y Z`` start a point; ``--rpy/--pitch/--roll`` complete the last."""
+    """``--from/--via/--to X Y Z`` start a point; ``--rpy/--quat/--pitch/--roll`` complete it."""
 
     def __call__(self, parser, namespace, values, option_string=None):  # noqa: ANN001, D102
         points = list(getattr(namespace, "points", None) or [])
@@ -82,6 +81,14 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         metavar=("R", "P", "Y"),
         action=_PointAction,
         help="orientation of the point before it: URDF roll-pitch-yaw",
+    )
+    add(
+        "--quat",
+        type=finite_float,
+        nargs=4,
+        metavar=("W", "X", "Y", "Z"),
+        action=_PointAction,
+        help="orientation of the point before it: unit quaternion",
     )
     add("--pitch", type=finite_float, action=_PointAction, help="five-joint arms: approach angle")
     add("--roll", type=finite_float, action=_PointAction, help="with --pitch: wrist-roll q5")
@@ -146,6 +153,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
         target, given = build_target(
             point["xyz"],
             rpy=point.get("rpy"),
+            quat=point.get("quat"),
             pitch=point.get("pitch"),
             roll=point.get("roll"),
             length=length,
@@ -170,11 +178,13 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
 
 
 def _check_orientations(points: list[dict[str, Any]]) -> None:
-    """Every point gives the same kind of orientation (--rpy, --pitch, or none)."""
+    """Every point gives the same kind of orientation (a pose, a pitch, or none)."""
     from ..path import PathError
 
     def kind(point: dict[str, Any]) -> str:
-        return "--rpy" if "rpy" in point else "--pitch" if "pitch" in point else "none"
+        if "rpy" in point or "quat" in point:
+            return "--rpy/--quat"
+        return "--pitch" if "pitch" in point else "none"
 
     first = kind(points[0])
     for point in points[1:]:

@@ -27,7 +27,7 @@ from .result import Trace
 TWO_PI = 2.0 * math.pi
 
 
-class _Unwrapper:
+class TurnUnwrapper:
     """Shift revolute joint values by whole turns toward a reference, inside the limits."""
 
     def __init__(self, robot: RobotModel):
@@ -41,6 +41,7 @@ class _Unwrapper:
         return np.asarray(q, dtype=float) + TWO_PI * turns
 
     def __call__(self, q: np.ndarray, reference: np.ndarray | None) -> np.ndarray:
+        """``q`` with revolute joints turned toward ``reference`` where the limits allow."""
         if reference is None:
             return np.asarray(q, dtype=float)
         q = np.array(q, dtype=float)
@@ -72,7 +73,7 @@ def follow_closed_form(
     Raises:
         PathError: ``branch`` is not a branch of the first sample.
     """
-    unwrap = _Unwrapper(robot)
+    unwrap = TurnUnwrapper(robot)
     trace = Trace(q=[], branches=[], branch_changes=[])
     for index in range(len(path)):
         previous = trace.q[-1] if trace.q else None
@@ -139,7 +140,7 @@ def _why_not(
     robot: RobotModel,
     result: IKResult,
     previous: np.ndarray,
-    unwrap: _Unwrapper,
+    unwrap: TurnUnwrapper,
     bound: float,
 ) -> str:
     """Why no solution continues the motion from ``previous``."""

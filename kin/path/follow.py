@@ -24,7 +24,7 @@ import numpy.typing as npt
 from ..configuration import as_joint_vector
 from ..ik import ClosedFormSolver, NumericIK, StructureError, get_solver
 from ..robot_model import RobotModel
-from .branch_follow import follow_closed_form
+from .branch_follow import TurnUnwrapper, follow_closed_form
 from .cartesian import CartesianPath
 from .differential_follow import follow_differential
 from .exceptions import PathError
@@ -156,9 +156,10 @@ def _solve_first(
     """A solution of sample 0, or the stopped trace saying why there is none.
 
     With ``seed``, the solution nearest it. Without, the solver is started from the middle of
-    the limits and from :data:`START_SEEDS` seeded random joint vectors, and the solution farthest
-    from the joint limits (relative to each range) is kept: a start at a limit leaves the
-    differential steps no room.
+    the limits and from :data:`START_SEEDS` seeded random joint vectors, each solution's revolute
+    joints are turned by whole turns toward mid-range, and the solution farthest from the joint
+    limits (relative to each range) is kept: a start at a limit leaves the differential steps no
+    room.
     """
     solve = solver.solve  # type: ignore[attr-defined]
     takes_timeout = "timeout" in inspect.signature(solve).parameters
@@ -179,8 +180,11 @@ def _solve_first(
         return Trace(q=[], branches=[], branch_changes=[]).stop(
             0, f"no solution inside the limits ({why})"
         )
+    # The same pose a whole turn away: revolute joints as near the seed (or mid-range) as allowed.
+    lower, upper = robot.lower, robot.upper
+    unwrap = TurnUnwrapper(robot)
+    solutions = [unwrap(q, (lower + upper) / 2.0 if seed is None else seed) for q in solutions]
     if seed is not None:
         return min(solutions, key=lambda q: float(np.abs(q - seed).max()))
-    lower, upper = robot.lower, robot.upper
     span = np.maximum(upper - lower, 1e-12)
     return max(solutions, key=lambda q: float((np.minimum(q - lower, upper - q) / span).min()))
