@@ -87,7 +87,7 @@ def follow_closed_form(
                 if not candidates and branch not in labels:
                     raise PathError(
                         f"branch {branch!r} is not a solution of the first sample; "
-                        f"its branches: {', '.join(labels) or 'none'}",
+                        f"its branches: {'; '.join(map(repr, labels)) or 'none'}",
                         "branch",
                     )
             if not candidates:
