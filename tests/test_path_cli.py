@@ -259,3 +259,13 @@ def test_kin_path_all_is_sorted_and_exists():
 
     names = list(kin.path.__all__)
     assert names == sorted(names) and all(hasattr(kin.path, n) for n in names)
+
+
+def test_unreachable_start_is_valid_json_with_nulls(capsys):
+    """A start out of reach: exit 1, stopped_at 0, no joint vectors, null measures (no NaN)."""
+    argv = ["--robot", "scorbot", "--steps", "3", "--json", "--time", "--from", "2", "0", "0.3"]
+    argv += ["--pitch", "0.3", "--to", "1.2", "0", "0.3", "--pitch", "0.3"]
+    code, out, err = run_main(capsys, argv)
+    record = json.loads(out)
+    assert code == 1 and record["stopped_at"] == 0 and record["q"] == []
+    assert record["max_deviation_m"] is None and "NaN" not in out
