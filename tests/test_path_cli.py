@@ -269,3 +269,22 @@ def test_unreachable_start_is_valid_json_with_nulls(capsys):
     record = json.loads(out)
     assert code == 1 and record["stopped_at"] == 0 and record["q"] == []
     assert record["max_deviation_m"] is None and "NaN" not in out
+
+
+def test_timing_uses_the_table_velocity_and_acceleration(tmp_path, capsys):
+    """rrpr4 with velocity 20 deg/s and acceleration 40 deg/s^2 rows: --time keeps |qd| under them."""
+    from cli_helper import RRPR4_TOML
+
+    text = RRPR4_TOML.replace("limits = [-150.0, 150.0]", "limits = [-150.0, 150.0]\nvelocity = 20.0\nacceleration = 40.0")  # fmt: skip
+    table = tmp_path / "slow.toml"
+    table.write_text(text, encoding="utf-8")
+    argv = ["--robot", str(table), "--steps", "10", "--unit", "mm", "--time", "--dt", "0.002"]
+    argv += ["--from", "250", "100", "150", "--to", "250", "200", "150", "--json"]
+    code, out, err = run_main(capsys, argv)
+    assert code == 0, err
+    trajectory = json.loads(out)["trajectory"]
+    t, qd = np.array(trajectory["t_s"]), np.array(trajectory["qd"])
+    assert np.abs(qd[:, :2]).max() <= math.radians(20) * 1.01
+    qdd = np.diff(qd[:, :2], axis=0) / np.diff(t)[:, None]
+    assert np.abs(qdd).max() <= math.radians(40) * 1.02
+    assert np.abs(qd[:, :2]).max() > math.radians(20) * 0.5  # the limits, not defaults, bind
