@@ -85,9 +85,29 @@ def test_outside_limits_is_kept_apart():
 
 
 def test_wrong_target_kind_raises_target_error():
-    """A position-only target for a five-joint arm is a TargetError."""
-    with pytest.raises(TargetError, match="PoseTarget or PitchTarget"):
-        ClosedFormSolver(kin.load_robot("scorbot")).solve(PositionTarget([0.3, 0, 0.3]))
+    """A full pose for a three-joint arm is a TargetError naming the kinds it takes, in words."""
+    robot = kin.load_robot("pickplace3")
+    pose = PoseTarget([0.2, 0.0, 0.2], np.eye(3))
+    with pytest.raises(TargetError, match=r"'pickplace3' takes a position target, not a full pose"):
+        ClosedFormSolver(robot).solve(pose)
+    with pytest.raises(TargetError, match="takes a position target") as raised:
+        ik.solve_ik(robot, PitchTarget([0.2, 0.0, 0.2], 0.3))
+    assert "PitchTarget" not in str(raised.value) and "position with pitch" in str(raised.value)
+
+
+def test_position_target_on_a_five_joint_arm_goes_to_the_numeric_solver():
+    """A position on a five-joint arm (no closed form for it) is answered by the numeric solver."""
+    robot = kin.load_robot("scorbot")
+    q = np.array([0.3, -0.4, 0.5, -0.2, 0.1])
+    position = kin.Configuration(robot).fk(q).translation
+    solver = ik.get_solver(robot)
+    assert solver.name == "closed_form:fivedof"
+    result = solver.solve(PositionTarget(position), timeout=0.5)
+    assert result.success and result.solver == "numeric", f"{result.message=}"
+    solution = result.solutions[0]
+    assert solution.position_error < 1e-5 and solution.rotation_error is None
+    reached = kin.Configuration(robot).fk(solution.q).translation
+    assert np.linalg.norm(reached - position) < 1e-5
 
 
 def _row(i, a=0.0, alpha=0.0, d=0.0):

@@ -1,10 +1,10 @@
-"""Inverse kinematics: closed form for the small arms, numeric (QP, Newton-Raphson) for 7 DOF."""
+"""Inverse kinematics of any DH table: closed form where a structure fits, else numeric."""
 
 from .analytic.batch import BatchResult, BatchSolver, dh_forward_kinematics
 from .analytic.closed_form import ClosedFormSolver
 from .analytic.seven_dof import SevenDofIK
 from .analytic.structure import FiveDof, Offset3R, Planar2R, SevenDof, recognise
-from .dispatch import NUMERIC_SOLVERS, Solver, get_solver
+from .dispatch import Solver, get_solver, solve_ik
 from .exceptions import IKError, StructureError, TargetError
 from .numeric.differential_ik import DifferentialIK
 from .numeric.newton_raphson import newton_raphson
@@ -22,7 +22,6 @@ __all__ = [
     "IKError",
     "IKResult",
     "IKSolution",
-    "NUMERIC_SOLVERS",
     "NumericIK",
     "NumericTarget",
     "Offset3R",
@@ -39,5 +38,6 @@ __all__ = [
     "get_solver",
     "newton_raphson",
     "recognise",
+    "solve_ik",
     "solve_numeric",
 ]

@@ -1,46 +1,75 @@
-"""Which IK solver a robot uses: one small mapping, shared by the scripts.
+"""Which IK solver a robot uses, for any DH table, behind one :class:`Solver` protocol.
 
-Robots listed in :data:`NUMERIC_SOLVERS` (the redundant ``humanoid7``) use the numeric solver
-registered there; every other robot gets a :class:`ClosedFormSolver`
-if its DH table fits one of the closed-form structures, else a :class:`StructureError`.
+:func:`get_solver` asks each registered closed-form structure
+(:data:`kin.ik.analytic.structure.CLOSED_FORMS`) whether the table fits; the first that fits
+gives a :class:`ClosedFormSolver` (which hands the numeric solver the target kinds its closed
+form does not take: a position on a five-joint arm). When none fits, the numeric solver
+(:class:`NumericIK`, which itself starts with the closed form with a free joint for an arm of the
+``SevenDof`` structure, humanoid7). :func:`solve_ik` is the one-call form.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy.typing as npt
 
 from kin import RobotModel
 
 from .analytic.closed_form import ClosedFormSolver
+from .exceptions import StructureError
 from .numeric.solver import NumericIK
 from .result import IKResult
 
 
 class Solver(Protocol):
-    """What the scripts need from a solver."""
+    """What every IK solver offers (closed form, numeric, the composite of both).
+
+    Attributes:
+        name: The pipeline, as :attr:`IKResult.solver` reports it (``"closed_form:<structure>"``,
+            ``"numeric"``).
+        target_kinds: The target classes :meth:`solve` accepts.
+    """
 
     name: str
-    target_kinds: tuple[type, ...]
 
-    def solve(self, target: object, seed: npt.ArrayLike | None = None) -> IKResult:
-        """Solve one target from a seed."""
+    @property
+    def target_kinds(self) -> tuple[type, ...]:
+        """The target classes :meth:`solve` accepts."""
+        ...
+
+    def solve(
+        self, target: Any, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
+    ) -> IKResult:
+        """Solve one target from a seed (joint vector [rad] / [m]) within ``timeout`` [s]."""
         ...
 
 
-#: Robot name -> factory of its numeric solver (sorted by name).
-NUMERIC_SOLVERS: dict[str, Callable[[RobotModel], Solver]] = {"humanoid7": NumericIK}
-
-
 def get_solver(robot: RobotModel) -> Solver:
-    """The solver of ``robot``: its registered numeric solver, else the closed-form one.
+    """The solver of ``robot``: the closed form when a registered structure fits, else numeric.
+
+    Never raises for a table: an arm no closed form fits (any number of joints, revolute or
+    prismatic) gets the numeric solver.
+    """
+    try:
+        return ClosedFormSolver(robot)
+    except StructureError:
+        return NumericIK(robot)
+
+
+def solve_ik(
+    robot: RobotModel, target: Any, seed: npt.ArrayLike | None = None, **options: Any
+) -> IKResult:
+    """Solve ``target`` with the robot's own solver (:func:`get_solver`).
+
+    Args:
+        robot: The robot.
+        target: A :class:`~kin.ik.PositionTarget`, :class:`~kin.ik.PoseTarget` or
+            :class:`~kin.ik.PitchTarget` in the world frame.
+        seed: Start joint vector [rad] (or [m] for prismatic joints), or None.
+        **options: Passed to the solver's ``solve`` (e.g. ``timeout`` [s]).
 
     Raises:
-        StructureError: No numeric solver is registered and the table fits no closed form.
+        TargetError: The arm cannot take this kind of target; the message names those it takes.
     """
-    factory = NUMERIC_SOLVERS.get(robot.name)
-    if factory is not None:
-        return factory(robot)
-    return ClosedFormSolver(robot)
+    return get_solver(robot).solve(target, seed, **options)

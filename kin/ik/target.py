@@ -134,3 +134,23 @@ class PitchTarget:
 
 
 Target = PositionTarget | PoseTarget | PitchTarget
+
+
+#: Target kinds in user terms, as error messages name them.
+KIND_NAMES: dict[type, str] = {
+    PositionTarget: "position",
+    PitchTarget: "position with pitch (and roll)",
+    PoseTarget: "full pose",
+}
+
+
+def describe_kinds(kinds: tuple[type, ...]) -> str:
+    """``"position or full pose"``: the user terms of ``kinds`` (in :data:`KIND_NAMES` order)."""
+    names = [name for kind, name in KIND_NAMES.items() if kind in kinds]
+    return " or ".join(names) if names else "no target"
+
+
+def kind_error(robot: str, kinds: tuple[type, ...], target: object) -> TargetError:
+    """The error for a target of a kind ``robot`` cannot take (``kinds`` are those it can)."""
+    given = KIND_NAMES.get(type(target), type(target).__name__)
+    return TargetError(f"'{robot}' takes a {describe_kinds(kinds)} target, not a {given} target")

@@ -21,6 +21,7 @@ import logging
 import math
 import operator
 import time
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -30,7 +31,7 @@ from kin import RobotModel
 
 from ..exceptions import TargetError
 from ..result import IKResult, IKSolution
-from ..target import PitchTarget, PoseTarget, PositionTarget, Target
+from ..target import PitchTarget, PoseTarget, PositionTarget, Target, kind_error
 from .branches import Branches
 from .five_dof import solve_pitch, solve_pose
 from .offset3r import solve_offset3r
@@ -138,7 +139,8 @@ class ClosedFormSolver:
         self._base = None if np.allclose(base, np.eye(4), atol=0.0) else np.linalg.inv(base)
         # Everything below depends only on the table: computed once, as floats and tuples, so that
         # a solve runs on the math module rather than on small NumPy arrays.
-        self._kinds = self.target_kinds
+        self._kinds = self.closed_form_kinds
+        self._numeric: Any = None
         self._zero_seed = [0.0] * len(self._lower)
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # frame 0 from the world (3 x 4 rows), and the world from frame 0 (3 x 3 rows)
@@ -148,11 +150,31 @@ class ClosedFormSolver:
             self._approach_in_tool = tuple(self.structure.R_roll_tool[2, :].tolist())
 
     @property
-    def target_kinds(self) -> tuple[type, ...]:
-        """The target classes this solver accepts."""
+    def closed_form_kinds(self) -> tuple[type, ...]:
+        """The target classes the closed form itself solves."""
         if isinstance(self.structure, FiveDof):
             return (PoseTarget, PitchTarget)
         return (PositionTarget,)
+
+    @property
+    def target_kinds(self) -> tuple[type, ...]:
+        """The target classes this solver accepts.
+
+        The closed form's, and a position on a five-joint arm (answered by the numeric solver,
+        see :meth:`solve`).
+        """
+        if isinstance(self.structure, FiveDof):
+            return (PoseTarget, PitchTarget, PositionTarget)
+        return (PositionTarget,)
+
+    @property
+    def numeric(self) -> Any:
+        """The numeric solver of the same robot, for the target kinds the closed form lacks."""
+        if self._numeric is None:
+            from ..numeric.solver import NumericIK
+
+            self._numeric = NumericIK(self.robot, closed_form=False)
+        return self._numeric
 
     def _failure(
         self, status: str, message: str, start: float, gap: float | None = None
@@ -210,7 +232,9 @@ class ClosedFormSolver:
         roll = seed[4] if target.roll is None else target.roll  # type: ignore[union-attr]
         return solve_pitch(structure, (x, y, z), target.pitch, roll + offsets[4], free_t1=free_t1)  # type: ignore[union-attr]
 
-    def solve(self, target: Target, seed: npt.ArrayLike | None = None) -> IKResult:
+    def solve(
+        self, target: Target, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
+    ) -> IKResult:
         """Every branch reaching ``target``, valid ones ordered by distance to ``seed``.
 
         Args:
@@ -218,6 +242,10 @@ class ClosedFormSolver:
                 :class:`PitchTarget` (five-joint arms), in the world frame.
             seed: Current joint vector [rad] (zeros if None): the order of the solutions and the
                 ``2 pi`` copy of each angle; also the value of a free joint at a singularity.
+
+            timeout: Time budget [s] of the numeric solver, which answers the target kinds the
+                closed form does not take (a position on a five-joint arm); the closed form
+                itself ignores it.
 
         Returns:
             The result; never raises for unreachable, singular or non-finite targets.
@@ -227,10 +255,9 @@ class ClosedFormSolver:
         """
         start = time.perf_counter()
         if not isinstance(target, self._kinds):
-            kinds = " or ".join(kind.__name__ for kind in self._kinds)
-            raise TargetError(
-                f"'{self.robot.name}' ({self.name}) takes a {kinds}, got a {type(target).__name__}"
-            )
+            if isinstance(target, self.target_kinds):
+                return self.numeric.solve(target, seed, timeout=timeout)
+            raise kind_error(self.robot.name, self.target_kinds, target)
         if seed is None:
             seed_list = self._zero_seed
         else:
@@ -274,6 +301,7 @@ class ClosedFormSolver:
             solutions=solutions,
             rejected=rejected_solutions,
             time=time.perf_counter() - start,
+            method="closed_form" if solutions else "",
         )
 
     def _approach(
@@ -339,8 +367,9 @@ class ClosedFormSolver:
                 ).homogeneous.tolist()
             ex, ey, ez = hx - px, hy - py, hz - pz
             position_error = sqrt(ex * ex + ey * ey + ez * ez)
+            rotation_error: float | None
             if position_only:
-                rotation_error = 0.0
+                rotation_error = None  # the target does not constrain the orientation
             elif r is not None:
                 # |R_fk - R_target|_F = 2 sqrt(2) sin(angle / 2): accurate for small angles
                 d0, d1, d2 = m00 - r00, m01 - r01, m02 - r02
@@ -366,13 +395,13 @@ class ClosedFormSolver:
                 rotation_error = math.atan2(
                     sqrt(cx * cx + cy * cy + cz * cz), ux * ax + uy * ay + uz * az
                 )
-            if position_error > tol_p or rotation_error > tol_r:
+            if position_error > tol_p or (rotation_error is not None and rotation_error > tol_r):
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
                     self.robot.name,
                     label,
                     position_error,
-                    rotation_error,
+                    rotation_error or 0.0,
                 )
                 continue
             solution = IKSolution(q, label, inside, position_error, rotation_error)

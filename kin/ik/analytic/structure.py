@@ -20,6 +20,7 @@ the same structure with other numbers works unchanged. A table that does not fit
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -328,20 +329,39 @@ def seven_dof(table: DHTable) -> SevenDof:
     )
 
 
+#: The registered closed-form structures: (number of joints, recogniser), in the order they are
+#: asked. Several structures may share a joint count; the first that fits the table wins.
+CLOSED_FORMS: tuple[tuple[int, Callable[[DHTable], Structure]], ...] = (
+    (2, planar2r),
+    (3, offset3r),
+    (5, five_dof),
+)
+
+
 def recognise(table: DHTable) -> Structure:
-    """The structure of the table's arm.
+    """The structure of the table's arm: the first of :data:`CLOSED_FORMS` that fits.
 
     Raises:
         StructureError: No closed-form solver fits; the message says what does not fit each one
             that has the table's number of joints.
     """
-    by_dof = {2: planar2r, 3: offset3r, 5: five_dof}
-    recogniser = by_dof.get(table.dof)
-    if recogniser is None:
-        raise StructureError(
-            table.name,
-            "closed-form",
-            f"{table.dof} joints; closed-form solvers exist for 2 (planar), 3 (yaw + 2 pitch) and "
-            "5 (yaw + 3 pitch + roll) joints",
-        )
-    return recogniser(table)
+    failures = []
+    for dof, recogniser in CLOSED_FORMS:
+        if dof != table.dof:
+            continue
+        try:
+            return recogniser(table)
+        except StructureError as err:
+            failures.append(err)
+    if len(failures) == 1:
+        raise failures[0]
+    if failures:
+        raise StructureError(table.name, "closed-form", "; ".join(err.mismatch for err in failures))
+    counts = sorted({dof for dof, _ in CLOSED_FORMS})
+    raise StructureError(
+        table.name,
+        "closed-form",
+        f"{table.dof} joints; closed-form solvers exist for "
+        + ", ".join(str(c) for c in counts)
+        + " joints (2: planar, 3: yaw + 2 pitch, 5: yaw + 3 pitch + roll)",
+    )

@@ -85,7 +85,7 @@ def newton_raphson(
         q = q + dq
     elapsed = time.perf_counter() - start
     verdict = measure(robot, data, q, target)
-    solution = IKSolution(q, "", verdict.within_limits, verdict.position_error, 0.0)
+    solution = IKSolution(q, "", verdict.within_limits, verdict.position_error, None)
     on_target = verdict.on_target()
     note = (
         f" ({singular_steps} singular step(s) through the SVD pseudo-inverse)"
@@ -101,6 +101,7 @@ def newton_raphson(
             (solution,),
             iterations=iterations,
             time=elapsed,
+            method="newton_raphson",
         )
     if on_target:
         message = (

@@ -8,7 +8,8 @@ Queries look up a uniform grid over the tool positions first: each cell holds th
 its 3 x 3 x 3 neighbourhood as one contiguous block of lifted embeddings (no gather), ranked in
 the pose embedding by one matrix-vector product (a few microseconds). Only
 when that cell holds fewer than ``k`` samples (the target is outside the sampled workspace, or at
-its thin edge) does the query fall back to SciPy's KD-tree (or a NumPy argmin without SciPy).
+its thin edge) does the query fall back to SciPy's KD-tree (built then; a NumPy argmin without
+SciPy). The samples and the grid are cached on disk per table (:mod:`.seed_cache`).
 """
 
 from __future__ import annotations
@@ -23,6 +24,8 @@ import numpy as np
 import pinocchio as pin
 
 from kin import RobotModel, load_robot
+
+from . import seed_cache
 
 logger = logging.getLogger(__name__)
 
@@ -77,10 +80,11 @@ class SeedTable:
             return found
         if rotation is None:
             point = position
-            index, points = self._position_index, self.positions
+            points = self.positions
         else:
             point = np.concatenate((position, self.rotation_weight * rotation.reshape(-1)))
-            index, points = self._pose_index, None
+            points = None
+        index = self._kd_tree(rotation is not None)
         if index is not None:
             _, found = index.query(point, k=k)
             return np.atleast_1d(found)
@@ -158,6 +162,26 @@ class SeedTable:
         span = self._cells.get((i * ny + j) * nz + m)
         return None if span is None else self._owners[span[0] : span[1]]
 
+    def _kd_tree(self, pose: bool) -> Any:
+        """SciPy's KD-tree over the positions (or the pose embedding), built on first use.
+
+        None without SciPy (the lookup falls back to a NumPy argmin).
+        """
+        name = "_pose_index" if pose else "_position_index"
+        tree = getattr(self, name)
+        if tree is None:
+            try:
+                from scipy.spatial import cKDTree
+            except ImportError:  # pragma: no cover
+                logger.info("SciPy not installed: seed lookup falls back to a NumPy argmin")
+                return None
+            points = self.positions
+            if pose:
+                points = np.hstack((points, self.rotation_weight * self.rotations))
+            tree = cKDTree(points)
+            object.__setattr__(self, name, tree)
+        return tree
+
     def _nearest_in_grid(
         self, position: np.ndarray, rotation: np.ndarray | None, k: int
     ) -> np.ndarray | None:
@@ -211,8 +235,12 @@ def build_seed_table(
     seed: int = 0,
     rotation_weight: float = 0.1,
     cell_size: float = 0.06,
+    cache: bool = True,
 ) -> SeedTable:
     """Sample ``size`` joint vectors uniformly inside the limits and tabulate their tool poses.
+
+    The samples and the grid are cached on disk per table (see :mod:`.seed_cache`): a second
+    process loads them instead of recomputing them.
 
     Args:
         robot: The robot.
@@ -220,7 +248,24 @@ def build_seed_table(
         seed: Seed of the random generator (the table is reproducible).
         rotation_weight: Weight of the rotation in the pose embedding [m].
         cell_size: Edge of the lookup grid's cells [m].
+        cache: Read and write the on-disk cache (False: always compute).
     """
+    key = seed_cache.table_key(robot, size, seed, rotation_weight, cell_size) if cache else ""
+    arrays = seed_cache.load(key) if cache else None
+    if arrays is None:
+        arrays = _sample(robot, size, seed, cell_size)
+        if cache:
+            seed_cache.store(key, arrays)
+    return _assemble(arrays, rotation_weight, cell_size)
+
+
+#: Arrays of a seed table that the disk cache keeps (the rest is derived from them).
+CACHED_ARRAYS = ("q", "positions", "rotations", "keys", "spans", "owners", "origin", "shape")
+
+
+def _sample(robot: RobotModel, size: int, seed: int, cell_size: float) -> dict[str, np.ndarray]:
+    """The samples, their tool poses and the grid, as the arrays of :data:`CACHED_ARRAYS`."""
+    seed_cache.BUILDS += 1
     model = robot.model
     data = model.createData()
     fid = model.getFrameId(robot.tool_frame)
@@ -235,15 +280,25 @@ def build_seed_table(
         pose = pin.updateFramePlacement(model, data, fid)
         positions[i] = pose.translation
         rotations[i] = pose.rotation.reshape(-1)
-    position_index = pose_index = None
-    try:
-        from scipy.spatial import cKDTree
-    except ImportError:  # pragma: no cover
-        logger.info("SciPy not installed: seed lookup falls back to a NumPy argmin")
-    else:
-        position_index = cKDTree(positions)
-        pose_index = cKDTree(np.hstack((positions, rotation_weight * rotations)))
     cells, owners, origin, shape = _grid(positions, cell_size)
+    return {
+        "q": q,
+        "positions": positions,
+        "rotations": rotations,
+        "keys": np.fromiter(cells.keys(), dtype=np.int64, count=len(cells)),
+        "spans": np.array(list(cells.values()), dtype=np.int64).reshape(-1, 2),
+        "owners": owners.astype(np.int32 if size < 2**31 else np.int64),
+        "origin": origin,
+        "shape": np.array(shape, dtype=np.int64),
+    }
+
+
+def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: float) -> SeedTable:
+    """The :class:`SeedTable` of the arrays of :data:`CACHED_ARRAYS`."""
+    q, positions, rotations = arrays["q"], arrays["positions"], arrays["rotations"]
+    owners = arrays["owners"]
+    cells = dict(zip(arrays["keys"].tolist(), map(tuple, arrays["spans"].tolist()), strict=True))
+    size = len(q)
     # The lifted embedding of every sample (see ``SeedTable.ranked``), copied once per cell in
     # cell order (contiguous blocks).
     lifted = np.hstack(
@@ -255,17 +310,18 @@ def build_seed_table(
         )
     )
     embedding = np.ascontiguousarray(lifted[owners])
+    nx, ny, nz = (int(v) for v in arrays["shape"].tolist())
     return SeedTable(
         q,
         positions,
         rotations,
         rotation_weight,
         cell_size,
-        position_index,
-        pose_index,
-        cells,
-        origin,
-        shape,
+        None,
+        None,
+        cells,  # type: ignore[arg-type]
+        arrays["origin"],
+        (nx, ny, nz),
         embedding,
         owners,
     )

@@ -1,25 +1,22 @@
-"""IK of the redundant 7-DOF arm (humanoid7): fast, inside the limits, verified by Pinocchio.
+"""Numeric IK of any DH table: a pipeline of small stages, inside the limits, verified by Pinocchio.
 
-The solve loop, until a solution is verified or the time budget runs out:
+The stages, in order, until one returns a verified solution or the time budget runs out:
 
-0. Closed form, for an arm of the :class:`~ik.structure.SevenDof` structure (humanoid7) and a
-   target without posture preference: joint 1 (and, for a position target, joints 5-7) from a
-   start, the other joints in closed form (:mod:`ik.seven_dof`), joint 1 scanned outward when it
-   gives no branch inside the limits. Starts: the caller's seed, then the seed-table samples
-   near the target. Most targets end here, in tens of microseconds.
-1. Starts: the seed-table samples whose tool poses are nearest to the target (and the caller's
-   ``seed_q`` / posture preference first when its tool pose is at least as near).
-2. From each start, clamped damped Newton steps on Pinocchio (:mod:`ik.damped_newton`).
-3. When the nearest starts fail, mink QP steps with hard limits (:mod:`ik.differential_ik`) from
-   the best configuration so far, then a damped Newton polish; then random starts inside the
-   limits, alternating both, until the deadline.
+0. :mod:`.free_joint`: the closed form with a free joint, for an arm of the
+   :class:`~kin.ik.analytic.structure.SevenDof` structure (humanoid7) and a target without
+   posture preference. Most of its targets end here, in tens of microseconds.
+1. :mod:`.starts`: damped Newton from the seed-table samples nearest the target (and the
+   caller's seed).
+2. :mod:`.restarts`: random restarts and mink QP runs with hard limits, until the deadline; then
+   a last QP run from the best configuration.
 
-Pinocchio is the judge: a configuration is a solution only when Pinocchio's forward kinematics
-at it finds it within ``1e-5 m`` and ``1e-4 rad`` of the target and inside the limits. The
-damped Newton run's last evaluation is that forward kinematics at the returned ``q`` (the numbers
-:func:`ik.numeric_target.measure` would recompute), so a success costs no extra evaluation.
-Otherwise the result says so (``success=False``) and carries the best configuration found and its
-errors (measured by :func:`ik.numeric_target.measure`).
+:class:`~.search.Search` carries the target, the budget and the best attempt between stages.
+Pinocchio is the judge: a configuration is a solution only when Pinocchio's forward kinematics at
+it finds it within ``1e-5 m`` and ``1e-4 rad`` of the target and inside the limits. Otherwise the
+result says so (``success=False``) and carries the best configuration found and its errors.
+:attr:`IKResult.method` names the stage that answered: ``"closed_form_free_joint"``,
+``"seed_table"``, ``"damped_newton"`` (from the caller's seed), ``"random_restart"``,
+``"mink_qp"``.
 """
 
 from __future__ import annotations
@@ -27,29 +24,29 @@ from __future__ import annotations
 import functools
 import logging
 import math
-import time
-from collections.abc import Iterator
-from operator import le
 
 import numpy as np
 import numpy.typing as npt
-import pinocchio as pin
 
 from kin import KinError, RobotModel, as_joint_vector, load_robot
 
 from ..analytic.seven_dof import COMPILED, SevenDofIK
 from ..analytic.structure import seven_dof
 from ..exceptions import StructureError, TargetError
-from ..result import IKResult, IKSolution
-from .damped_newton import NewtonOutcome, damped_newton
+from ..result import IKResult
+from ..target import PoseTarget, PositionTarget, kind_error
 from .differential_ik import DifferentialIK
-from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget, measure
+from .free_joint import solve_free_joint
+from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget
+from .restarts import polish_best, solve_with_restarts
+from .search import PIPELINE, Search
 from .seed_table import SeedTable, build_seed_table, seed_table_for
+from .starts import solve_from_starts
 
 logger = logging.getLogger(__name__)
 
-#: Weight of the rotation error when ranking failed attempts [m/rad].
-_RANK_WEIGHT = 0.1
+#: Default time budget of one solve [s].
+DEFAULT_TIMEOUT = 0.05
 
 
 class NumericIK:
@@ -78,8 +75,8 @@ class NumericIK:
             compiled twin of :mod:`ik.seven_dof`, 0.05 rad without).
     """
 
-    #: Solver name reported in :class:`IKResult` (the scripts' dispatch protocol).
-    name = "mink"
+    #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
+    name = PIPELINE
 
     def __init__(
         self,
@@ -113,9 +110,9 @@ class NumericIK:
         self.lower = robot.model.lowerPositionLimit.copy()
         self.upper = robot.model.upperPositionLimit.copy()
         self._lows, self._highs = self.lower.tolist(), self.upper.tolist()
-        rows = robot.table.rows
         #: Upper bound of the tool's distance from the base origin [m] (triangle inequality).
-        self.reach = float(sum(abs(row.a) + abs(row.d) for row in rows))
+        self.reach = _reach(robot)
+        self._base_origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
         self._shape = (robot.model.nq,)
         self._table: SeedTable | None = None
         self._differential: DifferentialIK | None = None
@@ -150,16 +147,17 @@ class NumericIK:
 
     @property
     def target_kinds(self) -> tuple[type, ...]:
-        """Target types :meth:`solve` accepts."""
-        from ..target import PoseTarget, PositionTarget
-
-        return (NumericTarget, PoseTarget, PositionTarget)
+        """Target types :meth:`solve` accepts: a position; a full pose with six joints or more."""
+        if self.model.nq >= 6:
+            return (NumericTarget, PoseTarget, PositionTarget)
+        return (NumericTarget, PositionTarget)
 
     def solve(
         self,
         target: object,
         seed: npt.ArrayLike | None = None,
-        timeout: float = 0.05,
+        *,
+        timeout: float | None = None,
         random_seed: int = 0,
         position_tol: float = POSITION_TOLERANCE,
         rotation_tol: float = ROTATION_TOLERANCE,
@@ -168,14 +166,16 @@ class NumericIK:
         """Find a joint vector inside the limits that puts the tool on ``target``.
 
         Args:
-            target: Tool target (full pose or position only, optional posture preference).
-            seed: Start joint vector [rad]. The closed form (an arm of the
-                :class:`~ik.structure.SevenDof` structure) starts from it first: the answer
-                keeps its joint 1 as nearly as the target allows and takes the branch nearest
-                it. Damped Newton tries it first when its tool pose is at least as near to the
-                target as the nearest seed-table sample's.
-            timeout: Time budget [s]; the first verified solution returns earlier. Building the
-                seed table and loading the MuJoCo model (once per solver) do not count.
+            target: Tool target: a position, or a full pose for an arm of six joints or more (a
+                :class:`NumericTarget` may add a posture preference).
+            seed: Start joint vector [rad] (or [m] for prismatic joints). The closed form (an
+                arm of the :class:`~kin.ik.analytic.structure.SevenDof` structure) starts from
+                it first: the answer keeps its joint 1 as nearly as the target allows. Damped
+                Newton tries it first when its tool pose is at least as near to the target as the
+                nearest seed-table sample's.
+            timeout: Time budget [s] (None: :data:`DEFAULT_TIMEOUT`); the first verified
+                solution returns earlier. Building the seed table and loading the MuJoCo model
+                (once per solver) do not count.
             random_seed: Seed of the random restarts (results are reproducible).
             position_tol: Success tolerance on the position [m].
             rotation_tol: Success tolerance on the rotation [rad].
@@ -183,306 +183,38 @@ class NumericIK:
                 timeout, a result that does not depend on the machine's speed), or None.
 
         Returns:
-            ``IKResult(solver="mink")``; on failure ``rejected`` holds the best configuration.
-            A non-finite ``ik.target`` value gives ``status="invalid_target"``.
+            ``IKResult(solver="numeric")`` with ``method`` the stage that answered; on failure
+            ``rejected`` holds the best configuration. A non-finite target value gives
+            ``status="invalid_target"``.
 
         Raises:
-            TargetError: A target of another kind (e.g. ``PitchTarget``), a malformed one, or a
-                seed of the wrong size.
+            TargetError: A target of a kind the arm cannot take (a pitch target; a full pose on
+                an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
         """
+        if not isinstance(target, self.target_kinds):
+            raise kind_error(self.robot.name, self.target_kinds, target)
         _ = self.table  # built once, outside the budget
-        start = time.perf_counter()
-        deadline = start + timeout
         if not getattr(target, "finite", True):  # ik.target values accept NaN; report it
-            return IKResult(False, "mink", "invalid_target", f"target is not finite: {target}")
+            return IKResult(False, PIPELINE, "invalid_target", f"target is not finite: {target}")
         target = NumericTarget.from_target(target)
-        # 0: the closed form from the seed's or samples' free joints (no posture preference).
-        if target.posture is None and self.closed_form is not None:
-            done = self._closed_form(target, seed, position_tol, rotation_tol, start)
-            if done is not None:
-                return done
-        position, rotation = target.position, target.rotation
-        inner_p, inner_r = 0.1 * position_tol, 0.1 * rotation_tol
-        best: NewtonOutcome | None = None
-        iterations = 0
-        attempts = 0
-        lows, highs = self._lows, self._highs
-        newton_kwargs = dict(
-            max_iterations=self.newton_iterations,
-            position_tol=inner_p,
-            rotation_tol=inner_r,
-            posture=target.posture,
-        )
-        # The nearest starts give up early when stuck: the next start is cheaper than the
-        # remaining steps (the fallback below always runs its full steps).
-        start_kwargs = dict(newton_kwargs, patience=self.patience)
-        random_kwargs = dict(newton_kwargs, patience=self.random_patience)
+        budget = DEFAULT_TIMEOUT if timeout is None else timeout
+        search = Search(self, target, position_tol, rotation_tol, budget)
+        if target.posture is None and (done := solve_free_joint(self, search, seed)):
+            return done
+        if done := solve_from_starts(self, search, seed):
+            return done
+        if done := solve_with_restarts(self, search, random_seed, max_attempts):
+            return done
+        if done := polish_best(self, search):
+            return done
+        return search.failure()
 
-        def finish(outcome: NewtonOutcome, how: str) -> IKResult | None:
-            # The last Newton evaluation ran Pinocchio's forward kinematics at ``outcome.q``
-            # itself: its errors are the judge's measurement (``measure`` would recompute the
-            # same numbers), the limits are checked on the returned values.
-            q = outcome.q
-            values = q.tolist()
-            if not (
-                outcome.position_error < position_tol
-                and outcome.rotation_error < rotation_tol
-                and all(map(le, lows, values))
-                and all(map(le, values, highs))
-            ):
-                return None
-            solution = IKSolution(
-                q.copy(), "", True, outcome.position_error, outcome.rotation_error
-            )
-            return IKResult(
-                True,
-                "mink",
-                "ok",
-                how,
-                (solution,),
-                iterations=iterations,
-                time=time.perf_counter() - start,
-            )
+    def distance_from_base(self, position: np.ndarray) -> float:
+        """Distance of a world point from the base origin [m]."""
+        x, y, z = np.subtract(position, self._base_origin).tolist()
+        return math.sqrt(x * x + y * y + z * z)
 
-        def better(outcome: NewtonOutcome) -> bool:
-            if best is None:
-                return True
-            return (
-                outcome.position_error + _RANK_WEIGHT * outcome.rotation_error
-                < best.position_error + _RANK_WEIGHT * best.rotation_error
-            )
-
-        # 1-2: nearest starts, damped Newton.
-        for label, q0, _ in self._starts(target, seed):
-            outcome = damped_newton(
-                self.model, self.data, self.frame_id, q0, position, rotation, **start_kwargs
-            )
-            iterations += outcome.iterations
-            attempts += 1
-            if outcome.converged:
-                done = finish(outcome, f"damped Newton from {label}, {outcome.iterations} steps")
-                if done is not None:
-                    return done
-            if better(outcome):
-                best = outcome
-            if time.perf_counter() > deadline:
-                break
-        # 3: random restarts and mink QP runs (the first from the best so far), until the deadline.
-        rng = np.random.default_rng(random_seed)
-        fallback = qp_runs = 0
-        nearest_best = best
-        best_from_qp = False
-        out_of_reach = float(np.linalg.norm(position)) > self.reach
-        while time.perf_counter() < deadline:
-            label = "mink QP"
-            # Out of reach: mink QP from the best so far first (the closest configuration);
-            # else ``random_starts`` cheap random starts first. Then mink QP runs with
-            # ``random_between`` random starts between them.
-            k = fallback if out_of_reach else fallback - self.random_starts
-            use_qp = k >= 0 and k % (self.random_between + 1) == 0
-            fallback += 1
-            if use_qp and not qp_runs and nearest_best is not None:
-                q_next = nearest_best.q  # the first run: from the nearest starts' best
-            else:
-                q_next = rng.uniform(self.lower, self.upper)
-            if use_qp:
-                qp_runs += 1
-                if self._differential is None:  # loaded once, outside the budget
-                    loading = time.perf_counter()
-                    _ = self.differential
-                    deadline += time.perf_counter() - loading
-                self.differential.set_target(target)
-                qp = self.differential.solve(q_next, self.qp_iterations, inner_p, inner_r, deadline)
-                iterations += qp.iterations
-                q_next = qp.q
-                label = f"mink QP ({qp.iterations} steps) + damped Newton"
-            else:
-                label = "damped Newton from a random start"
-            outcome = damped_newton(
-                self.model,
-                self.data,
-                self.frame_id,
-                q_next,
-                position,
-                rotation,
-                **(newton_kwargs if use_qp else random_kwargs),
-            )
-            iterations += outcome.iterations
-            attempts += 1
-            if outcome.converged:
-                done = finish(outcome, f"{label}, attempt {attempts}")
-                if done is not None:
-                    return done
-            if better(outcome):
-                best = outcome
-                best_from_qp = use_qp
-            if out_of_reach and attempts > self.nearest + 2:
-                break
-            if max_attempts is not None and attempts >= max_attempts:
-                break
-        if best is not None and not best_from_qp and time.perf_counter() < deadline:
-            # No solution, stopped by ``max_attempts``: a last mink QP run from the best
-            # configuration (a random start's, stopped early) tightens it.
-            self.differential.set_target(target)
-            qp = self.differential.solve(best.q, self.qp_iterations, inner_p, inner_r, deadline)
-            outcome = damped_newton(
-                self.model, self.data, self.frame_id, qp.q, position, rotation, **newton_kwargs
-            )
-            iterations += qp.iterations + outcome.iterations
-            if outcome.converged and (done := finish(outcome, "mink QP from the best")):
-                return done
-            if better(outcome):
-                best = outcome
-        return self._failure(
-            target, best, iterations, attempts, time.perf_counter() - start, out_of_reach
-        )
-
-    def _starts(
-        self, target: NumericTarget, seed_q: npt.ArrayLike | None
-    ) -> Iterator[tuple[str, np.ndarray, int]]:
-        """Start joint vectors, most promising first (ranked lazily: most targets need one).
-
-        Yields ``(label, q0, index)``: ``index`` is the seed-table sample's, -1 for the caller's.
-        """
-        table = self.table
-        extra = []
-        if target.posture is not None:
-            extra.append(("the preferred posture", np.asarray(target.posture, dtype=float), -1))
-        if seed_q is not None:
-            extra.append(("the given seed", self._seed_vector(seed_q), -1))
-        found = table.ranked(target.position, target.rotation)
-        if found is None or found[0].size < self.nearest:  # outside the grid: the KD-tree
-            order = table.nearest(target.position, target.rotation, k=self.nearest)
-            candidates, distances = order, None
-            first = 0
-        else:
-            candidates, distances = found
-            first = int(distances.argmin())
-        # A caller's start goes first when its tool pose is at least as near as the nearest
-        # sample's (in the table's pose embedding), else second.
-        ahead, behind = [], []
-        if extra:
-            nearest = (
-                self._embedding_distance(table.q[candidates[first]], target)
-                if distances is None
-                else float(distances[first])
-            )
-            for start in extra:
-                near = self._embedding_distance(start[1], target) <= nearest
-                (ahead if near else behind).append(start)
-        yield from ahead
-        index = int(candidates[first])
-        yield f"seed-table sample {index}", table.q[index], index
-        yield from behind
-        if distances is None:
-            rest = candidates[1:]
-        else:
-            ranked = np.argsort(distances, kind="stable")[: self.nearest]
-            rest = [candidates[i] for i in ranked if i != first][: self.nearest - 1]
-        for i in rest:
-            index = int(i)
-            yield f"seed-table sample {index}", table.q[index], index
-
-    def _closed_form(
-        self,
-        target: NumericTarget,
-        seed_q: npt.ArrayLike | None,
-        position_tol: float,
-        rotation_tol: float,
-        start: float,
-    ) -> IKResult | None:
-        """The closed form from the caller's seed, then from seed-table samples; None if none verifies.
-
-        From a start: joint 1 (and, for a position target, joints 5-7) as the start has them, the
-        other joints in closed form, the branch nearest the start
-        (:meth:`~ik.seven_dof.SevenDofIK.first`). When that joint 1 gives no branch inside the
-        limits, the seed and the first sample scan joint 1 outward from there (by
-        ``closed_form_steps``, coarse to fine): the answer keeps the start's joint 1 as nearly as the target
-        allows. Pinocchio measures the answer.
-        """
-        closed = self.closed_form
-        prepared = closed.prepare(target.position, target.rotation)
-        out = np.empty(7)
-        for label, starts, indices, step in self._closed_form_starts(target, seed_q):
-            offset = 0
-            while offset < len(starts):
-                index = closed.first(prepared, starts[offset:], out, step)
-                if index < 0:
-                    break
-                offset += index + 1
-                solution = self._verified(out, target, position_tol, rotation_tol)
-                if solution is not None:
-                    if label is None:
-                        label = f"seed-table sample {int(indices[offset - 1])}"
-                    return IKResult(
-                        True,
-                        "mink",
-                        "ok",
-                        f"closed form with the free joints of {label}",
-                        (solution,),
-                        iterations=0,
-                        time=time.perf_counter() - start,
-                    )
-        return None
-
-    def _closed_form_starts(
-        self, target: NumericTarget, seed_q: npt.ArrayLike | None
-    ) -> Iterator[tuple[str | None, np.ndarray, np.ndarray | None, float]]:
-        """Blocks of closed-form starts, in order: ``(label, starts, sample indices, step)``.
-
-        The caller's seed (scanned, coarse then fine); the seed-table sample nearest the target
-        (scanned likewise; for a
-        full pose by pose distance, for a position the nearest to the target's grid cell centre);
-        the next ``closed_form_starts`` samples (not scanned). Looked up lazily: most targets need
-        the first block only.
-        """
-        steps = self.closed_form_steps
-        if seed_q is not None:
-            seed = self._seed_vector(seed_q)[None]
-            for step in steps:
-                yield "the given seed", seed, None, step
-        table = self.table
-        position, rotation = target.position, target.rotation
-        if rotation is None:
-            candidates = table.cell_samples(position)
-            if candidates is None:
-                return
-            for step in steps:
-                yield None, table.q[candidates[:1]], candidates, step
-            rest = candidates[1 : self.closed_form_starts]
-        else:
-            found = table.ranked(position, rotation)
-            if found is None or not found[0].size:
-                return
-            candidates, distances = found
-            first = int(distances.argmin())
-            for step in steps:
-                yield None, table.q[candidates[first : first + 1]], candidates[first:], step
-            order = np.argsort(distances, kind="stable")[: self.closed_form_starts]
-            rest = candidates[order[order != first]]
-        if rest.size:
-            yield None, table.q[rest], rest, 0.0
-
-    def _verified(
-        self, q: np.ndarray, target: NumericTarget, position_tol: float, rotation_tol: float
-    ) -> IKSolution | None:
-        """``q`` as a solution if Pinocchio finds it on target (limits: the caller's business)."""
-        model, data = self.model, self.data
-        pin.forwardKinematics(model, data, q)
-        pose = pin.updateFramePlacement(model, data, self.frame_id)
-        x, y, z = np.subtract(pose.translation, target.position).tolist()
-        position_error = math.sqrt(x * x + y * y + z * z)
-        if position_error >= position_tol:
-            return None
-        rotation_error = 0.0
-        if target.rotation is not None:
-            x, y, z = pin.log3(np.dot(pose.rotation.T, target.rotation)).tolist()
-            rotation_error = math.sqrt(x * x + y * y + z * z)
-            if rotation_error >= rotation_tol:
-                return None
-        return IKSolution(q.copy(), "", True, position_error, rotation_error)
-
-    def _seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
+    def seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
         """The caller's seed as a finite joint vector (the solver never writes into it)."""
         if (
             type(seed_q) is np.ndarray
@@ -496,70 +228,19 @@ class NumericIK:
         except KinError as err:
             raise TargetError(f"seed of '{self.robot.name}': {err}") from err
 
-    def _embedding_distance(self, q: np.ndarray, target: NumericTarget) -> float:
-        """Squared distance of ``q``'s tool pose to the target in the seed table's embedding."""
-        model, data = self.model, self.data
-        values = q.tolist()
-        if not (all(map(le, self._lows, values)) and all(map(le, values, self._highs))):
-            q = np.minimum(np.maximum(q, self.lower), self.upper)
-        pin.forwardKinematics(model, data, q)
-        pose = pin.updateFramePlacement(model, data, self.frame_id)
-        x, y, z = np.subtract(pose.translation, target.position).tolist()
-        distance = x * x + y * y + z * z
-        if target.rotation is not None:  # |R - R_t|_F^2 = 6 - 2 <R, R_t> for rotations
-            inner = float(np.vdot(pose.rotation, target.rotation))
-            distance += self.table.rotation_weight**2 * (6.0 - 2.0 * inner)
-        return distance
 
-    def _failure(
-        self,
-        target: NumericTarget,
-        best: NewtonOutcome | None,
-        iterations: int,
-        attempts: int,
-        elapsed: float,
-        out_of_reach: bool,
-    ) -> IKResult:
-        rejected: tuple[IKSolution, ...] = ()
-        detail = "no configuration"
-        if best is not None:
-            verdict = measure(self.robot, self.data, best.q, target)
-            rejected = (
-                IKSolution(
-                    best.q.copy(),
-                    "",
-                    verdict.within_limits,
-                    verdict.position_error,
-                    verdict.rotation_error,
-                ),
-            )
-            detail = f"best configuration misses by {verdict.position_error:.3g} m" + (
-                "" if target.position_only else f" and {verdict.rotation_error:.3g} rad"
-            )
-        if out_of_reach:
-            distance = float(np.linalg.norm(target.position)) - self.reach
-            return IKResult(
-                False,
-                "mink",
-                "out_of_reach",
-                f"target is {distance:.4g} m beyond the arm's reach ({self.reach:.4g} m); {detail}",
-                (),
-                rejected,
-                distance_to_workspace=distance,
-                iterations=iterations,
-                time=elapsed,
-            )
-        return IKResult(
-            False,
-            "mink",
-            "not_converged",
-            f"no solution inside the joint limits found in {elapsed * 1e3:.0f} ms "
-            f"({attempts} starts); {detail}",
-            (),
-            rejected,
-            iterations=iterations,
-            time=elapsed,
-        )
+def _reach(robot: RobotModel) -> float:
+    """Upper bound of the tool's distance from the base origin [m].
+
+    Every link length, offset, prismatic travel and the tool offset, laid end to end.
+    """
+    total = 0.0
+    for row in robot.table.rows:
+        total += abs(row.a) + abs(row.d)
+        if row.joint_type == "prismatic":
+            total += max(abs(row.lower), abs(row.upper))
+    tool = np.asarray(robot.table.T_last_tool, dtype=float)[:3, 3]
+    return float(total + np.linalg.norm(tool))
 
 
 def _is_shipped(robot: RobotModel) -> bool:
@@ -582,7 +263,7 @@ def solve_numeric(
     rotation: npt.ArrayLike | None = None,
     posture: npt.ArrayLike | None = None,
     seed_q: npt.ArrayLike | None = None,
-    timeout: float = 0.05,
+    timeout: float = DEFAULT_TIMEOUT,
 ) -> IKResult:
     """Numeric IK in one call: position [m], optional rotation ``R_world_tool`` and posture.
 

@@ -1,0 +1,115 @@
+"""Stage 0 of the numeric pipeline: the closed form with a free joint (the SevenDof arm).
+
+For an arm of the :class:`~kin.ik.analytic.structure.SevenDof` structure (humanoid7): joint 1
+(and, for a position target, joints 5-7) from a start, the other joints in closed form
+(:mod:`kin.ik.analytic.seven_dof`), the branch nearest the start. Starts: the caller's seed, then
+the seed-table samples near the target. When a start's joint 1 gives no branch inside the limits,
+the seed and the first sample scan joint 1 outward from there (coarse to fine): the answer keeps
+the start's joint 1 as nearly as the target allows. Pinocchio measures every answer. Most targets
+end here, in tens of microseconds.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+import numpy as np
+import numpy.typing as npt
+import pinocchio as pin
+
+from ..result import IKResult, IKSolution
+from .numeric_target import NumericTarget
+
+if TYPE_CHECKING:
+    from .search import Search
+    from .solver import NumericIK
+
+#: :attr:`IKResult.method` of this stage.
+METHOD = "closed_form_free_joint"
+
+
+def solve_free_joint(
+    ik: NumericIK, search: Search, seed_q: npt.ArrayLike | None
+) -> IKResult | None:
+    """The closed form from the caller's seed, then from seed-table samples; None if none verifies."""
+    closed = ik.closed_form
+    if closed is None:
+        return None
+    target = search.target
+    prepared = closed.prepare(target.position, target.rotation)
+    out = np.empty(7)
+    for label, starts, indices, step in _starts(ik, target, seed_q):
+        offset = 0
+        while offset < len(starts):
+            index = closed.first(prepared, starts[offset:], out, step)
+            if index < 0:
+                break
+            offset += index + 1
+            solution = _verified(ik, out, target, search.position_tol, search.rotation_tol)
+            if solution is not None:
+                if label is None:
+                    label = f"seed-table sample {int(indices[offset - 1])}"  # type: ignore[index]
+                return search.success(
+                    solution, METHOD, f"closed form with the free joints of {label}"
+                )
+    return None
+
+
+def _starts(
+    ik: NumericIK, target: NumericTarget, seed_q: npt.ArrayLike | None
+) -> Iterator[tuple[str | None, np.ndarray, np.ndarray | None, float]]:
+    """Blocks of closed-form starts, in order: ``(label, starts, sample indices, step)``.
+
+    The caller's seed (scanned, coarse then fine); the seed-table sample nearest the target
+    (scanned likewise; for a full pose by pose distance, for a position the nearest to the
+    target's grid cell centre); the next ``closed_form_starts`` samples (not scanned). Looked up
+    lazily: most targets need the first block only.
+    """
+    steps = ik.closed_form_steps
+    if seed_q is not None:
+        seed = ik.seed_vector(seed_q)[None]
+        for step in steps:
+            yield "the given seed", seed, None, step
+    table = ik.table
+    position, rotation = target.position, target.rotation
+    if rotation is None:
+        candidates = table.cell_samples(position)
+        if candidates is None:
+            return
+        for step in steps:
+            yield None, table.q[candidates[:1]], candidates, step
+        rest = candidates[1 : ik.closed_form_starts]
+    else:
+        found = table.ranked(position, rotation)
+        if found is None or not found[0].size:
+            return
+        candidates, distances = found
+        first = int(distances.argmin())
+        for step in steps:
+            yield None, table.q[candidates[first : first + 1]], candidates[first:], step
+        order = np.argsort(distances, kind="stable")[: ik.closed_form_starts]
+        rest = candidates[order[order != first]]
+    if rest.size:
+        yield None, table.q[rest], rest, 0.0
+
+
+def _verified(
+    ik: NumericIK, q: np.ndarray, target: NumericTarget, position_tol: float, rotation_tol: float
+) -> IKSolution | None:
+    """``q`` as a solution if Pinocchio finds it on target (limits: the closed form's business)."""
+    model, data = ik.model, ik.data
+    pin.forwardKinematics(model, data, q)
+    pose = pin.updateFramePlacement(model, data, ik.frame_id)
+    x, y, z = np.subtract(pose.translation, target.position).tolist()
+    position_error = math.sqrt(x * x + y * y + z * z)
+    if position_error >= position_tol:
+        return None
+    rotation_error = None
+    if target.rotation is not None:
+        x, y, z = pin.log3(np.dot(pose.rotation.T, target.rotation)).tolist()
+        rotation_error = math.sqrt(x * x + y * y + z * z)
+        if rotation_error >= rotation_tol:
+            return None
+    return IKSolution(q.copy(), "", True, position_error, rotation_error)

@@ -1,0 +1,181 @@
+"""The state one numeric solve shares between its stages: the target, the budget, the best attempt.
+
+Each stage of :class:`~kin.ik.numeric.solver.NumericIK` (closed form with a free joint, seed-table
+starts, random restarts, mink QP) runs damped Newton from its starts through :meth:`Search.newton`
+and hands every outcome to :meth:`Search.accept`, which returns the verified result or keeps the
+best failed attempt for :meth:`Search.failure`.
+"""
+
+from __future__ import annotations
+
+import time
+from operator import le
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..result import IKResult, IKSolution
+from .damped_newton import NewtonOutcome, damped_newton
+from .numeric_target import NumericTarget, measure
+
+if TYPE_CHECKING:
+    from .solver import NumericIK
+
+#: Weight of the rotation error when ranking failed attempts [m/rad].
+RANK_WEIGHT = 0.1
+
+#: Pipeline name reported in :attr:`IKResult.solver`.
+PIPELINE = "numeric"
+
+
+class Search:
+    """One solve in progress.
+
+    Args:
+        ik: The solver (model, limits, settings).
+        target: The target.
+        position_tol: Success tolerance on the position [m].
+        rotation_tol: Success tolerance on the rotation [rad].
+        timeout: Time budget [s], counted from now.
+    """
+
+    def __init__(
+        self,
+        ik: NumericIK,
+        target: NumericTarget,
+        position_tol: float,
+        rotation_tol: float,
+        timeout: float,
+    ):
+        self.ik = ik
+        self.target = target
+        self.position_tol = position_tol
+        self.rotation_tol = rotation_tol
+        self.start = time.perf_counter()
+        self.deadline = self.start + timeout
+        self.best: NewtonOutcome | None = None
+        self.best_from_qp = False
+        self.iterations = 0
+        self.attempts = 0
+        #: Damped Newton settings: tolerances ten times tighter than the judge's.
+        self.newton_kwargs = dict(
+            max_iterations=ik.newton_iterations,
+            position_tol=0.1 * position_tol,
+            rotation_tol=0.1 * rotation_tol,
+            posture=target.posture,
+        )
+
+    def expired(self) -> bool:
+        """Whether the time budget is spent."""
+        return time.perf_counter() > self.deadline
+
+    def newton(self, q0: np.ndarray, patience: int | None) -> NewtonOutcome:
+        """Damped Newton from ``q0`` (``patience``: see :func:`damped_newton`), counted."""
+        ik, target = self.ik, self.target
+        outcome = damped_newton(
+            ik.model,
+            ik.data,
+            ik.frame_id,
+            q0,
+            target.position,
+            target.rotation,
+            patience=patience,
+            **self.newton_kwargs,  # type: ignore[arg-type]
+        )
+        self.iterations += outcome.iterations
+        self.attempts += 1
+        return outcome
+
+    def accept(
+        self, outcome: NewtonOutcome, method: str, message: str, from_qp: bool = False
+    ) -> IKResult | None:
+        """The result when ``outcome`` is verified; else None (kept if the best so far).
+
+        The last damped Newton evaluation ran Pinocchio's forward kinematics at ``outcome.q``
+        itself: its errors are the judge's measurement (``measure`` would recompute the same
+        numbers); the limits are checked on the returned values.
+        """
+        q = outcome.q
+        values = q.tolist()
+        if (
+            outcome.converged
+            and outcome.position_error < self.position_tol
+            and outcome.rotation_error < self.rotation_tol
+            and all(map(le, self.ik._lows, values))
+            and all(map(le, values, self.ik._highs))
+        ):
+            rotation_error = None if self.target.rotation is None else outcome.rotation_error
+            solution = IKSolution(q.copy(), "", True, outcome.position_error, rotation_error)
+            return self.success(solution, method, message)
+        best = self.best
+        if best is None or (
+            outcome.position_error + RANK_WEIGHT * outcome.rotation_error
+            < best.position_error + RANK_WEIGHT * best.rotation_error
+        ):
+            self.best = outcome
+            self.best_from_qp = from_qp
+        return None
+
+    def success(self, solution: IKSolution, method: str, message: str) -> IKResult:
+        """The successful result with one verified solution, answered by stage ``method``."""
+        return IKResult(
+            True,
+            PIPELINE,
+            "ok",
+            message,
+            (solution,),
+            iterations=self.iterations,
+            time=time.perf_counter() - self.start,
+            method=method,
+        )
+
+    @property
+    def out_of_reach(self) -> bool:
+        """Whether the target is beyond the arm's reach (an upper bound: surely unreachable)."""
+        return self.ik.distance_from_base(self.target.position) > self.ik.reach
+
+    def failure(self) -> IKResult:
+        """The failed result: the best configuration found, measured by Pinocchio."""
+        ik, target, best = self.ik, self.target, self.best
+        elapsed = time.perf_counter() - self.start
+        rejected: tuple[IKSolution, ...] = ()
+        detail = "no configuration"
+        if best is not None:
+            verdict = measure(ik.robot, ik.data, best.q, target)
+            rotation_error = None if target.position_only else verdict.rotation_error
+            rejected = (
+                IKSolution(
+                    best.q.copy(),
+                    "",
+                    verdict.within_limits,
+                    verdict.position_error,
+                    rotation_error,
+                ),
+            )
+            detail = f"best configuration misses by {verdict.position_error:.3g} m" + (
+                "" if target.position_only else f" and {verdict.rotation_error:.3g} rad"
+            )
+        if self.out_of_reach:
+            distance = ik.distance_from_base(target.position) - ik.reach
+            return IKResult(
+                False,
+                PIPELINE,
+                "out_of_reach",
+                f"target is {distance:.4g} m beyond the arm's reach ({ik.reach:.4g} m); {detail}",
+                (),
+                rejected,
+                distance_to_workspace=distance,
+                iterations=self.iterations,
+                time=elapsed,
+            )
+        return IKResult(
+            False,
+            PIPELINE,
+            "not_converged",
+            f"no solution inside the joint limits found in {elapsed * 1e3:.0f} ms "
+            f"({self.attempts} starts); {detail}",
+            (),
+            rejected,
+            iterations=self.iterations,
+            time=elapsed,
+        )
