@@ -83,9 +83,12 @@ def _qp_run(ik: NumericIK, search: Search, q0: np.ndarray) -> tuple[np.ndarray, 
         search.deadline += time.perf_counter() - loading
     differential = ik.differential
     differential.set_target(search.target)
-    inner = search.newton_kwargs
     qp = differential.solve(
-        q0, ik.qp_iterations, inner["position_tol"], inner["rotation_tol"], search.deadline
+        q0,
+        ik.qp_iterations,
+        search.inner_position_tol,
+        search.inner_rotation_tol,
+        search.deadline,
     )
     search.iterations += qp.iterations
     return qp.q, qp.iterations

@@ -39,6 +39,21 @@ class Search:
         timeout: Time budget [s], counted from now.
     """
 
+    __slots__ = (
+        "ik",
+        "target",
+        "position_tol",
+        "rotation_tol",
+        "start",
+        "deadline",
+        "best",
+        "best_from_qp",
+        "iterations",
+        "attempts",
+        "inner_position_tol",
+        "inner_rotation_tol",
+    )
+
     def __init__(
         self,
         ik: NumericIK,
@@ -57,13 +72,9 @@ class Search:
         self.best_from_qp = False
         self.iterations = 0
         self.attempts = 0
-        #: Damped Newton settings: tolerances ten times tighter than the judge's.
-        self.newton_kwargs = dict(
-            max_iterations=ik.newton_iterations,
-            position_tol=0.1 * position_tol,
-            rotation_tol=0.1 * rotation_tol,
-            posture=target.posture,
-        )
+        #: Tolerances of damped Newton and mink QP runs: ten times tighter than the judge's.
+        self.inner_position_tol = 0.1 * position_tol
+        self.inner_rotation_tol = 0.1 * rotation_tol
 
     def expired(self) -> bool:
         """Whether the time budget is spent."""
@@ -79,8 +90,11 @@ class Search:
             q0,
             target.position,
             target.rotation,
+            max_iterations=ik.newton_iterations,
+            position_tol=self.inner_position_tol,
+            rotation_tol=self.inner_rotation_tol,
+            posture=target.posture,
             patience=patience,
-            **self.newton_kwargs,  # type: ignore[arg-type]
         )
         self.iterations += outcome.iterations
         self.attempts += 1

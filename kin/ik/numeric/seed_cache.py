@@ -117,7 +117,7 @@ def store(key: str, arrays: dict[str, np.ndarray]) -> None:
         handle, temporary = tempfile.mkstemp(prefix=".seed_table_", suffix=".npz", dir=directory)
         try:
             with os.fdopen(handle, "wb") as file:
-                np.savez(file, **arrays)
+                np.savez(file, **arrays)  # type: ignore[arg-type]
             os.replace(temporary, path_for(key))
         except BaseException:
             os.unlink(temporary)

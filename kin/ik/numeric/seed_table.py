@@ -109,7 +109,12 @@ class SeedTable:
             ``(indices, squared distances [m^2])`` in no particular order, or None when the
             target's cell is outside the grid or empty.
         """
-        if self._cells is None or self._origin is None or self._embedding is None:
+        if (
+            self._cells is None
+            or self._origin is None
+            or self._embedding is None
+            or self._owners is None
+        ):
             return None
         nx, ny, nz = self._grid_shape
         ox, oy, oz = self._origin_list

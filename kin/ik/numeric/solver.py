@@ -114,6 +114,11 @@ class NumericIK:
         self.reach = _reach(robot)
         self._base_origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
         self._shape = (robot.model.nq,)
+        self._kinds: tuple[type, ...] = (
+            (NumericTarget, PoseTarget, PositionTarget)
+            if robot.model.nq >= 6
+            else (NumericTarget, PositionTarget)
+        )
         self._table: SeedTable | None = None
         self._differential: DifferentialIK | None = None
         #: Closed form for chosen free joints, or None (the arm does not have the structure).
@@ -148,9 +153,7 @@ class NumericIK:
     @property
     def target_kinds(self) -> tuple[type, ...]:
         """Target types :meth:`solve` accepts: a position; a full pose with six joints or more."""
-        if self.model.nq >= 6:
-            return (NumericTarget, PoseTarget, PositionTarget)
-        return (NumericTarget, PositionTarget)
+        return self._kinds
 
     def solve(
         self,
@@ -191,8 +194,8 @@ class NumericIK:
             TargetError: A target of a kind the arm cannot take (a pitch target; a full pose on
                 an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
         """
-        if not isinstance(target, self.target_kinds):
-            raise kind_error(self.robot.name, self.target_kinds, target)
+        if not isinstance(target, self._kinds):
+            raise kind_error(self.robot.name, self._kinds, target)
         _ = self.table  # built once, outside the budget
         if not getattr(target, "finite", True):  # ik.target values accept NaN; report it
             return IKResult(False, PIPELINE, "invalid_target", f"target is not finite: {target}")

@@ -53,7 +53,7 @@ def seed_table_starts(
     Yields ``(label, q0, index)``: ``index`` is the seed-table sample's, -1 for the caller's.
     """
     table = ik.table
-    extra = []
+    extra: list[tuple[str, np.ndarray, int]] = []
     if target.posture is not None:
         extra.append(("the preferred posture", np.asarray(target.posture, dtype=float), -1))
     if seed_q is not None:
@@ -67,7 +67,8 @@ def seed_table_starts(
         first = int(distances.argmin())
     # A caller's start goes first when its tool pose is at least as near as the nearest
     # sample's (in the table's pose embedding), else second.
-    ahead, behind = [], []
+    ahead: list[tuple[str, np.ndarray, int]] = []
+    behind: list[tuple[str, np.ndarray, int]] = []
     if extra:
         nearest = (
             embedding_distance(ik, table.q[candidates[first]], target)
@@ -82,7 +83,7 @@ def seed_table_starts(
     yield f"seed-table sample {index}", table.q[index], index
     yield from behind
     if distances is None:
-        rest = candidates[1:]
+        rest = candidates[1:].tolist()
     else:
         ranked = np.argsort(distances, kind="stable")[: ik.nearest]
         rest = [candidates[i] for i in ranked if i != first][: ik.nearest - 1]
