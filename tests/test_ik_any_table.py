@@ -1,0 +1,352 @@
+"""IK for every DH table: dispatch, numeric round trips on ur5, panda and user tables, the cache.
+
+Every returned joint vector is re-checked here by the plain NumPy DH product of
+``tests/dh_reference.py`` (independent of dh2urdf, kin and Pinocchio).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_helper import write_rrpr4
+from dh_reference import fk_frames, load_reference, rotation_angle
+
+import kin.ik as ik
+from dh2urdf import get_robot
+from kin import load_robot
+from kin.ik import (
+    ClosedFormSolver,
+    NumericIK,
+    PitchTarget,
+    PoseTarget,
+    PositionTarget,
+    TargetError,
+    get_solver,
+    solve_ik,
+)
+
+#: The paper arms a closed form solves whole (humanoid7: numeric, closed form with a free joint).
+CLOSED_FORM_ARMS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")
+#: The stages of the numeric pipeline (``IKResult.method``).
+NUMERIC_METHODS = ("closed_form_free_joint", "seed_table", "damped_newton", "random_restart")
+NUMERIC_METHODS += ("mink_qp",)
+
+#: A three-joint arm of no closed-form structure (twists neither 0 nor 90 deg), in SI units.
+USER_3R = """
+name = "user3r"
+description = "random 3R test arm"
+source = "tests/test_ik_any_table.py"
+convention = "standard"
+length_unit = "m"
+angle_unit = "rad"
+
+[[joints]]
+name = "j1"
+type = "revolute"
+a = 0.05
+alpha = 1.1
+d = 0.2
+theta = 0.1
+limits = [-2.5, 2.5]
+
+[[joints]]
+name = "j2"
+type = "revolute"
+a = 0.25
+alpha = -0.4
+d = 0.03
+theta = 0.0
+limits = [-2.0, 2.0]
+
+[[joints]]
+name = "j3"
+type = "revolute"
+a = 0.2
+alpha = 0.7
+d = 0.0
+theta = -0.2
+limits = [-2.2, 2.2]
+"""
+
+#: A six-joint arm with a prismatic second joint (a full pose is within its reach).
+USER_RPRRRR = """
+name = "rprrrr"
+description = "six-joint test arm with a prismatic joint"
+source = "tests/test_ik_any_table.py"
+convention = "standard"
+length_unit = "m"
+angle_unit = "rad"
+
+[[joints]]
+name = "yaw"
+type = "revolute"
+a = 0.0
+alpha = 1.5707963267948966
+d = 0.3
+theta = 0.0
+limits = [-3.0, 3.0]
+
+[[joints]]
+name = "lift"
+type = "prismatic"
+a = 0.1
+alpha = 1.5707963267948966
+d = 0.1
+theta = 0.0
+limits = [0.0, 0.3]
+
+[[joints]]
+name = "elbow"
+type = "revolute"
+a = 0.2
+alpha = 0.0
+d = 0.0
+theta = 0.0
+limits = [-2.5, 2.5]
+
+[[joints]]
+name = "wrist1"
+type = "revolute"
+a = 0.0
+alpha = 1.5707963267948966
+d = 0.0
+theta = 0.0
+limits = [-3.0, 3.0]
+
+[[joints]]
+name = "wrist2"
+type = "revolute"
+a = 0.0
+alpha = -1.5707963267948966
+d = 0.15
+theta = 0.0
+limits = [-3.0, 3.0]
+
+[[joints]]
+name = "wrist3"
+type = "revolute"
+a = 0.0
+alpha = 0.0
+d = 0.08
+theta = 0.0
+limits = [-3.0, 3.0]
+"""
+
+
+def _write(folder: Path, name: str, text: str) -> Path:
+    path = folder / f"{name}.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def user_tables(tmp_path_factory) -> dict[str, Path]:
+    """User table files: a random 3R, a SCARA-like R-R-P-R, a six-joint arm with a prismatic."""
+    folder = tmp_path_factory.mktemp("tables")
+    return {
+        "user3r": _write(folder, "user3r", USER_3R),
+        "rrpr4": write_rrpr4(folder),
+        "rprrrr": _write(folder, "rprrrr", USER_RPRRRR),
+    }
+
+
+def _reference_path(name: str, user_tables: dict[str, Path]) -> Path:
+    return user_tables[name] if name in user_tables else get_robot(name).table_path
+
+
+def _round_trip(path: Path, robot, full_pose: bool, count: int, seed: int) -> tuple[int, list]:
+    """Targets from the reference FK of random q inside the limits, solved, re-checked.
+
+    Returns the number of verified answers and the methods that answered.
+    """
+    reference = load_reference(path)
+    rng = np.random.default_rng(seed)
+    qs = rng.uniform(reference.lower, reference.upper, size=(count, reference.dof))
+    poses = fk_frames(reference, qs)[:, -1]
+    solver = get_solver(robot)
+    good, methods = 0, []
+    for pose in poses:
+        if full_pose:
+            target: object = PoseTarget(pose[:3, 3], pose[:3, :3])
+        else:
+            target = PositionTarget(pose[:3, 3])
+        result = solver.solve(target)
+        if not result.success:
+            continue
+        solution = result.solutions[0]
+        q = solution.q
+        reached = fk_frames(reference, q)[0, -1]
+        position_error = float(np.linalg.norm(reached[:3, 3] - pose[:3, 3]))
+        assert position_error < 1e-5, f"{robot.name=} {q=} {position_error=}"
+        assert np.all(q >= reference.lower) and np.all(q <= reference.upper), f"{q=}"
+        if full_pose:
+            angle = float(rotation_angle(reached[:3, :3], pose[:3, :3]))
+            assert angle < 1e-4, f"{robot.name=} {q=} {angle=}"
+            assert solution.rotation_error == pytest.approx(angle, abs=1e-7)
+        else:
+            assert solution.rotation_error is None, f"{robot.name=}"
+        assert result.solver == "numeric" and result.method in NUMERIC_METHODS, f"{result=}"
+        good += 1
+        methods.append(result.method)
+    return good, methods
+
+
+@pytest.mark.parametrize("name", CLOSED_FORM_ARMS)
+def test_dispatch_picks_the_closed_form_for_the_paper_arms(name):
+    """The five paper arms a closed form fits get it; its results say method closed_form."""
+    solver = get_solver(load_robot(name))
+    assert isinstance(solver, ClosedFormSolver), f"{name=}"
+    assert solver.name.startswith("closed_form:"), f"{name=}"
+
+
+@pytest.mark.parametrize("name", ["humanoid7", "panda", "ur5"])
+def test_dispatch_picks_the_numeric_solver_for_other_shipped_arms(name):
+    """humanoid7, panda and ur5 get the numeric solver; only humanoid7 has a free-joint closed form."""
+    solver = get_solver(load_robot(name))
+    assert isinstance(solver, NumericIK) and solver.name == "numeric", f"{name=}"
+    assert (solver.closed_form is not None) == (name == "humanoid7"), f"{name=}"
+
+
+@pytest.mark.parametrize("name", ["user3r", "rrpr4", "rprrrr"])
+def test_dispatch_picks_the_numeric_solver_for_user_tables(name, user_tables):
+    """A user table no closed form fits (3R, prismatic joints) gets the numeric solver."""
+    solver = get_solver(load_robot(str(user_tables[name])))
+    assert isinstance(solver, NumericIK), f"{name=}"
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5"])
+def test_full_pose_round_trip_on_ur5_and_panda(name, user_tables):
+    """Full poses from FK of 300 random q: >= 99% verified within the default 50 ms budget."""
+    robot = load_robot(name)
+    good, methods = _round_trip(_reference_path(name, user_tables), robot, True, 300, 11)
+    assert good >= 0.99 * 300, f"{name=} {good=}"
+    assert methods.count("seed_table") > 0.9 * good, f"{name=} {set(methods)=}"
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5", "user3r", "rrpr4", "rprrrr"])
+def test_position_round_trip_on_any_table(name, user_tables):
+    """Positions from FK of 100 random q: >= 99% verified, rotation_error None, inside limits."""
+    path = _reference_path(name, user_tables)
+    robot = load_robot(name if name in ("panda", "ur5") else str(path))
+    good, _ = _round_trip(path, robot, False, 100, 12)
+    assert good >= 99, f"{name=} {good=}"
+
+
+def test_full_pose_round_trip_with_a_prismatic_joint(user_tables):
+    """A six-joint arm with a prismatic joint: full poses from FK, >= 99% verified."""
+    path = user_tables["rprrrr"]
+    good, _ = _round_trip(path, load_robot(str(path)), True, 100, 13)
+    assert good >= 99, f"{good=}"
+
+
+def test_two_joint_arm_of_no_closed_form(tmp_path):
+    """A non-planar 2R arm (alpha1 = 60 deg) reaches positions on its surface numerically."""
+    text = USER_3R.replace("user3r", "user2r").split("[[joints]]")
+    path = _write(tmp_path, "user2r", "[[joints]]".join(text[:3]))
+    robot = load_robot(str(path))
+    assert robot.nq == 2
+    good, _ = _round_trip(path, robot, False, 50, 14)
+    assert good >= 49, f"{good=}"
+
+
+def test_full_pose_on_a_short_arm_names_the_kinds_it_takes(user_tables):
+    """A full pose on a 3R user arm: TargetError naming 'position', never a class name."""
+    robot = load_robot(str(user_tables["user3r"]))
+    with pytest.raises(TargetError) as raised:
+        solve_ik(robot, PoseTarget([0.2, 0.1, 0.3], np.eye(3)))
+    message = str(raised.value)
+    assert message == "'user3r' takes a position target, not a full pose target"
+    with pytest.raises(TargetError, match=r"takes a position or full pose target, not a position"):
+        solve_ik(load_robot("ur5"), PitchTarget([0.3, 0.0, 0.3], 0.2))
+
+
+def test_five_joint_arm_takes_all_three_kinds():
+    """lab5: full pose and pitch by the closed form, a position by the numeric solver."""
+    robot = load_robot("lab5")
+    solver = get_solver(robot)
+    assert set(solver.target_kinds) == {PoseTarget, PitchTarget, PositionTarget}
+    q = np.array([0.2, 0.3, -0.4, 0.2, 0.1])
+    from kin import Configuration
+
+    pose = Configuration(robot).fk(q)
+    closed = solve_ik(robot, PoseTarget.from_matrix(pose))
+    assert closed.success and closed.method == "closed_form", f"{closed.message=}"
+    assert closed.solver == "closed_form:fivedof"
+    numeric = solve_ik(robot, PositionTarget(pose.translation), timeout=0.5)
+    assert numeric.success and numeric.solver == "numeric", f"{numeric.message=}"
+    assert numeric.method in NUMERIC_METHODS
+
+
+def test_result_method_names_the_stage():
+    """humanoid7 answers from the free-joint closed form; ur5 from the seed table."""
+    for name, method in (("humanoid7", "closed_form_free_joint"), ("ur5", "seed_table")):
+        robot = load_robot(name)
+        from kin import Configuration
+
+        pose = Configuration(robot).fk(np.full(robot.nq, 0.3))
+        result = solve_ik(robot, PoseTarget.from_matrix(pose))
+        assert result.success and result.method == method, f"{name=} {result.method=}"
+        assert result.solver == "numeric"
+        assert (result.iterations == 0) == (method == "closed_form_free_joint"), f"{name=}"
+
+
+def test_unreachable_target_reports_out_of_reach_with_no_method():
+    """A ur5 target 2 m away: out_of_reach, distance > 0, method empty."""
+    result = solve_ik(load_robot("ur5"), PositionTarget([2.0, 0.0, 0.0]), timeout=0.05)
+    assert not result.success and result.status == "out_of_reach" and result.method == ""
+    assert result.distance_to_workspace > 0.5
+
+
+def test_solver_protocol_timeout_keyword():
+    """Every solver takes timeout= (the closed form ignores it)."""
+    target = PositionTarget([0.1, 0.05, 0.0])
+    for name in ("planar2", "humanoid7"):
+        result = get_solver(load_robot(name)).solve(target, None, timeout=0.2)
+        assert result.status in ("ok", "out_of_reach", "outside_limits", "not_converged")
+    assert "solve_ik" in ik.__all__ and "NUMERIC_SOLVERS" not in ik.__all__
+
+
+_CACHE_PROBE = """
+import sys
+from kin import load_robot
+from kin.ik import NumericIK
+from kin.ik.numeric import seed_cache
+solver = NumericIK(load_robot(sys.argv[1]), table_size=3000)
+_ = solver.table
+print(seed_cache.BUILDS, len(solver.table), solver.table.q[17].tolist())
+"""
+
+
+def _probe(cache: Path, name: str) -> tuple[int, int, list]:
+    env = dict(os.environ, XDG_CACHE_HOME=str(cache))
+    env.pop("DH_KINEMATICS_NO_CACHE", None)
+    out = subprocess.run(
+        [sys.executable, "-c", _CACHE_PROBE, name],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    ).stdout.split(maxsplit=2)
+    return int(out[0]), int(out[1]), eval(out[2])  # noqa: S307 - our own printout
+
+
+def test_seed_table_cache_is_reused_and_a_corrupt_file_rebuilt(tmp_path):
+    """A fresh process loads the cached table (no build); a corrupt file is rebuilt silently."""
+    builds, size, sample = _probe(tmp_path, "ur5")
+    assert (builds, size) == (1, 3000)
+    files = list((tmp_path / "dh-kinematics").glob("seed_table_*.npz"))
+    assert len(files) == 1
+    builds, size, again = _probe(tmp_path, "ur5")
+    assert (builds, size) == (0, 3000) and again == sample
+    files[0].write_bytes(b"not a table")
+    builds, size, rebuilt = _probe(tmp_path, "ur5")
+    assert (builds, size) == (1, 3000) and rebuilt == sample
+    assert _probe(tmp_path, "ur5")[0] == 0  # the rebuilt file is valid again
+    builds, _, _ = _probe(tmp_path, "panda")  # another table: its own file
+    assert builds == 1 and len(list((tmp_path / "dh-kinematics").glob("*.npz"))) == 2
