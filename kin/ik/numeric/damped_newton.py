@@ -16,6 +16,7 @@ step recomputed once: the other joints take over its share.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from operator import le
 
@@ -37,6 +38,15 @@ def _numpy_syrk(alpha: float, a: np.ndarray, beta: float, c: np.ndarray) -> np.n
 #: ``(syrk, posv)``: LAPACK through SciPy (about 6 us faster per step than ``np.linalg.solve``),
 #: loaded on the first damped Newton run so that ``import kin.ik`` does not pay SciPy's import.
 _LINALG: tuple = ()
+
+
+def load_linalg() -> float:
+    """Load the linear algebra of the steps now (once per process); the time it took [s]."""
+    if _LINALG:
+        return 0.0
+    start = time.perf_counter()
+    _linalg()
+    return time.perf_counter() - start
 
 
 def _linalg() -> tuple:
