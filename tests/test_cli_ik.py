@@ -158,8 +158,8 @@ def test_nr_reports_the_limits(capsys):
             "'planar2' (2 joints) takes a position target: drop --rpy/--quat",
         ),
         (
-            ["--robot", "ned5", "--target", "0.2", "0", "0.1"],
-            "'ned5' (5 joints) takes: --rpy, --quat, or --pitch [--roll]; got a position target",
+            ["--robot", "pickplace3", "--target", "0.3", "0", "0.3", "--pitch", "0"],
+            "'pickplace3' (3 joints) takes: a position target; got --pitch",
         ),
         (
             ["--robot", "humanoid7", "--target", "0.4", "0", "0", "--pitch", "1"],
@@ -271,3 +271,26 @@ def test_script_shim_runs_the_command():
         [sys.executable, str(script), "--robot", "humanoid7"], capture_output=True, text=True
     )
     assert_one_line_error(bad.returncode, bad.stderr, "solve_ik.py: error:")
+
+
+def test_kind_message_lists_every_kind_in_cli_terms():
+    """A solver taking poses and pitch targets but not positions: all named, in CLI terms."""
+    from kin.commands.targets import build_target, check_kind
+    from kin.ik import PitchTarget, PoseTarget
+    from kin.ik.exceptions import TargetError
+
+    target, given = build_target([0.2, 0, 0.1])
+    with pytest.raises(TargetError) as caught:
+        check_kind("arm5", 5, (PoseTarget, PitchTarget), target, given)
+    assert str(caught.value) == (
+        "'arm5' (5 joints) takes: --rpy, --quat, or --pitch [--roll]; got a position target"
+    )
+    check_kind("ned5", 5, (PoseTarget, PitchTarget, PositionTarget), target, given)  # no error
+
+
+def test_five_joint_arm_takes_a_position_target(capsys):
+    """ned5 with a position target: its solver answers, the tool is on the point."""
+    out = _json(capsys, ["--robot", "ned5", "--target", "20", "0", "10", "--unit", "cm", "--json"])
+    assert out["success"] and out["solutions"][0]["rotation_error_rad"] is None
+    reached = Configuration(load_robot("ned5")).fk(np.array(out["solutions"][0]["q"]))
+    np.testing.assert_allclose(reached.translation, [0.2, 0.0, 0.1], atol=1e-5)
