@@ -282,6 +282,19 @@ def test_five_joint_arm_takes_all_three_kinds():
     assert numeric.method in NUMERIC_METHODS
 
 
+def test_position_on_a_five_joint_arm_stays_near_the_seed():
+    """lab5 position targets 1 cm apart, each seeded by the last answer: no joint jumps > 0.2 rad."""
+    robot = load_robot("lab5")
+    solver = get_solver(robot)
+    q = np.array([0.0, 2.052, -1.9148, 1.3551, -0.1357])
+    for y in np.linspace(0.0, 0.1, 11):
+        result = solver.solve(PositionTarget([0.2, y, 0.2]), q, timeout=0.5)
+        assert result.success and result.solver == "numeric", f"{y=} {result.message=}"
+        step = np.abs(result.solutions[0].q - q).max()
+        assert step < 0.2, f"{y=} {step=}"
+        q = result.solutions[0].q
+
+
 def test_result_method_names_the_stage():
     """humanoid7 answers from the free-joint closed form; ur5 from the seed table."""
     for name, method in (("humanoid7", "closed_form_free_joint"), ("ur5", "seed_table")):

@@ -76,8 +76,10 @@ class IKResult:
         success: At least one solution is on target and within limits.
         solver: The pipeline that was asked (e.g. ``"closed_form:pickplace3"``, ``"numeric"``,
             ``"nr"``).
-        method: The stage of that pipeline that answered (e.g. ``"closed_form"``,
-            ``"damped_newton"``, ``"mink_qp"``); ``""`` when none did.
+        method: The stage of that pipeline that answered: ``"closed_form"``,
+            ``"closed_form_free_joint"``, ``"seed_table"``, ``"damped_newton"`` (from the
+            caller's seed), ``"random_restart"``, ``"mink_qp"``, ``"newton_raphson"``; ``""``
+            when none did.
         status: ``"ok"`` or why there is no valid solution.
         message: One sentence for a person (e.g. how far out of reach the target is).
         solutions: Valid solutions (on target, within limits), closest to the seed first.

@@ -256,7 +256,7 @@ class ClosedFormSolver:
         start = time.perf_counter()
         if not isinstance(target, self._kinds):
             if isinstance(target, self.target_kinds):
-                return self.numeric.solve(target, seed, timeout=timeout)
+                return self._solve_numeric(target, seed, timeout)
             raise kind_error(self.robot.name, self.target_kinds, target)
         if seed is None:
             seed_list = self._zero_seed
@@ -303,6 +303,22 @@ class ClosedFormSolver:
             time=time.perf_counter() - start,
             method="closed_form" if solutions else "",
         )
+
+    def _solve_numeric(
+        self, target: Target, seed: npt.ArrayLike | None, timeout: float | None
+    ) -> IKResult:
+        """A target the closed form does not take, by the numeric solver.
+
+        The arm is redundant for it (a position on a five-joint arm): the seed is also the
+        preferred posture, so the answer stays near it (a path's samples do not jump).
+        """
+        from ..numeric.numeric_target import NumericTarget
+
+        if seed is None or not target.finite:
+            return self.numeric.solve(target, seed, timeout=timeout)
+        posture = np.asarray(seed, dtype=float).reshape(-1)
+        preferred = NumericTarget.from_arrays(target.position, None, posture=posture)
+        return self.numeric.solve(preferred, posture, timeout=timeout)
 
     def _approach(
         self, target: PitchTarget, seed: list[float], p: list[float]

@@ -135,7 +135,7 @@ class NumericIK:
 
     @property
     def table(self) -> SeedTable:
-        """The seed table (built on first use, cached per shipped robot)."""
+        """The seed table (built on first use; cached on disk per table, in memory per shipped robot)."""
         if self._table is None:
             if _is_shipped(self.robot):
                 self._table = seed_table_for(self.robot.name, self.table_size)

@@ -1,8 +1,8 @@
 """Stage 1 of the numeric pipeline: damped Newton from the seed-table samples nearest the target.
 
-The starts are the seed-table samples whose tool poses are nearest to the target, and the
-caller's seed / posture preference (first when its tool pose is at least as near as the nearest
-sample's, else second). From each, clamped damped Newton steps on Pinocchio
+The starts are the posture preference (first), the caller's seed (first when its tool pose is at
+least as near as the nearest sample's, else second) and the seed-table samples whose tool poses are
+nearest to the target. From each, clamped damped Newton steps on Pinocchio
 (:mod:`kin.ik.numeric.damped_newton`) that give up early when stuck: the next start is cheaper than
 the remaining steps.
 """
@@ -56,12 +56,15 @@ def seed_table_starts(
 ) -> Iterator[tuple[str, np.ndarray, int]]:
     """Start joint vectors, most promising first (ranked lazily: most targets need one).
 
+    A posture preference is the first start; the caller's seed goes first (else second) when
+    its tool pose is at least as near as the nearest sample's.
+
     Yields ``(label, q0, index)``: ``index`` is the seed-table sample's, -1 for the caller's.
     """
     table = ik.table
     extra: list[tuple[str, np.ndarray, int]] = []
-    if target.posture is not None:
-        extra.append(("the preferred posture", np.asarray(target.posture, dtype=float), -1))
+    if target.posture is not None:  # the caller's preference: always first
+        yield "the preferred posture", np.asarray(target.posture, dtype=float), -1
     if seed_q is not None:
         extra.append(("the given seed", ik.seed_vector(seed_q), -1))
     found = table.ranked(target.position, target.rotation)
