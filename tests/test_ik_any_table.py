@@ -363,3 +363,46 @@ def test_seed_table_cache_is_reused_and_a_corrupt_file_rebuilt(tmp_path):
     assert _probe(tmp_path, "ur5")[0] == 0  # the rebuilt file is valid again
     builds, _, _ = _probe(tmp_path, "panda")  # another table: its own file
     assert builds == 1 and len(list((tmp_path / "dh-kinematics").glob("*.npz"))) == 2
+
+
+def test_several_structures_per_joint_count(monkeypatch):
+    """recognise asks every registered structure of the table's joint count, first fit wins."""
+    from kin.ik.analytic import structure
+
+    def never(table):
+        raise ik.StructureError(table.name, "never", "row 1: never fits")
+
+    table = load_robot("pickplace3").table
+    monkeypatch.setattr(structure, "CLOSED_FORMS", ((3, never), (3, structure.offset3r)))
+    assert isinstance(structure.recognise(table), structure.Offset3R)
+    monkeypatch.setattr(structure, "CLOSED_FORMS", ((3, never), (3, never)))
+    with pytest.raises(ik.StructureError, match="row 1: never fits; row 1: never fits"):
+        structure.recognise(table)
+
+
+_LAZY_PROBE = """
+import sys
+import kin.ik
+heavy = ("scipy", "mujoco", "mink", "qpsolvers")
+print(*[m for m in heavy if m in sys.modules], "|", end=" ")
+import numpy as np
+from kin import Configuration, load_robot
+robot = load_robot("humanoid7")
+pose = Configuration(robot).fk(np.array([0.3, 0.4, -0.2, 0.8, 0.1, -0.3, 0.2]))
+result = kin.ik.solve_ik(robot, kin.ik.PoseTarget.from_matrix(pose))
+print(*[m for m in heavy if m in sys.modules], "|", result.method)
+"""
+
+
+def test_import_and_a_humanoid7_solve_load_no_heavy_module(tmp_path):
+    """import kin.ik loads no SciPy, MuJoCo, mink or qpsolvers; nor does a closed-form answer."""
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path))
+    out = subprocess.run(
+        [sys.executable, "-c", _LAZY_PROBE],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    ).stdout.split()
+    assert out == ["|", "|", "closed_form_free_joint"], f"{out=}"
