@@ -347,6 +347,7 @@ class BatchSolver:
                 total = total + ((cols[j] - np.repeat(rotation[:, :, j].T, b, axis=1)) ** 2).sum(0)
             rotation_error = (2.0 * np.arcsin(np.minimum(1.0, np.sqrt(total / 8.0)))).reshape(n, b)
         elif approach is not None:
+            assert isinstance(self.structure, FiveDof)  # a pitch target: five-joint arms only
             w = self.structure.R_roll_tool[2, :]
             axis = cols[0] * w[0] + cols[1] * w[1] + cols[2] * w[2]
             target_axis = np.repeat(approach.T, b, axis=1)

@@ -30,7 +30,7 @@ import pinocchio as pin
 from kin import RobotModel
 
 from ..exceptions import TargetError
-from ..result import IKResult, IKSolution
+from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target, kind_error
 from .branches import Branches
 from .five_dof import solve_pitch, solve_pose
@@ -281,6 +281,7 @@ class ClosedFormSolver:
             valid.sort(key=_DISTANCE)
         solutions = tuple([solution for _, solution in valid])
         rejected_solutions = tuple(rejected)
+        status: Status
         if solutions:
             status, message = (
                 branches.status,

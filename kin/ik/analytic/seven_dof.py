@@ -30,7 +30,7 @@ import numpy as np
 from .structure import SevenDof
 
 try:
-    from . import _closed7
+    from . import _closed7  # type: ignore[attr-defined]
 except ImportError:  # pragma: no cover - the extension is optional
     _closed7 = None
 
@@ -336,7 +336,7 @@ class SevenDofIK:
         s2, c2, s3, c3 = s[1], c[1], s[2], c[2]
         heading = math.atan2(dy, dx)
         remainder = math.remainder
-        out = []
+        out: list[tuple[float, ...]] = []
         for t4 in (phi + delta, phi - delta) if delta > 0.0 else (phi,):
             q4 = remainder(t4 - off[3], _TWO_PI)
             if not lo[3] <= q4 <= hi[3]:

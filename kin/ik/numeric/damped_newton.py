@@ -154,7 +154,7 @@ def damped_newton(
         jacobian = jacobian_of(model, data, q, frame_id, _LWA)
         subtract(position, translation, out=e_position)
         if full:
-            e_rotation[:] = log3(dot(rotation, orientation.T))
+            e_rotation[:] = log3(dot(rotation, orientation.T))  # type: ignore[arg-type]
             ex, ey, ez, wx, wy, wz = e.tolist()
             rotation_error2 = wx * wx + wy * wy + wz * wz
         else:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -143,7 +144,7 @@ class DifferentialIK:
         if self._target is None:
             raise IKError("no target: call set_target() first")
         self.configuration.update(np.asarray(q, dtype=float))
-        limits = [self.configuration_limit]
+        limits: list[Any] = [self.configuration_limit]
         if self.velocity_limit is not None:
             limits.append(self.velocity_limit)
         try:
@@ -156,7 +157,9 @@ class DifferentialIK:
                 limits=limits,
             )
         except self._mink.NoSolutionFound as err:
-            raise IKError(f"QP solver {self.solver!r} found no step at q={list(q)}") from err
+            raise IKError(
+                f"QP solver {self.solver!r} found no step at q={np.asarray(q).tolist()}"
+            ) from err
         self.configuration.integrate_inplace(velocity, dt)
         return self.configuration.q.copy()
 

@@ -27,7 +27,7 @@ import pinocchio as pin
 
 from kin import RobotModel
 
-from ..result import IKResult, IKSolution
+from ..result import IKResult, IKSolution, Status
 from .numeric_target import NumericTarget, measure
 
 CM = 0.01  # [m]
@@ -109,7 +109,7 @@ def newton_raphson(
             + _violations(robot, q)
             + note
         )
-        status = "outside_limits"
+        status: Status = "outside_limits"
     elif stalled:
         message = (
             f"stopped at a singular configuration after {iterations} iterations: the error "
