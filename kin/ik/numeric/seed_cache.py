@@ -5,7 +5,7 @@ pay that on every process start. The arrays are stored with ``np.savez`` under
 ``$XDG_CACHE_HOME/dh-kinematics`` (else ``~/.cache/dh-kinematics``), named by a hash of
 everything the table depends on: the table's SI rows (joint types, DH parameters, limits), the
 base and tool transforms, the model's joint limits and tool frame, the table size, the random
-seed and the grid parameters. A file is written to a temporary name and moved into place with
+seed, the grid parameters and the package version. A file is written to a temporary name and moved into place with
 ``os.replace`` (a reader never sees half a file); an unreadable, corrupt or mismatching file is
 ignored and the table rebuilt. ``DH_KINEMATICS_NO_CACHE=1`` turns the cache off.
 """
@@ -43,8 +43,11 @@ def table_key(
     robot: RobotModel, size: int, seed: int, rotation_weight: float, cell_size: float
 ) -> str:
     """Hex digest naming the cache file of a seed table."""
+    from kin import __version__
+
     table = robot.table
-    parts: list[object] = [FORMAT, table.convention, robot.tool_frame, size, seed, cell_size]
+    parts: list[object] = [FORMAT, __version__, table.convention, robot.tool_frame, size, seed]
+    parts.append(cell_size)
     parts.append(rotation_weight)
     for row in table.rows:
         parts.append((row.joint_type, row.a, row.alpha, row.d, row.theta, row.lower, row.upper))
