@@ -42,6 +42,8 @@ class DHRow:
         effort: Effort limit [N m] or [N].
         acceleration: Acceleration limit [rad/s^2] or [m/s^2], or None when the table gives
             none (path timing then uses its default).
+        mass: Mass of the link this row moves [kg], or None (placeholder inertial).
+        radius: Radius of the link's cylinder/sphere primitive [m], or None (default drawing).
     """
 
     index: int
@@ -56,6 +58,8 @@ class DHRow:
     velocity: float
     effort: float
     acceleration: float | None = None
+    mass: float | None = None
+    radius: float | None = None
 
 
 def _readonly(matrix: np.ndarray) -> np.ndarray:

@@ -20,6 +20,8 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     velocity = 90.0                # optional, angle_unit/s or length_unit/s
     effort = 10.0                  # optional, N m or N
     acceleration = 360.0           # optional, angle_unit/s^2 or length_unit/s^2 (path timing)
+    mass = 1.5                     # optional, kg: the link gets a solid-cylinder inertial
+    radius = 40.0                  # optional, length_unit: radius of the link's primitive
 
     [base]                         # optional: xyz + rpy, or a DH-style row a, alpha, d, theta
     xyz = [0.0, 0.0, 0.0]
@@ -74,6 +76,8 @@ _ROW_KEYS = {
     "velocity",
     "effort",
     "acceleration",
+    "mass",
+    "radius",
 }
 _REQUIRED_ROW_KEYS = ("type", "a", "alpha", "d", "theta", "limits")
 _CONVENTIONS = ("modified", "standard")
@@ -82,6 +86,34 @@ _JOINT_TYPES = ("prismatic", "revolute")
 #: Defaults when a row gives no velocity / effort limit (SI: rad/s or m/s, N m or N).
 DEFAULT_VELOCITY = {"revolute": math.pi, "prismatic": 0.5}
 DEFAULT_EFFORT = {"revolute": 100.0, "prismatic": 100.0}
+
+#: Largest length a table may give, after unit scaling [m] (a, d, base/tool xyz, radius,
+#: prismatic limits). Anything longer is a typo and would overflow the link transforms.
+MAX_LENGTH = 1e6
+#: Largest mass of a link [kg].
+MAX_MASS = 1e6
+
+
+def _length(path: str, value: Any, row: int | None, key: str, meters: float) -> float:
+    """A table length scaled to [m], finite and at most MAX_LENGTH in magnitude."""
+    number = _number(path, value, row, key)
+    scaled = number * meters
+    if not math.isfinite(scaled) or abs(scaled) > MAX_LENGTH:
+        raise TableError(
+            path,
+            f"must be a finite length below {MAX_LENGTH:g} m in magnitude, got {value!r}",
+            row,
+            key,
+        )
+    return scaled
+
+
+def _positive(path: str, value: Any, row: int, key: str, scale: float, bound: float) -> float:
+    """A positive, finite value scaled by ``scale``, at most ``bound``."""
+    number = _number(path, value, row, key) * scale
+    if not (0.0 < number <= bound):
+        raise TableError(path, f"must be positive and at most {bound:g}, got {value!r}", row, key)
+    return number
 
 
 def _number(path: str, value: Any, row: int | None, key: str) -> float:
@@ -136,15 +168,18 @@ def _fixed_transform(
                 raise TableError(
                     path, f"expected a list of 3 numbers, got {vec!r}", None, f"{key}.{sub}"
                 )
-            values.append(tuple(_number(path, v, None, f"{key}.{sub}") * scale for v in vec))
+            if sub == "xyz":
+                values.append(tuple(_length(path, v, None, f"{key}.xyz", meters) for v in vec))
+            else:
+                values.append(tuple(_number(path, v, None, f"{key}.rpy") * scale for v in vec))
         return xyz_rpy(values[0], values[1])
     if set(data) <= dh_keys:
         p = {k: _number(path, data.get(k, 0.0), None, f"{key}.{k}") for k in dh_keys}
         return dh_link_transform(
             convention,  # type: ignore[arg-type]
-            p["a"] * meters,
+            _length(path, p["a"], None, f"{key}.a", meters),
             p["alpha"] * radians,
-            p["d"] * meters,
+            _length(path, p["d"], None, f"{key}.d", meters),
             p["theta"] * radians,
         )
     raise TableError(
@@ -177,8 +212,12 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     if not isinstance(limits, list) or len(limits) != 2:
         raise TableError(path, f"expected [lower, upper], got {limits!r}", index, "limits")
     q_scale = radians if joint_type == "revolute" else meters
-    lower = _number(path, limits[0], index, "limits") * q_scale
-    upper = _number(path, limits[1], index, "limits") * q_scale
+    if joint_type == "prismatic":
+        lower = _length(path, limits[0], index, "limits", meters)
+        upper = _length(path, limits[1], index, "limits", meters)
+    else:
+        lower = _number(path, limits[0], index, "limits") * q_scale
+        upper = _number(path, limits[1], index, "limits") * q_scale
     if lower > upper:
         raise TableError(
             path, f"lower limit {limits[0]} is above upper limit {limits[1]}", index, "limits"
@@ -207,19 +246,25 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
                 index,
                 "acceleration",
             )
+    mass = _positive(path, data["mass"], index, "mass", 1.0, MAX_MASS) if "mass" in data else None
+    radius = None
+    if "radius" in data:
+        radius = _positive(path, data["radius"], index, "radius", meters, MAX_LENGTH)
     return DHRow(
         index=index,
         name=name,
         joint_type=joint_type,
-        a=_number(path, data["a"], index, "a") * meters,
+        a=_length(path, data["a"], index, "a", meters),
         alpha=_number(path, data["alpha"], index, "alpha") * radians,
-        d=_number(path, data["d"], index, "d") * meters,
+        d=_length(path, data["d"], index, "d", meters),
         theta=_number(path, data["theta"], index, "theta") * radians,
         lower=lower,
         upper=upper,
         velocity=velocity,
         effort=effort,
         acceleration=acceleration,
+        mass=mass,
+        radius=radius,
     )
 
 

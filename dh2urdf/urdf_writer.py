@@ -11,13 +11,21 @@ Frames and links of the generated URDF:
   ``Tx(a_i) Rx(alpha_i)`` places ``frame{i}`` on it. Every joint moves about (or along) its z axis.
 - ``tool``: fixed on ``frame{n}`` with the table's ``[tool]`` transform.
 
-Each link gets simple visuals (a cylinder along each joint axis, thin cylinders along the link
-offsets) and an inertial (but the root ``base_link``, which KDL wants without one), so that viewers show
-the arm and every loader accepts the file.
+Each link gets simple visuals (a cylinder along each joint axis, cylinders along the link
+offsets, of the row's ``radius`` when the table gives one), the same link cylinders as collision
+geometry, and an inertial (but the root ``base_link``, which KDL wants without one). A row's
+``mass`` makes the inertial of its moving link that of a uniform solid cylinder along the link's
+segment (a solid sphere when the segment has no length), about its center of mass; without masses
+the inertials are placeholders and the file says so in a comment.
+
+The ``<mujoco>`` element (MuJoCo's URDF extension) keeps fixed links as bodies
+(``fusestatic="false"``), so MuJoCo loads every DH frame and the tool.
 """
 
 from __future__ import annotations
 
+import os
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -48,8 +56,10 @@ _TOOL_MATERIAL = yourdfpy.Material(
 )
 
 
-def _segment(start: np.ndarray, end: np.ndarray, name: str) -> list[yourdfpy.Visual]:
-    """A thin cylinder from ``start`` to ``end`` (link frame, [m]); none if they coincide."""
+def _segment(
+    start: np.ndarray, end: np.ndarray, name: str, radius: float = SEGMENT_RADIUS
+) -> list[yourdfpy.Visual]:
+    """A cylinder from ``start`` to ``end`` (link frame, [m]); none if they coincide."""
     vector = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
     length = float(np.linalg.norm(vector))
     if length < 1e-9:
@@ -61,7 +71,7 @@ def _segment(start: np.ndarray, end: np.ndarray, name: str) -> list[yourdfpy.Vis
     origin = np.eye(4)
     origin[:3, :3] = np.column_stack([x, np.cross(z, x), z])
     origin[:3, 3] = (np.asarray(start) + np.asarray(end)) / 2.0
-    geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=SEGMENT_RADIUS, length=length))
+    geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=radius, length=length))
     return [
         yourdfpy.Visual(name=name, origin=clean(origin), geometry=geometry, material=_LINK_MATERIAL)
     ]
@@ -79,15 +89,61 @@ def _joint_visual(name: str, prismatic: bool = False) -> yourdfpy.Visual:
 
 
 def _inertial() -> yourdfpy.Inertial:
-    """Inertial of a small solid sphere of radius JOINT_RADIUS and mass LINK_MASS."""
+    """Placeholder inertial: a small solid sphere of radius JOINT_RADIUS and mass LINK_MASS."""
     moment = 0.4 * LINK_MASS * JOINT_RADIUS**2
     return yourdfpy.Inertial(origin=np.eye(4), mass=LINK_MASS, inertia=np.eye(3) * moment)
 
 
-def _link(name: str, visuals: list[yourdfpy.Visual]) -> yourdfpy.Link:
+def cylinder_inertia(mass: float, radius: float, length: float) -> np.ndarray:
+    """Inertia of a uniform solid cylinder about its center of mass, axis z [kg m^2].
+
+    ``Ixx = Iyy = m (3 r^2 + L^2) / 12``, ``Izz = m r^2 / 2``; a solid sphere ``2/5 m r^2``.
+
+    Args:
+        mass: Mass [kg].
+        radius: Cylinder (or sphere) radius [m].
+        length: Cylinder length [m]; 0 gives a solid sphere of ``radius`` instead.
+    """
+    if length <= 0.0:
+        return np.eye(3) * 0.4 * mass * radius**2
+    side = mass * (3.0 * radius**2 + length**2) / 12.0
+    return np.diag([side, side, 0.5 * mass * radius**2])
+
+
+def _primitive_inertial(
+    mass: float, radius: float, segment: list[yourdfpy.Visual]
+) -> yourdfpy.Inertial:
+    """Inertial of the link's primitive: the cylinder of ``segment``, or a sphere at the origin."""
+    if not segment:
+        return yourdfpy.Inertial(
+            origin=np.eye(4), mass=mass, inertia=cylinder_inertia(mass, radius, 0.0)
+        )
+    cylinder = segment[0].geometry.cylinder
+    origin = np.asarray(segment[0].origin, dtype=float)
+    inertia = cylinder_inertia(mass, cylinder.radius, cylinder.length)
+    return yourdfpy.Inertial(origin=origin, mass=mass, inertia=inertia)
+
+
+def _collisions(visuals: list[yourdfpy.Visual]) -> list[yourdfpy.Collision]:
+    """Collision geometry: the link cylinders among ``visuals``."""
+    return [
+        yourdfpy.Collision(name=f"{v.name}_collision", origin=v.origin, geometry=v.geometry)
+        for v in visuals
+        if v.geometry.cylinder is not None and not (v.name or "").endswith("_axis")
+    ]
+
+
+def _link(
+    name: str, visuals: list[yourdfpy.Visual], inertial: yourdfpy.Inertial | None
+) -> yourdfpy.Link:
     # The root link carries no inertial: KDL (ROS tools, TRAC-IK) rejects a root inertia.
-    inertial = None if name == "base_link" else _inertial()
-    return yourdfpy.Link(name=name, inertial=inertial, visuals=visuals)
+    if name == "base_link":
+        inertial = None
+    elif inertial is None:
+        inertial = _inertial()
+    return yourdfpy.Link(
+        name=name, inertial=inertial, visuals=visuals, collisions=_collisions(visuals)
+    )
 
 
 def _fixed(name: str, parent: str, child: str, origin: np.ndarray) -> yourdfpy.Joint:
@@ -109,30 +165,33 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
     links: dict[str, yourdfpy.Link] = {}
     visuals: dict[str, list[yourdfpy.Visual]] = {"base_link": [], "frame0": []}
     joints: list[yourdfpy.Joint] = [_fixed("base_joint", "base_link", "frame0", table.T_world_base)]
+    inertials: dict[str, yourdfpy.Inertial] = {}
     order = ["base_link", "frame0"]
     base_origin = table.T_world_base[:3, 3]
     visuals["base_link"] += _segment(np.zeros(3), base_origin, "base_offset")
     for i, row in enumerate(table.rows, start=1):
         parent = f"frame{i - 1}"
         prismatic = row.joint_type == "prismatic"
+        radius = row.radius if row.radius is not None else SEGMENT_RADIUS
         axis_visual = _joint_visual(f"{row.name}_axis", prismatic)
         if table.convention == "modified":
             pre = rot_x(row.alpha) @ translation(x=row.a)
             origin = pre @ rot_z(row.theta) @ translation(z=row.d)
             visuals[parent] += _segment(np.zeros(3), pre[:3, 3], f"a{i - 1}")
             child = f"frame{i}"
-            visuals[child] = [
-                axis_visual,
-                *_segment(np.array([0, 0, -row.d]), np.zeros(3), f"d{i}"),
-            ]
+            segment = _segment(np.array([0, 0, -row.d]), np.zeros(3), f"d{i}", radius)
+            visuals[child] = [axis_visual, *segment]
             order.append(child)
         else:
             origin = rot_z(row.theta) @ translation(z=row.d)
             visuals[parent] += _segment(np.zeros(3), np.array([0, 0, row.d]), f"d{i}")
             child = f"link{i}"
-            visuals[child] = [axis_visual, *_segment(np.zeros(3), np.array([row.a, 0, 0]), f"a{i}")]
+            segment = _segment(np.zeros(3), np.array([row.a, 0, 0]), f"a{i}", radius)
+            visuals[child] = [axis_visual, *segment]
             visuals[f"frame{i}"] = []
             order += [child, f"frame{i}"]
+        if row.mass is not None:
+            inertials[child] = _primitive_inertial(row.mass, radius, segment)
         joints.append(
             yourdfpy.Joint(
                 name=row.name,
@@ -164,7 +223,7 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
     order.append("tool")
     joints.append(_fixed("tool_joint", last, "tool", table.T_last_tool))
     for name in order:
-        links[name] = _link(name, visuals[name])
+        links[name] = _link(name, visuals[name], inertials.get(name))
     robot = yourdfpy.Robot(
         name=table.name,
         links=list(links.values()),
@@ -179,10 +238,26 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
     return model
 
 
+#: MuJoCo's URDF extension: keep fixed links (DH frames, tool) as bodies, keep visuals.
+MUJOCO_COMPILER = (
+    '<mujoco><compiler fusestatic="false" discardvisual="false" '
+    'balanceinertia="true" angle="radian"/></mujoco>'
+)
+
+_PLACEHOLDER_NOTE = (
+    " Inertials are placeholders for visualization, not dynamics: the table gives no link\n"
+    "     masses (add mass [kg] and radius to its [[joints]] rows for solid-cylinder inertials). "
+)
+
+
 def urdf_string(table: DHTable) -> str:
-    """URDF text of a table, with a header comment naming its source."""
+    """URDF text of a table, with a header comment naming its source and the MuJoCo extension."""
     model = build_urdf(table)
-    body = etree.tostring(model.write_xml(), pretty_print=True, encoding="unicode")
+    root = model.write_xml().getroot()
+    if any(row.mass is None for row in table.rows):
+        root.insert(0, etree.Comment(_PLACEHOLDER_NOTE))
+    root.insert(0, etree.fromstring(MUJOCO_COMPILER))
+    body = etree.tostring(root, pretty_print=True, encoding="unicode")
     header = (
         f"<!-- Generated by dh2urdf from the DH table '{table.name}' ({table.convention} convention).\n"
         f"     Source: {table.source}\n"
@@ -191,11 +266,23 @@ def urdf_string(table: DHTable) -> str:
     return '<?xml version="1.0" encoding="utf-8"?>\n' + header + body
 
 
+def write_text_atomic(text: str, path: str | Path) -> Path:
+    """Write ``text`` to ``path`` through a temporary file and ``os.replace`` (never half-way)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)  # mkstemp makes the file private (0600)
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
 def write_urdf(table: DHTable, path: str | Path) -> Path:
     """Write the URDF of a table to ``path`` atomically (nothing half-written on error)."""
-    text = urdf_string(table)
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    return write_text_atomic(urdf_string(table), path)

@@ -1,8 +1,9 @@
 """Load the same generated URDF into MuJoCo, keeping every frame (no fusing of fixed links).
 
 MuJoCo's URDF import fuses links attached by fixed joints unless told otherwise; the tool frame
-would disappear. The loader adds ``<mujoco><compiler fusestatic="false"/></mujoco>`` to the URDF
-text, so every URDF link (``frame{i}``, ``tool``) is a MuJoCo body of the same name.
+would disappear. URDFs written by dh2urdf carry ``<mujoco><compiler fusestatic="false"/></mujoco>``
+themselves; for a URDF without a ``<mujoco>`` element the loader adds it to the text, so every URDF
+link (``frame{i}``, ``tool``) is a MuJoCo body of the same name.
 
 MuJoCo is imported inside the function: ``import kin`` stays light.
 """
@@ -26,6 +27,8 @@ _COMPILER = (
 def mujoco_urdf_text(robot: RobotModel) -> str:
     """URDF text of ``robot`` with the MuJoCo compiler options that keep fixed links."""
     text = robot.urdf
+    if "<mujoco>" in text:
+        return text
     start = text.find("<robot")
     if start < 0:
         raise ModelLoadError(f"'{robot.name}': URDF text has no <robot> element")

@@ -1,0 +1,5 @@
+"""``python -m dh2urdf``: the ``dh2urdf`` command (see :mod:`dh2urdf.command`)."""
+
+from .command import main
+
+raise SystemExit(main())

@@ -1,0 +1,88 @@
+"""The ``dh2urdf`` command: write the URDF or MJCF of a DH table (meters, radians).
+
+Usage::
+
+    dh2urdf TABLE.toml -o arm.urdf
+    dh2urdf --robot ur5 -o ur5.xml          # MJCF, from the .xml suffix
+    dh2urdf --robot ur5 --format mjcf -o -  # to stdout
+
+Bad input (missing file, bad table, unknown robot, unwritable output folder) exits 2 with one line
+on stderr and leaves no file behind. A first argument naming a subcommand (reserved: ``audit``) is
+set apart before the table parser runs, so subcommands can be added without changing the form
+``dh2urdf TABLE.toml -o ...``. This module never imports ``kin`` (the upper layer).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from . import __version__
+from .command_line import EXIT_BAD_INPUT, ArgumentParser, run_guarded
+from .exceptions import Dh2UrdfError
+from .robots import get_robot, robot_names
+from .table_file import load_table
+
+PROG = "dh2urdf"
+#: Output formats and the file suffixes that choose them when --format is not given.
+FORMATS = ("mjcf", "urdf")
+MJCF_SUFFIXES = (".mjcf", ".xml")
+#: First arguments reserved for subcommands (none is built yet).
+SUBCOMMANDS: dict[str, str] = {"audit": "not available in this version"}
+
+
+def get_argument_parser() -> ArgumentParser:
+    """Arguments of the export form ``dh2urdf (TABLE.toml | --robot NAME) -o FILE``."""
+    parser = ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("table", nargs="?", type=Path, help="DH table file (.toml)")
+    source.add_argument("--robot", choices=robot_names(), help="a shipped robot")
+    parser.add_argument("-o", "--output", required=True, help="file to write, '-' for stdout")
+    parser.add_argument(
+        "--format",
+        choices=FORMATS,
+        help="output format (default: mjcf for a .xml/.mjcf output, else urdf)",
+    )
+    return parser
+
+
+def output_format(output: str, chosen: str | None) -> str:
+    """The format to write: ``chosen``, else from the suffix of ``output``."""
+    if chosen is not None:
+        return chosen
+    return "mjcf" if Path(output).suffix.lower() in MJCF_SUFFIXES else "urdf"
+
+
+def _export(args: object) -> int:
+    """Load the table, render it and write it (atomically) or print it."""
+    table = get_robot(args.robot).load_table() if args.robot else load_table(args.table)  # type: ignore[attr-defined]
+    output: str = args.output  # type: ignore[attr-defined]
+    kind = output_format(output, args.format)  # type: ignore[attr-defined]
+    if output != "-":
+        folder = Path(output).parent
+        if not folder.is_dir():
+            raise OSError(f"{output}: folder '{folder}' does not exist")
+    if kind == "mjcf":
+        from .mjcf_writer import mjcf_string as render
+    else:
+        from .urdf_writer import urdf_string as render
+    text = render(table)
+    if output == "-":
+        sys.stdout.write(text)
+        return 0
+    from .urdf_writer import write_text_atomic
+
+    write_text_atomic(text, output)
+    print(f"wrote {output} ({kind.upper()}, {table.name}, {table.dof} joints, meters/radians)")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run ``dh2urdf``; exit 0, or 2 with one line on stderr for bad input."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] in SUBCOMMANDS:
+        print(f"{PROG}: error: '{argv[0]}': {SUBCOMMANDS[argv[0]]}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    args = get_argument_parser().parse_args(argv)
+    return run_guarded(PROG, lambda: _export(args), (Dh2UrdfError, OSError))
