@@ -35,6 +35,7 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
 from __future__ import annotations
 
 import math
+import re
 import sys
 
 if sys.version_info >= (3, 11):
@@ -124,6 +125,20 @@ def _number(path: str, value: Any, row: int | None, key: str) -> float:
     return float(value)
 
 
+# Characters XML 1.0 cannot carry (control characters, surrogates, U+FFFE/U+FFFF).
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
+def _xml_text(path: str, value: str, row: int | None, key: str) -> str:
+    """``value`` unchanged, or a TableError if the URDF (XML) cannot carry it."""
+    bad = _NOT_XML.search(value)
+    if bad:
+        raise TableError(
+            path, f"contains the character {bad.group()!r}, which XML cannot carry", row, key
+        )
+    return value
+
+
 def _string(
     path: str, data: dict[str, Any], key: str, choices: tuple[str, ...] | None = None
 ) -> str:
@@ -206,8 +221,9 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
             "type",
         )
     name = data.get("name", f"joint{index}")
-    if not isinstance(name, str) or not name:
+    if not isinstance(name, str) or not name.strip():
         raise TableError(path, f"expected a non-empty string, got {name!r}", index, "name")
+    _xml_text(path, name, index, "name")
     limits = data["limits"]
     if not isinstance(limits, list) or len(limits) != 2:
         raise TableError(path, f"expected [lower, upper], got {limits!r}", index, "limits")
@@ -291,7 +307,9 @@ def parse_table(
         value = data.get(key, default_name if key == "name" else "")
         if not isinstance(value, str):
             raise TableError(path, f"expected a string, got {value!r}", None, key)
-        texts[key] = value
+        if key == "name" and not value.strip():
+            raise TableError(path, f"expected a non-empty robot name, got {value!r}", None, key)
+        texts[key] = _xml_text(path, value, None, key)
     joints = data.get("joints")
     if not isinstance(joints, list) or not joints:
         raise TableError(path, "expected at least one [[joints]] row", None, "joints")
