@@ -56,3 +56,16 @@ def test_mujoco_fk_matches_pinocchio_at_random_configurations(robot, fk_q, kin_p
     for j, frame in enumerate(frames):
         assert position[j] < POS_TOL, f"{robot=} {frame=} position error {position[j]:.3e} m"
         assert rotation[j] < ROT_TOL, f"{robot=} {frame=} rotation error {rotation[j]:.3e} rad"
+
+
+@pytest.mark.parametrize("robot", robot_names())
+def test_shipped_urdf_keeps_the_tool_in_raw_mujoco(robot):
+    """The committed URDF, loaded by MuJoCo as is (no added compiler options), keeps every frame."""
+    from dh2urdf import get_robot
+
+    text = get_robot(robot).urdf_path.read_text(encoding="utf-8")
+    model = mujoco.MjModel.from_xml_string(text)
+    bodies = {model.body(i).name for i in range(model.nbody)}
+    dof = get_robot(robot).load_table().dof
+    frames = {f"frame{i}" for i in range(dof + 1)} | {"base_link", "tool"}
+    assert frames <= bodies, f"{robot=} missing bodies {sorted(frames - bodies)}"

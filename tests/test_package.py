@@ -100,3 +100,21 @@ def test_yourdfpy_fk_of_committed_urdf_matches_numpy(robot):
     position = float(np.linalg.norm(got[:, :3, 3] - expected[:, :3, 3], axis=-1).max())
     rotation = float(rotation_angle(got[:, :3, :3], expected[:, :3, :3]).max())
     assert position < 1e-9 and rotation < 1e-9, f"{robot=} {position=:.3e} {rotation=:.3e}"
+
+
+@pytest.mark.parametrize("robot", robot_names())
+def test_committed_urdf_states_its_physics_and_mujoco_options(robot):
+    """Placeholder-inertial note, MuJoCo compiler keeping fixed links, collisions, no root inertia."""
+    from lxml import etree
+
+    text = get_robot(robot).urdf_path.read_text(encoding="utf-8")
+    root = etree.fromstring(text.encode("utf-8"))
+    compiler = root.find("mujoco/compiler")
+    assert compiler is not None and compiler.get("fusestatic") == "false", f"{robot=}"
+    assert compiler.get("discardvisual") == "false", f"{robot=}"
+    assert "placeholders for visualization, not dynamics" in text, f"{robot=}"
+    assert root.find("link[@name='base_link']/inertial") is None, f"{robot=}"
+    collisions = root.findall("link/collision")
+    assert len(collisions) >= 2 and all(
+        c.find("geometry/cylinder") is not None for c in collisions
+    ), f"{robot=}"
