@@ -5,10 +5,10 @@ from __future__ import annotations
 import subprocess
 import sys
 import textwrap
-import tomllib
 
 import numpy as np
 import pytest
+import tomllib
 from lxml import etree
 
 from dh2urdf import TableError, parse_table
