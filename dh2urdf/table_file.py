@@ -35,7 +35,6 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
 from __future__ import annotations
 
 import math
-import re
 import sys
 
 if sys.version_info >= (3, 11):
@@ -50,8 +49,22 @@ import numpy as np
 from .dh_table import DHRow, DHTable, dh_link_transform
 from .drive_section import parse_drives
 from .exceptions import TableError
+from .table_values import MAX_LENGTH, MAX_MASS
+from .table_values import length as _length
+from .table_values import number as _number
+from .table_values import positive as _positive
+from .table_values import xml_text as _xml_text
 from .transforms import xyz_rpy
 from .units import ANGLE_UNITS, LENGTH_UNITS
+
+__all__ = [
+    "DEFAULT_EFFORT",
+    "DEFAULT_VELOCITY",
+    "MAX_LENGTH",
+    "MAX_MASS",
+    "load_table",
+    "parse_table",
+]
 
 _TOP_KEYS = {
     "name",
@@ -87,56 +100,6 @@ _JOINT_TYPES = ("prismatic", "revolute")
 #: Defaults when a row gives no velocity / effort limit (SI: rad/s or m/s, N m or N).
 DEFAULT_VELOCITY = {"revolute": math.pi, "prismatic": 0.5}
 DEFAULT_EFFORT = {"revolute": 100.0, "prismatic": 100.0}
-
-#: Largest length a table may give, after unit scaling [m] (a, d, base/tool xyz, radius,
-#: prismatic limits). Anything longer is a typo and would overflow the link transforms.
-MAX_LENGTH = 1e6
-#: Largest mass of a link [kg].
-MAX_MASS = 1e6
-
-
-def _length(path: str, value: Any, row: int | None, key: str, meters: float) -> float:
-    """A table length scaled to [m], finite and at most MAX_LENGTH in magnitude."""
-    number = _number(path, value, row, key)
-    scaled = number * meters
-    if not math.isfinite(scaled) or abs(scaled) > MAX_LENGTH:
-        raise TableError(
-            path,
-            f"must be a finite length below {MAX_LENGTH:g} m in magnitude, got {value!r}",
-            row,
-            key,
-        )
-    return scaled
-
-
-def _positive(path: str, value: Any, row: int, key: str, scale: float, bound: float) -> float:
-    """A positive, finite value scaled by ``scale``, at most ``bound``."""
-    number = _number(path, value, row, key) * scale
-    if not (0.0 < number <= bound):
-        raise TableError(path, f"must be positive and at most {bound:g}, got {value!r}", row, key)
-    return number
-
-
-def _number(path: str, value: Any, row: int | None, key: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise TableError(path, f"expected a number, got {value!r}", row, key)
-    if not math.isfinite(value):
-        raise TableError(path, f"expected a finite number, got {value!r}", row, key)
-    return float(value)
-
-
-# Characters XML 1.0 cannot carry (control characters, surrogates, U+FFFE/U+FFFF).
-_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
-
-
-def _xml_text(path: str, value: str, row: int | None, key: str) -> str:
-    """``value`` unchanged, or a TableError if the URDF (XML) cannot carry it."""
-    bad = _NOT_XML.search(value)
-    if bad:
-        raise TableError(
-            path, f"contains the character {bad.group()!r}, which XML cannot carry", row, key
-        )
-    return value
 
 
 def _string(
