@@ -14,6 +14,7 @@ set apart before the table parser runs, so subcommands can be added without chan
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -54,11 +55,11 @@ def output_format(output: str, chosen: str | None) -> str:
     return "mjcf" if Path(output).suffix.lower() in MJCF_SUFFIXES else "urdf"
 
 
-def _export(args: object) -> int:
+def _export(args: argparse.Namespace) -> int:
     """Load the table, render it and write it (atomically) or print it."""
-    table = get_robot(args.robot).load_table() if args.robot else load_table(args.table)  # type: ignore[attr-defined]
-    output: str = args.output  # type: ignore[attr-defined]
-    kind = output_format(output, args.format)  # type: ignore[attr-defined]
+    table = get_robot(args.robot).load_table() if args.robot else load_table(args.table)
+    output: str = args.output
+    kind = output_format(output, args.format)
     if output != "-":
         folder = Path(output).parent
         if not folder.is_dir():

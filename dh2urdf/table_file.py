@@ -140,16 +140,17 @@ def _fixed_transform(
     if set(data) <= {"xyz", "rpy"}:
         xyz = data.get("xyz", [0.0, 0.0, 0.0])
         rpy = data.get("rpy", [0.0, 0.0, 0.0])
-        values = []
+        values: list[tuple[float, float, float]] = []
         for sub, vec, scale in (("xyz", xyz, meters), ("rpy", rpy, radians)):
             if not isinstance(vec, list) or len(vec) != 3:
                 raise TableError(
                     path, f"expected a list of 3 numbers, got {vec!r}", None, f"{key}.{sub}"
                 )
             if sub == "xyz":
-                values.append(tuple(_length(path, v, None, f"{key}.xyz", meters) for v in vec))
+                x, y, z = (_length(path, v, None, f"{key}.xyz", meters) for v in vec)
             else:
-                values.append(tuple(_number(path, v, None, f"{key}.rpy") * scale for v in vec))
+                x, y, z = (_number(path, v, None, f"{key}.rpy") * scale for v in vec)
+            values.append((x, y, z))
         return xyz_rpy(values[0], values[1])
     if set(data) <= dh_keys:
         p = {k: _number(path, data.get(k, 0.0), None, f"{key}.{k}") for k in dh_keys}
