@@ -1,7 +1,8 @@
 """From a Denavit-Hartenberg table to a validated URDF (meters, radians).
 
 The URDF writer (``build_urdf``, ``urdf_string``, ``write_urdf``) imports yourdfpy, which is slow
-to import; it is loaded on first use so that reading tables and ``import kin`` stay fast.
+to import, and the MJCF writer (``mjcf_string``, ``write_mjcf``) imports MuJoCo; both are loaded on
+first use so that reading tables and ``import kin`` stay fast.
 """
 
 from typing import Any
@@ -26,14 +27,17 @@ __all__ = [
     "dh_link_transform",
     "get_robot",
     "load_table",
+    "mjcf_string",
     "parse_table",
     "robot_names",
     "urdf_string",
+    "write_mjcf",
     "write_urdf",
 ]
 
 
 _LAZY = {"build_urdf", "urdf_string", "write_urdf"}
+_LAZY_MJCF = {"mjcf_string", "write_mjcf"}
 
 
 def __getattr__(name: str) -> Any:
@@ -41,4 +45,8 @@ def __getattr__(name: str) -> Any:
         from . import urdf_writer
 
         return getattr(urdf_writer, name)
+    if name in _LAZY_MJCF:
+        from . import mjcf_writer
+
+        return getattr(mjcf_writer, name)
     raise AttributeError(f"module 'dh2urdf' has no attribute {name!r}")

@@ -64,6 +64,8 @@ def _export(args: argparse.Namespace) -> int:
         folder = Path(output).parent
         if not folder.is_dir():
             raise OSError(f"{output}: folder '{folder}' does not exist")
+        if Path(output).is_dir():
+            raise OSError(f"{output}: is a folder; give a file name such as {output}/arm.urdf")
     if kind == "mjcf":
         from .mjcf_writer import mjcf_string as render
     else:

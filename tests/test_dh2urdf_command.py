@@ -96,6 +96,7 @@ BAD_TABLE = 'convention = "standard"\nlength_unit = "m"\nangle_unit = "rad"\n'
         (["--robot", "ur5", "-o", "{tmp}/no/such/arm.urdf"], "does not exist"),
         (["--robot", "ur5", "--format", "mjcf", "-o", "{tmp}/no/arm.xml"], "does not exist"),
         (["--robot", "ur5"], "required: -o/--output"),
+        (["--robot", "ur5", "-o", "{tmp}"], "is a folder"),
         (["audit", "x.toml"], "'audit': not available"),
     ],
 )
