@@ -7,14 +7,16 @@ Usage::
     dh2urdf --robot ur5 --format mjcf -o -  # to stdout
 
 Bad input (missing file, bad table, unknown robot, unwritable output folder) exits 2 with one line
-on stderr and leaves no file behind. A first argument naming a subcommand (reserved: ``audit``) is
-set apart before the table parser runs, so subcommands can be added without changing the form
-``dh2urdf TABLE.toml -o ...``. This module never imports ``kin`` (the upper layer).
+on stderr and leaves no file behind. A first argument naming a subcommand (``audit``) is set apart
+before the table parser runs, so subcommands live beside the form ``dh2urdf TABLE.toml -o ...``
+without changing it. Exporting never imports ``kin`` (the upper layer); ``dh2urdf audit`` is
+implemented there (``kin.audit.command``) and its module is loaded by name only when asked for.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 from pathlib import Path
 
@@ -28,8 +30,8 @@ PROG = "dh2urdf"
 #: Output formats and the file suffixes that choose them when --format is not given.
 FORMATS = ("mjcf", "urdf")
 MJCF_SUFFIXES = (".mjcf", ".xml")
-#: First arguments reserved for subcommands (none is built yet).
-SUBCOMMANDS: dict[str, str] = {"audit": "not available in this version"}
+#: Subcommands: first argument -> module with ``main(argv, prog)``, loaded only when used.
+SUBCOMMANDS: dict[str, str] = {"audit": "kin.audit.command"}
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -81,11 +83,20 @@ def _export(args: argparse.Namespace) -> int:
     return 0
 
 
+def _subcommand(name: str, argv: list[str]) -> int:
+    """Run subcommand ``name`` from its module (imported here, by name, on demand)."""
+    try:
+        module = importlib.import_module(SUBCOMMANDS[name])
+    except ImportError as err:
+        print(f"{PROG}: error: '{name}' is not available: {err}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    return int(module.main(argv, prog=f"{PROG} {name}"))
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run ``dh2urdf``; exit 0, or 2 with one line on stderr for bad input."""
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] in SUBCOMMANDS:
-        print(f"{PROG}: error: '{argv[0]}': {SUBCOMMANDS[argv[0]]}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+        return _subcommand(argv[0], argv[1:])
     args = get_argument_parser().parse_args(argv)
     return run_guarded(PROG, lambda: _export(args), (Dh2UrdfError, OSError))

@@ -134,12 +134,16 @@ def _collisions(visuals: list[yourdfpy.Visual]) -> list[yourdfpy.Collision]:
 
 
 def _link(
-    name: str, visuals: list[yourdfpy.Visual], inertial: yourdfpy.Inertial | None
+    name: str,
+    visuals: list[yourdfpy.Visual],
+    inertial: yourdfpy.Inertial | None,
+    massless: bool = False,
 ) -> yourdfpy.Link:
+    """A link; without ``inertial`` a placeholder one, or none when ``massless`` (all masses given)."""
     # The root link carries no inertial: KDL (ROS tools, TRAC-IK) rejects a root inertia.
     if name == "base_link":
         inertial = None
-    elif inertial is None:
+    elif inertial is None and not massless:
         inertial = _inertial()
     return yourdfpy.Link(
         name=name, inertial=inertial, visuals=visuals, collisions=_collisions(visuals)
@@ -223,7 +227,8 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
     order.append("tool")
     joints.append(_fixed("tool_joint", last, "tool", table.T_last_tool))
     for name in order:
-        links[name] = _link(name, visuals[name], inertials.get(name))
+        massless = all(row.mass is not None for row in table.rows)
+        links[name] = _link(name, visuals[name], inertials.get(name), massless)
     robot = yourdfpy.Robot(
         name=table.name,
         links=list(links.values()),
@@ -241,7 +246,7 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
 #: MuJoCo's URDF extension: keep fixed links (DH frames, tool) as bodies, keep visuals.
 MUJOCO_COMPILER = (
     '<mujoco><compiler fusestatic="false" discardvisual="false" '
-    'balanceinertia="true" angle="radian"/></mujoco>'
+    'balanceinertia="true" inertiafromgeom="false" angle="radian"/></mujoco>'
 )
 
 _PLACEHOLDER_NOTE = (

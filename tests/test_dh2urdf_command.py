@@ -97,7 +97,7 @@ BAD_TABLE = 'convention = "standard"\nlength_unit = "m"\nangle_unit = "rad"\n'
         (["--robot", "ur5", "--format", "mjcf", "-o", "{tmp}/no/arm.xml"], "does not exist"),
         (["--robot", "ur5"], "required: -o/--output"),
         (["--robot", "ur5", "-o", "{tmp}"], "is a folder"),
-        (["audit", "x.toml"], "'audit': not available"),
+        (["audit", "{tmp}/missing.toml", "--samples", "{tmp}/none.csv"], "missing.toml"),
     ],
 )
 def test_bad_input_exits_2_with_one_line_and_no_file(tmp_path, argv, words):

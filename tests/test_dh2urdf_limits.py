@@ -159,3 +159,14 @@ def test_overflow_table_on_the_command_line_writes_nothing(tmp_path):
     assert len(run.stderr.splitlines()) == 1 and "Traceback" not in run.stderr
     assert "joint row 1, field 'a'" in run.stderr
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["big.toml"]
+
+
+def test_all_masses_make_the_frames_massless_in_mujoco():
+    """With every row's mass given, MuJoCo's bodies weigh exactly the table's masses (3 kg)."""
+    mujoco = pytest.importorskip("mujoco")
+    data = table_with(1, mass=2.0)
+    data["joints"][1]["mass"] = 1.0
+    model = mujoco.MjModel.from_xml_string(urdf_string(parse_table(data)))
+    masses = {model.body(i).name: float(model.body_mass[i]) for i in range(model.nbody)}
+    assert masses["link1"] == 2.0 and masses["link2"] == 1.0, masses
+    assert sum(masses.values()) == 3.0, masses
