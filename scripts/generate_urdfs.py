@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import sys
 
-from dh2urdf import ROBOTS
-from kin.cli import ArgumentParser, run_guarded
+from dh2urdf import ROBOTS, Dh2UrdfError
+from dh2urdf.command_line import ArgumentParser, run_guarded
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -45,7 +45,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{len(ROBOTS)} URDFs up to date")
         return 0
 
-    return run_guarded("generate_urdfs.py", body, extra=(OSError,))
+    return run_guarded("generate_urdfs.py", body, (Dh2UrdfError, OSError))
 
 
 if __name__ == "__main__":
