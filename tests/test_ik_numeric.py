@@ -286,7 +286,10 @@ def test_cli_humanoid7_full_pose_json(capsys):
     solution = out["solutions"][0]
     assert solution["within_limits"] and solution["position_error_m"] < 1e-5
     assert solution["rotation_error_rad"] < 1e-4
-    assert out["iterations"] >= 0 and out["time_s"] > 0
+    assert out["time_s"] > 0
+    # iterations count Newton steps: none when the closed form with a free joint answered
+    newton = ("seed_table", "damped_newton", "random_restart", "mink_qp")
+    assert (out["iterations"] > 0) == (out["method"] in newton), out
 
 
 def test_cli_humanoid7_unreachable_exits_1_with_best(capsys):

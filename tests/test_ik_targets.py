@@ -144,21 +144,23 @@ def test_other_lengths_work_unchanged():
 
 
 def test_cli_json_and_exit_codes(capsys):
-    """--json has success, solver, unit and solutions; 1 when unreachable, 2 for bad input."""
+    """--json has success, solver and solutions in SI units; 1 when unreachable, 2 for bad input."""
     solve = load_script("solve_ik").main
     assert (
         solve(["--robot", "pickplace3", "--target", "390", "80", "300", "--unit", "mm", "--json"])
         == 0
     )
     out = json.loads(capsys.readouterr().out)
-    assert out["success"] and out["unit"] == "mm" and out["solver"].startswith("closed_form")
+    assert out["success"] and "unit" not in out and out["solver"].startswith("closed_form")
     assert set(out["solutions"][0]) == {
         "q",
         "branch",
         "within_limits",
-        "position_error",
-        "rotation_error",
+        "position_error_m",
+        "rotation_error_rad",
     }
+    assert out["solutions"][0]["rotation_error_rad"] is None  # no orientation was asked for
+    assert out["q_units"] == ["rad", "rad", "rad"] and out["time_s"] > 0
     assert solve(["--robot", "planar2", "--target", "2", "0", "0", "--json"]) == 1
     capsys.readouterr()
     for argv in (
@@ -167,7 +169,7 @@ def test_cli_json_and_exit_codes(capsys):
         ["--robot", "lab5", "--target", "1", "nan", "3", "--pitch", "0"],
         ["--robot", "lab5", "--target", "1", "2", "3", "--unit", "km", "--pitch", "0"],
         ["--robot", "lab5", "--target", "0.2", "0", "0.2", "--pitch", "0", "--seed-q", "1"],
-        ["--robot", "lab5", "--target", "0.2", "0", "0.2"],
+        ["--robot", "pickplace3", "--target", "0.3", "0", "0.2", "--rpy", "0", "0", "0"],
     ):
         assert exit_code(solve, argv) == 2, argv
         err = capsys.readouterr().err

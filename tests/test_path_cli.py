@@ -204,8 +204,27 @@ def test_quat_and_rpy_give_the_same_path(capsys):
             "--vmax needs --time",
         ),  # fmt: skip
         (
-            ["--robot", "lab5", "--from", "0.2", "0", "0.2", "--to", "0.2", "0.1", "0.2"],
-            "'lab5' (5 joints) takes",
+            [
+                "--robot",
+                "pickplace3",
+                "--from",
+                "0.3",
+                "0.1",
+                "0.3",
+                "--rpy",
+                "0",
+                "0",
+                "0",
+                "--to",
+                "0.3",
+                "0.2",
+                "0.3",
+                "--rpy",
+                "0",
+                "0",
+                "0",
+            ],
+            "'pickplace3' (3 joints) takes a position target",
         ),  # fmt: skip
         (
             [

@@ -65,7 +65,8 @@ def mutated_tables(draw: st.DrawFn) -> dict:
                 continue
             row = rows[draw(st.integers(0, len(rows) - 1))]
             if where == "limit":
-                limits = list(row.get("limits", [0.0, 0.0]))
+                limits = row.get("limits", [0.0, 0.0])
+                limits = list(limits) if isinstance(limits, list) else [limits, limits]
                 limits[draw(st.integers(0, 1))] = value
                 row["limits"] = limits
                 continue
