@@ -11,6 +11,15 @@ from dh_reference import load_reference, random_configurations
 
 from dh2urdf import get_robot
 
+@pytest.fixture(autouse=True, scope="session")
+def _private_seed_cache(tmp_path_factory):
+    """The seed-table cache of the solvers goes to a temporary folder, not the user's cache."""
+    folder = tmp_path_factory.mktemp("xdg-cache")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("XDG_CACHE_HOME", str(folder))
+        yield folder
+
+
 #: Random configurations per robot for the FK comparisons (the issue asks for 1000).
 FK_SAMPLES = 1000
 

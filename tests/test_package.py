@@ -19,7 +19,7 @@ from dh_reference import fk_frames, load_reference, random_configurations, rotat
 import dh2urdf
 from dh2urdf import ROBOTS, get_robot, load_table, robot_names
 
-PACKAGES = ("dh2urdf", "kin", "kin.ik", "reproduction")
+PACKAGES = ("dh2urdf", "kin", "kin.audit", "kin.ik", "kin.path", "kin.viewer", "reproduction")
 PYPROJECT = Path(__file__).resolve().parent.parent / "pyproject.toml"
 
 

@@ -32,7 +32,10 @@ def get_argument_parser() -> ArgumentParser:
     """The top-level parser: ``kin [--version] COMMAND ...``."""
     from .. import __version__
 
-    epilog = "commands:\n" + "\n".join(f"  {name:<8}{text}" for name, text in COMMANDS.items())
+    width = max(map(len, COMMANDS)) + 2
+    epilog = "commands:\n" + "\n".join(
+        f"  {name:<{width}}{text}" for name, text in COMMANDS.items()
+    )
     parser = ArgumentParser(
         prog="kin",
         description="kin: forward and inverse kinematics of DH robots, one subcommand per task.",
