@@ -11,6 +11,7 @@ from dh_reference import load_reference, random_configurations
 
 from dh2urdf import get_robot
 
+
 @pytest.fixture(autouse=True, scope="session")
 def _private_seed_cache(tmp_path_factory):
     """The seed-table cache of the solvers goes to a temporary folder, not the user's cache."""
