@@ -269,3 +269,92 @@ def test_viewer_all_is_sorted_and_exists():
     names = list(viewer_module.__all__)
     assert names == sorted(set(names)) and len(names) == 9
     assert all(hasattr(viewer_module, name) for name in names)
+
+
+def cloud_points(commands: list[dict], name: str) -> np.ndarray:
+    """Positions (N, 3) of the point cloud ``markers/<name>`` of a page [m]."""
+    (created,) = [c for c in commands if c["path"] == f"/meshcat/scene/markers/{name}"]
+    attribute = created["object"]["geometries"][0]["data"]["attributes"]["position"]
+    return np.frombuffer(attribute["array"].data, dtype=np.float32).reshape(-1, 3)
+
+
+def path_json(tmp_path: Path, capsys, argv: list[str]) -> Path:
+    """Write ``kin path ... --json`` to a file (exit 0 asserted)."""
+    from kin.commands import path as path_command
+
+    assert path_command.main([*argv, "--json"]) == 0
+    file = tmp_path / "path.json"
+    file.write_text(capsys.readouterr().out, encoding="utf-8")
+    return file
+
+
+@pytest.mark.parametrize("timed", [False, True])
+def test_path_file_animates_the_path_and_draws_the_tool_trace(timed, tmp_path, capsys):
+    """--path: tool keyframes run from FK(q first) to FK(q last); the trace is FK of every q."""
+    import json
+
+    argv = ["--robot", "ur5", "--from", "0.4", "0", "0.3", "--rpy", "180", "0", "0"]
+    argv += ["--to", "0.4", "0.2", "0.3", "--rpy", "180", "0", "0", "--deg", "--steps", "20"]
+    file = path_json(tmp_path, capsys, [*argv, *(["--time"] if timed else [])])
+    document = json.loads(file.read_text(encoding="utf-8"))
+    robot = load_robot("ur5")
+    tool = [
+        Configuration(robot, q).transform_frame_to_world("tool").translation for q in document["q"]
+    ]
+    commands = page_commands(write_page(tmp_path, capsys, ["--robot", "ur5", "--path", str(file)]))
+    keys = np.array(animation_tracks(commands)["/meshcat/scene/frames/tool"])
+    np.testing.assert_allclose(keys[0], tool[0], atol=1e-6)
+    np.testing.assert_allclose(keys[-1], tool[-1], atol=1e-6)
+    np.testing.assert_allclose(keys[-1], [0.4, 0.2, 0.3], atol=1e-4)  # the path's --to
+    # timed: real time at 30 frames/s; untimed: one frame per sample over --duration
+    expected_frames = int(np.ceil(document["t_s"][-1] * 30)) + 1 if timed else 21
+    assert len(keys) == expected_frames
+    np.testing.assert_allclose(cloud_points(commands, "trace"), tool, atol=1e-6)  # float32
+
+
+def test_workspace_cloud_lies_within_the_reach_of_the_table(tmp_path, capsys):
+    """--workspace N: N tool points, none farther from DH frame 0 than the sum of |a| + |d|."""
+    html = write_page(tmp_path, capsys, ["--robot", "scorbot", "--workspace", "3000"])
+    points = cloud_points(page_commands(html), "workspace")
+    table = load_robot("scorbot").table
+    reach = sum(abs(row.a) + abs(row.d) for row in table.rows) + np.linalg.norm(
+        table.T_last_tool[:3, 3]
+    )
+    origin = table.T_world_base[:3, 3]
+    assert points.shape == (3000, 3)
+    assert np.linalg.norm(points - origin, axis=1).max() <= reach + 1e-6
+    assert np.ptp(points, axis=0).min() > 0.1 * reach  # a cloud, not a point
+
+
+@pytest.mark.parametrize(
+    "content, needle",
+    [
+        ("not json", "not JSON"),
+        ('{"x": 1}', "no 'q' list"),
+        ('{"q": [[0, 0, 0, 0, 0, 0]]}', "at least 2 joint vectors of 6 values"),
+        ('{"robot": "panda", "q": [[0, 0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 0, 0]]}', "for 'panda'"),
+        ('{"q": [[0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, null]]}', "non-finite"),
+        ('{"q": [[0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 1]], "t_s": [1, 0]}', "increasing times"),
+    ],
+)
+def test_bad_path_file_exits_2_with_one_line(content, needle, tmp_path, capsys):
+    """A malformed --path file: exit 2, one line naming the file and the field, no page."""
+    file = tmp_path / "bad.json"
+    file.write_text(content, encoding="utf-8")
+    argv = ["--robot", "ur5", "--path", str(file), "--html", str(tmp_path / "page.html")]
+    err = (call(command.main, argv), capsys.readouterr().err)
+    assert_one_line_error(*err, needle)
+    assert "bad.json" in err[1] and not (tmp_path / "page.html").exists()
+
+
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["--path", "p.json", "--target", "0.3", "0", "0.3", "--ik"], "--path or --ik"),
+        (["--workspace", "0"], "--workspace: expected 1 to"),
+    ],
+)
+def test_path_and_workspace_argument_errors(argv, needle, tmp_path, capsys):
+    """Conflicting or out-of-range --path / --workspace: exit 2 with one line."""
+    full = ["--robot", "ur5", *argv, "--html", str(tmp_path / "page.html")]
+    assert_one_line_error(call(command.main, full), capsys.readouterr().err, needle)

@@ -4,7 +4,9 @@ The arm stands at --q (default zeros, clipped to the limits). --frames adds an a
 every DH frame (frame0..frameN; x red, y green, z blue): a wrong twist sign shows at a glance.
 --target marks a tool position (a sphere; with --rpy, URDF roll-pitch-yaw, also a triad); --ik
 solves it from --q and animates the joint-space motion to the answer (meshcat's "Animations"
-controls replay it).
+controls replay it). --path FILE animates a joint path written by `kin path --json` (in real
+time when it was timed with --time) and draws the tool's trace; --workspace N draws the tool
+points of N joint vectors drawn uniformly within the limits (seeded), colored by height.
 
 Without --html: start meshcat's server, print the viewer URL and serve until Ctrl-C (exit 130).
 With --html FILE: write one self-contained page (three.js inlined; no server, no network
@@ -41,6 +43,9 @@ if TYPE_CHECKING:
 
 PROG = "kin preview"
 EXIT_NO_SOLUTION = 1
+#: Points of --workspace without a count, and the most it takes (a page stays light).
+WORKSPACE_POINTS = 20_000
+MAX_WORKSPACE_POINTS = 1_000_000
 
 
 def get_argument_parser(prog: str = PROG) -> ArgumentParser:
@@ -72,6 +77,15 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     )
     add("--ik", action="store_true", help="solve the target and animate the motion from --q")
     add("--frames", action="store_true", help="axis triads on every DH frame")
+    add("--path", metavar="FILE", help="animate a joint path written by kin path --json")
+    add(
+        "--workspace",
+        type=int,
+        nargs="?",
+        const=WORKSPACE_POINTS,
+        metavar="N",
+        help=f"draw the tool points of N random joint vectors (default N {WORKSPACE_POINTS:,})",
+    )
     add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
     add(
         "--duration", type=positive_float, default=2.0, help="--ik animation length [s] (default 2)"
@@ -93,6 +107,10 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("--ik needs --target X Y Z")
     if args.rpy is not None and args.target is None:
         parser.error("--rpy needs --target X Y Z")
+    if args.path is not None and args.ik:
+        parser.error("give --path or --ik, not both (each is an animation)")
+    if args.workspace is not None and not 1 <= args.workspace <= MAX_WORKSPACE_POINTS:
+        parser.error(f"--workspace: expected 1 to {MAX_WORKSPACE_POINTS:,} points")
     return run_guarded(prog, lambda: _run(args, prog), extra=(ModuleNotFoundError,))
 
 
@@ -122,13 +140,16 @@ def _run(args: argparse.Namespace, prog: str) -> int:
     q_goal = None
     if args.ik and target is not None:
         q_goal = _solve(robot, target, q_start, args, units, prog)
+    animated = None
+    if args.path is not None:
+        animated = _path_frames(robot, args.path, args.duration, prog)
+        q_start = animated[1][0]
 
     from ..viewer import RobotViewer, write_page  # meshcat: only now
 
     viewer = RobotViewer(robot, serve=args.html is None)
     try:
-        frames = ["base_link", robot.tool_frame]
-        viewer.show_frames(frames)
+        viewer.show_frames(["base_link", robot.tool_frame])
         if args.frames:
             dh_frames = [f"frame{i}" for i in range(len(robot.table.rows) + 1)]
             viewer.show_frames(dh_frames, length=0.06 * viewer.arm_length)
@@ -140,7 +161,21 @@ def _run(args: argparse.Namespace, prog: str) -> int:
             path = np.linspace(q_start, q_goal, steps)
             viewer.show_path(path, dt=args.duration / (steps - 1))
         in_view = [q_start] if q_goal is None else [q_start, q_goal]
-        viewer.fit_camera(None if target is None else [target.position], in_view)
+        extra = [] if target is None else [target.position]
+        if animated is not None:
+            from ..batch_fk import batch_tool_positions
+
+            samples, frames, dt = animated
+            trace = batch_tool_positions(robot.table, samples)
+            viewer.show_points(trace, rgb=TRACE_RGB, size=0.012 * viewer.arm_length, name="trace")
+            viewer.show_path(frames, dt=dt)
+            extra.extend(trace)
+            in_view.append(frames[-1])
+        if args.workspace is not None:
+            cloud = _workspace_points(robot, args.workspace)
+            viewer.show_points(cloud, rgb=_height_colors(cloud), name="workspace")
+            extra.extend(cloud[:: max(1, len(cloud) // 2000)])
+        viewer.fit_camera(np.array(extra).reshape(-1, 3) if extra else None, in_view)
         if args.html is not None:
             written = write_page(args.html, viewer.static_html())
             print(f"{robot.name}: preview written to {written}")
@@ -183,6 +218,44 @@ def _solve(
     branch = result.solutions[0].branch or result.method or result.solver
     print(f"{robot.name}: IK ({branch}): q = {shown}")
     return q_goal
+
+
+TRACE_RGB = (0.95, 0.55, 0.1)
+
+
+def _path_frames(
+    robot: RobotModel, file: str, duration: float, prog: str
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """Samples and animation frames [rad, m], frame interval [s] of a ``kin path --json`` file."""
+    from ..path.joint_path_file import animation_frames, read_joint_path
+
+    joint_path = read_joint_path(file, robot.nq)
+    if joint_path.robot and joint_path.robot != robot.name:
+        print(f"{prog}: warning: {file} was computed for '{joint_path.robot}'", file=sys.stderr)
+    frames, dt = animation_frames(joint_path, duration)
+    return joint_path.q, frames, dt
+
+
+def _workspace_points(robot: RobotModel, count: int) -> np.ndarray:
+    """Tool points [m] of ``count`` joint vectors drawn uniformly within the limits (seed 0)."""
+    import numpy as np
+
+    from ..batch_fk import batch_tool_positions
+
+    rng = np.random.default_rng(0)
+    q = rng.uniform(robot.lower, robot.upper, size=(count, robot.nq))
+    return batch_tool_positions(robot.table, q)
+
+
+def _height_colors(points: np.ndarray) -> np.ndarray:
+    """RGB per point from blue (lowest) to orange (highest), by the world z coordinate."""
+    import numpy as np
+
+    z = points[:, 2]
+    span = float(z.max() - z.min())
+    s = (z - z.min()) / span if span > 0.0 else np.zeros_like(z)
+    low, high = np.array([0.15, 0.35, 0.9]), np.array([0.95, 0.5, 0.1])
+    return low + s[:, None] * (high - low)
 
 
 def _interrupt(signum: int, frame: object) -> None:

@@ -3,19 +3,23 @@
 from .cartesian import CartesianPath, line, polyline
 from .exceptions import PathError
 from .follow import follow_path, path_solver
+from .joint_path_file import JointPath, animation_frames, read_joint_path
 from .result import PathResult
 from .timing import DEFAULT_ACCELERATION, TimedPath, table_limits, time_optimal
 
 __all__ = [
     "CartesianPath",
     "DEFAULT_ACCELERATION",
+    "JointPath",
     "PathError",
     "PathResult",
     "TimedPath",
+    "animation_frames",
     "follow_path",
     "line",
     "path_solver",
     "polyline",
+    "read_joint_path",
     "table_limits",
     "time_optimal",
 ]

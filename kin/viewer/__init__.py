@@ -1,7 +1,6 @@
 """Browser preview of a robot through meshcat: arm, frame triads, targets, paths, point clouds.
 
-Needs ``meshcat`` (``pip install meshcat``, or the ``[viz]`` extra); ``import kin`` never loads
-it. ``RobotViewer(robot)`` records a scene for a static HTML page (``write_page``);
+Needs ``meshcat`` (a dependency of the package); ``import kin`` never loads it. ``RobotViewer(robot)`` records a scene for a static HTML page (``write_page``);
 ``RobotViewer(robot, serve=True)`` drives a live meshcat server instead.
 """
 
