@@ -8,8 +8,12 @@ import textwrap
 
 import numpy as np
 import pytest
-import tomllib
 from lxml import etree
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # Python 3.10: the same parser as the package's
+    import tomli as tomllib
 
 from dh2urdf import TableError, parse_table
 from dh2urdf.table_file import MAX_LENGTH
