@@ -1,11 +1,11 @@
 /*
- * Compiled twin of ik/seven_dof.py (SevenDofIK.pose / SevenDofIK.position and the choice of the
+ * Compiled twin of kin/ik/analytic/seven_dof.py (SevenDofIK.pose / SevenDofIK.position and the choice of the
  * branch nearest a start): the same arithmetic, operation for operation, for speed. The Python
  * module is the reference and the fallback when this extension is not built; the tests compare the
  * two. Angles in radians, lengths in meters.
  *
  * first(params, mode, target, starts, out, step) -> int
- *   params: float64[PARAM_COUNT], SevenDofIK.c_params (layout below);
+ *   params: float64[PARAM_COUNT], SevenDofIK.c_params (CLOSED7_PARAMS below, exported as LAYOUT);
  *   mode:   0 = full pose, target = float64[12]: tool origin of DH frame 7 in frame 0 (3), then
  *           R_0_7 row-major (9); 1 = position, target = float64[3]: the tool point in frame 0;
  *   starts: float64[k, 7], start joint vectors (clipped into the limits here; a row with a value
@@ -20,25 +20,40 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
-enum {
-    P_OFF = 0,   /* theta offsets, 7 */
-    P_SIN = 7,   /* sin alpha, 7 */
-    P_COS = 14,  /* cos alpha, 7 */
-    P_A = 21,    /* a, 7 */
-    P_D = 28,    /* d, 7 */
-    P_LO = 35,   /* lower limits, 7 */
-    P_HI = 42,   /* upper limits, 7 */
-    P_S3 = 49,   /* shoulder point in frame 3, 3 */
-    P_S3_2 = 52, /* its squared norm */
-    P_WU = 53,   /* elbow vector u of the wrist centre, 3 */
-    P_G = 56,    /* Rx(alpha6) e_z, 3 */
-    P_TOOL = 59, /* tool origin in frame 7, 3 */
-    P_W7 = 62,   /* wrist centre in frame 7, 3 */
-    P_AX7 = 65,  /* (0, sin alpha7, cos alpha7), 3 */
-    PARAM_COUNT = 68
-};
+/*
+ * The parameter layout, declared here once. SevenDofIK.c_params reads the order, offsets and
+ * sizes from LAYOUT (exported below), filling each field by name; a test checks both sides.
+ * X(field, size, description)
+ */
+#define CLOSED7_PARAMS(X)                                            \
+    X(off, 7, "theta offsets [rad]")                                 \
+    X(sin, 7, "sin alpha")                                           \
+    X(cos, 7, "cos alpha")                                           \
+    X(a, 7, "a [m]")                                                 \
+    X(d, 7, "d [m]")                                                 \
+    X(lo, 7, "lower joint limits [rad]")                             \
+    X(hi, 7, "upper joint limits [rad]")                             \
+    X(s3, 3, "shoulder point in frame 3 [m]")                        \
+    X(s3_2, 1, "its squared norm [m^2]")                             \
+    X(wu, 3, "elbow vector u of the wrist centre [m]")               \
+    X(g, 3, "Rx(alpha6) e_z")                                        \
+    X(tool, 3, "tool origin in frame 7 [m]")                         \
+    X(w7, 3, "wrist centre in frame 7 [m]")                          \
+    X(ax7, 3, "(0, sin alpha7, cos alpha7)")
+
+#define PARAM_FIELD(name, size, doc) double name[size];
+typedef struct {
+    CLOSED7_PARAMS(PARAM_FIELD)
+} Params;
+
+#define PARAM_SIZE(name, size, doc) +(size)
+enum { PARAM_COUNT = 0 CLOSED7_PARAMS(PARAM_SIZE) };
+
+/* All doubles: no padding, so a float64[PARAM_COUNT] buffer is a Params. */
+typedef char params_have_no_padding[sizeof(Params) == PARAM_COUNT * sizeof(double) ? 1 : -1];
 
 #define COS_SLACK 1e-12
 #define TWO_PI 6.283185307179586
@@ -59,32 +74,55 @@ static int clamp_cos(double *c)
     return 1;
 }
 
-static int inside(const double *P, int i, double q)
+static int inside(const Params *P, int i, double q)
 {
-    return P[P_LO + i] <= q && q <= P[P_HI + i];
+    return P->lo[i] <= q && q <= P->hi[i];
+}
+
+/* SevenDofIK's _rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
+   sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
+static int rotation_pair(double sa, double ca, const double *v, const double *d, double *ta,
+                         double *tb)
+{
+    double p = sa * v[1], q = sa * v[0];
+    double rho = hypot(p, q);
+    if (rho < 1e-15) return 0;
+    double c = (d[2] - ca * v[2]) / rho;
+    if (!clamp_cos(&c)) return 0;
+    double phi = atan2(q, p), delta = acos(c), heading = atan2(d[1], d[0]);
+    int n = delta > 0.0 ? 2 : 1;
+    for (int i = 0; i < n; i++) {
+        double t = n == 1 ? phi : (i == 0 ? phi + delta : phi - delta);
+        double cb = cos(t), sb = sin(t);
+        double mx = v[0] * cb - v[1] * sb;
+        double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
+        ta[i] = heading - atan2(my, mx);
+        tb[i] = t;
+    }
+    return n;
 }
 
 /* SevenDofIK._arm: branches putting Rz(t4) u (frame 3) on the point pt (frame 0). */
-static int arm(const double *P, double q1, const double *pt, const double *u, Arm *out)
+static int arm(const Params *P, double q1, const double *pt, const double *u, Arm *out)
 {
-    const double *S = P + P_SIN, *C = P + P_COS, *off = P + P_OFF, *s3v = P + P_S3;
+    const double *S = P->sin, *C = P->cos, *off = P->off, *s3v = P->s3;
     double t1 = q1 + off[0];
     double c1 = cos(t1), s1 = sin(t1);
-    double a1 = P[P_A + 0];
-    double x = pt[0] - a1 * c1, y = pt[1] - a1 * s1, z = pt[2] - P[P_D + 0];
+    double a1 = P->a[0];
+    double x = pt[0] - a1 * c1, y = pt[1] - a1 * s1, z = pt[2] - P->d[0];
     double xr = c1 * x + s1 * y, yr = c1 * y - s1 * x;
-    double dx = xr, dy = C[0] * yr + S[0] * z, dz = C[0] * z - S[0] * yr - P[P_D + 1];
+    double dv[3] = {xr, C[0] * yr + S[0] * z, C[0] * z - S[0] * yr - P->d[1]};
+    double dx = dv[0], dy = dv[1], dz = dv[2];
     double ux = u[0], uy = u[1], uz = u[2];
     double sx = s3v[0], sy = s3v[1], sz = s3v[2];
     double p = sx * ux + sy * uy, q = sy * ux - sx * uy;
     double rho = hypot(p, q);
     if (rho < 1e-15) return 0;
-    double k = 0.5 * (ux * ux + uy * uy + uz * uz + P[P_S3_2] - dx * dx - dy * dy - dz * dz);
+    double k = 0.5 * (ux * ux + uy * uy + uz * uz + P->s3_2[0] - dx * dx - dy * dy - dz * dz);
     double cosine = (k - sz * uz) / rho;
     if (!clamp_cos(&cosine)) return 0;
     double phi = atan2(q, p), delta = acos(cosine);
-    double s2 = S[1], c2 = C[1], s3 = S[2], c3 = C[2];
-    double heading = atan2(dy, dx);
+    double s3 = S[2], c3 = C[2];
     double t4s[2] = {phi + delta, phi - delta};
     int n4 = delta > 0.0 ? 2 : 1, count = 0;
     if (n4 == 1) t4s[0] = phi;
@@ -93,27 +131,14 @@ static int arm(const double *P, double q1, const double *pt, const double *u, Ar
         double q4 = remainder(t4 - off[3], TWO_PI);
         if (!inside(P, 3, q4)) continue;
         double c4 = cos(t4), s4 = sin(t4);
-        double vx = ux * c4 - uy * s4 - sx;
-        double vy0 = ux * s4 + uy * c4 - sy;
-        double vz0 = uz - sz;
-        double vy = c3 * vy0 - s3 * vz0, vz = s3 * vy0 + c3 * vz0;
-        double pp = s2 * vy, qq = s2 * vx;
-        double rho3 = hypot(pp, qq);
-        if (rho3 < 1e-15) continue;
-        double cos3 = (dz - c2 * vz) / rho3;
-        if (!clamp_cos(&cos3)) continue;
-        double phi3 = atan2(qq, pp), delta3 = acos(cos3);
-        double t3s[2] = {phi3 + delta3, phi3 - delta3};
-        int n3 = delta3 > 0.0 ? 2 : 1;
-        if (n3 == 1) t3s[0] = phi3;
+        double vy0 = ux * s4 + uy * c4 - sy, vz0 = uz - sz;
+        double v[3] = {ux * c4 - uy * s4 - sx, c3 * vy0 - s3 * vz0, s3 * vy0 + c3 * vz0};
+        double t2s[2], t3s[2];
+        int n3 = rotation_pair(S[1], C[1], v, dv, t2s, t3s);
         for (int j = 0; j < n3; j++) {
-            double t3 = t3s[j];
+            double t2 = t2s[j], t3 = t3s[j];
             double q3 = remainder(t3 - off[2], TWO_PI);
             if (!inside(P, 2, q3)) continue;
-            double cb = cos(t3), sb = sin(t3);
-            double mx = vx * cb - vy * sb;
-            double my = c2 * (vx * sb + vy * cb) - s2 * vz;
-            double t2 = heading - atan2(my, mx);
             double q2 = remainder(t2 - off[1], TWO_PI);
             if (!inside(P, 1, q2)) continue;
             Arm a = {t1, q2, q3, q4, t2, t3, t4};
@@ -124,12 +149,12 @@ static int arm(const double *P, double q1, const double *pt, const double *u, Ar
 }
 
 /* SevenDofIK.pose: joint vectors inside the limits (up to 8) for joint 1 at q1. */
-static int pose(const double *P, double q1, const double *W, const double *X7, const double *Z7,
+static int pose(const Params *P, double q1, const double *W, const double *X7, const double *Z7,
                 double (*sol)[7])
 {
     Arm arms[4];
-    int n = arm(P, q1, W, P + P_WU, arms), count = 0;
-    const double *S = P + P_SIN, *C = P + P_COS, *off = P + P_OFF, *g = P + P_G;
+    int n = arm(P, q1, W, P->wu, arms), count = 0;
+    const double *S = P->sin, *C = P->cos, *off = P->off, *g = P->g;
     for (int b = 0; b < n; b++) {
         const Arm *a = &arms[b];
         double xx = X7[0], xy = X7[1], xz = X7[2], zx = Z7[0], zy = Z7[1], zz = Z7[2];
@@ -149,23 +174,12 @@ static int pose(const double *P, double q1, const double *W, const double *X7, c
             zz = ca * zz - sa * zy;
             zy = tmp;
         }
-        /* Rz(t5) Rx(alpha5) Rz(t6) g = z4 (SevenDofIK's _rotation_pair). */
+        /* Rz(t5) Rx(alpha5) Rz(t6) g = z4. */
         double s5 = S[4], c5 = C[4], s6 = S[5], c6 = C[5];
-        double p = s5 * g[1], q = s5 * g[0];
-        double rho = hypot(p, q);
-        if (rho < 1e-15) continue;
-        double cosine = (zz - c5 * g[2]) / rho;
-        if (!clamp_cos(&cosine)) continue;
-        double phi = atan2(q, p), delta = acos(cosine), heading = atan2(zy, zx);
-        double t6s[2] = {phi + delta, phi - delta};
-        int n6 = delta > 0.0 ? 2 : 1;
-        if (n6 == 1) t6s[0] = phi;
+        double z4[3] = {zx, zy, zz}, t5s[2], t6s[2];
+        int n6 = rotation_pair(s5, c5, g, z4, t5s, t6s);
         for (int j = 0; j < n6; j++) {
-            double t6 = t6s[j];
-            double cb = cos(t6), sb = sin(t6);
-            double mx = g[0] * cb - g[1] * sb;
-            double my = c5 * (g[0] * sb + g[1] * cb) - s5 * g[2];
-            double t5 = heading - atan2(my, mx);
+            double t5 = t5s[j], t6 = t6s[j];
             double q5 = remainder(t5 - off[4], TWO_PI);
             double q6 = remainder(t6 - off[5], TWO_PI);
             if (!(inside(P, 4, q5) && inside(P, 5, q6))) continue;
@@ -196,23 +210,23 @@ static int pose(const double *P, double q1, const double *W, const double *X7, c
 }
 
 /* SevenDofIK.elbow_vector: u of the tool origin for the wrist values q5, q6, q7. */
-static void elbow_vector(const double *P, double q5, double q6, double q7, double *u)
+static void elbow_vector(const Params *P, double q5, double q6, double q7, double *u)
 {
-    const double *S = P + P_SIN, *C = P + P_COS, *off = P + P_OFF;
-    double x = P[P_TOOL], y = P[P_TOOL + 1], z = P[P_TOOL + 2];
+    const double *S = P->sin, *C = P->cos, *off = P->off;
+    double x = P->tool[0], y = P->tool[1], z = P->tool[2];
     double qs[3] = {q7, q6, q5};
     for (int k = 0; k < 3; k++) {
         int i = 6 - k;
         double t = qs[k] + off[i];
-        double nx = P[P_A + i] + x, ny = C[i] * y - S[i] * z, nz = P[P_D + i] + S[i] * y + C[i] * z;
+        double nx = P->a[i] + x, ny = C[i] * y - S[i] * z, nz = P->d[i] + S[i] * y + C[i] * z;
         double ct = cos(t), st = sin(t);
         x = ct * nx - st * ny;
         y = st * nx + ct * ny;
         z = nz;
     }
-    u[0] = P[P_A + 3] + x;
+    u[0] = P->a[3] + x;
     u[1] = C[3] * y - S[3] * z;
-    u[2] = P[P_D + 3] + S[3] * y + C[3] * z;
+    u[2] = P->d[3] + S[3] * y + C[3] * z;
 }
 
 /* A C-contiguous float64 buffer of `obj` (writable if asked); 0 and a Python error otherwise. */
@@ -262,12 +276,13 @@ static PyObject *first(PyObject *self, PyObject *args)
     else if (starts.ndim != 2 || starts.shape[1] != 7) error = "starts: not k x 7 float64";
     else if (out.len != 7 * (Py_ssize_t)sizeof(double)) error = "out: not 7 float64";
     if (error == NULL) {
-        const double *P = params.buf, *T = target.buf, *Q = starts.buf;
+        const Params *P = params.buf;
+        const double *T = target.buf, *Q = starts.buf;
         double *result = out.buf;
         Py_ssize_t k = starts.len / (7 * sizeof(double));
         double W[3], X7[3], Z7[3];
         if (mode == 0) {
-            const double *R = T + 3, *w7 = P + P_W7, *ax = P + P_AX7;
+            const double *R = T + 3, *w7 = P->w7, *ax = P->ax7;
             for (int i = 0; i < 3; i++) {
                 const double *row = R + 3 * i;
                 W[i] = T[i] + row[0] * w7[0] + row[1] * w7[1] + row[2] * w7[2];
@@ -281,7 +296,7 @@ static PyObject *first(PyObject *self, PyObject *args)
             for (int i = 0; i < 7; i++) {
                 double x = Q[7 * r + i];
                 finite = finite && isfinite(x);
-                v[i] = x < P[P_LO + i] ? P[P_LO + i] : (x > P[P_HI + i] ? P[P_HI + i] : x);
+                v[i] = x < P->lo[i] ? P->lo[i] : (x > P->hi[i] ? P->hi[i] : x);
             }
             if (!finite) continue; /* a start with a NaN or an infinity has no joint 1 to keep */
             double u[3];
@@ -291,7 +306,7 @@ static PyObject *first(PyObject *self, PyObject *args)
                 for (int sign = 1; sign >= -1 && n == 0; sign -= 2) {
                     if (j == 0 && sign < 0) break;
                     double q1 = v[0] + sign * (double)j * step;
-                    if (q1 < P[P_LO] || q1 > P[P_HI]) continue;
+                    if (q1 < P->lo[0] || q1 > P->hi[0]) continue;
                     inside_limits = 1;
                     if (mode == 0) {
                         n = pose(P, q1, W, X7, Z7, sol);
@@ -340,11 +355,50 @@ static PyObject *first(PyObject *self, PyObject *args)
 static PyMethodDef methods[] = {
     {"first", first, METH_VARARGS,
      "first(params, mode, target, starts, out, step) -> index of the first start with a branch inside "
-     "the limits (written to out), or -1. See ik/seven_dof.py."},
+     "the limits (written to out), or -1. See kin/ik/analytic/seven_dof.py."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",
-                                    "Compiled twin of ik.seven_dof (optional speed-up).", -1,
+                                    "Compiled twin of kin.ik.analytic.seven_dof (optional speed-up).", -1,
                                     methods};
 
-PyMODINIT_FUNC PyInit__closed7(void) { return PyModule_Create(&module); }
+/* LAYOUT: ((field, offset, size), ...) in CLOSED7_PARAMS order, offsets in float64 values. */
+static PyObject *layout(void)
+{
+    PyObject *fields = PyList_New(0);
+    if (fields == NULL) return NULL;
+#define PARAM_ENTRY(name, size, doc)                                                        \
+    {                                                                                       \
+        PyObject *entry = Py_BuildValue("(snn)", #name,                                     \
+                                        (Py_ssize_t)(offsetof(Params, name) / sizeof(double)), \
+                                        (Py_ssize_t)(size));                                \
+        if (entry == NULL || PyList_Append(fields, entry) < 0) {                            \
+            Py_XDECREF(entry);                                                              \
+            Py_DECREF(fields);                                                              \
+            return NULL;                                                                    \
+        }                                                                                   \
+        Py_DECREF(entry);                                                                   \
+    }
+    CLOSED7_PARAMS(PARAM_ENTRY)
+#undef PARAM_ENTRY
+    PyObject *result = PyList_AsTuple(fields);
+    Py_DECREF(fields);
+    return result;
+}
+
+PyMODINIT_FUNC PyInit__closed7(void)
+{
+    PyObject *m = PyModule_Create(&module);
+    if (m == NULL) return NULL;
+    PyObject *fields = layout();
+    if (fields == NULL || PyModule_AddObject(m, "LAYOUT", fields) < 0) {
+        Py_XDECREF(fields);
+        Py_DECREF(m);
+        return NULL;
+    }
+    if (PyModule_AddIntConstant(m, "PARAM_COUNT", PARAM_COUNT) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}

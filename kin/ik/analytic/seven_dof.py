@@ -76,11 +76,28 @@ def _rotation_pair(
     return pairs
 
 
-def _back(t: float, sa: float, ca: float, x: float, y: float, z: float) -> tuple[float, ...]:
-    """``(Rz(t) Rx(alpha))^T (x, y, z)``: a vector of frame ``i-1`` seen in frame ``i``."""
-    c, s = math.cos(t), math.sin(t)
-    x, y = c * x + s * y, c * y - s * x
-    return x, ca * y + sa * z, ca * z - sa * y
+def pack_params(
+    fields: dict[str, tuple[float, ...]], layout: Sequence[tuple[str, int, int]]
+) -> np.ndarray:
+    """``fields`` as one float64 vector in ``layout`` order: ``(name, offset, size)`` per field.
+
+    Raises:
+        ValueError: A field missing, of another size, left over, or a layout with gaps.
+    """
+    values: list[float] = []
+    for name, offset, size in layout:
+        field = fields.get(name)
+        if field is None or len(field) != size or offset != len(values):
+            raise ValueError(
+                f"compiled layout field {name!r} (offset {offset}, size {size}) does not match "
+                f"the Python parameters: {None if field is None else len(field)} values at "
+                f"offset {len(values)}"
+            )
+        values.extend(field)
+    extra = sorted(set(fields) - {name for name, _, _ in layout})
+    if extra:
+        raise ValueError(f"Python parameters not in the compiled layout: {extra}")
+    return np.array(values, dtype=float)
 
 
 class SevenDofIK:
@@ -120,27 +137,32 @@ class SevenDofIK:
         self._axis7 = (0.0, s[6], c[6])
         self._g = (0.0, -s[5], c[5])  # Rx(alpha6) e_z
 
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (its ``CLOSED7_PARAMS``; lengths [m])."""
+        return {
+            "off": self._offsets,
+            "sin": self._sin,
+            "cos": self._cos,
+            "a": self._a,
+            "d": self._d,
+            "lo": self.lower,
+            "hi": self.upper,
+            "s3": self._shoulder3,
+            "s3_2": (self._shoulder3_2,),
+            "wu": self._wrist_u,
+            "g": self._g,
+            "tool": tuple(self._tool_t.tolist()),
+            "w7": self._wrist7,
+            "ax7": self._axis7,
+        }
+
     @property
     def c_params(self) -> np.ndarray:
-        """The parameters in the compiled twin's layout (``ik/_closed7.c``)."""
+        """:meth:`c_fields` packed in the order the compiled twin declares (``_closed7.LAYOUT``)."""
         if self._c_params is None:
-            values = [
-                *self._offsets,
-                *self._sin,
-                *self._cos,
-                *self._a,
-                *self._d,
-                *self.lower,
-                *self.upper,
-                *self._shoulder3,
-                self._shoulder3_2,
-                *self._wrist_u,
-                *self._g,
-                *self._tool_t.tolist(),
-                *self._wrist7,
-                *self._axis7,
-            ]
-            self._c_params = np.array(values, dtype=float)
+            if _closed7 is None:
+                raise RuntimeError("the compiled twin kin.ik.analytic._closed7 is not built")
+            self._c_params = pack_params(self.c_fields(), _closed7.LAYOUT)
         return self._c_params
 
     def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> tuple[int, np.ndarray]:
@@ -334,7 +356,6 @@ class SevenDofIK:
             cosine = -1.0
         phi, delta = math.atan2(q, p), math.acos(cosine)
         s2, c2, s3, c3 = s[1], c[1], s[2], c[2]
-        heading = math.atan2(dy, dx)
         remainder = math.remainder
         out: list[tuple[float, ...]] = []
         for t4 in (phi + delta, phi - delta) if delta > 0.0 else (phi,):
@@ -346,29 +367,11 @@ class SevenDofIK:
             vy = ux * s4 + uy * c4 - sy
             vz = uz - sz
             vy, vz = c3 * vy - s3 * vz, s3 * vy + c3 * vz  # Rx(alpha3) v
-            # Rz(t2) Rx(alpha2) Rz(t3) v = d (see ``_rotation_pair``, inlined).
-            pp, qq = s2 * vy, s2 * vx
-            rho = math.hypot(pp, qq)
-            if rho < 1e-15:
-                continue
-            cosine = (dz - c2 * vz) / rho
-            if cosine > 1.0:
-                if cosine > 1.0 + COS_SLACK:
-                    continue
-                cosine = 1.0
-            elif cosine < -1.0:
-                if cosine < -1.0 - COS_SLACK:
-                    continue
-                cosine = -1.0
-            phi3, delta3 = math.atan2(qq, pp), math.acos(cosine)
-            for t3 in (phi3 + delta3, phi3 - delta3) if delta3 > 0.0 else (phi3,):
+            # Rz(t2) Rx(alpha2) Rz(t3) v = d.
+            for t2, t3 in _rotation_pair(s2, c2, vx, vy, vz, dx, dy, dz):
                 q3 = remainder(t3 - off[2], _TWO_PI)
                 if not lo[2] <= q3 <= hi[2]:
                     continue
-                cb, sb = math.cos(t3), math.sin(t3)
-                mx = vx * cb - vy * sb
-                my = c2 * (vx * sb + vy * cb) - s2 * vz
-                t2 = heading - math.atan2(my, mx)
                 q2 = remainder(t2 - off[1], _TWO_PI)
                 if lo[1] <= q2 <= hi[1]:
                     out.append((t1, q2, q3, q4, t2, t3, t4))

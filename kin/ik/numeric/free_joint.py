@@ -43,7 +43,7 @@ def solve_free_joint(
     for label, starts, indices, step in _starts(ik, target, seed_q):
         offset = 0
         while offset < len(starts):
-            index = closed.first(prepared, starts[offset:], out, step)
+            index = closed.first(prepared, starts[offset:], out, step, ik.compiled)
             if index < 0:
                 break
             offset += index + 1

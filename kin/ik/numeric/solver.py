@@ -48,6 +48,10 @@ logger = logging.getLogger(__name__)
 #: Default time budget of one solve [s].
 DEFAULT_TIMEOUT = 0.05
 
+#: Default joint-1 scan steps of the closed form [rad], coarse to fine (with or without the
+#: compiled twin: the same answers either way).
+DEFAULT_CLOSED_FORM_STEPS = (0.05, 0.01)
+
 
 class NumericIK:
     """Numeric IK of one robot: seed table, damped Newton fast path, mink QP fallback.
@@ -71,8 +75,10 @@ class NumericIK:
         closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
         closed_form_steps: Joint-1 scan steps of the first closed-form starts [rad], coarse to
             fine: when a start's joint 1 gives no branch inside the limits, joint 1 is scanned
-            outward from there, on the coarse grid first (None: 0.05 then 0.01 rad with the
-            compiled twin of :mod:`ik.seven_dof`, 0.05 rad without).
+            outward from there, on the coarse grid first.
+        compiled: Run the closed form's compiled twin (:mod:`kin.ik.analytic._closed7`) when it
+            is built (False: the Python module). Both return the same joint vectors; the twin is
+            faster.
     """
 
     #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
@@ -92,7 +98,8 @@ class NumericIK:
         random_patience: int | None = 3,
         closed_form: bool = True,
         closed_form_starts: int = 32,
-        closed_form_steps: tuple[float, ...] | None = None,
+        closed_form_steps: tuple[float, ...] = DEFAULT_CLOSED_FORM_STEPS,
+        compiled: bool = True,
     ):
         self.robot = robot
         self.model = robot.model
@@ -129,9 +136,9 @@ class NumericIK:
             except StructureError:
                 pass
         self.closed_form_starts = closed_form_starts
-        if closed_form_steps is None:
-            closed_form_steps = (0.05, 0.01) if COMPILED else (0.05,)
         self.closed_form_steps = tuple(closed_form_steps)
+        #: Whether the closed form runs its compiled twin (asked for and built).
+        self.compiled = compiled and COMPILED
 
     @property
     def table(self) -> SeedTable:
