@@ -21,9 +21,10 @@ import numpy as np
 import numpy.typing as npt
 
 from dh2urdf import DHTable
-from kin import RobotModel
+from kin import RobotModel, batch_forward_kinematics
 
 from ..exceptions import TargetError
+from ..judge import batch_axis_errors, batch_pose_errors
 from .branches import REACH_TOL
 from .planar2r import MERGE_COS
 from .structure import FiveDof, Link, Offset3R, Planar2R, recognise
@@ -338,23 +339,19 @@ class BatchSolver:
     def _finish(self, names, thetas, exists, up, p, rotation, approach) -> BatchResult:  # noqa: ANN001
         n, b, nq = thetas.shape
         q, inside = self._wrap(thetas)
-        cols, p_fk = _fk_columns(self.table, q.reshape(-1, nq))
-        target = np.repeat(p.T, b, axis=1)
-        position_error = np.sqrt(((p_fk - target) ** 2).sum(0)).reshape(n, b)
-        if rotation is not None:
-            total = 0.0
-            for j in range(3):
-                total = total + ((cols[j] - np.repeat(rotation[:, :, j].T, b, axis=1)) ** 2).sum(0)
-            rotation_error = (2.0 * np.arcsin(np.minimum(1.0, np.sqrt(total / 8.0)))).reshape(n, b)
-        elif approach is not None:
+        poses = batch_forward_kinematics(self.table, q.reshape(-1, nq))
+        positions = np.repeat(p, b, axis=0)
+        rotations = None if rotation is None else np.repeat(rotation, b, axis=0)
+        position_error, rotation_error = batch_pose_errors(poses, positions, rotations)
+        if rotation_error is None and approach is not None:
             assert isinstance(self.structure, FiveDof)  # a pitch target: five-joint arms only
-            w = self.structure.R_roll_tool[2, :]
-            axis = cols[0] * w[0] + cols[1] * w[1] + cols[2] * w[2]
-            target_axis = np.repeat(approach.T, b, axis=1)
-            cross = np.sqrt((np.cross(axis.T, target_axis.T) ** 2).sum(-1))
-            rotation_error = np.arctan2(cross, (axis * target_axis).sum(0)).reshape(n, b)
-        else:
+            axes = poses[:, :3, :3] @ self.structure.R_roll_tool[2, :]
+            rotation_error = batch_axis_errors(axes, np.repeat(approach, b, axis=0))
+        position_error = position_error.reshape(n, b)
+        if rotation_error is None:
             rotation_error = np.zeros((n, b))
+        else:
+            rotation_error = rotation_error.reshape(n, b)
         reached = (
             exists
             & np.isfinite(position_error)

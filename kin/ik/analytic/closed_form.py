@@ -6,9 +6,9 @@
 
 1. brings each angle to the ``2 pi`` copy inside the joint limits closest to the seed (angles are
    compared modulo ``2 pi`` where the limits allow);
-2. measures the tool pose of the joint vector with Pinocchio (position error [m], rotation error
-   [rad]: the angle of ``R_fk^T R_target`` for pose targets, the angle between the approach axes
-   for pitch targets, 0 for position targets);
+2. measures the tool pose of the joint vector with the judge (:mod:`kin.ik.judge`: Pinocchio;
+   position error [m], rotation error [rad]: the angle of ``R_fk^T R_target`` for pose targets,
+   the angle between the approach axes for pitch targets, None for position targets);
 3. keeps it as valid (within limits, on target), rejected (on target, outside limits) or drops it
    (off target: never returned, logged).
 
@@ -25,11 +25,11 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-import pinocchio as pin
 
 from kin import RobotModel
 
 from ..exceptions import TargetError
+from ..judge import ToolJudge, axis_error, rotation_error
 from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target, kind_error
 from .branches import Branches
@@ -128,9 +128,7 @@ class ClosedFormSolver:
         self.name = f"closed_form:{type(self.structure).__name__.lower()}"
         self.tolerance_position = tolerance_position
         self.tolerance_rotation = tolerance_rotation
-        self._model = robot.model
-        self._data = robot.model.createData()
-        self._frame = robot.model.getFrameId(robot.tool_frame)
+        self._judge = ToolJudge(robot)
         self._lower = robot.model.lowerPositionLimit.tolist()
         self._upper = robot.model.upperPositionLimit.tolist()
         self._offsets = [row.theta for row in robot.table.rows]
@@ -343,20 +341,17 @@ class ClosedFormSolver:
         p: list[float],
         r: list[list[float]] | None,
     ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
-        """Per branch: the joint vector, its Pinocchio FK errors, and where it goes (valid, rejected, dropped)."""
-        model, data, frame = self._model, self._data, self._frame
+        """Per branch: the joint vector, the judge's errors, and where it goes (valid, rejected, dropped)."""
+        tool = self._judge.tool
         lows, highs = self._joints_zero_seed if seed is self._zero_seed else self._joints(seed)
         offsets, lower, upper = self._offsets, self._lower, self._upper
-        sub, lt, dist = operator.sub, operator.lt, math.dist
-        forward, update, array = pin.forwardKinematics, pin.updateFramePlacement, np.array
-        sqrt, asin = math.sqrt, math.asin
+        sub, lt, dist, array = operator.sub, operator.lt, math.dist, np.array
         tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
-        px, py, pz = p
         position_only = isinstance(target, PositionTarget)
         if r is not None:
-            (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r
+            r_target = r[0] + r[1] + r[2]
         elif not position_only:
-            ax, ay, az = self._approach(target, seed, p)  # type: ignore[arg-type]
+            approach = self._approach(target, seed, p)  # type: ignore[arg-type]
             tx, ty, tz = self._approach_in_tool
         valid: list[tuple[float, IKSolution]] = []
         rejected: list[IKSolution] = []
@@ -375,53 +370,31 @@ class ClosedFormSolver:
                             inside = False
                     i += 1
             q = array(q_list)
-            forward(model, data, q)
+            p_fk, r_fk = tool(q)
+            position_error = dist(p_fk, p)
+            angle: float | None
             if position_only:
-                hx, hy, hz = update(model, data, frame).translation.tolist()
-            else:
-                (m00, m01, m02, hx), (m10, m11, m12, hy), (m20, m21, m22, hz), _ = update(
-                    model, data, frame
-                ).homogeneous.tolist()
-            ex, ey, ez = hx - px, hy - py, hz - pz
-            position_error = sqrt(ex * ex + ey * ey + ez * ez)
-            rotation_error: float | None
-            if position_only:
-                rotation_error = None  # the target does not constrain the orientation
+                angle = None  # the target does not constrain the orientation
             elif r is not None:
-                # |R_fk - R_target|_F = 2 sqrt(2) sin(angle / 2): accurate for small angles
-                d0, d1, d2 = m00 - r00, m01 - r01, m02 - r02
-                d3, d4, d5 = m10 - r10, m11 - r11, m12 - r12
-                d6, d7, d8 = m20 - r20, m21 - r21, m22 - r22
-                squares = (
-                    d0 * d0
-                    + d1 * d1
-                    + d2 * d2
-                    + d3 * d3
-                    + d4 * d4
-                    + d5 * d5
-                    + d6 * d6
-                    + d7 * d7
-                    + d8 * d8
-                )
-                rotation_error = 2.0 * asin(min(1.0, sqrt(squares / 8.0)))
+                angle = rotation_error(r_fk, r_target)
             else:
-                ux = m00 * tx + m01 * ty + m02 * tz
-                uy = m10 * tx + m11 * ty + m12 * tz
-                uz = m20 * tx + m21 * ty + m22 * tz
-                cx, cy, cz = uy * az - uz * ay, uz * ax - ux * az, ux * ay - uy * ax
-                rotation_error = math.atan2(
-                    sqrt(cx * cx + cy * cy + cz * cz), ux * ax + uy * ay + uz * az
+                m00, m01, m02, m10, m11, m12, m20, m21, m22 = r_fk
+                u = (
+                    m00 * tx + m01 * ty + m02 * tz,
+                    m10 * tx + m11 * ty + m12 * tz,
+                    m20 * tx + m21 * ty + m22 * tz,
                 )
-            if position_error > tol_p or (rotation_error is not None and rotation_error > tol_r):
+                angle = axis_error(u, approach)
+            if position_error > tol_p or (angle is not None and angle > tol_r):
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
                     self.robot.name,
                     label,
                     position_error,
-                    rotation_error or 0.0,
+                    angle or 0.0,
                 )
                 continue
-            solution = IKSolution(q, label, inside, position_error, rotation_error)
+            solution = IKSolution(q, label, inside, position_error, angle)
             if inside:
                 valid.append((dist(q_list, seed), solution))
             else:

@@ -5,19 +5,17 @@ For an arm of the :class:`~kin.ik.analytic.structure.SevenDof` structure (humano
 (:mod:`kin.ik.analytic.seven_dof`), the branch nearest the start. Starts: the caller's seed, then
 the seed-table samples near the target. When a start's joint 1 gives no branch inside the limits,
 the seed and the first sample scan joint 1 outward from there (coarse to fine): the answer keeps
-the start's joint 1 as nearly as the target allows. Pinocchio measures every answer. Most targets
-end here, in tens of microseconds.
+the start's joint 1 as nearly as the target allows. The judge (:mod:`kin.ik.judge`) measures
+every answer. Most targets end here, in tens of microseconds.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
-import pinocchio as pin
 
 from ..result import IKResult, IKSolution
 from .numeric_target import NumericTarget
@@ -39,6 +37,8 @@ def solve_free_joint(
         return None
     target = search.target
     prepared = closed.prepare(target.position, target.rotation)
+    position = target.position.tolist()
+    rotation = None if target.rotation is None else target.rotation.ravel().tolist()
     out = np.empty(7)
     for label, starts, indices, step in _starts(ik, target, seed_q):
         offset = 0
@@ -47,8 +47,11 @@ def solve_free_joint(
             if index < 0:
                 break
             offset += index + 1
-            solution = _verified(ik, out, target, search.position_tol, search.rotation_tol)
-            if solution is not None:
+            position_error, rotation_error = ik.judge.errors(out, position, rotation)
+            if position_error < search.position_tol and (
+                rotation_error is None or rotation_error < search.rotation_tol
+            ):  # the limits: the closed form's business
+                solution = IKSolution(out.copy(), "", True, position_error, rotation_error)
                 if label is None:
                     label = f"seed-table sample {int(indices[offset - 1])}"  # type: ignore[index]
                 return search.success(
@@ -93,23 +96,3 @@ def _starts(
         rest = candidates[order[order != first]]
     if rest.size:
         yield None, table.q[rest], rest, 0.0
-
-
-def _verified(
-    ik: NumericIK, q: np.ndarray, target: NumericTarget, position_tol: float, rotation_tol: float
-) -> IKSolution | None:
-    """``q`` as a solution if Pinocchio finds it on target (limits: the closed form's business)."""
-    model, data = ik.model, ik.data
-    pin.forwardKinematics(model, data, q)
-    pose = pin.updateFramePlacement(model, data, ik.frame_id)
-    x, y, z = np.subtract(pose.translation, target.position).tolist()
-    position_error = math.sqrt(x * x + y * y + z * z)
-    if position_error >= position_tol:
-        return None
-    rotation_error = None
-    if target.rotation is not None:
-        x, y, z = pin.log3(np.dot(pose.rotation.T, target.rotation)).tolist()
-        rotation_error = math.sqrt(x * x + y * y + z * z)
-        if rotation_error >= rotation_tol:
-            return None
-    return IKSolution(q.copy(), "", True, position_error, rotation_error)

@@ -1,27 +1,28 @@
-"""A tool target for the numeric solvers, and Pinocchio's verdict on a joint vector against it.
+"""A tool target for the numeric solvers.
 
 Frames: the target is ``T_world_tool`` (position [m] in the world frame, rotation matrix of the
-tool axes in the world frame). Pinocchio's forward kinematics is the judge of every numeric
-solver: :func:`measure` is what decides ``success``.
+tool axes in the world frame). The judge (:func:`kin.ik.judge.measure`, re-exported here with its
+tolerances) decides ``success``.
 """
 
 from __future__ import annotations
 
-import math
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
-from kin import RobotModel
-
 from ..exceptions import TargetError
+from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, Measurement, measure
 
-#: Default tolerances of a numeric solution, measured by Pinocchio.
-POSITION_TOLERANCE = 1e-5  # [m]
-ROTATION_TOLERANCE = 1e-4  # [rad]
+__all__ = [
+    "POSITION_TOLERANCE",
+    "ROTATION_TOLERANCE",
+    "Measurement",
+    "NumericTarget",
+    "measure",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,56 +107,3 @@ def _finite(value: npt.ArrayLike, shape: tuple[int, ...], what: str) -> np.ndarr
     if not np.isfinite(array).all():
         raise TargetError(f"{what} must be finite, got {array.tolist()}")
     return array
-
-
-@dataclass(frozen=True)
-class Measurement:
-    """Pinocchio's measurement of a joint vector against a target.
-
-    Attributes:
-        position_error: ``|p_fk - p_target|`` [m].
-        rotation_error: Angle of ``R_fk^T R_target`` [rad]; 0 for position-only targets.
-        within_limits: Whether ``q`` is inside the joint limits (no tolerance).
-    """
-
-    position_error: float
-    rotation_error: float
-    within_limits: bool
-
-    def on_target(
-        self, position_tol: float = POSITION_TOLERANCE, rotation_tol: float = ROTATION_TOLERANCE
-    ) -> bool:
-        """Whether both errors are below the tolerances ([m], [rad])."""
-        return self.position_error < position_tol and self.rotation_error < rotation_tol
-
-
-def measure(robot: RobotModel, data: pin.Data, q: np.ndarray, target: NumericTarget) -> Measurement:
-    """Measure ``q`` against ``target`` with Pinocchio's forward kinematics of ``robot.tool_frame``.
-
-    Args:
-        robot: The robot (its Pinocchio model is the judge).
-        data: A Pinocchio data of ``robot.model`` (overwritten).
-        q: Joint vector [rad].
-        target: The target.
-    """
-    model = robot.model
-    pin.forwardKinematics(model, data, q)
-    pose = pin.updateFramePlacement(model, data, _tool_frame_id(robot))
-    d = pose.translation - target.position
-    position_error = math.sqrt(float(d @ d))
-    rotation_error = 0.0
-    if target.rotation is not None:
-        w = pin.log3(pose.rotation.T @ target.rotation)
-        rotation_error = math.sqrt(float(w @ w))
-    within = not bool(((q < model.lowerPositionLimit) | (q > model.upperPositionLimit)).any())
-    return Measurement(position_error, rotation_error, within)
-
-
-def _tool_frame_id(robot: RobotModel) -> int:
-    fid = _FRAME_IDS.get(robot)
-    if fid is None:
-        fid = _FRAME_IDS[robot] = robot.model.getFrameId(robot.tool_frame)
-    return fid
-
-
-_FRAME_IDS: weakref.WeakKeyDictionary[RobotModel, int] = weakref.WeakKeyDictionary()

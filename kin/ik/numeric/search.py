@@ -16,7 +16,7 @@ import numpy as np
 
 from ..result import IKResult, IKSolution
 from .damped_newton import NewtonOutcome, damped_newton
-from .numeric_target import NumericTarget, measure
+from .numeric_target import NumericTarget
 
 if TYPE_CHECKING:
     from .solver import NumericIK
@@ -106,8 +106,8 @@ class Search:
         """The result when ``outcome`` is verified; else None (kept if the best so far).
 
         The last damped Newton evaluation ran Pinocchio's forward kinematics at ``outcome.q``
-        itself: its errors are the judge's measurement (``measure`` would recompute the same
-        numbers); the limits are checked on the returned values.
+        itself: its errors are the judge's measurement (:mod:`kin.ik.judge` would recompute them,
+        equal to rounding); the limits are checked on the returned values.
         """
         q = outcome.q
         values = q.tolist()
@@ -149,13 +149,13 @@ class Search:
         return self.ik.distance_from_base(self.target.position) > self.ik.reach
 
     def failure(self) -> IKResult:
-        """The failed result: the best configuration found, measured by Pinocchio."""
+        """The failed result: the best configuration found, measured by the judge."""
         ik, target, best = self.ik, self.target, self.best
         elapsed = time.perf_counter() - self.start
         rejected: tuple[IKSolution, ...] = ()
         detail = "no configuration"
         if best is not None:
-            verdict = measure(ik.robot, ik.data, best.q, target)
+            verdict = ik.judge.measure(best.q, target)
             rotation_error = None if target.position_only else verdict.rotation_error
             rejected = (
                 IKSolution(

@@ -33,11 +33,12 @@ from kin import KinError, RobotModel, as_joint_vector, load_robot
 from ..analytic.seven_dof import COMPILED, SevenDofIK
 from ..analytic.structure import seven_dof
 from ..exceptions import StructureError, TargetError
+from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
 from ..result import IKResult
 from ..target import PoseTarget, PositionTarget, kind_error
 from .differential_ik import DifferentialIK
 from .free_joint import solve_free_joint
-from .numeric_target import POSITION_TOLERANCE, ROTATION_TOLERANCE, NumericTarget
+from .numeric_target import NumericTarget
 from .restarts import polish_best, solve_with_restarts
 from .search import PIPELINE, Search
 from .seed_table import SeedTable, build_seed_table, seed_table_for
@@ -105,6 +106,8 @@ class NumericIK:
         self.model = robot.model
         self.data = robot.model.createData()
         self.frame_id = robot.model.getFrameId(robot.tool_frame)
+        #: The judge of every answer (Pinocchio's FK of the tool, the limits), in :attr:`data`.
+        self.judge = ToolJudge(robot, self.data)
         self.table_size = table_size
         self.qp_solver = qp_solver
         self.nearest = nearest

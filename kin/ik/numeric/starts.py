@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
-import pinocchio as pin
 
 from ..result import IKResult
 from .damped_newton import load_linalg
@@ -103,12 +102,10 @@ def seed_table_starts(
 
 def embedding_distance(ik: NumericIK, q: np.ndarray, target: NumericTarget) -> float:
     """Squared distance of ``q``'s tool pose to the target in the seed table's embedding."""
-    model, data = ik.model, ik.data
     values = q.tolist()
     if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
         q = np.minimum(np.maximum(q, ik.lower), ik.upper)
-    pin.forwardKinematics(model, data, q)
-    pose = pin.updateFramePlacement(model, data, ik.frame_id)
+    pose = ik.judge.tool_pose(q)
     x, y, z = np.subtract(pose.translation, target.position).tolist()
     distance = x * x + y * y + z * z
     if target.rotation is not None:  # |R - R_t|_F^2 = 6 - 2 <R, R_t> for rotations
