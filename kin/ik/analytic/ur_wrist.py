@@ -1,0 +1,332 @@
+"""Closed-form IK of a 6R arm with three parallel axes and an offset wrist (Universal Robots family).
+
+Structure, read from the table brought to the standard chain (:mod:`._six_r`, either convention):
+
+- joint 1: any twist with ``sin alpha1 != 0`` (UR: 90 deg), any ``a1, d1``;
+- joints 2, 3, 4: parallel axes (``alpha2 = alpha3 = 0``), ``a2 != 0``, ``a3 != 0``; ``d2, d3,
+  d4`` free (their sum is the shoulder offset), ``a4`` free;
+- joint 5 perpendicular to them and joint 6 to joint 5 (``alpha4, alpha5 = +-90 deg``),
+  ``a5 = 0``; ``d5``, ``d6``, ``a6`` and ``alpha6`` free.
+
+UR3, UR5, UR10 (and the e-series) are the case ``alpha = (90, 0, 0, 90, -90, 0) deg``,
+``a = (0, a2, a3, 0, 0, 0)``, ``d = (d1, 0, 0, d4, d5, d6)``.
+
+Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]); frame 1's ``z1`` is the
+common direction of axes 2-4, and every point from frame 1 to frame 5 lies at the same offset
+``h = d2 + d3 + d4`` along it:
+
+1. ``p5 = p_0_6 - d6 z6`` (the origin of frame 5); ``(p5 - o1) . z1 = h`` is
+   ``sin(beta - t1) = (cos(alpha1) (p5z - d1) - h) / (sin(alpha1) rho)`` with ``rho, beta`` the
+   polar coordinates of ``p5`` in the base plane: two ``t1`` (shoulder left: ``beta - asin``,
+   right: ``beta - pi + asin``).
+2. ``z1`` seen in frame 6 is ``(x6, y6, w)``: ``cos t5 = -sin(alpha4) sin(alpha5) w``,
+   ``|sin t5| = hypot(x6, y6)`` (wrist up: ``sin t5 >= 0``, down: ``< 0``), and ``t6`` turns
+   ``(x6, y6)`` onto the axis; when ``sin t5 = 0`` axis 6 is parallel to axes 2-4 and ``q6`` is
+   free: it takes the value ``free``.
+3. ``phi = t2 + t3 + t4`` from ``R_1_6 = Rz(phi) Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6)``; the point
+   of axis 3 in the arm plane is ``p5 - Rz(phi) (a4, -sin(alpha4) d5)``, and the planar 2R
+   ``(a2, a3)`` reaches it by the law of cosines (elbow up: ``sin t3 >= 0``, down: ``< 0``); then
+   ``t2``, and ``t4 = phi - t2 - t3``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from dh2urdf import DHTable
+
+from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, wrap, wrap_array
+
+try:
+    from typing import Self
+except ImportError:  # pragma: no cover - Python 3.10
+    from typing_extensions import Self
+
+_NAN_ROW = (math.nan,) * 6
+_HALF_PI = math.pi / 2
+
+
+def _labels() -> tuple[str, ...]:
+    return tuple(
+        f"shoulder {s}, wrist {w}, elbow {e}"
+        for s in ("left", "right")
+        for w in ("up", "down")
+        for e in ("up", "down")
+    )
+
+
+@dataclass(frozen=True)
+class URWrist6R:
+    """A 6R arm of the UR family: parameters in SI, and its closed form (8 branches).
+
+    Attributes:
+        robot: Robot name.
+        alpha1: Twist between axis 1 and the parallel axes 2-4 [rad].
+        a1: Radial offset of axis 2 [m].
+        d1: Height of axis 2 along axis 1 [m].
+        a2: Upper-arm length [m].
+        a3: Forearm length [m].
+        lateral: ``h = d2 + d3 + d4``, offset of frames 1-5 along the parallel axes [m].
+        a4: Offset of axis 5 from axis 4 along ``x4`` [m].
+        sign4: ``sin(alpha4)`` (+1 or -1).
+        d5: Distance along axis 5 from axis 4 to axis 6 [m].
+        sign5: ``sin(alpha5)`` (+1 or -1).
+        d6: Distance along axis 6 from frame 5 to standard frame 6 [m].
+        offsets: Joint offsets ``theta1 .. theta6`` [rad] (DH angle = q + offset).
+        T_base: World -> standard DH frame 0 (4x4) [m].
+        T_tool: Standard frame 6 (``Rz(t6) Tz(d6)``) -> tool (4x4) [m].
+    """
+
+    name: ClassVar[str] = "ur_wrist"
+    dof: ClassVar[int] = 6
+    branch_labels: ClassVar[tuple[str, ...]] = _labels()
+
+    robot: str
+    alpha1: float
+    a1: float
+    d1: float
+    a2: float
+    a3: float
+    lateral: float
+    a4: float
+    sign4: float
+    d5: float
+    sign5: float
+    d6: float
+    offsets: tuple[float, ...]
+    T_base: np.ndarray = field(repr=False)
+    T_tool: np.ndarray = field(repr=False)
+    _frame: TargetFrame = field(init=False, repr=False, compare=False)
+    _k: tuple[float, ...] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_frame", TargetFrame(self.T_base, self.T_tool))
+        s1, c1 = math.sin(self.alpha1), math.cos(self.alpha1)
+        if abs(c1) < 1e-15:
+            c1 = 0.0
+        # wrist-to-axis-3 vector in the arm plane, rotated by phi: (a4, -sin(alpha4) d5)
+        k = (s1, c1, self.a4, -self.sign4 * self.d5, self.sign4 * self.sign5)
+        object.__setattr__(self, "_k", k)
+
+    @classmethod
+    def recognise(cls, table: DHTable) -> Self:
+        """The parameters of ``table``'s arm.
+
+        Raises:
+            StructureError: The table is not a 6R arm of this family; the message names the row
+                and the parameter that does not fit.
+        """
+        check = SixRChecker(table, "6R UR-wrist (three parallel axes)")
+        alpha1 = check.skew(0, "axis 2 must not be parallel to axis 1")
+        check.twist(1, (0.0,), "axes 2, 3 and 4 must be parallel")
+        check.twist(2, (0.0,), "axes 2, 3 and 4 must be parallel")
+        a2 = check.nonzero(1, "a", "the upper arm between axes 2 and 3")
+        a3 = check.nonzero(2, "a", "the forearm between axes 3 and 4")
+        sign4 = check.twist(3, (_HALF_PI, -_HALF_PI), "axis 5 perpendicular to axes 2-4")
+        sign5 = check.twist(4, (_HALF_PI, -_HALF_PI), "axis 6 perpendicular to axis 5")
+        check.zero(4, "a", "axis 6 must meet axis 5's normal through frame 5")
+        d = check.d
+        return cls(
+            robot=table.name,
+            alpha1=float(alpha1),
+            a1=float(check.a[0]),
+            d1=float(d[0]),
+            a2=a2,
+            a3=a3,
+            lateral=float(d[1] + d[2] + d[3]),
+            a4=float(check.a[3]),
+            sign4=math.copysign(1.0, sign4),
+            d5=float(d[4]),
+            sign5=math.copysign(1.0, sign5),
+            d6=float(d[5]),
+            offsets=tuple(float(v) for v in check.theta),
+            T_base=check.T_base,
+            T_tool=check.T_tool,
+        )
+
+    def solve(
+        self, position: npt.ArrayLike, rotation: npt.ArrayLike, free: float = 0.0
+    ) -> np.ndarray:
+        """The 8 branches reaching a tool pose.
+
+        Args:
+            position: Tool position in the world frame [m], (3,).
+            rotation: Tool rotation ``R_world_tool``, (3, 3).
+            free: Value of ``q6`` [rad] where the wrist is singular (axis 6 parallel to 2-4).
+
+        Returns:
+            Joint vectors [rad] in (-pi, pi], (8, 6), one row per :attr:`branch_labels`; a row of
+            NaN where that branch does not reach the target. Not verified, not wrapped into limits.
+        """
+        p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
+        s1, c1, ex, ey, s45 = self._k
+        a1, d1, a2, a3, h, d6, s5a = (
+            self.a1,
+            self.d1,
+            self.a2,
+            self.a3,
+            self.lateral,
+            self.d6,
+            self.sign5,
+        )
+        o1, o2, o3, o4, o5, o6 = self.offsets
+        out = [_NAN_ROW] * 8
+        r00, r01, r02 = r[0]
+        r10, r11, r12 = r[1]
+        r20, r21, r22 = r[2]
+        # 1. joint 1 from p5
+        px, py, pz = p[0] - d6 * r02, p[1] - d6 * r12, p[2] - d6 * r22
+        rho = math.hypot(px, py)
+        if rho == 0.0:
+            return np.array(out)
+        k = (c1 * (pz - d1) - h) / (s1 * rho)
+        if k > 1.0 or k < -1.0:
+            if abs(k) > 1.0 + SLACK:
+                return np.array(out)
+            k = 1.0 if k > 0.0 else -1.0
+        beta = math.atan2(py, px)
+        asin_k = math.asin(k)
+        two_a2a3 = 2.0 * a2 * a3
+        base_sq = a2 * a2 + a3 * a3
+        for shoulder in (0, 1):
+            t1 = beta - asin_k if shoulder == 0 else beta - math.pi + asin_k
+            ct, st = math.cos(t1), math.sin(t1)
+            # axes of frame 1 in frame 0: x1, y1, z1
+            x1 = (ct, st, 0.0)
+            y1 = (-c1 * st, c1 * ct, s1)
+            z1 = (s1 * st, -s1 * ct, c1)
+            # 2. z1 in frame 6: R^T z1
+            x6 = r00 * z1[0] + r10 * z1[1] + r20 * z1[2]
+            y6 = r01 * z1[0] + r11 * z1[1] + r21 * z1[2]
+            w = r02 * z1[0] + r12 * z1[1] + r22 * z1[2]
+            cos5 = -s45 * w
+            sin5 = math.hypot(x6, y6)
+            # p5 - o1 in the arm plane
+            qx, qy, qz = px - a1 * ct, py - a1 * st, pz - d1
+            ax = x1[0] * qx + x1[1] * qy
+            ay = y1[0] * qx + y1[1] * qy + y1[2] * qz
+            for wrist in (0, 1):
+                st5 = sin5 if wrist == 0 else -sin5
+                t5 = math.atan2(st5, cos5)
+                if sin5 <= SINGULAR:
+                    t6 = free + o6
+                else:
+                    u = self.sign4 * st5  # (x6, y6) = Rz(-t6) (u, 0)
+                    t6 = math.atan2(-y6 * u, x6 * u)
+                # 3. phi from the first row of Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6)
+                ct6, st6 = math.cos(t6), math.sin(t6)
+                xi0, xi1, xi2 = cos5 * ct6, -cos5 * st6, s5a * st5
+                rx = r00 * xi0 + r01 * xi1 + r02 * xi2
+                ry = r10 * xi0 + r11 * xi1 + r12 * xi2
+                rz = r20 * xi0 + r21 * xi1 + r22 * xi2
+                cphi = x1[0] * rx + x1[1] * ry
+                sphi = y1[0] * rx + y1[1] * ry + y1[2] * rz
+                phi = math.atan2(sphi, cphi)
+                cp, sp = math.cos(phi), math.sin(phi)
+                bx = ax - (cp * ex - sp * ey)
+                by = ay - (sp * ex + cp * ey)
+                cos3 = (bx * bx + by * by - base_sq) / two_a2a3
+                if cos3 > 1.0 or cos3 < -1.0:
+                    if abs(cos3) > 1.0 + SLACK:
+                        continue
+                    cos3 = 1.0 if cos3 > 0.0 else -1.0
+                sin3 = math.sqrt(1.0 - cos3 * cos3)
+                heading = math.atan2(by, bx)
+                q156 = (wrap(t1 - o1), wrap(t5 - o5), wrap(t6 - o6))
+                index = 4 * shoulder + 2 * wrist
+                for elbow in (0, 1):
+                    st3 = sin3 if elbow == 0 else -sin3
+                    t3 = math.atan2(st3, cos3)
+                    t2 = heading - math.atan2(a3 * st3, a2 + a3 * cos3)
+                    t4 = phi - t2 - t3
+                    out[index + elbow] = (
+                        q156[0],
+                        wrap(t2 - o2),
+                        wrap(t3 - o3),
+                        wrap(t4 - o4),
+                        q156[1],
+                        q156[2],
+                    )
+        return np.array(out)
+
+    def solve_batch(
+        self, positions: npt.ArrayLike, rotations: npt.ArrayLike, free: float = 0.0
+    ) -> np.ndarray:
+        """:meth:`solve` of N tool poses at once, in NumPy.
+
+        Args:
+            positions: Tool positions in the world frame [m], (N, 3).
+            rotations: Tool rotations ``R_world_tool``, (N, 3, 3).
+            free: Value of ``q6`` [rad] where the wrist is singular.
+
+        Returns:
+            Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
+        """
+        p, r = self._frame.batch(np.asarray(positions), np.asarray(rotations))
+        s1, c1, ex, ey, s45 = self._k
+        a1, d1, a2, a3, h, d6 = self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6
+        o1, o2, o3, o4, o5, o6 = self.offsets
+        out = np.full((p.shape[0], 8, 6), np.nan)
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = (
+            (r[:, i, 0], r[:, i, 1], r[:, i, 2]) for i in range(3)
+        )
+        with np.errstate(invalid="ignore", divide="ignore"):
+            px, py, pz = p[:, 0] - d6 * r02, p[:, 1] - d6 * r12, p[:, 2] - d6 * r22
+            rho = np.hypot(px, py)
+            k = (c1 * (pz - d1) - h) / (s1 * rho)
+            k = np.where(rho == 0.0, np.nan, _clip(k))
+            beta = np.arctan2(py, px)
+            asin_k = np.arcsin(k)
+            for shoulder in (0, 1):
+                t1 = beta - asin_k if shoulder == 0 else beta - math.pi + asin_k
+                ct, st = np.cos(t1), np.sin(t1)
+                y1 = (-c1 * st, c1 * ct, s1)
+                z1 = (s1 * st, -s1 * ct, c1)
+                x6 = r00 * z1[0] + r10 * z1[1] + r20 * z1[2]
+                y6 = r01 * z1[0] + r11 * z1[1] + r21 * z1[2]
+                w = r02 * z1[0] + r12 * z1[1] + r22 * z1[2]
+                cos5 = -s45 * w
+                sin5 = np.hypot(x6, y6)
+                qx, qy, qz = px - a1 * ct, py - a1 * st, pz - d1
+                ax = ct * qx + st * qy
+                ay = y1[0] * qx + y1[1] * qy + y1[2] * qz
+                for wrist in (0, 1):
+                    st5 = sin5 if wrist == 0 else -sin5
+                    t5 = np.arctan2(st5, cos5)
+                    u = self.sign4 * st5
+                    t6 = np.where(sin5 <= SINGULAR, free + o6, np.arctan2(-y6 * u, x6 * u))
+                    ct6, st6 = np.cos(t6), np.sin(t6)
+                    xi0, xi1, xi2 = cos5 * ct6, -cos5 * st6, self.sign5 * st5
+                    rx = r00 * xi0 + r01 * xi1 + r02 * xi2
+                    ry = r10 * xi0 + r11 * xi1 + r12 * xi2
+                    rz = r20 * xi0 + r21 * xi1 + r22 * xi2
+                    cphi = ct * rx + st * ry
+                    sphi = y1[0] * rx + y1[1] * ry + y1[2] * rz
+                    phi = np.arctan2(sphi, cphi)
+                    cp, sp = np.cos(phi), np.sin(phi)
+                    bx = ax - (cp * ex - sp * ey)
+                    by = ay - (sp * ex + cp * ey)
+                    cos3 = _clip((bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3))
+                    sin3 = np.sqrt(1.0 - cos3 * cos3)
+                    heading = np.arctan2(by, bx)
+                    index = 4 * shoulder + 2 * wrist
+                    for elbow in (0, 1):
+                        st3 = sin3 if elbow == 0 else -sin3
+                        t3 = np.arctan2(st3, cos3)
+                        t2 = heading - np.arctan2(a3 * st3, a2 + a3 * cos3)
+                        t4 = phi - t2 - t3
+                        q = np.stack((t1 - o1, t2 - o2, t3 - o3, t4 - o4, t5 - o5, t6 - o6), -1)
+                        out[:, index + elbow] = wrap_array(q)
+        out[np.isnan(out).any(axis=2)] = np.nan
+        return out
+
+
+def _clip(cosine: np.ndarray) -> np.ndarray:
+    """Values within :data:`SLACK` of +-1 set to +-1; beyond it NaN."""
+    out = np.clip(cosine, -1.0, 1.0)
+    return np.where(np.abs(cosine) > 1.0 + SLACK, np.nan, out)

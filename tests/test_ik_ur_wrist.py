@@ -1,0 +1,316 @@
+"""Closed-form IK of the UR family (kin.ik.analytic.ur_wrist) against Pinocchio and ur-analytic-ik.
+
+Round trips on every branch: FK(q) by Pinocchio -> ``solve`` -> every branch that exists reaches
+the target to 1e-9 m / 1e-9 rad by Pinocchio's FK, and q is among the branches (modulo 2 pi). Arms:
+the shipped UR5, UR5 on a moved base with a tool, and seeded random tables of the family (random
+lengths, offsets, joint-1 twist, signs of the wrist twists, base and tool), in both conventions.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import kin
+from dh2urdf import DHRow, DHTable, get_robot, load_table
+from kin.ik.analytic.ur_wrist import URWrist6R
+from kin.ik.exceptions import StructureError
+
+TOL = 1e-9
+#: Joint error allowed near a singularity: ROUNDING / sigma_min(J) [rad].
+ROUNDING = 1e-12
+SAMPLES = 200
+PI = math.pi
+UR5 = ("ur5", "ur5_moved", "random_standard_0", "random_standard_1", "random_modified_0",
+       "random_modified_1")  # fmt: skip
+
+
+def make_table(a, alpha, d, theta, convention="standard", base=None, tool=None, name="arm"):
+    """A 6R DHTable (limits +-2 pi) from parameter lists [m], [rad]."""
+    rows = tuple(
+        DHRow(
+            i + 1,
+            f"j{i + 1}",
+            "revolute",
+            a[i],
+            alpha[i],
+            d[i],
+            theta[i],
+            -2 * PI,
+            2 * PI,
+            1.0,
+            1.0,
+        )  # fmt: skip
+        for i in range(6)
+    )
+    eye = np.eye(4)
+    return DHTable(name, "", "", convention, rows,
+                   eye if base is None else base, eye if tool is None else tool)  # fmt: skip
+
+
+def random_pose(rng) -> np.ndarray:
+    return pin.SE3(pin.exp3(rng.normal(size=3)), rng.uniform(-0.3, 0.3, 3)).homogeneous
+
+
+def random_ur_table(seed: int, convention: str) -> DHTable:
+    """A random arm of the UR family (the structural twists exact, the rest random)."""
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(-0.5, 0.5, 6)
+    d = rng.uniform(-0.3, 0.3, 6)
+    alpha = rng.uniform(-PI, PI, 6)
+    theta = rng.uniform(-PI, PI, 6)
+    if seed % 2 == 0:
+        alpha[0] = rng.choice([PI / 2, -PI / 2])
+    j = 0 if convention == "standard" else 1  # modified: row i + 1 holds joint i's a, alpha
+    alpha[1 + j] = alpha[2 + j] = 0.0
+    alpha[3 + j], alpha[4 + j] = rng.choice([PI / 2, -PI / 2], 2)
+    a[4 + j] = 0.0
+    return make_table(a, alpha, d, theta, convention, random_pose(rng), random_pose(rng),
+                      f"ur_random_{convention}_{seed}")  # fmt: skip
+
+
+@functools.cache
+def arm_table(name: str) -> DHTable:
+    table = load_table(get_robot("ur5").table_path)
+    if name == "ur5":
+        return table
+    if name == "ur5_moved":
+        rng = np.random.default_rng(5)
+        rows = tuple(r for r in table.rows)
+        return DHTable("ur5_moved", "", "", "standard", rows, random_pose(rng), random_pose(rng))
+    _, convention, seed = name.split("_")
+    return random_ur_table(int(seed) + (0 if convention == "standard" else 10), convention)
+
+
+class Reference:
+    """Pinocchio FK of a table's URDF, tool frame."""
+
+    def __init__(self, table: DHTable):
+        self.robot = kin.robot_from_table(table)
+        self.model = self.robot.model
+        self.data = self.model.createData()
+        self.frame = self.model.getFrameId(self.robot.tool_frame)
+
+    def fk(self, q) -> pin.SE3:
+        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        return pin.updateFramePlacement(self.model, self.data, self.frame).copy()
+
+    def errors(self, q, target: pin.SE3) -> tuple[float, float]:
+        pose = self.fk(q)
+        return (
+            float(np.linalg.norm(pose.translation - target.translation)),
+            float(np.linalg.norm(pin.log3(pose.rotation.T @ target.rotation))),
+        )
+
+    def joint_tolerance(self, q) -> float:
+        jac = pin.computeFrameJacobian(self.model, self.data, np.asarray(q), self.frame, pin.LOCAL)
+        sigma = float(np.linalg.svd(jac, compute_uv=False).min())
+        return max(TOL, ROUNDING / sigma) if sigma > 0.0 else math.inf
+
+
+@functools.cache
+def reference(name: str) -> Reference:
+    return Reference(arm_table(name))
+
+
+def wrapped_gap(branches: np.ndarray, q) -> np.ndarray:
+    """Largest joint difference modulo 2 pi of each branch from ``q`` [rad]."""
+    return np.abs(np.remainder(branches - np.asarray(q) + PI, 2 * PI) - PI).max(axis=1)
+
+
+@pytest.mark.parametrize("arm", UR5)
+def test_every_branch_reaches_the_target_and_q_is_among_them(arm):
+    """Every existing branch reaches FK(q) within 1e-9 m / 1e-9 rad; q is one of the branches."""
+    ref, solver = reference(arm), URWrist6R.recognise(arm_table(arm))
+    rng = np.random.default_rng(11)
+    worst, counted = 0.0, 0
+    for q in rng.uniform(-PI, PI, (SAMPLES, 6)):
+        target = ref.fk(q)
+        found = solver.solve(target.translation, target.rotation)
+        assert found.shape == (8, 6)
+        exist = found[~np.isnan(found[:, 0])]
+        assert not np.isnan(exist).any()
+        assert np.all((exist > -PI) & (exist <= PI)), f"{arm=} {exist=}"
+        for branch in exist:
+            position_error, rotation_error = ref.errors(branch, target)
+            worst = max(worst, position_error, rotation_error)
+            assert position_error < TOL and rotation_error < TOL, f"{arm=} {q=} {branch=}"
+        counted += len(exist)
+        gap = wrapped_gap(exist, q).min()
+        assert gap < ref.joint_tolerance(q), f"{arm=} {q=}: {gap=}"
+    assert counted >= 2 * SAMPLES, f"{arm=}: {counted=}"
+    assert worst < TOL
+
+
+def test_ur5_has_8_distinct_branches_at_a_generic_pose():
+    """A generic UR5 pose has 8 distinct solutions, one per label, in the documented signs."""
+    ref, solver = reference("ur5"), URWrist6R.recognise(arm_table("ur5"))
+    target = ref.fk([0.3, -1.2, 1.4, -0.8, 1.1, 0.4])
+    found = solver.solve(target.translation, target.rotation)
+    assert not np.isnan(found).any()
+    gaps = [wrapped_gap(found[j : j + 1], found[i]).min() for i in range(8) for j in range(i)]
+    assert min(gaps) > 1e-3
+    assert len(URWrist6R.branch_labels) == 8
+    for index, label in enumerate(URWrist6R.branch_labels):
+        wrist_up, elbow_up = "wrist up" in label, "elbow up" in label
+        assert (math.sin(found[index, 4]) >= 0) == wrist_up, label
+        assert (math.sin(found[index, 2]) >= 0) == elbow_up, label
+    # the two shoulders differ in q1, each shared by its 4 rows
+    assert np.ptp(found[:4, 0]) < 1e-12 and np.ptp(found[4:, 0]) < 1e-12
+
+
+@pytest.mark.parametrize("arm", UR5)
+def test_batch_gives_the_same_numbers_as_solve(arm):
+    """solve_batch equals solve row by row (NaN where solve has NaN) to rounding."""
+    table = arm_table(arm)
+    solver = URWrist6R.recognise(table)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(-PI, PI, (500, 6))
+    poses = kin.batch_forward_kinematics(table, q)
+    poses[:20, :3, 3] *= 5.0  # some targets out of reach
+    batch = solver.solve_batch(poses[:, :3, 3], poses[:, :3, :3])
+    scalar = np.array([solver.solve(T[:3, 3], T[:3, :3]) for T in poses])
+    assert batch.shape == (500, 8, 6)
+    np.testing.assert_array_equal(np.isnan(batch), np.isnan(scalar))
+    np.testing.assert_allclose(batch, scalar, rtol=0.0, atol=1e-9, equal_nan=True)
+    assert np.isnan(batch[:20]).mean() > 0.5
+
+
+def test_out_of_reach_gives_nan_rows():
+    """A target far beyond the reach has no branch."""
+    solver = URWrist6R.recognise(arm_table("ur5"))
+    assert np.isnan(solver.solve(np.array([3.0, 0.0, 0.5]), np.eye(3))).all()
+    assert np.isnan(solver.solve_batch(np.array([[3.0, 0.0, 0.5]]), np.eye(3)[None])).all()
+
+
+@pytest.mark.parametrize("arm", ("ur5", "random_modified_0"))
+def test_singular_wrist_takes_the_free_value_and_still_reaches(arm):
+    """sin t5 = 0 (axis 6 parallel to axes 2-4): q6 = free, the branches still reach the pose."""
+    table = arm_table(arm)
+    ref, solver = reference(arm), URWrist6R.recognise(table)
+    q = np.array([0.4, -1.0, 1.2, -0.5, -solver.offsets[4], 0.7])  # t5 = 0
+    target = ref.fk(q)
+    for free in (0.0, 0.3):
+        found = solver.solve(target.translation, target.rotation, free=free)
+        exist = found[~np.isnan(found[:, 0])]
+        assert len(exist) >= 2
+        singular = np.abs(np.sin(exist[:, 4] + solver.offsets[4])) < 1e-9
+        assert singular.any()
+        np.testing.assert_allclose(exist[singular, 5], free, atol=1e-12)
+        for branch in exist:
+            assert max(ref.errors(branch, target)) < TOL, f"{arm=} {branch=}"
+        batch = solver.solve_batch(target.translation[None], target.rotation[None], free=free)
+        np.testing.assert_allclose(batch[0], found, atol=1e-9, equal_nan=True)
+
+
+# ---------------------------------------------------------------------------------------------
+# Recognition
+
+
+def test_ur5_table_is_recognised_with_its_numbers():
+    """The shipped UR5 table is the UR family with the maker's numbers."""
+    solver = URWrist6R.recognise(load_table(get_robot("ur5").table_path))
+    assert (solver.a2, solver.a3) == (-0.425, -0.39225)
+    assert (solver.d1, solver.lateral, solver.d5, solver.d6) == (0.089159, 0.10915, 0.09465, 0.0823)
+    assert (solver.sign4, solver.sign5, solver.alpha1) == (1.0, -1.0, PI / 2)
+    assert URWrist6R.name == "ur_wrist" and URWrist6R.dof == 6
+
+
+PUMA = make_table([0, 0.4318, 0.0203, 0, 0, 0], [PI / 2, 0, -PI / 2, PI / 2, -PI / 2, 0],
+                  [0, 0, 0.15005, 0.4318, 0, 0], [0] * 6, name="puma560")  # fmt: skip
+
+
+def ur5_with(row: int, **changes) -> DHTable:
+    """UR5 with a changed row (1-based)."""
+    table = load_table(get_robot("ur5").table_path)
+    rows = list(table.rows)
+    fields = {f: getattr(rows[row - 1], f) for f in ("a", "alpha", "d", "theta")}
+    fields.update(changes)
+    rows[row - 1] = DHRow(row, rows[row - 1].name, "revolute", fields["a"], fields["alpha"],
+                          fields["d"], fields["theta"], -PI, PI, 1.0, 1.0)  # fmt: skip
+    return DHTable("ur5_variant", "", "", "standard", tuple(rows))
+
+
+@pytest.mark.parametrize(
+    ("table", "expected"),
+    [
+        (ur5_with(4, alpha=math.radians(89.9)), ["row 4 ('wrist_1_joint'): alpha", "89.9 deg"]),
+        (ur5_with(5, alpha=math.radians(-90.1)), ["row 5 ('wrist_2_joint'): alpha"]),
+        (ur5_with(2, alpha=math.radians(0.1)), ["row 2 ('shoulder_lift_joint'): alpha"]),
+        (ur5_with(3, alpha=PI), ["row 3 ('elbow_joint'): alpha", "expected 0 deg"]),
+        (ur5_with(5, a=1e-6), ["row 5 ('wrist_2_joint'): a = 1e-06 m, expected 0"]),
+        (ur5_with(3, a=0.0), ["row 3 ('elbow_joint'): a = 0 m, expected non-zero"]),
+        (ur5_with(1, alpha=0.0), ["row 1 ('shoulder_pan_joint'): alpha", "other than 0"]),
+        (PUMA, ["row 3 ('j3'): alpha = -90 deg, expected 0 deg"]),
+    ],
+    ids=[
+        "alpha4=89.9",
+        "alpha5=-90.1",
+        "alpha2=0.1",
+        "alpha3=180",
+        "a5=1um",
+        "a3=0",
+        "alpha1=0",
+        "puma560",
+    ],  # fmt: skip
+)
+def test_near_misses_are_refused_naming_row_and_parameter(table, expected):
+    """A table that is almost UR-like raises StructureError naming the row and the parameter."""
+    with pytest.raises(StructureError) as info:
+        URWrist6R.recognise(table)
+    for text in expected:
+        assert text in str(info.value), str(info.value)
+    assert info.value.solver.startswith("6R UR-wrist")
+
+
+def test_modified_near_miss_names_the_modified_row():
+    """In Craig's convention joint 4's twist is in row 5: the error names row 5."""
+    table = random_ur_table(10, "modified")
+    rows = list(table.rows)
+    rows[4] = DHRow(5, "j5", "revolute", rows[4].a, math.radians(89.9), rows[4].d, 0.0, -PI, PI,
+                    1.0, 1.0)  # fmt: skip
+    bad = DHTable("bad", "", "", "modified", tuple(rows))
+    with pytest.raises(StructureError, match=r"row 5 \('j5'\): alpha \(modified convention"):
+        URWrist6R.recognise(bad)
+
+
+def test_wrong_joint_count_and_prismatic_are_refused():
+    """Five joints, or a prismatic joint, is not this family."""
+    table = load_table(get_robot("ur5").table_path)
+    five = DHTable("five", "", "", "standard", table.rows[:5])
+    with pytest.raises(StructureError, match="5 joints, expected 6"):
+        URWrist6R.recognise(five)
+    rows = list(table.rows)
+    r = rows[2]
+    rows[2] = DHRow(3, r.name, "prismatic", r.a, r.alpha, r.d, r.theta, 0.0, 1.0, 1.0, 1.0)
+    with pytest.raises(StructureError, match=r"row 3 \('elbow_joint'\) is prismatic"):
+        URWrist6R.recognise(DHTable("p", "", "", "standard", tuple(rows)))
+
+
+# ---------------------------------------------------------------------------------------------
+# Peer
+
+
+def test_same_solutions_as_ur_analytic_ik():
+    """UR5: the same solutions as ur-analytic-ik on 1000 random targets (1e-9 after matching)."""
+    ur_ik = pytest.importorskip("ur_analytic_ik", reason="ur-analytic-ik is not installed")
+    table = load_table(get_robot("ur5").table_path)
+    solver = URWrist6R.recognise(table)
+    rng = np.random.default_rng(7)
+    q = rng.uniform(-PI, PI, (1000, 6))
+    poses = kin.batch_forward_kinematics(table, q)
+    compared = 0
+    for k, pose in enumerate(poses):
+        np.testing.assert_allclose(ur_ik.ur5.forward_kinematics(*q[k]), pose, atol=1e-12)
+        theirs = np.array(ur_ik.ur5.inverse_kinematics(np.ascontiguousarray(pose)))
+        ours = solver.solve(pose[:3, 3], pose[:3, :3])
+        ours = ours[~np.isnan(ours[:, 0])]
+        assert len(theirs) == len(ours), f"{q[k]=}"
+        for branch in theirs:
+            assert wrapped_gap(ours, branch).min() < 1e-9, f"{q[k]=} {branch=}"
+            compared += 1
+    assert compared > 4000
