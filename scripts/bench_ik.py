@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
+from kin.batch_fk import batch_forward_kinematics
 from kin.cli import ArgumentParser, positive_int
 from kin.configuration import Configuration
-from kin.ik import BatchSolver, ClosedFormSolver, PoseTarget, PositionTarget, dh_forward_kinematics
+from kin.ik import BatchSolver, ClosedFormSolver, PoseTarget, PositionTarget
 from kin.robot_model import load_robot
 
 ROBOTS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")
@@ -104,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
                 PositionTarget(pose.translation) if robot.nq < 5 else PoseTarget.from_matrix(pose)
             )
         times = per_call_times(solver, targets, args.repeat)
-        poses = dh_forward_kinematics(robot.table, q[: args.batch])
+        poses = batch_forward_kinematics(robot.table, q[: args.batch])
         best = float("inf")
         for _ in range(3):
             start = time.perf_counter()

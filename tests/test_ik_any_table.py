@@ -9,13 +9,16 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 import pytest
 from cli_helper import write_rrpr4
 from dh_reference import fk_frames, load_reference, rotation_angle
 
+import kin
 import kin.ik as ik
 from dh2urdf import get_robot
 from kin import load_robot
@@ -367,17 +370,82 @@ def test_seed_table_cache_is_reused_and_a_corrupt_file_rebuilt(tmp_path):
 
 def test_several_structures_per_joint_count(monkeypatch):
     """recognise asks every registered structure of the table's joint count, first fit wins."""
-    from kin.ik.analytic import structure
+    from kin.ik.analytic import registry
+    from kin.ik.analytic.offset3r import Offset3R
 
-    def never(table):
-        raise ik.StructureError(table.name, "never", "row 1: never fits")
+    class Never:
+        dof = 3
+
+        @classmethod
+        def recognise(cls, table):
+            raise ik.StructureError(table.name, "never", "row 1: never fits")
 
     table = load_robot("pickplace3").table
-    monkeypatch.setattr(structure, "CLOSED_FORMS", ((3, never), (3, structure.offset3r)))
-    assert isinstance(structure.recognise(table), structure.Offset3R)
-    monkeypatch.setattr(structure, "CLOSED_FORMS", ((3, never), (3, never)))
+    monkeypatch.setattr(registry, "CLOSED_FORMS", [Never, Offset3R])
+    assert isinstance(registry.recognise(table), Offset3R)
+    monkeypatch.setattr(registry, "CLOSED_FORMS", [Never, Never])
     with pytest.raises(ik.StructureError, match="row 1: never fits; row 1: never fits"):
-        structure.recognise(table)
+        registry.recognise(table)
+
+
+@dataclass(frozen=True)
+class PlainPlanar:
+    """A structure with only the required parts (as a pose-only 6R plug-in has): candidates."""
+
+    name: ClassVar[str] = "plainplanar"
+    dof: ClassVar[int] = 2
+    target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget,)
+    branch_labels: ClassVar[tuple[str, ...]] = ("first", "second")
+    inner: object
+
+    @classmethod
+    def recognise(cls, table):
+        from kin.ik.analytic.planar2r import Planar2R
+
+        return cls(Planar2R.recognise(table))
+
+    def solve(self, position, rotation):
+        return self.inner.solve(position, rotation)
+
+    def solve_batch(self, positions, rotations):
+        return self.inner.solve_batch(positions, rotations)
+
+
+def test_a_structure_with_only_the_required_parts_plugs_in(monkeypatch):
+    """Registered first, a minimal structure answers both solvers with the same joint vectors as
+    the shipped one (the solvers know no structure by name); a class missing a part is refused."""
+    from kin.ik.analytic import registry
+    from kin.ik.analytic.closed_form_structure import ClosedFormStructure, DetailedStructure
+
+    robot = load_robot("planar2")
+    shipped_solver, shipped_batch = ClosedFormSolver(robot), ik.BatchSolver(robot)
+    monkeypatch.setattr(registry, "CLOSED_FORMS", list(registry.CLOSED_FORMS))
+    registry.register(PlainPlanar, first=True)
+    with pytest.raises(TypeError, match="not a closed-form structure"):
+        registry.register(type("Half", (), {"name": "half", "dof": 2}))
+    solver, batch = ClosedFormSolver(robot), ik.BatchSolver(robot)
+    assert isinstance(solver.structure, ClosedFormStructure)
+    assert not isinstance(solver.structure, DetailedStructure)
+    assert solver.name == "closed_form:plainplanar"
+    rng = np.random.default_rng(4)
+    q = rng.uniform(robot.lower, robot.upper, size=(40, 2))
+    poses = kin.batch_forward_kinematics(robot.table, q)
+    for pose, expected in zip(poses, q):
+        target = PositionTarget(pose[:3, 3])
+        plain, shipped = solver.solve(target), shipped_solver.solve(target)
+        assert plain.success and len(plain.solutions) == len(shipped.solutions)
+        assert {s.branch for s in plain.solutions} <= {"first", "second"}
+        for a, b in zip(plain.solutions, shipped.solutions):
+            assert np.abs(a.q - b.q).max() < 1e-12
+        assert min(np.abs(s.q - expected).max() for s in plain.solutions) < 1e-9
+    plain_batch = batch.solve_positions(poses[:, :3, 3])
+    shipped = shipped_batch.solve_positions(poses[:, :3, 3])
+    assert plain_batch.branch_names == ("first", "second")
+    np.testing.assert_array_equal(plain_batch.q, shipped.q)
+    np.testing.assert_array_equal(plain_batch.valid, shipped.valid)
+    assert plain_batch.valid.any(1).all()
+    out = solver.solve(PositionTarget([5.0, 0.0, 0.0]))
+    assert not out.success and out.status == "out_of_reach"
 
 
 _LAZY_PROBE = """

@@ -12,7 +12,6 @@ from kin.ik import (
     PitchTarget,
     PoseTarget,
     PositionTarget,
-    dh_forward_kinematics,
 )
 
 SMALL_ROBOTS = ["lab5", "ned5", "pickplace3", "planar2", "scorbot"]
@@ -116,12 +115,12 @@ def test_lab5_pitch_is_ninety_minus_theta234_with_shoulder_in_front():
 
 @pytest.mark.parametrize("name", SMALL_ROBOTS)
 def test_batch_agrees_with_scalar_and_pinocchio(name):
-    """The batched solver finds q, its NumPy FK matches Pinocchio, same valid count as scalar."""
+    """The batched solver finds q, kin's batched FK matches Pinocchio, same valid count as scalar."""
     robot = kin.load_robot(name)
     configuration = kin.Configuration(robot)
     rng = np.random.default_rng(5)
     q = rng.uniform(robot.lower, robot.upper, size=(500, robot.nq))
-    poses = dh_forward_kinematics(robot.table, q)
+    poses = kin.batch_forward_kinematics(robot.table, q)
     for i in range(0, 500, 50):
         np.testing.assert_allclose(poses[i], configuration.fk(q[i]).homogeneous, atol=1e-12)
     batch = BatchSolver(robot)

@@ -18,7 +18,8 @@ from kin.ik import (
     StructureError,
     TargetError,
 )
-from kin.ik.analytic.structure import five_dof, recognise
+from kin.ik.analytic.five_dof import FiveDof
+from kin.ik.analytic.registry import recognise
 
 
 def test_all_names_exist_and_sorted():
@@ -125,7 +126,7 @@ def test_structure_error_names_row_and_parameter():
     )
     table = DHTable("bad5", "", "", "standard", rows)
     with pytest.raises(StructureError, match=r"row 2 \('j2'\): alpha = 90 deg"):
-        five_dof(table)
+        FiveDof.recognise(table)
     with pytest.raises(StructureError, match="4 joints"):
         recognise(DHTable("four", "", "", "standard", rows[:4]))
 
@@ -139,7 +140,7 @@ def test_other_lengths_work_unchanged():
         _row(4, alpha=math.pi / 2),
         _row(5, d=0.05),
     )
-    structure = five_dof(DHTable("big5", "", "", "standard", rows))
+    structure = FiveDof.recognise(DHTable("big5", "", "", "standard", rows))
     assert (structure.link2.length, structure.link3.length, structure.reach) == (0.3, 0.25, 0.05)
 
 

@@ -1,9 +1,14 @@
 """Inverse kinematics of any DH table: closed form where a structure fits, else numeric."""
 
-from .analytic.batch import BatchResult, BatchSolver, dh_forward_kinematics
+from .analytic.batch import BatchResult, BatchSolver
 from .analytic.closed_form import ClosedFormSolver
+from .analytic.closed_form_structure import ClosedFormStructure
+from .analytic.five_dof import FiveDof
+from .analytic.offset3r import Offset3R
+from .analytic.planar2r import Planar2R
+from .analytic.registry import recognise, register
 from .analytic.seven_dof import SevenDofIK
-from .analytic.structure import FiveDof, Offset3R, Planar2R, SevenDof, recognise
+from .analytic.structure import SevenDof
 from .dispatch import Solver, get_solver, solve_ik
 from .exceptions import IKError, StructureError, TargetError
 from .numeric.differential_ik import DifferentialIK
@@ -17,6 +22,7 @@ __all__ = [
     "BatchResult",
     "BatchSolver",
     "ClosedFormSolver",
+    "ClosedFormStructure",
     "DifferentialIK",
     "FiveDof",
     "IKError",
@@ -34,10 +40,10 @@ __all__ = [
     "Solver",
     "StructureError",
     "TargetError",
-    "dh_forward_kinematics",
     "get_solver",
     "newton_raphson",
     "recognise",
+    "register",
     "solve_ik",
     "solve_numeric",
 ]

@@ -1,9 +1,9 @@
 """Which IK solver a robot uses, for any DH table, behind one :class:`Solver` protocol.
 
 :func:`get_solver` asks each registered closed-form structure
-(:data:`kin.ik.analytic.structure.CLOSED_FORMS`) whether the table fits; the first that fits
-gives a :class:`ClosedFormSolver` (which hands the numeric solver the target kinds its closed
-form does not take: a position on a five-joint arm). When none fits, the numeric solver
+(:data:`kin.ik.analytic.registry.CLOSED_FORMS`, see :mod:`kin.ik.analytic.closed_form_structure`)
+whether the table fits; the first that fits gives a :class:`ClosedFormSolver` (which hands the
+numeric solver the target kinds its closed form does not take: a position on a five-joint arm). When none fits, the numeric solver
 (:class:`NumericIK`, which itself starts with the closed form with a free joint for an arm of the
 ``SevenDof`` structure, humanoid7). :func:`solve_ik` is the one-call form.
 """

@@ -1,8 +1,8 @@
 """Closed-form IK solver of a small arm: every branch, limits, Pinocchio verification, ordering.
 
-:class:`ClosedFormSolver` recognises the arm's structure from its DH table
-(:mod:`ik.structure`), computes every branch with the matching solver (:mod:`ik.planar2r`,
-:mod:`ik.offset3r`, :mod:`ik.five_dof`), then, per branch:
+:class:`ClosedFormSolver` asks the registered structures (:mod:`.registry`) which one fits the
+arm's DH table, computes every branch with it (:mod:`.closed_form_structure`: the solver knows
+no structure by name), then, per branch:
 
 1. brings each angle to the ``2 pi`` copy inside the joint limits closest to the seed (angles are
    compared modulo ``2 pi`` where the limits allow);
@@ -33,10 +33,13 @@ from ..judge import ToolJudge, axis_error, rotation_error
 from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target, kind_error
 from .branches import Branches
-from .five_dof import solve_pitch, solve_pose
-from .offset3r import solve_offset3r
-from .planar2r import solve_planar2r
-from .structure import FiveDof, Offset3R, Planar2R, Structure, recognise
+from .closed_form_structure import (
+    ClosedFormStructure,
+    DetailedStructure,
+    PitchStructure,
+    candidate_branches,
+)
+from .registry import recognise
 
 logger = logging.getLogger(__name__)
 
@@ -104,15 +107,11 @@ def _wrap(value: float, seed: float, lower: float, upper: float) -> tuple[float,
 _DISTANCE = operator.itemgetter(0)
 
 
-def _rows(matrix: np.ndarray) -> tuple[tuple[float, ...], ...]:
-    return tuple(tuple(row) for row in matrix.tolist())
-
-
 class ClosedFormSolver:
     """Every closed-form IK branch of one small arm, verified with Pinocchio.
 
     Args:
-        robot: The loaded robot (its table must fit one of the structures of :mod:`ik.structure`).
+        robot: The loaded robot (its table must fit a registered structure, :mod:`.registry`).
         tolerance_position: Largest position error of a returned solution [m].
         tolerance_rotation: Largest rotation error of a returned solution [rad].
 
@@ -124,8 +123,9 @@ class ClosedFormSolver:
         self, robot: RobotModel, tolerance_position: float = 1e-9, tolerance_rotation: float = 1e-9
     ):
         self.robot = robot
-        self.structure: Structure = recognise(robot.table)
-        self.name = f"closed_form:{type(self.structure).__name__.lower()}"
+        self.structure: ClosedFormStructure = recognise(robot.table)
+        self.name = f"closed_form:{self.structure.name}"
+        self._detailed = isinstance(self.structure, DetailedStructure)
         self.tolerance_position = tolerance_position
         self.tolerance_rotation = tolerance_rotation
         self._judge = ToolJudge(robot)
@@ -133,37 +133,27 @@ class ClosedFormSolver:
         self._upper = robot.model.upperPositionLimit.tolist()
         self._offsets = [row.theta for row in robot.table.rows]
         self._has_offsets = any(self._offsets)
-        base = np.asarray(robot.table.T_world_base, dtype=float)
-        self._base = None if np.allclose(base, np.eye(4), atol=0.0) else np.linalg.inv(base)
         # Everything below depends only on the table: computed once, as floats and tuples, so that
         # a solve runs on the math module rather than on small NumPy arrays.
         self._kinds = self.closed_form_kinds
         self._numeric: Any = None
         self._zero_seed = [0.0] * len(self._lower)
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
-        # frame 0 from the world (3 x 4 rows), and the world from frame 0 (3 x 3 rows)
-        self._base_rows = None if self._base is None else _rows(self._base[:3, :])
-        self._world_rows = None if self._base is None else _rows(base[:3, :3])
-        if isinstance(self.structure, FiveDof):
-            self._approach_in_tool = tuple(self.structure.R_roll_tool[2, :].tolist())
 
     @property
     def closed_form_kinds(self) -> tuple[type, ...]:
-        """The target classes the closed form itself solves."""
-        if isinstance(self.structure, FiveDof):
-            return (PoseTarget, PitchTarget)
-        return (PositionTarget,)
+        """The target classes the closed form itself solves (the structure's)."""
+        return tuple(self.structure.target_kinds)
 
     @property
     def target_kinds(self) -> tuple[type, ...]:
         """The target classes this solver accepts.
 
-        The closed form's, and a position on a five-joint arm (answered by the numeric solver,
-        see :meth:`solve`).
+        The closed form's, and a position when the closed form does not take one (answered by
+        the numeric solver, see :meth:`solve`).
         """
-        if isinstance(self.structure, FiveDof):
-            return (PoseTarget, PitchTarget, PositionTarget)
-        return (PositionTarget,)
+        kinds = self.closed_form_kinds
+        return kinds if PositionTarget in kinds else (*kinds, PositionTarget)
 
     @property
     def numeric(self) -> Any:
@@ -201,34 +191,14 @@ class ClosedFormSolver:
                 highs.append(math.nan)
         return tuple(lows), tuple(highs)
 
-    def _point_in_frame0(self, p: list[float]) -> list[float]:
-        rows = self._base_rows
-        if rows is None:
-            return p
-        x, y, z = p
-        return [r[0] * x + r[1] * y + r[2] * z + r[3] for r in rows]
-
-    def _rotation_in_frame0(self, r: list[list[float]]) -> list[list[float]]:
-        rows = self._base_rows
-        if rows is None:
-            return r
-        return [[b[0] * r[0][j] + b[1] * r[1][j] + b[2] * r[2][j] for j in range(3)] for b in rows]
-
-    def _branches(
-        self, target: Target, seed: list[float], p: list[float], r: list[list[float]] | None
-    ) -> Branches:
-        """Branches for the target whose position (and rotation) in the world are ``p`` (``r``)."""
-        structure, offsets = self.structure, self._offsets
-        free_t1 = seed[0] + offsets[0]
-        x, y, z = p if self._base_rows is None else self._point_in_frame0(p)
-        if isinstance(structure, Planar2R):
-            return solve_planar2r(structure, x, y, z, free_t1=free_t1)
-        if isinstance(structure, Offset3R):
-            return solve_offset3r(structure, x, y, z, free_t1=free_t1)
-        if r is not None:
-            return solve_pose(structure, (x, y, z), self._rotation_in_frame0(r), free_t1=free_t1)
-        roll = seed[4] if target.roll is None else target.roll  # type: ignore[union-attr]
-        return solve_pitch(structure, (x, y, z), target.pitch, roll + offsets[4], free_t1=free_t1)  # type: ignore[union-attr]
+    def _branches(self, target: Target, seed: list[float]) -> Branches:
+        """Branches (DH angles) of a target of the closed form's kinds, in the world frame."""
+        structure = self.structure
+        if self._detailed:
+            return structure.branches(target, seed)  # type: ignore[attr-defined]
+        rotation = target.rotation if isinstance(target, PoseTarget) else None
+        candidates = structure.solve(target.position, rotation)
+        return candidate_branches(structure, candidates, self._offsets)
 
     def solve(
         self, target: Target, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
@@ -271,7 +241,7 @@ class ClosedFormSolver:
             return self._failure("invalid_target", "the target has a NaN or infinite value", start)
         p = target.position.tolist()
         r = target.rotation.tolist() if isinstance(target, PoseTarget) else None
-        branches = self._branches(target, seed_list, p, r)
+        branches = self._branches(target, seed_list)
         if branches.status == "out_of_reach":
             return self._failure("out_of_reach", branches.message, start, branches.gap)
         valid, rejected = self._verify(target, branches, seed_list, p, r)
@@ -319,20 +289,6 @@ class ClosedFormSolver:
         preferred = NumericTarget.from_arrays(target.position, None, posture=posture)
         return self.numeric.solve(preferred, posture, timeout=timeout)
 
-    def _approach(
-        self, target: PitchTarget, seed: list[float], p: list[float]
-    ) -> tuple[float, float, float]:
-        """The target's approach axis in the world frame."""
-        p0 = self._point_in_frame0(p)
-        rho = math.hypot(p0[0], p0[1])
-        angle = math.atan2(p0[1], p0[0]) if rho > 0.0 else seed[0] + self._offsets[0]
-        cp = math.cos(target.pitch)
-        a = (cp * math.cos(angle), cp * math.sin(angle), -math.sin(target.pitch))
-        rows = self._world_rows
-        if rows is None:
-            return a
-        return tuple(row[0] * a[0] + row[1] * a[1] + row[2] * a[2] for row in rows)  # type: ignore[return-value]
-
     def _verify(
         self,
         target: Target,
@@ -351,8 +307,10 @@ class ClosedFormSolver:
         if r is not None:
             r_target = r[0] + r[1] + r[2]
         elif not position_only:
-            approach = self._approach(target, seed, p)  # type: ignore[arg-type]
-            tx, ty, tz = self._approach_in_tool
+            structure = self.structure
+            assert isinstance(structure, PitchStructure) and isinstance(target, PitchTarget)
+            approach = structure.approach(target, seed)
+            tx, ty, tz = structure.approach_in_tool
         valid: list[tuple[float, IKSolution]] = []
         rejected: list[IKSolution] = []
         has_offsets = self._has_offsets

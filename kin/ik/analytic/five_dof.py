@@ -6,24 +6,241 @@ the tool point lie in the vertical arm plane through the base axis, so:
 1. the base yaw puts that plane through the target (two ways: shoulder front and back);
 2. the approach axis ``a`` (the roll axis, wrist to tool) fixes the in-plane angle
    ``phi = theta2 + theta3 + theta4`` and the wrist centre ``p - reach a - a4 x4``;
-3. :func:`~ik.planar2r.two_link` gives ``theta2, theta3`` (elbow up and down), ``theta4`` follows;
+3. :func:`~.planar2r.two_link` gives ``theta2, theta3`` (elbow up and down), ``theta4`` follows;
 4. the wrist roll comes from the target rotation (full pose) or is given (position + pitch).
 
 A full pose is reachable only if ``a`` and ``p`` lie in one vertical plane through the base axis
 (5 joints for 6 constraints); other poses are reported, not approximated.
+
+:class:`FiveDof` is a closed-form structure plug-in (:mod:`.closed_form_structure`): base yaw,
+three parallel pitch joints and a wrist roll (``alpha1 = +-90``, ``alpha2 = alpha3 = 0``,
+``alpha4 = +-90``, ``a5 = 0``) with the tool point on the roll axis and no lateral offset
+(``d2 + d3 + d4 = 0``); ``a1`` (SCORBOT shoulder offset) and ``a4`` are allowed.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
 
+import numpy as np
+
+from dh2urdf import DHTable
+
+from ..target import PitchTarget, PoseTarget, Target
 from .branches import REACH_TOL, Branches
+from .closed_form_structure import BatchBranches
 from .offset3r import ELBOW_LABELS, elbow_label
-from .planar2r import MERGE_COS, two_link
-from .structure import FiveDof
+from .planar2r import MERGE_COS, two_link, two_link_batch, without_missing
+from .structure import LENGTH_TOL, BaseFrame, Checker, Link, near, tool_point
 
 #: Largest out-of-plane component of the approach axis (or target point, [m]) of a reachable pose.
 PLANE_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class FiveDof:
+    """Base yaw, three parallel pitch joints, wrist roll; tool point on the roll axis.
+
+    Attributes:
+        sign1: Sign of ``alpha1``.
+        sign4: Sign of ``alpha4``: the roll axis is at ``theta2 + theta3 + theta4 - sign4 pi/2``
+            in the arm plane.
+        a1: Radial shoulder offset [m].
+        d1: Shoulder height [m].
+        link2, link3: In-plane link vectors of the upper arm and forearm.
+        a4: Wrist link along ``x4`` [m] (usually 0).
+        reach: Distance from the wrist centre (frame 4 origin) to the tool point along the roll
+            axis [m] (``d5`` plus the tool's offset along it).
+        R_roll_tool: Rotation of the tool in the frame ``Rz(theta5)`` leaves (``Rx(alpha5)`` times
+            the tool rotation).
+        offsets: DH angle offsets [rad].
+        base: DH frame 0 in the world.
+        roll_tool_rows: ``R_roll_tool`` as rows of floats, or None when it is the identity
+            (derived, for the scalar solver).
+    """
+
+    name: ClassVar[str] = "fivedof"
+    dof: ClassVar[int] = 5
+    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget, PitchTarget)
+    branch_labels: ClassVar[tuple[str, ...]] = (
+        "shoulder 1, elbow +",
+        "shoulder 1, elbow -",
+        "shoulder 2, elbow +",
+        "shoulder 2, elbow -",
+    )
+
+    sign1: float
+    sign4: float
+    a1: float
+    d1: float
+    link2: Link
+    link3: Link
+    a4: float
+    reach: float
+    R_roll_tool: np.ndarray
+    offsets: tuple[float, ...]
+    base: BaseFrame = field(repr=False, compare=False)
+    roll_tool_rows: tuple[tuple[float, ...], ...] | None = field(
+        init=False, repr=False, compare=False
+    )
+
+    def __post_init__(self) -> None:
+        rows = tuple(tuple(row) for row in np.asarray(self.R_roll_tool, dtype=float).tolist())
+        identity = rows == ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+        object.__setattr__(self, "roll_tool_rows", None if identity else rows)
+
+    @classmethod
+    def recognise(cls, table: DHTable) -> FiveDof:
+        """Parameters of a base yaw + three pitch + wrist roll arm.
+
+        Raises:
+            StructureError: The table does not have that structure.
+        """
+        check = Checker(table, "five-joint (yaw, 3 pitch, roll)")
+        check.rows(5)
+        row1, row2, row3, row4, row5 = table.rows
+        sign1 = math.copysign(1.0, check.alpha(row1, (math.pi / 2, -math.pi / 2)))
+        check.alpha(row2, (0.0,))
+        check.alpha(row3, (0.0,))
+        sign4 = math.copysign(1.0, check.alpha(row4, (math.pi / 2, -math.pi / 2)))
+        lateral = row2.d + row3.d + row4.d
+        if not near(lateral, 0.0, LENGTH_TOL):
+            raise check.fail(
+                f"rows 2-4: d2 + d3 + d4 = {lateral:g} m, expected 0 (pitch joints in a plane "
+                "through the base axis)"
+            )
+        check.zero(row5, "a", "the tool point must be on the wrist-roll axis")
+        ca, sa = math.cos(row5.alpha), math.sin(row5.alpha)
+        rot_x = np.array([[1.0, 0.0, 0.0], [0.0, ca, -sa], [0.0, sa, ca]])
+        tool = rot_x @ tool_point(table)
+        if math.hypot(tool[0], tool[1]) > LENGTH_TOL:
+            raise check.fail(
+                f"tool point ({tool[0]:g}, {tool[1]:g}) m off the wrist-roll axis, expected on "
+                "the axis"
+            )
+        return cls(
+            sign1=sign1,
+            sign4=sign4,
+            a1=row1.a,
+            d1=row1.d,
+            link2=check.link(row2.a, 0.0, f"row 2 ('{row2.name}')"),
+            link3=check.link(row3.a, 0.0, f"row 3 ('{row3.name}')"),
+            a4=row4.a,
+            reach=row5.d + float(tool[2]),
+            R_roll_tool=rot_x @ np.asarray(table.T_last_tool[:3, :3], dtype=float),
+            offsets=tuple(row.theta for row in table.rows),
+            base=BaseFrame.of(table),
+        )
+
+    @property
+    def approach_in_tool(self) -> tuple[float, float, float]:
+        """The approach (roll) axis in the tool frame."""
+        x, y, z = self.R_roll_tool[2, :].tolist()
+        return x, y, z
+
+    def branches(self, target: Target, seed: Sequence[float]) -> Branches:
+        """All branches of a full pose or a pitch target (see :func:`solve_pose`, :func:`solve_pitch`).
+
+        ``seed`` [rad]: joint 1 kept when it is free; the wrist roll of a pitch target without one.
+        """
+        x, y, z = self.base.point(target.position.tolist())
+        free_t1 = seed[0] + self.offsets[0]
+        if isinstance(target, PoseTarget):
+            r0 = self.base.rotation(target.rotation.tolist())
+            return solve_pose(self, (x, y, z), r0, free_t1=free_t1)
+        assert isinstance(target, PitchTarget)
+        roll = seed[4] if target.roll is None else target.roll
+        return solve_pitch(self, (x, y, z), target.pitch, roll + self.offsets[4], free_t1=free_t1)
+
+    def approach(self, target: PitchTarget, seed: Sequence[float]) -> tuple[float, float, float]:
+        """The pitch target's approach axis in the world frame."""
+        p0 = self.base.point(target.position.tolist())
+        rho = math.hypot(p0[0], p0[1])
+        angle = math.atan2(p0[1], p0[0]) if rho > 0.0 else seed[0] + self.offsets[0]
+        cp = math.cos(target.pitch)
+        a = (cp * math.cos(angle), cp * math.sin(angle), -math.sin(target.pitch))
+        return self.base.vector_to_world(a)
+
+    def _five(self, p0: np.ndarray, a0: np.ndarray, base1: np.ndarray) -> tuple[np.ndarray, ...]:
+        """DH angles (N, 4, 5) (roll 0), existence and elbow side of both shoulders."""
+        columns = []
+        for base in (base1, base1 + np.pi):
+            c1, n1 = np.cos(base), np.sin(base)
+            a_r = a0[:, 0] * c1 + a0[:, 1] * n1
+            sin_psi = self.sign1 * a0[:, 2]
+            cos_phi, sin_phi = -self.sign4 * sin_psi, self.sign4 * a_r
+            phi = np.arctan2(sin_phi, cos_phi)
+            p_r = p0[:, 0] * c1 + p0[:, 1] * n1
+            u = p_r - self.reach * a_r - self.a4 * cos_phi - self.a1
+            v = self.sign1 * (p0[:, 2] - self.d1) - self.reach * sin_psi - self.a4 * sin_phi
+            t2, t3, sin_b, exists = two_link_batch(u, v, self.link2, self.link3)
+            up = self.sign1 * np.where(u >= 0, 1.0, -1.0)[:, None] * sin_b < 0
+            t1 = np.broadcast_to(base[:, None], t2.shape)
+            t4 = phi[:, None] - t2 - t3
+            columns.append((np.stack([t1, t2, t3, t4, np.zeros_like(t2)], -1), exists, up))
+        thetas = np.concatenate([c[0] for c in columns], axis=1)
+        exists = np.concatenate([c[1] for c in columns], axis=1)
+        up = np.concatenate([c[2] for c in columns], axis=1)
+        return thetas, exists, up
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """All branches of N full poses: positions (N, 3) [m], rotations (N, 3, 3), world."""
+        if rotations is None:
+            raise ValueError("a five-joint arm's closed form takes full poses or pitch targets")
+        p0 = self.base.points(positions)
+        r0 = self.base.rotations(rotations)
+        r5 = r0 if self.roll_tool_rows is None else r0 @ self.R_roll_tool.T
+        a0 = r5[:, :, 2]
+        use_p = np.hypot(p0[:, 0], p0[:, 1]) >= np.hypot(a0[:, 0], a0[:, 1]) * (
+            self.link2.length + self.link3.length
+        )
+        base1 = np.where(use_p, np.arctan2(p0[:, 1], p0[:, 0]), np.arctan2(a0[:, 1], a0[:, 0]))
+        normal = np.stack([np.sin(base1), -np.cos(base1)], -1)
+        in_plane = (np.abs((a0[:, :2] * normal).sum(-1)) <= PLANE_TOL) & (
+            np.abs((p0[:, :2] * normal).sum(-1)) <= PLANE_TOL
+        )
+        thetas, exists, up = self._five(p0, a0, base1)
+        exists = exists & in_plane[:, None]
+        # wrist roll: angle from x4 to the roll frame's x axis about the approach axis
+        t1, phi = thetas[..., 0], thetas[..., 1] + thetas[..., 2] + thetas[..., 3]
+        c1, n1, cp, sp = np.cos(t1), np.sin(t1), np.cos(phi), np.sin(phi)
+        x4 = (cp * c1, cp * n1, self.sign1 * sp)
+        z4 = (self.sign4 * sp * c1, self.sign4 * sp * n1, -self.sign1 * self.sign4 * cp)
+        y4 = (
+            z4[1] * x4[2] - z4[2] * x4[1],
+            z4[2] * x4[0] - z4[0] * x4[2],
+            z4[0] * x4[1] - z4[1] * x4[0],
+        )
+        x5 = [r5[:, k, 0][:, None] for k in range(3)]
+        thetas[..., 4] = np.arctan2(
+            y4[0] * x5[0] + y4[1] * x5[1] + y4[2] * x5[2],
+            x4[0] * x5[0] + x4[1] * x5[1] + x4[2] * x5[2],
+        )
+        return BatchBranches(without_missing(thetas, exists, self.offsets), up)
+
+    def pitch_batch_branches(
+        self, positions: np.ndarray, pitch: np.ndarray, roll: np.ndarray
+    ) -> BatchBranches:
+        """All branches of N tool points (N, 3) [m] with approach pitch and wrist roll q5 [rad]."""
+        p0 = self.base.points(positions)
+        h = np.arctan2(p0[:, 1], p0[:, 0])
+        a0 = np.stack([np.cos(pitch) * np.cos(h), np.cos(pitch) * np.sin(h), -np.sin(pitch)], -1)
+        thetas, exists, up = self._five(p0, a0, h)
+        thetas[..., 4] = (roll + self.offsets[4])[:, None]
+        approach = self.base.vectors_to_world(a0)
+        return BatchBranches(without_missing(thetas, exists, self.offsets), up, approach)
+
+    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (4, 5) [rad] of a full pose (world)."""
+        rotations = None if rotation is None else np.reshape(rotation, (1, 3, 3))
+        return self.solve_batch(np.reshape(position, (1, 3)), rotations)[0]
+
+    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (N, 4, 5) [rad] of N full poses (world)."""
+        return self.batch_branches(positions, rotations).q
 
 
 def _branches(

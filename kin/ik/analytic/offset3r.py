@@ -3,23 +3,127 @@
 The arm plane (joints 2 and 3) is vertical and lies at ``lateral`` from the base axis along
 ``z1``. A tool point ``p`` at horizontal distance ``rho`` from the base axis is in that plane for
 ``sin(q1 + theta1 - atan2(py, px)) = sign1 * lateral / rho``: two base angles (shoulder left and
-right, or front and back without offset); in the plane, :func:`~ik.planar2r.two_link` gives the
-two elbow branches of each. Four branches in all.
+right, or front and back without offset); in the plane, :func:`~.planar2r.two_link` gives the
+two elbow branches of each. Four branches in all. :class:`Offset3R` is a closed-form structure
+plug-in (:mod:`.closed_form_structure`): base yaw, then two parallel pitch joints
+(``alpha1 = +-90 deg``, ``alpha2 = alpha3 = 0``); the lateral offset ``d2 + d3 + tool z`` (the
+shoulder offset) may be non-zero.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
 
+import numpy as np
+
+from dh2urdf import DHTable
+
+from ..target import PositionTarget, Target
 from .branches import REACH_TOL, Branches
-from .planar2r import MERGE_COS, two_link
-from .structure import Offset3R
+from .closed_form_structure import BatchBranches
+from .planar2r import MERGE_COS, two_link, two_link_batch, without_missing
+from .structure import BaseFrame, Checker, Link, tool_point
+
+#: Labels of the batch columns: base angle 1 (towards the target) and 2, elbow sine + and -.
+BATCH_LABELS = ("base 1, elbow +", "base 1, elbow -", "base 2, elbow +", "base 2, elbow -")
 
 #: Per shoulder label, the labels of its two elbow branches (up, down).
 ELBOW_LABELS = {
     shoulder: (f"{shoulder}, elbow up", f"{shoulder}, elbow down")
     for shoulder in ("shoulder back", "shoulder front", "shoulder left", "shoulder right")
 }
+
+
+@dataclass(frozen=True)
+class Offset3R:
+    """Base yaw and two parallel pitch joints, with a possible shoulder (lateral) offset.
+
+    Attributes:
+        sign1: Sign of ``alpha1`` (+1 or -1): the arm plane's "up" is ``sign1 * z0``.
+        a1: Radial offset of the shoulder axis from the base axis [m].
+        d1: Height of the shoulder axis [m].
+        lateral: Offset of the arm plane along ``z1`` [m] (``d2 + d3 + tool z``).
+        link2, link3: In-plane link vectors (the last includes the tool point).
+        offsets: DH angle offsets [rad].
+        base: DH frame 0 in the world.
+    """
+
+    name: ClassVar[str] = "offset3r"
+    dof: ClassVar[int] = 3
+    target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget,)
+    branch_labels: ClassVar[tuple[str, ...]] = BATCH_LABELS
+
+    sign1: float
+    a1: float
+    d1: float
+    lateral: float
+    link2: Link
+    link3: Link
+    offsets: tuple[float, ...]
+    base: BaseFrame = field(repr=False, compare=False)
+
+    @classmethod
+    def recognise(cls, table: DHTable) -> Offset3R:
+        """Parameters of a base-yaw + two-pitch arm with shoulder offset.
+
+        Raises:
+            StructureError: The table does not have that structure.
+        """
+        check = Checker(table, "offset 3R")
+        check.rows(3)
+        row1, row2, row3 = table.rows
+        sign1 = math.copysign(1.0, check.alpha(row1, (math.pi / 2, -math.pi / 2)))
+        check.alpha(row2, (0.0,))
+        check.alpha(row3, (0.0,))
+        tool = tool_point(table)
+        return cls(
+            sign1=sign1,
+            a1=row1.a,
+            d1=row1.d,
+            lateral=row2.d + row3.d + tool[2],
+            link2=check.link(row2.a, 0.0, f"row 2 ('{row2.name}')"),
+            link3=check.link(row3.a + tool[0], tool[1], f"row 3 ('{row3.name}') with the tool"),
+            offsets=(row1.theta, row2.theta, row3.theta),
+            base=BaseFrame.of(table),
+        )
+
+    def branches(self, target: Target, seed: Sequence[float]) -> Branches:
+        """All branches of a position target (see :func:`solve_offset3r`)."""
+        x, y, z = self.base.point(target.position.tolist())
+        return solve_offset3r(self, x, y, z, free_t1=seed[0] + self.offsets[0])
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """All branches of N tool points (N, 3) [m] (``rotations`` is ignored)."""
+        p0 = self.base.points(positions)
+        rho = np.hypot(p0[:, 0], p0[:, 1])
+        phi = np.arctan2(p0[:, 1], p0[:, 0])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            delta = np.arcsin(np.clip(self.sign1 * self.lateral / rho, -1.0, 1.0))
+        reach = np.sqrt(np.maximum(0.0, rho * rho - self.lateral**2))
+        v = self.sign1 * (p0[:, 2] - self.d1)
+        columns = []
+        for base, radial in ((phi + delta, reach), (phi + np.pi - delta, -reach)):
+            u = radial - self.a1
+            t2, t3, sin_b, exists = two_link_batch(u, v, self.link2, self.link3)
+            exists = exists & (rho >= abs(self.lateral) - REACH_TOL)[:, None]
+            up = self.sign1 * np.where(u >= 0, 1.0, -1.0)[:, None] * sin_b < 0
+            t1 = np.broadcast_to(base[:, None], t2.shape)
+            columns.append((np.stack([t1, t2, t3], -1), exists, up))
+        thetas = np.concatenate([c[0] for c in columns], axis=1)
+        exists = np.concatenate([c[1] for c in columns], axis=1)
+        up = np.concatenate([c[2] for c in columns], axis=1)
+        return BatchBranches(without_missing(thetas, exists, self.offsets), up)
+
+    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (4, 3) [rad] of a tool point [m]."""
+        return self.solve_batch(np.reshape(position, (1, 3)), None)[0]
+
+    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (N, 4, 3) [rad] of N tool points (N, 3) [m]."""
+        return self.batch_branches(positions, rotations).q
 
 
 def elbow_label(sign1: float, u: float, sin_b: float) -> str:

@@ -1,16 +1,28 @@
-"""Closed-form IK of two parallel revolute joints (the planar 2R arm and the elbow of larger arms).
+"""The planar 2R structure, and the two-link chain every closed form here solves.
 
 The chain is ``p = l1 (cos b1, sin b1) + l2 (cos(b1 + b2), sin(b1 + b2))`` with ``b1, b2`` the
 angles of the link vectors; the law of cosines gives ``b2`` (two signs, the elbow branches) and
-``b1`` follows. :func:`two_link` is shared by the 3- and 5-joint solvers.
+``b1`` follows. :func:`two_link` (scalar) and :func:`two_link_batch` (NumPy) are shared by the
+3- and 5-joint structures. :class:`Planar2R` is a closed-form structure plug-in
+(:mod:`.closed_form_structure`): two joints with parallel axes (``alpha1 = alpha2 = 0``), the
+tool point moving in a plane.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
 
+import numpy as np
+
+from dh2urdf import DHTable
+
+from ..target import PositionTarget, Target
 from .branches import REACH_TOL, Branches
-from .structure import Link, Planar2R
+from .closed_form_structure import BatchBranches
+from .structure import BaseFrame, Checker, Link, tool_point
 
 #: |cos b2| above which the two elbow branches are merged (stretched or folded arm).
 MERGE_COS = 1.0 - 1e-13
@@ -76,6 +88,97 @@ def two_link(
         t2 = b2 - link2.angle + link1.angle
         solutions.append((t1, t2, sin_b2))
     return solutions, gap, singular
+
+
+def two_link_batch(
+    x: np.ndarray, y: np.ndarray, link1: Link, link2: Link
+) -> tuple[np.ndarray, ...]:
+    """Vectorized :func:`two_link`: ``(t1, t2, sin_b2, exists)``, each (N, 2) (elbow +, -)."""
+    l1, l2 = link1.length, link2.length
+    r = np.hypot(x, y)
+    exists = np.maximum(r - (l1 + l2), abs(l1 - l2) - r) <= REACH_TOL
+    cos_b2 = np.clip((x * x + y * y - l1 * l1 - l2 * l2) / (2.0 * l1 * l2), -1.0, 1.0)
+    cos_b2 = np.where(np.abs(cos_b2) >= MERGE_COS, np.sign(cos_b2), cos_b2)
+    sin_abs = np.sqrt(np.maximum(0.0, 1.0 - cos_b2 * cos_b2))
+    sin_b2 = np.stack([sin_abs, -sin_abs], axis=-1)
+    cos_b2 = cos_b2[..., None]
+    b2 = np.arctan2(sin_b2, cos_b2)
+    b1 = np.arctan2(y, x)[..., None] - np.arctan2(l2 * sin_b2, l1 + l2 * cos_b2)
+    t1 = b1 - link1.angle
+    t2 = b2 - link2.angle + link1.angle
+    return t1, t2, sin_b2, np.broadcast_to(exists[..., None], t1.shape)
+
+
+def without_missing(thetas: np.ndarray, exists: np.ndarray, offsets: Sequence[float]) -> np.ndarray:
+    """Joint vectors ``thetas - offsets`` (N, B, dof), NaN where the branch does not exist."""
+    q = thetas - np.asarray(offsets)
+    q[~exists] = np.nan
+    return q
+
+
+@dataclass(frozen=True)
+class Planar2R:
+    """Two-joint planar arm: the tool point is ``Rz(t1) l1 + Rz(t1 + t2) l2`` at height ``z``.
+
+    Attributes:
+        link1, link2: In-plane link vectors (the second includes the tool point).
+        height: z of the plane of motion in frame 0 [m].
+        offsets: DH angle offsets ``theta`` [rad] (DH angle = q + offset).
+        base: DH frame 0 in the world.
+    """
+
+    name: ClassVar[str] = "planar2r"
+    dof: ClassVar[int] = 2
+    target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget,)
+    branch_labels: ClassVar[tuple[str, ...]] = ("elbow +", "elbow -")
+
+    link1: Link
+    link2: Link
+    height: float
+    offsets: tuple[float, ...]
+    base: BaseFrame = field(repr=False, compare=False)
+
+    @classmethod
+    def recognise(cls, table: DHTable) -> Planar2R:
+        """Parameters of a two-joint planar arm.
+
+        Raises:
+            StructureError: The table is not a planar 2R arm.
+        """
+        check = Checker(table, "planar 2R")
+        check.rows(2)
+        row1, row2 = table.rows
+        check.alpha(row1, (0.0,))
+        check.alpha(row2, (0.0,))
+        tool = tool_point(table)
+        return cls(
+            link1=check.link(row1.a, 0.0, f"row 1 ('{row1.name}')"),
+            link2=check.link(row2.a + tool[0], tool[1], f"row 2 ('{row2.name}') with the tool"),
+            height=row1.d + row2.d + tool[2],
+            offsets=(row1.theta, row2.theta),
+            base=BaseFrame.of(table),
+        )
+
+    def branches(self, target: Target, seed: Sequence[float]) -> Branches:
+        """Both elbow branches of a position target (see :func:`solve_planar2r`)."""
+        x, y, z = self.base.point(target.position.tolist())
+        return solve_planar2r(self, x, y, z, free_t1=seed[0] + self.offsets[0])
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """Both elbow branches of N tool points (N, 3) [m] (``rotations`` is ignored)."""
+        p0 = self.base.points(positions)
+        t1, t2, sin_b, exists = two_link_batch(p0[:, 0], p0[:, 1], self.link1, self.link2)
+        exists = exists & (np.abs(p0[:, 2] - self.height) <= REACH_TOL)[:, None]
+        q = without_missing(np.stack([t1, t2], axis=-1), exists, self.offsets)
+        return BatchBranches(q, sin_b < 0)
+
+    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (2, 2) [rad] of a tool point [m]."""
+        return self.solve_batch(np.reshape(position, (1, 3)), None)[0]
+
+    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (N, 2, 2) [rad] of N tool points (N, 3) [m]."""
+        return self.batch_branches(positions, rotations).q
 
 
 def solve_planar2r(

@@ -1,4 +1,4 @@
-"""Closed-form IK of the seven-joint arm (:class:`~ik.structure.SevenDof`) for a chosen joint-1 angle.
+"""Closed-form IK of the seven-joint arm (:class:`~kin.ik.analytic.structure.SevenDof`) for a chosen joint-1 angle.
 
 The arm is redundant: joint 1 is left free. For a given ``q1``:
 
@@ -15,7 +15,7 @@ Up to 8 joint vectors per ``q1``. For a position-only target the wrist angles ar
 
 All of it is scalar arithmetic; the numeric solver (:mod:`ik.numeric`) picks ``q1`` (and the
 wrist) from its seed table and has Pinocchio judge every answer. :meth:`SevenDofIK.first` runs the
-compiled twin of this module (``ik/_closed7.c``, an optional extension built at install when a C
+compiled twin of this module (``kin/ik/analytic/_closed7.c``, an optional extension built at install when a C
 compiler is there) and this Python code otherwise; the tests compare the two. ``t_i`` are DH
 angles, ``q_i = t_i - theta_i`` joint values [rad]; lengths in [m].
 """
@@ -34,7 +34,7 @@ try:
 except ImportError:  # pragma: no cover - the extension is optional
     _closed7 = None
 
-#: Whether the compiled twin (``ik/_closed7.c``) is built.
+#: Whether the compiled twin (``kin/ik/analytic/_closed7.c``) is built.
 COMPILED = _closed7 is not None
 
 #: Slack on ``|cos| <= 1`` of the elbow and pair angles (rounding at the edge of the workspace).
@@ -101,7 +101,7 @@ def pack_params(
 
 
 class SevenDofIK:
-    """Closed-form branches of a :class:`~ik.structure.SevenDof` arm for chosen free joints.
+    """Closed-form branches of a :class:`~kin.ik.analytic.structure.SevenDof` arm for chosen free joints.
 
     Args:
         structure: The arm's parameters.

@@ -72,7 +72,7 @@ class NumericIK:
         random_patience: ``patience`` of the random starts (a mink QP run is always followed
             by ``newton_iterations`` damped Newton steps).
         closed_form: Try the closed form first when the arm has the
-            :class:`~ik.structure.SevenDof` structure (False: damped Newton and mink only).
+            :class:`~kin.ik.analytic.structure.SevenDof` structure (False: damped Newton and mink only).
         closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
         closed_form_steps: Joint-1 scan steps of the first closed-form starts [rad], coarse to
             fine: when a start's joint 1 gives no branch inside the limits, joint 1 is scanned

@@ -1,0 +1,72 @@
+"""The registered closed-form structures, asked in turn whether a DH table fits.
+
+Each entry is a class meeting :class:`~.closed_form_structure.ClosedFormStructure`. Several may
+share a joint count: :func:`recognise` asks, in order, every structure of the table's joint
+count and takes the first that fits. :func:`register` adds one (see
+:mod:`.closed_form_structure` for what it must provide).
+"""
+
+from __future__ import annotations
+
+from dh2urdf import DHTable
+
+from ..exceptions import StructureError
+from .closed_form_structure import ClosedFormStructure
+from .five_dof import FiveDof
+from .offset3r import Offset3R
+from .planar2r import Planar2R
+
+#: The registered structures, in the order they are asked.
+CLOSED_FORMS: list[type[ClosedFormStructure]] = [Planar2R, Offset3R, FiveDof]
+
+
+def register(structure: type[ClosedFormStructure], *, first: bool = False) -> None:
+    """Add a structure to :data:`CLOSED_FORMS` (last, or ``first``); once only.
+
+    Raises:
+        TypeError: ``structure`` lacks a part of :class:`ClosedFormStructure`.
+    """
+    missing = [
+        part
+        for part in ("name", "dof", "target_kinds", "branch_labels", "recognise", "solve")
+        + ("solve_batch",)
+        if not hasattr(structure, part)
+    ]
+    if missing:
+        raise TypeError(f"{structure.__name__} is not a closed-form structure: no {missing}")
+    if structure in CLOSED_FORMS:
+        return
+    if first:
+        CLOSED_FORMS.insert(0, structure)
+    else:
+        CLOSED_FORMS.append(structure)
+
+
+def recognise(table: DHTable) -> ClosedFormStructure:
+    """The structure of the table's arm: the first of :data:`CLOSED_FORMS` that fits.
+
+    Raises:
+        StructureError: No closed-form structure fits; the message says what does not fit each
+            one that has the table's number of joints.
+    """
+    failures = []
+    for structure in CLOSED_FORMS:
+        if structure.dof != table.dof:
+            continue
+        try:
+            return structure.recognise(table)
+        except StructureError as err:
+            failures.append(err)
+    if len(failures) == 1:
+        raise failures[0]
+    if failures:
+        raise StructureError(table.name, "closed-form", "; ".join(err.mismatch for err in failures))
+    counts = sorted({structure.dof for structure in CLOSED_FORMS})
+    kinds = ", ".join(f"{s.dof}: {s.name}" for s in CLOSED_FORMS)
+    raise StructureError(
+        table.name,
+        "closed-form",
+        f"{table.dof} joints; closed-form solvers exist for "
+        + ", ".join(str(c) for c in counts)
+        + f" joints ({kinds})",
+    )
