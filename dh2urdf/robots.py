@@ -53,8 +53,12 @@ ROBOTS: dict[str, RobotDescription] = {
     "panda": RobotDescription("panda", ("industrial", "redundant")),
     "pickplace3": RobotDescription("pickplace3", ("paper",)),
     "planar2": RobotDescription("planar2", ("paper", "planar")),
+    "puma560": RobotDescription("puma560", ("industrial",)),
     "scorbot": RobotDescription("scorbot", ("paper",)),
+    "ur10": RobotDescription("ur10", ("industrial",)),
+    "ur3": RobotDescription("ur3", ("industrial",)),
     "ur5": RobotDescription("ur5", ("industrial",)),
+    "xarm7": RobotDescription("xarm7", ("industrial", "redundant")),
 }
 
 

@@ -70,8 +70,12 @@ def test_robots_table_and_json(capsys):
         "panda": "7R",
         "pickplace3": "3R",
         "planar2": "2R",
+        "puma560": "6R",
         "scorbot": "5R",
+        "ur10": "6R",
+        "ur3": "6R",
         "ur5": "6R",
+        "xarm7": "7R",
     }
     for record, row in zip(records, rows):
         table = ROBOTS[record["name"]].load_table()

@@ -51,7 +51,7 @@ def test_robot_registry_is_sorted_and_consistent():
     """ROBOTS is sorted by name, robot_names() follows it, and each entry is keyed by its name."""
     assert list(ROBOTS) == sorted(ROBOTS)
     assert robot_names() == tuple(ROBOTS)
-    assert len(robot_names()) == 8
+    assert len(robot_names()) == 12
     for name, description in ROBOTS.items():
         assert description.name == name, f"{name=}"
         assert description.tags, f"{name=} has no tags"

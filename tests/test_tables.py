@@ -200,9 +200,9 @@ def test_malformed_table_through_kin_raises_table_error(tmp_path):
 def test_unknown_robot_lists_known_robots(loader):
     """An unknown robot name raises UnknownRobotError whose message lists every known robot."""
     with pytest.raises(UnknownRobotError) as info:
-        loader("ur10")
+        loader("ur16e")
     message = str(info.value)
-    assert "ur10" in message
+    assert "ur16e" in message
     for name in robot_names():
         assert name in message, f"{name=} {message=}"
     assert info.value.known == robot_names()
