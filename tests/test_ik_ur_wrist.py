@@ -314,3 +314,21 @@ def test_same_solutions_as_ur_analytic_ik():
             assert wrapped_gap(ours, branch).min() < 1e-9, f"{q[k]=} {branch=}"
             compared += 1
     assert compared > 4000
+
+
+def test_batch_larger_than_a_block_and_malformed_targets():
+    """More targets than a block give the same rows as solve; malformed shapes raise TargetError."""
+    from kin.ik.analytic._six_r import BLOCK
+    from kin.ik.exceptions import TargetError
+
+    table = arm_table("random_modified_0")
+    solver = URWrist6R.recognise(table)
+    q = np.random.default_rng(4).uniform(-PI, PI, (BLOCK + 3, 6))
+    poses = kin.batch_forward_kinematics(table, q)
+    batch = solver.solve_batch(poses[:, :3, 3], poses[:, :3, :3])
+    assert batch.shape == (BLOCK + 3, 8, 6)
+    for k in (0, BLOCK - 1, BLOCK, BLOCK + 2):
+        scalar = solver.solve(poses[k, :3, 3], poses[k, :3, :3])
+        np.testing.assert_allclose(batch[k], scalar, atol=1e-9, equal_nan=True)
+    with pytest.raises(TargetError, match=r"got \(2, 3\) and \(3, 3, 3\)"):
+        solver.solve_batch(poses[:2, :3, 3], poses[:3, :3, :3])

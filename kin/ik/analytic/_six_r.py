@@ -16,12 +16,14 @@ that a :class:`~kin.ik.exceptions.StructureError` names the row and the paramete
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
+import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..exceptions import StructureError
+from ..exceptions import StructureError, TargetError
 
 #: Tolerance on DH twists [rad] when a structure needs an exact value (0.1 deg is far outside).
 ANGLE_TOL = 1e-9
@@ -31,6 +33,9 @@ LENGTH_TOL = 1e-12
 SLACK = 1e-12
 #: Below this ``|sin|`` of the wrist angle a joint is free (singular wrist) [-].
 SINGULAR = 1e-12
+
+#: Targets per block of the batched solvers (the block's arrays stay in the CPU cache).
+BLOCK = 4096
 
 _TWO_PI = 2.0 * math.pi
 
@@ -213,3 +218,27 @@ def wrap_array(angle: np.ndarray) -> np.ndarray:
     """:func:`wrap` of every element (NaN stays NaN)."""
     out = angle - _TWO_PI * np.round(angle / _TWO_PI)
     return np.where(out <= -math.pi, out + _TWO_PI, out)
+
+
+def in_blocks(
+    solve_block: Callable[[np.ndarray, np.ndarray, float], np.ndarray],
+    positions: npt.ArrayLike,
+    rotations: npt.ArrayLike,
+    free: float,
+) -> np.ndarray:
+    """``solve_block`` over blocks of :data:`BLOCK` targets, stacked: (N, 8, 6).
+
+    Raises:
+        TargetError: ``positions`` is not (N, 3) or ``rotations`` not (N, 3, 3).
+    """
+    p = np.asarray(positions, dtype=float)
+    r = np.asarray(rotations, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
+        raise TargetError(
+            f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
+        )
+    if len(p) <= BLOCK:
+        return solve_block(p, r, free)
+    return np.concatenate(
+        [solve_block(p[i : i + BLOCK], r[i : i + BLOCK], free) for i in range(0, len(p), BLOCK)]
+    )

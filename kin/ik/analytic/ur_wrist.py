@@ -40,7 +40,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, wrap, wrap_array
+from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
 
 try:
     from typing import Self
@@ -267,7 +267,10 @@ class URWrist6R:
         Returns:
             Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
         """
-        p, r = self._frame.batch(np.asarray(positions), np.asarray(rotations))
+        return in_blocks(self._solve_block, positions, rotations, free)
+
+    def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
+        p, r = self._frame.batch(positions, rotations)
         s1, c1, ex, ey, s45 = self._k
         a1, d1, a2, a3, h, d6 = self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6
         o1, o2, o3, o4, o5, o6 = self.offsets
