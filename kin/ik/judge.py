@@ -120,11 +120,10 @@ class ToolJudge:
             position: Target tool position in the world frame [m] (3).
             rotation: Target ``R_world_tool`` row-major (9), or None for a position target.
         """
+        if rotation is None:  # the translation alone: no 4x4 matrix
+            return math.dist(self.tool_pose(q).translation.tolist(), position), None
         p_fk, r_fk = self.tool(q)
-        position_error = math.dist(p_fk, position)
-        if rotation is None:
-            return position_error, None
-        return position_error, rotation_error(r_fk, rotation)
+        return math.dist(p_fk, position), rotation_error(r_fk, rotation)
 
     def within_limits(self, q: Sequence[float]) -> bool:
         """Whether ``lower <= q <= upper`` joint by joint (no tolerance)."""

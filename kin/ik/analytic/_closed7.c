@@ -79,25 +79,35 @@ static int inside(const Params *P, int i, double q)
     return P->lo[i] <= q && q <= P->hi[i];
 }
 
+/* SevenDofIK's _harmonic_roots: angles t with p cos t + q sin t = k; returns how many (0 to 2). */
+static int harmonic_roots(double p, double q, double k, double *t)
+{
+    double rho = hypot(p, q);
+    if (rho < 1e-15) return 0;
+    double c = k / rho;
+    if (!clamp_cos(&c)) return 0;
+    double phi = atan2(q, p), delta = acos(c);
+    if (!(delta > 0.0)) {
+        t[0] = phi;
+        return 1;
+    }
+    t[0] = phi + delta;
+    t[1] = phi - delta;
+    return 2;
+}
+
 /* SevenDofIK's _rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
    sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
 static int rotation_pair(double sa, double ca, const double *v, const double *d, double *ta,
                          double *tb)
 {
-    double p = sa * v[1], q = sa * v[0];
-    double rho = hypot(p, q);
-    if (rho < 1e-15) return 0;
-    double c = (d[2] - ca * v[2]) / rho;
-    if (!clamp_cos(&c)) return 0;
-    double phi = atan2(q, p), delta = acos(c), heading = atan2(d[1], d[0]);
-    int n = delta > 0.0 ? 2 : 1;
+    int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], tb);
+    double heading = atan2(d[1], d[0]);
     for (int i = 0; i < n; i++) {
-        double t = n == 1 ? phi : (i == 0 ? phi + delta : phi - delta);
-        double cb = cos(t), sb = sin(t);
+        double cb = cos(tb[i]), sb = sin(tb[i]);
         double mx = v[0] * cb - v[1] * sb;
         double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
         ta[i] = heading - atan2(my, mx);
-        tb[i] = t;
     }
     return n;
 }
@@ -115,17 +125,9 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, Ar
     double dx = dv[0], dy = dv[1], dz = dv[2];
     double ux = u[0], uy = u[1], uz = u[2];
     double sx = s3v[0], sy = s3v[1], sz = s3v[2];
-    double p = sx * ux + sy * uy, q = sy * ux - sx * uy;
-    double rho = hypot(p, q);
-    if (rho < 1e-15) return 0;
     double k = 0.5 * (ux * ux + uy * uy + uz * uz + P->s3_2[0] - dx * dx - dy * dy - dz * dz);
-    double cosine = (k - sz * uz) / rho;
-    if (!clamp_cos(&cosine)) return 0;
-    double phi = atan2(q, p), delta = acos(cosine);
-    double s3 = S[2], c3 = C[2];
-    double t4s[2] = {phi + delta, phi - delta};
-    int n4 = delta > 0.0 ? 2 : 1, count = 0;
-    if (n4 == 1) t4s[0] = phi;
+    double s3 = S[2], c3 = C[2], t4s[2];
+    int n4 = harmonic_roots(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz, t4s), count = 0;
     for (int i = 0; i < n4; i++) {
         double t4 = t4s[i];
         double q4 = remainder(t4 - off[3], TWO_PI);

@@ -40,7 +40,7 @@ ones; ``first=True`` to ask it first), or add it to ``CLOSED_FORMS`` in
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
@@ -48,6 +48,7 @@ import numpy as np
 from dh2urdf import DHTable
 
 from .branches import Branches
+from .structure import BaseFrame
 
 if TYPE_CHECKING:
     from ..target import PitchTarget, Target
@@ -94,6 +95,34 @@ class BatchBranches:
     q: np.ndarray
     elbow_up: np.ndarray
     approach: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class TableStructure:
+    """What the shipped structures share: their offsets, their frame 0, the plain interface.
+
+    Subclasses implement :meth:`batch_branches`; :meth:`solve` and :meth:`solve_batch` follow.
+
+    Attributes:
+        offsets: DH angle offsets ``theta`` [rad] (DH angle = q + offset).
+        base: DH frame 0 in the world.
+    """
+
+    offsets: tuple[float, ...]
+    base: BaseFrame = field(repr=False, compare=False)
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """Candidates of N world targets with the elbow side (the subclass's)."""
+        raise NotImplementedError
+
+    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (B, dof) [rad] of one world target."""
+        rotations = None if rotation is None else np.reshape(rotation, (1, 3, 3))
+        return self.solve_batch(np.reshape(position, (1, 3)), rotations)[0]
+
+    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (N, B, dof) [rad] of N world targets."""
+        return self.batch_branches(positions, rotations).q
 
 
 @runtime_checkable

@@ -31,9 +31,9 @@ from dh2urdf import DHTable
 
 from ..target import PitchTarget, PoseTarget, Target
 from .branches import REACH_TOL, Branches
-from .closed_form_structure import BatchBranches
-from .offset3r import ELBOW_LABELS, elbow_label
-from .planar2r import MERGE_COS, two_link, two_link_batch, without_missing
+from .closed_form_structure import BatchBranches, TableStructure
+from .offset3r import elbow_branches
+from .planar2r import two_link_batch, without_missing
 from .structure import LENGTH_TOL, BaseFrame, Checker, Link, near, tool_point
 
 #: Largest out-of-plane component of the approach axis (or target point, [m]) of a reachable pose.
@@ -41,7 +41,7 @@ PLANE_TOL = 1e-9
 
 
 @dataclass(frozen=True)
-class FiveDof:
+class FiveDof(TableStructure):
     """Base yaw, three parallel pitch joints, wrist roll; tool point on the roll axis.
 
     Attributes:
@@ -81,8 +81,6 @@ class FiveDof:
     a4: float
     reach: float
     R_roll_tool: np.ndarray
-    offsets: tuple[float, ...]
-    base: BaseFrame = field(repr=False, compare=False)
     roll_tool_rows: tuple[tuple[float, ...], ...] | None = field(
         init=False, repr=False, compare=False
     )
@@ -233,15 +231,6 @@ class FiveDof:
         approach = self.base.vectors_to_world(a0)
         return BatchBranches(without_missing(thetas, exists, self.offsets), up, approach)
 
-    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        """Candidate joint vectors (4, 5) [rad] of a full pose (world)."""
-        rotations = None if rotation is None else np.reshape(rotation, (1, 3, 3))
-        return self.solve_batch(np.reshape(position, (1, 3)), rotations)[0]
-
-    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
-        """Candidate joint vectors (N, 4, 5) [rad] of N full poses (world)."""
-        return self.batch_branches(positions, rotations).q
-
 
 def _branches(
     structure: FiveDof,
@@ -260,7 +249,6 @@ def _branches(
     s, s4 = structure.sign1, structure.sign4
     reach, a4, a1 = structure.reach, structure.a4, structure.a1
     link2, link3 = structure.link2, structure.link3
-    l1, l2, angle1, angle2 = link2.length, link3.length, link2.angle, link3.angle
     px, py, pz = p
     ax, ay, a_z = a
     height = s * (pz - structure.d1)
@@ -280,11 +268,9 @@ def _branches(
         p_r = px * c1 + py * n1
         u = p_r - reach * a_r - a4 * cos_phi - a1
         v = height - reach * sin_psi - a4 * sin_phi
-        # two_link's usual case inlined (same expressions, same values); the rest goes through it
-        r = math.hypot(u, v)
-        gap = max(r - (l1 + l2), abs(l1 - l2) - r)
+        elbows, gap, singular = elbow_branches(s, u, v, link2, link3, shoulder)
         gaps.append(gap)
-        if gap > REACH_TOL:
+        if not elbows:
             continue
         if r5 is not None:
             # the roll is the angle of x5 = r5[:, 0] in the (x4, y4) plane; in frame 0,
@@ -293,35 +279,9 @@ def _branches(
                 s * s4 * (n1 * rx - c1 * ry),
                 math.cos(phi) * (c1 * rx + n1 * ry) + s * math.sin(phi) * rz,
             )
-        cos_b = (u * u + v * v - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
-        if abs(cos_b) < MERGE_COS and r > REACH_TOL:
-            sin_b = math.sqrt(1.0 - cos_b * cos_b)
-            base, k1, k2 = math.atan2(v, u), l1 + l2 * cos_b, l2 * sin_b
-            t2, t2_other = base - math.atan2(k2, k1) - angle1, base - math.atan2(-k2, k1) - angle1
-            b = math.atan2(sin_b, cos_b)
-            t3, t3_other = b - angle2 + angle1, -b - angle2 + angle1
-            # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
-            up, down = ELBOW_LABELS[shoulder]
-            if (
-                s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0
-            ):  # elbow_label(s, u, sin_b) == "elbow up"
-                up, down = down, up
-            append(((t1, t2, t3, phi - t2 - t3, t5), down))
-            append(((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), up))
-            continue
-        solutions, _, singular = two_link(u, v, link2, link3)
-        if len(solutions) == 2:
-            (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
-            elbow = elbow_label(s, u, sin_b)
-            append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {elbow}"))
-            elbow = "elbow down" if elbow == "elbow up" else "elbow up"
-            append(
-                ((t1, t2_other, t3_other, phi - t2_other - t3_other, t5), f"{shoulder}, {elbow}")
-            )
-        else:
-            for t2, t3, _ in solutions:
-                append(((t1, t2, t3, phi - t2 - t3, t5), f"{shoulder}, {singular}"))
-        if singular and solutions:
+        for t2, t3, label in elbows:
+            append(((t1, t2, t3, phi - t2 - t3, t5), label))
+        if singular:
             branches.singular(singular)
     return gaps
 

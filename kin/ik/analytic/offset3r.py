@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
@@ -23,8 +23,8 @@ from dh2urdf import DHTable
 
 from ..target import PositionTarget, Target
 from .branches import REACH_TOL, Branches
-from .closed_form_structure import BatchBranches
-from .planar2r import MERGE_COS, two_link, two_link_batch, without_missing
+from .closed_form_structure import BatchBranches, TableStructure
+from .planar2r import two_link, two_link_batch, without_missing
 from .structure import BaseFrame, Checker, Link, tool_point
 
 #: Labels of the batch columns: base angle 1 (towards the target) and 2, elbow sine + and -.
@@ -38,7 +38,7 @@ ELBOW_LABELS = {
 
 
 @dataclass(frozen=True)
-class Offset3R:
+class Offset3R(TableStructure):
     """Base yaw and two parallel pitch joints, with a possible shoulder (lateral) offset.
 
     Attributes:
@@ -62,8 +62,6 @@ class Offset3R:
     lateral: float
     link2: Link
     link3: Link
-    offsets: tuple[float, ...]
-    base: BaseFrame = field(repr=False, compare=False)
 
     @classmethod
     def recognise(cls, table: DHTable) -> Offset3R:
@@ -117,14 +115,6 @@ class Offset3R:
         up = np.concatenate([c[2] for c in columns], axis=1)
         return BatchBranches(without_missing(thetas, exists, self.offsets), up)
 
-    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        """Candidate joint vectors (4, 3) [rad] of a tool point [m]."""
-        return self.solve_batch(np.reshape(position, (1, 3)), None)[0]
-
-    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
-        """Candidate joint vectors (N, 4, 3) [rad] of N tool points (N, 3) [m]."""
-        return self.batch_branches(positions, rotations).q
-
 
 def elbow_label(sign1: float, u: float, sin_b: float) -> str:
     """``"elbow up"`` when the elbow is above the line from shoulder to wrist (world z).
@@ -136,6 +126,34 @@ def elbow_label(sign1: float, u: float, sin_b: float) -> str:
     """
     side = sign1 * (1.0 if u >= 0.0 else -1.0) * sin_b
     return "elbow up" if side < 0.0 else "elbow down"
+
+
+def elbow_branches(
+    sign1: float, u: float, v: float, link2: Link, link3: Link, shoulder: str
+) -> tuple[list[tuple[float, float, str]], float, str]:
+    """The elbow branches ``(t2, t3, label)`` (DH angles [rad]) putting the wrist at ``(u, v)``.
+
+    Args:
+        sign1: Sign of ``alpha1`` (the plane's ``y`` is ``sign1 * z0``).
+        u: Radial coordinate of the wrist in the arm plane from the shoulder axis [m].
+        v: Its height in the arm plane [m].
+        link2: The upper arm's in-plane link vector.
+        link3: The forearm's (with the tool point, on a three-joint arm).
+        shoulder: The shoulder label the elbow labels extend.
+
+    Returns:
+        The branches (none out of reach), the distance to the reachable annulus [m] (<= 0 when
+        reachable) and ``""`` or why the elbow branches merge (see :func:`~.planar2r.two_link`).
+    """
+    solutions, gap, singular = two_link(u, v, link2, link3)
+    if len(solutions) == 2:
+        # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
+        (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
+        up, down = ELBOW_LABELS[shoulder]
+        if elbow_label(sign1, u, sin_b) == "elbow down":
+            up, down = down, up
+        return [(t2, t3, up), (t2_other, t3_other, down)], gap, singular
+    return [(t2, t3, f"{shoulder}, {singular}") for t2, t3, _ in solutions], gap, singular
 
 
 def solve_offset3r(
@@ -185,7 +203,6 @@ def solve_offset3r(
     gaps = []
     append = branches.thetas.append
     link2, link3 = structure.link2, structure.link3
-    l1, l2, angle1, angle2 = link2.length, link3.length, link2.angle, link3.angle
     for t1, radial in bases:
         u = radial - structure.a1
         if d == 0.0 and rho <= REACH_TOL:
@@ -194,41 +211,11 @@ def solve_offset3r(
             shoulder = "shoulder front" if radial >= 0.0 else "shoulder back"
         else:
             shoulder = "shoulder left" if -d * s * radial > 0.0 else "shoulder right"
-        # two_link's usual case inlined (same expressions, same values); the rest goes through it
-        r = math.hypot(u, v)
-        gap = max(r - (l1 + l2), abs(l1 - l2) - r)
+        elbows, gap, singular = elbow_branches(s, u, v, link2, link3, shoulder)
         gaps.append(gap)
-        if gap > REACH_TOL:
-            continue
-        cos_b = (u * u + v * v - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
-        if abs(cos_b) < MERGE_COS and r > REACH_TOL:
-            sin_b = math.sqrt(1.0 - cos_b * cos_b)
-            base, k1, k2 = math.atan2(v, u), l1 + l2 * cos_b, l2 * sin_b
-            t2, t2_other = base - math.atan2(k2, k1) - angle1, base - math.atan2(-k2, k1) - angle1
-            b = math.atan2(sin_b, cos_b)
-            t3, t3_other = b - angle2 + angle1, -b - angle2 + angle1
-            # the two elbow branches have opposite (non-zero) sin b: one is up, the other down
-            up, down = ELBOW_LABELS[shoulder]
-            if (
-                s * (1.0 if u >= 0.0 else -1.0) * sin_b < 0.0
-            ):  # elbow_label(s, u, sin_b) == "elbow up"
-                append(((t1, t2, t3), up))
-                append(((t1, t2_other, t3_other), down))
-            else:
-                append(((t1, t2, t3), down))
-                append(((t1, t2_other, t3_other), up))
-            continue
-        solutions, gap, singular = two_link(u, v, link2, link3)
-        if len(solutions) == 2:
-            (t2, t3, sin_b), (t2_other, t3_other, _) = solutions
-            elbow = elbow_label(s, u, sin_b)
-            append(((t1, t2, t3), f"{shoulder}, {elbow}"))
-            elbow = "elbow down" if elbow == "elbow up" else "elbow up"
-            append(((t1, t2_other, t3_other), f"{shoulder}, {elbow}"))
-        else:
-            for t2, t3, _ in solutions:
-                append(((t1, t2, t3), f"{shoulder}, {singular}"))
-        if singular and solutions:
+        for t2, t3, label in elbows:
+            append(((t1, t2, t3), label))
+        if singular and elbows:
             branches.singular(singular)
     if not branches.thetas:
         gap = min(gaps)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
@@ -21,7 +21,7 @@ from dh2urdf import DHTable
 
 from ..target import PositionTarget, Target
 from .branches import REACH_TOL, Branches
-from .closed_form_structure import BatchBranches
+from .closed_form_structure import BatchBranches, TableStructure
 from .structure import BaseFrame, Checker, Link, tool_point
 
 #: |cos b2| above which the two elbow branches are merged (stretched or folded arm).
@@ -117,7 +117,7 @@ def without_missing(thetas: np.ndarray, exists: np.ndarray, offsets: Sequence[fl
 
 
 @dataclass(frozen=True)
-class Planar2R:
+class Planar2R(TableStructure):
     """Two-joint planar arm: the tool point is ``Rz(t1) l1 + Rz(t1 + t2) l2`` at height ``z``.
 
     Attributes:
@@ -135,8 +135,6 @@ class Planar2R:
     link1: Link
     link2: Link
     height: float
-    offsets: tuple[float, ...]
-    base: BaseFrame = field(repr=False, compare=False)
 
     @classmethod
     def recognise(cls, table: DHTable) -> Planar2R:
@@ -171,14 +169,6 @@ class Planar2R:
         exists = exists & (np.abs(p0[:, 2] - self.height) <= REACH_TOL)[:, None]
         q = without_missing(np.stack([t1, t2], axis=-1), exists, self.offsets)
         return BatchBranches(q, sin_b < 0)
-
-    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        """Candidate joint vectors (2, 2) [rad] of a tool point [m]."""
-        return self.solve_batch(np.reshape(position, (1, 3)), None)[0]
-
-    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
-        """Candidate joint vectors (N, 2, 2) [rad] of N tool points (N, 3) [m]."""
-        return self.batch_branches(positions, rotations).q
 
 
 def solve_planar2r(

@@ -43,6 +43,27 @@ COS_SLACK = 1e-12
 _TWO_PI = 2.0 * math.pi
 
 
+def _harmonic_roots(p: float, q: float, k: float) -> tuple[float, ...]:
+    """Angles ``t`` [rad] with ``p cos t + q sin t = k``: two, one (a double root) or none.
+
+    ``|k| / hypot(p, q)`` up to :data:`COS_SLACK` above 1 counts as 1 (rounding at the edge).
+    """
+    rho = math.hypot(p, q)
+    if rho < 1e-15:
+        return ()
+    c = k / rho
+    if c > 1.0:
+        if c > 1.0 + COS_SLACK:
+            return ()
+        c = 1.0
+    elif c < -1.0:
+        if c < -1.0 - COS_SLACK:
+            return ()
+        c = -1.0
+    phi, delta = math.atan2(q, p), math.acos(c)
+    return (phi + delta, phi - delta) if delta > 0.0 else (phi,)
+
+
 def _rotation_pair(
     sa: float, ca: float, vx: float, vy: float, vz: float, dx: float, dy: float, dz: float
 ) -> list[tuple[float, float]]:
@@ -51,24 +72,9 @@ def _rotation_pair(
     The z row gives ``sa (vx sin tb + vy cos tb) + ca vz = dz`` (two ``tb``); ``ta`` then turns
     ``Rx(alpha) Rz(tb) v`` about z onto ``d``. ``sa, ca`` are ``sin alpha, cos alpha``.
     """
-    p, q = sa * vy, sa * vx
-    rho = math.hypot(p, q)
-    if rho < 1e-15:
-        return []
-    c = (dz - ca * vz) / rho
-    if c > 1.0:
-        if c > 1.0 + COS_SLACK:
-            return []
-        c = 1.0
-    elif c < -1.0:
-        if c < -1.0 - COS_SLACK:
-            return []
-        c = -1.0
-    phi = math.atan2(q, p)
-    delta = math.acos(c)
     heading = math.atan2(dy, dx)
     pairs = []
-    for tb in (phi + delta, phi - delta) if delta > 0.0 else (phi,):
+    for tb in _harmonic_roots(sa * vy, sa * vx, dz - ca * vz):
         cb, sb = math.cos(tb), math.sin(tb)
         mx = vx * cb - vy * sb
         my = ca * (vx * sb + vy * cb) - sa * vz
@@ -340,25 +346,12 @@ class SevenDofIK:
         # Elbow: |S P|^2 = |u|^2 + |s3|^2 - 2 s3 . Rz(t4) u  ->  p cos t4 + q sin t4 = k.
         ux, uy, uz = u
         sx, sy, sz = self._shoulder3
-        p, q = sx * ux + sy * uy, sy * ux - sx * uy
-        rho = math.hypot(p, q)
-        if rho < 1e-15:
-            return []
         k = 0.5 * (ux * ux + uy * uy + uz * uz + self._shoulder3_2 - dx * dx - dy * dy - dz * dz)
-        cosine = (k - sz * uz) / rho
-        if cosine > 1.0:
-            if cosine > 1.0 + COS_SLACK:
-                return []
-            cosine = 1.0
-        elif cosine < -1.0:
-            if cosine < -1.0 - COS_SLACK:
-                return []
-            cosine = -1.0
-        phi, delta = math.atan2(q, p), math.acos(cosine)
+        elbows = _harmonic_roots(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz)
         s2, c2, s3, c3 = s[1], c[1], s[2], c[2]
         remainder = math.remainder
         out: list[tuple[float, ...]] = []
-        for t4 in (phi + delta, phi - delta) if delta > 0.0 else (phi,):
+        for t4 in elbows:
             q4 = remainder(t4 - off[3], _TWO_PI)
             if not lo[3] <= q4 <= hi[3]:
                 continue
