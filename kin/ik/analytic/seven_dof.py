@@ -82,6 +82,27 @@ def _rotation_pair(
     return pairs
 
 
+def scan(value: float, step: float, low: float, high: float) -> Iterator[float]:
+    """``value``, then ``value + j step`` and ``value - j step`` for j = 1, 2, ... inside ``[low, high]``.
+
+    The free joint's values [rad] outward from a start's: the first that gives a branch inside the
+    limits is the nearest to the start's at that resolution. ``step <= 0``: ``value`` alone.
+    """
+    yield value
+    if not step > 0.0:
+        return
+    j = 1
+    while True:
+        up, down = value + j * step, value - j * step
+        if up > high and down < low:
+            return
+        if low <= up <= high:
+            yield up
+        if low <= down <= high:
+            yield down
+        j += 1
+
+
 def pack_params(
     fields: dict[str, tuple[float, ...]], layout: Sequence[tuple[str, int, int]]
 ) -> np.ndarray:
@@ -255,21 +276,8 @@ class SevenDofIK:
         return -1
 
     def _scan(self, q1: float, step: float) -> Iterator[float]:
-        """``q1``, then ``q1 + j step`` and ``q1 - j step`` for j = 1, 2, ... inside the limits."""
-        yield q1
-        if not step > 0.0:
-            return
-        low, high = self.lower[0], self.upper[0]
-        j = 1
-        while True:
-            up, down = q1 + j * step, q1 - j * step
-            if up > high and down < low:
-                return
-            if low <= up <= high:
-                yield up
-            if low <= down <= high:
-                yield down
-            j += 1
+        """:func:`scan` of joint 1 over its limits."""
+        return scan(q1, step, self.lower[0], self.upper[0])
 
     def _elbow_vector(self, x: float, y: float, z: float) -> tuple[float, float, float]:
         """``u`` with ``A4(t4) (x, y, z) = Rz(t4) u`` for a point fixed in frame 4."""

@@ -1,22 +1,30 @@
-"""Stage 0 of the numeric pipeline: the closed form with a free joint (the SevenDof arm).
+"""Stage 0 of the numeric pipeline: the closed form with a free joint, when the arm has one.
 
-For an arm of the :class:`~kin.ik.analytic.structure.SevenDof` structure (humanoid7): joint 1
-(and, for a position target, joints 5-7) from a start, the other joints in closed form
-(:mod:`kin.ik.analytic.seven_dof`), the branch nearest the start. Starts: the caller's seed, then
-the seed-table samples near the target. When a start's joint 1 gives no branch inside the limits,
-the seed and the first sample scan joint 1 outward from there (coarse to fine): the answer keeps
-the start's joint 1 as nearly as the target allows. The judge (:mod:`kin.ik.judge`) measures
-every answer. Most targets end here, in tens of microseconds.
+:func:`free_joint_closed_form` picks the arm's closed form, first that fits:
+:class:`~kin.ik.analytic.seven_dof.SevenDofIK` (humanoid7's structure: joint 1 free, full poses
+and positions) and :class:`~kin.ik.analytic.spherical_shoulder7.SphericalShoulder7RIK` (axes 1-3
+and 5-6 meeting: Panda, xArm7; joint 7 free, full poses only). Both meet :class:`FreeJointClosedForm`:
+the free joint from a start, the other joints in closed form, the branch nearest the start.
+Starts: the caller's seed, then the seed-table samples near the target. When a start's free joint
+gives no branch inside the limits, the seed and the first sample scan it outward from there
+(coarse to fine): the answer keeps the start's free joint as nearly as the target allows. The
+judge (:mod:`kin.ik.judge`) measures every answer. Most targets end here, in tens of microseconds.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from typing import TYPE_CHECKING
+from collections.abc import Iterator, Sequence
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import numpy.typing as npt
 
+from dh2urdf import DHTable
+
+from ..analytic.seven_dof import SevenDofIK
+from ..analytic.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shoulder7
+from ..analytic.structure import seven_dof
+from ..exceptions import StructureError
 from ..result import IKResult, IKSolution
 from .numeric_target import NumericTarget
 
@@ -28,6 +36,40 @@ if TYPE_CHECKING:
 METHOD = "closed_form_free_joint"
 
 
+class FreeJointClosedForm(Protocol):
+    """A closed form for chosen values of a free joint (what stage 0 asks of it)."""
+
+    def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> Any:
+        """The target's constants for :meth:`first`, or None for a target it does not take."""
+        ...
+
+    def first(
+        self, target: Any, starts: np.ndarray, out: np.ndarray, step: float, compiled: bool
+    ) -> int:
+        """Index of the first start giving a branch inside the limits (written to ``out``), or -1."""
+        ...
+
+
+def free_joint_closed_form(
+    table: DHTable, lower: Sequence[float], upper: Sequence[float]
+) -> FreeJointClosedForm | None:
+    """The free-joint closed form of an arm, or None when none fits its table.
+
+    Args:
+        table: The arm's DH table.
+        lower: Lower joint limits [rad].
+        upper: Upper joint limits [rad].
+    """
+    try:
+        return SevenDofIK(seven_dof(table), lower, upper)
+    except StructureError:
+        pass
+    try:
+        return SphericalShoulder7RIK(spherical_shoulder7(table), lower, upper)
+    except StructureError:
+        return None
+
+
 def solve_free_joint(
     ik: NumericIK, search: Search, seed_q: npt.ArrayLike | None
 ) -> IKResult | None:
@@ -37,6 +79,8 @@ def solve_free_joint(
         return None
     target = search.target
     prepared = closed.prepare(target.position, target.rotation)
+    if prepared is None:  # a target this closed form does not take
+        return None
     position = target.position.tolist()
     rotation = None if target.rotation is None else target.rotation.ravel().tolist()
     out = np.empty(7)

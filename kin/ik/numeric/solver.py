@@ -2,9 +2,10 @@
 
 The stages, in order, until one returns a verified solution or the time budget runs out:
 
-0. :mod:`.free_joint`: the closed form with a free joint, for an arm of the
-   :class:`~kin.ik.analytic.structure.SevenDof` structure (humanoid7) and a target without
-   posture preference. Most of its targets end here, in tens of microseconds.
+0. :mod:`.free_joint`: the closed form with a free joint, for an arm that has one (humanoid7's
+   :class:`~kin.ik.analytic.structure.SevenDof` structure; Panda's and xArm7's
+   :class:`~kin.ik.analytic.spherical_shoulder7.SphericalShoulder7R`, full poses) and a target
+   without posture preference. Most of its targets end here, in tens of microseconds.
 1. :mod:`.starts`: damped Newton from the seed-table samples nearest the target (and the
    caller's seed).
 2. :mod:`.restarts`: random restarts and mink QP runs with hard limits, until the deadline; then
@@ -30,14 +31,13 @@ import numpy.typing as npt
 
 from kin import KinError, RobotModel, as_joint_vector, load_robot
 
-from ..analytic.seven_dof import COMPILED, SevenDofIK
-from ..analytic.structure import seven_dof
-from ..exceptions import StructureError, TargetError
+from ..analytic.seven_dof import COMPILED
+from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
 from ..result import IKResult
 from ..target import PoseTarget, PositionTarget, kind_error
 from .differential_ik import DifferentialIK
-from .free_joint import solve_free_joint
+from .free_joint import FreeJointClosedForm, free_joint_closed_form, solve_free_joint
 from .numeric_target import NumericTarget
 from .restarts import polish_best, solve_with_restarts
 from .search import PIPELINE, Search
@@ -71,15 +71,15 @@ class NumericIK:
         random_between: Random starts between two mink QP runs.
         random_patience: ``patience`` of the random starts (a mink QP run is always followed
             by ``newton_iterations`` damped Newton steps).
-        closed_form: Try the closed form first when the arm has the
-            :class:`~kin.ik.analytic.structure.SevenDof` structure (False: damped Newton and mink only).
+        closed_form: Try the free-joint closed form first when the arm has one
+            (:func:`~.free_joint.free_joint_closed_form`; False: damped Newton and mink only).
         closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
-        closed_form_steps: Joint-1 scan steps of the first closed-form starts [rad], coarse to
-            fine: when a start's joint 1 gives no branch inside the limits, joint 1 is scanned
+        closed_form_steps: Free-joint scan steps of the first closed-form starts [rad], coarse
+            to fine: when a start's free joint gives no branch inside the limits, it is scanned
             outward from there, on the coarse grid first.
-        compiled: Run the closed form's compiled twin (:mod:`kin.ik.analytic._closed7`) when it
-            is built (False: the Python module). Both return the same joint vectors; the twin is
-            faster.
+        compiled: Run the humanoid7 closed form's compiled twin (:mod:`kin.ik.analytic._closed7`)
+            when it is built (False: the Python module). Both return the same joint vectors; the
+            twin is faster.
     """
 
     #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
@@ -131,13 +131,10 @@ class NumericIK:
         )
         self._table: SeedTable | None = None
         self._differential: DifferentialIK | None = None
-        #: Closed form for chosen free joints, or None (the arm does not have the structure).
-        self.closed_form: SevenDofIK | None = None
+        #: The free-joint closed form of this arm, or None (no structure fits, or not asked).
+        self.closed_form: FreeJointClosedForm | None = None
         if closed_form:
-            try:
-                self.closed_form = SevenDofIK(seven_dof(robot.table), self.lower, self.upper)
-            except StructureError:
-                pass
+            self.closed_form = free_joint_closed_form(robot.table, self.lower, self.upper)
         self.closed_form_starts = closed_form_starts
         self.closed_form_steps = tuple(closed_form_steps)
         #: Whether the closed form runs its compiled twin (asked for and built).
@@ -181,9 +178,9 @@ class NumericIK:
         Args:
             target: Tool target: a position, or a full pose for an arm of six joints or more (a
                 :class:`NumericTarget` may add a posture preference).
-            seed: Start joint vector [rad] (or [m] for prismatic joints). The closed form (an
-                arm of the :class:`~kin.ik.analytic.structure.SevenDof` structure) starts from
-                it first: the answer keeps its joint 1 as nearly as the target allows. Damped
+            seed: Start joint vector [rad] (or [m] for prismatic joints). The free-joint closed
+                form (when the arm has one) starts from it first: the answer keeps its free
+                joint as nearly as the target allows. Damped
                 Newton tries it first when its tool pose is at least as near to the target as the
                 nearest seed-table sample's.
             timeout: Time budget [s] (None: :data:`DEFAULT_TIMEOUT`); the first verified

@@ -1,0 +1,557 @@
+"""Closed-form IK of 7R arms with a spherical shoulder, for a chosen joint-7 angle (Panda, xArm7).
+
+The structure (:class:`SphericalShoulder7R`): axes 1, 2 and 3 meet in one point ``S`` (the
+shoulder), joint 4 is an elbow, axes 5 and 6 meet in one point ``W``; joint 7 is general and left
+free. Either DH convention, any base and tool: joint ``i`` is ``L_i Rz(t_i) R_i`` (modified:
+``L = Rx(alpha) Tx(a) Tz(d)``, ``R = I``; standard: ``L = Tz(d)``, ``R = Tx(a) Rx(alpha)``), and the
+chain is rewritten ``M_1 Rz(t_1) M_2 ... M_7 Rz(t_7) M_8`` with ``M_1 = T_world_base L_1``,
+``M_i = R_(i-1) L_i`` (a rotation ``Rx(alpha_i')`` and a translation) and ``M_8 = R_7
+T_last_tool``. Frame ``J_i`` follows ``Rz(t_i)``; frame ``K`` (``M_1``) is fixed, axis 1 its z.
+
+For a full tool pose and a chosen ``q7`` the pose of ``J_6`` is known, and:
+
+1. elbow: ``|S - W|^2`` depends on ``t4`` alone: ``p cos t4 + q sin t4 = k`` (two ``t4``);
+2. wrist: the vector ``S - W`` is known in ``J_6`` (from the target) and in ``J_4`` (from ``t4``);
+   ``Rz(t5) Rx(alpha_6') Rz(t6)`` maps one onto the other (Paden-Kahan 2: two ``(t5, t6)``);
+3. shoulder: ``R_K_J3`` follows; ``Rz(t1) Rx(alpha_2') Rz(t2) Rx(alpha_3') Rz(t3) = R_K_J3`` is a
+   generalised Euler decomposition (two ``(t1, t2)``, then ``t3``).
+
+Up to 8 joint vectors per ``q7``. ``t_i`` are DH angles, ``q_i = t_i - theta_i`` joint values
+[rad]; lengths in [m]. A position-only target is not handled (:meth:`SphericalShoulder7RIK.prepare`
+returns None): the numeric stages answer it. The sub-problems are those of :mod:`.seven_dof`
+(:func:`~.seven_dof._harmonic_roots`, :func:`~.seven_dof._rotation_pair`), the joint-7 scan its
+:func:`~.seven_dof.scan`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from dh2urdf import DHRow, DHTable
+
+from ..exceptions import TargetError
+from .seven_dof import COS_SLACK, _harmonic_roots, _rotation_pair, scan
+from .structure import ANGLE_TOL, LENGTH_TOL, Checker, deg
+
+#: Solver name in :class:`~kin.ik.exceptions.StructureError` messages.
+SOLVER = "seven-joint (spherical shoulder, wrist axes 5-6 meeting, joint 7 free)"
+#: Tolerance [m] of the computed shoulder and wrist points on their axes (a sanity check: the
+#: table's lengths are checked exactly, within :data:`~.structure.LENGTH_TOL`).
+POINT_TOL = 1e-9
+#: Branches per joint-7 value: 2 elbows x 2 wrists x 2 shoulders.
+BRANCHES = 8
+
+_TWO_PI = 2.0 * math.pi
+
+Vec = tuple[float, float, float]
+
+
+def _rot_x(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    out = np.eye(4)
+    out[1:3, 1:3] = ((c, -s), (s, c))
+    return out
+
+
+def _translation(x: float, z: float) -> np.ndarray:
+    out = np.eye(4)
+    out[0, 3], out[2, 3] = x, z
+    return out
+
+
+def joint_factors(table: DHTable) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(L_i, R_i)`` (4x4) of every row: joint ``i`` is ``L_i Rz(q_i + theta_i) R_i``."""
+    eye = np.eye(4)
+    if table.convention == "modified":
+        return [(_rot_x(r.alpha) @ _translation(r.a, r.d), eye) for r in table.rows]
+    return [(_translation(0.0, r.d), _translation(r.a, 0.0) @ _rot_x(r.alpha)) for r in table.rows]
+
+
+@dataclass(frozen=True, eq=False)
+class SphericalShoulder7R:
+    """A 7R arm whose axes 1-3 meet at a shoulder point and axes 5, 6 at a wrist point.
+
+    Attributes:
+        frames: ``M_1 .. M_8`` (4x4, [m]): the fixed transforms between the joint rotations.
+        offsets: DH angle offsets ``theta_1 .. theta_7`` [rad] (DH angle = q + offset).
+        shoulder: ``S`` on axis 1, in frame ``K`` (``M_1``): ``(0, 0, z)`` [m].
+        shoulder3: ``S`` in frame ``J_3`` [m] (on axis 3).
+        wrist4: ``W`` in frame ``J_4`` [m].
+        wrist6: ``W`` in frame ``J_6`` [m] (on axis 6).
+    """
+
+    frames: tuple[np.ndarray, ...] = field(repr=False)
+    offsets: tuple[float, ...]
+    shoulder: Vec
+    shoulder3: Vec
+    wrist4: Vec
+    wrist6: Vec
+
+    @property
+    def twists(self) -> tuple[float, ...]:
+        """``alpha_i'`` [rad] of ``M_i = (Rx(alpha_i'), translation)``, index ``i`` = 2 .. 7.
+
+        Indices 0 and 1 are unused (0.0): ``M_1`` and ``M_8`` hold the base and the tool.
+        """
+        return (0.0, 0.0) + tuple(math.atan2(m[2, 1], m[1, 1]) for m in self.frames[1:7])
+
+
+def spherical_shoulder7(table: DHTable) -> SphericalShoulder7R:
+    """Recognise a :class:`SphericalShoulder7R` table and read its parameters.
+
+    Raises:
+        StructureError: Not seven revolute joints; axes 1-3 not meeting in one point (row and
+            parameter named); axes 5, 6 not meeting; consecutive axes of the shoulder or the wrist
+            parallel; the shoulder or the wrist point on the elbow axis.
+    """
+    check = Checker(table, SOLVER)
+    if table.dof != 7:
+        raise check.fail(f"{table.dof} joints, expected 7")
+    for row in table.rows:
+        if row.joint_type != "revolute":
+            raise check.fail(
+                f"row {row.index} ('{row.name}') is {row.joint_type}, expected revolute"
+            )
+    rows = table.rows
+    modified = table.convention == "modified"
+
+    def between(axis: int) -> DHRow:
+        """The row holding the common normal (a, alpha) of axes ``axis`` and ``axis + 1``."""
+        return rows[axis] if modified else rows[axis - 1]
+
+    for axis, what in ((1, "shoulder"), (2, "shoulder"), (5, "wrist")):
+        row = between(axis)
+        why = f"axes {axis} and {axis + 1} must meet at the {what} point"
+        check.zero(row, "a", why)
+        if abs(math.sin(row.alpha)) <= ANGLE_TOL:
+            raise check.fail(
+                f"row {row.index} ('{row.name}'): alpha = {deg(row.alpha)}, expected an angle "
+                f"other than 0 or 180 deg (axes {axis} and {axis + 1} must not be parallel)"
+            )
+    check.zero(rows[1], "d", "axes 1, 2 and 3 must meet in one point")
+
+    factors = joint_factors(table)
+    frames = [np.asarray(table.T_world_base, dtype=float) @ factors[0][0]]
+    frames += [factors[i - 1][1] @ factors[i][0] for i in range(1, 7)]
+    frames.append(factors[6][1] @ np.asarray(table.T_last_tool, dtype=float))
+    shoulder = _meeting(frames[1])  # axes 1 and 2, in K
+    shoulder2 = _inverse_point(frames[1], shoulder)
+    shoulder3 = _inverse_point(frames[2], shoulder2)
+    wrist5 = _meeting(frames[5])  # axes 5 and 6, in J_5
+    wrist6 = _inverse_point(frames[5], wrist5)
+    for point, where in ((shoulder2, "axis 2"), (shoulder3, "axis 3"), (wrist6, "axis 6")):
+        if math.hypot(point[0], point[1]) > POINT_TOL:  # pragma: no cover - exact checks above
+            raise check.fail(f"the computed {where} point is off its axis")
+    wrist4 = tuple((frames[4] @ (*wrist5, 1.0))[:3].tolist())
+    u = _inverse_point(frames[3], shoulder3)  # S just before Rz(t4)
+    for point, what in ((u, "shoulder"), (wrist4, "wrist")):
+        if math.hypot(point[0], point[1]) <= LENGTH_TOL:
+            raise check.fail(
+                f"the {what} point lies on axis 4: the elbow does not change the "
+                "shoulder-wrist distance"
+            )
+    return SphericalShoulder7R(
+        frames=tuple(frames),
+        offsets=tuple(row.theta for row in rows),
+        shoulder=shoulder,
+        shoulder3=shoulder3,
+        wrist4=(wrist4[0], wrist4[1], wrist4[2]),
+        wrist6=wrist6,
+    )
+
+
+def _meeting(frame: np.ndarray) -> Vec:
+    """Where the next axis (z of ``frame``, seen from its parent) meets the parent's z axis."""
+    p, z = frame[:3, 3], frame[:3, 2]
+    # p + s z on the parent's z axis: p_xy + s z_xy = 0 (least squares; z_xy != 0).
+    s = -float(p[:2] @ z[:2]) / float(z[:2] @ z[:2])
+    return 0.0, 0.0, float(p[2] + s * z[2])
+
+
+def _inverse_point(frame: np.ndarray, point: Sequence[float]) -> Vec:
+    """A parent-frame point seen from ``frame`` (4x4): ``frame^-1 point``."""
+    x, y, z = (frame[:3, :3].T @ (np.asarray(point, dtype=float) - frame[:3, 3])).tolist()
+    return x, y, z
+
+
+def _into_limits(q: float, low: float, high: float, near: float) -> float | None:
+    """``q + 2 pi k`` inside ``[low, high]`` nearest ``near`` [rad], or None."""
+    q = near + math.remainder(q - near, _TWO_PI)
+    if low <= q <= high:
+        return q
+    up, down = q + _TWO_PI, q - _TWO_PI
+    if low <= up <= high and not (low <= down <= high and near - down < up - near):
+        return up
+    if low <= down <= high:
+        return down
+    return None
+
+
+class SphericalShoulder7RIK:
+    """Closed-form branches of a :class:`SphericalShoulder7R` arm for chosen joint-7 values.
+
+    Args:
+        structure: The arm's parameters (:func:`spherical_shoulder7`).
+        lower: Lower joint limits [rad] (7).
+        upper: Upper joint limits [rad] (7).
+    """
+
+    def __init__(
+        self, structure: SphericalShoulder7R, lower: Sequence[float], upper: Sequence[float]
+    ):
+        self.structure = structure
+        self.lower = tuple(float(v) for v in lower)
+        self.upper = tuple(float(v) for v in upper)
+        frames, twists = structure.frames, structure.twists
+        self._sin = tuple(math.sin(v) for v in twists)
+        self._cos = tuple(math.cos(v) for v in twists)
+        self._offsets = structure.offsets
+        self._k_rot = np.array(frames[0][:3, :3])
+        self._k_pos = np.array(frames[0][:3, 3])
+        self._tool_rot = np.array(frames[7][:3, :3])
+        self._tool_pos = np.array(frames[7][:3, 3])
+        self._m7_rot = tuple(tuple(r) for r in frames[6][:3, :3].tolist())
+        # W just before Rz(t7): M_7^-1 W_6.
+        self._c7 = _inverse_point(frames[6], structure.wrist6)
+        self._u = _inverse_point(frames[3], structure.shoulder3)  # S just before Rz(t4)
+        self._w4 = structure.wrist4
+        u, w = self._u, self._w4
+        self._p4 = u[0] * w[0] + u[1] * w[1]
+        self._q4 = u[1] * w[0] - u[0] * w[1]
+        self._k4 = 0.5 * (sum(v * v for v in u) + sum(v * v for v in w)) - u[2] * w[2]
+
+    def prepare(
+        self, position: np.ndarray, rotation: np.ndarray | None
+    ) -> tuple[float, ...] | None:
+        """A target for :meth:`first` and :meth:`branches`, or None for a position (not handled).
+
+        Args:
+            position: Tool position in the world frame [m].
+            rotation: Tool rotation ``R_world_tool``, or None.
+
+        Returns:
+            ``R_K_J7`` (9 values, row-major) and ``S`` seen from ``J_7`` (3 values, [m]).
+        """
+        if rotation is None:
+            return None
+        r = self._k_rot.T @ np.asarray(rotation, dtype=float) @ self._tool_rot.T
+        p = self._k_rot.T @ (np.asarray(position, dtype=float) - self._k_pos) - r @ self._tool_pos
+        e = r.T @ (np.asarray(self.structure.shoulder) - p)
+        return tuple(r.ravel().tolist()) + tuple(e.tolist())
+
+    def branches(
+        self, target: tuple[float, ...], q7: float, fit: Callable[[int, float], float | None]
+    ) -> list[tuple[int, list[float]]]:
+        """Joint vectors [rad] reaching a :meth:`prepare` d target with joint 7 at ``q7``.
+
+        Args:
+            target: :meth:`prepare` of the target.
+            q7: Joint-7 value [rad] (kept as given).
+            fit: ``fit(joint, q)``: joint ``joint``'s (0-based) value for the solved ``q`` [rad],
+                or None to drop the branch (outside a limit); asked joint by joint, a branch
+                leaves at its first None.
+
+        Returns:
+            ``(slot, q)`` per branch: slot ``4 e + 2 w + s`` for the elbow root ``e``, the wrist
+            pair ``w`` and the shoulder pair ``s``.
+        """
+        r00, r01, r02, r10, r11, r12, r20, r21, r22, ex, ey, ez = target
+        s, c, off = self._sin, self._cos, self._offsets
+        cos, sin, atan2 = math.cos, math.sin, math.atan2
+        t7 = q7 + off[6]
+        c7, s7 = cos(t7), sin(t7)
+        wx, wy, wz = self._c7
+        # S - W before Rz(t7): Rz(t7) e - c7; in J_6: M_7's rotation of it.
+        rx, ry, rz = c7 * ex - s7 * ey - wx, s7 * ex + c7 * ey - wy, ez - wz
+        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = self._m7_rot
+        v6x = a00 * rx + a01 * ry + a02 * rz
+        v6y = a10 * rx + a11 * ry + a12 * rz
+        v6z = a20 * rx + a21 * ry + a22 * rz
+        # R_K_J6 = R_K_J7 Rz(-t7) M_7^T (rows).
+        b00, b01 = r00 * c7 - r01 * s7, r00 * s7 + r01 * c7
+        b10, b11 = r10 * c7 - r11 * s7, r10 * s7 + r11 * c7
+        b20, b21 = r20 * c7 - r21 * s7, r20 * s7 + r21 * c7
+        k6 = (
+            (b00 * a00 + b01 * a01 + r02 * a02, b00 * a10 + b01 * a11 + r02 * a12,
+             b00 * a20 + b01 * a21 + r02 * a22),
+            (b10 * a00 + b11 * a01 + r12 * a02, b10 * a10 + b11 * a11 + r12 * a12,
+             b10 * a20 + b11 * a21 + r12 * a22),
+            (b20 * a00 + b21 * a01 + r22 * a02, b20 * a10 + b21 * a11 + r22 * a12,
+             b20 * a20 + b21 * a21 + r22 * a22),
+        )  # fmt: skip
+        ux, uy, uz = self._u
+        w4x, w4y, w4z = self._w4
+        distance2 = rx * rx + ry * ry + rz * rz
+        elbows = _harmonic_roots(self._p4, self._q4, self._k4 - 0.5 * distance2)
+        out: list[tuple[int, list[float]]] = []
+        for e, t4 in enumerate(elbows):
+            q4 = fit(3, t4 - off[3])
+            if q4 is None:
+                continue
+            c4, s4 = cos(t4), sin(t4)
+            # S - W in J_4 (Rz(-t4) u - w4), then through Rx(alpha_5')^T.
+            vx, vy, vz = c4 * ux + s4 * uy - w4x, c4 * uy - s4 * ux - w4y, uz - w4z
+            dy, dz = c[5] * vy + s[5] * vz, c[5] * vz - s[5] * vy
+            for w, (t5, t6) in enumerate(_rotation_pair(s[6], c[6], v6x, v6y, v6z, vx, dy, dz)):
+                q5 = fit(4, t5 - off[4])
+                if q5 is None:
+                    continue
+                q6 = fit(5, t6 - off[5])
+                if q6 is None:
+                    continue
+                # z and x of J_3 in K: R_K_J6 Rz(-t6) Rx6^T Rz(-t5) Rx5^T Rz(-t4) Rx4^T (e_z, e_x).
+                turns = ((t4, s[5], c[5]), (t5, s[6], c[6]), (t6, 0.0, 1.0))
+                z = _back(k6, turns, 0.0, s[4], c[4])
+                x = _back(k6, turns, 1.0, 0.0, 0.0)
+                for h, (t1, t2) in enumerate(_rotation_pair(s[2], c[2], 0.0, -s[3], c[3], *z)):
+                    q1 = fit(0, t1 - off[0])
+                    if q1 is None:
+                        continue
+                    q2 = fit(1, t2 - off[1])
+                    if q2 is None:
+                        continue
+                    # t3: Rx3^T Rz(-t2) Rx2^T Rz(-t1) x_3 = (cos t3, sin t3, 0).
+                    ct, st = cos(t1), sin(t1)
+                    nx, ny, nz = ct * x[0] + st * x[1], ct * x[1] - st * x[0], x[2]
+                    ny, nz = c[2] * ny + s[2] * nz, c[2] * nz - s[2] * ny
+                    ct, st = cos(t2), sin(t2)
+                    nx, ny = ct * nx + st * ny, ct * ny - st * nx
+                    ny = c[3] * ny + s[3] * nz
+                    q3 = fit(2, atan2(ny, nx) - off[2])
+                    if q3 is not None:
+                        out.append((4 * e + 2 * w + h, [q1, q2, q3, q4, q5, q6, q7]))
+        return out
+
+    def solve(self, position: npt.ArrayLike, rotation: npt.ArrayLike, q7: float) -> np.ndarray:
+        """Every branch reaching a tool pose with joint 7 at ``q7``, limits ignored.
+
+        Args:
+            position: Tool position in the world frame [m] (3,).
+            rotation: Tool rotation ``R_world_tool`` (3, 3).
+            q7: Joint-7 value [rad].
+
+        Returns:
+            (8, 7) joint vectors [rad], joints 1-6 in (-pi, pi], joint 7 ``q7``; row
+            ``4 e + 2 w + s`` holds elbow root ``e``, wrist pair ``w`` and shoulder pair ``s``
+            (:meth:`branches`); NaN rows where there is none.
+        """
+        p = np.asarray(position, dtype=float).reshape(3)
+        r = np.asarray(rotation, dtype=float).reshape(3, 3)
+        target = self.prepare(p, r)
+        assert target is not None
+        out = np.full((BRANCHES, 7), np.nan)
+        for slot, q in self.branches(target, float(q7), _wrap_joint):
+            out[slot] = q
+        return out
+
+    def first(
+        self,
+        target: tuple[float, ...] | None,
+        starts: np.ndarray,
+        out: np.ndarray,
+        step: float = 0.0,
+        compiled: bool = True,
+    ) -> int:
+        """The first start from which a branch inside the limits reaches the target.
+
+        The branches depend on joint 7 alone (a start only picks one). A start whose joint 7
+        gives no branch inside the limits scans joint 7 outward from there when ``step > 0``
+        (:func:`~.seven_dof.scan`); the first joint-7 value with a branch is taken, and its
+        branch nearest the start (each joint shifted by ``2 pi`` into its limits, nearest the
+        start's value).
+
+        Args:
+            target: :meth:`prepare` of the target (None, a position: no start reaches it).
+            starts: Start joint vectors [rad], shape (k, 7); clipped into the limits, a row with a
+                value that is not finite skipped.
+            out: Receives that branch [rad], shape (7,).
+            step: Joint-7 scan step [rad] (0: no scan).
+            compiled: Unused (no compiled twin); the :class:`~.seven_dof.SevenDofIK` interface.
+
+        Returns:
+            The index of that start, or -1 (``out`` untouched).
+        """
+        if target is None:
+            return -1
+        if starts.ndim != 2 or starts.shape[1] != 7:
+            raise ValueError(f"starts: not k x 7, got shape {starts.shape}")
+        lows, highs = self.lower, self.upper
+        for index, start in enumerate(starts.tolist()):
+            if not all(map(math.isfinite, start)):
+                continue
+            clipped = [min(max(v, lo), hi) for v, lo, hi in zip(start, lows, highs)]
+
+            def fit(joint: int, q: float, near: list[float] = clipped) -> float | None:
+                return _into_limits(q, lows[joint], highs[joint], near[joint])
+
+            for q7 in scan(clipped[6], step, lows[6], highs[6]):
+                found = self.branches(target, q7, fit)
+                if found:
+                    best = min(
+                        (q for _, q in found),
+                        key=lambda q: sum((a - b) ** 2 for a, b in zip(q, clipped)),
+                    )
+                    out[:] = best
+                    return index
+        return -1
+
+    def solve_batch(
+        self, positions: npt.ArrayLike, rotations: npt.ArrayLike, q7: npt.ArrayLike
+    ) -> np.ndarray:
+        """:meth:`solve` of N targets at once, in NumPy.
+
+        Args:
+            positions: Tool positions in the world frame [m], (N, 3).
+            rotations: Tool rotations ``R_world_tool``, (N, 3, 3).
+            q7: Joint-7 values [rad], (N,) (or one value for all).
+
+        Returns:
+            (N, 8, 7) joint vectors [rad], the rows of :meth:`solve`, NaN where no branch.
+
+        Raises:
+            TargetError: Shapes other than (N, 3), (N, 3, 3) and (N,).
+        """
+        p = np.asarray(positions, dtype=float)
+        r = np.asarray(rotations, dtype=float)
+        if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
+            raise TargetError(
+                f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
+            )
+        n = p.shape[0]
+        q7 = np.broadcast_to(np.asarray(q7, dtype=float), (n,)) if np.ndim(q7) == 0 else q7
+        q7 = np.asarray(q7, dtype=float)
+        if q7.shape != (n,):
+            raise TargetError(f"q7 must be ({n},), got {q7.shape}")
+        s, c, off = self._sin, self._cos, self._offsets
+        # R_K_J7 and S seen from J_7 (as prepare).
+        rk = self._k_rot.T @ r @ self._tool_rot.T
+        pk = (p - self._k_pos) @ self._k_rot - rk @ self._tool_pos
+        e = np.einsum("nji,nj->ni", rk, np.asarray(self.structure.shoulder) - pk)
+        t7 = q7 + off[6]
+        c7, s7 = np.cos(t7), np.sin(t7)
+        rv = np.stack((c7 * e[:, 0] - s7 * e[:, 1], s7 * e[:, 0] + c7 * e[:, 1], e[:, 2]), 1)
+        rv -= np.asarray(self._c7)
+        m7 = np.asarray(self._m7_rot)
+        v6 = rv @ m7.T
+        z7 = np.zeros((n, 3, 3))
+        z7[:, 0, 0], z7[:, 0, 1], z7[:, 1, 0], z7[:, 1, 1], z7[:, 2, 2] = c7, s7, -s7, c7, 1.0
+        k6 = rk @ z7 @ m7.T  # R_K_J6 = R_K_J7 Rz(-t7) M_7^T
+        distance2 = np.einsum("ni,ni->n", rv, rv)
+        out = np.full((n, BRANCHES, 7), np.nan)
+        out[:, :, 6] = q7[:, None]
+        elbows = _harmonic_roots_array(
+            np.full(n, self._p4), np.full(n, self._q4), self._k4 - 0.5 * distance2
+        )
+        u, w4 = np.asarray(self._u), np.asarray(self._w4)
+        for ei in range(2):
+            t4 = elbows[:, ei]
+            c4, s4 = np.cos(t4), np.sin(t4)
+            vx = c4 * u[0] + s4 * u[1] - w4[0]
+            vy = c4 * u[1] - s4 * u[0] - w4[1]
+            vz = np.full(n, u[2] - w4[2])
+            d = np.stack((vx, c[5] * vy + s[5] * vz, c[5] * vz - s[5] * vy), 1)
+            wrists = _rotation_pair_array(s[6], c[6], v6, d)
+            for wi in range(2):
+                t5, t6 = wrists[:, wi, 0], wrists[:, wi, 1]
+                turns = ((t4, s[5], c[5]), (t5, s[6], c[6]), (t6, 0.0, 1.0))
+                z = _back_array(k6, turns, np.array([0.0, s[4], c[4]]))
+                x = _back_array(k6, turns, np.array([1.0, 0.0, 0.0]))
+                v3 = np.broadcast_to(np.array([0.0, -s[3], c[3]]), (n, 3))
+                shoulders = _rotation_pair_array(s[2], c[2], v3, z)
+                for si in range(2):
+                    t1, t2 = shoulders[:, si, 0], shoulders[:, si, 1]
+                    ct, st = np.cos(t1), np.sin(t1)
+                    nx, ny, nz = ct * x[:, 0] + st * x[:, 1], ct * x[:, 1] - st * x[:, 0], x[:, 2]
+                    ny, nz = c[2] * ny + s[2] * nz, c[2] * nz - s[2] * ny
+                    ct, st = np.cos(t2), np.sin(t2)
+                    nx, ny = ct * nx + st * ny, ct * ny - st * nx
+                    ny = c[3] * ny + s[3] * nz
+                    t3 = np.arctan2(ny, nx)
+                    slot = 4 * ei + 2 * wi + si
+                    for j, t in enumerate((t1, t2, t3, t4, t5, t6)):
+                        out[:, slot, j] = _wrap_array(t - off[j])
+        missing = np.isnan(out[:, :, :6]).any(axis=2)
+        out[missing] = np.nan
+        return out
+
+
+def _wrap_joint(_joint: int, q: float) -> float:
+    """``q`` [rad] in (-pi, pi] (the ``fit`` of :meth:`SphericalShoulder7RIK.solve`)."""
+    out = math.remainder(q, _TWO_PI)
+    return out + _TWO_PI if out <= -math.pi else out
+
+
+def _wrap_array(q: np.ndarray) -> np.ndarray:
+    """:func:`_wrap_joint` of every element (NaN stays NaN)."""
+    out = np.remainder(q + math.pi, _TWO_PI) - math.pi
+    return np.where(out <= -math.pi, out + _TWO_PI, out)
+
+
+def _back(
+    k6: tuple[tuple[float, ...], ...],
+    turns: tuple[tuple[float, float, float], ...],
+    x: float,
+    y: float,
+    z: float,
+) -> tuple[float, float, float]:
+    """``R_K_J6 ... Rz(-t) Rx(alpha)^T ... v``, the turns applied first to last.
+
+    ``turns``: ``(t, sin alpha, cos alpha)`` each, ``Rz(-t)`` then ``Rx(alpha)^T``; ``k6`` rows.
+    """
+    for t, sa, ca in turns:
+        ct, st = math.cos(t), math.sin(t)
+        x, y = ct * x + st * y, ct * y - st * x
+        y, z = ca * y + sa * z, ca * z - sa * y
+    return (
+        k6[0][0] * x + k6[0][1] * y + k6[0][2] * z,
+        k6[1][0] * x + k6[1][1] * y + k6[1][2] * z,
+        k6[2][0] * x + k6[2][1] * y + k6[2][2] * z,
+    )
+
+
+def _back_array(
+    k6: np.ndarray, turns: tuple[tuple[np.ndarray, float, float], ...], v: np.ndarray
+) -> np.ndarray:
+    """:func:`_back` of N rotations ``k6`` (N, 3, 3) and angles (N,): (N, 3)."""
+    x, y, z = (np.full(k6.shape[0], value) for value in v)
+    for t, sa, ca in turns:
+        ct, st = np.cos(t), np.sin(t)
+        x, y = ct * x + st * y, ct * y - st * x
+        y, z = ca * y + sa * z, ca * z - sa * y
+    return np.einsum("nij,nj->ni", k6, np.stack((x, y, z), 1))
+
+
+def _harmonic_roots_array(p: np.ndarray, q: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """:func:`~.seven_dof._harmonic_roots` of N equations: (N, 2), NaN where a root is missing.
+
+    A double root fills column 0 only (as the scalar returns one angle).
+    """
+    rho = np.hypot(p, q)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cosine = k / rho
+    ok = (rho >= 1e-15) & (np.abs(cosine) <= 1.0 + COS_SLACK)
+    phi = np.arctan2(q, p)
+    delta = np.arccos(np.clip(cosine, -1.0, 1.0))
+    out = np.stack((phi + delta, np.where(delta > 0.0, phi - delta, np.nan)), 1)
+    out[~ok] = np.nan
+    return out
+
+
+def _rotation_pair_array(sa: float, ca: float, v: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """:func:`~.seven_dof._rotation_pair` of N vector pairs (N, 3): ``(ta, tb)`` as (N, 2, 2)."""
+    vx, vy, vz = v[:, 0], v[:, 1], v[:, 2]
+    heading = np.arctan2(d[:, 1], d[:, 0])
+    tb = _harmonic_roots_array(sa * vy, sa * vx, d[:, 2] - ca * vz)
+    out = np.empty((v.shape[0], 2, 2))
+    for i in range(2):
+        cb, sb = np.cos(tb[:, i]), np.sin(tb[:, i])
+        mx = vx * cb - vy * sb
+        my = ca * (vx * sb + vy * cb) - sa * vz
+        out[:, i, 0] = heading - np.arctan2(my, mx)
+        out[:, i, 1] = tb[:, i]
+    return out
