@@ -35,6 +35,13 @@ from kin.ik import (
 
 #: The paper arms a closed form solves whole (humanoid7: numeric, closed form with a free joint).
 CLOSED_FORM_ARMS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")
+#: The shipped 6R arms and the closed-form structure their tables fit.
+SIX_R_ARMS = {
+    "puma560": "spherical_wrist",
+    "ur3": "ur_wrist",
+    "ur5": "ur_wrist",
+    "ur10": "ur_wrist",
+}
 #: The stages of the numeric pipeline (``IKResult.method``).
 NUMERIC_METHODS = ("closed_form_free_joint", "seed_table", "damped_newton", "random_restart")
 NUMERIC_METHODS += ("mink_qp",)
@@ -162,8 +169,12 @@ def _reference_path(name: str, user_tables: dict[str, Path]) -> Path:
     return user_tables[name] if name in user_tables else get_robot(name).table_path
 
 
-def _round_trip(path: Path, robot, full_pose: bool, count: int, seed: int) -> tuple[int, list]:
+def _round_trip(
+    path: Path, robot, full_pose: bool, count: int, seed: int, solver=None
+) -> tuple[int, list]:
     """Targets from the reference FK of random q inside the limits, solved, re-checked.
+
+    ``solver``: the robot's own (:func:`get_solver`) when None.
 
     Returns the number of verified answers and the methods that answered.
     """
@@ -171,7 +182,7 @@ def _round_trip(path: Path, robot, full_pose: bool, count: int, seed: int) -> tu
     rng = np.random.default_rng(seed)
     qs = rng.uniform(reference.lower, reference.upper, size=(count, reference.dof))
     poses = fk_frames(reference, qs)[:, -1]
-    solver = get_solver(robot)
+    solver = get_solver(robot) if solver is None else solver
     good, methods = 0, []
     for pose in poses:
         if full_pose:
@@ -193,7 +204,10 @@ def _round_trip(path: Path, robot, full_pose: bool, count: int, seed: int) -> tu
             assert solution.rotation_error == pytest.approx(angle, abs=1e-7)
         else:
             assert solution.rotation_error is None, f"{robot.name=}"
-        assert result.solver == "numeric" and result.method in NUMERIC_METHODS, f"{result=}"
+        if isinstance(solver, NumericIK) or not full_pose:
+            assert result.solver == "numeric" and result.method in NUMERIC_METHODS, f"{result=}"
+        else:
+            assert result.method == "closed_form", f"{result=}"
         good += 1
         methods.append(result.method)
     return good, methods
@@ -207,9 +221,17 @@ def test_dispatch_picks_the_closed_form_for_the_paper_arms(name):
     assert solver.name.startswith("closed_form:"), f"{name=}"
 
 
-@pytest.mark.parametrize("name", ["humanoid7", "panda", "ur5"])
+@pytest.mark.parametrize("name", sorted(SIX_R_ARMS))
+def test_dispatch_picks_the_six_r_closed_form_for_the_real_arms(name):
+    """PUMA 560 and the UR arms: their tables fit a 6R closed form, read from the table."""
+    solver = get_solver(load_robot(name))
+    assert isinstance(solver, ClosedFormSolver), f"{name=}"
+    assert solver.name == f"closed_form:{SIX_R_ARMS[name]}", f"{name=}"
+
+
+@pytest.mark.parametrize("name", ["humanoid7", "panda"])
 def test_dispatch_picks_the_numeric_solver_for_other_shipped_arms(name):
-    """humanoid7, panda and ur5 get the numeric solver; only humanoid7 has a free-joint closed form."""
+    """The seven-joint arms get the numeric solver (which starts with a free-joint closed form)."""
     solver = get_solver(load_robot(name))
     assert isinstance(solver, NumericIK) and solver.name == "numeric", f"{name=}"
     assert (solver.closed_form is not None) == (name == "humanoid7"), f"{name=}"
@@ -223,10 +245,13 @@ def test_dispatch_picks_the_numeric_solver_for_user_tables(name, user_tables):
 
 
 @pytest.mark.parametrize("name", ["panda", "ur5"])
-def test_full_pose_round_trip_on_ur5_and_panda(name, user_tables):
-    """Full poses from FK of 300 random q: >= 99% verified within the default 50 ms budget."""
+def test_numeric_full_pose_round_trip_on_ur5_and_panda(name, user_tables):
+    """The numeric pipeline alone (no closed form), full poses from FK of 300 random q: >= 99%
+    verified within the default 50 ms budget, mostly from the seed table."""
     robot = load_robot(name)
-    good, methods = _round_trip(_reference_path(name, user_tables), robot, True, 300, 11)
+    solver = NumericIK(robot, closed_form=False)
+    path = _reference_path(name, user_tables)
+    good, methods = _round_trip(path, robot, True, 300, 11, solver)
     assert good >= 0.99 * 300, f"{name=} {good=}"
     assert methods.count("seed_table") > 0.9 * good, f"{name=} {set(methods)=}"
 
@@ -298,17 +323,23 @@ def test_position_on_a_five_joint_arm_stays_near_the_seed():
         q = result.solutions[0].q
 
 
-def test_result_method_names_the_stage():
-    """humanoid7 answers from the free-joint closed form; ur5 from the seed table."""
-    for name, method in (("humanoid7", "closed_form_free_joint"), ("ur5", "seed_table")):
-        robot = load_robot(name)
-        from kin import Configuration
+def test_result_method_names_the_stage(user_tables):
+    """humanoid7 answers from the free-joint closed form, ur5 from its own, a 6-joint arm with a
+    prismatic joint from the seed table."""
+    from kin import Configuration
 
+    cases = (
+        ("humanoid7", "numeric", "closed_form_free_joint"),
+        ("ur5", "closed_form:ur_wrist", "closed_form"),
+        (str(user_tables["rprrrr"]), "numeric", "seed_table"),
+    )
+    for name, solver, method in cases:
+        robot = load_robot(name)
         pose = Configuration(robot).fk(np.full(robot.nq, 0.3))
         result = solve_ik(robot, PoseTarget.from_matrix(pose))
         assert result.success and result.method == method, f"{name=} {result.method=}"
-        assert result.solver == "numeric"
-        assert (result.iterations == 0) == (method == "closed_form_free_joint"), f"{name=}"
+        assert result.solver == solver
+        assert (result.iterations == 0) == method.startswith("closed_form"), f"{name=}"
 
 
 def test_unreachable_target_reports_out_of_reach_with_no_method():
@@ -474,3 +505,22 @@ def test_import_and_a_humanoid7_solve_load_no_heavy_module(tmp_path):
         timeout=120,
     ).stdout.split()
     assert out == ["|", "|", "closed_form_free_joint"], f"{out=}"
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur10"])
+def test_batch_solver_of_six_r_arms_against_the_reference(name, user_tables):
+    """Every branch the batch solver calls valid reaches the target in an independent DH product;
+    each of 200 targets from random q inside the limits has one at least."""
+    from kin.ik.analytic.batch import BatchSolver
+
+    robot = load_robot(name)
+    reference = load_reference(_reference_path(name, user_tables))
+    rng = np.random.default_rng(21)
+    qs = rng.uniform(reference.lower, reference.upper, size=(200, reference.dof))
+    poses = fk_frames(reference, qs)[:, -1]
+    result = BatchSolver(robot).solve_poses(poses)
+    assert result.valid.any(axis=1).all()
+    for i, j in zip(*np.nonzero(result.valid)):
+        reached = fk_frames(reference, result.q[i, j])[0, -1]
+        assert np.linalg.norm(reached[:3, 3] - poses[i, :3, 3]) < 1e-9, f"{i=} {j=}"
+        assert rotation_angle(reached[:3, :3], poses[i, :3, :3]) < 1e-9, f"{i=} {j=}"

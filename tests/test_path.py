@@ -90,7 +90,7 @@ def test_line_inside_the_workspace_is_followed_closely_on_one_branch(name):
     assert (result.q >= robot.lower).all() and (result.q <= robot.upper).all()
     if result.max_rotation_error is not None:
         assert result.max_rotation_error < 1e-4, f"{name=}"
-    expected = "differential" if name in ("ur5", "humanoid7") else "closed_form"
+    expected = "differential" if name == "humanoid7" else "closed_form"
     assert result.method == expected
 
 

@@ -15,9 +15,17 @@ from .closed_form_structure import ClosedFormStructure
 from .five_dof import FiveDof
 from .offset3r import Offset3R
 from .planar2r import Planar2R
+from .spherical_wrist import SphericalWrist6R
+from .ur_wrist import URWrist6R
 
 #: The registered structures, in the order they are asked.
-CLOSED_FORMS: list[type[ClosedFormStructure]] = [Planar2R, Offset3R, FiveDof]
+CLOSED_FORMS: list[type[ClosedFormStructure]] = [
+    Planar2R,
+    Offset3R,
+    FiveDof,
+    URWrist6R,
+    SphericalWrist6R,
+]
 
 
 def register(structure: type[ClosedFormStructure], *, first: bool = False) -> None:

@@ -35,12 +35,8 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ..target import PoseTarget
 from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
-
-try:
-    from typing import Self
-except ImportError:  # pragma: no cover - Python 3.10
-    from typing_extensions import Self
 
 _NAN_ROW = (math.nan,) * 6
 
@@ -78,6 +74,7 @@ class SphericalWrist6R:
 
     name: ClassVar[str] = "spherical_wrist"
     dof: ClassVar[int] = 6
+    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     branch_labels: ClassVar[tuple[str, ...]] = _labels()
 
     robot: str
@@ -110,7 +107,7 @@ class SphericalWrist6R:
         object.__setattr__(self, "_classic", abs(k[5]) < 1e-15 and abs(k[7]) < 1e-15)
 
     @classmethod
-    def recognise(cls, table: DHTable) -> Self:
+    def recognise(cls, table: DHTable) -> SphericalWrist6R:
         """The parameters of ``table``'s arm.
 
         Raises:
@@ -151,7 +148,7 @@ class SphericalWrist6R:
         )
 
     def solve(
-        self, position: npt.ArrayLike, rotation: npt.ArrayLike, free: float = 0.0
+        self, position: npt.ArrayLike, rotation: npt.ArrayLike | None, free: float = 0.0
     ) -> np.ndarray:
         """The 8 branches reaching a tool pose.
 
@@ -164,6 +161,8 @@ class SphericalWrist6R:
             Joint vectors [rad] in (-pi, pi], (8, 6), one row per :attr:`branch_labels`; a row of
             NaN where that branch does not reach the target. Not verified, not wrapped into limits.
         """
+        if rotation is None:
+            raise ValueError(f"{self.name}: the closed form of a 6R arm needs a full pose")
         p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
         s1, c1, sa3, ca3, s4, c4, s5, c5, lx, ly, l3, phi3 = self._k
         classic = self._classic
@@ -249,7 +248,7 @@ class SphericalWrist6R:
         return np.array(out)
 
     def solve_batch(
-        self, positions: npt.ArrayLike, rotations: npt.ArrayLike, free: float = 0.0
+        self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None, free: float = 0.0
     ) -> np.ndarray:
         """:meth:`solve` of N tool poses at once, in NumPy.
 
@@ -261,6 +260,8 @@ class SphericalWrist6R:
         Returns:
             Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
         """
+        if rotations is None:
+            raise ValueError(f"{self.name}: the closed form of a 6R arm needs full poses")
         return in_blocks(self._solve_block, positions, rotations, free)
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:

@@ -40,12 +40,8 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ..target import PoseTarget
 from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
-
-try:
-    from typing import Self
-except ImportError:  # pragma: no cover - Python 3.10
-    from typing_extensions import Self
 
 _NAN_ROW = (math.nan,) * 6
 _HALF_PI = math.pi / 2
@@ -84,6 +80,7 @@ class URWrist6R:
 
     name: ClassVar[str] = "ur_wrist"
     dof: ClassVar[int] = 6
+    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     branch_labels: ClassVar[tuple[str, ...]] = _labels()
 
     robot: str
@@ -114,7 +111,7 @@ class URWrist6R:
         object.__setattr__(self, "_k", k)
 
     @classmethod
-    def recognise(cls, table: DHTable) -> Self:
+    def recognise(cls, table: DHTable) -> URWrist6R:
         """The parameters of ``table``'s arm.
 
         Raises:
@@ -150,7 +147,7 @@ class URWrist6R:
         )
 
     def solve(
-        self, position: npt.ArrayLike, rotation: npt.ArrayLike, free: float = 0.0
+        self, position: npt.ArrayLike, rotation: npt.ArrayLike | None, free: float = 0.0
     ) -> np.ndarray:
         """The 8 branches reaching a tool pose.
 
@@ -163,6 +160,8 @@ class URWrist6R:
             Joint vectors [rad] in (-pi, pi], (8, 6), one row per :attr:`branch_labels`; a row of
             NaN where that branch does not reach the target. Not verified, not wrapped into limits.
         """
+        if rotation is None:
+            raise ValueError(f"{self.name}: the closed form of a 6R arm needs a full pose")
         p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
         s1, c1, ex, ey, s45 = self._k
         a1, d1, a2, a3, h, d6, s5a = (
@@ -255,7 +254,7 @@ class URWrist6R:
         return np.array(out)
 
     def solve_batch(
-        self, positions: npt.ArrayLike, rotations: npt.ArrayLike, free: float = 0.0
+        self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None, free: float = 0.0
     ) -> np.ndarray:
         """:meth:`solve` of N tool poses at once, in NumPy.
 
@@ -267,6 +266,8 @@ class URWrist6R:
         Returns:
             Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
         """
+        if rotations is None:
+            raise ValueError(f"{self.name}: the closed form of a 6R arm needs full poses")
         return in_blocks(self._solve_block, positions, rotations, free)
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
