@@ -110,6 +110,11 @@ class ToolJudge:
         ).homogeneous.tolist()
         return [x, y, z], [r0, r1, r2, r3, r4, r5, r6, r7, r8]
 
+    def tool_position(self, q: np.ndarray) -> list[float]:
+        """The tool position [m] in the world frame at ``q`` [rad]."""
+        pin.forwardKinematics(self.model, self.data, q)
+        return pin.updateFramePlacement(self.model, self.data, self.frame_id).translation.tolist()
+
     def errors(
         self, q: np.ndarray, position: Sequence[float], rotation: Sequence[float] | None
     ) -> tuple[float, float | None]:
@@ -121,7 +126,7 @@ class ToolJudge:
             rotation: Target ``R_world_tool`` row-major (9), or None for a position target.
         """
         if rotation is None:  # the translation alone: no 4x4 matrix
-            return math.dist(self.tool_pose(q).translation.tolist(), position), None
+            return math.dist(self.tool_position(q), position), None
         p_fk, r_fk = self.tool(q)
         return math.dist(p_fk, position), rotation_error(r_fk, rotation)
 

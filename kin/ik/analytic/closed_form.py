@@ -298,7 +298,7 @@ class ClosedFormSolver:
         r: list[list[float]] | None,
     ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
         """Per branch: the joint vector, the judge's errors, and where it goes (valid, rejected, dropped)."""
-        tool = self._judge.tool
+        tool, tool_position = self._judge.tool, self._judge.tool_position
         lows, highs = self._joints_zero_seed if seed is self._zero_seed else self._joints(seed)
         offsets, lower, upper = self._offsets, self._lower, self._upper
         sub, lt, dist, array = operator.sub, operator.lt, math.dist, np.array
@@ -328,12 +328,27 @@ class ClosedFormSolver:
                             inside = False
                     i += 1
             q = array(q_list)
+            angle: float | None
+            if position_only:  # the translation alone; the orientation is not constrained
+                position_error = dist(tool_position(q), p)
+                angle = None
+                if position_error > tol_p:
+                    logger.warning(
+                        "%s: branch '%s' misses the target by %.3g m; dropped",
+                        self.robot.name,
+                        label,
+                        position_error,
+                    )
+                    continue
+                solution = IKSolution(q, label, inside, position_error, None)
+                if inside:
+                    valid.append((dist(q_list, seed), solution))
+                else:
+                    rejected.append(solution)
+                continue
             p_fk, r_fk = tool(q)
             position_error = dist(p_fk, p)
-            angle: float | None
-            if position_only:
-                angle = None  # the target does not constrain the orientation
-            elif r is not None:
+            if r is not None:
                 angle = rotation_error(r_fk, r_target)
             else:
                 m00, m01, m02, m10, m11, m12, m20, m21, m22 = r_fk
