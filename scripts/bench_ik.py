@@ -1,6 +1,6 @@
 """Benchmark the closed-form IK: per-call median (all branches, Pinocchio verification) and batch rate.
 
-With ``--robot humanoid7`` it runs the numeric-IK benchmark instead (``bench_ik_humanoid7.py``:
+With ``--robot humanoid7`` (or ``panda``, ``xarm7``) it runs the numeric-IK benchmark instead (``bench_ik_humanoid7.py``:
 success and time from q = 0 and from random q, full pose and position only, beside TRAC-IK and the
 Robotics Toolbox's ik_LM when installed); the remaining options are passed on to it.
 """
@@ -28,6 +28,8 @@ from kin.ik import BatchSolver, ClosedFormSolver, PoseTarget, PositionTarget
 from kin.robot_model import load_robot
 
 ROBOTS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")
+#: 7R arms with a free-joint closed form: forwarded to ``bench_ik_humanoid7.py``.
+SEVEN_JOINT = ("humanoid7", "panda", "xarm7")
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -47,8 +49,9 @@ def get_argument_parser() -> ArgumentParser:
     )
     parser.add_argument(
         "--robot",
-        choices=(*ROBOTS, "humanoid7"),
-        help="one robot only; humanoid7 runs the numeric-IK benchmark (see bench_ik_humanoid7.py -h)",
+        choices=(*ROBOTS, *SEVEN_JOINT),
+        help="one robot only; humanoid7, panda and xarm7 run the numeric-IK benchmark "
+        "(see bench_ik_humanoid7.py -h)",
     )
     return parser
 
@@ -87,8 +90,8 @@ def _humanoid7_benchmark():
 def main(argv: list[str] | None = None) -> int:
     """Print one row per robot: median and p90 per call [us] (target <= 50), batched targets/s (>= 200,000)."""
     args, rest = get_argument_parser().parse_known_args(argv)
-    if args.robot == "humanoid7":
-        return _humanoid7_benchmark().main(rest)
+    if args.robot in SEVEN_JOINT:
+        return _humanoid7_benchmark().main(["--robot", args.robot, *rest])
     if rest:
         get_argument_parser().error(f"unrecognized arguments: {' '.join(rest)}")
     print(f"{'robot':<11} {'median [us]':>11} {'p90 [us]':>9} {'batch [targets/s]':>18}")

@@ -224,6 +224,28 @@ class SphericalShoulder7RIK:
         self._p4 = u[0] * w[0] + u[1] * w[1]
         self._q4 = u[1] * w[0] - u[0] * w[1]
         self._k4 = 0.5 * (sum(v * v for v in u) + sum(v * v for v in w)) - u[2] * w[2]
+        self._reach2 = self._elbow_range()
+        self._k_rows = tuple(tuple(row) for row in self._k_rot.tolist())
+        self._k_t = tuple(self._k_pos.tolist())
+        self._tool_rows = tuple(tuple(row) for row in self._tool_rot.tolist())
+        self._tool_t = tuple(self._tool_pos.tolist())
+
+    def _elbow_range(self) -> tuple[float, float]:
+        """``|S - W|^2`` [m^2] over joint 4's limits: ``(min, max)``, widened by rounding slack.
+
+        ``|S - W|^2 = 2 (k - p cos t4 - q sin t4)``; :meth:`first` skips the joint-7 values whose
+        distance is outside this range (no branch inside joint 4's limits) before solving.
+        """
+        p, q, k = self._p4, self._q4, self._k4
+        low = self.lower[3] + self._offsets[3]
+        high = self.upper[3] + self._offsets[3]
+        values = [p * math.cos(t) + q * math.sin(t) for t in (low, high)]
+        rho, phi = math.hypot(p, q), math.atan2(q, p)
+        for peak, value in ((phi, rho), (phi + math.pi, -rho)):
+            if high - low >= _TWO_PI or low <= low + (peak - low) % _TWO_PI <= high:
+                values.append(value)
+        slack = 1e-9 * (1.0 + abs(k) + rho)
+        return 2.0 * (k - max(values)) - slack, 2.0 * (k - min(values)) + slack
 
     def prepare(
         self, position: np.ndarray, rotation: np.ndarray | None
@@ -239,10 +261,21 @@ class SphericalShoulder7RIK:
         """
         if rotation is None:
             return None
-        r = self._k_rot.T @ np.asarray(rotation, dtype=float) @ self._tool_rot.T
-        p = self._k_rot.T @ (np.asarray(position, dtype=float) - self._k_pos) - r @ self._tool_pos
-        e = r.T @ (np.asarray(self.structure.shoulder) - p)
-        return tuple(r.ravel().tolist()) + tuple(e.tolist())
+        # Plain floats (a few microseconds faster than NumPy on 3 x 3).
+        k, kt, tool, tt = self._k_rows, self._k_t, self._tool_rows, self._tool_t
+        w = rotation.tolist()
+        # R_K_J7 = K^T R_world_tool M_8^T; p_K_J7 = K^T (p - k) - R_K_J7 t_8.
+        kw = [[k[0][i] * w[0][j] + k[1][i] * w[1][j] + k[2][i] * w[2][j] for j in range(3)]
+              for i in range(3)]  # fmt: skip
+        r = [[row[0] * t[0] + row[1] * t[1] + row[2] * t[2] for t in tool] for row in kw]
+        x, y, z = (float(v) - kt[i] for i, v in enumerate(position.tolist()))
+        # S seen from J_7: R_K_J7^T (S - p_K_J7) = R_K_J7^T (S - K^T (p - k)) + t_8.
+        sz = self.structure.shoulder[2]
+        gx = -(k[0][0] * x + k[1][0] * y + k[2][0] * z)
+        gy = -(k[0][1] * x + k[1][1] * y + k[2][1] * z)
+        gz = sz - (k[0][2] * x + k[1][2] * y + k[2][2] * z)
+        e = [r[0][j] * gx + r[1][j] * gy + r[2][j] * gz + tt[j] for j in range(3)]
+        return (*r[0], *r[1], *r[2], *e)
 
     def branches(
         self, target: tuple[float, ...], q7: float, fit: Callable[[int, float], float | None]
@@ -268,6 +301,12 @@ class SphericalShoulder7RIK:
         wx, wy, wz = self._c7
         # S - W before Rz(t7): Rz(t7) e - c7; in J_6: M_7's rotation of it.
         rx, ry, rz = c7 * ex - s7 * ey - wx, s7 * ex + c7 * ey - wy, ez - wz
+        ux, uy, uz = self._u
+        w4x, w4y, w4z = self._w4
+        distance2 = rx * rx + ry * ry + rz * rz
+        elbows = _harmonic_roots(self._p4, self._q4, self._k4 - 0.5 * distance2)
+        if not elbows:
+            return []
         (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = self._m7_rot
         v6x = a00 * rx + a01 * ry + a02 * rz
         v6y = a10 * rx + a11 * ry + a12 * rz
@@ -284,10 +323,6 @@ class SphericalShoulder7RIK:
             (b20 * a00 + b21 * a01 + r22 * a02, b20 * a10 + b21 * a11 + r22 * a12,
              b20 * a20 + b21 * a21 + r22 * a22),
         )  # fmt: skip
-        ux, uy, uz = self._u
-        w4x, w4y, w4z = self._w4
-        distance2 = rx * rx + ry * ry + rz * rz
-        elbows = _harmonic_roots(self._p4, self._q4, self._k4 - 0.5 * distance2)
         out: list[tuple[int, list[float]]] = []
         for e, t4 in enumerate(elbows):
             q4 = fit(3, t4 - off[3])
@@ -297,6 +332,11 @@ class SphericalShoulder7RIK:
             # S - W in J_4 (Rz(-t4) u - w4), then through Rx(alpha_5')^T.
             vx, vy, vz = c4 * ux + s4 * uy - w4x, c4 * uy - s4 * ux - w4y, uz - w4z
             dy, dz = c[5] * vy + s[5] * vz, c[5] * vz - s[5] * vy
+            # z and x of J_3 in K: R_K_J6 Rz(-t6) Rx6^T Rz(-t5) Rx5^T Rz(-t4) Rx4^T (e_z, e_x);
+            # here the part up to Rx5^T (t4 only).
+            zy, zz = c4 * s[4], c[4]
+            z4 = (s4 * s[4], c[5] * zy + s[5] * zz, c[5] * zz - s[5] * zy)
+            x4 = (c4, -c[5] * s4, s[5] * s4)
             for w, (t5, t6) in enumerate(_rotation_pair(s[6], c[6], v6x, v6y, v6z, vx, dy, dz)):
                 q5 = fit(4, t5 - off[4])
                 if q5 is None:
@@ -304,10 +344,9 @@ class SphericalShoulder7RIK:
                 q6 = fit(5, t6 - off[5])
                 if q6 is None:
                     continue
-                # z and x of J_3 in K: R_K_J6 Rz(-t6) Rx6^T Rz(-t5) Rx5^T Rz(-t4) Rx4^T (e_z, e_x).
-                turns = ((t4, s[5], c[5]), (t5, s[6], c[6]), (t6, 0.0, 1.0))
-                z = _back(k6, turns, 0.0, s[4], c[4])
-                x = _back(k6, turns, 1.0, 0.0, 0.0)
+                turn = (cos(t5), sin(t5), s[6], c[6], cos(t6), sin(t6))
+                z = _back(k6, turn, *z4)
+                x = _back(k6, turn, *x4)
                 for h, (t1, t2) in enumerate(_rotation_pair(s[2], c[2], 0.0, -s[3], c[3], *z)):
                     q1 = fit(0, t1 - off[0])
                     if q1 is None:
@@ -381,6 +420,14 @@ class SphericalShoulder7RIK:
         if starts.ndim != 2 or starts.shape[1] != 7:
             raise ValueError(f"starts: not k x 7, got shape {starts.shape}")
         lows, highs = self.lower, self.upper
+        # |S - W|^2 at t7 is |e|^2 + |c7|^2 - 2 c7 . Rz(t7) e: skip values outside the elbow's range.
+        ex, ey, ez = target[9:]
+        wx, wy, wz = self._c7
+        base2 = ex * ex + ey * ey + ez * ez + wx * wx + wy * wy + wz * wz - 2.0 * wz * ez
+        cx, cy = 2.0 * (wx * ex + wy * ey), 2.0 * (wy * ex - wx * ey)
+        low2, high2 = self._reach2
+        off7 = self._offsets[6]
+        cos, sin = math.cos, math.sin
         for index, start in enumerate(starts.tolist()):
             if not all(map(math.isfinite, start)):
                 continue
@@ -390,6 +437,10 @@ class SphericalShoulder7RIK:
                 return _into_limits(q, lows[joint], highs[joint], near[joint])
 
             for q7 in scan(clipped[6], step, lows[6], highs[6]):
+                t7 = q7 + off7
+                distance2 = base2 - cx * cos(t7) - cy * sin(t7)
+                if not low2 <= distance2 <= high2:
+                    continue
                 found = self.branches(target, q7, fit)
                 if found:
                     best = min(
@@ -494,19 +545,19 @@ def _wrap_array(q: np.ndarray) -> np.ndarray:
 
 def _back(
     k6: tuple[tuple[float, ...], ...],
-    turns: tuple[tuple[float, float, float], ...],
+    turn: tuple[float, float, float, float, float, float],
     x: float,
     y: float,
     z: float,
 ) -> tuple[float, float, float]:
-    """``R_K_J6 ... Rz(-t) Rx(alpha)^T ... v``, the turns applied first to last.
+    """``R_K_J6 Rz(-t6) Rx(alpha)^T Rz(-t5) v``.
 
-    ``turns``: ``(t, sin alpha, cos alpha)`` each, ``Rz(-t)`` then ``Rx(alpha)^T``; ``k6`` rows.
+    ``turn``: ``(cos t5, sin t5, sin alpha, cos alpha, cos t6, sin t6)``; ``k6``: ``R_K_J6`` rows.
     """
-    for t, sa, ca in turns:
-        ct, st = math.cos(t), math.sin(t)
-        x, y = ct * x + st * y, ct * y - st * x
-        y, z = ca * y + sa * z, ca * z - sa * y
+    c5, s5, sa, ca, c6, s6 = turn
+    x, y = c5 * x + s5 * y, c5 * y - s5 * x
+    y, z = ca * y + sa * z, ca * z - sa * y
+    x, y = c6 * x + s6 * y, c6 * y - s6 * x
     return (
         k6[0][0] * x + k6[0][1] * y + k6[0][2] * z,
         k6[1][0] * x + k6[1][1] * y + k6[1][2] * z,
@@ -517,7 +568,10 @@ def _back(
 def _back_array(
     k6: np.ndarray, turns: tuple[tuple[np.ndarray, float, float], ...], v: np.ndarray
 ) -> np.ndarray:
-    """:func:`_back` of N rotations ``k6`` (N, 3, 3) and angles (N,): (N, 3)."""
+    """``R_K_J6 ... Rz(-t) Rx(alpha)^T ... v`` of N rotations ``k6`` (N, 3, 3): (N, 3).
+
+    ``turns``: ``(t (N,), sin alpha, cos alpha)`` each, ``Rz(-t)`` then ``Rx(alpha)^T``.
+    """
     x, y, z = (np.full(k6.shape[0], value) for value in v)
     for t, sa, ca in turns:
         ct, st = np.cos(t), np.sin(t)
