@@ -1,11 +1,15 @@
 """Benchmark the closed-form IK of the two 6R families: all 8 branches per call, and batched.
 
-UR5 (``ur_wrist``, the shipped table) and PUMA 560 (``spherical_wrist``, the Robotics Toolbox's
-standard DH numbers). Per call: ``solve`` of one target, all branches, median over repeated
-timings of ``--number`` calls on the same targets (timeit style). Batched: ``solve_batch`` of
-``--batch`` targets, per target. Peers when importable: ur-analytic-ik's Python call (UR5, all
-branches) and the Robotics Toolbox's ``ikine_a`` (PUMA 560, one configuration per call; x8 for
-all branches). Targets are the FK of seeded random q within +-pi.
+UR5 and UR10 (``ur_wrist``) and PUMA 560 (``spherical_wrist``, the Robotics Toolbox's DH model),
+their shipped tables. Columns, medians over repeated timings of ``--number`` calls on
+the same targets (timeit style): ``solve``, the structure's 8 branches of one target (not
+verified); ``verified``, the same through ``ClosedFormSolver.solve`` (branches wrapped into the
+limits, each verified by Pinocchio's FK, ordered by distance to the seed); ``batch``,
+``solve_batch`` of ``--batch`` targets, per target. Peers when importable (``[bench]`` extra):
+ur-analytic-ik's Python call (all branches) and the Robotics Toolbox's ``ikine_a`` (its 8
+configurations, 8 calls); ``same solutions``: targets where the peer's solutions are exactly
+ours (same count, each within 1e-9 rad modulo 2 pi). Targets are the FK of seeded random q
+within +-pi.
 """
 
 from __future__ import annotations
@@ -22,21 +26,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from dh2urdf import DHRow, DHTable, get_robot, load_table
+from dh2urdf import DHTable, get_robot, load_table
 from kin.batch_fk import batch_forward_kinematics
 from kin.cli import ArgumentParser, positive_int
 from kin.ik.analytic.spherical_wrist import SphericalWrist6R
 from kin.ik.analytic.ur_wrist import URWrist6R
-
-#: PUMA 560, standard DH (Robotics Toolbox ``models.DH.Puma560``): a, alpha, d per joint.
-PUMA560 = (
-    (0.0, math.pi / 2, 0.6718),
-    (0.4318, 0.0, 0.0),
-    (0.0203, -math.pi / 2, 0.15005),
-    (0.0, math.pi / 2, 0.4318),
-    (0.0, -math.pi / 2, 0.0),
-    (0.0, 0.0, 0.0),
-)
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -51,16 +45,13 @@ def get_argument_parser() -> ArgumentParser:
     parser.add_argument(
         "--batch", type=positive_int, default=100_000, help="targets of the batch (default 100000)"
     )
-    return parser
-
-
-def puma560_table() -> DHTable:
-    """The PUMA 560 table of the Robotics Toolbox (no base or tool)."""
-    rows = tuple(
-        DHRow(i + 1, f"joint{i + 1}", "revolute", a, alpha, d, 0.0, -math.pi, math.pi, 1.0, 1.0)
-        for i, (a, alpha, d) in enumerate(PUMA560)
+    parser.add_argument(
+        "--compare",
+        type=positive_int,
+        default=10_000,
+        help="targets compared with the peer's solutions (default 10000; PUMA at most 1000)",
     )
-    return DHTable("puma560", "PUMA 560", "Robotics Toolbox Puma560 (DH)", "standard", rows)
+    return parser
 
 
 def _median_us(function: Callable[[], object], number: int, repeat: int) -> float:
@@ -79,41 +70,64 @@ def _cycle(items: list) -> Callable[[], object]:
     return next_item
 
 
-def _peers_ur5(targets: np.ndarray, number: int, repeat: int) -> float | None:
+def _ur_peer(model: str) -> Callable[[np.ndarray], np.ndarray] | None:
+    """ur-analytic-ik's IK of one UR model (all branches, (k, 6)), or None when not installed."""
     try:
         import ur_analytic_ik
     except ImportError:
         return None
-    poses = [np.ascontiguousarray(t) for t in targets]
-    take = _cycle(poses)
-    return _median_us(lambda: ur_analytic_ik.ur5.inverse_kinematics(take()), number, repeat)
+    arm = getattr(ur_analytic_ik, model)
+    return lambda pose: np.asarray(arm.inverse_kinematics(np.ascontiguousarray(pose)))
 
 
-def _peers_puma(targets: np.ndarray, number: int, repeat: int) -> float | None:
+def _puma_peer() -> Callable[[np.ndarray], np.ndarray] | None:
+    """The Robotics Toolbox's ``ikine_a`` of its Puma560, its 8 configurations ((k, 6)), or None."""
     try:
         import roboticstoolbox as rtb
     except ImportError:
         return None
     robot = rtb.models.DH.Puma560()
-    take = _cycle(list(targets))
-    return _median_us(lambda: robot.ikine_a(take(), config="lun"), max(1, number // 10), repeat)
+
+    def all_configurations(pose: np.ndarray) -> np.ndarray:
+        found = [robot.ikine_a(pose, config=c) for c in CONFIGURATIONS]
+        return np.array([r.q for r in found if r.success]).reshape(-1, 6)
+
+    return all_configurations
+
+
+#: ``ikine_a`` configurations: shoulder left/right, elbow up/down, wrist no flip/flip.
+CONFIGURATIONS = ("lun", "luf", "ldn", "ldf", "run", "ruf", "rdn", "rdf")
+
+
+def _same_solutions(ours: np.ndarray, theirs: np.ndarray, tol: float = 1e-9) -> bool:
+    """Whether the peer's solutions are exactly ours, each to ``tol`` [rad] modulo 2 pi."""
+    ours = ours[~np.isnan(ours[:, 0])]
+    if len(theirs) != len(ours):
+        return False
+    for branch in theirs:
+        gap = np.abs(np.angle(np.exp(1j * (ours - branch)))).max(axis=1)
+        if gap.min() >= tol:
+            return False
+    return True
 
 
 def main(argv: list[str] | None = None) -> int:
     """Print the benchmark table; exit 0."""
     args = get_argument_parser().parse_args(argv)
-    arms = (
-        ("UR5", URWrist6R.recognise(load_table(get_robot("ur5").table_path)), _peers_ur5),
-        ("PUMA 560", SphericalWrist6R.recognise(puma560_table()), _peers_puma),
-    )
+    arms = []
+    for label, name in (("UR5", "ur5"), ("UR10", "ur10")):
+        table = load_table(get_robot(name).table_path)
+        arms.append((label, table, URWrist6R.recognise(table), _ur_peer(name)))
+    puma = load_table(get_robot("puma560").table_path)  # the toolbox's Puma560 numbers
+    arms.append(("PUMA 560", puma, SphericalWrist6R.recognise(puma), _puma_peer()))
     print(
-        f"{'arm':<9} {'solver':<16} {'solve [us/call]':>16} {'batch [us/target]':>18}  "
-        f"{'peer [us/call]':>15}  peer"
+        f"{'arm':<9} {'solver':<16} {'solve':>9} {'verified':>9} {'batch':>9}  "
+        f"{'peer':>9}  {'same solutions':>16}  peer"
     )
-    for label, solver, peer in arms:
-        table = load_table(get_robot("ur5").table_path) if label == "UR5" else puma560_table()
+    print(f"{'':<9} {'':<16} {'[us]':>9} {'[us]':>9} {'[us/tgt]':>9}  {'[us]':>9}")
+    for label, table, solver, peer in arms:
         rng = np.random.default_rng(0)
-        q = rng.uniform(-math.pi, math.pi, (max(args.batch, 1000), 6))
+        q = rng.uniform(-math.pi, math.pi, (max(args.batch, args.compare, 1000), 6))
         poses = batch_forward_kinematics(table, q)
         targets = [(T[:3, 3].copy(), T[:3, :3].copy()) for T in poses[:1000]]
         take = _cycle(targets)
@@ -123,23 +137,43 @@ def main(argv: list[str] | None = None) -> int:
             return solver.solve(position, rotation)
 
         per_call = _median_us(one_call, args.number, args.repeat)
+        verified = _verified_us(table, targets, max(1, args.number // 4), args.repeat)
         positions, rotations = poses[: args.batch, :3, 3], poses[: args.batch, :3, :3]
         batch = _median_us(
             lambda s=solver: s.solve_batch(positions, rotations), 1, max(3, args.repeat // 2)
         )
-        peer_us = peer(poses[:1000], args.number, args.repeat)
-        if peer_us is None:
-            peer_text, peer_name = f"{'-':>15}", "not installed"
-        elif label == "UR5":
-            peer_text, peer_name = f"{peer_us:15.1f}", "ur-analytic-ik (all branches)"
-        else:
-            peer_text = f"{peer_us:15.1f}"
-            peer_name = f"RTB ikine_a (one branch; x8 = {8 * peer_us:.0f} us)"
+        if peer is None:
+            print(f"{label:<9} {solver.name:<16} {per_call:9.1f} {verified:9.1f} "
+                  f"{batch / args.batch:9.2f}  {'-':>9}  {'-':>16}  not installed")  # fmt: skip
+            continue
+        slow = label == "PUMA 560"  # ikine_a: one configuration per call, milliseconds
+        count = min(args.compare, 1000) if slow else args.compare
+        peer_take = _cycle(list(poses[:1000]))
+        peer_us = _median_us(lambda: peer(peer_take()), max(1, args.number // (80 if slow else 1)),
+                             args.repeat)  # fmt: skip
+        batch_ours = solver.solve_batch(poses[:count, :3, 3], poses[:count, :3, :3])
+        same = sum(_same_solutions(batch_ours[k], peer(poses[k])) for k in range(count))
+        name = "RTB ikine_a, 8 configurations" if slow else "ur-analytic-ik, all branches"
         print(
-            f"{label:<9} {solver.name:<16} {per_call:16.1f} {batch / args.batch:18.2f}  "
-            f"{peer_text}  {peer_name}"
+            f"{label:<9} {solver.name:<16} {per_call:9.1f} {verified:9.1f} "
+            f"{batch / args.batch:9.2f}  {peer_us:9.1f}  {f'{same}/{count}':>16}  {name}"
         )
     return 0
+
+
+def _verified_us(table: DHTable, targets: list, number: int, repeat: int) -> float:
+    """Per call of the closed-form solver [us], every branch verified.
+
+    Branches wrapped into the limits, each verified by Pinocchio's FK, ordered by distance to the
+    seed (what :func:`kin.ik.solve_ik` returns).
+    """
+    from kin import robot_from_table
+    from kin.ik import ClosedFormSolver, PoseTarget
+
+    solver = ClosedFormSolver(robot_from_table(table))
+    poses = [PoseTarget(p, r) for p, r in targets]
+    take = _cycle(poses)
+    return _median_us(lambda: solver.solve(take()), number, repeat)  # type: ignore[arg-type]
 
 
 if __name__ == "__main__":

@@ -169,9 +169,13 @@ def candidate_branches(
     The NaN rows are dropped; none left: out of reach (no distance known).
     """
     branches = Branches()
-    for row, label in zip(q.tolist(), structure.branch_labels):
-        if all(v == v for v in row):  # no NaN
-            branches.thetas.append((tuple(v + o for v, o in zip(row, offsets)), label))
+    exists = (~np.isnan(q).any(axis=1)).tolist()
+    rows = (q + np.asarray(offsets, dtype=float)).tolist() if any(offsets) else q.tolist()
+    branches.thetas.extend(
+        (tuple(row), label)
+        for row, label, found in zip(rows, structure.branch_labels, exists)
+        if found
+    )
     if not branches.thetas:
         branches.out_of_reach(None, f"no {structure.name} branch reaches the target")
     return branches
