@@ -229,12 +229,12 @@ def test_dispatch_picks_the_six_r_closed_form_for_the_real_arms(name):
     assert solver.name == f"closed_form:{SIX_R_ARMS[name]}", f"{name=}"
 
 
-@pytest.mark.parametrize("name", ["humanoid7", "panda"])
+@pytest.mark.parametrize("name", ["humanoid7", "panda", "xarm7"])
 def test_dispatch_picks_the_numeric_solver_for_other_shipped_arms(name):
-    """The seven-joint arms get the numeric solver (which starts with a free-joint closed form)."""
+    """The seven-joint arms get the numeric solver, which starts with a free-joint closed form."""
     solver = get_solver(load_robot(name))
     assert isinstance(solver, NumericIK) and solver.name == "numeric", f"{name=}"
-    assert (solver.closed_form is not None) == (name == "humanoid7"), f"{name=}"
+    assert solver.closed_form is not None, f"{name=}"
 
 
 @pytest.mark.parametrize("name", ["user3r", "rrpr4", "rprrrr"])
