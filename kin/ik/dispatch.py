@@ -2,11 +2,11 @@
 
 :func:`get_solver` asks each registered closed-form structure
 (:data:`kin.ik.analytic.registry.CLOSED_FORMS`, see :mod:`kin.ik.analytic.closed_form_structure`)
-whether the table fits; the first that fits gives a :class:`ClosedFormSolver` (which hands the
-numeric solver the target kinds its closed form does not take: a position on a five-joint arm). When none fits, the numeric solver
-(:class:`NumericIK`, which itself starts with the closed form with a free joint for an arm of the
-``SevenDof`` structure, humanoid7). :func:`solve_ik` is the one-call form.
-"""
+whether the table fits; the first that fits gives a :class:`ClosedFormSolver`, which hands the
+numeric solver the target kinds its closed form does not take (a position on a five- or six-joint
+arm). When none fits, the numeric solver (:class:`NumericIK`), which itself starts with a closed
+form with a free joint where the arm has one (seven-joint arms: humanoid7's joint 1, Panda's and
+xArm7's joint 7). :func:`solve_ik` is the one-call form."""
 
 from __future__ import annotations
 
