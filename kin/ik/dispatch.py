@@ -6,7 +6,8 @@ whether the table fits; the first that fits gives a :class:`ClosedFormSolver`, w
 numeric solver the target kinds its closed form does not take (a position on a five- or six-joint
 arm). When none fits, the numeric solver (:class:`NumericIK`), which itself starts with a closed
 form with a free joint where the arm has one (seven-joint arms: humanoid7's joint 1, Panda's and
-xArm7's joint 7). :func:`solve_ik` is the one-call form."""
+xArm7's joint 7). :func:`solve_ik` is the one-call form.
+"""
 
 from __future__ import annotations
 
