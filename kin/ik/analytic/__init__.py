@@ -1,7 +1,10 @@
 """Closed-form IK: structure plug-ins recognised from the DH table, every branch, batched in NumPy.
 
-One module per structure (``planar2r``, ``offset3r``, ``five_dof``), what a structure provides
-(``closed_form_structure``), the registry asked in turn (``registry``), the structure-agnostic
-solvers (``closed_form``, ``batch``). The compiled twin of the seven-joint closed form
-(``_closed7``) is an optional extension.
+One module per structure: ``planar2r``, ``offset3r``, ``five_dof``, and the 6R families
+``ur_wrist`` (three parallel axes, offset wrist) and ``spherical_wrist`` (Pieper); what a
+structure provides (``closed_form_structure``), the registry asked in turn (``registry``), the
+structure-agnostic solvers (``closed_form``, ``batch``). The seven-joint closed forms with a free
+joint, used by the numeric solver's first stage: ``seven_dof`` (humanoid7, joint 1 free) and
+``spherical_shoulder7`` (Panda, xArm7, joint 7 free); their compiled twins are optional
+extensions.
 """
