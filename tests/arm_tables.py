@@ -1,0 +1,106 @@
+"""Tables of arms for the closed-form tests: a DHTable from parameter lists, random base/tool poses."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+
+import kin
+from dh2urdf import DHRow, DHTable
+
+
+def make_table(
+    a, alpha, d, theta, convention: str = "standard", base=None, tool=None, name: str = "arm"
+) -> DHTable:
+    """A revolute DHTable (limits +-2 pi) from parameter lists [m], [rad], one row per value."""
+    rows = tuple(
+        DHRow(
+            i + 1,
+            f"j{i + 1}",
+            "revolute",
+            a[i],
+            alpha[i],
+            d[i],
+            theta[i],
+            -2 * math.pi,
+            2 * math.pi,
+            1.0,
+            1.0,
+        )  # fmt: skip
+        for i in range(len(a))
+    )
+    eye = np.eye(4)
+    return DHTable(name, "", "", convention, rows,
+                   eye if base is None else base, eye if tool is None else tool)  # fmt: skip
+
+
+def random_pose(rng: np.random.Generator) -> np.ndarray:
+    """A random rigid transform (4x4): rotation from a normal rotation vector, offset +-0.3 m."""
+    return pin.SE3(pin.exp3(rng.normal(size=3)), rng.uniform(-0.3, 0.3, 3)).homogeneous
+
+
+def wrapped_gap(branches: np.ndarray, q) -> np.ndarray:
+    """Largest joint difference modulo 2 pi of each branch from ``q`` [rad]."""
+    return np.abs(np.remainder(branches - np.asarray(q) + math.pi, 2 * math.pi) - math.pi).max(
+        axis=1
+    )
+
+
+#: Tolerance of a round trip [m], [rad], and of a recovered joint vector away from singularities.
+TOL = 1e-9
+#: Joint error allowed near a singularity: ROUNDING / sigma_min(J) [rad].
+ROUNDING = 1e-12
+
+
+class Reference:
+    """Pinocchio FK of a table's URDF, tool frame.
+
+    Args:
+        table: The arm.
+        solved: The joints the closed form solves (the others given): the columns of the
+            Jacobian whose smallest singular value bounds the joint error; None: all.
+    """
+
+    def __init__(self, table: DHTable, solved: slice | None = None):
+        self.robot = kin.robot_from_table(table)
+        self.model = self.robot.model
+        self.data = self.model.createData()
+        self.frame = self.model.getFrameId(self.robot.tool_frame)
+        self.solved = slice(None) if solved is None else solved
+
+    def fk(self, q) -> pin.SE3:
+        """``T_world_tool`` at ``q`` [rad]."""
+        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        return pin.updateFramePlacement(self.model, self.data, self.frame).copy()
+
+    def errors(self, q, target: pin.SE3) -> tuple[float, float]:
+        """Position [m] and rotation [rad] errors of the tool at ``q`` from ``target``."""
+        pose = self.fk(q)
+        return (
+            float(np.linalg.norm(pose.translation - target.translation)),
+            float(np.linalg.norm(pin.log3(pose.rotation.T @ target.rotation))),
+        )
+
+    def joint_tolerance(self, q) -> float:
+        """Largest joint error [rad] a correct solve may show at ``q``: near a singularity the
+        rounding of the target is amplified by 1 / sigma_min of the solved joints' Jacobian."""
+        jac = pin.computeFrameJacobian(self.model, self.data, np.asarray(q), self.frame, pin.LOCAL)
+        sigma = float(np.linalg.svd(jac[:, self.solved], compute_uv=False).min())
+        return max(TOL, ROUNDING / sigma) if sigma > 0.0 else math.inf
+
+    def check_branches(self, branches: np.ndarray, q, target: pin.SE3, label: str) -> float:
+        """Assert every branch reaches ``target`` to :data:`TOL` and ``q`` is among them.
+
+        Returns:
+            The worst position [m] or rotation [rad] error of the branches.
+        """
+        worst = 0.0
+        for branch in branches:
+            position_error, rotation_error = self.errors(branch, target)
+            worst = max(worst, position_error, rotation_error)
+            assert position_error < TOL and rotation_error < TOL, f"{label} {q=} {branch=}"
+        gap = wrapped_gap(branches, q).min()
+        assert gap < self.joint_tolerance(q), f"{label} {q=}: {gap=}"
+        return worst
