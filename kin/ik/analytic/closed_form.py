@@ -332,32 +332,19 @@ class ClosedFormSolver:
             if position_only:  # the translation alone; the orientation is not constrained
                 position_error = dist(tool_position(q), p)
                 angle = None
-                if position_error > tol_p:
-                    logger.warning(
-                        "%s: branch '%s' misses the target by %.3g m; dropped",
-                        self.robot.name,
-                        label,
-                        position_error,
-                    )
-                    continue
-                solution = IKSolution(q, label, inside, position_error, None)
-                if inside:
-                    valid.append((dist(q_list, seed), solution))
-                else:
-                    rejected.append(solution)
-                continue
-            p_fk, r_fk = tool(q)
-            position_error = dist(p_fk, p)
-            if r is not None:
-                angle = rotation_error(r_fk, r_target)
             else:
-                m00, m01, m02, m10, m11, m12, m20, m21, m22 = r_fk
-                u = (
-                    m00 * tx + m01 * ty + m02 * tz,
-                    m10 * tx + m11 * ty + m12 * tz,
-                    m20 * tx + m21 * ty + m22 * tz,
-                )
-                angle = axis_error(u, approach)
+                p_fk, r_fk = tool(q)
+                position_error = dist(p_fk, p)
+                if r is not None:
+                    angle = rotation_error(r_fk, r_target)
+                else:
+                    m00, m01, m02, m10, m11, m12, m20, m21, m22 = r_fk
+                    u = (
+                        m00 * tx + m01 * ty + m02 * tz,
+                        m10 * tx + m11 * ty + m12 * tz,
+                        m20 * tx + m21 * ty + m22 * tz,
+                    )
+                    angle = axis_error(u, approach)
             if position_error > tol_p or (angle is not None and angle > tol_r):
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
