@@ -20,7 +20,9 @@ Up to 8 joint vectors per ``q7``. ``t_i`` are DH angles, ``q_i = t_i - theta_i``
 [rad]; lengths in [m]. A position-only target is not handled (:meth:`SphericalShoulder7RIK.prepare`
 returns None): the numeric stages answer it. The sub-problems are those of :mod:`.seven_dof`
 (:func:`~.seven_dof._harmonic_roots`, :func:`~.seven_dof._rotation_pair`), the joint-7 scan its
-:func:`~.seven_dof.scan`.
+:func:`~.seven_dof.scan`. :meth:`SphericalShoulder7RIK.first` runs the compiled twin of this
+module (``kin/ik/analytic/_shoulder7.c``, an optional extension built at install when a C compiler
+is there) and this Python code otherwise; ``tests/test_shoulder7_parity.py`` compares the two.
 """
 
 from __future__ import annotations
@@ -35,8 +37,16 @@ import numpy.typing as npt
 from dh2urdf import DHRow, DHTable
 
 from ..exceptions import TargetError
-from .seven_dof import COS_SLACK, _harmonic_roots, _rotation_pair, scan
+from .seven_dof import COS_SLACK, _harmonic_roots, _rotation_pair, pack_params, scan
 from .structure import ANGLE_TOL, LENGTH_TOL, Checker, deg
+
+try:
+    from . import _shoulder7  # type: ignore[attr-defined]
+except ImportError:  # pragma: no cover - the extension is optional
+    _shoulder7 = None
+
+#: Whether the compiled twin (``kin/ik/analytic/_shoulder7.c``) is built.
+COMPILED = _shoulder7 is not None
 
 #: Solver name in :class:`~kin.ik.exceptions.StructureError` messages.
 SOLVER = "seven-joint (spherical shoulder, wrist axes 5-6 meeting, joint 7 free)"
@@ -229,6 +239,32 @@ class SphericalShoulder7RIK:
         self._k_t = tuple(self._k_pos.tolist())
         self._tool_rows = tuple(tuple(row) for row in self._tool_rot.tolist())
         self._tool_t = tuple(self._tool_pos.tolist())
+        self._c_params: np.ndarray | None = None
+
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (its ``SHOULDER7_PARAMS``; lengths [m])."""
+        return {
+            "off": self._offsets,
+            "sin": self._sin,
+            "cos": self._cos,
+            "lo": self.lower,
+            "hi": self.upper,
+            "c7": self._c7,
+            "u": self._u,
+            "w4": self._w4,
+            "elbow": (self._p4, self._q4, self._k4),
+            "reach2": self._reach2,
+            "m7": tuple(v for row in self._m7_rot for v in row),
+        }
+
+    @property
+    def c_params(self) -> np.ndarray:
+        """:meth:`c_fields` packed in the order the compiled twin declares (``_shoulder7.LAYOUT``)."""
+        if self._c_params is None:
+            if _shoulder7 is None:
+                raise RuntimeError("the compiled twin kin.ik.analytic._shoulder7 is not built")
+            self._c_params = pack_params(self.c_fields(), _shoulder7.LAYOUT)
+        return self._c_params
 
     def _elbow_range(self) -> tuple[float, float]:
         """``|S - W|^2`` [m^2] over joint 4's limits: ``(min, max)``, widened by rounding slack.
@@ -410,13 +446,17 @@ class SphericalShoulder7RIK:
                 value that is not finite skipped.
             out: Receives that branch [rad], shape (7,).
             step: Joint-7 scan step [rad] (0: no scan).
-            compiled: Unused (no compiled twin); the :class:`~.seven_dof.SevenDofIK` interface.
+            compiled: Use the compiled twin when it is built (False: this module's Python).
 
         Returns:
             The index of that start, or -1 (``out`` untouched).
         """
         if target is None:
             return -1
+        if compiled and _shoulder7 is not None:
+            if not starts.flags.c_contiguous or starts.dtype != np.float64:
+                starts = np.ascontiguousarray(starts, dtype=float)
+            return _shoulder7.first(self.c_params, target, starts, out, step)
         if starts.ndim != 2 or starts.shape[1] != 7:
             raise ValueError(f"starts: not k x 7, got shape {starts.shape}")
         lows, highs = self.lower, self.upper

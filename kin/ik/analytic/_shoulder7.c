@@ -1,0 +1,405 @@
+/*
+ * Compiled twin of kin/ik/analytic/spherical_shoulder7.py (SphericalShoulder7RIK.first with its
+ * branches, the joint-7 scan and the branch nearest a start): the same arithmetic, operation for
+ * operation, for speed. The Python module is the reference and the fallback when this extension
+ * is not built; tests/test_shoulder7_parity.py compares the two. Angles in radians, lengths in
+ * meters.
+ *
+ * first(params, target, starts, out, step) -> int
+ *   params: float64[PARAM_COUNT], SphericalShoulder7RIK.c_params (SHOULDER7_PARAMS below,
+ *           exported as LAYOUT);
+ *   target: SphericalShoulder7RIK.prepare of a full pose, 12 floats: R_K_J7 row-major (9), then
+ *           the shoulder point S seen from J_7 (3);
+ *   starts: float64[k, 7], start joint vectors (clipped into the limits here; a row with a value
+ *           that is not finite is skipped);
+ *   out:    float64[7], receives the solution;
+ *   step:   when > 0, a start whose joint 7 gives no branch inside the limits scans joint 7 from
+ *           there outward, q7 +- step, q7 +- 2 step, ... inside its limits [rad].
+ *   Returns the index of the first start with a branch inside the limits (the branch nearest the
+ *   start, at the joint-7 value nearest the start's, is written to out), or -1.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+/*
+ * The parameter layout, declared here once. SphericalShoulder7RIK.c_params reads the order,
+ * offsets and sizes from LAYOUT (exported below), filling each field by name; a test checks both
+ * sides. X(field, size, description)
+ */
+#define SHOULDER7_PARAMS(X)                                                      \
+    X(off, 7, "theta offsets [rad]")                                             \
+    X(sin, 8, "sin alpha_i' (index 2 .. 7; 0 and 1 unused)")                     \
+    X(cos, 8, "cos alpha_i' (index 2 .. 7; 0 and 1 unused)")                     \
+    X(lo, 7, "lower joint limits [rad]")                                         \
+    X(hi, 7, "upper joint limits [rad]")                                         \
+    X(c7, 3, "wrist point W just before Rz(t7) [m]")                             \
+    X(u, 3, "shoulder point S just before Rz(t4) [m]")                           \
+    X(w4, 3, "wrist point W in J_4 [m]")                                         \
+    X(elbow, 3, "p, q, k of the elbow equation p cos t4 + q sin t4 = k - |S-W|^2/2") \
+    X(reach2, 2, "|S - W|^2 over joint 4's limits, min and max [m^2]")           \
+    X(m7, 9, "rotation of M_7, row-major")
+
+#define PARAM_FIELD(name, size, doc) double name[size];
+typedef struct {
+    SHOULDER7_PARAMS(PARAM_FIELD)
+} Params;
+
+#define PARAM_SIZE(name, size, doc) +(size)
+enum { PARAM_COUNT = 0 SHOULDER7_PARAMS(PARAM_SIZE) };
+
+/* All doubles: no padding, so a float64[PARAM_COUNT] buffer is a Params. */
+typedef char params_have_no_padding[sizeof(Params) == PARAM_COUNT * sizeof(double) ? 1 : -1];
+
+#define COS_SLACK 1e-12
+#define TWO_PI 6.283185307179586
+#define BRANCHES 8
+
+/* seven_dof._harmonic_roots: angles t with p cos t + q sin t = k; returns how many (0 to 2). */
+static int harmonic_roots(double p, double q, double k, double *t)
+{
+    double rho = hypot(p, q);
+    if (rho < 1e-15) return 0;
+    double c = k / rho;
+    if (c > 1.0) {
+        if (c > 1.0 + COS_SLACK) return 0;
+        c = 1.0;
+    } else if (c < -1.0) {
+        if (c < -1.0 - COS_SLACK) return 0;
+        c = -1.0;
+    }
+    double phi = atan2(q, p), delta = acos(c);
+    if (!(delta > 0.0)) {
+        t[0] = phi;
+        return 1;
+    }
+    t[0] = phi + delta;
+    t[1] = phi - delta;
+    return 2;
+}
+
+/* seven_dof._rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
+   sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
+static int rotation_pair(double sa, double ca, const double *v, const double *d, double *ta,
+                         double *tb)
+{
+    double heading = atan2(d[1], d[0]);
+    int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], tb);
+    for (int i = 0; i < n; i++) {
+        double cb = cos(tb[i]), sb = sin(tb[i]);
+        double mx = v[0] * cb - v[1] * sb;
+        double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
+        ta[i] = heading - atan2(my, mx);
+    }
+    return n;
+}
+
+/* _into_limits: q + 2 pi k inside [lo[j], hi[j]] nearest near[j], written to *out; 0 if none. */
+static int into_limits(const Params *P, int j, double q, const double *near, double *out)
+{
+    double low = P->lo[j], high = P->hi[j], n = near[j];
+    q = n + remainder(q - n, TWO_PI);
+    if (low <= q && q <= high) {
+        *out = q;
+        return 1;
+    }
+    double up = q + TWO_PI, down = q - TWO_PI;
+    int down_in = low <= down && down <= high;
+    if (low <= up && up <= high && !(down_in && n - down < up - n)) {
+        *out = up;
+        return 1;
+    }
+    if (down_in) {
+        *out = down;
+        return 1;
+    }
+    return 0;
+}
+
+/* _back: R_K_J6 Rz(-t6) Rx(alpha)^T Rz(-t5) (x, y, z); turn = (cos t5, sin t5, sin alpha,
+   cos alpha, cos t6, sin t6), k6 = R_K_J6 row-major. */
+static void back(const double *k6, const double *turn, double x, double y, double z, double *r)
+{
+    double c5 = turn[0], s5 = turn[1], sa = turn[2], ca = turn[3], c6 = turn[4], s6 = turn[5];
+    double tmp;
+    tmp = c5 * x + s5 * y;
+    y = c5 * y - s5 * x;
+    x = tmp;
+    tmp = ca * y + sa * z;
+    z = ca * z - sa * y;
+    y = tmp;
+    tmp = c6 * x + s6 * y;
+    y = c6 * y - s6 * x;
+    x = tmp;
+    for (int i = 0; i < 3; i++) r[i] = k6[3 * i] * x + k6[3 * i + 1] * y + k6[3 * i + 2] * z;
+}
+
+/* SphericalShoulder7RIK.branches with the fit of first (each joint into its limits, nearest the
+   start `near`): joint vectors inside the limits (up to 8) for joint 7 at q7, in slot order. */
+static int branches(const Params *P, const double *T, double q7, const double *near,
+                    double (*sol)[7])
+{
+    const double *s = P->sin, *c = P->cos, *off = P->off, *a = P->m7;
+    double r00 = T[0], r01 = T[1], r02 = T[2], r10 = T[3], r11 = T[4], r12 = T[5];
+    double r20 = T[6], r21 = T[7], r22 = T[8], ex = T[9], ey = T[10], ez = T[11];
+    double t7 = q7 + off[6];
+    double c7 = cos(t7), s7 = sin(t7);
+    double wx = P->c7[0], wy = P->c7[1], wz = P->c7[2];
+    /* S - W before Rz(t7): Rz(t7) e - c7; in J_6: M_7's rotation of it. */
+    double rx = c7 * ex - s7 * ey - wx, ry = s7 * ex + c7 * ey - wy, rz = ez - wz;
+    double ux = P->u[0], uy = P->u[1], uz = P->u[2];
+    double w4x = P->w4[0], w4y = P->w4[1], w4z = P->w4[2];
+    double distance2 = rx * rx + ry * ry + rz * rz;
+    double elbows[2];
+    int n4 = harmonic_roots(P->elbow[0], P->elbow[1], P->elbow[2] - 0.5 * distance2, elbows);
+    if (n4 == 0) return 0;
+    double v6[3] = {a[0] * rx + a[1] * ry + a[2] * rz, a[3] * rx + a[4] * ry + a[5] * rz,
+                    a[6] * rx + a[7] * ry + a[8] * rz};
+    /* R_K_J6 = R_K_J7 Rz(-t7) M_7^T (rows). */
+    double b00 = r00 * c7 - r01 * s7, b01 = r00 * s7 + r01 * c7;
+    double b10 = r10 * c7 - r11 * s7, b11 = r10 * s7 + r11 * c7;
+    double b20 = r20 * c7 - r21 * s7, b21 = r20 * s7 + r21 * c7;
+    double k6[9] = {
+        b00 * a[0] + b01 * a[1] + r02 * a[2], b00 * a[3] + b01 * a[4] + r02 * a[5],
+        b00 * a[6] + b01 * a[7] + r02 * a[8], b10 * a[0] + b11 * a[1] + r12 * a[2],
+        b10 * a[3] + b11 * a[4] + r12 * a[5], b10 * a[6] + b11 * a[7] + r12 * a[8],
+        b20 * a[0] + b21 * a[1] + r22 * a[2], b20 * a[3] + b21 * a[4] + r22 * a[5],
+        b20 * a[6] + b21 * a[7] + r22 * a[8],
+    };
+    double v3[3] = {0.0, -s[3], c[3]};
+    int count = 0;
+    for (int e = 0; e < n4; e++) {
+        double t4 = elbows[e], q[7];
+        if (!into_limits(P, 3, t4 - off[3], near, &q[3])) continue;
+        double c4 = cos(t4), s4 = sin(t4);
+        /* S - W in J_4 (Rz(-t4) u - w4), then through Rx(alpha_5')^T. */
+        double vx = c4 * ux + s4 * uy - w4x, vy = c4 * uy - s4 * ux - w4y, vz = uz - w4z;
+        double d[3] = {vx, c[5] * vy + s[5] * vz, c[5] * vz - s[5] * vy};
+        double zy = c4 * s[4], zz = c[4];
+        double z4[3] = {s4 * s[4], c[5] * zy + s[5] * zz, c[5] * zz - s[5] * zy};
+        double x4[3] = {c4, -c[5] * s4, s[5] * s4};
+        double t5s[2], t6s[2];
+        int n6 = rotation_pair(s[6], c[6], v6, d, t5s, t6s);
+        for (int w = 0; w < n6; w++) {
+            double t5 = t5s[w], t6 = t6s[w];
+            if (!into_limits(P, 4, t5 - off[4], near, &q[4])) continue;
+            if (!into_limits(P, 5, t6 - off[5], near, &q[5])) continue;
+            double turn[6] = {cos(t5), sin(t5), s[6], c[6], cos(t6), sin(t6)};
+            double z[3], x[3];
+            back(k6, turn, z4[0], z4[1], z4[2], z);
+            back(k6, turn, x4[0], x4[1], x4[2], x);
+            double t1s[2], t2s[2];
+            int n2 = rotation_pair(s[2], c[2], v3, z, t1s, t2s);
+            for (int h = 0; h < n2; h++) {
+                double t1 = t1s[h], t2 = t2s[h];
+                if (!into_limits(P, 0, t1 - off[0], near, &q[0])) continue;
+                if (!into_limits(P, 1, t2 - off[1], near, &q[1])) continue;
+                /* t3: Rx3^T Rz(-t2) Rx2^T Rz(-t1) x_3 = (cos t3, sin t3, 0). */
+                double ct = cos(t1), st = sin(t1), tmp;
+                double nx = ct * x[0] + st * x[1], ny = ct * x[1] - st * x[0], nz = x[2];
+                tmp = c[2] * ny + s[2] * nz;
+                nz = c[2] * nz - s[2] * ny;
+                ny = tmp;
+                ct = cos(t2);
+                st = sin(t2);
+                tmp = ct * nx + st * ny;
+                ny = ct * ny - st * nx;
+                nx = tmp;
+                ny = c[3] * ny + s[3] * nz;
+                if (!into_limits(P, 2, atan2(ny, nx) - off[2], near, &q[2])) continue;
+                q[6] = q7;
+                memcpy(sol[count++], q, sizeof q);
+            }
+        }
+    }
+    return count;
+}
+
+/* A C-contiguous float64 buffer of `obj` (writable if asked); 0 and a Python error otherwise. */
+static int get_doubles(PyObject *obj, Py_buffer *view, int writable, const char *name)
+{
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0) return 0;
+    if (view->format == NULL || strcmp(view->format, "d") != 0 || view->itemsize != sizeof(double)) {
+        PyBuffer_Release(view);
+        PyErr_Format(PyExc_TypeError, "%s: expected a C-contiguous float64 array", name);
+        return 0;
+    }
+    return 1;
+}
+
+/* The 12 floats of a prepared target (a tuple or list); 0 and a Python error otherwise. */
+static int get_target(PyObject *obj, double *T)
+{
+    PyObject *seq = PySequence_Fast(obj, "target: expected a sequence of 12 floats");
+    if (seq == NULL) return 0;
+    if (PySequence_Fast_GET_SIZE(seq) != 12) {
+        Py_DECREF(seq);
+        PyErr_SetString(PyExc_ValueError, "target: expected 12 floats");
+        return 0;
+    }
+    PyObject **items = PySequence_Fast_ITEMS(seq);
+    for (int i = 0; i < 12; i++) {
+        T[i] = PyFloat_AsDouble(items[i]);
+        if (T[i] == -1.0 && PyErr_Occurred()) {
+            Py_DECREF(seq);
+            return 0;
+        }
+    }
+    Py_DECREF(seq);
+    return 1;
+}
+
+/* The branch of sol[0 .. n) nearest v (first of equals) into result. */
+static void nearest(const double (*sol)[7], int n, const double *v, double *result)
+{
+    int best = 0;
+    double best_d = INFINITY;
+    for (int b = 0; b < n; b++) {
+        double d = 0.0;
+        for (int i = 0; i < 7; i++) d += (sol[b][i] - v[i]) * (sol[b][i] - v[i]);
+        if (d < best_d) {
+            best_d = d;
+            best = b;
+        }
+    }
+    memcpy(result, sol[best], 7 * sizeof(double));
+}
+
+/* Branches for joint 7 at q7, or 0 without solving when |S - W|^2 is outside joint 4's range. */
+static int try_q7(const Params *P, const double *T, const double *reach, double q7,
+                  const double *v, double (*sol)[7])
+{
+    double t7 = q7 + P->off[6];
+    double distance2 = reach[0] - reach[1] * cos(t7) - reach[2] * sin(t7);
+    if (!(P->reach2[0] <= distance2 && distance2 <= P->reach2[1])) return 0;
+    return branches(P, T, q7, v, sol);
+}
+
+static PyObject *first(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *params_obj, *target_obj, *starts_obj, *out_obj;
+    Py_buffer params, starts, out;
+    double step, T[12];
+    if (!PyArg_ParseTuple(args, "OOOOd", &params_obj, &target_obj, &starts_obj, &out_obj, &step))
+        return NULL;
+    if (!get_target(target_obj, T)) return NULL;
+    if (!get_doubles(params_obj, &params, 0, "params")) return NULL;
+    if (!get_doubles(starts_obj, &starts, 0, "starts")) {
+        PyBuffer_Release(&params);
+        return NULL;
+    }
+    if (!get_doubles(out_obj, &out, 1, "out")) {
+        PyBuffer_Release(&params);
+        PyBuffer_Release(&starts);
+        return NULL;
+    }
+    long found = -1;
+    const char *error = NULL;
+    if (params.len != PARAM_COUNT * (Py_ssize_t)sizeof(double)) error = "params: wrong size";
+    else if (starts.ndim != 2 || starts.shape[1] != 7) error = "starts: not k x 7 float64";
+    else if (out.len != 7 * (Py_ssize_t)sizeof(double)) error = "out: not 7 float64";
+    if (error == NULL) {
+        const Params *P = params.buf;
+        const double *Q = starts.buf;
+        double *result = out.buf;
+        Py_ssize_t k = starts.shape[0];
+        /* |S - W|^2 at t7 is |e|^2 + |c7|^2 - 2 c7 . Rz(t7) e = base2 - cx cos t7 - cy sin t7. */
+        double ex = T[9], ey = T[10], ez = T[11];
+        double wx = P->c7[0], wy = P->c7[1], wz = P->c7[2];
+        double reach[3] = {
+            ex * ex + ey * ey + ez * ez + wx * wx + wy * wy + wz * wz - 2.0 * wz * ez,
+            2.0 * (wx * ex + wy * ey),
+            2.0 * (wy * ex - wx * ey),
+        };
+        double low7 = P->lo[6], high7 = P->hi[6];
+        for (Py_ssize_t r = 0; r < k && found < 0; r++) {
+            double v[7], sol[BRANCHES][7];
+            int n = 0, finite = 1;
+            for (int i = 0; i < 7; i++) {
+                double x = Q[7 * r + i];
+                finite = finite && isfinite(x);
+                v[i] = x < P->lo[i] ? P->lo[i] : (x > P->hi[i] ? P->hi[i] : x);
+            }
+            if (!finite) continue;
+            /* seven_dof.scan: v7, then v7 + j step and v7 - j step inside the limits. */
+            double value = v[6];
+            n = try_q7(P, T, reach, value, v, sol);
+            if (n == 0 && step > 0.0) {
+                for (double j = 1.0; n == 0; j += 1.0) {
+                    double up = value + j * step, down = value - j * step;
+                    if (up > high7 && down < low7) break;
+                    if (low7 <= up && up <= high7) n = try_q7(P, T, reach, up, v, sol);
+                    if (n == 0 && low7 <= down && down <= high7)
+                        n = try_q7(P, T, reach, down, v, sol);
+                }
+            }
+            if (n == 0) continue;
+            nearest((const double (*)[7])sol, n, v, result);
+            found = (long)r;
+        }
+    }
+    PyBuffer_Release(&params);
+    PyBuffer_Release(&starts);
+    PyBuffer_Release(&out);
+    if (error != NULL) {
+        PyErr_SetString(PyExc_ValueError, error);
+        return NULL;
+    }
+    return PyLong_FromLong(found);
+}
+
+static PyMethodDef methods[] = {
+    {"first", first, METH_VARARGS,
+     "first(params, target, starts, out, step) -> index of the first start with a branch inside "
+     "the limits (written to out), or -1. See kin/ik/analytic/spherical_shoulder7.py."},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "_shoulder7",
+    "Compiled twin of kin.ik.analytic.spherical_shoulder7 (optional speed-up).", -1, methods, NULL,
+    NULL, NULL, NULL};
+
+/* LAYOUT: ((field, offset, size), ...) in SHOULDER7_PARAMS order, offsets in float64 values. */
+static PyObject *layout(void)
+{
+    PyObject *fields = PyList_New(0);
+    if (fields == NULL) return NULL;
+#define PARAM_ENTRY(name, size, doc)                                                            \
+    {                                                                                           \
+        PyObject *entry = Py_BuildValue("(snn)", #name,                                         \
+                                        (Py_ssize_t)(offsetof(Params, name) / sizeof(double)), \
+                                        (Py_ssize_t)(size));                                    \
+        if (entry == NULL || PyList_Append(fields, entry) < 0) {                                \
+            Py_XDECREF(entry);                                                                  \
+            Py_DECREF(fields);                                                                  \
+            return NULL;                                                                        \
+        }                                                                                       \
+        Py_DECREF(entry);                                                                       \
+    }
+    SHOULDER7_PARAMS(PARAM_ENTRY)
+#undef PARAM_ENTRY
+    PyObject *result = PyList_AsTuple(fields);
+    Py_DECREF(fields);
+    return result;
+}
+
+PyMODINIT_FUNC PyInit__shoulder7(void)
+{
+    PyObject *m = PyModule_Create(&module);
+    if (m == NULL) return NULL;
+    PyObject *fields = layout();
+    if (fields == NULL || PyModule_AddObject(m, "LAYOUT", fields) < 0) {
+        Py_XDECREF(fields);
+        Py_DECREF(m);
+        return NULL;
+    }
+    if (PyModule_AddIntConstant(m, "PARAM_COUNT", PARAM_COUNT) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}
