@@ -235,10 +235,11 @@ class SphericalShoulder7RIK:
         self._q4 = u[1] * w[0] - u[0] * w[1]
         self._k4 = 0.5 * (sum(v * v for v in u) + sum(v * v for v in w)) - u[2] * w[2]
         self._reach2 = self._elbow_range()
-        self._k_rows = tuple(tuple(row) for row in self._k_rot.tolist())
+        self._k_flat = tuple(self._k_rot.ravel().tolist())
         self._k_t = tuple(self._k_pos.tolist())
-        self._tool_rows = tuple(tuple(row) for row in self._tool_rot.tolist())
+        self._tool_flat = tuple(self._tool_rot.ravel().tolist())
         self._tool_t = tuple(self._tool_pos.tolist())
+        self._shoulder_z = structure.shoulder[2]
         self._c_params: np.ndarray | None = None
 
     def c_fields(self) -> dict[str, tuple[float, ...]]:
@@ -297,21 +298,43 @@ class SphericalShoulder7RIK:
         """
         if rotation is None:
             return None
-        # Plain floats (a few microseconds faster than NumPy on 3 x 3).
-        k, kt, tool, tt = self._k_rows, self._k_t, self._tool_rows, self._tool_t
-        w = rotation.tolist()
-        # R_K_J7 = K^T R_world_tool M_8^T; p_K_J7 = K^T (p - k) - R_K_J7 t_8.
-        kw = [[k[0][i] * w[0][j] + k[1][i] * w[1][j] + k[2][i] * w[2][j] for j in range(3)]
-              for i in range(3)]  # fmt: skip
-        r = [[row[0] * t[0] + row[1] * t[1] + row[2] * t[2] for t in tool] for row in kw]
-        x, y, z = (float(v) - kt[i] for i, v in enumerate(position.tolist()))
+        # Plain floats, unrolled (NumPy on 3 x 3, or loops, cost microseconds here).
+        k00, k01, k02, k10, k11, k12, k20, k21, k22 = self._k_flat
+        m00, m01, m02, m10, m11, m12, m20, m21, m22 = self._tool_flat
+        (w00, w01, w02), (w10, w11, w12), (w20, w21, w22) = rotation.tolist()
+        # R_K_J7 = K^T R_world_tool M_8^T; p_K_J7 = K^T (p - k) - R_K_J7 t_8. First A = K^T R.
+        a00 = k00 * w00 + k10 * w10 + k20 * w20
+        a01 = k00 * w01 + k10 * w11 + k20 * w21
+        a02 = k00 * w02 + k10 * w12 + k20 * w22
+        a10 = k01 * w00 + k11 * w10 + k21 * w20
+        a11 = k01 * w01 + k11 * w11 + k21 * w21
+        a12 = k01 * w02 + k11 * w12 + k21 * w22
+        a20 = k02 * w00 + k12 * w10 + k22 * w20
+        a21 = k02 * w01 + k12 * w11 + k22 * w21
+        a22 = k02 * w02 + k12 * w12 + k22 * w22
+        r00 = a00 * m00 + a01 * m01 + a02 * m02
+        r01 = a00 * m10 + a01 * m11 + a02 * m12
+        r02 = a00 * m20 + a01 * m21 + a02 * m22
+        r10 = a10 * m00 + a11 * m01 + a12 * m02
+        r11 = a10 * m10 + a11 * m11 + a12 * m12
+        r12 = a10 * m20 + a11 * m21 + a12 * m22
+        r20 = a20 * m00 + a21 * m01 + a22 * m02
+        r21 = a20 * m10 + a21 * m11 + a22 * m12
+        r22 = a20 * m20 + a21 * m21 + a22 * m22
+        kx, ky, kz = self._k_t
+        px, py, pz = position.tolist()
+        x, y, z = px - kx, py - ky, pz - kz
         # S seen from J_7: R_K_J7^T (S - p_K_J7) = R_K_J7^T (S - K^T (p - k)) + t_8.
-        sz = self.structure.shoulder[2]
-        gx = -(k[0][0] * x + k[1][0] * y + k[2][0] * z)
-        gy = -(k[0][1] * x + k[1][1] * y + k[2][1] * z)
-        gz = sz - (k[0][2] * x + k[1][2] * y + k[2][2] * z)
-        e = [r[0][j] * gx + r[1][j] * gy + r[2][j] * gz + tt[j] for j in range(3)]
-        return (*r[0], *r[1], *r[2], *e)
+        gx = -(k00 * x + k10 * y + k20 * z)
+        gy = -(k01 * x + k11 * y + k21 * z)
+        gz = self._shoulder_z - (k02 * x + k12 * y + k22 * z)
+        tx, ty, tz = self._tool_t
+        return (
+            r00, r01, r02, r10, r11, r12, r20, r21, r22,
+            r00 * gx + r10 * gy + r20 * gz + tx,
+            r01 * gx + r11 * gy + r21 * gz + ty,
+            r02 * gx + r12 * gy + r22 * gz + tz,
+        )  # fmt: skip
 
     def branches(
         self, target: tuple[float, ...], q7: float, fit: Callable[[int, float], float | None]
