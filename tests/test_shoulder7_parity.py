@@ -71,6 +71,7 @@ def test_defaults_do_not_depend_on_the_twin(name):
     fast, plain = solvers(name)
     assert fast.closed_form_steps == plain.closed_form_steps == DEFAULT_CLOSED_FORM_STEPS
     assert plain.compiled is False
+    assert fast.compiled is COMPILED  # its own twin decides, not humanoid7's
     assert isinstance(fast.closed_form, SphericalShoulder7RIK), f"{name=}"
     assert isinstance(plain.closed_form, SphericalShoulder7RIK), f"{name=}"
 

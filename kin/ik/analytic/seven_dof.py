@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
+from typing import ClassVar
 
 import numpy as np
 
@@ -135,6 +136,9 @@ class SevenDofIK:
         lower: Lower joint limits [rad] (7).
         upper: Upper joint limits [rad] (7).
     """
+
+    #: Whether the compiled twin of :meth:`first` (``_closed7``) is built.
+    compiled_twin: ClassVar[bool] = COMPILED
 
     def __init__(self, structure: SevenDof, lower: Sequence[float], upper: Sequence[float]):
         self.structure = structure

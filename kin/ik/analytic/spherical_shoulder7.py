@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -210,6 +211,9 @@ class SphericalShoulder7RIK:
         lower: Lower joint limits [rad] (7).
         upper: Upper joint limits [rad] (7).
     """
+
+    #: Whether the compiled twin of :meth:`first` (``_shoulder7``) is built.
+    compiled_twin: ClassVar[bool] = COMPILED
 
     def __init__(
         self, structure: SphericalShoulder7R, lower: Sequence[float], upper: Sequence[float]

@@ -14,7 +14,7 @@ judge (:mod:`kin.ik.judge`) measures every answer. Most targets end here, in ten
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -38,6 +38,9 @@ METHOD = "closed_form_free_joint"
 
 class FreeJointClosedForm(Protocol):
     """A closed form for chosen values of a free joint (what stage 0 asks of it)."""
+
+    #: Whether its compiled twin of :meth:`first` is built.
+    compiled_twin: ClassVar[bool]
 
     def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> Any:
         """The target's constants for :meth:`first`, or None for a target it does not take."""

@@ -31,7 +31,6 @@ import numpy.typing as npt
 
 from kin import KinError, RobotModel, as_joint_vector, load_robot
 
-from ..analytic.seven_dof import COMPILED
 from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
 from ..result import IKResult
@@ -49,8 +48,8 @@ logger = logging.getLogger(__name__)
 #: Default time budget of one solve [s].
 DEFAULT_TIMEOUT = 0.05
 
-#: Default joint-1 scan steps of the closed form [rad], coarse to fine (with or without the
-#: compiled twin: the same answers either way).
+#: Default free-joint scan steps of the closed form [rad], coarse to fine (with or without the
+#: compiled twins: the same answers either way).
 DEFAULT_CLOSED_FORM_STEPS = (0.05, 0.01)
 
 
@@ -77,9 +76,9 @@ class NumericIK:
         closed_form_steps: Free-joint scan steps of the first closed-form starts [rad], coarse
             to fine: when a start's free joint gives no branch inside the limits, it is scanned
             outward from there, on the coarse grid first.
-        compiled: Run the humanoid7 closed form's compiled twin (:mod:`kin.ik.analytic._closed7`)
-            when it is built (False: the Python module). Both return the same joint vectors; the
-            twin is faster.
+        compiled: Run the free-joint closed form's compiled twin (``_closed7`` for humanoid7's
+            structure, ``_shoulder7`` for the spherical shoulder) when it is built (False: the
+            Python module). Both return the same joint vectors; the twin is faster.
     """
 
     #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
@@ -138,7 +137,7 @@ class NumericIK:
         self.closed_form_starts = closed_form_starts
         self.closed_form_steps = tuple(closed_form_steps)
         #: Whether the closed form runs its compiled twin (asked for and built).
-        self.compiled = compiled and COMPILED
+        self.compiled = compiled and self.closed_form is not None and self.closed_form.compiled_twin
 
     @property
     def table(self) -> SeedTable:
