@@ -17,11 +17,7 @@
  *   Returns the index of the first start with a branch inside the limits (the branch nearest the
  *   start, at the joint-1 value nearest the start's, is written to out), or -1.
  */
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
-#include <math.h>
-#include <stddef.h>
-#include <string.h>
+#include "_twin.h"
 
 /*
  * The parameter layout, declared here once. SevenDofIK.c_params reads the order, offsets and
@@ -44,72 +40,15 @@
     X(w7, 3, "wrist centre in frame 7 [m]")                          \
     X(ax7, 3, "(0, sin alpha7, cos alpha7)")
 
-#define PARAM_FIELD(name, size, doc) double name[size];
-typedef struct {
-    CLOSED7_PARAMS(PARAM_FIELD)
-} Params;
-
-#define PARAM_SIZE(name, size, doc) +(size)
-enum { PARAM_COUNT = 0 CLOSED7_PARAMS(PARAM_SIZE) };
-
-/* All doubles: no padding, so a float64[PARAM_COUNT] buffer is a Params. */
-typedef char params_have_no_padding[sizeof(Params) == PARAM_COUNT * sizeof(double) ? 1 : -1];
-
-#define COS_SLACK 1e-12
-#define TWO_PI 6.283185307179586
+TWIN_PARAMS(CLOSED7_PARAMS)
 
 typedef struct {
     double t1, q2, q3, q4, t2, t3, t4;
 } Arm;
 
-static int clamp_cos(double *c)
-{
-    if (*c > 1.0) {
-        if (*c > 1.0 + COS_SLACK) return 0;
-        *c = 1.0;
-    } else if (*c < -1.0) {
-        if (*c < -1.0 - COS_SLACK) return 0;
-        *c = -1.0;
-    }
-    return 1;
-}
-
 static int inside(const Params *P, int i, double q)
 {
     return P->lo[i] <= q && q <= P->hi[i];
-}
-
-/* SevenDofIK's _harmonic_roots: angles t with p cos t + q sin t = k; returns how many (0 to 2). */
-static int harmonic_roots(double p, double q, double k, double *t)
-{
-    double rho = hypot(p, q);
-    if (rho < 1e-15) return 0;
-    double c = k / rho;
-    if (!clamp_cos(&c)) return 0;
-    double phi = atan2(q, p), delta = acos(c);
-    if (!(delta > 0.0)) {
-        t[0] = phi;
-        return 1;
-    }
-    t[0] = phi + delta;
-    t[1] = phi - delta;
-    return 2;
-}
-
-/* SevenDofIK's _rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
-   sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
-static int rotation_pair(double sa, double ca, const double *v, const double *d, double *ta,
-                         double *tb)
-{
-    int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], tb);
-    double heading = atan2(d[1], d[0]);
-    for (int i = 0; i < n; i++) {
-        double cb = cos(tb[i]), sb = sin(tb[i]);
-        double mx = v[0] * cb - v[1] * sb;
-        double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
-        ta[i] = heading - atan2(my, mx);
-    }
-    return n;
 }
 
 /* SevenDofIK._arm: branches putting Rz(t4) u (frame 3) on the point pt (frame 0). */
@@ -231,52 +170,25 @@ static void elbow_vector(const Params *P, double q5, double q6, double q7, doubl
     u[2] = P->d[3] + S[3] * y + C[3] * z;
 }
 
-/* A C-contiguous float64 buffer of `obj` (writable if asked); 0 and a Python error otherwise. */
-static int get_doubles(PyObject *obj, Py_buffer *view, int writable, const char *name)
-{
-    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
-    if (PyObject_GetBuffer(obj, view, flags) < 0) return 0;
-    if (view->format == NULL || strcmp(view->format, "d") != 0 || view->itemsize != sizeof(double)) {
-        PyBuffer_Release(view);
-        PyErr_Format(PyExc_TypeError, "%s: expected a C-contiguous float64 array", name);
-        return 0;
-    }
-    return 1;
-}
-
 static PyObject *first(PyObject *self, PyObject *args)
 {
-    PyObject *params_obj, *target_obj, *starts_obj, *out_obj;
-    Py_buffer params, target, starts, out;
+    PyObject *objs[4];
+    static const char *const names[4] = {"params", "target", "starts", "out"};
+    static const int writable[4] = {0, 0, 0, 1};
+    Py_buffer views[4];
     int mode;
     double step;
-    if (!PyArg_ParseTuple(args, "OiOOOd", &params_obj, &mode, &target_obj, &starts_obj, &out_obj,
-                          &step))
+    if (!PyArg_ParseTuple(args, "OiOOOd", &objs[0], &mode, &objs[1], &objs[2], &objs[3], &step))
         return NULL;
-    if (!get_doubles(params_obj, &params, 0, "params")) return NULL;
-    if (!get_doubles(target_obj, &target, 0, "target")) {
-        PyBuffer_Release(&params);
-        return NULL;
-    }
-    if (!get_doubles(starts_obj, &starts, 0, "starts")) {
-        PyBuffer_Release(&params);
-        PyBuffer_Release(&target);
-        return NULL;
-    }
-    if (!get_doubles(out_obj, &out, 1, "out")) {
-        PyBuffer_Release(&params);
-        PyBuffer_Release(&target);
-        PyBuffer_Release(&starts);
-        return NULL;
-    }
+    if (!get_buffers(4, objs, views, writable, names)) return NULL;
+    Py_buffer params = views[0], target = views[1], starts = views[2], out = views[3];
     long found = -1;
     const char *error = NULL;
     Py_ssize_t need = mode == 0 ? 12 : 3;
-    if (params.len != PARAM_COUNT * (Py_ssize_t)sizeof(double)) error = "params: wrong size";
-    else if (mode != 0 && mode != 1) error = "mode must be 0 (pose) or 1 (position)";
-    else if (target.len != need * (Py_ssize_t)sizeof(double)) error = "target: wrong size";
-    else if (starts.ndim != 2 || starts.shape[1] != 7) error = "starts: not k x 7 float64";
-    else if (out.len != 7 * (Py_ssize_t)sizeof(double)) error = "out: not 7 float64";
+    error = check_arrays(&params, PARAM_COUNT, &starts, &out);
+    if (error == NULL && mode != 0 && mode != 1) error = "mode must be 0 (pose) or 1 (position)";
+    else if (error == NULL && target.len != need * (Py_ssize_t)sizeof(double))
+        error = "target: wrong size";
     if (error == NULL) {
         const Params *P = params.buf;
         const double *T = target.buf, *Q = starts.buf;
@@ -294,13 +206,9 @@ static PyObject *first(PyObject *self, PyObject *args)
         }
         for (Py_ssize_t r = 0; r < k && found < 0; r++) {
             double v[7], sol[8][7];
-            int n = 0, finite = 1;
-            for (int i = 0; i < 7; i++) {
-                double x = Q[7 * r + i];
-                finite = finite && isfinite(x);
-                v[i] = x < P->lo[i] ? P->lo[i] : (x > P->hi[i] ? P->hi[i] : x);
-            }
-            if (!finite) continue; /* a start with a NaN or an infinity has no joint 1 to keep */
+            int n = 0;
+            /* a start with a NaN or an infinity has no joint 1 to keep */
+            if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
             double u[3];
             if (mode == 1) elbow_vector(P, v[4], v[5], v[6], u);
             for (long j = 0; n == 0; j++) {
@@ -329,29 +237,11 @@ static PyObject *first(PyObject *self, PyObject *args)
                 if (!inside_limits || !(step > 0.0)) break;
             }
             if (n == 0) continue;
-            int best = 0;
-            double best_d = INFINITY;
-            for (int b = 0; b < n; b++) {
-                double d = 0.0;
-                for (int i = 0; i < 7; i++) d += (sol[b][i] - v[i]) * (sol[b][i] - v[i]);
-                if (d < best_d) {
-                    best_d = d;
-                    best = b;
-                }
-            }
-            for (int i = 0; i < 7; i++) result[i] = sol[best][i];
+            nearest((const double (*)[7])sol, n, v, result);
             found = (long)r;
         }
     }
-    PyBuffer_Release(&params);
-    PyBuffer_Release(&target);
-    PyBuffer_Release(&starts);
-    PyBuffer_Release(&out);
-    if (error != NULL) {
-        PyErr_SetString(PyExc_ValueError, error);
-        return NULL;
-    }
-    return PyLong_FromLong(found);
+    return first_result(4, views, error, found);
 }
 
 static PyMethodDef methods[] = {
@@ -364,43 +254,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",
                                     "Compiled twin of kin.ik.analytic.seven_dof (optional speed-up).", -1,
                                     methods};
 
-/* LAYOUT: ((field, offset, size), ...) in CLOSED7_PARAMS order, offsets in float64 values. */
-static PyObject *layout(void)
-{
-    PyObject *fields = PyList_New(0);
-    if (fields == NULL) return NULL;
-#define PARAM_ENTRY(name, size, doc)                                                        \
-    {                                                                                       \
-        PyObject *entry = Py_BuildValue("(snn)", #name,                                     \
-                                        (Py_ssize_t)(offsetof(Params, name) / sizeof(double)), \
-                                        (Py_ssize_t)(size));                                \
-        if (entry == NULL || PyList_Append(fields, entry) < 0) {                            \
-            Py_XDECREF(entry);                                                              \
-            Py_DECREF(fields);                                                              \
-            return NULL;                                                                    \
-        }                                                                                   \
-        Py_DECREF(entry);                                                                   \
-    }
-    CLOSED7_PARAMS(PARAM_ENTRY)
-#undef PARAM_ENTRY
-    PyObject *result = PyList_AsTuple(fields);
-    Py_DECREF(fields);
-    return result;
-}
-
 PyMODINIT_FUNC PyInit__closed7(void)
 {
-    PyObject *m = PyModule_Create(&module);
-    if (m == NULL) return NULL;
-    PyObject *fields = layout();
-    if (fields == NULL || PyModule_AddObject(m, "LAYOUT", fields) < 0) {
-        Py_XDECREF(fields);
-        Py_DECREF(m);
-        return NULL;
-    }
-    if (PyModule_AddIntConstant(m, "PARAM_COUNT", PARAM_COUNT) < 0) {
-        Py_DECREF(m);
-        return NULL;
-    }
-    return m;
+    return twin_module(&module, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
 }

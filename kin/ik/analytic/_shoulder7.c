@@ -18,11 +18,7 @@
  *   Returns the index of the first start with a branch inside the limits (the branch nearest the
  *   start, at the joint-7 value nearest the start's, is written to out), or -1.
  */
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
-#include <math.h>
-#include <stddef.h>
-#include <string.h>
+#include "_twin.h"
 
 /*
  * The parameter layout, declared here once. SphericalShoulder7RIK.c_params reads the order,
@@ -42,59 +38,8 @@
     X(reach2, 2, "|S - W|^2 over joint 4's limits, min and max [m^2]")           \
     X(m7, 9, "rotation of M_7, row-major")
 
-#define PARAM_FIELD(name, size, doc) double name[size];
-typedef struct {
-    SHOULDER7_PARAMS(PARAM_FIELD)
-} Params;
-
-#define PARAM_SIZE(name, size, doc) +(size)
-enum { PARAM_COUNT = 0 SHOULDER7_PARAMS(PARAM_SIZE) };
-
-/* All doubles: no padding, so a float64[PARAM_COUNT] buffer is a Params. */
-typedef char params_have_no_padding[sizeof(Params) == PARAM_COUNT * sizeof(double) ? 1 : -1];
-
-#define COS_SLACK 1e-12
-#define TWO_PI 6.283185307179586
+TWIN_PARAMS(SHOULDER7_PARAMS)
 #define BRANCHES 8
-
-/* seven_dof._harmonic_roots: angles t with p cos t + q sin t = k; returns how many (0 to 2). */
-static int harmonic_roots(double p, double q, double k, double *t)
-{
-    double rho = hypot(p, q);
-    if (rho < 1e-15) return 0;
-    double c = k / rho;
-    if (c > 1.0) {
-        if (c > 1.0 + COS_SLACK) return 0;
-        c = 1.0;
-    } else if (c < -1.0) {
-        if (c < -1.0 - COS_SLACK) return 0;
-        c = -1.0;
-    }
-    double phi = atan2(q, p), delta = acos(c);
-    if (!(delta > 0.0)) {
-        t[0] = phi;
-        return 1;
-    }
-    t[0] = phi + delta;
-    t[1] = phi - delta;
-    return 2;
-}
-
-/* seven_dof._rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
-   sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
-static int rotation_pair(double sa, double ca, const double *v, const double *d, double *ta,
-                         double *tb)
-{
-    double heading = atan2(d[1], d[0]);
-    int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], tb);
-    for (int i = 0; i < n; i++) {
-        double cb = cos(tb[i]), sb = sin(tb[i]);
-        double mx = v[0] * cb - v[1] * sb;
-        double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
-        ta[i] = heading - atan2(my, mx);
-    }
-    return n;
-}
 
 /* _into_limits: q + 2 pi k inside [lo[j], hi[j]] nearest near[j], written to *out; 0 if none. */
 static int into_limits(const Params *P, int j, double q, const double *near, double *out)
@@ -217,19 +162,6 @@ static int branches(const Params *P, const double *T, double q7, const double *n
     return count;
 }
 
-/* A C-contiguous float64 buffer of `obj` (writable if asked); 0 and a Python error otherwise. */
-static int get_doubles(PyObject *obj, Py_buffer *view, int writable, const char *name)
-{
-    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
-    if (PyObject_GetBuffer(obj, view, flags) < 0) return 0;
-    if (view->format == NULL || strcmp(view->format, "d") != 0 || view->itemsize != sizeof(double)) {
-        PyBuffer_Release(view);
-        PyErr_Format(PyExc_TypeError, "%s: expected a C-contiguous float64 array", name);
-        return 0;
-    }
-    return 1;
-}
-
 /* The 12 floats of a prepared target (a tuple or list); 0 and a Python error otherwise. */
 static int get_target(PyObject *obj, double *T)
 {
@@ -253,21 +185,6 @@ static int get_target(PyObject *obj, double *T)
 }
 
 /* The branch of sol[0 .. n) nearest v (first of equals) into result. */
-static void nearest(const double (*sol)[7], int n, const double *v, double *result)
-{
-    int best = 0;
-    double best_d = INFINITY;
-    for (int b = 0; b < n; b++) {
-        double d = 0.0;
-        for (int i = 0; i < 7; i++) d += (sol[b][i] - v[i]) * (sol[b][i] - v[i]);
-        if (d < best_d) {
-            best_d = d;
-            best = b;
-        }
-    }
-    memcpy(result, sol[best], 7 * sizeof(double));
-}
-
 /* Branches for joint 7 at q7, or 0 without solving when |S - W|^2 is outside joint 4's range. */
 static int try_q7(const Params *P, const double *T, const double *reach, double q7,
                   const double *v, double (*sol)[7])
@@ -281,27 +198,19 @@ static int try_q7(const Params *P, const double *T, const double *reach, double 
 static PyObject *first(PyObject *self, PyObject *args)
 {
     (void)self;
-    PyObject *params_obj, *target_obj, *starts_obj, *out_obj;
-    Py_buffer params, starts, out;
+    PyObject *objs[3], *target_obj;
+    static const char *const names[3] = {"params", "starts", "out"};
+    static const int writable[3] = {0, 0, 1};
+    Py_buffer views[3];
     double step, T[12];
-    if (!PyArg_ParseTuple(args, "OOOOd", &params_obj, &target_obj, &starts_obj, &out_obj, &step))
+    if (!PyArg_ParseTuple(args, "OOOOd", &objs[0], &target_obj, &objs[1], &objs[2], &step))
         return NULL;
     if (!get_target(target_obj, T)) return NULL;
-    if (!get_doubles(params_obj, &params, 0, "params")) return NULL;
-    if (!get_doubles(starts_obj, &starts, 0, "starts")) {
-        PyBuffer_Release(&params);
-        return NULL;
-    }
-    if (!get_doubles(out_obj, &out, 1, "out")) {
-        PyBuffer_Release(&params);
-        PyBuffer_Release(&starts);
-        return NULL;
-    }
+    if (!get_buffers(3, objs, views, writable, names)) return NULL;
+    Py_buffer params = views[0], starts = views[1], out = views[2];
     long found = -1;
     const char *error = NULL;
-    if (params.len != PARAM_COUNT * (Py_ssize_t)sizeof(double)) error = "params: wrong size";
-    else if (starts.ndim != 2 || starts.shape[1] != 7) error = "starts: not k x 7 float64";
-    else if (out.len != 7 * (Py_ssize_t)sizeof(double)) error = "out: not 7 float64";
+    error = check_arrays(&params, PARAM_COUNT, &starts, &out);
     if (error == NULL) {
         const Params *P = params.buf;
         const double *Q = starts.buf;
@@ -318,13 +227,8 @@ static PyObject *first(PyObject *self, PyObject *args)
         double low7 = P->lo[6], high7 = P->hi[6];
         for (Py_ssize_t r = 0; r < k && found < 0; r++) {
             double v[7], sol[BRANCHES][7];
-            int n = 0, finite = 1;
-            for (int i = 0; i < 7; i++) {
-                double x = Q[7 * r + i];
-                finite = finite && isfinite(x);
-                v[i] = x < P->lo[i] ? P->lo[i] : (x > P->hi[i] ? P->hi[i] : x);
-            }
-            if (!finite) continue;
+            int n = 0;
+            if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
             /* seven_dof.scan: v7, then v7 + j step and v7 - j step inside the limits. */
             double value = v[6];
             n = try_q7(P, T, reach, value, v, sol);
@@ -342,14 +246,7 @@ static PyObject *first(PyObject *self, PyObject *args)
             found = (long)r;
         }
     }
-    PyBuffer_Release(&params);
-    PyBuffer_Release(&starts);
-    PyBuffer_Release(&out);
-    if (error != NULL) {
-        PyErr_SetString(PyExc_ValueError, error);
-        return NULL;
-    }
-    return PyLong_FromLong(found);
+    return first_result(3, views, error, found);
 }
 
 static PyMethodDef methods[] = {
@@ -363,43 +260,7 @@ static struct PyModuleDef module = {
     "Compiled twin of kin.ik.analytic.spherical_shoulder7 (optional speed-up).", -1, methods, NULL,
     NULL, NULL, NULL};
 
-/* LAYOUT: ((field, offset, size), ...) in SHOULDER7_PARAMS order, offsets in float64 values. */
-static PyObject *layout(void)
-{
-    PyObject *fields = PyList_New(0);
-    if (fields == NULL) return NULL;
-#define PARAM_ENTRY(name, size, doc)                                                            \
-    {                                                                                           \
-        PyObject *entry = Py_BuildValue("(snn)", #name,                                         \
-                                        (Py_ssize_t)(offsetof(Params, name) / sizeof(double)), \
-                                        (Py_ssize_t)(size));                                    \
-        if (entry == NULL || PyList_Append(fields, entry) < 0) {                                \
-            Py_XDECREF(entry);                                                                  \
-            Py_DECREF(fields);                                                                  \
-            return NULL;                                                                        \
-        }                                                                                       \
-        Py_DECREF(entry);                                                                       \
-    }
-    SHOULDER7_PARAMS(PARAM_ENTRY)
-#undef PARAM_ENTRY
-    PyObject *result = PyList_AsTuple(fields);
-    Py_DECREF(fields);
-    return result;
-}
-
 PyMODINIT_FUNC PyInit__shoulder7(void)
 {
-    PyObject *m = PyModule_Create(&module);
-    if (m == NULL) return NULL;
-    PyObject *fields = layout();
-    if (fields == NULL || PyModule_AddObject(m, "LAYOUT", fields) < 0) {
-        Py_XDECREF(fields);
-        Py_DECREF(m);
-        return NULL;
-    }
-    if (PyModule_AddIntConstant(m, "PARAM_COUNT", PARAM_COUNT) < 0) {
-        Py_DECREF(m);
-        return NULL;
-    }
-    return m;
+    return twin_module(&module, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
 }

@@ -1,0 +1,202 @@
+/*
+ * What the compiled twins of the seven-joint closed forms share (_closed7.c, _shoulder7.c): the
+ * parameter block declared once per twin from an X-macro list, its export as LAYOUT, the two
+ * formulas of seven_dof.py both use (_harmonic_roots, _rotation_pair), the float64 buffer check and
+ * the module set-up. Angles in radians, lengths in meters.
+ */
+#ifndef KIN_IK_ANALYTIC_TWIN_H
+#define KIN_IK_ANALYTIC_TWIN_H
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#define COS_SLACK 1e-12
+#define TWO_PI 6.283185307179586
+
+/* One field of a parameter block: name, offset and size in float64 values. */
+typedef struct {
+    const char *name;
+    Py_ssize_t offset, size;
+} TwinField;
+
+/*
+ * TWIN_PARAMS(LIST) declares, from LIST(X) with X(field, size, description): the struct Params
+ * (all doubles: no padding, so a float64[PARAM_COUNT] buffer is a Params, checked at compile
+ * time), PARAM_COUNT, and FIELDS, the layout exported as LAYOUT.
+ */
+#define TWIN_FIELD(name, size, doc) double name[size];
+#define TWIN_SIZE(name, size, doc) +(size)
+#define TWIN_ENTRY(name, size, doc) \
+    {#name, (Py_ssize_t)(offsetof(Params, name) / sizeof(double)), (Py_ssize_t)(size)},
+#define TWIN_PARAMS(LIST)                                                                         \
+    typedef struct {                                                                              \
+        LIST(TWIN_FIELD)                                                                          \
+    } Params;                                                                                     \
+    enum { PARAM_COUNT = 0 LIST(TWIN_SIZE) };                                                     \
+    typedef char params_have_no_padding[sizeof(Params) == PARAM_COUNT * sizeof(double) ? 1 : -1]; \
+    static const TwinField FIELDS[] = {LIST(TWIN_ENTRY)};
+
+/* c into [-1, 1] when within COS_SLACK of it; 0 when further out (no angle). */
+static inline int clamp_cos(double *c)
+{
+    if (*c > 1.0) {
+        if (*c > 1.0 + COS_SLACK) return 0;
+        *c = 1.0;
+    } else if (*c < -1.0) {
+        if (*c < -1.0 - COS_SLACK) return 0;
+        *c = -1.0;
+    }
+    return 1;
+}
+
+/* seven_dof._harmonic_roots: angles t with p cos t + q sin t = k; returns how many (0 to 2). */
+static inline int harmonic_roots(double p, double q, double k, double *t)
+{
+    double rho = hypot(p, q);
+    if (rho < 1e-15) return 0;
+    double c = k / rho;
+    if (!clamp_cos(&c)) return 0;
+    double phi = atan2(q, p), delta = acos(c);
+    if (!(delta > 0.0)) {
+        t[0] = phi;
+        return 1;
+    }
+    t[0] = phi + delta;
+    t[1] = phi - delta;
+    return 2;
+}
+
+/* seven_dof._rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
+   sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
+static inline int rotation_pair(double sa, double ca, const double *v, const double *d,
+                                double *ta, double *tb)
+{
+    int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], tb);
+    double heading = atan2(d[1], d[0]);
+    for (int i = 0; i < n; i++) {
+        double cb = cos(tb[i]), sb = sin(tb[i]);
+        double mx = v[0] * cb - v[1] * sb;
+        double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
+        ta[i] = heading - atan2(my, mx);
+    }
+    return n;
+}
+
+/* A C-contiguous float64 buffer of obj in view; 0 and a Python error otherwise. */
+static inline int get_doubles(PyObject *obj, Py_buffer *view, int writable, const char *name)
+{
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0) return 0;
+    if (view->format == NULL || strcmp(view->format, "d") != 0 || view->itemsize != sizeof(double)) {
+        PyBuffer_Release(view);
+        PyErr_Format(PyExc_TypeError, "%s: expected a C-contiguous float64 array", name);
+        return 0;
+    }
+    return 1;
+}
+
+/* Buffers of objs[0 .. n-1] (get_doubles each, writable[i], named names[i]); on failure the ones
+   already taken are released, 0 and a Python error. */
+static inline int get_buffers(int n, PyObject *const *objs, Py_buffer *views, const int *writable,
+                              const char *const *names)
+{
+    for (int i = 0; i < n; i++) {
+        if (!get_doubles(objs[i], &views[i], writable[i], names[i])) {
+            while (i-- > 0) PyBuffer_Release(&views[i]);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static inline void release_buffers(int n, Py_buffer *views)
+{
+    for (int i = 0; i < n; i++) PyBuffer_Release(&views[i]);
+}
+
+/* The shape check shared by the twins' first(): NULL when params, starts and out fit. */
+static inline const char *check_arrays(const Py_buffer *params, Py_ssize_t count,
+                                       const Py_buffer *starts, const Py_buffer *out)
+{
+    if (params->len != count * (Py_ssize_t)sizeof(double)) return "params: wrong size";
+    if (starts->ndim != 2 || starts->shape[1] != 7) return "starts: not k x 7 float64";
+    if (out->len != 7 * (Py_ssize_t)sizeof(double)) return "out: not 7 float64";
+    return NULL;
+}
+
+/* The end of first(): the n buffers released, then ValueError(error) or the index found. */
+static inline PyObject *first_result(int n, Py_buffer *views, const char *error, long found)
+{
+    release_buffers(n, views);
+    if (error != NULL) {
+        PyErr_SetString(PyExc_ValueError, error);
+        return NULL;
+    }
+    return PyLong_FromLong(found);
+}
+
+/* A start row q clipped into [lo, hi] joint by joint (7 values) into v; 0 when a value of q is
+   not finite (the start is skipped). */
+static inline int clip_start(const double *q, const double *lo, const double *hi, double *v)
+{
+    int finite = 1;
+    for (int i = 0; i < 7; i++) {
+        double x = q[i];
+        finite = finite && isfinite(x);
+        v[i] = x < lo[i] ? lo[i] : (x > hi[i] ? hi[i] : x);
+    }
+    return finite;
+}
+
+/* The first of the n branches sol nearest v (squared distance, 7 joints) copied to result. */
+static inline void nearest(const double (*sol)[7], int n, const double *v, double *result)
+{
+    int best = 0;
+    double best_d = INFINITY;
+    for (int b = 0; b < n; b++) {
+        double d = 0.0;
+        for (int i = 0; i < 7; i++) d += (sol[b][i] - v[i]) * (sol[b][i] - v[i]);
+        if (d < best_d) {
+            best_d = d;
+            best = b;
+        }
+    }
+    memcpy(result, sol[best], 7 * sizeof(double));
+}
+
+/* The module of def with LAYOUT (((field, offset, size), ...) of fields) and PARAM_COUNT. */
+static inline PyObject *twin_module(PyModuleDef *def, const TwinField *fields, size_t n,
+                                    long count)
+{
+    PyObject *m = PyModule_Create(def);
+    if (m == NULL) return NULL;
+    PyObject *layout = PyTuple_New((Py_ssize_t)n);
+    if (layout == NULL) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    for (size_t i = 0; i < n; i++) {
+        PyObject *entry = Py_BuildValue("(snn)", fields[i].name, fields[i].offset, fields[i].size);
+        if (entry == NULL) {
+            Py_DECREF(layout);
+            Py_DECREF(m);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(layout, (Py_ssize_t)i, entry);
+    }
+    if (PyModule_AddObject(m, "LAYOUT", layout) < 0) {
+        Py_DECREF(layout);
+        Py_DECREF(m);
+        return NULL;
+    }
+    if (PyModule_AddIntConstant(m, "PARAM_COUNT", count) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}
+
+#endif
