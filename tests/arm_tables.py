@@ -104,3 +104,19 @@ class Reference:
         gap = wrapped_gap(branches, q).min()
         assert gap < self.joint_tolerance(q), f"{label} {q=}: {gap=}"
         return worst
+
+
+def assert_layout_matches(ik, twin) -> None:
+    """A compiled twin's LAYOUT is contiguous, covers PARAM_COUNT values, and names exactly the
+    Python closed form's ``c_fields`` with their sizes; ``c_params`` puts each at the C offset."""
+    fields = ik.c_fields()
+    layout = twin.LAYOUT
+    assert [name for name, _, _ in layout] == list(fields), "field names or order differ"
+    offset = 0
+    for name, start, size in layout:
+        assert start == offset, f"{name=} {start=} {offset=}"
+        assert size == len(fields[name]), f"{name=} {size=}"
+        offset += size
+    assert offset == twin.PARAM_COUNT == ik.c_params.size
+    for name, start, size in layout:
+        assert ik.c_params[start : start + size].tolist() == list(fields[name]), name

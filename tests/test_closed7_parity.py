@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from arm_tables import assert_layout_matches
 
 from kin import load_robot
 from kin.ik.analytic.seven_dof import COMPILED, pack_params
@@ -46,18 +47,7 @@ def test_layout_is_read_from_the_twin(solvers):
     with their sizes; ``c_params`` puts each field at the C offset."""
     from kin.ik.analytic import _closed7
 
-    ik = solvers[0].closed_form
-    fields = ik.c_fields()
-    layout = _closed7.LAYOUT
-    assert [name for name, _, _ in layout] == list(fields), "field names or order differ"
-    offset = 0
-    for name, start, size in layout:
-        assert start == offset, f"{name=} {start=} {offset=}"
-        assert size == len(fields[name]), f"{name=} {size=}"
-        offset += size
-    assert offset == _closed7.PARAM_COUNT == ik.c_params.size
-    for name, start, size in layout:
-        assert ik.c_params[start : start + size].tolist() == list(fields[name]), name
+    assert_layout_matches(solvers[0].closed_form, _closed7)
 
 
 def test_layout_mismatch_is_an_error(solvers):

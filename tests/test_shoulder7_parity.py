@@ -15,6 +15,7 @@ import functools
 import numpy as np
 import pinocchio as pin
 import pytest
+from arm_tables import assert_layout_matches
 
 from kin import load_robot
 from kin.ik.analytic.spherical_shoulder7 import COMPILED, SphericalShoulder7RIK
@@ -83,18 +84,7 @@ def test_layout_is_read_from_the_twin(name):
     with their sizes; ``c_params`` puts each field at the C offset."""
     from kin.ik.analytic import _shoulder7
 
-    ik = closed_form(name)
-    fields = ik.c_fields()
-    layout = _shoulder7.LAYOUT
-    assert [field for field, _, _ in layout] == list(fields), "field names or order differ"
-    offset = 0
-    for field, start, size in layout:
-        assert start == offset, f"{field=} {start=} {offset=}"
-        assert size == len(fields[field]), f"{field=} {size=}"
-        offset += size
-    assert offset == _shoulder7.PARAM_COUNT == ik.c_params.size
-    for field, start, size in layout:
-        assert ik.c_params[start : start + size].tolist() == list(fields[field]), field
+    assert_layout_matches(closed_form(name), _shoulder7)
 
 
 @needs_twin
