@@ -36,8 +36,10 @@ import numpy as np
 import numpy.typing as npt
 
 from dh2urdf import DHRow, DHTable
+from dh2urdf.transforms import rot_x, translation
 
 from ..exceptions import TargetError
+from ._six_r import wrap, wrap_array
 from .seven_dof import COS_SLACK, _harmonic_roots, _rotation_pair, pack_params, scan
 from .structure import ANGLE_TOL, LENGTH_TOL, Checker, deg
 
@@ -62,25 +64,12 @@ _TWO_PI = 2.0 * math.pi
 Vec = tuple[float, float, float]
 
 
-def _rot_x(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    out = np.eye(4)
-    out[1:3, 1:3] = ((c, -s), (s, c))
-    return out
-
-
-def _translation(x: float, z: float) -> np.ndarray:
-    out = np.eye(4)
-    out[0, 3], out[2, 3] = x, z
-    return out
-
-
 def joint_factors(table: DHTable) -> list[tuple[np.ndarray, np.ndarray]]:
     """``(L_i, R_i)`` (4x4) of every row: joint ``i`` is ``L_i Rz(q_i + theta_i) R_i``."""
     eye = np.eye(4)
     if table.convention == "modified":
-        return [(_rot_x(r.alpha) @ _translation(r.a, r.d), eye) for r in table.rows]
-    return [(_translation(0.0, r.d), _translation(r.a, 0.0) @ _rot_x(r.alpha)) for r in table.rows]
+        return [(rot_x(r.alpha) @ translation(x=r.a, z=r.d), eye) for r in table.rows]
+    return [(translation(z=r.d), translation(x=r.a) @ rot_x(r.alpha)) for r in table.rows]
 
 
 @dataclass(frozen=True, eq=False)
@@ -592,22 +581,15 @@ class SphericalShoulder7RIK:
                     t3 = np.arctan2(ny, nx)
                     slot = 4 * ei + 2 * wi + si
                     for j, t in enumerate((t1, t2, t3, t4, t5, t6)):
-                        out[:, slot, j] = _wrap_array(t - off[j])
+                        out[:, slot, j] = wrap_array(t - off[j])
         missing = np.isnan(out[:, :, :6]).any(axis=2)
         out[missing] = np.nan
         return out
 
 
 def _wrap_joint(_joint: int, q: float) -> float:
-    """``q`` [rad] in (-pi, pi] (the ``fit`` of :meth:`SphericalShoulder7RIK.solve`)."""
-    out = math.remainder(q, _TWO_PI)
-    return out + _TWO_PI if out <= -math.pi else out
-
-
-def _wrap_array(q: np.ndarray) -> np.ndarray:
-    """:func:`_wrap_joint` of every element (NaN stays NaN)."""
-    out = np.remainder(q + math.pi, _TWO_PI) - math.pi
-    return np.where(out <= -math.pi, out + _TWO_PI, out)
+    """:func:`~._six_r.wrap` as the ``fit`` of :meth:`SphericalShoulder7RIK.solve`."""
+    return wrap(q)
 
 
 def _back(
