@@ -296,7 +296,14 @@ def test_first_keeps_the_start_q7_when_it_has_a_branch_and_scans_otherwise():
     np.testing.assert_allclose(out, q, atol=1e-9)
     starts = np.array([[np.nan] * 7, q + np.array([0, 0, 0, 0, 0, 0, 0.3])])
     assert ik.first(prepared, starts, out, 0.05) == 1
-    assert abs(out[6] - (q[6] + 0.3)) <= 1e-12 or max(ref.errors(out, target)) < TOL
+    # The answer's q7 is on the scan grid from the start's, and no nearer grid value has a branch.
+    start7 = q[6] + 0.3
+    steps = round((out[6] - start7) / 0.05)
+    assert abs(out[6] - (start7 + steps * 0.05)) < 1e-12, f"{out[6]=} off the grid"
+    nearer = [start7 + k * 0.05 for k in range(-abs(steps) + 1, abs(steps))]
+    for q7 in nearer:
+        start = np.array([*q[:6], q7])
+        assert ik.first(prepared, start[None], np.empty(7), 0.0) == -1, f"{q7=} has a branch"
     assert np.all((out >= robot.lower) & (out <= robot.upper))
     assert max(ref.errors(out, target)) < TOL
     assert ik.first(None, q[None], out, 0.05) == -1
