@@ -35,6 +35,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ..exceptions import TargetError
 from ..target import PoseTarget
 from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
 
@@ -162,7 +163,7 @@ class SphericalWrist6R:
             NaN where that branch does not reach the target. Not verified, not wrapped into limits.
         """
         if rotation is None:
-            raise ValueError(f"{self.name}: the closed form of a 6R arm needs a full pose")
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
         p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
         s1, c1, sa3, ca3, s4, c4, s5, c5, lx, ly, l3, phi3 = self._k
         classic = self._classic
@@ -261,7 +262,7 @@ class SphericalWrist6R:
             Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
         """
         if rotations is None:
-            raise ValueError(f"{self.name}: the closed form of a 6R arm needs full poses")
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
         return in_blocks(self._solve_block, positions, rotations, free)
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:

@@ -40,6 +40,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ..exceptions import TargetError
 from ..target import PoseTarget
 from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
 
@@ -161,7 +162,7 @@ class URWrist6R:
             NaN where that branch does not reach the target. Not verified, not wrapped into limits.
         """
         if rotation is None:
-            raise ValueError(f"{self.name}: the closed form of a 6R arm needs a full pose")
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
         p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
         s1, c1, ex, ey, s45 = self._k
         a1, d1, a2, a3, h, d6, s5a = (
@@ -267,7 +268,7 @@ class URWrist6R:
             Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
         """
         if rotations is None:
-            raise ValueError(f"{self.name}: the closed form of a 6R arm needs full poses")
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
         return in_blocks(self._solve_block, positions, rotations, free)
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
