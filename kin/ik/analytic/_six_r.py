@@ -24,6 +24,7 @@ import numpy.typing as npt
 from dh2urdf import DHTable
 
 from ..exceptions import StructureError, TargetError
+from .structure import Checker
 
 #: Tolerance on DH twists [rad] when a structure needs an exact value (0.1 deg is far outside).
 ANGLE_TOL = 1e-9
@@ -69,13 +70,7 @@ class SixRChecker:
     def __init__(self, table: DHTable, solver: str):
         self.table = table
         self.solver = solver
-        if table.dof != 6:
-            raise self.fail(f"{table.dof} joints, expected 6")
-        for row in table.rows:
-            if row.joint_type != "revolute":
-                raise self.fail(
-                    f"row {row.index} ('{row.name}') is {row.joint_type}, expected revolute"
-                )
+        Checker(table, solver).revolute(6)
         rows = table.rows
         self.d = [row.d for row in rows]
         self.theta = [row.theta for row in rows]

@@ -110,13 +110,7 @@ def spherical_shoulder7(table: DHTable) -> SphericalShoulder7R:
             parallel; the shoulder or the wrist point on the elbow axis.
     """
     check = Checker(table, SOLVER)
-    if table.dof != 7:
-        raise check.fail(f"{table.dof} joints, expected 7")
-    for row in table.rows:
-        if row.joint_type != "revolute":
-            raise check.fail(
-                f"row {row.index} ('{row.name}') is {row.joint_type}, expected revolute"
-            )
+    check.revolute(7)
     rows = table.rows
     modified = table.convention == "modified"
 

@@ -166,6 +166,10 @@ class Checker:
         """Standard DH, ``count`` revolute joints."""
         if self.table.convention != "standard":
             raise self.fail(f"convention is '{self.table.convention}', expected 'standard'")
+        self.revolute(count)
+
+    def revolute(self, count: int) -> None:
+        """``count`` revolute joints (either convention)."""
         if self.table.dof != count:
             raise self.fail(f"{self.table.dof} joints, expected {count}")
         for row in self.table.rows:
