@@ -19,13 +19,16 @@ Status = Literal[
 
 @dataclass(frozen=True, eq=False)
 class IKSolution:
-    """One joint vector that the solver returns, verified by Pinocchio's FK.
+    """One joint vector that the solver returns, verified by forward kinematics.
+
+    The FK is Pinocchio's, except for the 6R closed forms' compiled path, which measures with the
+    table's DH product in C (:mod:`kin.ik.analytic.six_r_twin`).
 
     Attributes:
         q: Joint vector [rad] (or [m] for prismatic joints).
         branch: Branch label, e.g. ``"shoulder front, elbow up"``; ``""`` for numeric solvers.
         within_limits: Whether ``q`` is inside the joint limits.
-        position_error: ``|p_fk(q) - p_target|`` [m], measured with Pinocchio.
+        position_error: ``|p_fk(q) - p_target|`` [m].
         rotation_error: Angle of ``R_fk(q)^T R_target`` [rad]; None when the target does not
             constrain the orientation (a position target).
     """

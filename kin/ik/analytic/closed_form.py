@@ -13,6 +13,11 @@ no structure by name), then, per branch:
    (off target: never returned, logged).
 
 Valid solutions are ordered by Euclidean distance to the seed.
+
+A structure with a compiled twin that verifies (the 6R closed forms, :mod:`.six_r_twin`) does the
+three steps for a pose target in one C call: the same wrapping, and the table's plain DH product
+in C as the judge instead of Pinocchio (``tests/test_six_r_twins.py`` checks that both paths
+return the same solutions and errors).
 """
 
 from __future__ import annotations
@@ -40,6 +45,7 @@ from .closed_form_structure import (
     candidate_branches,
 )
 from .registry import recognise
+from .six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
 
 logger = logging.getLogger(__name__)
 
@@ -114,13 +120,21 @@ class ClosedFormSolver:
         robot: The loaded robot (its table must fit a registered structure, :mod:`.registry`).
         tolerance_position: Largest position error of a returned solution [m].
         tolerance_rotation: Largest rotation error of a returned solution [rad].
+        compiled: Solve and verify pose targets in the structure's compiled twin when it has one
+            and it is built (the 6R closed forms, :mod:`.six_r_twin`: the table's DH product in
+            C measures the branches instead of Pinocchio); False: always the Python steps.
 
     Raises:
         StructureError: The table does not fit a closed-form solver.
     """
 
     def __init__(
-        self, robot: RobotModel, tolerance_position: float = 1e-9, tolerance_rotation: float = 1e-9
+        self,
+        robot: RobotModel,
+        tolerance_position: float = 1e-9,
+        tolerance_rotation: float = 1e-9,
+        *,
+        compiled: bool = True,
     ):
         self.robot = robot
         self.structure: ClosedFormStructure = recognise(robot.table)
@@ -139,6 +153,17 @@ class ClosedFormSolver:
         self._numeric: Any = None
         self._zero_seed = [0.0] * len(self._lower)
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
+        # A structure with a compiled twin that also verifies (the 6R closed forms): pose targets
+        # are solved, moved into the limits and measured in one call (:mod:`.six_r_twin`).
+        verifier = getattr(self.structure, "verifier", None)
+        self._twin = (
+            None
+            if verifier is None or not compiled
+            else verifier(
+                robot.table, self._lower, self._upper, tolerance_position, tolerance_rotation
+            )
+        )
+        self._zero_seed_array = np.zeros(len(self._lower))
 
     @property
     def closed_form_kinds(self) -> tuple[type, ...]:
@@ -226,6 +251,8 @@ class ClosedFormSolver:
             if isinstance(target, self.target_kinds):
                 return self._solve_numeric(target, seed, timeout)
             raise kind_error(self.robot.name, self.target_kinds, target)
+        if self._twin is not None and target.__class__ is PoseTarget:
+            return self._solve_twin(target, seed, start)  # type: ignore[arg-type]
         if seed is None:
             seed_list = self._zero_seed
         else:
@@ -269,6 +296,70 @@ class ClosedFormSolver:
             message=message,
             solutions=solutions,
             rejected=rejected_solutions,
+            time=time.perf_counter() - start,
+            method="closed_form" if solutions else "",
+        )
+
+    def _solve_twin(self, target: PoseTarget, seed: npt.ArrayLike | None, start: float) -> IKResult:
+        """:meth:`solve` of a pose by the structure's compiled twin (same steps, one call).
+
+        Branches moved into the limits as :func:`_wrap` does, measured by the table's DH
+        product in C (:mod:`.six_r_twin`) instead of Pinocchio; the tests compare the two paths.
+        """
+        if seed is None:
+            seed_array = self._zero_seed_array
+        else:
+            seed_array = np.array(seed, dtype=float).reshape(-1)
+            nq = len(self._lower)
+            if seed_array.size != nq:
+                raise TargetError(
+                    f"the seed of '{self.robot.name}' must have {nq} values, got {seed_array.size}"
+                )
+            if not np.isfinite(seed_array).all():
+                raise TargetError(f"the seed must be finite, got {seed_array.tolist()}")
+        found, q, info = self._twin(  # type: ignore[misc]
+            target.position, target.rotation, seed_array
+        )
+        if found < 0:
+            return self._failure("invalid_target", "the target has a NaN or infinite value", start)
+        if found == 0:
+            return self._failure(
+                "out_of_reach", f"no {self.structure.name} branch reaches the target", start
+            )
+        labels = self.structure.branch_labels
+        valid: list[tuple[float, IKSolution]] = []
+        rejected: list[IKSolution] = []
+        for b, (status, position_error, angle, distance) in enumerate(info):
+            if status == VALID:
+                valid.append((distance, IKSolution(q[b], labels[b], True, position_error, angle)))
+            elif status == OUTSIDE_LIMITS:
+                rejected.append(IKSolution(q[b], labels[b], False, position_error, angle))
+            elif status == OFF_TARGET:
+                logger.warning(
+                    "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
+                    self.robot.name,
+                    labels[b],
+                    position_error,
+                    angle,
+                )
+        if len(valid) > 1:
+            valid.sort(key=_DISTANCE)
+        solutions = tuple([solution for _, solution in valid])
+        status_: Status
+        if solutions:
+            status_, message = "ok", f"{len(solutions)} valid solution(s)"
+        elif rejected:
+            status_ = "outside_limits"
+            message = f"reachable only outside the joint limits ({len(rejected)} branch(es))"
+        else:
+            status_, message = "singular", "no branch verified on target"
+        return IKResult(
+            success=bool(solutions),
+            solver=self.name,
+            status=status_,
+            message=message,
+            solutions=solutions,
+            rejected=tuple(rejected),
             time=time.perf_counter() - start,
             method="closed_form" if solutions else "",
         )

@@ -27,7 +27,9 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` joint values [rad], lengths
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from types import ModuleType
 from typing import ClassVar
 
 import numpy as np
@@ -38,6 +40,8 @@ from dh2urdf import DHTable
 from ..exceptions import TargetError
 from ..target import PoseTarget
 from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
+from .seven_dof import pack_params
+from .six_r_twin import TwinVerifier, check_params, frame_fields, load_twin, twin_solve
 
 _NAN_ROW = (math.nan,) * 6
 
@@ -77,6 +81,8 @@ class SphericalWrist6R:
     dof: ClassVar[int] = 6
     target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     branch_labels: ClassVar[tuple[str, ...]] = _labels()
+    #: The compiled twin (``kin/ik/analytic/_spherical_wrist.c``), or None when it is not built.
+    compiled_twin: ClassVar[ModuleType | None] = load_twin("_spherical_wrist")
 
     robot: str
     a1: float
@@ -94,6 +100,7 @@ class SphericalWrist6R:
     T_tool: np.ndarray = field(repr=False)
     _frame: TargetFrame = field(init=False, repr=False, compare=False)
     _k: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    _c_params: np.ndarray | None = field(init=False, repr=False, compare=False)
     _classic: bool = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -106,6 +113,58 @@ class SphericalWrist6R:
         object.__setattr__(self, "_k", k)
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         object.__setattr__(self, "_classic", abs(k[5]) < 1e-15 and abs(k[7]) < 1e-15)
+        twin = self.compiled_twin
+        params = None if twin is None else pack_params(self.c_fields(), twin.LAYOUT)
+        object.__setattr__(self, "_c_params", params)
+
+    def _c_own(self) -> dict[str, tuple[float, ...]]:
+        return {
+            "k": self._k,
+            "classic": (float(self._classic),),
+            "len": (self.a1, self.d1, self.a2, self.lateral, self.d6),
+            "off": self.offsets,
+        }
+
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (its ``LAYOUT``; lengths [m], angles [rad])."""
+        return {**frame_fields(self.T_base, self.T_tool), **self._c_own()}
+
+    @property
+    def c_params(self) -> np.ndarray:
+        """:meth:`c_fields` packed in the order the compiled twin declares (its ``LAYOUT``).
+
+        Raises:
+            RuntimeError: The twin is not built.
+        """
+        if self._c_params is None:
+            raise RuntimeError(f"the compiled twin of {self.name} is not built")
+        return self._c_params
+
+    def verifier(
+        self,
+        table: DHTable,
+        lower: Sequence[float],
+        upper: Sequence[float],
+        tolerance_position: float,
+        tolerance_rotation: float,
+    ) -> TwinVerifier | None:
+        """The compiled solve-and-verify of this arm (:class:`~.six_r_twin.TwinVerifier`).
+
+        Args:
+            table: The table this structure was read from.
+            lower: Lower joint limits [rad].
+            upper: Upper joint limits [rad].
+            tolerance_position: Largest position error of a valid solution [m].
+            tolerance_rotation: Largest rotation error of a valid solution [rad].
+
+        Returns:
+            None when the twin is not built.
+        """
+        twin = self.compiled_twin
+        if twin is None or self._c_params is None:
+            return None
+        check = check_params(twin, table, lower, upper, tolerance_position, tolerance_rotation)
+        return TwinVerifier(twin, self._c_params, check)
 
     @classmethod
     def recognise(cls, table: DHTable) -> SphericalWrist6R:
@@ -149,7 +208,12 @@ class SphericalWrist6R:
         )
 
     def solve(
-        self, position: npt.ArrayLike, rotation: npt.ArrayLike | None, free: float = 0.0
+        self,
+        position: npt.ArrayLike,
+        rotation: npt.ArrayLike | None,
+        free: float = 0.0,
+        *,
+        compiled: bool = True,
     ) -> np.ndarray:
         """The 8 branches reaching a tool pose.
 
@@ -157,6 +221,7 @@ class SphericalWrist6R:
             position: Tool position in the world frame [m], (3,).
             rotation: Tool rotation ``R_world_tool``, (3, 3).
             free: Value of ``q4`` [rad] where the wrist is singular (axes 4 and 6 aligned).
+            compiled: Run the compiled twin when it is built (False: this module's Python).
 
         Returns:
             Joint vectors [rad] in (-pi, pi], (8, 6), one row per :attr:`branch_labels`; a row of
@@ -164,6 +229,11 @@ class SphericalWrist6R:
         """
         if rotation is None:
             raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
+        twin = self.compiled_twin
+        if compiled and twin is not None:
+            p1 = np.reshape(np.asarray(position, dtype=float), (1, 3))
+            r1 = np.reshape(np.asarray(rotation, dtype=float), (1, 3, 3))
+            return twin_solve(twin, self._c_params, p1, r1, free)[0]  # type: ignore[arg-type]
         p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
         s1, c1, sa3, ca3, s4, c4, s5, c5, lx, ly, l3, phi3 = self._k
         classic = self._classic
@@ -249,7 +319,12 @@ class SphericalWrist6R:
         return np.array(out)
 
     def solve_batch(
-        self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None, free: float = 0.0
+        self,
+        positions: npt.ArrayLike,
+        rotations: npt.ArrayLike | None,
+        free: float = 0.0,
+        *,
+        compiled: bool = True,
     ) -> np.ndarray:
         """:meth:`solve` of N tool poses at once, in NumPy.
 
@@ -257,12 +332,16 @@ class SphericalWrist6R:
             positions: Tool positions in the world frame [m], (N, 3).
             rotations: Tool rotations ``R_world_tool``, (N, 3, 3).
             free: Value of ``q4`` [rad] where the wrist is singular.
+            compiled: Run the compiled twin when it is built (False: NumPy).
 
         Returns:
             Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
         """
         if rotations is None:
             raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
+        twin = self.compiled_twin
+        if compiled and twin is not None:
+            return twin_solve(twin, self._c_params, positions, rotations, free)  # type: ignore[arg-type]
         return in_blocks(self._solve_block, positions, rotations, free)
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:

@@ -1,0 +1,248 @@
+/*
+ * What the compiled twins of the two 6R closed forms share (_ur_wrist.c, _spherical_wrist.c): the
+ * tool pose brought to standard frame 6 in frame 0 (_six_r.TargetFrame.scalar), the wrap to
+ * (-pi, pi] (_six_r.wrap), and the Python functions of the module:
+ *
+ * solve(params, positions, rotations, free, out) -> None
+ *   params:    float64[PARAM_COUNT], the structure's c_params (its LAYOUT);
+ *   positions: float64[N, 3] tool positions in the world [m];
+ *   rotations: float64[N, 3, 3] R_world_tool;
+ *   free:      the value of the free joint at a singular wrist [rad];
+ *   out:       float64[N, 8, 6] receives the branches, NaN rows where a branch does not exist.
+ *
+ * verify(params, check, position, rotation, seed, free, q, info) -> int
+ *   The 8 branches of one target, each moved into the joint limits (the 2 pi copy nearest the
+ *   seed, ClosedFormSolver's _wrap, operation for operation), then measured by a plain DH product
+ *   of the table (not the closed form's own algebra):
+ *   check:     float64[CHECK_COUNT], kin.ik.analytic.six_r_twin.check_params (CHECK_LAYOUT);
+ *   position:  float64[3], rotation float64[3, 3]: the target in the world frame;
+ *   seed:      float64[6] [rad];
+ *   q:         float64[8, 6] receives the joint vectors (NaN rows where no branch);
+ *   info:      float64[8, 4] receives per branch: status (0 no branch, 1 valid, 2 outside the
+ *              limits, 3 off target), position error [m], rotation error [rad], distance to the
+ *              seed [rad].
+ *   Returns the number of branches that exist (0: out of reach), or -1 for a target with a value
+ *   that is not finite.
+ *
+ * A twin includes this header, declares its Params (TWIN_PARAMS, with FRAME_PARAMS among its
+ * fields), defines
+ *   static void solve_one(const Params *P, const double *p, const double *r, double free,
+ *                         double out[8][6]);
+ * on p_0_6 [m] and R_0_6 (row-major), writing every row (NaN for a missing branch), then includes
+ * _six_r_module.h (the two Python functions above and the module set-up).
+ */
+#ifndef KIN_IK_ANALYTIC_SIX_R_TWIN_H
+#define KIN_IK_ANALYTIC_SIX_R_TWIN_H
+
+#include "_twin.h"
+
+#define BRANCHES 8
+#define JOINTS 6
+#define LIMIT_TOL 1e-10              /* closed_form.LIMIT_TOL */
+#define FAST_COPY (M_PI - 1e-9)      /* closed_form._FAST_COPY */
+#define FAST_SEED 1e5                /* closed_form._FAST_SEED */
+
+/* _six_r.wrap: angle in (-pi, pi]. */
+static inline double wrap(double angle)
+{
+    double out = remainder(angle, TWO_PI);
+    return out <= -M_PI ? out + TWO_PI : out;
+}
+
+/*
+ * _six_r.TargetFrame.scalar: p_0_6 and R_0_6 of a world tool pose pw, rw (row-major), with the
+ * same sums in the same order. plain[0], plain[1]: 1 when the base, the tool is the identity
+ * (skipped, as in Python).
+ */
+static inline void to_frame6(const double *base_r, const double *base_t, const double *tool_r,
+                             const double *tool_t, const double *plain, const double *pw,
+                             const double *rw, double *p, double *r)
+{
+    memcpy(p, pw, 3 * sizeof(double));
+    memcpy(r, rw, 9 * sizeof(double));
+    if (plain[1] == 0.0) { /* R r_t^T, p - R r_t^T t_t */
+        double m[9];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                m[3 * i + j] = r[3 * i] * tool_r[3 * j] + r[3 * i + 1] * tool_r[3 * j + 1] +
+                               r[3 * i + 2] * tool_r[3 * j + 2];
+        for (int i = 0; i < 3; i++)
+            p[i] = p[i] - (m[3 * i] * tool_t[0] + m[3 * i + 1] * tool_t[1] +
+                           m[3 * i + 2] * tool_t[2]);
+        memcpy(r, m, sizeof m);
+    }
+    if (plain[0] == 0.0) { /* R_b^T R, R_b^T (p - t_b) */
+        double q[3] = {p[0] - base_t[0], p[1] - base_t[1], p[2] - base_t[2]}, m[9];
+        for (int j = 0; j < 3; j++) {
+            p[j] = base_r[j] * q[0] + base_r[3 + j] * q[1] + base_r[6 + j] * q[2];
+            for (int k = 0; k < 3; k++)
+                m[3 * j + k] = base_r[j] * r[k] + base_r[3 + j] * r[3 + k] +
+                               base_r[6 + j] * r[6 + k];
+        }
+        memcpy(r, m, sizeof m);
+    }
+}
+
+/* The frame fields every 6R twin's Params holds (from _six_r.TargetFrame). */
+#define FRAME_PARAMS(X)                                              \
+    X(base_r, 9, "R of world -> standard frame 0, row-major")        \
+    X(base_t, 3, "t of world -> standard frame 0 [m]")               \
+    X(tool_r, 9, "R of standard frame 6 -> tool, row-major")         \
+    X(tool_t, 3, "t of standard frame 6 -> tool [m]")                \
+    X(plain, 2, "1 where the base, the tool is the identity, else 0")
+
+/*
+ * The check block: the table's own DH chain (either convention, as written), the joint limits
+ * and the tolerances, from kin.ik.analytic.six_r_twin.check_params (CHECK_LAYOUT).
+ */
+#define CHECK_PARAMS(X)                                                           \
+    X(modified, 1, "1 for a modified (Craig) table, 0 for a standard one")        \
+    X(a, 6, "a of the table's rows [m]")                                          \
+    X(alpha, 6, "alpha of the table's rows [rad]")                                \
+    X(d, 6, "d of the table's rows [m]")                                          \
+    X(theta, 6, "theta offsets of the table's rows [rad]")                        \
+    X(base, 12, "T_world_base, rows 0-2 of the 4x4, row-major [m]")               \
+    X(tool, 12, "T_last_tool, rows 0-2 of the 4x4, row-major [m]")                \
+    X(lower, 6, "lower joint limits [rad]")                                       \
+    X(upper, 6, "upper joint limits [rad]")                                       \
+    X(tolerance, 2, "largest position [m] and rotation [rad] error of a solution") \
+    X(has_offsets, 1, "1 when an offset is not 0 (q goes through q + theta - theta)")
+
+#define CHECK_ENTRY(name, size, doc) \
+    {#name, (Py_ssize_t)(offsetof(Check, name) / sizeof(double)), (Py_ssize_t)(size)},
+typedef struct {
+    CHECK_PARAMS(TWIN_FIELD)
+} Check;
+enum { CHECK_COUNT = 0 CHECK_PARAMS(TWIN_SIZE) };
+typedef char check_has_no_padding[sizeof(Check) == CHECK_COUNT * sizeof(double) ? 1 : -1];
+static const TwinField CHECK_FIELDS[] = {CHECK_PARAMS(CHECK_ENTRY)};
+
+/* A = A B for 3x4 homogeneous matrices (the last row 0 0 0 1 implied), row-major. */
+static inline void compose(double *A, const double *B)
+{
+    double out[12];
+    for (int i = 0; i < 3; i++) {
+        const double *row = A + 4 * i;
+        for (int j = 0; j < 4; j++)
+            out[4 * i + j] = row[0] * B[j] + row[1] * B[4 + j] + row[2] * B[8 + j];
+        out[4 * i + 3] += row[3];
+    }
+    memcpy(A, out, sizeof out);
+}
+
+/* The tool pose (3x4) at joint vector q [rad]: the plain product of the table's rows. */
+static inline void table_fk(const Check *C, const double *q, double *T)
+{
+    memcpy(T, C->base, 12 * sizeof(double));
+    for (int i = 0; i < JOINTS; i++) {
+        double t = q[i] + C->theta[i], ct = cos(t), st = sin(t);
+        double ca = cos(C->alpha[i]), sa = sin(C->alpha[i]), a = C->a[i], d = C->d[i];
+        if (C->modified[0] != 0.0) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
+            double A[12] = {ct, -st, 0.0, a, st * ca, ct * ca, -sa, -sa * d,
+                            st * sa, ct * sa, ca, ca * d};
+            compose(T, A);
+        } else { /* Rz(t) Tz(d) Tx(a) Rx(alpha) */
+            double A[12] = {ct, -st * ca, st * sa, a * ct, st, ct * ca, -ct * sa, a * st,
+                            0.0, sa, ca, d};
+            compose(T, A);
+        }
+    }
+    compose(T, C->tool);
+}
+
+/* closed_form._nearest_copy: the value + 2 pi k inside the limits nearest the seed, else the
+   least outside; *inside tells which. */
+static inline double nearest_copy(double value, double seed, double lower, double upper,
+                                  int *inside)
+{
+    double base = value - TWO_PI * nearbyint((value - seed) / TWO_PI);
+    double candidates[5] = {base, base - TWO_PI, base + TWO_PI, base - 2 * TWO_PI,
+                            base + 2 * TWO_PI};
+    double best = base, best_violation = INFINITY, best_distance = INFINITY;
+    for (int i = 0; i < 5; i++) {
+        double c = candidates[i];
+        double violation = fmax(fmax(lower - LIMIT_TOL - c, c - upper - LIMIT_TOL), 0.0);
+        double distance = fabs(c - seed);
+        if (violation < best_violation ||
+            (violation == best_violation && distance < best_distance)) {
+            best = c;
+            best_violation = violation;
+            best_distance = distance;
+        }
+    }
+    *inside = best_violation == 0.0;
+    return best;
+}
+
+/* closed_form._wrap: nearest_copy comparing only the candidates that can win. */
+static inline double wrap_into(double value, double seed, double lower, double upper, int *inside)
+{
+    double base = value - TWO_PI * nearbyint((value - seed) / TWO_PI);
+    double lower_tol = lower - LIMIT_TOL, candidate, candidate_violation;
+    double violation = lower_tol - base;
+    if (violation > 0.0) {
+        candidate = base + TWO_PI;
+        if (lower_tol - candidate > 0.0) return nearest_copy(value, seed, lower, upper, inside);
+        candidate_violation = candidate - upper - LIMIT_TOL;
+    } else {
+        violation = base - upper - LIMIT_TOL;
+        if (violation > 0.0) {
+            candidate = base - TWO_PI;
+            if (candidate - upper - LIMIT_TOL > 0.0)
+                return nearest_copy(value, seed, lower, upper, inside);
+            candidate_violation = lower_tol - candidate;
+        } else if (-FAST_COPY < base - seed && base - seed < FAST_COPY) {
+            *inside = 1;
+            return base;
+        } else {
+            return nearest_copy(value, seed, lower, upper, inside);
+        }
+    }
+    if (candidate_violation < 0.0) candidate_violation = 0.0;
+    if (candidate_violation < violation ||
+        (candidate_violation == violation && fabs(candidate - seed) < fabs(base - seed))) {
+        *inside = candidate_violation == 0.0;
+        return candidate;
+    }
+    *inside = 0;
+    return base;
+}
+
+/* Status, errors and distance of one branch q (moved into the limits in place). */
+static inline void check_branch(const Check *C, const double *p, const double *r,
+                                const double *seed, double *q, double *info)
+{
+    int inside = 1;
+    double distance2 = 0.0, T[12];
+    for (int i = 0; i < JOINTS; i++) {
+        double value = C->has_offsets[0] != 0.0 ? (q[i] + C->theta[i]) - C->theta[i] : q[i];
+        double s = seed[i], low = NAN, high = NAN;
+        if (fabs(s) < FAST_SEED) {
+            low = fmax(C->lower[i], s - FAST_COPY);
+            high = fmin(C->upper[i], s + FAST_COPY);
+        }
+        if (!(low < value && value < high)) {
+            int ok;
+            value = wrap_into(value, s, C->lower[i], C->upper[i], &ok);
+            inside = inside && ok;
+        }
+        q[i] = value;
+        distance2 += (value - s) * (value - s);
+    }
+    table_fk(C, q, T);
+    double dx = T[3] - p[0], dy = T[7] - p[1], dz = T[11] - p[2], rotation2 = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double e = T[4 * i + j] - r[3 * i + j];
+            rotation2 += e * e;
+        }
+    double position_error = sqrt(dx * dx + dy * dy + dz * dz);
+    double rotation_error = 2.0 * asin(fmin(1.0, sqrt(rotation2) / sqrt(8.0)));
+    int on_target = position_error <= C->tolerance[0] && rotation_error <= C->tolerance[1];
+    info[0] = !on_target ? 3.0 : (inside ? 1.0 : 2.0);
+    info[1] = position_error;
+    info[2] = rotation_error;
+    info[3] = sqrt(distance2);
+}
+
+#endif

@@ -1,0 +1,150 @@
+"""The compiled twins of the 6R closed forms: loading, their parameter blocks, solve and verify.
+
+``kin/ik/analytic/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
+when a C compiler is there) repeat :meth:`URWrist6R.solve <.ur_wrist.URWrist6R.solve>` and
+:meth:`SphericalWrist6R.solve <.spherical_wrist.SphericalWrist6R.solve>` operation for operation;
+the Python modules are the reference and the fallback. Each twin also has ``verify``: the 8
+branches of one target, each moved into the joint limits (the ``2 pi`` copy nearest the seed, as
+:class:`~.closed_form.ClosedFormSolver` does) and measured by a plain DH product of the table as
+written (either convention, its base and tool): an FK independent of the closed form's algebra,
+and of Pinocchio (``tests/test_six_r_twins.py`` compares it with Pinocchio's).
+
+A structure's parameters travel as one float64 vector in the order its twin declares
+(``LAYOUT``, filled by field name with :func:`~.seven_dof.pack_params`); the table, the limits and
+the tolerances as a second one (``CHECK_LAYOUT``, :func:`check_params`).
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Sequence
+from types import ModuleType
+
+import numpy as np
+import numpy.typing as npt
+
+from dh2urdf import DHTable
+
+from ..exceptions import TargetError
+from .seven_dof import pack_params
+
+#: Status codes of ``verify``'s ``info[:, 0]``.
+MISSING, VALID, OUTSIDE_LIMITS, OFF_TARGET = 0, 1, 2, 3
+
+
+def load_twin(name: str) -> ModuleType | None:
+    """The compiled twin ``kin.ik.analytic.<name>``, or None when it is not built."""
+    try:
+        return importlib.import_module(f"{__package__}.{name}")
+    except ImportError:
+        return None
+
+
+def frame_fields(T_base: np.ndarray, T_tool: np.ndarray) -> dict[str, tuple[float, ...]]:
+    """The twin's frame fields (``FRAME_PARAMS``) of a 6R structure's base and tool (4x4) [m]."""
+    eye = np.eye(4)
+    return {
+        "base_r": tuple(np.asarray(T_base, dtype=float)[:3, :3].ravel().tolist()),
+        "base_t": tuple(np.asarray(T_base, dtype=float)[:3, 3].tolist()),
+        "tool_r": tuple(np.asarray(T_tool, dtype=float)[:3, :3].ravel().tolist()),
+        "tool_t": tuple(np.asarray(T_tool, dtype=float)[:3, 3].tolist()),
+        "plain": (float(np.array_equal(T_base, eye)), float(np.array_equal(T_tool, eye))),
+    }
+
+
+def check_params(
+    twin: ModuleType,
+    table: DHTable,
+    lower: Sequence[float],
+    upper: Sequence[float],
+    tolerance_position: float,
+    tolerance_rotation: float,
+) -> np.ndarray:
+    """The ``check`` block of ``twin.verify``: the table's chain as written, limits, tolerances.
+
+    Args:
+        twin: A compiled 6R twin (its ``CHECK_LAYOUT``).
+        table: The arm's DH table (6 revolute joints).
+        lower: Lower joint limits [rad].
+        upper: Upper joint limits [rad].
+        tolerance_position: Largest position error of a valid solution [m].
+        tolerance_rotation: Largest rotation error of a valid solution [rad].
+    """
+    rows = table.rows
+    offsets = tuple(float(row.theta) for row in rows)
+    fields = {
+        "modified": (float(table.convention == "modified"),),
+        "a": tuple(float(row.a) for row in rows),
+        "alpha": tuple(float(row.alpha) for row in rows),
+        "d": tuple(float(row.d) for row in rows),
+        "theta": offsets,
+        "base": tuple(np.asarray(table.T_world_base, dtype=float)[:3].ravel().tolist()),
+        "tool": tuple(np.asarray(table.T_last_tool, dtype=float)[:3].ravel().tolist()),
+        "lower": tuple(float(v) for v in lower),
+        "upper": tuple(float(v) for v in upper),
+        "tolerance": (float(tolerance_position), float(tolerance_rotation)),
+        "has_offsets": (float(any(offsets)),),
+    }
+    return pack_params(fields, twin.CHECK_LAYOUT)
+
+
+def twin_solve(
+    twin: ModuleType,
+    params: np.ndarray,
+    positions: npt.ArrayLike,
+    rotations: npt.ArrayLike,
+    free: float,
+) -> np.ndarray:
+    """The twin's 8 branches of N world targets, (N, 8, 6) [rad], NaN where a branch is missing.
+
+    Raises:
+        TargetError: ``positions`` is not (N, 3) or ``rotations`` not (N, 3, 3).
+    """
+    p = np.ascontiguousarray(positions, dtype=float)
+    r = np.ascontiguousarray(rotations, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
+        raise TargetError(
+            f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
+        )
+    out = np.empty((p.shape[0], 8, 6))
+    twin.solve(params, p, r, float(free), out)
+    return out
+
+
+class TwinVerifier:
+    """``verify`` of one arm's twin: every branch of a target moved into the limits and measured.
+
+    Args:
+        twin: The compiled twin of the arm's structure.
+        params: The structure's packed parameters (its ``c_params``).
+        check: :func:`check_params` of the arm.
+    """
+
+    def __init__(self, twin: ModuleType, params: np.ndarray, check: np.ndarray):
+        self._verify = twin.verify
+        self._params = params
+        self._check = check
+
+    def __call__(
+        self, position: np.ndarray, rotation: np.ndarray, seed: np.ndarray, free: float = 0.0
+    ) -> tuple[int, np.ndarray, list[list[float]]]:
+        """Branches of one target.
+
+        Args:
+            position: Tool position in the world frame [m], float64 (3,).
+            rotation: ``R_world_tool``, float64 (3, 3), C-contiguous.
+            seed: Joint vector [rad], float64 (6,): the ``2 pi`` copies and the distances.
+            free: Value of the free joint at a singular wrist [rad].
+
+        Returns:
+            The number of branches that exist (0: out of reach; -1: a value of the target is not
+            finite); the joint vectors (8, 6) [rad], read-only, NaN rows where no branch; per
+            branch ``[status, position error [m], rotation error [rad], distance to the seed
+            [rad]]``, status one of :data:`MISSING`, :data:`VALID`, :data:`OUTSIDE_LIMITS`,
+            :data:`OFF_TARGET`.
+        """
+        q = np.empty((8, 6))
+        info = np.empty((8, 4))
+        found = self._verify(self._params, self._check, position, rotation, seed, free, q, info)
+        q.flags.writeable = False
+        return found, q, info.tolist()

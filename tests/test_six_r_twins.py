@@ -1,0 +1,241 @@
+"""The compiled twins of the 6R closed forms (``_ur_wrist.c``, ``_spherical_wrist.c``) against Python.
+
+- ``solve``: the twin's 8 branches equal the Python module's (``compiled=False``) to 1e-12 rad,
+  NaN rows alike, on the shipped arms and on random tables of each family in both conventions
+  (moved base, tool, joint offsets), targets in and out of reach;
+- ``solve_batch``: the twin's equals the NumPy one to 1e-9 rad;
+- ``verify`` (the path :class:`ClosedFormSolver` takes for a pose): the same solutions, order,
+  labels, limit flags and rejected branches as the Python path that measures with Pinocchio, with
+  random seeds (some beyond the fast-path range) and narrow limits that force the ``2 pi`` copies
+  and rejections;
+- the twin's DH product (the judge of the compiled path) against Pinocchio's FK at random q, on a
+  table other than the one the branches came from (so the errors are not zero);
+- the layout each twin declares matches the Python parameter fields.
+
+Skipped when the twins are not built (no C compiler at install).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from arm_tables import Reference, assert_layout_matches, make_table, random_pose
+from test_ik_spherical_wrist import ARMS as PIEPER_ARMS
+from test_ik_spherical_wrist import arm_table as pieper_table
+from test_ik_ur_wrist import UR5 as UR_ARMS
+from test_ik_ur_wrist import arm_table as ur_table
+
+import kin
+from dh2urdf import get_robot, load_table
+from kin.ik import ClosedFormSolver, PoseTarget
+from kin.ik.analytic.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, TwinVerifier, check_params
+from kin.ik.analytic.spherical_wrist import SphericalWrist6R
+from kin.ik.analytic.ur_wrist import URWrist6R
+
+PI = math.pi
+BUILT = URWrist6R.compiled_twin is not None and SphericalWrist6R.compiled_twin is not None
+pytestmark = pytest.mark.skipif(not BUILT, reason="the 6R compiled twins are not built")
+
+CASES = [("ur", arm) for arm in UR_ARMS] + [("pieper", arm) for arm in PIEPER_ARMS]
+
+
+def case(kind: str, arm: str):
+    """The table and its structure."""
+    if kind == "ur":
+        table = ur_table(arm)
+        return table, URWrist6R.recognise(table)
+    table = pieper_table(arm)
+    return table, SphericalWrist6R.recognise(table)
+
+
+def targets(table, count: int, seed: int) -> np.ndarray:
+    """FK poses of random q (N, 4, 4), the first tenth moved out of reach (x5 position)."""
+    q = np.random.default_rng(seed).uniform(-PI, PI, (count, 6))
+    poses = kin.batch_forward_kinematics(table, q)
+    poses[: count // 10, :3, 3] *= 5.0
+    return poses
+
+
+@pytest.mark.parametrize(("kind", "arm"), CASES)
+def test_twin_solve_equals_python(kind, arm):
+    """The twin's branches are the Python solve's, target by target (1e-12 rad, NaN alike)."""
+    table, structure = case(kind, arm)
+    poses = targets(table, 300, 5)
+    for T in poses:
+        python = structure.solve(T[:3, 3], T[:3, :3], compiled=False)
+        twin = structure.solve(T[:3, 3], T[:3, :3])
+        np.testing.assert_array_equal(np.isnan(twin), np.isnan(python))
+        np.testing.assert_allclose(twin, python, rtol=0.0, atol=1e-12, equal_nan=True)
+    singular = structure.solve(poses[-1, :3, 3], poses[-1, :3, :3], free=0.7)
+    assert singular.shape == (8, 6)
+
+
+@pytest.mark.parametrize(("kind", "arm"), CASES)
+def test_twin_batch_equals_numpy_batch(kind, arm):
+    """The twin's solve_batch equals the NumPy solve_batch (1e-9 rad: NumPy's own vector libm)."""
+    table, structure = case(kind, arm)
+    poses = targets(table, 2000, 6)
+    twin = structure.solve_batch(poses[:, :3, 3], poses[:, :3, :3])
+    numpy = structure.solve_batch(poses[:, :3, 3], poses[:, :3, :3], compiled=False)
+    assert twin.shape == numpy.shape == (2000, 8, 6)
+    np.testing.assert_array_equal(np.isnan(twin), np.isnan(numpy))
+    np.testing.assert_allclose(twin, numpy, rtol=0.0, atol=1e-9, equal_nan=True)
+    assert np.isnan(twin[:200]).mean() > 0.5
+    assert not np.isnan(twin[200:, 0]).all()
+
+
+def narrow_limits(table, rng: np.random.Generator):
+    """The table with joint limits of random width 1.5 to 6 rad around a random centre."""
+    rows = []
+    for row in table.rows:
+        centre, half = rng.uniform(-PI, PI), rng.uniform(0.75, 3.0)
+        rows.append(dataclasses.replace(row, lower=centre - half, upper=centre + half))
+    return dataclasses.replace(table, rows=tuple(rows))
+
+
+def assert_same_result(compiled, python, label: str) -> None:
+    assert compiled.success == python.success, label
+    assert compiled.status == python.status, label
+    assert compiled.message == python.message, label
+    for ours, theirs in (
+        (compiled.solutions, python.solutions),
+        (compiled.rejected, python.rejected),
+    ):
+        assert [s.branch for s in ours] == [s.branch for s in theirs], label
+        for a, b in zip(ours, theirs):
+            np.testing.assert_allclose(a.q, b.q, rtol=0.0, atol=1e-12, err_msg=label)
+            assert a.within_limits == b.within_limits, label
+            # Two FKs of the same q: they differ by rounding, which grows with |q| (seeds of 2e5).
+            rounding = 1e-12 * max(1.0, float(np.abs(b.q).max()))
+            assert abs(a.position_error - b.position_error) < rounding, label
+            assert abs(a.rotation_error - b.rotation_error) < rounding, label
+
+
+@pytest.mark.parametrize(("kind", "arm"), CASES)
+def test_compiled_solver_equals_python_solver(kind, arm):
+    """ClosedFormSolver's compiled path returns what its Python path (Pinocchio judge) returns."""
+    table, _ = case(kind, arm)
+    rng = np.random.default_rng(17)
+    for variant in range(2):
+        arm_table = table if variant == 0 else narrow_limits(table, rng)
+        robot = kin.robot_from_table(arm_table)
+        compiled = ClosedFormSolver(robot)
+        python = ClosedFormSolver(robot, compiled=False)
+        assert compiled._twin is not None and python._twin is None
+        rejected = 0
+        for k, T in enumerate(targets(arm_table, 120, 7 + variant)):
+            target = PoseTarget(T[:3, 3], T[:3, :3])
+            seed = None if k % 4 == 0 else rng.uniform(-2 * PI, 2 * PI, 6)
+            if seed is not None and k % 9 == 2:
+                seed = seed + 2e5  # beyond the fast path: every angle takes the exact copy
+            ours, theirs = compiled.solve(target, seed), python.solve(target, seed)
+            assert_same_result(ours, theirs, f"{arm=} {variant=} {k=}")
+            rejected += len(ours.rejected)
+        assert variant == 0 or rejected > 0, "the narrow limits rejected no branch"
+
+
+def test_compiled_solver_reports_like_python_for_bad_targets():
+    """Non-finite targets, wrong seeds and far targets: the same statuses and errors."""
+    robot = kin.robot_from_table(load_table(get_robot("ur5").table_path))
+    compiled, python = ClosedFormSolver(robot), ClosedFormSolver(robot, compiled=False)
+    for target in (PoseTarget([math.nan, 0, 0], np.eye(3)), PoseTarget([5.0, 0, 0], np.eye(3))):
+        assert_same_result(compiled.solve(target), python.solve(target), str(target.position))
+    with pytest.raises(kin.ik.TargetError, match="must have 6 values"):
+        compiled.solve(PoseTarget([0.3, 0.1, 0.3], np.eye(3)), [0.0] * 5)
+    with pytest.raises(kin.ik.TargetError, match="finite"):
+        compiled.solve(PoseTarget([0.3, 0.1, 0.3], np.eye(3)), [math.nan] * 6)
+
+
+@pytest.mark.parametrize(("kind", "arm"), [CASES[1], CASES[4], CASES[-3], CASES[-1]])
+def test_twin_fk_agrees_with_pinocchio(kind, arm):
+    """The twin's judge (the table's DH product in C) measures like Pinocchio's FK.
+
+    The check block is built from a perturbed table (other d, theta, base, tool): every branch of
+    the original table is then off target by a finite amount that the twin reports, and that
+    Pinocchio's FK of the perturbed table must give too.
+    """
+    table, structure = case(kind, arm)
+    rng = np.random.default_rng(29)
+    rows = tuple(
+        dataclasses.replace(row, d=row.d + rng.uniform(-0.05, 0.05), theta=row.theta + 0.1)
+        for row in table.rows
+    )
+    other = dataclasses.replace(
+        table, rows=rows, T_world_base=random_pose(rng), T_last_tool=random_pose(rng)
+    )
+    twin = structure.compiled_twin
+    lower, upper = [-2 * PI] * 6, [2 * PI] * 6
+    verifier = TwinVerifier(
+        twin, structure.c_params, check_params(twin, other, lower, upper, 1e-9, 1e-9)
+    )
+    reference = Reference(other)
+    checked = 0
+    for T in targets(table, 60, 31)[6:]:
+        found, q, info = verifier(T[:3, 3].copy(), T[:3, :3].copy(), np.zeros(6))
+        for b in range(8):
+            if np.isnan(q[b, 0]):
+                continue
+            position_error, rotation_error = reference.errors(q[b], _se3(T))
+            assert info[b][0] == OFF_TARGET
+            assert abs(info[b][1] - position_error) < 1e-12
+            assert abs(info[b][2] - rotation_error) < 1e-9 * max(1.0, rotation_error)
+            checked += 1
+    assert checked > 100
+
+
+def _se3(T):
+    import pinocchio as pin
+
+    return pin.SE3(T[:3, :3].copy(), T[:3, 3].copy())
+
+
+def test_outside_limits_status_is_reported():
+    """A UR5 with joint 2 limited to [0, 0.1] rad: branches on target outside it are rejected."""
+    table = load_table(get_robot("ur5").table_path)
+    rows = list(table.rows)
+    rows[1] = dataclasses.replace(rows[1], lower=0.0, upper=0.1)
+    narrow = dataclasses.replace(table, rows=tuple(rows))
+    structure = URWrist6R.recognise(narrow)
+    twin = structure.compiled_twin
+    verifier = TwinVerifier(
+        twin, structure.c_params, check_params(twin, narrow, [r.lower for r in rows],
+                                               [r.upper for r in rows], 1e-9, 1e-9)
+    )  # fmt: skip
+    T = kin.batch_forward_kinematics(table, np.array([[0.3, -1.2, 1.4, -0.8, 1.1, 0.4]]))[0]
+    found, q, info = verifier(T[:3, 3].copy(), T[:3, :3].copy(), np.zeros(6))
+    assert found == 8
+    assert [row[0] for row in info] == [OUTSIDE_LIMITS] * 8
+    assert max(row[1] for row in info) < 1e-9
+    assert not q.flags.writeable
+
+
+@pytest.mark.parametrize("structure_class", [URWrist6R, SphericalWrist6R])
+def test_layout_matches_python_fields(structure_class):
+    """Each twin's LAYOUT names the structure's c_fields, at the offsets c_params uses."""
+    name = "ur5" if structure_class is URWrist6R else "puma560"
+    structure = structure_class.recognise(load_table(get_robot(name).table_path))
+    assert_layout_matches(structure, structure.compiled_twin)
+    twin = structure.compiled_twin
+    assert [n for n, _, _ in twin.CHECK_LAYOUT][:2] == ["modified", "a"]
+    assert sum(size for _, _, size in twin.CHECK_LAYOUT) == twin.CHECK_COUNT
+
+
+def test_table_of_either_convention_gives_the_same_check():
+    """A modified table's check block describes the same arm: the twin finds FK(q)'s q."""
+    table = make_table([0, 0, 0.3, 0.25, 0, 0], [0, PI / 2, 0, 0, PI / 2, -PI / 2],
+                       [0.1, 0, 0, 0.11, 0.09, 0.08], [0] * 6, "modified")  # fmt: skip
+    structure = URWrist6R.recognise(table)
+    q0 = np.array([0.4, -1.0, 1.2, -0.5, 0.8, 0.3])
+    T = kin.batch_forward_kinematics(table, q0[None])[0]
+    twin = structure.compiled_twin
+    lower, upper = [-2 * PI] * 6, [2 * PI] * 6
+    verifier = TwinVerifier(
+        twin, structure.c_params, check_params(twin, table, lower, upper, 1e-9, 1e-9)
+    )
+    found, q, info = verifier(T[:3, 3].copy(), T[:3, :3].copy(), q0)
+    best = int(np.argmin([row[3] for row in info]))
+    assert found == 8 and info[best][0] == 1
+    np.testing.assert_allclose(q[best], q0, atol=1e-9)
