@@ -2,7 +2,10 @@
 
 With ``--robot humanoid7`` (or ``panda``, ``xarm7``) it runs the numeric-IK benchmark instead (``bench_ik_humanoid7.py``:
 success and time from q = 0 and from random q, full pose and position only, beside TRAC-IK and the
-Robotics Toolbox's ik_LM when installed); the remaining options are passed on to it.
+Robotics Toolbox's ik_LM when installed); the remaining options are passed on to it. With
+``--robot ur5`` (or ``ur10``, ``puma560``) it runs the 6R closed-form benchmark
+(``bench_ik_6r.py``: all 8 branches per call, verified, batched, beside ur-analytic-ik and the
+Robotics Toolbox's ``ikine_a``), likewise.
 """
 
 from __future__ import annotations
@@ -30,6 +33,8 @@ from kin.robot_model import load_robot
 ROBOTS = ("lab5", "ned5", "pickplace3", "planar2", "scorbot")
 #: 7R arms with a free-joint closed form: forwarded to ``bench_ik_humanoid7.py``.
 SEVEN_JOINT = ("humanoid7", "panda", "xarm7")
+#: 6R arms with a closed form of 8 branches: forwarded to ``bench_ik_6r.py``.
+SIX_JOINT = ("ur5", "ur10", "puma560")
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -49,9 +54,10 @@ def get_argument_parser() -> ArgumentParser:
     )
     parser.add_argument(
         "--robot",
-        choices=(*ROBOTS, *SEVEN_JOINT),
+        choices=(*ROBOTS, *SIX_JOINT, *SEVEN_JOINT),
         help="one robot only; humanoid7, panda and xarm7 run the numeric-IK benchmark "
-        "(see bench_ik_humanoid7.py -h)",
+        "(see bench_ik_humanoid7.py -h), ur5, ur10 and puma560 the 6R one against "
+        "ur-analytic-ik and the Robotics Toolbox (see bench_ik_6r.py -h)",
     )
     return parser
 
@@ -77,10 +83,10 @@ def per_call_times(solver: ClosedFormSolver, targets: list, repeat: int) -> list
     return sorted(best)
 
 
-def _humanoid7_benchmark():
-    """The module of ``scripts/bench_ik_humanoid7.py`` (a sibling script, not a package)."""
-    path = Path(__file__).resolve().with_name("bench_ik_humanoid7.py")
-    spec = importlib.util.spec_from_file_location("bench_ik_humanoid7", path)
+def _sibling(name: str):
+    """The module of ``scripts/<name>.py`` (a sibling script, not a package)."""
+    path = Path(__file__).resolve().with_name(f"{name}.py")
+    spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module
     spec.loader.exec_module(module)
@@ -91,7 +97,9 @@ def main(argv: list[str] | None = None) -> int:
     """Print one row per robot: median and p90 per call [us] (target <= 50), batched targets/s (>= 200,000)."""
     args, rest = get_argument_parser().parse_known_args(argv)
     if args.robot in SEVEN_JOINT:
-        return _humanoid7_benchmark().main(["--robot", args.robot, *rest])
+        return _sibling("bench_ik_humanoid7").main(["--robot", args.robot, *rest])
+    if args.robot in SIX_JOINT:
+        return _sibling("bench_ik_6r").main(["--robot", args.robot, *rest])
     if rest:
         get_argument_parser().error(f"unrecognized arguments: {' '.join(rest)}")
     print(f"{'robot':<11} {'median [us]':>11} {'p90 [us]':>9} {'batch [targets/s]':>18}")

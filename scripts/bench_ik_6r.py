@@ -4,8 +4,11 @@ UR5 and UR10 (``ur_wrist``) and PUMA 560 (``spherical_wrist``, the Robotics Tool
 their shipped tables. Columns, medians over repeated timings of ``--number`` calls on
 the same targets (timeit style): ``solve``, the structure's 8 branches of one target (not
 verified); ``verified``, the same through ``ClosedFormSolver.solve`` (branches wrapped into the
-limits, each verified by Pinocchio's FK, ordered by distance to the seed); ``batch``,
-``solve_batch`` of ``--batch`` targets, per target. Peers when importable (``[bench]`` extra):
+limits, each verified by FK, ordered by distance to the seed: what ``kin.ik.solve_ik`` returns),
+in the compiled twin when it is built (the table's DH product in C as the judge); ``py verified``,
+the Python path of the same solver (Pinocchio as the judge); ``batch``, ``solve_batch`` of
+``--batch`` targets, per target. The ``compiled`` line says whether the twins are built (without
+them ``solve`` and ``batch`` run in Python and NumPy). Peers when importable (``[bench]`` extra):
 ur-analytic-ik's Python call (all branches) and the Robotics Toolbox's ``ikine_a`` (its 8
 configurations, 8 calls); ``same solutions``: targets where the peer's solutions are exactly
 ours (same count, each within 1e-9 rad modulo 2 pi). Targets are the FK of seeded random q
@@ -32,6 +35,11 @@ from kin.cli import ArgumentParser, positive_int
 from kin.ik.analytic.spherical_wrist import SphericalWrist6R
 from kin.ik.analytic.ur_wrist import URWrist6R
 
+#: The arms benchmarked, in order: (label, shipped robot, structure).
+ARMS = (("UR5", "ur5", URWrist6R), ("UR10", "ur10", URWrist6R),
+        ("PUMA 560", "puma560", SphericalWrist6R))  # fmt: skip
+ROBOTS = tuple(name for _, name, _ in ARMS)
+
 
 def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
@@ -44,6 +52,9 @@ def get_argument_parser() -> ArgumentParser:
     )
     parser.add_argument(
         "--batch", type=positive_int, default=100_000, help="targets of the batch (default 100000)"
+    )
+    parser.add_argument(
+        "--robot", choices=ROBOTS, help="one arm only (default: all three)"
     )
     parser.add_argument(
         "--compare",
@@ -115,16 +126,19 @@ def main(argv: list[str] | None = None) -> int:
     """Print the benchmark table; exit 0."""
     args = get_argument_parser().parse_args(argv)
     arms = []
-    for label, name in (("UR5", "ur5"), ("UR10", "ur10")):
-        table = load_table(get_robot(name).table_path)
-        arms.append((label, table, URWrist6R.recognise(table), _ur_peer(name)))
-    puma = load_table(get_robot("puma560").table_path)  # the toolbox's Puma560 numbers
-    arms.append(("PUMA 560", puma, SphericalWrist6R.recognise(puma), _puma_peer()))
+    for label, name, structure in ARMS:
+        if args.robot not in (None, name):
+            continue
+        table = load_table(get_robot(name).table_path)  # puma560: the toolbox's numbers
+        peer = _puma_peer() if structure is SphericalWrist6R else _ur_peer(name)
+        arms.append((label, table, structure.recognise(table), peer))
+    built = all(structure.compiled_twin is not None for _, _, structure, _ in arms)
+    print(f"compiled twins: {'built' if built else 'not built (Python and NumPy)'}")
     print(
-        f"{'arm':<9} {'solver':<16} {'solve':>9} {'verified':>9} {'batch':>9}  "
-        f"{'peer':>9}  {'same solutions':>16}  peer"
+        f"{'arm':<9} {'solver':<16} {'solve':>9} {'verified':>9} {'py verified':>11} "
+        f"{'batch':>9}  {'peer':>9}  {'same solutions':>16}  peer"
     )
-    print(f"{'':<9} {'':<16} {'[us]':>9} {'[us]':>9} {'[us/tgt]':>9}  {'[us]':>9}")
+    print(f"{'':<9} {'':<16} {'[us]':>9} {'[us]':>9} {'[us]':>11} {'[us/tgt]':>9}  {'[us]':>9}")
     for label, table, solver, peer in arms:
         rng = np.random.default_rng(0)
         q = rng.uniform(-math.pi, math.pi, (max(args.batch, args.compare, 1000), 6))
@@ -137,13 +151,14 @@ def main(argv: list[str] | None = None) -> int:
             return solver.solve(position, rotation)
 
         per_call = _median_us(one_call, args.number, args.repeat)
-        verified = _verified_us(table, targets, max(1, args.number // 4), args.repeat)
+        verified = _verified_us(table, targets, args.number, args.repeat, compiled=True)
+        python = _verified_us(table, targets, max(1, args.number // 4), args.repeat, compiled=False)
         positions, rotations = poses[: args.batch, :3, 3], poses[: args.batch, :3, :3]
         batch = _median_us(
             lambda s=solver: s.solve_batch(positions, rotations), 1, max(3, args.repeat // 2)
         )
         if peer is None:
-            print(f"{label:<9} {solver.name:<16} {per_call:9.1f} {verified:9.1f} "
+            print(f"{label:<9} {solver.name:<16} {per_call:9.1f} {verified:9.1f} {python:11.1f} "
                   f"{batch / args.batch:9.2f}  {'-':>9}  {'-':>16}  not installed")  # fmt: skip
             continue
         slow = label == "PUMA 560"  # ikine_a: one configuration per call, milliseconds
@@ -155,22 +170,25 @@ def main(argv: list[str] | None = None) -> int:
         same = sum(_same_solutions(batch_ours[k], peer(poses[k])) for k in range(count))
         name = "RTB ikine_a, 8 configurations" if slow else "ur-analytic-ik, all branches"
         print(
-            f"{label:<9} {solver.name:<16} {per_call:9.1f} {verified:9.1f} "
+            f"{label:<9} {solver.name:<16} {per_call:9.1f} {verified:9.1f} {python:11.1f} "
             f"{batch / args.batch:9.2f}  {peer_us:9.1f}  {f'{same}/{count}':>16}  {name}"
         )
     return 0
 
 
-def _verified_us(table: DHTable, targets: list, number: int, repeat: int) -> float:
+def _verified_us(
+    table: DHTable, targets: list, number: int, repeat: int, *, compiled: bool
+) -> float:
     """Per call of the closed-form solver [us], every branch verified.
 
-    Branches wrapped into the limits, each verified by Pinocchio's FK, ordered by distance to the
-    seed (what :func:`kin.ik.solve_ik` returns).
+    Branches wrapped into the limits, each verified by FK, ordered by distance to the seed (what
+    :func:`kin.ik.solve_ik` returns); ``compiled``: in the twin (C judge) when it is built, else
+    the Python path (Pinocchio judge).
     """
     from kin import robot_from_table
     from kin.ik import ClosedFormSolver, PoseTarget
 
-    solver = ClosedFormSolver(robot_from_table(table))
+    solver = ClosedFormSolver(robot_from_table(table), compiled=compiled)
     poses = [PoseTarget(p, r) for p, r in targets]
     take = _cycle(poses)
     return _median_us(lambda: solver.solve(take()), number, repeat)  # type: ignore[arg-type]
