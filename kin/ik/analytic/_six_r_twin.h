@@ -42,9 +42,11 @@
 #define FAST_COPY (M_PI - 1e-9)      /* closed_form._FAST_COPY */
 #define FAST_SEED 1e5                /* closed_form._FAST_SEED */
 
-/* _six_r.wrap: angle in (-pi, pi]. */
+/* _six_r.wrap: angle in (-pi, pi]. Inside it remainder(angle, 2 pi) is angle itself (|angle| <=
+   pi = TWO_PI / 2 exactly), so the common case skips the call (a fifth of the solve's time). */
 static inline double wrap(double angle)
 {
+    if (angle > -M_PI && angle <= M_PI) return angle;
     double out = remainder(angle, TWO_PI);
     return out <= -M_PI ? out + TWO_PI : out;
 }

@@ -78,10 +78,12 @@ static void solve_one(const Params *P, const double *p, const double *r, double 
             double sin3 = sqrt(1.0 - cos3 * cos3), heading = atan2(by, bx);
             double q1 = wrap(t1 - o[0]), q5 = wrap(t5 - o[4]), q6 = wrap(t6 - o[5]);
             int index = 4 * shoulder + 2 * wrist;
+            /* Elbow down negates st3: atan2 is odd in its first argument (exactly, in IEEE
+               arithmetic), so both elbows share the two atan2 of elbow up. */
+            double t3_up = atan2(sin3, cos3), lift = atan2(a3 * sin3, a2 + a3 * cos3);
             for (int elbow = 0; elbow < 2; elbow++) {
-                double st3 = elbow == 0 ? sin3 : -sin3;
-                double t3 = atan2(st3, cos3);
-                double t2 = heading - atan2(a3 * st3, a2 + a3 * cos3);
+                double t3 = elbow == 0 ? t3_up : -t3_up;
+                double t2 = elbow == 0 ? heading - lift : heading + lift;
                 double t4 = phi - t2 - t3;
                 double *row = out[index + elbow];
                 row[0] = q1;
