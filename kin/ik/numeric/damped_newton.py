@@ -7,10 +7,12 @@ The fast path of the numeric solver: from a good starting joint vector, a few st
 reach the target. ``e`` is the tool error in world-aligned axes at the tool origin
 (``p_target - p`` [m] and ``log3(R_target R^T)`` [rad]), ``J`` the matching
 ``LOCAL_WORLD_ALIGNED`` frame Jacobian (position rows only for a position-only target), ``z`` a
-pull toward a preferred posture that the null space of ``J`` keeps off the task, and
-``lambda = damping + error_damping * |e|^2`` the Levenberg-Marquardt damping. A joint that the
-clamp stops at a limit while the step pushes it outward is frozen (its column removed) and the
-step recomputed once: the other joints take over its share.
+pull toward a preferred posture that the null space of ``J`` keeps off the task (only while
+``|e|`` is above ``posture_until``: the pull's second-order drift of the tool would make the last
+steps converge linearly), and ``lambda = damping + error_damping * |e|^2`` the
+Levenberg-Marquardt damping. A joint that the clamp stops at a limit while the step pushes it
+outward is frozen (its column removed) and the step recomputed once: the other joints take over
+its share.
 """
 
 from __future__ import annotations
@@ -104,6 +106,7 @@ def damped_newton(
     max_step: float = 0.5,
     posture: np.ndarray | None = None,
     posture_gain: float = 0.1,
+    posture_until: float = 1e-2,
     patience: int | None = None,
 ) -> NewtonOutcome:
     """Run clamped damped Newton steps from ``q0`` toward a tool target.
@@ -124,6 +127,8 @@ def damped_newton(
         max_step: Largest joint change per step, infinity norm [rad].
         posture: Preferred joint vector [rad] pulled toward in the null space, or None.
         posture_gain: Fraction of the posture error pulled per step [1].
+        posture_until: The pull stops once the error ``|e|`` is below this [m, rad]: the last
+            steps are plain damped Newton, which converges quadratically.
         patience: Give up (``converged=False``) after this many steps in a row that do not
             halve the best error ``|e|`` so far (a start stuck at a limit or a local minimum),
             or None to always run ``max_iterations`` steps.
@@ -149,6 +154,7 @@ def damped_newton(
     best = math.inf  # best squared error so far
     stalled = 0
     wait = max_iterations + 1 if patience is None else patience
+    posture_until2 = posture_until * posture_until
     while True:
         # One Pinocchio call: forward kinematics, the tool placement and its Jacobian.
         jacobian = jacobian_of(model, data, q, frame_id, _LWA)
@@ -177,7 +183,7 @@ def damped_newton(
             )
         iterations += 1
         lam = damping + error_damping * squared
-        if posture is None:  # the common case, inlined: dq = J^T (J J^T + lam I)^-1 e
+        if posture is None or squared < posture_until2:  # inlined: dq = J^T (J J^T + lam I)^-1 e
             z = None
             if full:
                 # Upper triangle of J J^T + lam I in one BLAS call, then a Cholesky solve.

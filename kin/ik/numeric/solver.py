@@ -6,8 +6,8 @@ The stages, in order, until one returns a verified solution or the time budget r
    :class:`~kin.ik.analytic.structure.SevenDof` structure; Panda's and xArm7's
    :class:`~kin.ik.analytic.spherical_shoulder7.SphericalShoulder7R`, full poses) and a target
    without posture preference. Most of its targets end here, in tens of microseconds.
-1. :mod:`.starts`: damped Newton from the seed-table samples nearest the target (and the
-   caller's seed).
+1. :mod:`.starts`: damped Newton from the seed-table samples nearest the target, after the
+   caller's posture and seed for a redundant target (the answer stays near them).
 2. :mod:`.restarts`: random restarts and mink QP runs with hard limits, until the deadline; then
    a last QP run from the best configuration.
 
@@ -70,6 +70,11 @@ class NumericIK:
         random_between: Random starts between two mink QP runs.
         random_patience: ``patience`` of the random starts (a mink QP run is always followed
             by ``newton_iterations`` damped Newton steps).
+        seed_radius: For a redundant target (more joints than it constrains), a caller's seed
+            whose tool is within this of the target [m] (rotations weighed as in the seed
+            table's pose embedding) is the first start of damped Newton, with the whole
+            ``newton_iterations`` budget: the answer is the solution near the seed. A farther
+            seed goes first only when its tool is at least as near as the nearest sample's.
         closed_form: Try the free-joint closed form first when the arm has one
             (:func:`~.free_joint.free_joint_closed_form`; False: damped Newton and mink only).
         closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
@@ -96,6 +101,7 @@ class NumericIK:
         random_starts: int = 10,
         random_between: int = 3,
         random_patience: int | None = 3,
+        seed_radius: float = 0.1,
         closed_form: bool = True,
         closed_form_starts: int = 32,
         closed_form_steps: tuple[float, ...] = DEFAULT_CLOSED_FORM_STEPS,
@@ -116,6 +122,7 @@ class NumericIK:
         self.random_starts = random_starts
         self.random_between = random_between
         self.random_patience = random_patience
+        self.seed_radius = seed_radius
         self.lower = robot.model.lowerPositionLimit.copy()
         self.upper = robot.model.upperPositionLimit.copy()
         self._lows, self._highs = self.lower.tolist(), self.upper.tolist()
@@ -179,9 +186,10 @@ class NumericIK:
                 :class:`NumericTarget` may add a posture preference).
             seed: Start joint vector [rad] (or [m] for prismatic joints). The free-joint closed
                 form (when the arm has one) starts from it first: the answer keeps its free
-                joint as nearly as the target allows. Damped
-                Newton tries it first when its tool pose is at least as near to the target as the
-                nearest seed-table sample's.
+                joint as nearly as the target allows. Damped Newton tries it first, with its whole
+                iteration budget, for a redundant target when its tool is within
+                ``seed_radius``; else first when its tool pose is at least as near to the target
+                as the nearest seed-table sample's. A posture preference is always tried first.
             timeout: Time budget [s] (None: :data:`DEFAULT_TIMEOUT`); the first verified
                 solution returns earlier. Building the seed table and loading the MuJoCo model
                 (once per solver) do not count.

@@ -1,10 +1,14 @@
 """Stage 1 of the numeric pipeline: damped Newton from the seed-table samples nearest the target.
 
-The starts are the posture preference (first), the caller's seed (first when its tool pose is at
-least as near as the nearest sample's, else second) and the seed-table samples whose tool poses are
-nearest to the target. From each, clamped damped Newton steps on Pinocchio
-(:mod:`kin.ik.numeric.damped_newton`) that give up early when stuck: the next start is cheaper than
-the remaining steps.
+The starts are the posture preference, the caller's seed and the seed-table samples whose tool
+poses are nearest to the target. A redundant problem (more joints than the target constrains, or
+a posture preference) has many solutions, and the caller (a user, a Cartesian path) expects the
+one nearest the joint vector it gave, not a jump to a sample's branch: the posture is the first
+start, and so is the seed when its tool is within ``seed_radius`` of the target; both run their
+whole iteration budget. Otherwise the seed goes first only when its tool pose is at least as near
+as the nearest sample's, else second. From each start, clamped damped Newton steps on Pinocchio
+(:mod:`kin.ik.numeric.damped_newton`); the other starts give up early when stuck: the next start
+is cheaper than the remaining steps.
 """
 
 from __future__ import annotations
@@ -38,8 +42,8 @@ def solve_from_starts(
     outside the budget: the deadline moves by the loading time.
     """
     search.deadline += load_linalg()
-    for label, q0, index in seed_table_starts(ik, search.target, seed_q):
-        outcome = search.newton(q0, ik.patience)
+    for label, q0, index, patience in seed_table_starts(ik, search.target, seed_q):
+        outcome = search.newton(q0, patience)
         method = SEED_TABLE if index >= 0 else DAMPED_NEWTON
         message = f"damped Newton from {label}, {outcome.iterations} steps"
         done = search.accept(outcome, method, message)
@@ -52,20 +56,32 @@ def solve_from_starts(
 
 def seed_table_starts(
     ik: NumericIK, target: NumericTarget, seed_q: npt.ArrayLike | None
-) -> Iterator[tuple[str, np.ndarray, int]]:
+) -> Iterator[tuple[str, np.ndarray, int, int | None]]:
     """Start joint vectors, most promising first (ranked lazily: most targets need one).
 
-    A posture preference is the first start; the caller's seed goes first (else second) when
-    its tool pose is at least as near as the nearest sample's.
+    A posture preference is the first start. The caller's seed (unless equal to the posture)
+    follows it for a redundant problem (:func:`redundant`) when its tool is within
+    ``ik.seed_radius`` of the target; otherwise it goes first (else second) when its tool pose
+    is at least as near as the nearest sample's.
 
-    Yields ``(label, q0, index)``: ``index`` is the seed-table sample's, -1 for the caller's.
+    Yields ``(label, q0, index, patience)``: ``index`` is the seed-table sample's, -1 for the
+    caller's; ``patience`` that of the damped Newton run (None: the whole budget).
     """
     table = ik.table
-    extra: list[tuple[str, np.ndarray, int]] = []
-    if target.posture is not None:  # the caller's preference: always first
-        yield "the preferred posture", np.asarray(target.posture, dtype=float), -1
+    posture = target.posture
+    if posture is not None:  # the caller's preference: always first, the whole budget
+        posture = np.asarray(posture, dtype=float)
+        yield "the preferred posture", posture, -1, None
+    seed: np.ndarray | None = None
     if seed_q is not None:
-        extra.append(("the given seed", ik.seed_vector(seed_q), -1))
+        seed = ik.seed_vector(seed_q)
+        if posture is not None and np.array_equal(seed, posture):
+            seed = None  # the same run again
+    if seed is not None:
+        seed_distance = embedding_distance(ik, seed, target)
+        if redundant(ik, target) and seed_distance <= ik.seed_radius * ik.seed_radius:
+            yield "the given seed", seed, -1, None  # a solution near it: before any sample's
+            seed = None
     found = table.ranked(target.position, target.rotation)
     if found is None or found[0].size < ik.nearest:  # outside the grid: the KD-tree
         candidates, distances = table.nearest(target.position, target.rotation, k=ik.nearest), None
@@ -73,23 +89,22 @@ def seed_table_starts(
     else:
         candidates, distances = found
         first = int(distances.argmin())
-    # A caller's start goes first when its tool pose is at least as near as the nearest
+    # Else the caller's seed goes first when its tool pose is at least as near as the nearest
     # sample's (in the table's pose embedding), else second.
-    ahead: list[tuple[str, np.ndarray, int]] = []
-    behind: list[tuple[str, np.ndarray, int]] = []
-    if extra:
+    ahead = False
+    if seed is not None:
         nearest = (
             embedding_distance(ik, table.q[candidates[first]], target)
             if distances is None
             else float(distances[first])
         )
-        for start in extra:
-            near = embedding_distance(ik, start[1], target) <= nearest
-            (ahead if near else behind).append(start)
-    yield from ahead
+        ahead = seed_distance <= nearest
+        if ahead:
+            yield "the given seed", seed, -1, ik.patience
     index = int(candidates[first])
-    yield f"seed-table sample {index}", table.q[index], index
-    yield from behind
+    yield f"seed-table sample {index}", table.q[index], index, ik.patience
+    if seed is not None and not ahead:
+        yield "the given seed", seed, -1, ik.patience
     if distances is None:
         rest = candidates[1:].tolist()
     else:
@@ -97,7 +112,15 @@ def seed_table_starts(
         rest = [candidates[i] for i in ranked if i != first][: ik.nearest - 1]
     for i in rest:
         index = int(i)
-        yield f"seed-table sample {index}", table.q[index], index
+        yield f"seed-table sample {index}", table.q[index], index, ik.patience
+
+
+def redundant(ik: NumericIK, target: NumericTarget) -> bool:
+    """Whether many joint vectors reach ``target``: a posture, or more joints than it constrains.
+
+    A position constrains three coordinates, a full pose six.
+    """
+    return target.posture is not None or ik.model.nq > (3 if target.rotation is None else 6)
 
 
 def embedding_distance(ik: NumericIK, q: np.ndarray, target: NumericTarget) -> float:
