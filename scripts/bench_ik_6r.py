@@ -53,9 +53,7 @@ def get_argument_parser() -> ArgumentParser:
     parser.add_argument(
         "--batch", type=positive_int, default=100_000, help="targets of the batch (default 100000)"
     )
-    parser.add_argument(
-        "--robot", choices=ROBOTS, help="one arm only (default: all three)"
-    )
+    parser.add_argument("--robot", choices=ROBOTS, help="one arm only (default: all three)")
     parser.add_argument(
         "--compare",
         type=positive_int,

@@ -27,7 +27,11 @@ UR5 = ("ur5", "ur5_moved", "random_standard_0", "random_standard_1", "random_mod
 
 
 def random_ur_table(seed: int, convention: str) -> DHTable:
-    """A random arm of the UR family (the structural twists exact, the rest random)."""
+    """A random arm of the UR family (the structural twists exact, the rest random).
+
+    Even seeds: wrist twists +-90 deg (the UR arms); odd seeds: any wrist twists (IK-Geo's
+    "three parallel, two intersecting" in general).
+    """
     rng = np.random.default_rng(seed)
     a = rng.uniform(-0.5, 0.5, 6)
     d = rng.uniform(-0.3, 0.3, 6)
@@ -38,6 +42,9 @@ def random_ur_table(seed: int, convention: str) -> DHTable:
     j = 0 if convention == "standard" else 1  # modified: row i + 1 holds joint i's a, alpha
     alpha[1 + j] = alpha[2 + j] = 0.0
     alpha[3 + j], alpha[4 + j] = rng.choice([PI / 2, -PI / 2], 2)
+    if seed % 2 == 1:
+        alpha[3 + j] *= rng.uniform(0.2, 1.8)
+        alpha[4 + j] *= rng.uniform(0.2, 1.8)
     a[4 + j] = 0.0
     return make_table(a, alpha, d, theta, convention, random_pose(rng), random_pose(rng),
                       f"ur_random_{convention}_{seed}")  # fmt: skip
@@ -150,7 +157,7 @@ def test_ur5_table_is_recognised_with_its_numbers():
     solver = URWrist6R.recognise(load_table(get_robot("ur5").table_path))
     assert (solver.a2, solver.a3) == (-0.425, -0.39225)
     assert (solver.d1, solver.lateral, solver.d5, solver.d6) == (0.089159, 0.10915, 0.09465, 0.0823)
-    assert (solver.sign4, solver.sign5, solver.alpha1) == (1.0, -1.0, PI / 2)
+    assert (solver.alpha4, solver.alpha5, solver.alpha1) == (PI / 2, -PI / 2, PI / 2)
     assert URWrist6R.name == "ur_wrist" and URWrist6R.dof == 6
 
 
@@ -172,8 +179,8 @@ def ur5_with(row: int, **changes) -> DHTable:
 @pytest.mark.parametrize(
     ("table", "expected"),
     [
-        (ur5_with(4, alpha=math.radians(89.9)), ["row 4 ('wrist_1_joint'): alpha", "89.9 deg"]),
-        (ur5_with(5, alpha=math.radians(-90.1)), ["row 5 ('wrist_2_joint'): alpha"]),
+        (ur5_with(4, alpha=0.0), ["row 4 ('wrist_1_joint'): alpha", "other than 0"]),
+        (ur5_with(5, alpha=PI), ["row 5 ('wrist_2_joint'): alpha", "other than 0"]),
         (ur5_with(2, alpha=math.radians(0.1)), ["row 2 ('shoulder_lift_joint'): alpha"]),
         (ur5_with(3, alpha=PI), ["row 3 ('elbow_joint'): alpha", "expected 0 deg"]),
         (ur5_with(5, a=1e-6), ["row 5 ('wrist_2_joint'): a = 1e-06 m, expected 0"]),
@@ -182,8 +189,8 @@ def ur5_with(row: int, **changes) -> DHTable:
         (PUMA, ["row 3 ('j3'): alpha = -90 deg, expected 0 deg"]),
     ],
     ids=[
-        "alpha4=89.9",
-        "alpha5=-90.1",
+        "alpha4=0",
+        "alpha5=180",
         "alpha2=0.1",
         "alpha3=180",
         "a5=1um",
@@ -202,14 +209,30 @@ def test_near_misses_are_refused_naming_row_and_parameter(table, expected):
 
 
 def test_modified_near_miss_names_the_modified_row():
-    """In Craig's convention joint 4's twist is in row 5: the error names row 5."""
+    """In Craig's convention joint 2's twist is in row 3: the error names row 3."""
     table = random_ur_table(10, "modified")
     rows = list(table.rows)
-    rows[4] = DHRow(5, "j5", "revolute", rows[4].a, math.radians(89.9), rows[4].d, 0.0, -PI, PI,
+    rows[2] = DHRow(3, "j3", "revolute", rows[2].a, math.radians(0.1), rows[2].d, 0.0, -PI, PI,
                     1.0, 1.0)  # fmt: skip
     bad = DHTable("bad", "", "", "modified", tuple(rows))
-    with pytest.raises(StructureError, match=r"row 5 \('j5'\): alpha \(modified convention"):
+    with pytest.raises(StructureError, match=r"row 3 \('j3'\): alpha \(modified convention"):
         URWrist6R.recognise(bad)
+
+
+@pytest.mark.parametrize(("row", "degrees"), [(4, 89.9), (5, -90.1), (4, 30.0)])
+def test_wrist_twist_near_90_is_solved_with_its_own_value(row, degrees):
+    """A wrist twist of 89.9 deg is not taken for 90: the table is solved with 89.9, and every
+    branch reaches FK(q) of that table (Pinocchio) with q among them."""
+    table = ur5_with(row, alpha=math.radians(degrees))
+    solver = URWrist6R.recognise(table)
+    assert getattr(solver, f"alpha{row}") == math.radians(degrees)
+    ref = Reference(table)
+    for q in np.random.default_rng(row).uniform(-PI, PI, (50, 6)):
+        target = ref.fk(q)
+        for compiled in (True, False):
+            found = solver.solve(target.translation, target.rotation, compiled=compiled)
+            exist = found[~np.isnan(found[:, 0])]
+            ref.check_branches(exist, q, target, f"{row=} {degrees=} {compiled=}")
 
 
 def test_wrong_joint_count_and_prismatic_are_refused():

@@ -10,9 +10,9 @@
 /* The parameter layout (URWrist6R.c_fields fills it by name from LAYOUT). X(field, size, doc) */
 #define UR_PARAMS(X)                                                            \
     FRAME_PARAMS(X)                                                             \
-    X(k, 5, "URWrist6R._k: sin alpha1, cos alpha1, ex, ey [m], sin a4 sin a5")  \
-    X(len, 6, "a1, d1, a2, a3, lateral h, d6 [m]")                              \
-    X(sign, 2, "sin alpha4, sin alpha5 (+-1)")                                  \
+    X(k, 8, "URWrist6R._k: sin, cos alpha1; ex, ey [m]; sin, cos alpha4, alpha5") \
+    X(classic, 1, "1 when both wrist twists are +-90 deg")                        \
+    X(len, 6, "a1, d1, a2, a3, lateral h, d6 [m]")                                \
     X(off, 6, "theta offsets [rad]")
 
 TWIN_PARAMS(UR_PARAMS)
@@ -20,9 +20,11 @@ TWIN_PARAMS(UR_PARAMS)
 static void solve_one(const Params *P, const double *p, const double *r, double free,
                       double out[BRANCHES][JOINTS])
 {
-    const double s1 = P->k[0], c1 = P->k[1], ex = P->k[2], ey = P->k[3], s45 = P->k[4];
+    const double s1 = P->k[0], c1 = P->k[1], ex = P->k[2], ey = P->k[3];
+    const double s4 = P->k[4], c4 = P->k[5], s5a = P->k[6], c5a = P->k[7];
+    const int classic = P->classic[0] != 0.0;
     const double a1 = P->len[0], d1 = P->len[1], a2 = P->len[2], a3 = P->len[3];
-    const double h = P->len[4], d6 = P->len[5], sign4 = P->sign[0], s5a = P->sign[1];
+    const double h = P->len[4], d6 = P->len[5];
     const double *o = P->off;
     for (int b = 0; b < BRANCHES; b++)
         for (int j = 0; j < JOINTS; j++) out[b][j] = NAN;
@@ -47,22 +49,33 @@ static void solve_one(const Params *P, const double *p, const double *r, double 
         double x6 = r00 * z1[0] + r10 * z1[1] + r20 * z1[2];
         double y6 = r01 * z1[0] + r11 * z1[1] + r21 * z1[2];
         double w = r02 * z1[0] + r12 * z1[1] + r22 * z1[2];
-        double cos5 = -s45 * w, sin5 = hypot(x6, y6);
+        double cos5 = (c4 * c5a - w) / (s4 * s5a), xy6 = hypot(x6, y6), sin5;
+        if (classic) {
+            sin5 = xy6;
+        } else {
+            if (cos5 > 1.0 || cos5 < -1.0) {
+                if (fabs(cos5) > 1.0 + COS_SLACK) continue;
+                cos5 = cos5 > 0.0 ? 1.0 : -1.0;
+            }
+            sin5 = sqrt(1.0 - cos5 * cos5);
+        }
         double qx = px - a1 * ct, qy = py - a1 * st, qz = pz - d1;
         double ax = ct * qx + st * qy;
         double ay = y1[0] * qx + y1[1] * qy + y1[2] * qz;
         for (int wrist = 0; wrist < 2; wrist++) {
             double st5 = wrist == 0 ? sin5 : -sin5;
             double t5 = atan2(st5, cos5), t6;
-            if (sin5 <= 1e-12) { /* _six_r.SINGULAR */
+            if (xy6 <= 1e-12) { /* _six_r.SINGULAR */
                 t6 = free + o[5];
-            } else {
-                double u = sign4 * st5;
-                t6 = atan2(-y6 * u, x6 * u);
+            } else { /* (x6, y6) = Rz(-t6) (vx, vy) */
+                double vx = s4 * st5, vy = c5a * s4 * cos5 + s5a * c4;
+                t6 = atan2(vy, vx) - atan2(y6, x6);
             }
             /* 3. phi */
             double ct6 = cos(t6), st6 = sin(t6);
-            double xi0 = cos5 * ct6, xi1 = -cos5 * st6, xi2 = s5a * st5;
+            double xi0 = cos5 * ct6 - st5 * c5a * st6;
+            double xi1 = -cos5 * st6 - st5 * c5a * ct6;
+            double xi2 = s5a * st5;
             double rx = r00 * xi0 + r01 * xi1 + r02 * xi2;
             double ry = r10 * xi0 + r11 * xi1 + r12 * xi2;
             double rz = r20 * xi0 + r21 * xi1 + r22 * xi2;

@@ -5,24 +5,27 @@ Structure, read from the table brought to the standard chain (:mod:`._six_r`, ei
 - joint 1: any twist with ``sin alpha1 != 0`` (UR: 90 deg), any ``a1, d1``;
 - joints 2, 3, 4: parallel axes (``alpha2 = alpha3 = 0``), ``a2 != 0``, ``a3 != 0``; ``d2, d3,
   d4`` free (their sum is the shoulder offset), ``a4`` free;
-- joint 5 perpendicular to them and joint 6 to joint 5 (``alpha4, alpha5 = +-90 deg``),
-  ``a5 = 0``; ``d5``, ``d6``, ``a6`` and ``alpha6`` free.
+- joint 5 not parallel to them and joint 6 not parallel to joint 5 (``sin alpha4 != 0``,
+  ``sin alpha5 != 0``), axes 5 and 6 meeting (``a5 = 0``); ``d5``, ``d6``, ``a6`` and ``alpha6``
+  free. This is IK-Geo's "three parallel axes, two intersecting" family.
 
 UR3, UR5, UR10 (and the e-series) are the case ``alpha = (90, 0, 0, 90, -90, 0) deg``,
 ``a = (0, a2, a3, 0, 0, 0)``, ``d = (d1, 0, 0, d4, d5, d6)``.
 
 Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]); frame 1's ``z1`` is the
-common direction of axes 2-4, and every point from frame 1 to frame 5 lies at the same offset
-``h = d2 + d3 + d4`` along it:
+common direction of axes 2-4, and the origin of frame 5 lies at the offset
+``h = d2 + d3 + d4 + cos(alpha4) d5`` along it (from frame 1):
 
 1. ``p5 = p_0_6 - d6 z6`` (the origin of frame 5); ``(p5 - o1) . z1 = h`` is
    ``sin(beta - t1) = (cos(alpha1) (p5z - d1) - h) / (sin(alpha1) rho)`` with ``rho, beta`` the
    polar coordinates of ``p5`` in the base plane: two ``t1`` (shoulder left: ``beta - asin``,
    right: ``beta - pi + asin``).
-2. ``z1`` seen in frame 6 is ``(x6, y6, w)``: ``cos t5 = -sin(alpha4) sin(alpha5) w``,
-   ``|sin t5| = hypot(x6, y6)`` (wrist up: ``sin t5 >= 0``, down: ``< 0``), and ``t6`` turns
-   ``(x6, y6)`` onto the axis; when ``sin t5 = 0`` axis 6 is parallel to axes 2-4 and ``q6`` is
-   free: it takes the value ``free``.
+2. ``z1`` seen in frame 6 is ``(x6, y6, w) = Rz(-t6) v`` with ``v = Rx(-alpha5) Rz(-t5) (0,
+   sin alpha4, cos alpha4)``: ``w = cos(alpha4) cos(alpha5) - sin(alpha4) sin(alpha5) cos t5``
+   gives ``cos t5`` and two signs of ``sin t5`` (wrist up: ``sin t5 >= 0``, down: ``< 0``; with
+   both wrist twists at +-90 deg ``|sin t5| = hypot(x6, y6)``, read without cancellation), and
+   ``t6`` turns ``(v_x, v_y)`` onto ``(x6, y6)``; when ``(x6, y6) = 0`` axis 6 is parallel to
+   axes 2-4 and ``q6`` is free: it takes the value ``free``.
 3. ``phi = t2 + t3 + t4`` from ``R_1_6 = Rz(phi) Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6)``; the point
    of axis 3 in the arm plane is ``p5 - Rz(phi) (a4, -sin(alpha4) d5)``, and the planar 2R
    ``(a2, a3)`` reaches it by the law of cosines (elbow up: ``sin t3 >= 0``, down: ``< 0``); then
@@ -49,7 +52,6 @@ from .seven_dof import pack_params
 from .six_r_twin import TwinVerifier, check_params, frame_fields, load_twin, twin_solve
 
 _NAN_ROW = (math.nan,) * 6
-_HALF_PI = math.pi / 2
 
 
 def _labels() -> tuple[str, ...]:
@@ -72,11 +74,12 @@ class URWrist6R:
         d1: Height of axis 2 along axis 1 [m].
         a2: Upper-arm length [m].
         a3: Forearm length [m].
-        lateral: ``h = d2 + d3 + d4``, offset of frames 1-5 along the parallel axes [m].
+        lateral: ``h = d2 + d3 + d4 + cos(alpha4) d5``, offset of frame 5 along the parallel
+            axes from frame 1 [m].
         a4: Offset of axis 5 from axis 4 along ``x4`` [m].
-        sign4: ``sin(alpha4)`` (+1 or -1).
+        alpha4: Twist between axis 4 and axis 5 [rad].
         d5: Distance along axis 5 from axis 4 to axis 6 [m].
-        sign5: ``sin(alpha5)`` (+1 or -1).
+        alpha5: Twist between axis 5 and axis 6 [rad].
         d6: Distance along axis 6 from frame 5 to standard frame 6 [m].
         offsets: Joint offsets ``theta1 .. theta6`` [rad] (DH angle = q + offset).
         T_base: World -> standard DH frame 0 (4x4) [m].
@@ -98,25 +101,28 @@ class URWrist6R:
     a3: float
     lateral: float
     a4: float
-    sign4: float
+    alpha4: float
     d5: float
-    sign5: float
+    alpha5: float
     d6: float
     offsets: tuple[float, ...]
     T_base: np.ndarray = field(repr=False)
     T_tool: np.ndarray = field(repr=False)
     _frame: TargetFrame = field(init=False, repr=False, compare=False)
     _k: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    _classic: bool = field(init=False, repr=False, compare=False)
     _c_params: np.ndarray | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_frame", TargetFrame(self.T_base, self.T_tool))
-        s1, c1 = math.sin(self.alpha1), math.cos(self.alpha1)
-        if abs(c1) < 1e-15:
-            c1 = 0.0
+        s1, c1 = _sin_cos(self.alpha1)
+        s4, c4 = _sin_cos(self.alpha4)
+        s5, c5 = _sin_cos(self.alpha5)
         # wrist-to-axis-3 vector in the arm plane, rotated by phi: (a4, -sin(alpha4) d5)
-        k = (s1, c1, self.a4, -self.sign4 * self.d5, self.sign4 * self.sign5)
+        k = (s1, c1, self.a4, -s4 * self.d5, s4, c4, s5, c5)
         object.__setattr__(self, "_k", k)
+        # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
+        object.__setattr__(self, "_classic", c4 == 0.0 and c5 == 0.0)
         twin = self.compiled_twin
         params = None if twin is None else pack_params(self.c_fields(), twin.LAYOUT)
         object.__setattr__(self, "_c_params", params)
@@ -125,8 +131,8 @@ class URWrist6R:
         lengths = (self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6)
         return {
             "k": self._k,
+            "classic": (float(self._classic),),
             "len": lengths,
-            "sign": (self.sign4, self.sign5),
             "off": self.offsets,
         }
 
@@ -185,9 +191,9 @@ class URWrist6R:
         check.twist(2, (0.0,), "axes 2, 3 and 4 must be parallel")
         a2 = check.nonzero(1, "a", "the upper arm between axes 2 and 3")
         a3 = check.nonzero(2, "a", "the forearm between axes 3 and 4")
-        sign4 = check.twist(3, (_HALF_PI, -_HALF_PI), "axis 5 perpendicular to axes 2-4")
-        sign5 = check.twist(4, (_HALF_PI, -_HALF_PI), "axis 6 perpendicular to axis 5")
-        check.zero(4, "a", "axis 6 must meet axis 5's normal through frame 5")
+        alpha4 = check.skew(3, "axis 5 must not be parallel to axes 2-4")
+        alpha5 = check.skew(4, "axis 6 must not be parallel to axis 5")
+        check.zero(4, "a", "axes 5 and 6 must meet")
         d = check.d
         return cls(
             robot=table.name,
@@ -196,11 +202,11 @@ class URWrist6R:
             d1=float(d[0]),
             a2=a2,
             a3=a3,
-            lateral=float(d[1] + d[2] + d[3]),
+            lateral=float(d[1] + d[2] + d[3] + _sin_cos(alpha4)[1] * d[4]),
             a4=float(check.a[3]),
-            sign4=math.copysign(1.0, sign4),
+            alpha4=float(alpha4),
             d5=float(d[4]),
-            sign5=math.copysign(1.0, sign5),
+            alpha5=float(alpha5),
             d6=float(d[5]),
             offsets=tuple(float(v) for v in check.theta),
             T_base=check.T_base,
@@ -235,16 +241,9 @@ class URWrist6R:
             r1 = np.reshape(np.asarray(rotation, dtype=float), (1, 3, 3))
             return twin_solve(twin, self._c_params, p1, r1, free)[0]  # type: ignore[arg-type]
         p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
-        s1, c1, ex, ey, s45 = self._k
-        a1, d1, a2, a3, h, d6, s5a = (
-            self.a1,
-            self.d1,
-            self.a2,
-            self.a3,
-            self.lateral,
-            self.d6,
-            self.sign5,
-        )
+        s1, c1, ex, ey, s4, c4, s5a, c5a = self._k
+        classic = self._classic
+        a1, d1, a2, a3, h, d6 = self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6
         o1, o2, o3, o4, o5, o6 = self.offsets
         out = [_NAN_ROW] * 8
         r00, r01, r02 = r[0]
@@ -275,8 +274,16 @@ class URWrist6R:
             x6 = r00 * z1[0] + r10 * z1[1] + r20 * z1[2]
             y6 = r01 * z1[0] + r11 * z1[1] + r21 * z1[2]
             w = r02 * z1[0] + r12 * z1[1] + r22 * z1[2]
-            cos5 = -s45 * w
-            sin5 = math.hypot(x6, y6)
+            cos5 = (c4 * c5a - w) / (s4 * s5a)
+            xy6 = math.hypot(x6, y6)
+            if classic:
+                sin5 = xy6
+            else:
+                if cos5 > 1.0 or cos5 < -1.0:
+                    if abs(cos5) > 1.0 + SLACK:
+                        continue
+                    cos5 = 1.0 if cos5 > 0.0 else -1.0
+                sin5 = math.sqrt(1.0 - cos5 * cos5)
             # p5 - o1 in the arm plane
             qx, qy, qz = px - a1 * ct, py - a1 * st, pz - d1
             ax = x1[0] * qx + x1[1] * qy
@@ -284,14 +291,16 @@ class URWrist6R:
             for wrist in (0, 1):
                 st5 = sin5 if wrist == 0 else -sin5
                 t5 = math.atan2(st5, cos5)
-                if sin5 <= SINGULAR:
+                if xy6 <= SINGULAR:
                     t6 = free + o6
-                else:
-                    u = self.sign4 * st5  # (x6, y6) = Rz(-t6) (u, 0)
-                    t6 = math.atan2(-y6 * u, x6 * u)
+                else:  # (x6, y6) = Rz(-t6) (vx, vy)
+                    vx, vy = s4 * st5, c5a * s4 * cos5 + s5a * c4
+                    t6 = math.atan2(vy, vx) - math.atan2(y6, x6)
                 # 3. phi from the first row of Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6)
                 ct6, st6 = math.cos(t6), math.sin(t6)
-                xi0, xi1, xi2 = cos5 * ct6, -cos5 * st6, s5a * st5
+                xi0 = cos5 * ct6 - st5 * c5a * st6
+                xi1 = -cos5 * st6 - st5 * c5a * ct6
+                xi2 = s5a * st5
                 rx = r00 * xi0 + r01 * xi1 + r02 * xi2
                 ry = r10 * xi0 + r11 * xi1 + r12 * xi2
                 rz = r20 * xi0 + r21 * xi1 + r22 * xi2
@@ -353,7 +362,7 @@ class URWrist6R:
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
         p, r = self._frame.batch(positions, rotations)
-        s1, c1, ex, ey, s45 = self._k
+        s1, c1, ex, ey, s4, c4, s5a, c5a = self._k
         a1, d1, a2, a3, h, d6 = self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6
         o1, o2, o3, o4, o5, o6 = self.offsets
         out = np.full((p.shape[0], 8, 6), np.nan)
@@ -375,18 +384,27 @@ class URWrist6R:
                 x6 = r00 * z1[0] + r10 * z1[1] + r20 * z1[2]
                 y6 = r01 * z1[0] + r11 * z1[1] + r21 * z1[2]
                 w = r02 * z1[0] + r12 * z1[1] + r22 * z1[2]
-                cos5 = -s45 * w
-                sin5 = np.hypot(x6, y6)
+                cos5 = (c4 * c5a - w) / (s4 * s5a)
+                xy6 = np.hypot(x6, y6)
+                if self._classic:
+                    sin5 = xy6
+                else:
+                    cos5 = _clip(cos5)
+                    sin5 = np.sqrt(1.0 - cos5 * cos5)
                 qx, qy, qz = px - a1 * ct, py - a1 * st, pz - d1
                 ax = ct * qx + st * qy
                 ay = y1[0] * qx + y1[1] * qy + y1[2] * qz
                 for wrist in (0, 1):
                     st5 = sin5 if wrist == 0 else -sin5
                     t5 = np.arctan2(st5, cos5)
-                    u = self.sign4 * st5
-                    t6 = np.where(sin5 <= SINGULAR, free + o6, np.arctan2(-y6 * u, x6 * u))
+                    vx, vy = s4 * st5, c5a * s4 * cos5 + s5a * c4
+                    t6 = np.where(
+                        xy6 <= SINGULAR, free + o6, np.arctan2(vy, vx) - np.arctan2(y6, x6)
+                    )
                     ct6, st6 = np.cos(t6), np.sin(t6)
-                    xi0, xi1, xi2 = cos5 * ct6, -cos5 * st6, self.sign5 * st5
+                    xi0 = cos5 * ct6 - st5 * c5a * st6
+                    xi1 = -cos5 * st6 - st5 * c5a * ct6
+                    xi2 = s5a * st5
                     rx = r00 * xi0 + r01 * xi1 + r02 * xi2
                     ry = r10 * xi0 + r11 * xi1 + r12 * xi2
                     rz = r20 * xi0 + r21 * xi1 + r22 * xi2
@@ -409,6 +427,12 @@ class URWrist6R:
                         out[:, index + elbow] = wrap_array(q)
         out[np.isnan(out).any(axis=2)] = np.nan
         return out
+
+
+def _sin_cos(angle: float) -> tuple[float, float]:
+    """``sin``, ``cos`` of a twist [rad], a cosine below 1e-15 set to 0 (90 deg exactly)."""
+    s, c = math.sin(angle), math.cos(angle)
+    return s, (0.0 if abs(c) < 1e-15 else c)
 
 
 def _clip(cosine: np.ndarray) -> np.ndarray:
