@@ -1,10 +1,12 @@
 """Closed-form IK: structure plug-ins recognised from the DH table, every branch, batched in NumPy.
 
 One module per structure: ``planar2r``, ``offset3r``, ``five_dof``, and the 6R families
-``ur_wrist`` (three parallel axes, offset wrist) and ``spherical_wrist`` (Pieper); what a
-structure provides (``closed_form_structure``), the registry asked in turn (``registry``), the
+``ur_wrist`` (three parallel axes, two meeting wrist axes), ``spherical_wrist`` (spherical wrist,
+axes 2 and 3 parallel) and ``pieper`` (spherical wrist, any first three joints); what a structure
+provides (``closed_form_structure``), the registry asked in turn (``registry``), the
 structure-agnostic solvers (``closed_form``, ``batch``). The seven-joint closed forms with a free
 joint, used by the numeric solver's first stage: ``seven_dof`` (humanoid7, joint 1 free) and
-``spherical_shoulder7`` (Panda, xArm7, joint 7 free); their compiled twins are optional
-extensions.
+``spherical_shoulder7`` (Panda, xArm7, joint 7 free). The compiled twins (``_closed7``,
+``_shoulder7``, ``_ur_wrist``, ``_spherical_wrist``; ``six_r_twin`` loads the 6R ones) are
+optional extensions.
 """

@@ -14,6 +14,7 @@ from ..exceptions import StructureError
 from .closed_form_structure import ClosedFormStructure
 from .five_dof import FiveDof
 from .offset3r import Offset3R
+from .pieper import Pieper6R
 from .planar2r import Planar2R
 from .spherical_wrist import SphericalWrist6R
 from .ur_wrist import URWrist6R
@@ -25,6 +26,7 @@ CLOSED_FORMS: list[type[ClosedFormStructure]] = [
     FiveDof,
     URWrist6R,
     SphericalWrist6R,
+    Pieper6R,
 ]
 
 
