@@ -16,6 +16,7 @@ from .five_dof import FiveDof
 from .offset3r import Offset3R
 from .pieper import Pieper6R
 from .planar2r import Planar2R
+from .reversed_chain import Reversed6R
 from .spherical_wrist import SphericalWrist6R
 from .ur_wrist import URWrist6R
 
@@ -27,6 +28,7 @@ CLOSED_FORMS: list[type[ClosedFormStructure]] = [
     URWrist6R,
     SphericalWrist6R,
     Pieper6R,
+    Reversed6R,  # last: the 6R families above, read from the tool
 ]
 
 
