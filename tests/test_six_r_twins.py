@@ -219,7 +219,7 @@ def test_layout_matches_python_fields(structure_class):
     structure = structure_class.recognise(load_table(get_robot(name).table_path))
     assert_layout_matches(structure, structure.compiled_twin)
     twin = structure.compiled_twin
-    assert [n for n, _, _ in twin.CHECK_LAYOUT][:2] == ["modified", "a"]
+    assert [n for n, _, _ in twin.CHECK_LAYOUT][:4] == ["modified", "a", "cos_alpha", "sin_alpha"]
     assert sum(size for _, _, size in twin.CHECK_LAYOUT) == twin.CHECK_COUNT
 
 

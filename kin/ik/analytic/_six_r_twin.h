@@ -100,7 +100,8 @@ static inline void to_frame6(const double *base_r, const double *base_t, const d
 #define CHECK_PARAMS(X)                                                           \
     X(modified, 1, "1 for a modified (Craig) table, 0 for a standard one")        \
     X(a, 6, "a of the table's rows [m]")                                          \
-    X(alpha, 6, "alpha of the table's rows [rad]")                                \
+    X(cos_alpha, 6, "cos of the table's twists alpha")                            \
+    X(sin_alpha, 6, "sin of the table's twists alpha")                            \
     X(d, 6, "d of the table's rows [m]")                                          \
     X(theta, 6, "theta offsets of the table's rows [rad]")                        \
     X(base, 12, "T_world_base, rows 0-2 of the 4x4, row-major [m]")               \
@@ -138,7 +139,7 @@ static inline void table_fk(const Check *C, const double *q, double *T)
     memcpy(T, C->base, 12 * sizeof(double));
     for (int i = 0; i < JOINTS; i++) {
         double t = q[i] + C->theta[i], ct = cos(t), st = sin(t);
-        double ca = cos(C->alpha[i]), sa = sin(C->alpha[i]), a = C->a[i], d = C->d[i];
+        double ca = C->cos_alpha[i], sa = C->sin_alpha[i], a = C->a[i], d = C->d[i];
         if (C->modified[0] != 0.0) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
             double A[12] = {ct, -st, 0.0, a, st * ca, ct * ca, -sa, -sa * d,
                             st * sa, ct * sa, ca, ca * d};

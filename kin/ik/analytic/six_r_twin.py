@@ -17,6 +17,7 @@ the tolerances as a second one (``CHECK_LAYOUT``, :func:`check_params`).
 from __future__ import annotations
 
 import importlib
+import math
 from collections.abc import Sequence
 from types import ModuleType
 
@@ -75,7 +76,8 @@ def check_params(
     fields = {
         "modified": (float(table.convention == "modified"),),
         "a": tuple(float(row.a) for row in rows),
-        "alpha": tuple(float(row.alpha) for row in rows),
+        "cos_alpha": tuple(math.cos(row.alpha) for row in rows),
+        "sin_alpha": tuple(math.sin(row.alpha) for row in rows),
         "d": tuple(float(row.d) for row in rows),
         "theta": offsets,
         "base": tuple(np.asarray(table.T_world_base, dtype=float)[:3].ravel().tolist()),
