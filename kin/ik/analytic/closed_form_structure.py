@@ -1,7 +1,8 @@
 """What a closed-form structure plug-in provides, so the solvers can use it without knowing it.
 
 A structure is one module (``planar2r.py``, ``offset3r.py``, ``five_dof.py``, ``ur_wrist.py``,
-``spherical_wrist.py``, ``pieper.py``, ``reversed_chain.py``) holding its recogniser, its parameters, its scalar and its batched solve. :mod:`.registry` lists the
+``spherical_wrist.py``, ``pieper.py``, ``three_parallel.py``, ``reversed_chain.py``) holding its
+recogniser, its parameters, its scalar and its batched solve. :mod:`.registry` lists the
 registered structures; :func:`~.registry.recognise` asks them in turn (several may share a joint
 count; the first that fits wins); :class:`~.closed_form.ClosedFormSolver` and
 :class:`~.batch.BatchSolver` call only what is below.

@@ -74,23 +74,19 @@ from ._six_r import (
     wrap,
     wrap_array,
 )
+from ._trig_quartic import (
+    CONVERGED,
+    EPS,
+    MAX_STEP,
+    NEWTON_STEPS,
+    candidates,
+    candidates_batch,
+)
 
 #: A general-family root is kept when, after polishing, ``|E(t3)| <= 2 sqrt(g1^2 + g2^2)
 #: REACH_TOL`` (plus the rounding of ``E``): the arm then reaches the wrist centre within about
 #: ``REACH_TOL`` [m] (``E / (2 sqrt(g1^2 + g2^2))`` is the error of ``|(h1, h2)|``).
 REACH_TOL = 1e-10
-#: Companion eigenvalues ``x`` with ``|Im x| <= IMAG_TOL (1 + Re x^2)`` are polished as real
-#: roots (a double root splits into a complex pair of about ``sqrt(eps)`` under rounding).
-IMAG_TOL = 1e-6
-#: Safeguarded Newton steps on ``E(t3)`` after the companion matrix: a step is taken only when it
-#: lowers ``|E|`` (else halved for the next try); one longer than ``MAX_STEP`` [rad] is not
-#: tried (the root is double, or there is no real root near).
-NEWTON_STEPS = 3
-MAX_STEP = 0.1
-_EPS = 2.0**-52
-#: A Newton step this short [rad] is not taken: the root is polished.
-_CONVERGED = 1e-15
-
 _NAN_ROW = (math.nan,) * 6
 _ARM_LABELS = {
     "intersecting": tuple(
@@ -99,10 +95,6 @@ _ARM_LABELS = {
     "parallel": tuple(f"arm {s}, elbow {e}" for s in ("ccw", "cw") for e in ("up", "down")),
     "general": tuple(f"arm {k} (q3 ascending)" for k in range(1, 5)),
 }
-#: The shifts tried for the half-angle substitution: ``tau + pi`` in multiples of 45 deg.
-_SHIFTS = tuple(k * math.pi / 4 for k in range(8))
-_SHIFT_TRIG = tuple((math.cos(a), math.sin(a), math.cos(2 * a), math.sin(2 * a)) for a in _SHIFTS)
-_SHIFT_ARRAY = np.array(_SHIFT_TRIG)
 
 
 @dataclass(frozen=True)
@@ -370,34 +362,9 @@ class Pieper6R:
 
     def _general_t3(self, rt: float, z: float) -> list[float]:
         """The real roots ``t3`` [rad] of ``E(t3) = 0`` (general family), in ascending ``q3``."""
-        h0, hc, hs, hc2, hs2 = self._harmonics(rt, z)
-        best, best_value = 0, -1.0
-        for k, (c, s, c2, s2) in enumerate(_SHIFT_TRIG):
-            value = abs(h0 + hc * c + hs * s + hc2 * c2 + hs2 * s2)
-            if value > best_value:
-                best, best_value = k, value
-        if not best_value > 0.0:
-            return []  # E = 0 for every t3: a continuum of solutions (or NaN input)
-        tau = _SHIFTS[best] + math.pi
-        ct, st, c2t, s2t = _SHIFT_TRIG[best]
-        ct, st = -ct, -st  # tau = shift + pi: cos 2 tau, sin 2 tau unchanged
-        hc, hs = hc * ct + hs * st, hs * ct - hc * st
-        hc2, hs2 = hc2 * c2t + hs2 * s2t, hs2 * c2t - hc2 * s2t
-        lead = h0 - hc + hc2
-        companion = np.zeros((4, 4))
-        companion[0] = (
-            -(2.0 * hs - 4.0 * hs2) / lead,
-            -(2.0 * h0 - 6.0 * hc2) / lead,
-            -(2.0 * hs + 4.0 * hs2) / lead,
-            -(h0 + hc + hc2) / lead,
-        )
-        companion[1, 0] = companion[2, 1] = companion[3, 2] = 1.0
         roots = []
-        for x in np.linalg.eigvals(companion).tolist():
-            x = complex(x)
-            if abs(x.imag) > IMAG_TOL * (1.0 + x.real * x.real):
-                continue
-            t3 = self._polish(tau + 2.0 * math.atan(x.real), rt, z)
+        for start in candidates(*self._harmonics(rt, z)):
+            t3 = self._polish(start, rt, z)
             if t3 is not None:
                 roots.append(t3)
         o3 = self.offsets[2]
@@ -437,7 +404,7 @@ class Pieper6R:
         dw = -ca1 * d3 / sa1
         de = 2.0 * (u * du + w * dw) - dp
         rounding = abs(u) * (abs(rt) + g_sq) / abs(a1) + abs(w) * (abs(z) + abs(g3)) / abs(sa1)
-        bound = 2.0 * REACH_TOL * p_sq**0.5 + 16.0 * _EPS * (rounding + p_sq)
+        bound = 2.0 * REACH_TOL * p_sq**0.5 + 16.0 * EPS * (rounding + p_sq)
         return e, de, bound
 
     def _polish(self, t3: float, rt: float, z: float) -> float | None:
@@ -446,7 +413,7 @@ class Pieper6R:
         damping = 1.0
         for _ in range(NEWTON_STEPS):
             step = e / de if de != 0.0 else 0.0
-            if abs(step) > MAX_STEP or abs(step) <= _CONVERGED:
+            if abs(step) > MAX_STEP or abs(step) <= CONVERGED:
                 break
             trial = t3 - damping * step
             e2, de2, bound2 = self._residual(trial, rt, z, math.cos, math.sin)
@@ -588,29 +555,8 @@ class Pieper6R:
 
     def _general_t3_batch(self, rt: np.ndarray, z: np.ndarray) -> np.ndarray:
         """:meth:`_general_t3` of N wrist centres: (N, 4) [rad], real roots first, then NaN."""
-        h0, hc, hs, hc2, hs2 = self._harmonics_batch(rt, z)
-        c, s, c2, s2 = _SHIFT_ARRAY.T
-        values = np.abs(h0[:, None] + hc[:, None] * c + hs[:, None] * s + hc2 * c2 + hs2 * s2)
-        best = np.argmax(values, axis=1)
-        usable = values[np.arange(len(best)), best] > 0.0
-        ct, st, c2t, s2t = (-_SHIFT_ARRAY[best, 0], -_SHIFT_ARRAY[best, 1],
-                            _SHIFT_ARRAY[best, 2], _SHIFT_ARRAY[best, 3])  # fmt: skip
-        tau = np.array(_SHIFTS)[best] + math.pi
-        hc, hs = hc * ct + hs * st, hs * ct - hc * st
-        hc2, hs2 = hc2 * c2t + hs2 * s2t, hs2 * c2t - hc2 * s2t
-        lead = np.where(usable, h0 - hc + hc2, 1.0)
-        companion = np.zeros((len(best), 4, 4))
-        companion[:, 0, 0] = -(2.0 * hs - 4.0 * hs2) / lead
-        companion[:, 0, 1] = -(2.0 * h0 - 6.0 * hc2) / lead
-        companion[:, 0, 2] = -(2.0 * hs + 4.0 * hs2) / lead
-        companion[:, 0, 3] = -(h0 + hc + hc2) / lead
-        companion[:, 1, 0] = companion[:, 2, 1] = companion[:, 3, 2] = 1.0
-        finite = usable & np.isfinite(companion).all(axis=(1, 2))
-        companion[~finite] = 0.0
-        x = np.linalg.eigvals(companion)
-        real = (np.abs(x.imag) <= IMAG_TOL * (1.0 + x.real * x.real)) & finite[:, None]
-        t3 = tau[:, None] + 2.0 * np.arctan(x.real)
-        t3 = np.where(real, self._polish_batch(t3, rt[:, None], z[:, None]), np.nan)
+        t3 = candidates_batch(*self._harmonics_batch(rt, z))
+        t3 = self._polish_batch(t3, rt[:, None], z[:, None])
         key = np.where(np.isnan(t3), np.inf, wrap_array(t3 - self.offsets[2]))
         return np.take_along_axis(t3, np.argsort(key, axis=1), axis=1)
 
@@ -634,7 +580,7 @@ class Pieper6R:
         for _ in range(NEWTON_STEPS):
             step = np.where(de != 0.0, e / de, 0.0)
             step = np.where(np.abs(step) > MAX_STEP, 0.0, step)
-            if not (np.abs(step) > _CONVERGED).any():
+            if not (np.abs(step) > CONVERGED).any():
                 break
             trial = t3 - damping * step
             e2, de2, bound2 = self._residual(trial, rt, z, np.cos, np.sin)

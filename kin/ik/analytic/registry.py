@@ -18,6 +18,7 @@ from .pieper import Pieper6R
 from .planar2r import Planar2R
 from .reversed_chain import Reversed6R
 from .spherical_wrist import SphericalWrist6R
+from .three_parallel import ThreeParallel6R
 from .ur_wrist import URWrist6R
 
 #: The registered structures, in the order they are asked.
@@ -28,6 +29,7 @@ CLOSED_FORMS: list[type[ClosedFormStructure]] = [
     URWrist6R,
     SphericalWrist6R,
     Pieper6R,
+    ThreeParallel6R,
     Reversed6R,  # last: the 6R families above, read from the tool
 ]
 

@@ -2,7 +2,7 @@
 
 An arm with its special axes at the base (a spherical shoulder: axes 1, 2, 3 meeting; three
 parallel axes 3, 4, 5 with axes 1 and 2 meeting; ...) is, read backwards, an arm of a family of
-:mod:`.ur_wrist`, :mod:`.spherical_wrist` or :mod:`.pieper`. The reversed chain is again a DH
+:mod:`.ur_wrist`, :mod:`.spherical_wrist`, :mod:`.pieper` or :mod:`.three_parallel`. The reversed chain is again a DH
 table, built exactly (no number rounded):
 
 - a standard row ``A_i = Rz(t_i) Tz(d_i) Tx(a_i) Rx(alpha_i)`` has the inverse
@@ -36,10 +36,16 @@ from ._six_r import wrap_array
 from .closed_form_structure import ClosedFormStructure
 from .pieper import Pieper6R
 from .spherical_wrist import SphericalWrist6R
+from .three_parallel import ThreeParallel6R
 from .ur_wrist import URWrist6R
 
 #: The forward 6R families a reversed table is offered to, in order.
-FORWARD: tuple[type[ClosedFormStructure], ...] = (URWrist6R, SphericalWrist6R, Pieper6R)
+FORWARD: tuple[type[ClosedFormStructure], ...] = (
+    URWrist6R,
+    SphericalWrist6R,
+    Pieper6R,
+    ThreeParallel6R,
+)
 
 
 def _inverse(T: np.ndarray) -> np.ndarray:

@@ -1,0 +1,107 @@
+"""Real roots of ``E(t) = h0 + hc cos t + hs sin t + hc2 cos 2t + hs2 sin 2t``, the quartic of the 6R closed forms.
+
+:mod:`.pieper` (joint 3 of a general 3R arm) and :mod:`.three_parallel` (joint 1 of an arm with
+three parallel axes) both end in this equation. With ``x = tan((t - tau) / 2)`` it is a quartic
+in ``x`` whose leading coefficient is ``E(tau + pi)``; the shift ``tau`` (``tau + pi`` a multiple
+of 45 deg) is chosen where ``|E(tau + pi)|`` is the largest of the eight, so no root runs off to
+infinity. The real eigenvalues of the quartic's companion matrix give the candidate angles; the
+callers polish them by Newton steps on their own, unexpanded ``E`` (the constants below) and keep
+those that reach it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+#: Companion eigenvalues ``x`` with ``|Im x| <= IMAG_TOL (1 + Re x^2)`` are taken as real roots
+#: (a double root splits into a complex pair of about ``sqrt(eps)`` under rounding).
+IMAG_TOL = 1e-6
+#: Safeguarded Newton steps of the callers' polishing: a step is taken only when it lowers
+#: ``|E|`` (else halved for the next try); one longer than ``MAX_STEP`` [rad] is not tried (the
+#: root is double, or there is no real root near); one shorter than ``CONVERGED`` [rad] is not
+#: needed.
+NEWTON_STEPS = 3
+MAX_STEP = 0.1
+CONVERGED = 1e-15
+#: Machine epsilon, for the callers' rounding bounds on ``E``.
+EPS = 2.0**-52
+
+#: The shifts tried: ``tau + pi`` in multiples of 45 deg, with their cos, sin, cos 2, sin 2.
+_SHIFTS = tuple(k * math.pi / 4 for k in range(8))
+_SHIFT_TRIG = tuple((math.cos(a), math.sin(a), math.cos(2 * a), math.sin(2 * a)) for a in _SHIFTS)
+_SHIFT_ARRAY = np.array(_SHIFT_TRIG)
+
+
+def _first_row(h0, hc, hs, hc2, hs2, lead):  # type: ignore[no-untyped-def]
+    """The companion matrix's first row of the shifted quartic (floats or arrays)."""
+    return (
+        -(2.0 * hs - 4.0 * hs2) / lead,
+        -(2.0 * h0 - 6.0 * hc2) / lead,
+        -(2.0 * hs + 4.0 * hs2) / lead,
+        -(h0 + hc + hc2) / lead,
+    )
+
+
+def candidates(h0: float, hc: float, hs: float, hc2: float, hs2: float) -> list[float]:
+    """Candidate roots ``t`` [rad] of ``E``, not polished (up to 4).
+
+    ``[]`` when ``E = 0`` for every ``t`` (a continuum) or a coefficient is not finite.
+    """
+    best, best_value = 0, -1.0
+    for k, (c, s, c2, s2) in enumerate(_SHIFT_TRIG):
+        value = abs(h0 + hc * c + hs * s + hc2 * c2 + hs2 * s2)
+        if value > best_value:
+            best, best_value = k, value
+    if not best_value > 0.0:
+        return []
+    tau = _SHIFTS[best] + math.pi
+    ct, st, c2t, s2t = _SHIFT_TRIG[best]
+    ct, st = -ct, -st  # tau = shift + pi: cos 2 tau, sin 2 tau unchanged
+    hc, hs = hc * ct + hs * st, hs * ct - hc * st
+    hc2, hs2 = hc2 * c2t + hs2 * s2t, hs2 * c2t - hc2 * s2t
+    companion = np.zeros((4, 4))
+    companion[0] = _first_row(h0, hc, hs, hc2, hs2, h0 - hc + hc2)
+    companion[1, 0] = companion[2, 1] = companion[3, 2] = 1.0
+    if not np.isfinite(companion).all():
+        return []
+    out = []
+    for x in np.linalg.eigvals(companion).tolist():
+        x = complex(x)
+        if abs(x.imag) <= IMAG_TOL * (1.0 + x.real * x.real):
+            out.append(tau + 2.0 * math.atan(x.real))
+    return out
+
+
+def candidates_batch(
+    h0: npt.ArrayLike, hc: npt.ArrayLike, hs: npt.ArrayLike, hc2: npt.ArrayLike, hs2: npt.ArrayLike
+) -> np.ndarray:
+    """:func:`candidates` of N equations (coefficients broadcast to (N,)): (N, 4) [rad].
+
+    NaN where an eigenvalue is not real or the equation has no finite quartic.
+    """
+    e0, ec, es, ec2, es2 = np.broadcast_arrays(
+        *(np.asarray(h, dtype=float) for h in (h0, hc, hs, hc2, hs2))
+    )
+    c, s, c2, s2 = _SHIFT_ARRAY.T
+    values = np.abs(e0[:, None] + ec[:, None] * c + es[:, None] * s + ec2[:, None] * c2
+                    + es2[:, None] * s2)  # fmt: skip
+    best = np.argmax(values, axis=1)
+    usable = values[np.arange(len(best)), best] > 0.0
+    ct, st = -_SHIFT_ARRAY[best, 0], -_SHIFT_ARRAY[best, 1]
+    c2t, s2t = _SHIFT_ARRAY[best, 2], _SHIFT_ARRAY[best, 3]
+    tau = np.array(_SHIFTS)[best] + math.pi
+    ec, es = ec * ct + es * st, es * ct - ec * st
+    ec2, es2 = ec2 * c2t + es2 * s2t, es2 * c2t - ec2 * s2t
+    lead = np.where(usable, e0 - ec + ec2, 1.0)
+    companion = np.zeros((len(best), 4, 4))
+    for column, value in enumerate(_first_row(e0, ec, es, ec2, es2, lead)):
+        companion[:, 0, column] = value
+    companion[:, 1, 0] = companion[:, 2, 1] = companion[:, 3, 2] = 1.0
+    finite = usable & np.isfinite(companion).all(axis=(1, 2))
+    companion[~finite] = 0.0
+    x = np.linalg.eigvals(companion)
+    real = (np.abs(x.imag) <= IMAG_TOL * (1.0 + x.real * x.real)) & finite[:, None]
+    return np.where(real, tau[:, None] + 2.0 * np.arctan(x.real), np.nan)
