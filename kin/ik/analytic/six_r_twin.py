@@ -20,6 +20,7 @@ import importlib
 import math
 from collections.abc import Sequence
 from types import ModuleType
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -150,3 +151,67 @@ class TwinVerifier:
         found = self._verify(self._params, self._check, position, rotation, seed, free, q, info)
         q.flags.writeable = False
         return found, q, info.tolist()
+
+
+class CompiledSixR:
+    """What the 6R structures with a compiled twin share: the parameter block and the verifier.
+
+    Mixed into a frozen dataclass that has ``name``, ``compiled_twin`` (class attributes),
+    ``T_base``, ``T_tool``, a field ``_c_params`` (``init=False``) filled by :meth:`_pack_twin`
+    in ``__post_init__``, and :meth:`_c_own` (its own fields of the twin's ``LAYOUT``).
+    """
+
+    name: ClassVar[str]
+    compiled_twin: ClassVar[ModuleType | None]
+    T_base: np.ndarray
+    T_tool: np.ndarray
+    _c_params: np.ndarray | None
+
+    def _c_own(self) -> dict[str, tuple[float, ...]]:
+        raise NotImplementedError
+
+    def _pack_twin(self) -> None:
+        twin = self.compiled_twin
+        params = None if twin is None else pack_params(self.c_fields(), twin.LAYOUT)
+        object.__setattr__(self, "_c_params", params)
+
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (its ``LAYOUT``; lengths [m], angles [rad])."""
+        return {**frame_fields(self.T_base, self.T_tool), **self._c_own()}
+
+    @property
+    def c_params(self) -> np.ndarray:
+        """:meth:`c_fields` packed in the order the compiled twin declares (its ``LAYOUT``).
+
+        Raises:
+            RuntimeError: The twin is not built.
+        """
+        if self._c_params is None:
+            raise RuntimeError(f"the compiled twin of {self.name} is not built")
+        return self._c_params
+
+    def verifier(
+        self,
+        table: DHTable,
+        lower: Sequence[float],
+        upper: Sequence[float],
+        tolerance_position: float,
+        tolerance_rotation: float,
+    ) -> TwinVerifier | None:
+        """The compiled solve-and-verify of this arm (:class:`TwinVerifier`).
+
+        Args:
+            table: The table this structure was read from.
+            lower: Lower joint limits [rad].
+            upper: Upper joint limits [rad].
+            tolerance_position: Largest position error of a valid solution [m].
+            tolerance_rotation: Largest rotation error of a valid solution [rad].
+
+        Returns:
+            None when the twin is not built.
+        """
+        twin = self.compiled_twin
+        if twin is None or self._c_params is None:
+            return None
+        check = check_params(twin, table, lower, upper, tolerance_position, tolerance_rotation)
+        return TwinVerifier(twin, self._c_params, check)

@@ -27,7 +27,6 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` joint values [rad], lengths
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from types import ModuleType
 from typing import ClassVar
@@ -40,8 +39,7 @@ from dh2urdf import DHTable
 from ..exceptions import TargetError
 from ..target import PoseTarget
 from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
-from .seven_dof import pack_params
-from .six_r_twin import TwinVerifier, check_params, frame_fields, load_twin, twin_solve
+from .six_r_twin import CompiledSixR, load_twin, twin_solve
 
 _NAN_ROW = (math.nan,) * 6
 
@@ -56,7 +54,7 @@ def _labels() -> tuple[str, ...]:
 
 
 @dataclass(frozen=True)
-class SphericalWrist6R:
+class SphericalWrist6R(CompiledSixR):
     """A 6R arm with a spherical wrist: parameters in SI, and its closed form (8 branches).
 
     Attributes:
@@ -113,9 +111,7 @@ class SphericalWrist6R:
         object.__setattr__(self, "_k", k)
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         object.__setattr__(self, "_classic", abs(k[5]) < 1e-15 and abs(k[7]) < 1e-15)
-        twin = self.compiled_twin
-        params = None if twin is None else pack_params(self.c_fields(), twin.LAYOUT)
-        object.__setattr__(self, "_c_params", params)
+        self._pack_twin()
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
         return {
@@ -124,47 +120,6 @@ class SphericalWrist6R:
             "len": (self.a1, self.d1, self.a2, self.lateral, self.d6),
             "off": self.offsets,
         }
-
-    def c_fields(self) -> dict[str, tuple[float, ...]]:
-        """The compiled twin's parameters by field name (its ``LAYOUT``; lengths [m], angles [rad])."""
-        return {**frame_fields(self.T_base, self.T_tool), **self._c_own()}
-
-    @property
-    def c_params(self) -> np.ndarray:
-        """:meth:`c_fields` packed in the order the compiled twin declares (its ``LAYOUT``).
-
-        Raises:
-            RuntimeError: The twin is not built.
-        """
-        if self._c_params is None:
-            raise RuntimeError(f"the compiled twin of {self.name} is not built")
-        return self._c_params
-
-    def verifier(
-        self,
-        table: DHTable,
-        lower: Sequence[float],
-        upper: Sequence[float],
-        tolerance_position: float,
-        tolerance_rotation: float,
-    ) -> TwinVerifier | None:
-        """The compiled solve-and-verify of this arm (:class:`~.six_r_twin.TwinVerifier`).
-
-        Args:
-            table: The table this structure was read from.
-            lower: Lower joint limits [rad].
-            upper: Upper joint limits [rad].
-            tolerance_position: Largest position error of a valid solution [m].
-            tolerance_rotation: Largest rotation error of a valid solution [rad].
-
-        Returns:
-            None when the twin is not built.
-        """
-        twin = self.compiled_twin
-        if twin is None or self._c_params is None:
-            return None
-        check = check_params(twin, table, lower, upper, tolerance_position, tolerance_rotation)
-        return TwinVerifier(twin, self._c_params, check)
 
     @classmethod
     def recognise(cls, table: DHTable) -> SphericalWrist6R:
