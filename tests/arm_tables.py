@@ -120,3 +120,20 @@ def assert_layout_matches(ik, twin) -> None:
     assert offset == twin.PARAM_COUNT == ik.c_params.size
     for name, start, size in layout:
         assert ik.c_params[start : start + size].tolist() == list(fields[name]), name
+
+
+def assert_round_trips(structure, ref: Reference, samples: int, seed: int, label: str) -> None:
+    """``samples`` random q in +-pi: every branch of ``structure.solve(FK(q))`` (8 rows, angles in
+    (-pi, pi]) reaches FK(q) to :data:`TOL` by Pinocchio, q is among them, and on average at least
+    2 branches exist per target."""
+    counted = 0
+    for q in np.random.default_rng(seed).uniform(-math.pi, math.pi, (samples, 6)):
+        target = ref.fk(q)
+        found = structure.solve(target.translation, target.rotation)
+        assert found.shape == (8, 6)
+        exist = found[~np.isnan(found[:, 0])]
+        assert not np.isnan(exist).any()
+        assert np.all((exist > -math.pi) & (exist <= math.pi)), f"{label} {exist=}"
+        assert ref.check_branches(exist, q, target, label) < TOL
+        counted += len(exist)
+    assert counted >= 2 * samples, f"{label}: {counted=}"

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, make_table, random_pose, wrapped_gap
+from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
 from test_ik_pieper import random_table as random_pieper_family
 from test_ik_spherical_wrist import random_pieper_table
 from test_ik_ur_wrist import random_ur_table
@@ -111,17 +111,7 @@ def test_registry_reads_the_arm_from_the_tool(arm):
 def test_every_branch_reaches_the_target_and_q_is_among_them(arm):
     """Every existing branch reaches FK(q) within 1e-9 m / 1e-9 rad; q is one of the branches."""
     table = arm_table(arm)
-    ref, structure = Reference(table), Reversed6R.recognise(table)
-    counted = 0
-    for q in np.random.default_rng(21).uniform(-PI, PI, (SAMPLES, 6)):
-        target = ref.fk(q)
-        found = structure.solve(target.translation, target.rotation)
-        assert found.shape == (8, 6)
-        exist = found[~np.isnan(found[:, 0])]
-        assert np.all((exist > -PI) & (exist <= PI))
-        ref.check_branches(exist, q, target, f"{arm=}")
-        counted += len(exist)
-    assert counted >= 2 * SAMPLES
+    assert_round_trips(Reversed6R.recognise(table), Reference(table), SAMPLES, 21, f"{arm=}")
 
 
 @pytest.mark.parametrize("arm", ["shoulder_modified", "general_standard"])

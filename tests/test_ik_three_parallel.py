@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, make_table, random_pose, wrapped_gap
+from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
@@ -77,20 +77,9 @@ def existing(found: np.ndarray) -> np.ndarray:
 @pytest.mark.parametrize("arm", ARMS)
 def test_every_branch_reaches_the_target_and_q_is_among_them(arm):
     """Every existing branch reaches FK(q) within 1e-9 m / 1e-9 rad; q is one of the branches."""
-    ref, solver = reference(arm), ThreeParallel6R.recognise(arm_table(arm))
-    rng = np.random.default_rng(17)
-    worst, counted = 0.0, 0
-    for q in rng.uniform(-PI, PI, (SAMPLES, 6)):
-        target = ref.fk(q)
-        found = solver.solve(target.translation, target.rotation)
-        assert found.shape == (8, 6)
-        exist = existing(found)
-        assert not np.isnan(exist).any()
-        assert np.all((exist > -PI) & (exist <= PI)), f"{arm=} {exist=}"
-        worst = max(worst, ref.check_branches(exist, q, target, f"{arm=}"))
-        counted += len(exist)
-    assert counted >= 2 * SAMPLES, f"{arm=}: {counted=}"
-    assert worst < TOL
+    assert_round_trips(
+        ThreeParallel6R.recognise(arm_table(arm)), reference(arm), SAMPLES, 17, f"{arm=}"
+    )
 
 
 @pytest.mark.parametrize("arm", ("general_standard_0", "classic_modified_0"))

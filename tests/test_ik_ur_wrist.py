@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, make_table, random_pose, wrapped_gap
+from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
@@ -71,20 +71,7 @@ def reference(name: str) -> Reference:
 @pytest.mark.parametrize("arm", UR5)
 def test_every_branch_reaches_the_target_and_q_is_among_them(arm):
     """Every existing branch reaches FK(q) within 1e-9 m / 1e-9 rad; q is one of the branches."""
-    ref, solver = reference(arm), URWrist6R.recognise(arm_table(arm))
-    rng = np.random.default_rng(11)
-    worst, counted = 0.0, 0
-    for q in rng.uniform(-PI, PI, (SAMPLES, 6)):
-        target = ref.fk(q)
-        found = solver.solve(target.translation, target.rotation)
-        assert found.shape == (8, 6)
-        exist = found[~np.isnan(found[:, 0])]
-        assert not np.isnan(exist).any()
-        assert np.all((exist > -PI) & (exist <= PI)), f"{arm=} {exist=}"
-        worst = max(worst, ref.check_branches(exist, q, target, f"{arm=}"))
-        counted += len(exist)
-    assert counted >= 2 * SAMPLES, f"{arm=}: {counted=}"
-    assert worst < TOL
+    assert_round_trips(URWrist6R.recognise(arm_table(arm)), reference(arm), SAMPLES, 11, f"{arm=}")
 
 
 def test_ur5_has_8_distinct_branches_at_a_generic_pose():
