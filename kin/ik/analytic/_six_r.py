@@ -215,6 +215,23 @@ def wrap_array(angle: np.ndarray) -> np.ndarray:
     return np.where(out <= -math.pi, out + _TWO_PI, out)
 
 
+def target_arrays(
+    positions: npt.ArrayLike, rotations: npt.ArrayLike
+) -> tuple[np.ndarray, np.ndarray]:
+    """N tool positions (N, 3) [m] and rotations (N, 3, 3) as C-contiguous float64 arrays.
+
+    Raises:
+        TargetError: ``positions`` is not (N, 3) or ``rotations`` not (N, 3, 3).
+    """
+    p = np.ascontiguousarray(positions, dtype=float)
+    r = np.ascontiguousarray(rotations, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
+        raise TargetError(
+            f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
+        )
+    return p, r
+
+
 def in_blocks(
     solve_block: Callable[[np.ndarray, np.ndarray, float], np.ndarray],
     positions: npt.ArrayLike,
@@ -226,12 +243,7 @@ def in_blocks(
     Raises:
         TargetError: ``positions`` is not (N, 3) or ``rotations`` not (N, 3, 3).
     """
-    p = np.asarray(positions, dtype=float)
-    r = np.asarray(rotations, dtype=float)
-    if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
-        raise TargetError(
-            f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
-        )
+    p, r = target_arrays(positions, rotations)
     if len(p) <= BLOCK:
         return solve_block(p, r, free)
     return np.concatenate(

@@ -32,7 +32,7 @@ from dh2urdf.dh_table import Convention
 
 from ..exceptions import StructureError, TargetError
 from ..target import PoseTarget
-from ._six_r import wrap_array
+from ._six_r import target_arrays, wrap_array
 from .closed_form_structure import ClosedFormStructure
 from .pieper import Pieper6R
 from .spherical_wrist import SphericalWrist6R
@@ -175,12 +175,7 @@ class Reversed6R:
         """
         if rotations is None:
             raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
-        p = np.asarray(positions, dtype=float)
-        r = np.asarray(rotations, dtype=float)
-        if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
-            raise TargetError(
-                f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
-            )
+        p, r = target_arrays(positions, rotations)
         r_inverse = np.ascontiguousarray(np.swapaxes(r, 1, 2))
         p_inverse = -np.einsum("nij,nj->ni", r_inverse, p)
         branches = self.inner.solve_batch(p_inverse, r_inverse, free)  # type: ignore[call-arg]

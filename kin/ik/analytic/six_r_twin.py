@@ -27,7 +27,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..exceptions import TargetError
+from ._six_r import target_arrays
 from .seven_dof import pack_params
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
@@ -103,12 +103,7 @@ def twin_solve(
     Raises:
         TargetError: ``positions`` is not (N, 3) or ``rotations`` not (N, 3, 3).
     """
-    p = np.ascontiguousarray(positions, dtype=float)
-    r = np.ascontiguousarray(rotations, dtype=float)
-    if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
-        raise TargetError(
-            f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
-        )
+    p, r = target_arrays(positions, rotations)
     out = np.empty((p.shape[0], 8, 6))
     twin.solve(params, p, r, float(free), out)
     return out
