@@ -12,7 +12,8 @@ pull toward a preferred posture that the null space of ``J`` keeps off the task 
 steps converge linearly), and ``lambda = damping + error_damping * |e|^2`` the
 Levenberg-Marquardt damping. A joint that the clamp stops at a limit while the step pushes it
 outward is frozen (its column removed) and the step recomputed once: the other joints take over
-its share.
+its share. A run on a ``leash`` looks for the solution near its start only: it gives up as soon
+as it has moved farther than that from the start.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from operator import le
+from operator import le, sub
 
 import numpy as np
 import pinocchio as pin
@@ -108,6 +109,7 @@ def damped_newton(
     posture_gain: float = 0.1,
     posture_until: float = 1e-2,
     patience: int | None = None,
+    leash: float | None = None,
 ) -> NewtonOutcome:
     """Run clamped damped Newton steps from ``q0`` toward a tool target.
 
@@ -132,6 +134,9 @@ def damped_newton(
         patience: Give up (``converged=False``) after this many steps in a row that do not
             halve the best error ``|e|`` so far (a start stuck at a limit or a local minimum),
             or None to always run ``max_iterations`` steps.
+        leash: Give up (``converged=False``) once the joint vector, not yet converged, is
+            farther than this from the clipped ``q0`` (largest joint change [rad]): the solution
+            near ``q0``, if any, is not where the steps go. None: no leash.
     """
     # The loop runs a few microseconds per step: names are bound once, buffers are reused,
     # scalar work is done on Python floats (a NumPy call costs about a microsecond).
@@ -155,6 +160,7 @@ def damped_newton(
     stalled = 0
     wait = max_iterations + 1 if patience is None else patience
     posture_until2 = posture_until * posture_until
+    origin: list[float] = q.tolist() if leash is not None else []
     while True:
         # One Pinocchio call: forward kinematics, the tool placement and its Jacobian.
         jacobian = jacobian_of(model, data, q, frame_id, _LWA)
@@ -177,7 +183,11 @@ def damped_newton(
             stalled = 0
         else:
             stalled += 1
-        if iterations >= max_iterations or stalled >= wait:
+        if (
+            iterations >= max_iterations
+            or stalled >= wait
+            or (leash is not None and max(map(abs, map(sub, q.tolist(), origin))) > leash)
+        ):
             return NewtonOutcome(
                 q, False, iterations, math.sqrt(position_error2), math.sqrt(rotation_error2)
             )

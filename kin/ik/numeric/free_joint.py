@@ -9,11 +9,20 @@ Starts: the caller's seed, then the seed-table samples near the target. When a s
 gives no branch inside the limits, the seed and the first sample scan it outward from there
 (coarse to fine): the answer keeps the start's free joint as nearly as the target allows. The
 judge (:mod:`kin.ik.judge`) measures every answer. Most targets end here, in tens of microseconds.
+
+With ``NumericIK.near_seed``, a seed whose tool is near the target (:func:`.starts.seed_leash`: one
+forward kinematics) expects
+the answer near it, and keeping its free joint may not give that: at that value the branch near
+the seed can be outside a limit, or far (the other joints make up for the free joint's share of
+the move). Its closed-form branch is taken when within ``seed_near`` of it; else damped Newton
+runs from the seed first, moving every joint, and the nearer verified answer is returned.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator, Sequence
+from operator import sub
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
@@ -27,6 +36,7 @@ from ..analytic.structure import seven_dof
 from ..exceptions import StructureError
 from ..result import IKResult, IKSolution
 from .numeric_target import NumericTarget
+from .starts import DAMPED_NEWTON, seed_leash
 
 if TYPE_CHECKING:
     from .search import Search
@@ -34,6 +44,11 @@ if TYPE_CHECKING:
 
 #: :attr:`IKResult.method` of this stage.
 METHOD = "closed_form_free_joint"
+
+#: Label of the caller's seed in the messages.
+SEED = "the given seed"
+#: Message of an answer of the closed form with the seed's free joints.
+FROM_SEED = f"closed form with the free joints of {SEED}"
 
 
 class FreeJointClosedForm(Protocol):
@@ -76,7 +91,11 @@ def free_joint_closed_form(
 def solve_free_joint(
     ik: NumericIK, search: Search, seed_q: npt.ArrayLike | None
 ) -> IKResult | None:
-    """The closed form from the caller's seed, then from seed-table samples; None if none verifies."""
+    """The closed form from the caller's seed, then from seed-table samples; None if none verifies.
+
+    With ``ik.near_seed``, a seed whose tool is near the target (:func:`.starts.seed_leash`)
+    expects the answer near it: :func:`_near_seed` first.
+    """
     closed = ik.closed_form
     if closed is None:
         return None
@@ -87,41 +106,117 @@ def solve_free_joint(
     position = target.position.tolist()
     rotation = None if target.rotation is None else target.rotation.ravel().tolist()
     out = np.empty(7)
-    for label, starts, indices, step in _starts(ik, target, seed_q):
+    if seed_q is not None:
+        seed = ik.seed_vector(seed_q)
+        leash = seed_leash(ik, search, seed) if ik.near_seed else None
+        if leash is not None:
+            done = _near_seed(ik, search, closed, prepared, seed, leash, out, position, rotation)
+            if done is not None:
+                return done
+        # The seed's free joints, scanned outward (coarse, then fine) when they give no branch.
+        starts = seed[None]
+        for step in ik.closed_form_steps:
+            if closed.first(prepared, starts, out, step, ik.compiled) == 0:
+                errors = _verified(ik, search, out, position, rotation)
+                if errors is not None:
+                    solution = IKSolution(out, "", True, *errors)
+                    return search.success(solution, METHOD, FROM_SEED, 0)
+    for starts, indices, step in _sample_starts(ik, target):
+        index = closed.first(prepared, starts, out, step, ik.compiled)
         offset = 0
-        while offset < len(starts):
-            index = closed.first(prepared, starts[offset:], out, step, ik.compiled)
-            if index < 0:
-                break
+        while index >= 0:
             offset += index + 1
-            position_error, rotation_error = ik.judge.errors(out, position, rotation)
-            if position_error < search.position_tol and (
-                rotation_error is None or rotation_error < search.rotation_tol
-            ):  # the limits: the closed form's business
-                solution = IKSolution(out.copy(), "", True, position_error, rotation_error)
-                if label is None:
-                    label = f"seed-table sample {int(indices[offset - 1])}"  # type: ignore[index]
+            errors = _verified(ik, search, out, position, rotation)
+            if errors is not None:
+                solution = IKSolution(out, "", True, *errors)
+                label = f"seed-table sample {int(indices[offset - 1])}"
                 return search.success(
-                    solution, METHOD, f"closed form with the free joints of {label}"
+                    solution, METHOD, f"closed form with the free joints of {label}", 0
                 )
+            if offset >= len(starts):
+                break
+            index = closed.first(prepared, starts[offset:], out, step, ik.compiled)
     return None
 
 
-def _starts(
-    ik: NumericIK, target: NumericTarget, seed_q: npt.ArrayLike | None
-) -> Iterator[tuple[str | None, np.ndarray, np.ndarray | None, float]]:
-    """Blocks of closed-form starts, in order: ``(label, starts, sample indices, step)``.
+def _near_seed(
+    ik: NumericIK,
+    search: Search,
+    closed: FreeJointClosedForm,
+    prepared: Any,
+    seed: np.ndarray,
+    leash: float,
+    out: np.ndarray,
+    position: list[float],
+    rotation: list[float] | None,
+) -> IKResult | None:
+    """The answer near a seed whose tool is near the target, or None (the scan and samples next).
 
-    The caller's seed (scanned, coarse then fine); the seed-table sample nearest the target
-    (scanned likewise; for a full pose by pose distance, for a position the nearest to the
-    target's grid cell centre); the next ``closed_form_starts`` samples (not scanned). Looked up
-    lazily: most targets need the first block only.
+    The closed form with the seed's own free joints (no scan) when its branch is within
+    ``ik.seed_near`` of the seed; else damped Newton from the seed (``leash``: see
+    :func:`.starts.seed_leash`), whose steps move every joint, the free one too; the nearer of
+    the two verified answers. Keeping the free joint can put the branch far: the near branch
+    outside a limit at that free-joint value, or moved a long way by it.
+    """
+    kept: IKSolution | None = None
+    moved = math.inf
+    if closed.first(prepared, seed[None], out, 0.0, ik.compiled) == 0:
+        errors = _verified(ik, search, out, position, rotation)
+        if errors is not None:
+            moved = _moved(out, seed)
+            kept = IKSolution(out.copy(), "", True, *errors)
+            if moved <= ik.seed_near:
+                return search.success(kept, METHOD, FROM_SEED, 0)
+    search.seed_tried = True
+    outcome = (
+        search.newton(seed, None) if leash == math.inf else search.newton(seed, ik.patience, leash)
+    )
+    if kept is None or (outcome.converged and _moved(outcome.q, seed) < moved):
+        done = search.accept(
+            outcome, DAMPED_NEWTON, f"damped Newton from {SEED}, {outcome.iterations} steps"
+        )
+        if done is not None or kept is None:
+            return done
+    # The closed form's answer: 0 iterations, as every closed form reports.
+    message = f"{FROM_SEED} (damped Newton from it: {outcome.iterations} steps, no nearer answer)"
+    return search.success(kept, METHOD, message, 0)
+
+
+def _verified(
+    ik: NumericIK,
+    search: Search,
+    q: np.ndarray,
+    position: list[float],
+    rotation: list[float] | None,
+) -> tuple[float, float | None] | None:
+    """The judge's errors of a closed-form answer when within the tolerances, else None.
+
+    The limits are the closed form's business.
+    """
+    position_error, rotation_error = ik.judge.errors(q, position, rotation)
+    if position_error < search.position_tol and (
+        rotation_error is None or rotation_error < search.rotation_tol
+    ):
+        return position_error, rotation_error
+    return None
+
+
+def _moved(q: np.ndarray, seed: np.ndarray) -> float:
+    """Largest joint change from ``seed`` to ``q`` [rad]."""
+    return max(map(abs, map(sub, q.tolist(), seed.tolist())))
+
+
+def _sample_starts(
+    ik: NumericIK, target: NumericTarget
+) -> Iterator[tuple[np.ndarray, np.ndarray, float]]:
+    """Blocks of closed-form starts after the caller's seed: ``(starts, sample indices, step)``.
+
+    The seed-table sample nearest the target (scanned, coarse then fine; for a full pose by pose
+    distance, for a position the nearest to the target's grid cell centre); the next
+    ``closed_form_starts`` samples (not scanned). Looked up lazily: most targets need the caller's
+    seed only.
     """
     steps = ik.closed_form_steps
-    if seed_q is not None:
-        seed = ik.seed_vector(seed_q)[None]
-        for step in steps:
-            yield "the given seed", seed, None, step
     table = ik.table
     position, rotation = target.position, target.rotation
     if rotation is None:
@@ -129,7 +224,7 @@ def _starts(
         if candidates is None:
             return
         for step in steps:
-            yield None, table.q[candidates[:1]], candidates, step
+            yield table.q[candidates[:1]], candidates, step
         rest = candidates[1 : ik.closed_form_starts]
     else:
         found = table.ranked(position, rotation)
@@ -138,8 +233,8 @@ def _starts(
         candidates, distances = found
         first = int(distances.argmin())
         for step in steps:
-            yield None, table.q[candidates[first : first + 1]], candidates[first:], step
+            yield table.q[candidates[first : first + 1]], candidates[first:], step
         order = np.argsort(distances, kind="stable")[: ik.closed_form_starts]
         rest = candidates[order[order != first]]
     if rest.size:
-        yield None, table.q[rest], rest, 0.0
+        yield table.q[rest], rest, 0.0

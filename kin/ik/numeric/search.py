@@ -52,6 +52,9 @@ class Search:
         "attempts",
         "inner_position_tol",
         "inner_rotation_tol",
+        "seed_distance",
+        "seed_bound",
+        "seed_tried",
     )
 
     def __init__(
@@ -75,13 +78,22 @@ class Search:
         #: Tolerances of damped Newton and mink QP runs: ten times tighter than the judge's.
         self.inner_position_tol = 0.1 * position_tol
         self.inner_rotation_tol = 0.1 * rotation_tol
+        #: Squared distance of the caller's seed's tool to the target in the seed table's
+        #: embedding (:func:`.starts.seed_distance`), once measured.
+        self.seed_distance: float | None = None
+        #: A lower bound of :attr:`seed_distance` when only that is known, else None.
+        self.seed_bound: float | None = None
+        #: Whether damped Newton already ran from the caller's seed (a stage skips it then).
+        self.seed_tried = False
 
     def expired(self) -> bool:
         """Whether the time budget is spent."""
         return time.perf_counter() > self.deadline
 
-    def newton(self, q0: np.ndarray, patience: int | None) -> NewtonOutcome:
-        """Damped Newton from ``q0`` (``patience``: see :func:`damped_newton`), counted."""
+    def newton(
+        self, q0: np.ndarray, patience: int | None, leash: float | None = None
+    ) -> NewtonOutcome:
+        """Damped Newton from ``q0`` (``patience``, ``leash``: see :func:`damped_newton`), counted."""
         ik, target = self.ik, self.target
         outcome = damped_newton(
             ik.model,
@@ -95,6 +107,7 @@ class Search:
             rotation_tol=self.inner_rotation_tol,
             posture=target.posture,
             patience=patience,
+            leash=leash,
         )
         self.iterations += outcome.iterations
         self.attempts += 1
@@ -130,15 +143,21 @@ class Search:
             self.best_from_qp = from_qp
         return None
 
-    def success(self, solution: IKSolution, method: str, message: str) -> IKResult:
-        """The successful result with one verified solution, answered by stage ``method``."""
+    def success(
+        self, solution: IKSolution, method: str, message: str, iterations: int | None = None
+    ) -> IKResult:
+        """The successful result with one verified solution, answered by stage ``method``.
+
+        ``iterations``: reported instead of the damped Newton steps so far (a closed form's
+        answer reports 0).
+        """
         return IKResult(
             True,
             PIPELINE,
             "ok",
             message,
             (solution,),
-            iterations=self.iterations,
+            iterations=self.iterations if iterations is None else iterations,
             time=time.perf_counter() - self.start,
             method=method,
         )

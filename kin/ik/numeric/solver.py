@@ -5,7 +5,9 @@ The stages, in order, until one returns a verified solution or the time budget r
 0. :mod:`.free_joint`: the closed form with a free joint, for an arm that has one (humanoid7's
    :class:`~kin.ik.analytic.structure.SevenDof` structure; Panda's and xArm7's
    :class:`~kin.ik.analytic.spherical_shoulder7.SphericalShoulder7R`, full poses) and a target
-   without posture preference. Most of its targets end here, in tens of microseconds.
+   without posture preference. Most of its targets end here, in tens of microseconds. With
+   ``near_seed``, a seed near the target gets the answer near it (damped Newton from the seed
+   when the closed form's branch with the seed's free joint is far from it).
 1. :mod:`.starts`: damped Newton from the seed-table samples nearest the target, after the
    caller's posture and seed for a redundant target (the answer stays near them).
 2. :mod:`.restarts`: random restarts and mink QP runs with hard limits, until the deadline; then
@@ -45,6 +47,9 @@ from .starts import solve_from_starts
 
 logger = logging.getLogger(__name__)
 
+#: NumPy's (interned) float64 dtype: an identity check is the fast path's cheapest test.
+_FLOAT64 = np.dtype(np.float64)
+
 #: Default time budget of one solve [s].
 DEFAULT_TIMEOUT = 0.05
 
@@ -75,6 +80,25 @@ class NumericIK:
             table's pose embedding) is the first start of damped Newton, with the whole
             ``newton_iterations`` budget: the answer is the solution near the seed. A farther
             seed goes first only when its tool is at least as near as the nearest sample's.
+        seed_reach: For a redundant target, a caller's seed whose tool is farther than
+            ``seed_radius`` but within this [m] (and turned at most ``seed_turn``) is the first
+            start of damped Newton too, on a ``seed_leash``; so is it in the closed-form stage
+            when the closed form's answer from it is farther than ``seed_near`` from it (or there
+            is none).
+        seed_turn: The largest rotation angle between the seed's tool and a full-pose target for
+            ``seed_reach`` [rad] (a seed turned farther has no solution near it).
+        seed_leash: A damped Newton run from a seed beyond ``seed_radius`` gives up as soon as it
+            has moved farther than this from the seed (largest joint change [rad]), or stalls
+            (``patience``): the answer near the seed is not where it goes, and samples' starts
+            are cheaper.
+        seed_near: The closed form's answer from a seed near the target (within ``seed_reach``)
+            is taken when no joint is farther than this from the seed's [rad]; else damped Newton
+            from the seed runs first, and the nearer of the two answers is returned.
+        near_seed: Whether the closed-form stage checks that its answer from the caller's seed
+            is near the seed when the seed's tool is near the target (``seed_reach``,
+            ``seed_near``). It costs one forward kinematics of the seed per seeded solve (about
+            1.3 us, 10-20 % of a closed-form answer's time), hence off by default: without it,
+            the closed form keeps the seed's free joint and its branch may be far.
         closed_form: Try the free-joint closed form first when the arm has one
             (:func:`~.free_joint.free_joint_closed_form`; False: damped Newton and mink only).
         closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
@@ -102,6 +126,11 @@ class NumericIK:
         random_between: int = 3,
         random_patience: int | None = 3,
         seed_radius: float = 0.1,
+        seed_reach: float = 0.45,
+        seed_turn: float = 1.2,
+        seed_leash: float = 0.75,
+        seed_near: float = 0.4,
+        near_seed: bool = False,
         closed_form: bool = True,
         closed_form_starts: int = 32,
         closed_form_steps: tuple[float, ...] = DEFAULT_CLOSED_FORM_STEPS,
@@ -111,6 +140,8 @@ class NumericIK:
         self.model = robot.model
         self.data = robot.model.createData()
         self.frame_id = robot.model.getFrameId(robot.tool_frame)
+        #: Number of joints.
+        self.nq: int = robot.model.nq
         #: The judge of every answer (Pinocchio's FK of the tool, the limits), in :attr:`data`.
         self.judge = ToolJudge(robot, self.data)
         self.table_size = table_size
@@ -123,6 +154,11 @@ class NumericIK:
         self.random_between = random_between
         self.random_patience = random_patience
         self.seed_radius = seed_radius
+        self.seed_reach = seed_reach
+        self.seed_turn = seed_turn
+        self.seed_leash = seed_leash
+        self.seed_near = seed_near
+        self.near_seed = near_seed
         self.lower = robot.model.lowerPositionLimit.copy()
         self.upper = robot.model.upperPositionLimit.copy()
         self._lows, self._highs = self.lower.tolist(), self.upper.tolist()
@@ -236,7 +272,7 @@ class NumericIK:
         if (
             type(seed_q) is np.ndarray
             and seed_q.shape == self._shape
-            and seed_q.dtype == np.float64
+            and seed_q.dtype is _FLOAT64
             and math.isfinite(sum(seed_q.tolist()))
         ):
             return seed_q  # already valid: no copy, no validation

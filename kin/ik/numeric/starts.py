@@ -5,20 +5,24 @@ poses are nearest to the target. A redundant problem (more joints than the targe
 a posture preference) has many solutions, and the caller (a user, a Cartesian path) expects the
 one nearest the joint vector it gave, not a jump to a sample's branch: the posture is the first
 start, and so is the seed when its tool is within ``seed_radius`` of the target; both run their
-whole iteration budget. Otherwise the seed goes first only when its tool pose is at least as near
-as the nearest sample's, else second. From each start, clamped damped Newton steps on Pinocchio
-(:mod:`kin.ik.numeric.damped_newton`); the other starts give up early when stuck: the next start
-is cheaper than the remaining steps.
+whole iteration budget. A seed farther, within ``seed_reach`` (and ``seed_turn``), is the first
+start too, on a ``seed_leash``: that run gives up as soon as it has moved farther than that from
+the seed, or stalls (stage 0 may have run it already). Otherwise the seed goes first only when
+its tool pose is at least as near as the nearest sample's, else second. From each start, clamped
+damped Newton steps on Pinocchio (:mod:`kin.ik.numeric.damped_newton`); the other starts give up
+early when stuck: the next start is cheaper than the remaining steps.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from operator import le
 from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
+import pinocchio as pin
 
 from ..result import IKResult
 from .damped_newton import load_linalg
@@ -42,8 +46,8 @@ def solve_from_starts(
     outside the budget: the deadline moves by the loading time.
     """
     search.deadline += load_linalg()
-    for label, q0, index, patience in seed_table_starts(ik, search.target, seed_q):
-        outcome = search.newton(q0, patience)
+    for label, q0, index, patience, leash in seed_table_starts(ik, search, seed_q):
+        outcome = search.newton(q0, patience, leash)
         method = SEED_TABLE if index >= 0 else DAMPED_NEWTON
         message = f"damped Newton from {label}, {outcome.iterations} steps"
         done = search.accept(outcome, method, message)
@@ -55,64 +59,130 @@ def solve_from_starts(
 
 
 def seed_table_starts(
-    ik: NumericIK, target: NumericTarget, seed_q: npt.ArrayLike | None
-) -> Iterator[tuple[str, np.ndarray, int, int | None]]:
+    ik: NumericIK, search: Search, seed_q: npt.ArrayLike | None
+) -> Iterator[tuple[str, np.ndarray, int, int | None, float | None]]:
     """Start joint vectors, most promising first (ranked lazily: most targets need one).
 
-    A posture preference is the first start. The caller's seed (unless equal to the posture)
-    follows it for a redundant problem (:func:`redundant`) when its tool is within
-    ``ik.seed_radius`` of the target; otherwise it goes first (else second) when its tool pose
-    is at least as near as the nearest sample's.
+    A posture preference is the first start. The caller's seed (unless equal to the posture, or
+    already run by stage 0: ``search.seed_tried``) follows it for a redundant problem when its
+    tool is near the target (:func:`seed_leash`); otherwise it goes first (else second) when its
+    tool pose is at least as near as the nearest sample's.
 
-    Yields ``(label, q0, index, patience)``: ``index`` is the seed-table sample's, -1 for the
-    caller's; ``patience`` that of the damped Newton run (None: the whole budget).
+    Yields ``(label, q0, index, patience, leash)``: ``index`` is the seed-table sample's, -1 for
+    the caller's; ``patience`` and ``leash`` those of the damped Newton run (None: the whole
+    budget; no leash).
     """
     table = ik.table
+    target = search.target
     posture = target.posture
     if posture is not None:  # the caller's preference: always first, the whole budget
         posture = np.asarray(posture, dtype=float)
-        yield "the preferred posture", posture, -1, None
+        yield "the preferred posture", posture, -1, None, None
     seed: np.ndarray | None = None
-    if seed_q is not None:
+    if seed_q is not None and not search.seed_tried:
         seed = ik.seed_vector(seed_q)
         if posture is not None and np.array_equal(seed, posture):
             seed = None  # the same run again
     if seed is not None:
-        seed_distance = embedding_distance(ik, seed, target)
-        if redundant(ik, target) and seed_distance <= ik.seed_radius * ik.seed_radius:
-            yield "the given seed", seed, -1, None  # a solution near it: before any sample's
+        first = seed_leash(ik, search, seed)
+        if first == math.inf:  # a solution near it: before any sample's, the whole budget
+            yield "the given seed", seed, -1, None, None
+            seed = None
+        elif first is not None:  # likewise, on a leash
+            yield "the given seed", seed, -1, ik.patience, first
             seed = None
     found = table.ranked(target.position, target.rotation)
     if found is None or found[0].size < ik.nearest:  # outside the grid: the KD-tree
         candidates, distances = table.nearest(target.position, target.rotation, k=ik.nearest), None
-        first = 0
+        first_index = 0
     else:
         candidates, distances = found
-        first = int(distances.argmin())
+        first_index = int(distances.argmin())
     # Else the caller's seed goes first when its tool pose is at least as near as the nearest
     # sample's (in the table's pose embedding), else second.
     ahead = False
     if seed is not None:
         nearest = (
-            embedding_distance(ik, table.q[candidates[first]], target)
+            embedding_distance(ik, table.q[candidates[first_index]], target)
             if distances is None
-            else float(distances[first])
+            else float(distances[first_index])
         )
-        ahead = seed_distance <= nearest
+        ahead = not seed_beyond(ik, search, seed, nearest)
         if ahead:
-            yield "the given seed", seed, -1, ik.patience
-    index = int(candidates[first])
-    yield f"seed-table sample {index}", table.q[index], index, ik.patience
+            yield "the given seed", seed, -1, ik.patience, None
+    index = int(candidates[first_index])
+    yield f"seed-table sample {index}", table.q[index], index, ik.patience, None
     if seed is not None and not ahead:
-        yield "the given seed", seed, -1, ik.patience
+        yield "the given seed", seed, -1, ik.patience, None
     if distances is None:
         rest = candidates[1:].tolist()
     else:
         ranked = np.argsort(distances, kind="stable")[: ik.nearest]
-        rest = [candidates[i] for i in ranked if i != first][: ik.nearest - 1]
+        rest = [candidates[i] for i in ranked if i != first_index][: ik.nearest - 1]
     for i in rest:
         index = int(i)
-        yield f"seed-table sample {index}", table.q[index], index, ik.patience
+        yield f"seed-table sample {index}", table.q[index], index, ik.patience, None
+
+
+def seed_leash(ik: NumericIK, search: Search, seed: np.ndarray) -> float | None:
+    """The leash [rad] of damped Newton from the caller's seed as the first start, or None.
+
+    For a redundant target (:func:`redundant`) whose seed's tool is near it (the caller, a user or
+    a Cartesian path, expects the solution near the seed): within ``ik.seed_radius`` in the pose
+    embedding the whole budget (``math.inf``: no leash); within ``ik.seed_reach`` (and a tool
+    rotation within ``ik.seed_turn`` of the target's) the run gives up as soon as it moves
+    farther than ``ik.seed_leash`` from the seed, or stalls (``ik.patience``): the solution near
+    the seed is not where it goes. None otherwise: the seed is no first start. One forward
+    kinematics of the seed; its embedding distance is kept in ``search.seed_distance``.
+    """
+    # Inlined and in this order: most seeds are far, and a solve from such a seed pays this.
+    target = search.target
+    rotation = target.rotation
+    if target.posture is None and ik.nq <= (3 if rotation is None else 6):  # see redundant()
+        return None
+    model, data = ik.model, ik.data
+    pin.forwardKinematics(model, data, seed)
+    pose = pin.updateFramePlacement(model, data, ik.frame_id)
+    x, y, z = pose.translation.tolist()
+    tx, ty, tz = target.position.tolist()
+    x, y, z = x - tx, y - ty, z - tz
+    distance = x * x + y * y + z * z
+    reach = max(ik.seed_reach, ik.seed_radius)
+    if distance > reach * reach:  # the common case of a far seed
+        if target.rotation is None:
+            search.seed_distance = distance
+        else:  # a lower bound of the embedding distance (no rotation's share)
+            search.seed_bound = distance
+        return None
+    values = seed.tolist()
+    if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
+        return seed_leash(ik, search, np.minimum(np.maximum(seed, ik.lower), ik.upper))
+    inner = 3.0
+    if rotation is not None:  # |R - R_t|_F^2 = 6 - 2 <R, R_t>; <R, R_t> = 1 + 2 cos(angle)
+        inner = float(np.vdot(pose.rotation, rotation))
+        distance += ik.table.rotation_weight**2 * (6.0 - 2.0 * inner)
+    search.seed_distance = distance
+    if distance <= ik.seed_radius * ik.seed_radius:
+        return math.inf
+    if inner < 1.0 + 2.0 * math.cos(ik.seed_turn):
+        return None
+    return ik.seed_leash
+
+
+def seed_distance(ik: NumericIK, search: Search, seed: np.ndarray) -> float:
+    """:func:`embedding_distance` of the caller's seed, measured once per solve."""
+    distance = search.seed_distance
+    if distance is None:
+        distance = search.seed_distance = embedding_distance(ik, seed, search.target)
+    return distance
+
+
+def seed_beyond(ik: NumericIK, search: Search, seed: np.ndarray, bound: float) -> bool:
+    """Whether :func:`seed_distance` exceeds ``bound`` (a known lower bound spares measuring)."""
+    lower = search.seed_bound
+    if lower is not None and lower > bound:
+        return True
+    return seed_distance(ik, search, seed) > bound
 
 
 def redundant(ik: NumericIK, target: NumericTarget) -> bool:
@@ -120,7 +190,7 @@ def redundant(ik: NumericIK, target: NumericTarget) -> bool:
 
     A position constrains three coordinates, a full pose six.
     """
-    return target.posture is not None or ik.model.nq > (3 if target.rotation is None else 6)
+    return target.posture is not None or ik.nq > (3 if target.rotation is None else 6)
 
 
 def embedding_distance(ik: NumericIK, q: np.ndarray, target: NumericTarget) -> float:
