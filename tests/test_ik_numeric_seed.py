@@ -157,3 +157,41 @@ def test_posture_start_converges_within_its_budget():
     q = result.solutions[0].q
     tool = batch_forward_kinematics(robot.table, q)[0, :3, 3]
     assert float(np.linalg.norm(tool - target.position)) < POSITION_TOL, f"{q=}"
+
+
+def test_kin_ik_seed_q_answers_near_the_seed():
+    """``kin ik --seed-q`` uses near_seed: a humanoid7 position whose default answer (the
+    closed form at the seed's free joint) lies more than 1 rad from the seed comes back near it."""
+    import json
+
+    from cli_helper import run
+
+    robot = load_robot("humanoid7")
+    seeds, poses = seeds_and_poses(robot, 13, 0.3)
+    default = NumericIK(robot)
+    for seed, pose in zip(seeds, poses, strict=True):
+        answer = default.solve(PositionTarget(pose[:3, 3]), seed=seed, timeout=TIMEOUT)
+        if float(np.abs(answer.solutions[0].q - seed).max()) > 1.0:
+            break
+    else:
+        pytest.fail("no target whose default answer is far from the seed: the test shows nothing")
+    argv = ["ik", "--robot", "humanoid7", "--target", *map(repr, pose[:3, 3].tolist()),
+            "--seed-q", *map(repr, seed.tolist()), "--json"]  # fmt: skip
+    done = run(argv)
+    assert done.returncode == 0, done.stderr
+    q = np.array(json.loads(done.stdout)["solutions"][0]["q"])
+    assert float(np.abs(q - seed).max()) < NEAR, f"{seed=} {q=}"
+    tool = batch_forward_kinematics(robot.table, q)[0, :3, 3]
+    assert float(np.linalg.norm(tool - pose[:3, 3])) < POSITION_TOL
+
+
+def test_commands_and_paths_ask_for_answers_near_the_seed():
+    """The kin commands' and the paths' numeric solvers have near_seed; solve_ik's default not."""
+    from kin.commands.solver_choice import choose_solver
+    from kin.ik import get_solver
+    from kin.path.follow import path_solver
+
+    robot = load_robot("panda")
+    assert choose_solver(robot).near_seed and choose_solver(robot, "mink").near_seed
+    assert path_solver(robot).near_seed and path_solver(robot, "differential").near_seed
+    assert not get_solver(robot).near_seed

@@ -57,13 +57,14 @@ def choose_solver(robot: RobotModel, forced: str | None = None) -> object:
     """
     if forced == "nr":
         return NewtonRaphsonSolver(robot)
+    # A user who gives --seed-q expects the answer nearest it (NumericIK.near_seed).
     if forced == "mink":
         from ..ik.numeric.solver import NumericIK
 
-        return NumericIK(robot)
+        return NumericIK(robot, near_seed=True)
     from ..ik import get_solver
 
-    return get_solver(robot)
+    return get_solver(robot, near_seed=True)
 
 
 def target_kinds(solver: object) -> tuple[type, ...] | None:

@@ -46,16 +46,22 @@ class Solver(Protocol):
         ...
 
 
-def get_solver(robot: RobotModel) -> Solver:
+def get_solver(robot: RobotModel, *, near_seed: bool = False) -> Solver:
     """The solver of ``robot``: the closed form when a registered structure fits, else numeric.
 
     Never raises for a table: an arm no closed form fits (any number of joints, revolute or
     prismatic) gets the numeric solver.
+
+    Args:
+        robot: The robot.
+        near_seed: The numeric solver's :attr:`NumericIK.near_seed`: a seeded answer of the
+            free-joint closed form far from the seed is checked against damped Newton from the
+            seed (about 1.3 us more per seeded solve; the ``kin`` commands and the paths use it).
     """
     try:
         return ClosedFormSolver(robot)
     except StructureError:
-        return NumericIK(robot)
+        return NumericIK(robot, near_seed=near_seed)
 
 
 def solve_ik(

@@ -133,14 +133,15 @@ def path_solver(robot: RobotModel, method: Method = "auto") -> object:
         raise PathError(
             f"unknown method {method!r}; choose one of: auto, closed_form, differential", "method"
         )
+    # The path's samples are seeded by the previous one: answers near it (NumericIK.near_seed).
     if method == "differential":
-        return NumericIK(robot)
+        return NumericIK(robot, near_seed=True)
     try:
-        solver = get_solver(robot)
+        solver = get_solver(robot, near_seed=True)
     except StructureError:
         if method == "closed_form":
             raise
-        return NumericIK(robot)
+        return NumericIK(robot, near_seed=True)
     if method == "closed_form" and not isinstance(solver, ClosedFormSolver):
         raise PathError(f"'{robot.name}' has no closed-form solver", "method")
     return solver
