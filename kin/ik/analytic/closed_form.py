@@ -37,7 +37,7 @@ from ..exceptions import TargetError
 from ..judge import ToolJudge, axis_error, rotation_error
 from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target, kind_error
-from .branches import Branches
+from .branches import Branches, BranchStatus
 from .closed_form_structure import (
     ClosedFormStructure,
     DetailedStructure,
@@ -253,17 +253,7 @@ class ClosedFormSolver:
             raise kind_error(self.robot.name, self.target_kinds, target)
         if self._twin is not None and target.__class__ is PoseTarget:
             return self._solve_twin(target, seed, start)  # type: ignore[arg-type]
-        if seed is None:
-            seed_list = self._zero_seed
-        else:
-            nq = len(self._lower)
-            seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
-            if len(seed_list) != nq:
-                raise TargetError(
-                    f"the seed of '{self.robot.name}' must have {nq} values, got {len(seed_list)}"
-                )
-            if not all(math.isfinite(v) for v in seed_list):
-                raise TargetError(f"the seed must be finite, got {seed_list}")
+        seed_list = self._seed_list(seed)
         if not target.finite:
             return self._failure("invalid_target", "the target has a NaN or infinite value", start)
         p = target.position.tolist()
@@ -272,23 +262,50 @@ class ClosedFormSolver:
         if branches.status == "out_of_reach":
             return self._failure("out_of_reach", branches.message, start, branches.gap)
         valid, rejected = self._verify(target, branches, seed_list, p, r)
+        return self._result(valid, rejected, branches.status, branches.message, start)
+
+    def _seed_list(self, seed: npt.ArrayLike | None) -> list[float]:
+        """The seed as floats [rad] (zeros if None).
+
+        Raises:
+            TargetError: The seed has the wrong size or a value that is not finite.
+        """
+        if seed is None:
+            return self._zero_seed
+        nq = len(self._lower)
+        seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
+        if len(seed_list) != nq:
+            raise TargetError(
+                f"the seed of '{self.robot.name}' must have {nq} values, got {len(seed_list)}"
+            )
+        if not all(math.isfinite(v) for v in seed_list):
+            raise TargetError(f"the seed must be finite, got {seed_list}")
+        return seed_list
+
+    def _result(
+        self,
+        valid: list[tuple[float, IKSolution]],
+        rejected: list[IKSolution],
+        branch_status: BranchStatus,
+        branch_message: str,
+        start: float,
+    ) -> IKResult:
+        """The result of verified branches: valid ones ordered by distance to the seed."""
         if len(valid) > 1:
             valid.sort(key=_DISTANCE)
         solutions = tuple([solution for _, solution in valid])
         rejected_solutions = tuple(rejected)
         status: Status
         if solutions:
-            status, message = (
-                branches.status,
-                branches.message or f"{len(solutions)} valid solution(s)",
-            )
+            status = branch_status
+            message = branch_message or f"{len(solutions)} valid solution(s)"
         elif rejected_solutions:
             status = "outside_limits"
             message = (
                 f"reachable only outside the joint limits ({len(rejected_solutions)} branch(es))"
             )
         else:
-            status, message = "singular", branches.message or "no branch verified on target"
+            status, message = "singular", branch_message or "no branch verified on target"
         return IKResult(
             success=bool(solutions),
             solver=self.name,
@@ -306,17 +323,7 @@ class ClosedFormSolver:
         Branches moved into the limits as :func:`_wrap` does, measured by the table's DH
         product in C (:mod:`.six_r_twin`) instead of Pinocchio; the tests compare the two paths.
         """
-        if seed is None:
-            seed_array = self._zero_seed_array
-        else:
-            seed_array = np.array(seed, dtype=float).reshape(-1)
-            nq = len(self._lower)
-            if seed_array.size != nq:
-                raise TargetError(
-                    f"the seed of '{self.robot.name}' must have {nq} values, got {seed_array.size}"
-                )
-            if not np.isfinite(seed_array).all():
-                raise TargetError(f"the seed must be finite, got {seed_array.tolist()}")
+        seed_array = self._zero_seed_array if seed is None else np.array(self._seed_list(seed))
         found, q, info = self._twin(  # type: ignore[misc]
             target.position, target.rotation, seed_array
         )
@@ -342,27 +349,7 @@ class ClosedFormSolver:
                     position_error,
                     angle,
                 )
-        if len(valid) > 1:
-            valid.sort(key=_DISTANCE)
-        solutions = tuple([solution for _, solution in valid])
-        status_: Status
-        if solutions:
-            status_, message = "ok", f"{len(solutions)} valid solution(s)"
-        elif rejected:
-            status_ = "outside_limits"
-            message = f"reachable only outside the joint limits ({len(rejected)} branch(es))"
-        else:
-            status_, message = "singular", "no branch verified on target"
-        return IKResult(
-            success=bool(solutions),
-            solver=self.name,
-            status=status_,
-            message=message,
-            solutions=solutions,
-            rejected=tuple(rejected),
-            time=time.perf_counter() - start,
-            method="closed_form" if solutions else "",
-        )
+        return self._result(valid, rejected, "ok", "", start)
 
     def _solve_numeric(
         self, target: Target, seed: npt.ArrayLike | None, timeout: float | None

@@ -135,18 +135,12 @@ def seed_leash(ik: NumericIK, search: Search, seed: np.ndarray) -> float | None:
     the seed is not where it goes. None otherwise: the seed is no first start. One forward
     kinematics of the seed; its embedding distance is kept in ``search.seed_distance``.
     """
-    # Inlined and in this order: most seeds are far, and a solve from such a seed pays this.
+    # In this order: most seeds are far, and a solve from such a seed pays this.
     target = search.target
-    rotation = target.rotation
-    if target.posture is None and ik.nq <= (3 if rotation is None else 6):  # see redundant()
+    if not redundant(ik, target):
         return None
-    model, data = ik.model, ik.data
-    pin.forwardKinematics(model, data, seed)
-    pose = pin.updateFramePlacement(model, data, ik.frame_id)
-    x, y, z = pose.translation.tolist()
-    tx, ty, tz = target.position.tolist()
-    x, y, z = x - tx, y - ty, z - tz
-    distance = x * x + y * y + z * z
+    pose = ik.judge.tool_pose(seed)
+    distance = _translation2(pose, target)
     reach = max(ik.seed_reach, ik.seed_radius)
     if distance > reach * reach:  # the common case of a far seed
         if target.rotation is None:
@@ -157,10 +151,8 @@ def seed_leash(ik: NumericIK, search: Search, seed: np.ndarray) -> float | None:
     values = seed.tolist()
     if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
         return seed_leash(ik, search, np.minimum(np.maximum(seed, ik.lower), ik.upper))
-    inner = 3.0
-    if rotation is not None:  # |R - R_t|_F^2 = 6 - 2 <R, R_t>; <R, R_t> = 1 + 2 cos(angle)
-        inner = float(np.vdot(pose.rotation, rotation))
-        distance += ik.table.rotation_weight**2 * (6.0 - 2.0 * inner)
+    share, inner = _rotation_share(ik, pose, target)
+    distance += share
     search.seed_distance = distance
     if distance <= ik.seed_radius * ik.seed_radius:
         return math.inf
@@ -199,9 +191,23 @@ def embedding_distance(ik: NumericIK, q: np.ndarray, target: NumericTarget) -> f
     if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
         q = np.minimum(np.maximum(q, ik.lower), ik.upper)
     pose = ik.judge.tool_pose(q)
-    x, y, z = np.subtract(pose.translation, target.position).tolist()
-    distance = x * x + y * y + z * z
-    if target.rotation is not None:  # |R - R_t|_F^2 = 6 - 2 <R, R_t> for rotations
-        inner = float(np.vdot(pose.rotation, target.rotation))
-        distance += ik.table.rotation_weight**2 * (6.0 - 2.0 * inner)
-    return distance
+    return _translation2(pose, target) + _rotation_share(ik, pose, target)[0]
+
+
+def _translation2(pose: pin.SE3, target: NumericTarget) -> float:
+    """Squared distance of a tool pose's origin to the target position [m^2]."""
+    x, y, z = pose.translation.tolist()
+    tx, ty, tz = target.position.tolist()
+    x, y, z = x - tx, y - ty, z - tz
+    return x * x + y * y + z * z
+
+
+def _rotation_share(ik: NumericIK, pose: pin.SE3, target: NumericTarget) -> tuple[float, float]:
+    """The rotation's share of the embedding distance [m^2] and ``<R, R_t>`` (3.0 without one).
+
+    ``|R - R_t|_F^2 = 6 - 2 <R, R_t>`` for rotations, and ``<R, R_t> = 1 + 2 cos(angle)``.
+    """
+    if target.rotation is None:
+        return 0.0, 3.0
+    inner = float(np.vdot(pose.rotation, target.rotation))
+    return ik.table.rotation_weight**2 * (6.0 - 2.0 * inner), inner
