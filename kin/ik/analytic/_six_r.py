@@ -203,6 +203,22 @@ class TargetFrame:
         return p, r
 
 
+#: The candidate row of a branch that does not exist.
+NAN_ROW = (math.nan,) * 6
+
+
+def sin_cos(angle: float) -> tuple[float, float]:
+    """``sin``, ``cos`` of a twist [rad], a cosine below 1e-15 set to 0 (90 deg exactly)."""
+    s, c = math.sin(angle), math.cos(angle)
+    return s, (0.0 if abs(c) < 1e-15 else c)
+
+
+def clip_cosines(cosine: np.ndarray) -> np.ndarray:
+    """Cosines within :data:`SLACK` of +-1 set to +-1; beyond it NaN."""
+    out = np.clip(cosine, -1.0, 1.0)
+    return np.where(np.abs(cosine) > 1.0 + SLACK, np.nan, out)
+
+
 def wrap(angle: float) -> float:
     """``angle`` [rad] in (-pi, pi]."""
     out = math.remainder(angle, _TWO_PI)

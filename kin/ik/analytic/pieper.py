@@ -66,10 +66,12 @@ from ..target import PoseTarget
 from ._six_r import (
     ANGLE_TOL,
     LENGTH_TOL,
+    NAN_ROW,
     SINGULAR,
     SLACK,
     SixRChecker,
     TargetFrame,
+    clip_cosines,
     in_blocks,
     wrap,
     wrap_array,
@@ -87,7 +89,6 @@ from ._trig_quartic import (
 #: REACH_TOL`` (plus the rounding of ``E``): the arm then reaches the wrist centre within about
 #: ``REACH_TOL`` [m] (``E / (2 sqrt(g1^2 + g2^2))`` is the error of ``|(h1, h2)|``).
 REACH_TOL = 1e-10
-_NAN_ROW = (math.nan,) * 6
 _ARM_LABELS = {
     "intersecting": tuple(
         f"shoulder {s}, elbow {e}" for s in ("right", "left") for e in ("up", "down")
@@ -290,7 +291,7 @@ class Pieper6R:
         p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
         d6 = self.d6
         arms = self._arms(p[0] - d6 * r[0][2], p[1] - d6 * r[1][2], p[2] - d6 * r[2][2])
-        out: list[tuple[float, ...]] = [_NAN_ROW] * 8
+        out: list[tuple[float, ...]] = [NAN_ROW] * 8
         for index, arm in enumerate(arms):
             if arm is not None:
                 out[2 * index], out[2 * index + 1] = self._wrist_scalar(arm, r, free)
@@ -447,7 +448,7 @@ class Pieper6R:
         else:
             if cos5 > 1.0 or cos5 < -1.0:
                 if abs(cos5) > 1.0 + SLACK:
-                    return _NAN_ROW, _NAN_ROW
+                    return NAN_ROW, NAN_ROW
                 cos5 = 1.0 if cos5 > 0.0 else -1.0
             sin5 = math.sqrt(max(0.0, 1.0 - cos5 * cos5))
         q123 = (wrap(t1 - o1), wrap(t2 - o2), wrap(t3 - o3))
@@ -514,7 +515,7 @@ class Pieper6R:
         else:
             size, psi = self._e
             cos3 = (big_r - g0) / size if self.family == "intersecting" else (ca1 * z - g30) / size
-            delta = np.arccos(_clip(cos3))
+            delta = np.arccos(clip_cosines(cos3))
             t3 = np.stack((psi - delta, psi + delta), axis=1)  # (N, 2): elbow up, down
         c3, s3 = np.cos(t3), np.sin(t3)
         g1 = g10 + g1c * c3 + g1s * s3
@@ -606,7 +607,7 @@ class Pieper6R:
         if self._classic:
             sin5 = np.sqrt(nx * nx + ny * ny)
         else:
-            cos5 = _clip(cos5)
+            cos5 = clip_cosines(cos5)
             sin5 = np.sqrt(np.maximum(0.0, 1.0 - cos5 * cos5))
         out = np.empty((t.shape[0], 8, 6))
         arm = wrap_array(t - np.array((o1, o2, o3)))
@@ -628,9 +629,3 @@ class Pieper6R:
             t6 = np.arctan2(fy, fx)
             out[:, flip::2, 3:] = wrap_array(np.stack((t4 - o4, t5 - o5, t6 - o6), -1))
         return out
-
-
-def _clip(cosine: np.ndarray) -> np.ndarray:
-    """Cosines within :data:`SLACK` of +-1 set to +-1; beyond it NaN."""
-    out = np.clip(cosine, -1.0, 1.0)
-    return np.where(np.abs(cosine) > 1.0 + SLACK, np.nan, out)

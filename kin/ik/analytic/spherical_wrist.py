@@ -38,10 +38,18 @@ from dh2urdf import DHTable
 
 from ..exceptions import TargetError
 from ..target import PoseTarget
-from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
+from ._six_r import (
+    NAN_ROW,
+    SINGULAR,
+    SLACK,
+    SixRChecker,
+    TargetFrame,
+    clip_cosines,
+    in_blocks,
+    wrap,
+    wrap_array,
+)
 from .six_r_twin import CompiledSixR, load_twin, twin_solve
-
-_NAN_ROW = (math.nan,) * 6
 
 
 def _labels() -> tuple[str, ...]:
@@ -194,7 +202,7 @@ class SphericalWrist6R(CompiledSixR):
         classic = self._classic
         a1, d1, a2, h, d6 = self.a1, self.d1, self.a2, self.lateral, self.d6
         o1, o2, o3, o4, o5, o6 = self.offsets
-        out = [_NAN_ROW] * 8
+        out = [NAN_ROW] * 8
         # 1. wrist centre, 2. joint 1
         wx, wy, wz = p[0] - d6 * r[0][2], p[1] - d6 * r[1][2], p[2] - d6 * r[2][2]
         y1 = (wz - d1 - c1 * h) / s1
@@ -321,7 +329,7 @@ class SphericalWrist6R(CompiledSixR):
                 t1 = heading - np.arctan2(b, big_a)
                 x1 = big_a - a1
                 cos3 = (x1 * x1 + y1 * y1 - (a2 * a2 + l3 * l3)) / (2.0 * a2 * l3)
-                cos3 = _clip(cos3)
+                cos3 = clip_cosines(cos3)
                 delta = np.arccos(cos3)
                 ct1, st1 = np.cos(t1), np.sin(t1)
                 ux, uy = ct1 * u0x + st1 * u0y, -st1 * u0x + ct1 * u0y
@@ -344,7 +352,7 @@ class SphericalWrist6R(CompiledSixR):
                     if self._classic:
                         sin5 = np.hypot(wvx, wvy)
                     else:
-                        cos5 = _clip(cos5)
+                        cos5 = clip_cosines(cos5)
                         sin5 = np.sqrt(np.maximum(0.0, 1.0 - cos5 * cos5))
                     index = 4 * shoulder + 2 * elbow
                     for flip in (0, 1):
@@ -366,9 +374,3 @@ class SphericalWrist6R(CompiledSixR):
         rows = np.isnan(out).any(axis=2)
         out[rows] = np.nan
         return out
-
-
-def _clip(cosine: np.ndarray) -> np.ndarray:
-    """Cosines within :data:`SLACK` of +-1 set to +-1; beyond it NaN."""
-    out = np.clip(cosine, -1.0, 1.0)
-    return np.where(np.abs(cosine) > 1.0 + SLACK, np.nan, out)

@@ -66,11 +66,14 @@ from ..exceptions import TargetError
 from ..target import PoseTarget
 from ._six_r import (
     LENGTH_TOL,
+    NAN_ROW,
     SINGULAR,
     SLACK,
     SixRChecker,
     TargetFrame,
+    clip_cosines,
     in_blocks,
+    sin_cos,
     wrap,
     wrap_array,
 )
@@ -91,7 +94,6 @@ REACH_TOL = 1e-10
 #: the roots of ``E`` come in pairs about ``|a5|`` apart that the companion matrix and Newton
 #: steps no longer resolve (q is then missed on more than 0.1 % of targets).
 NEAR_MEET = 1e-3
-_NAN_ROW = (math.nan,) * 6
 _ARM_LABELS = {
     "intersecting": tuple(
         f"shoulder {s}, wrist {w}" for s in ("left", "right") for w in ("up", "down")
@@ -152,9 +154,9 @@ class ThreeParallel6R:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_frame", TargetFrame(self.T_base, self.T_tool))
-        s1, c1 = _sin_cos(self.alpha1)
-        s4, c4 = _sin_cos(self.alpha4)
-        s5, c5 = _sin_cos(self.alpha5)
+        s1, c1 = sin_cos(self.alpha1)
+        s4, c4 = sin_cos(self.alpha4)
+        s5, c5 = sin_cos(self.alpha5)
         object.__setattr__(self, "_k", (s1, c1, s4, c4, s5, c5))
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         object.__setattr__(self, "_classic", c4 == 0.0 and c5 == 0.0)
@@ -200,7 +202,7 @@ class ThreeParallel6R:
             d1=float(d[0]),
             a2=a2,
             a3=a3,
-            lateral=float(d[1] + d[2] + d[3] + _sin_cos(alpha4)[1] * d[4]),
+            lateral=float(d[1] + d[2] + d[3] + sin_cos(alpha4)[1] * d[4]),
             a4=float(check.a[3]),
             alpha4=float(alpha4),
             d5=float(d[4]),
@@ -239,7 +241,7 @@ class ThreeParallel6R:
             slots = self._general_slots(w, n)
         else:
             slots = self._intersecting_slots(w, n)
-        out: list[tuple[float, ...]] = [_NAN_ROW] * 8
+        out: list[tuple[float, ...]] = [NAN_ROW] * 8
         for index, slot in enumerate(slots):
             if slot is not None:
                 out[2 * index], out[2 * index + 1] = self._arm_scalar(slot, w, r, free)
@@ -392,7 +394,7 @@ class ThreeParallel6R:
         cos3 = (bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3)
         if cos3 > 1.0 or cos3 < -1.0:
             if abs(cos3) > 1.0 + SLACK:
-                return _NAN_ROW, _NAN_ROW
+                return NAN_ROW, NAN_ROW
             cos3 = 1.0 if cos3 > 0.0 else -1.0
         sin3 = math.sqrt(1.0 - cos3 * cos3)
         heading = math.atan2(by, bx)
@@ -452,7 +454,7 @@ class ThreeParallel6R:
         wx, wy, wz = w.T
         rho = np.hypot(wx, wy)
         k = (c1 * (wz - self.d1) - self.lateral) / (s1 * rho)
-        k = np.where(rho == 0.0, np.nan, _clip(k))
+        k = np.where(rho == 0.0, np.nan, clip_cosines(k))
         beta = np.arctan2(wy, wx)
         asin_k = np.arcsin(k)
         out = np.empty((w.shape[0], 4, 3))
@@ -467,7 +469,7 @@ class ThreeParallel6R:
                     + (n[:, 0] * z1[1] - n[:, 1] * z1[0]) ** 2
                 )
             else:
-                cos5 = _clip(cos5)
+                cos5 = clip_cosines(cos5)
                 sin5 = np.sqrt(1.0 - cos5 * cos5)
             for wrist, sign in ((0, 1.0), (1, -1.0)):
                 out[:, 2 * shoulder + wrist] = np.stack((t1, cos5, sign * sin5), axis=-1)
@@ -545,7 +547,7 @@ class ThreeParallel6R:
         ex, ey = self.a4 + a5 * cos5, c4 * a5 * st5 - s4 * self.d5
         bx = ct * qx + st * qy - (cp * ex - sp * ey)
         by = y1[0] * qx + y1[1] * qy + y1[2] * qz - (sp * ex + cp * ey)
-        cos3 = _clip((bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3))
+        cos3 = clip_cosines((bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3))
         sin3 = np.sqrt(1.0 - cos3 * cos3)
         heading = np.arctan2(by, bx)
         out = np.empty((slots.shape[0], 8, 6))
@@ -568,15 +570,3 @@ def _harmonics(uv: tuple[Any, ...]) -> tuple[Any, Any, Any, Any, Any]:
     hc2 = 0.5 * (uc * uc - us * us + vc * vc - vs * vs)
     hs2 = uc * us + vc * vs
     return h0, hc, hs, hc2, hs2
-
-
-def _sin_cos(angle: float) -> tuple[float, float]:
-    """``sin``, ``cos`` of a twist [rad], a cosine below 1e-15 set to 0 (90 deg exactly)."""
-    s, c = math.sin(angle), math.cos(angle)
-    return s, (0.0 if abs(c) < 1e-15 else c)
-
-
-def _clip(cosine: np.ndarray) -> np.ndarray:
-    """Values within :data:`SLACK` of +-1 set to +-1; beyond it NaN."""
-    out = np.clip(cosine, -1.0, 1.0)
-    return np.where(np.abs(cosine) > 1.0 + SLACK, np.nan, out)

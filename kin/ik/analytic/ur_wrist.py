@@ -46,10 +46,19 @@ from dh2urdf import DHTable
 
 from ..exceptions import TargetError
 from ..target import PoseTarget
-from ._six_r import SINGULAR, SLACK, SixRChecker, TargetFrame, in_blocks, wrap, wrap_array
+from ._six_r import (
+    NAN_ROW,
+    SINGULAR,
+    SLACK,
+    SixRChecker,
+    TargetFrame,
+    clip_cosines,
+    in_blocks,
+    sin_cos,
+    wrap,
+    wrap_array,
+)
 from .six_r_twin import CompiledSixR, load_twin, twin_solve
-
-_NAN_ROW = (math.nan,) * 6
 
 
 def _labels() -> tuple[str, ...]:
@@ -113,9 +122,9 @@ class URWrist6R(CompiledSixR):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_frame", TargetFrame(self.T_base, self.T_tool))
-        s1, c1 = _sin_cos(self.alpha1)
-        s4, c4 = _sin_cos(self.alpha4)
-        s5, c5 = _sin_cos(self.alpha5)
+        s1, c1 = sin_cos(self.alpha1)
+        s4, c4 = sin_cos(self.alpha4)
+        s5, c5 = sin_cos(self.alpha5)
         # wrist-to-axis-3 vector in the arm plane, rotated by phi: (a4, -sin(alpha4) d5)
         k = (s1, c1, self.a4, -s4 * self.d5, s4, c4, s5, c5)
         object.__setattr__(self, "_k", k)
@@ -157,7 +166,7 @@ class URWrist6R(CompiledSixR):
             d1=float(d[0]),
             a2=a2,
             a3=a3,
-            lateral=float(d[1] + d[2] + d[3] + _sin_cos(alpha4)[1] * d[4]),
+            lateral=float(d[1] + d[2] + d[3] + sin_cos(alpha4)[1] * d[4]),
             a4=float(check.a[3]),
             alpha4=float(alpha4),
             d5=float(d[4]),
@@ -200,7 +209,7 @@ class URWrist6R(CompiledSixR):
         classic = self._classic
         a1, d1, a2, a3, h, d6 = self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6
         o1, o2, o3, o4, o5, o6 = self.offsets
-        out = [_NAN_ROW] * 8
+        out = [NAN_ROW] * 8
         r00, r01, r02 = r[0]
         r10, r11, r12 = r[1]
         r20, r21, r22 = r[2]
@@ -328,7 +337,7 @@ class URWrist6R(CompiledSixR):
             px, py, pz = p[:, 0] - d6 * r02, p[:, 1] - d6 * r12, p[:, 2] - d6 * r22
             rho = np.hypot(px, py)
             k = (c1 * (pz - d1) - h) / (s1 * rho)
-            k = np.where(rho == 0.0, np.nan, _clip(k))
+            k = np.where(rho == 0.0, np.nan, clip_cosines(k))
             beta = np.arctan2(py, px)
             asin_k = np.arcsin(k)
             for shoulder in (0, 1):
@@ -344,7 +353,7 @@ class URWrist6R(CompiledSixR):
                 if self._classic:
                     sin5 = xy6
                 else:
-                    cos5 = _clip(cos5)
+                    cos5 = clip_cosines(cos5)
                     sin5 = np.sqrt(1.0 - cos5 * cos5)
                 qx, qy, qz = px - a1 * ct, py - a1 * st, pz - d1
                 ax = ct * qx + st * qy
@@ -369,7 +378,7 @@ class URWrist6R(CompiledSixR):
                     cp, sp = np.cos(phi), np.sin(phi)
                     bx = ax - (cp * ex - sp * ey)
                     by = ay - (sp * ex + cp * ey)
-                    cos3 = _clip((bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3))
+                    cos3 = clip_cosines((bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3))
                     sin3 = np.sqrt(1.0 - cos3 * cos3)
                     heading = np.arctan2(by, bx)
                     index = 4 * shoulder + 2 * wrist
@@ -382,15 +391,3 @@ class URWrist6R(CompiledSixR):
                         out[:, index + elbow] = wrap_array(q)
         out[np.isnan(out).any(axis=2)] = np.nan
         return out
-
-
-def _sin_cos(angle: float) -> tuple[float, float]:
-    """``sin``, ``cos`` of a twist [rad], a cosine below 1e-15 set to 0 (90 deg exactly)."""
-    s, c = math.sin(angle), math.cos(angle)
-    return s, (0.0 if abs(c) < 1e-15 else c)
-
-
-def _clip(cosine: np.ndarray) -> np.ndarray:
-    """Values within :data:`SLACK` of +-1 set to +-1; beyond it NaN."""
-    out = np.clip(cosine, -1.0, 1.0)
-    return np.where(np.abs(cosine) > 1.0 + SLACK, np.nan, out)
