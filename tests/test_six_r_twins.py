@@ -69,8 +69,6 @@ def test_twin_solve_equals_python(kind, arm):
         twin = structure.solve(T[:3, 3], T[:3, :3])
         np.testing.assert_array_equal(np.isnan(twin), np.isnan(python))
         np.testing.assert_allclose(twin, python, rtol=0.0, atol=1e-12, equal_nan=True)
-    singular = structure.solve(poses[-1, :3, 3], poses[-1, :3, :3], free=0.7)
-    assert singular.shape == (8, 6)
 
 
 @pytest.mark.parametrize(("kind", "arm"), CASES)

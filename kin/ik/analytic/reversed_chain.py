@@ -26,6 +26,7 @@ from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
+import pinocchio as pin
 
 from dh2urdf import DHTable
 from dh2urdf.dh_table import Convention
@@ -50,11 +51,8 @@ FORWARD: tuple[type[ClosedFormStructure], ...] = (
 
 def _inverse(T: np.ndarray) -> np.ndarray:
     """Inverse of a rigid transform (4x4) [m]."""
-    out = np.eye(4)
-    rotation = np.asarray(T, dtype=float)[:3, :3]
-    out[:3, :3] = rotation.T
-    out[:3, 3] = -rotation.T @ np.asarray(T, dtype=float)[:3, 3]
-    return out
+    matrix = np.asarray(T, dtype=float)
+    return pin.SE3(matrix[:3, :3].copy(), matrix[:3, 3].copy()).inverse().homogeneous
 
 
 def reverse_table(table: DHTable) -> DHTable:
