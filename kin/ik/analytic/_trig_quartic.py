@@ -5,13 +5,15 @@ three parallel axes) both end in this equation. With ``x = tan((t - tau) / 2)`` 
 in ``x`` whose leading coefficient is ``E(tau + pi)``; the shift ``tau`` (``tau + pi`` a multiple
 of 45 deg) is chosen where ``|E(tau + pi)|`` is the largest of the eight, so no root runs off to
 infinity. The real eigenvalues of the quartic's companion matrix give the candidate angles; the
-callers polish them by Newton steps on their own, unexpanded ``E`` (the constants below) and keep
-those that reach it.
+callers polish them by safeguarded Newton steps (:func:`polish`, :func:`polish_batch`) on their
+own, unexpanded ``E`` and keep those that reach it.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -105,3 +107,59 @@ def candidates_batch(
     x = np.linalg.eigvals(companion)
     real = (np.abs(x.imag) <= IMAG_TOL * (1.0 + x.real * x.real)) & finite[:, None]
     return np.where(real, tau[:, None] + 2.0 * np.arctan(x.real), np.nan)
+
+
+def polish(
+    residual: Callable[[float], tuple[float, ...]], t: float
+) -> tuple[float, tuple[float, ...]] | None:
+    """Safeguarded Newton steps on ``E`` from ``t`` [rad], at most :data:`NEWTON_STEPS`.
+
+    A step is taken only when it lowers ``|E|`` (else halved for the next try).
+
+    Args:
+        residual: ``t -> (E, dE/dt, bound, *extra)``: the caller's unexpanded ``E``, its
+            derivative, the largest ``|E|`` of a root (rounding included) and values it needs
+            at the root.
+        t: The start (a :func:`candidates` angle) [rad].
+
+    Returns:
+        ``(t, extra)`` at the polished root, or None when ``|E|`` stays above its bound.
+    """
+    e, de, bound, *extra = residual(t)
+    damping = 1.0
+    for _ in range(NEWTON_STEPS):
+        step = e / de if de != 0.0 else 0.0
+        if abs(step) > MAX_STEP or abs(step) <= CONVERGED:
+            break
+        trial = t - damping * step
+        e2, de2, bound2, *extra2 = residual(trial)
+        if abs(e2) < abs(e):
+            t, e, de, bound, extra, damping = trial, e2, de2, bound2, extra2, 1.0
+        else:
+            damping *= 0.5
+    return (t, tuple(extra)) if abs(e) <= bound else None
+
+
+def polish_batch(
+    residual: Callable[[np.ndarray], tuple[Any, ...]], t: np.ndarray
+) -> tuple[np.ndarray, list[np.ndarray], np.ndarray]:
+    """:func:`polish` of an array of starts [rad] (NaN starts stay NaN).
+
+    Returns:
+        The polished angles, the extras at them, and where ``|E|`` is within its bound.
+    """
+    e, de, bound, *extra = residual(t)
+    damping = np.ones_like(t)
+    for _ in range(NEWTON_STEPS):
+        step = np.where(de != 0.0, e / de, 0.0)
+        step = np.where(np.abs(step) > MAX_STEP, 0.0, step)
+        if not (np.abs(step) > CONVERGED).any():
+            break
+        trial = t - damping * step
+        e2, de2, bound2, *extra2 = residual(trial)
+        better = np.abs(e2) < np.abs(e)
+        t, e = np.where(better, trial, t), np.where(better, e2, e)
+        de, bound = np.where(better, de2, de), np.where(better, bound2, bound)
+        extra = [np.where(better, b, a) for a, b in zip(extra, extra2)]
+        damping = np.where(better, 1.0, 0.5 * damping)
+    return t, extra, np.abs(e) <= bound

@@ -77,12 +77,11 @@ from ._six_r import (
     wrap_array,
 )
 from ._trig_quartic import (
-    CONVERGED,
     EPS,
-    MAX_STEP,
-    NEWTON_STEPS,
     candidates,
     candidates_batch,
+    polish,
+    polish_batch,
 )
 
 #: A general-family root is kept when, after polishing, ``|E(t3)| <= 2 sqrt(g1^2 + g2^2)
@@ -409,20 +408,9 @@ class Pieper6R:
         return e, de, bound
 
     def _polish(self, t3: float, rt: float, z: float) -> float | None:
-        """Safeguarded Newton steps on ``E(t3)``; None when ``|E|`` stays above its bound."""
-        e, de, bound = self._residual(t3, rt, z, math.cos, math.sin)
-        damping = 1.0
-        for _ in range(NEWTON_STEPS):
-            step = e / de if de != 0.0 else 0.0
-            if abs(step) > MAX_STEP or abs(step) <= CONVERGED:
-                break
-            trial = t3 - damping * step
-            e2, de2, bound2 = self._residual(trial, rt, z, math.cos, math.sin)
-            if abs(e2) < abs(e):
-                t3, e, de, bound, damping = trial, e2, de2, bound2, 1.0
-            else:
-                damping *= 0.5
-        return t3 if abs(e) <= bound else None
+        """:func:`~._trig_quartic.polish` on ``E(t3)``; None when ``|E|`` stays above its bound."""
+        root = polish(lambda t: self._residual(t, rt, z, math.cos, math.sin), t3)
+        return None if root is None else root[0]
 
     def _wrist_scalar(
         self, arm: tuple[float, float, float], r: list[list[float]], free: float
@@ -576,20 +564,8 @@ class Pieper6R:
 
     def _polish_batch(self, t3: np.ndarray, rt: np.ndarray, z: np.ndarray) -> np.ndarray:
         """:meth:`_polish` of (N, 4) starts; NaN where no root."""
-        e, de, bound = self._residual(t3, rt, z, np.cos, np.sin)
-        damping = np.ones_like(t3)
-        for _ in range(NEWTON_STEPS):
-            step = np.where(de != 0.0, e / de, 0.0)
-            step = np.where(np.abs(step) > MAX_STEP, 0.0, step)
-            if not (np.abs(step) > CONVERGED).any():
-                break
-            trial = t3 - damping * step
-            e2, de2, bound2 = self._residual(trial, rt, z, np.cos, np.sin)
-            better = np.abs(e2) < np.abs(e)
-            t3, e = np.where(better, trial, t3), np.where(better, e2, e)
-            de, bound = np.where(better, de2, de), np.where(better, bound2, bound)
-            damping = np.where(better, 1.0, 0.5 * damping)
-        return np.where(np.abs(e) <= bound, t3, np.nan)
+        t3, _, ok = polish_batch(lambda t: self._residual(t, rt, z, np.cos, np.sin), t3)
+        return np.where(ok, t3, np.nan)
 
     def _wrist_batch(self, t: np.ndarray, r: np.ndarray, free: float) -> np.ndarray:
         """The 8 rows of N targets from their arm slots ``t`` (N, 4, 3): ``q`` (N, 8, 6) [rad]."""

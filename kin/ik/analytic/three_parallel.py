@@ -78,12 +78,11 @@ from ._six_r import (
     wrap_array,
 )
 from ._trig_quartic import (
-    CONVERGED,
     EPS,
-    MAX_STEP,
-    NEWTON_STEPS,
     candidates,
     candidates_batch,
+    polish,
+    polish_batch,
 )
 
 #: A general-family root is kept when, after polishing, ``|E(t1)| max(|sa4 a5| [m], |sa4 sa5|)
@@ -334,20 +333,10 @@ class ThreeParallel6R:
 
     def _polish(self, t1: float, uv: tuple[float, ...]) -> tuple[float, float, float] | None:
         """Newton steps on ``E(t1)``: ``(t1, cos t5, sin t5)``; None if ``|E|`` stays too large."""
-        e, de, bound, u, v = self._residual(t1, uv, math.cos, math.sin)
-        damping = 1.0
-        for _ in range(NEWTON_STEPS):
-            step = e / de if de != 0.0 else 0.0
-            if abs(step) > MAX_STEP or abs(step) <= CONVERGED:
-                break
-            trial = t1 - damping * step
-            e2, de2, bound2, u2, v2 = self._residual(trial, uv, math.cos, math.sin)
-            if abs(e2) < abs(e):
-                t1, e, de, bound, u, v, damping = trial, e2, de2, bound2, u2, v2, 1.0
-            else:
-                damping *= 0.5
-        if not abs(e) <= bound:
+        root = polish(lambda t: self._residual(t, uv, math.cos, math.sin), t1)
+        if root is None:
             return None
+        t1, (u, v) = root
         size = math.hypot(u, v)
         return t1, v / size, u / size
 
@@ -487,26 +476,10 @@ class ThreeParallel6R:
 
     def _polish_batch(self, t1: np.ndarray, uv: tuple[np.ndarray, ...]) -> np.ndarray:
         """:meth:`_polish` of (N, 4) starts: (N, 4, 3), NaN where no root."""
-        e, de, bound, u, v = self._residual(t1, uv, np.cos, np.sin)
-        damping = np.ones_like(t1)
-        for _ in range(NEWTON_STEPS):
-            step = np.where(de != 0.0, e / de, 0.0)
-            step = np.where(np.abs(step) > MAX_STEP, 0.0, step)
-            if not (np.abs(step) > CONVERGED).any():
-                break
-            trial = t1 - damping * step
-            e2, de2, bound2, u2, v2 = self._residual(trial, uv, np.cos, np.sin)
-            better = np.abs(e2) < np.abs(e)
-            t1, e, de = (
-                np.where(better, trial, t1),
-                np.where(better, e2, e),
-                np.where(better, de2, de),
-            )
-            bound, u, v = (np.where(better, b, a) for a, b in ((bound, bound2), (u, u2), (v, v2)))
-            damping = np.where(better, 1.0, 0.5 * damping)
+        t1, (u, v), ok = polish_batch(lambda t: self._residual(t, uv, np.cos, np.sin), t1)
         size = np.hypot(u, v)
         out = np.stack((t1, v / size, u / size), axis=-1)
-        out[~(np.abs(e) <= bound)] = np.nan
+        out[~ok] = np.nan
         return out
 
     def _arm_batch(
