@@ -6,7 +6,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from kin import load_robot
+from kin import Configuration, load_robot
 from kin.ik.exceptions import TargetError
 from kin.ik.numeric.damped_newton import damped_newton
 from kin.ik.numeric.differential_ik import DifferentialIK, tool_pose_mujoco
@@ -121,14 +121,25 @@ def test_posture_preference_pulls_the_redundancy(robot, solver):
 
 
 def test_out_of_reach_target_fails_honestly(robot, solver):
-    """A target beyond the reach is a failure with the best configuration and the distance."""
+    """A target beyond the links laid end to end is out_of_reach at once, with the distance."""
     result = solver.solve(NumericTarget.from_arrays([1.2, 0.0, 0.0]), timeout=0.05)
     assert not result.success
     assert result.status == "out_of_reach"
+    # humanoid7 stretched: 9.65 + 28.774 + 27.98 + 20 cm (Table I) from the shoulder point
     assert result.distance_to_workspace == pytest.approx(1.2 - 0.86404, abs=1e-9)
+    assert result.best is None and result.iterations == 0
+
+
+def test_out_of_reach_within_the_bound_gives_the_best_configuration():
+    """ur5 at 1.1 m (reach 1.038 m, links end to end 1.19 m): searched; the closest attempt."""
+    ur5 = load_robot("ur5")
+    result = NumericIK(ur5).solve(NumericTarget.from_arrays([1.1, 0.0, 0.1]), timeout=0.05)
+    assert result.status == "out_of_reach"
     best = result.best
     assert best is not None and best.within_limits
-    assert best.position_error >= 1.2 - 0.86404 - 1e-9
+    assert best.position_error >= result.distance_to_workspace - 1e-9
+    stretched = Configuration(ur5, best.q).transform_frame_to_world("tool").translation
+    assert np.linalg.norm(stretched - [1.1, 0.0, 0.1]) == pytest.approx(best.position_error)
 
 
 def test_solve_numeric_one_call(robot):
@@ -395,11 +406,21 @@ def test_reproduction_section_has_four_rows_per_case():
     ]
 
 
-def test_non_finite_target_is_an_invalid_target_result(solver):
-    """An ik.target PositionTarget with a NaN gives status invalid_target, no exception."""
+def test_non_finite_target_is_a_target_error_naming_the_field(solver):
+    """A PositionTarget with a NaN is refused when built: a TargetError naming position[1]."""
     from kin.ik.target import PositionTarget
 
-    result = solver.solve(PositionTarget([0.3, float("nan"), 0.0]))
+    with pytest.raises(TargetError, match=r"position\[1\] is nan"):
+        PositionTarget([0.3, float("nan"), 0.0])
+
+
+def test_target_changed_after_it_was_built_is_an_invalid_target_result(solver):
+    """A target whose array is overwritten with a NaN later gives status invalid_target."""
+    from kin.ik.target import PositionTarget
+
+    target = PositionTarget([0.3, 0.0, 0.0])
+    target.position[1] = float("nan")
+    result = solver.solve(target)
     assert not result.success and result.status == "invalid_target"
 
 

@@ -30,14 +30,40 @@ def test_all_names_exist_and_sorted():
 
 @pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
 @pytest.mark.parametrize("name", ["planar2", "pickplace3", "lab5"])
-def test_non_finite_target_is_invalid_not_an_exception(name, value):
-    """NaN or infinite target values give status invalid_target."""
-    solver = ClosedFormSolver(kin.load_robot(name))
-    target = (
+def test_non_finite_target_is_a_target_error_naming_the_field(name, value):
+    """NaN or infinite target values are refused when the target is built, the field named."""
+    with pytest.raises(TargetError, match=r"position\[\d\] is"):
         PositionTarget([value, 0, 0]) if name != "lab5" else PitchTarget([0.2, value, 0.1], 0.0)
-    )
+    with pytest.raises(TargetError, match="pitch is"):
+        PitchTarget([0.2, 0.0, 0.1], value)
+    with pytest.raises(TargetError, match=r"rotation\[1\]\[2\] is"):
+        PoseTarget([0.2, 0.0, 0.1], [[1, 0, 0], [0, 1, value], [0, 0, 1]])
+
+
+def test_target_changed_after_it_was_built_is_an_invalid_target_result():
+    """A closed-form target overwritten with a NaN after it was built: status invalid_target."""
+    solver = ClosedFormSolver(kin.load_robot("planar2"))
+    target = PositionTarget([0.3, 0.1, 0.0])
+    target.position[0] = math.inf
     result = solver.solve(target)
     assert not result.success and result.status == "invalid_target"
+
+
+def test_nearly_orthonormal_rotation_is_snapped_and_a_far_one_refused():
+    """A rotation printed with 6 decimals becomes the nearest rotation; a sheared one is refused."""
+    angle = 0.7
+    exact = np.array(
+        [[math.cos(angle), -math.sin(angle), 0], [math.sin(angle), math.cos(angle), 0], [0, 0, 1]]
+    )
+    printed = np.round(exact, 6)
+    snapped = PoseTarget([0.3, 0, 0.2], printed).rotation
+    np.testing.assert_allclose(snapped.T @ snapped, np.eye(3), atol=1e-14)
+    assert np.linalg.det(snapped) == pytest.approx(1.0, abs=1e-14)
+    assert np.abs(snapped - exact).max() < 1e-6
+    with pytest.raises(TargetError, match="not a rotation matrix"):
+        PoseTarget([0.3, 0, 0.2], exact + [[0, 0.1, 0], [0, 0, 0], [0, 0, 0]])
+    with pytest.raises(TargetError, match="det"):
+        PoseTarget([0.3, 0, 0.2], np.diag([1.0, 1.0, -1.0]))
 
 
 def test_out_of_reach_says_how_far():

@@ -1,8 +1,11 @@
 """IK targets: a position, a full pose, or a position with the tool pitch (and wrist roll).
 
 All targets are expressed in the world frame (the URDF root), in meters and radians. They are
-plain values: a NaN or infinite entry is accepted here and reported by the solver as an
-``"invalid_target"`` result, so that no exception escapes a solve.
+checked once, when built, so that a solve never checks them again: a NaN or infinite value is a
+:class:`~kin.ik.TargetError` that names the field (``position[1]``, ``rotation[2][0]``,
+``pitch``). A rotation must be a rotation matrix: one that is off by at most
+:data:`ROTATION_SNAP` (``max |R^T R - I|``, e.g. a matrix printed with six decimals) is replaced by
+the nearest rotation matrix (SVD); a farther one, or one with ``det(R) < 0``, is a ``TargetError``.
 """
 
 from __future__ import annotations
@@ -16,14 +19,46 @@ import numpy.typing as npt
 from .exceptions import TargetError
 
 
+#: Largest ``max |R^T R - I|`` of a target rotation replaced by its nearest rotation matrix; a
+#: farther matrix is refused.
+ROTATION_SNAP = 1e-3
+#: Largest ``max |R^T R - I|`` taken as it is (the rounding of a product of rotations).
+_ROTATION_EXACT = 1e-12
+
+
 def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
+    """``values`` as a new float array of ``size`` finite numbers (a TargetError names the field)."""
     try:
         array = np.array(values, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as err:
+    except (TypeError, ValueError, OverflowError) as err:
         raise TargetError(f"{what} must be {size} numbers, got {values!r}") from err
     if array.size != size:
         raise TargetError(f"{what} must be {size} numbers, got {array.size}")
+    if not math.isfinite(array.sum()) and not np.isfinite(array).all():
+        i = int(np.flatnonzero(~np.isfinite(array))[0])
+        where = f"{what}[{i}]" if size <= 3 else f"{what}[{i // 3}][{i % 3}]"
+        raise TargetError(f"{where} is {array[i]}: every target value must be a finite number")
     return array
+
+
+def _rotation(values: npt.ArrayLike) -> np.ndarray:
+    """A rotation matrix from 9 numbers (row-major): checked, snapped to SO(3) when nearly one."""
+    matrix = _vector(values, 9, "rotation").reshape(3, 3)
+    deviation = float(np.abs(matrix.T @ matrix - _EYE).max())
+    if deviation <= _ROTATION_EXACT and np.linalg.det(matrix) > 0.0:
+        return matrix
+    if deviation <= ROTATION_SNAP:
+        u, _, vt = np.linalg.svd(matrix)
+        if np.linalg.det(u @ vt) > 0.0:
+            return u @ vt
+    raise TargetError(
+        f"rotation is not a rotation matrix (max |R^T R - I| = {deviation:.3g}, "
+        f"det = {np.linalg.det(matrix):.3g}): give orthonormal axes with det +1 "
+        f"(a matrix off by at most {ROTATION_SNAP:g} is rounded to the nearest rotation)"
+    )
+
+
+_EYE = np.eye(3)
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,7 +94,7 @@ class PoseTarget:
 
     def __init__(self, position: npt.ArrayLike, rotation: npt.ArrayLike):
         object.__setattr__(self, "position", _vector(position, 3, "position"))
-        object.__setattr__(self, "rotation", _vector(rotation, 9, "rotation").reshape(3, 3))
+        object.__setattr__(self, "rotation", _rotation(rotation))
 
     @classmethod
     def from_matrix(cls, T_world_tool: npt.ArrayLike) -> PoseTarget:
@@ -119,8 +154,8 @@ class PitchTarget:
 
     def __init__(self, position: npt.ArrayLike, pitch: float, roll: float | None = None):
         object.__setattr__(self, "position", _vector(position, 3, "position"))
-        object.__setattr__(self, "pitch", float(pitch))
-        object.__setattr__(self, "roll", None if roll is None else float(roll))
+        object.__setattr__(self, "pitch", _angle(pitch, "pitch"))
+        object.__setattr__(self, "roll", None if roll is None else _angle(roll, "roll"))
 
     @property
     def finite(self) -> bool:
@@ -131,6 +166,17 @@ class PitchTarget:
             and isfinite(self.pitch)
             and (self.roll is None or isfinite(self.roll))
         )
+
+
+def _angle(value: object, what: str) -> float:
+    """``value`` as a finite float [rad] (a TargetError names the field)."""
+    try:
+        angle = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError) as err:
+        raise TargetError(f"{what} must be a number [rad], got {value!r}") from err
+    if not math.isfinite(angle):
+        raise TargetError(f"{what} is {angle}: every target value must be a finite number")
+    return angle
 
 
 Target = PositionTarget | PoseTarget | PitchTarget

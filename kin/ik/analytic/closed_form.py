@@ -25,6 +25,7 @@ from __future__ import annotations
 import logging
 import math
 import operator
+import threading
 import time
 from typing import Any
 
@@ -143,6 +144,9 @@ class ClosedFormSolver:
         self.tolerance_position = tolerance_position
         self.tolerance_rotation = tolerance_rotation
         self._judge = ToolJudge(robot)
+        # One solve at a time: the judge's Pinocchio data is shared (threads get the answers
+        # one thread would).
+        self._lock = threading.Lock()
         self._lower = robot.model.lowerPositionLimit.tolist()
         self._upper = robot.model.upperPositionLimit.tolist()
         self._offsets = [row.theta for row in robot.table.rows]
@@ -190,8 +194,10 @@ class ClosedFormSolver:
         return self._numeric
 
     def _failure(
-        self, status: str, message: str, start: float, gap: float | None = None
+        self, status: str, message: str, start: float, gap: float | None = None, target: Any = None
     ) -> IKResult:
+        if status == "out_of_reach" and target is not None and gap is None:
+            message, gap = self._how_far(message, target, gap)
         return IKResult(
             success=False,
             solver=self.name,
@@ -200,6 +206,19 @@ class ClosedFormSolver:
             distance_to_workspace=gap,
             time=time.perf_counter() - start,
         )
+
+    def _how_far(self, message: str, target: Target, gap: float | None) -> tuple[str, float | None]:
+        """``message`` with the target's distance from the base against the arm's reach, and the gap [m]."""
+        from ..reach import arm_reach
+
+        reach = arm_reach(self.robot)
+        distance = reach.distance(target.position)
+        if distance > reach.maximum:
+            beyond = distance - reach.maximum
+            text = f"{beyond:.4g} m beyond the arm's reach ({reach.maximum:.4g} m from its base)"
+            return f"{message}: the target is {text}", beyond
+        text = f"{distance:.4g} m from the base, within the arm's reach of {reach.maximum:.4g} m"
+        return f"{message} (the target is {text}: not with this orientation)", gap
 
     def _joints(self, seed: list[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """Per joint, the open interval of angles that need no wrapping (lower ends, upper ends).
@@ -251,6 +270,11 @@ class ClosedFormSolver:
             if isinstance(target, self.target_kinds):
                 return self._solve_numeric(target, seed, timeout)
             raise kind_error(self.robot.name, self.target_kinds, target)
+        with self._lock:
+            return self._solve_closed(target, seed, start)
+
+    def _solve_closed(self, target: Target, seed: npt.ArrayLike | None, start: float) -> IKResult:
+        """:meth:`solve` of a target the closed form takes (under the solver's lock)."""
         if self._twin is not None and target.__class__ is PoseTarget:
             return self._solve_twin(target, seed, start)  # type: ignore[arg-type]
         seed_list = self._seed_list(seed)
@@ -260,7 +284,7 @@ class ClosedFormSolver:
         r = target.rotation.tolist() if isinstance(target, PoseTarget) else None
         branches = self._branches(target, seed_list)
         if branches.status == "out_of_reach":
-            return self._failure("out_of_reach", branches.message, start, branches.gap)
+            return self._failure("out_of_reach", branches.message, start, branches.gap, target)
         valid, rejected = self._verify(target, branches, seed_list, p, r)
         return self._result(valid, rejected, branches.status, branches.message, start)
 
@@ -331,7 +355,10 @@ class ClosedFormSolver:
             return self._failure("invalid_target", "the target has a NaN or infinite value", start)
         if found == 0:
             return self._failure(
-                "out_of_reach", f"no {self.structure.name} branch reaches the target", start
+                "out_of_reach",
+                f"no {self.structure.name} branch reaches the target",
+                start,
+                target=target,
             )
         labels = self.structure.branch_labels
         valid: list[tuple[float, IKSolution]] = []

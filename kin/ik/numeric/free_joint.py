@@ -121,7 +121,7 @@ def solve_free_joint(
                 if errors is not None:
                     solution = IKSolution(out, "", True, *errors)
                     return search.success(solution, METHOD, FROM_SEED, 0)
-    for starts, indices, step in _sample_starts(ik, target):
+    for starts, indices, step in _sample_starts(ik, search):
         index = closed.first(prepared, starts, out, step, ik.compiled)
         offset = 0
         while index >= 0:
@@ -207,7 +207,7 @@ def _moved(q: np.ndarray, seed: np.ndarray) -> float:
 
 
 def _sample_starts(
-    ik: NumericIK, target: NumericTarget
+    ik: NumericIK, search: Search
 ) -> Iterator[tuple[np.ndarray, np.ndarray, float]]:
     """Blocks of closed-form starts after the caller's seed: ``(starts, sample indices, step)``.
 
@@ -217,7 +217,10 @@ def _sample_starts(
     seed only.
     """
     steps = ik.closed_form_steps
-    table = ik.table
+    target = search.target
+    table = search.table
+    if table is None:
+        return
     position, rotation = target.position, target.rotation
     if rotation is None:
         candidates = table.cell_samples(position)

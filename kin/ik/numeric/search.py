@@ -14,11 +14,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..reach import REACH_COST, known_reach
 from ..result import IKResult, IKSolution
 from .damped_newton import NewtonOutcome, damped_newton
 from .numeric_target import NumericTarget
 
 if TYPE_CHECKING:
+    from .seed_table import SeedTable
     from .solver import NumericIK
 
 #: Weight of the rotation error when ranking failed attempts [m/rad].
@@ -26,6 +28,19 @@ RANK_WEIGHT = 0.1
 
 #: Pipeline name reported in :attr:`IKResult.solver`.
 PIPELINE = "numeric"
+
+#: The shortest hard end of a call [s] (see :func:`allowance`).
+MIN_ALLOWANCE = 0.02
+
+
+def allowance(timeout: float) -> float:
+    """How long a call with time budget ``timeout`` [s] may take at most, cold caches included.
+
+    ``max(2 timeout, 20 ms)``: the search stops at ``timeout``; loading a cache or a model that a
+    stage needs (the seed table, the MuJoCo model of the QP runs) counts too, and is done only
+    when its expected cost ends before this.
+    """
+    return max(2.0 * timeout, MIN_ALLOWANCE)
 
 
 class Search:
@@ -36,7 +51,10 @@ class Search:
         target: The target.
         position_tol: Success tolerance on the position [m].
         rotation_tol: Success tolerance on the rotation [rad].
-        timeout: Time budget [s], counted from now.
+        timeout: Time budget [s], counted from ``start``.
+        start: ``time.perf_counter()`` when the call began (default: now).
+        table: The seed table, or None when this call could not afford to build it (the stages
+            that start from its samples are skipped).
     """
 
     __slots__ = (
@@ -55,6 +73,8 @@ class Search:
         "seed_distance",
         "seed_bound",
         "seed_tried",
+        "allowance",
+        "table",
     )
 
     def __init__(
@@ -64,13 +84,19 @@ class Search:
         position_tol: float,
         rotation_tol: float,
         timeout: float,
+        start: float | None = None,
+        table: SeedTable | None = None,
     ):
         self.ik = ik
         self.target = target
         self.position_tol = position_tol
         self.rotation_tol = rotation_tol
-        self.start = time.perf_counter()
+        self.start = time.perf_counter() if start is None else start
         self.deadline = self.start + timeout
+        #: The hard end of the call: a cold resource (the MuJoCo model) is loaded only when its
+        #: cost fits before it (:func:`allowance`).
+        self.allowance = self.start + allowance(timeout)
+        self.table = table
         self.best: NewtonOutcome | None = None
         self.best_from_qp = False
         self.iterations = 0
@@ -162,10 +188,23 @@ class Search:
             method=method,
         )
 
+    def affords(self, cost: float) -> bool:
+        """Whether a load expected to take ``cost`` [s] ends before the call's hard end."""
+        return time.perf_counter() + cost <= self.allowance
+
     @property
     def out_of_reach(self) -> bool:
-        """Whether the target is beyond the arm's reach (an upper bound: surely unreachable)."""
-        return self.ik.distance_from_base(self.target.position) > self.ik.reach
+        """Whether the target is beyond the arm's reach (the largest distance found from its base).
+
+        When that distance is not known yet and the call cannot afford finding it
+        (:data:`~kin.ik.reach.REACH_COST`), the sure bound (links laid end to end) decides.
+        """
+        ik = self.ik
+        reach = known_reach(ik.robot)
+        if reach is None and self.affords(REACH_COST):
+            reach = ik.arm_reach
+        limit = ik.reach if reach is None else reach.maximum
+        return ik.distance_from_base(self.target.position) > limit
 
     def failure(self) -> IKResult:
         """The failed result: the best configuration found, measured by the judge."""
@@ -189,12 +228,15 @@ class Search:
                 "" if target.position_only else f" and {verdict.rotation_error:.3g} rad"
             )
         if self.out_of_reach:
-            distance = ik.distance_from_base(target.position) - ik.reach
+            found = known_reach(ik.robot)
+            reach = ik.reach if found is None else found.maximum
+            distance = ik.distance_from_base(target.position) - reach
             return IKResult(
                 False,
                 PIPELINE,
                 "out_of_reach",
-                f"target is {distance:.4g} m beyond the arm's reach ({ik.reach:.4g} m); {detail}",
+                f"target is {distance:.4g} m beyond the arm's reach ({reach:.4g} m from its "
+                f"base); {detail}",
                 (),
                 rejected,
                 distance_to_workspace=distance,

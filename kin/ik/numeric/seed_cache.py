@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 #: Bumped when the cached arrays change meaning.
-FORMAT = 1
+FORMAT = 2
 
 #: Number of seed tables sampled in this process (a test sees whether the cache was used).
 BUILDS = 0
@@ -66,6 +66,16 @@ def _enabled() -> bool:
 def path_for(key: str) -> Path:
     """The cache file of ``key``."""
     return cache_dir() / f"seed_table_{key}.npz"
+
+
+def exists(robot: RobotModel, size: int) -> bool:
+    """Whether the seed table of ``robot`` (default seed, weight, cell) is cached on disk."""
+    if not _enabled():
+        return False
+    from .seed_table import DEFAULT_CELL_SIZE, DEFAULT_ROTATION_WEIGHT
+
+    key = table_key(robot, size, 0, DEFAULT_ROTATION_WEIGHT, DEFAULT_CELL_SIZE)
+    return path_for(key).is_file()
 
 
 def load(key: str) -> dict[str, np.ndarray] | None:

@@ -5,8 +5,10 @@ tool pose of each with Pinocchio, and answers "which samples have a tool pose ne
 target?". Poses are compared in an embedding where 1 rad of rotation weighs about
 ``rotation_weight`` [m]: ``(p, rotation_weight * vec(R))`` (``|R1 - R2|_F ~ sqrt(2) * angle``).
 Queries look up a uniform grid over the tool positions first: each cell holds the samples of
-its 3 x 3 x 3 neighbourhood as one contiguous block of lifted embeddings (no gather), ranked in
-the pose embedding by one matrix-vector product (a few microseconds). Only
+its 3 x 3 x 3 neighbourhood; on a cell's first query its samples' lifted embeddings are gathered
+into one contiguous block, kept, and ranked in the pose embedding by one matrix-vector product (a
+few microseconds). The tool poses of the samples are the table's NumPy DH product
+(:mod:`kin.batch_fk`), all at once: a new arm's table takes tens of milliseconds. Only
 when that cell holds fewer than ``k`` samples (the target is outside the sampled workspace, or at
 its thin edge) does the query fall back to SciPy's KD-tree (built then; a NumPy argmin without
 SciPy). The samples and the grid are cached on disk per table (:mod:`.seed_cache`).
@@ -17,17 +19,21 @@ from __future__ import annotations
 import functools
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
 from kin import RobotModel, load_robot
+from kin.batch_fk import batch_forward_kinematics
 
 from . import seed_cache
 
 logger = logging.getLogger(__name__)
+
+#: Default weight of the rotation in the pose embedding [m], and edge of a grid cell [m].
+DEFAULT_ROTATION_WEIGHT = 0.1
+DEFAULT_CELL_SIZE = 0.06
 
 #: Second entropy word of the table's random generator (any fixed value; keeps it apart).
 _TABLE_STREAM = 0x5EED7AB1E
@@ -54,8 +60,12 @@ class SeedTable:
     _cells: dict[int, tuple[int, int]] | None = None
     _origin: np.ndarray | None = None
     _grid_shape: tuple[int, int, int] = (0, 0, 0)
-    _embedding: np.ndarray | None = None
+    _lifted: np.ndarray | None = None
     _owners: np.ndarray | None = None
+    #: Per cell key: its samples' lifted embeddings as one contiguous block (made on first use).
+    _blocks: dict[int, np.ndarray] = field(default_factory=dict)
+    #: Per cell key: its samples nearest to the cell's centre first (made on first use).
+    _by_centre: dict[int, np.ndarray] = field(default_factory=dict)
 
     @functools.cached_property
     def _origin_list(self) -> list[float]:
@@ -109,43 +119,48 @@ class SeedTable:
             ``(indices, squared distances [m^2])`` in no particular order, or None when the
             target's cell is outside the grid or empty.
         """
-        if (
-            self._cells is None
-            or self._origin is None
-            or self._embedding is None
-            or self._owners is None
-        ):
+        key = self._cell_key(position)
+        if key is None:
             return None
-        nx, ny, nz = self._grid_shape
-        ox, oy, oz = self._origin_list
-        size = self.cell_size
-        px, py, pz = position.tolist()
-        i = math.floor((px - ox) / size)
-        j = math.floor((py - oy) / size)
-        m = math.floor((pz - oz) / size)
-        if not (0 <= i < nx and 0 <= j < ny and 0 <= m < nz):
-            return None
-        span = self._cells.get((i * ny + j) * nz + m)
+        span = self._cells.get(key)  # type: ignore[union-attr]
         if span is None:
             return None
-        # The cell's samples are a contiguous block of the cell-sorted copies: no gather. Each
-        # row is ``(-2 p, -2 w^2 vec(R), |p|^2, 1)``: its product with
+        # Each row of a cell's block is ``(-2 p, -2 w^2 vec(R), |p|^2, 1)``: its product with
         # ``(p_t, vec(R_t), 1, |p_t|^2 + 6 w^2)`` is the squared distance (``|vec(R)|^2 = 3``
         # for a rotation); a position-only query has ``R_t = 0`` and no ``6 w^2``.
         begin, end = span
+        owners = self._owners[begin:end]  # type: ignore[index]
+        block = self._blocks.get(key)
+        if block is None:  # the cell's rows, gathered once into one contiguous block
+            block = self._blocks[key] = np.ascontiguousarray(self._lifted[owners])  # type: ignore[index]
+        px, py, pz = position.tolist()
         offset = px * px + py * py + pz * pz
         if rotation is None:
             query = np.array((px, py, pz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, offset))
         else:
             offset += 6.0 * self.rotation_weight * self.rotation_weight
             query = np.array([px, py, pz, *rotation.ravel().tolist(), 1.0, offset])
-        return self._owners[begin:end], np.dot(self._embedding[begin:end], query)
+        return owners, np.dot(block, query)
+
+    def _cell_key(self, position: np.ndarray) -> int | None:
+        """The grid key of the cell holding ``position``, or None (no grid, outside it, not finite)."""
+        if self._cells is None or self._owners is None or self._lifted is None:
+            return None
+        nx, ny, nz = self._grid_shape
+        ox, oy, oz = self._origin_list
+        size = self.cell_size
+        px, py, pz = position.tolist()
+        # Compared before flooring: a huge or non-finite coordinate never reaches an integer.
+        fx, fy, fz = (px - ox) / size, (py - oy) / size, (pz - oz) / size
+        if not (0.0 <= fx < nx and 0.0 <= fy < ny and 0.0 <= fz < nz):
+            return None
+        return (math.floor(fx) * ny + math.floor(fy)) * nz + math.floor(fz)
 
     def cell_samples(self, position: np.ndarray) -> np.ndarray | None:
         """The samples of the target's grid neighbourhood, nearest to the cell's centre first.
 
-        A position-only lookup with no distance computed (the cell's order is precomputed): the
-        first samples are near the target, not necessarily the nearest.
+        A position-only lookup with no distance to the target computed (the cell's order is
+        made once per cell): the first samples are near the target, not necessarily the nearest.
 
         Args:
             position: Target position [m], shape (3,).
@@ -153,19 +168,22 @@ class SeedTable:
         Returns:
             Sample indices, or None when the target's cell is outside the grid or empty.
         """
-        if self._cells is None or self._owners is None:
+        key = self._cell_key(position)
+        if key is None:
             return None
-        nx, ny, nz = self._grid_shape
-        ox, oy, oz = self._origin_list
-        size = self.cell_size
-        px, py, pz = position.tolist()
-        i = math.floor((px - ox) / size)
-        j = math.floor((py - oy) / size)
-        m = math.floor((pz - oz) / size)
-        if not (0 <= i < nx and 0 <= j < ny and 0 <= m < nz):
-            return None
-        span = self._cells.get((i * ny + j) * nz + m)
-        return None if span is None else self._owners[span[0] : span[1]]
+        found = self._by_centre.get(key)
+        if found is None:
+            span = self._cells.get(key)  # type: ignore[union-attr]
+            if span is None:
+                return None
+            owners = self._owners[span[0] : span[1]]  # type: ignore[index]
+            _, ny, nz = self._grid_shape
+            cell = np.array((key // (ny * nz), (key // nz) % ny, key % nz), dtype=float)
+            centre = self._origin + (cell + 0.5) * self.cell_size  # type: ignore[operator]
+            gap = self.positions[owners] - centre
+            order = np.argsort(np.einsum("ij,ij->i", gap, gap), kind="stable")
+            found = self._by_centre[key] = owners[order]
+        return found
 
     def _kd_tree(self, pose: bool) -> Any:
         """SciPy's KD-tree over the positions (or the pose embedding), built on first use.
@@ -207,24 +225,20 @@ def _grid(
 
     Returns:
         ``(spans, owners, origin, shape)``: cell key -> ``(begin, end)`` into ``owners``, the
-        sample indices sorted by cell (each sample appears in 27 cells), and within a cell by
-        distance to the cell's centre.
+        sample indices sorted by cell (each sample appears in 27 cells).
     """
     origin = positions.min(axis=0) - cell_size
     cell = np.floor((positions - origin) / cell_size).astype(np.int64)
     shape = tuple(int(v) for v in cell.max(axis=0) + 2)
     nx, ny, nz = shape
-    samples = np.arange(len(positions))
-    keys, owners, distances = [], [], []
-    for offset in np.ndindex(3, 3, 3):
-        c = cell + (np.array(offset) - 1)
-        keys.append((c[:, 0] * ny + c[:, 1]) * nz + c[:, 2])
-        owners.append(samples)
-        gap = positions - (origin + (c + 0.5) * cell_size)
-        distances.append(np.einsum("ij,ij->i", gap, gap))
-    key = np.concatenate(keys)
-    owner = np.concatenate(owners)
-    order = np.lexsort((np.concatenate(distances), key))
+    base = (cell[:, 0] * ny + cell[:, 1]) * nz + cell[:, 2]
+    shifts = [(dx * ny + dy) * nz + dz for dx, dy, dz in np.ndindex(3, 3, 3)]
+    shift0 = (ny + 1) * nz + 1  # the (1, 1, 1) offset is the sample's own cell
+    by_cell = np.argsort(base, kind="stable")
+    # 27 sorted runs (one per offset): the stable sort (timsort) merges them.
+    key = (base[by_cell][None, :] + (np.array(shifts) - shift0)[:, None]).reshape(-1)
+    owner = np.tile(by_cell, 27)
+    order = np.argsort(key, kind="stable")
     key, owner = key[order], owner[order]
     unique, starts = np.unique(key, return_index=True)
     ends = np.append(starts[1:], len(key))
@@ -238,8 +252,8 @@ def build_seed_table(
     robot: RobotModel,
     size: int = 20000,
     seed: int = 0,
-    rotation_weight: float = 0.1,
-    cell_size: float = 0.06,
+    rotation_weight: float = DEFAULT_ROTATION_WEIGHT,
+    cell_size: float = DEFAULT_CELL_SIZE,
     cache: bool = True,
 ) -> SeedTable:
     """Sample ``size`` joint vectors uniformly inside the limits and tabulate their tool poses.
@@ -272,19 +286,14 @@ def _sample(robot: RobotModel, size: int, seed: int, cell_size: float) -> dict[s
     """The samples, their tool poses and the grid, as the arrays of :data:`CACHED_ARRAYS`."""
     seed_cache.BUILDS += 1
     model = robot.model
-    data = model.createData()
-    fid = model.getFrameId(robot.tool_frame)
     # A stream of its own: a caller's ``default_rng(seed)`` draws are never table samples.
     rng = np.random.default_rng([seed, _TABLE_STREAM])
     lower, upper = model.lowerPositionLimit, model.upperPositionLimit
     q = rng.uniform(lower, upper, size=(size, model.nq))
-    positions = np.empty((size, 3))
-    rotations = np.empty((size, 9))
-    for i in range(size):
-        pin.forwardKinematics(model, data, q[i])
-        pose = pin.updateFramePlacement(model, data, fid)
-        positions[i] = pose.translation
-        rotations[i] = pose.rotation.reshape(-1)
+    # The table's DH product in NumPy, all samples at once (the tests hold it to Pinocchio's FK).
+    poses = batch_forward_kinematics(robot.table, q)
+    positions = np.ascontiguousarray(poses[:, :3, 3])
+    rotations = np.ascontiguousarray(poses[:, :3, :3]).reshape(size, 9)
     cells, owners, origin, shape = _grid(positions, cell_size)
     return {
         "q": q,
@@ -304,8 +313,8 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
     owners = arrays["owners"]
     cells = dict(zip(arrays["keys"].tolist(), map(tuple, arrays["spans"].tolist()), strict=True))
     size = len(q)
-    # The lifted embedding of every sample (see ``SeedTable.ranked``), copied once per cell in
-    # cell order (contiguous blocks).
+    # The lifted embedding of every sample (see ``SeedTable.ranked``); a cell's rows are gathered
+    # into a contiguous block on its first query.
     lifted = np.hstack(
         (
             -2.0 * positions,
@@ -314,7 +323,6 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
             np.ones((size, 1)),
         )
     )
-    embedding = np.ascontiguousarray(lifted[owners])
     nx, ny, nz = (int(v) for v in arrays["shape"].tolist())
     return SeedTable(
         q,
@@ -327,7 +335,7 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
         cells,  # type: ignore[arg-type]
         arrays["origin"],
         (nx, ny, nz),
-        embedding,
+        lifted,
         owners,
     )
 

@@ -27,6 +27,8 @@ from __future__ import annotations
 import functools
 import logging
 import math
+import threading
+import time
 
 import numpy as np
 import numpy.typing as npt
@@ -40,8 +42,11 @@ from ..target import PoseTarget, PositionTarget, kind_error
 from .differential_ik import DifferentialIK
 from .free_joint import FreeJointClosedForm, free_joint_closed_form, solve_free_joint
 from .numeric_target import NumericTarget
+from ..reach import Reach, arm_reach, reach_bound
+from . import seed_cache
+from .damped_newton import load_linalg
 from .restarts import polish_best, solve_with_restarts
-from .search import PIPELINE, Search
+from .search import PIPELINE, Search, allowance
 from .seed_table import SeedTable, build_seed_table, seed_table_for
 from .starts import solve_from_starts
 
@@ -52,6 +57,11 @@ _FLOAT64 = np.dtype(np.float64)
 
 #: Default time budget of one solve [s].
 DEFAULT_TIMEOUT = 0.05
+
+#: Expected time to take a seed table from memory or the disk cache [s] (a few ms measured).
+TABLE_LOAD_COST = 0.015
+#: Expected time to build a seed table, per sample [s] (60 ms for 20,000 samples measured).
+TABLE_BUILD_COST = 5e-6
 
 #: Default free-joint scan steps of the closed form [rad], coarse to fine (with or without the
 #: compiled twins: the same answers either way).
@@ -162,8 +172,9 @@ class NumericIK:
         self.lower = robot.model.lowerPositionLimit.copy()
         self.upper = robot.model.upperPositionLimit.copy()
         self._lows, self._highs = self.lower.tolist(), self.upper.tolist()
-        #: Upper bound of the tool's distance from the base origin [m] (triangle inequality).
-        self.reach = _reach(robot)
+        #: Upper bound of the tool's distance from the base origin [m] (triangle inequality): a
+        #: target beyond it is answered ``out_of_reach`` before any search.
+        self.reach = reach_bound(robot)
         self._base_origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
         self._shape = (robot.model.nq,)
         self._kinds: tuple[type, ...] = (
@@ -181,6 +192,17 @@ class NumericIK:
         self.closed_form_steps = tuple(closed_form_steps)
         #: Whether the closed form runs its compiled twin (asked for and built).
         self.compiled = compiled and self.closed_form is not None and self.closed_form.compiled_twin
+        # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
+        # that share a solver get the answers one thread would).
+        self._lock = threading.Lock()
+        # SciPy's LAPACK for the damped Newton steps, imported with the solver (once per
+        # process), not inside a solve's time budget.
+        load_linalg()
+
+    @property
+    def arm_reach(self) -> Reach:
+        """The tool's largest distance from the base (:func:`kin.ik.reach.arm_reach`)."""
+        return arm_reach(self.robot)
 
     @property
     def table(self) -> SeedTable:
@@ -227,8 +249,11 @@ class NumericIK:
                 ``seed_radius``; else first when its tool pose is at least as near to the target
                 as the nearest seed-table sample's. A posture preference is always tried first.
             timeout: Time budget [s] (None: :data:`DEFAULT_TIMEOUT`); the first verified
-                solution returns earlier. Building the seed table and loading the MuJoCo model
-                (once per solver) do not count.
+                solution returns earlier. It bounds the whole call, cold caches included: the
+                call returns within ``max(2 timeout, 20 ms)``
+                (:func:`~kin.ik.numeric.search.allowance`); the seed table and the MuJoCo model
+                of the QP runs are loaded only when their expected cost fits in that, else the
+                stages that need them are skipped in this call.
             random_seed: Seed of the random restarts (results are reproducible).
             position_tol: Success tolerance on the position [m].
             rotation_tol: Success tolerance on the rotation [rad].
@@ -237,35 +262,70 @@ class NumericIK:
 
         Returns:
             ``IKResult(solver="numeric")`` with ``method`` the stage that answered; on failure
-            ``rejected`` holds the best configuration. A non-finite target value gives
-            ``status="invalid_target"``.
+            ``rejected`` holds the best configuration. A target farther from the base than
+            the links laid end to end (:attr:`reach`) is ``out_of_reach`` at once.
 
         Raises:
             TargetError: A target of a kind the arm cannot take (a pitch target; a full pose on
                 an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
         """
+        start = time.perf_counter()
         if not isinstance(target, self._kinds):
             raise kind_error(self.robot.name, self._kinds, target)
-        _ = self.table  # built once, outside the budget
-        if not getattr(target, "finite", True):  # ik.target values accept NaN; report it
+        if not getattr(target, "finite", True):  # a target's arrays changed after it was built
             return IKResult(False, PIPELINE, "invalid_target", f"target is not finite: {target}")
         target = NumericTarget.from_target(target)
         budget = DEFAULT_TIMEOUT if timeout is None else timeout
-        search = Search(self, target, position_tol, rotation_tol, budget)
-        if target.posture is None and (done := solve_free_joint(self, search, seed)):
-            return done
-        if done := solve_from_starts(self, search, seed):
-            return done
-        if done := solve_with_restarts(self, search, random_seed, max_attempts):
-            return done
-        if done := polish_best(self, search):
-            return done
-        return search.failure()
+        if not budget >= 0.0:
+            raise TargetError(f"timeout must be a number of seconds >= 0, got {timeout!r}")
+        with self._lock:
+            distance = self.distance_from_base(target.position)
+            if distance > self.reach:  # surely unreachable: no search
+                return self._beyond_reach(target, distance, start)
+            table = self._affordable_table(start + allowance(budget))
+            search = Search(self, target, position_tol, rotation_tol, budget, start, table)
+            if target.posture is None and (done := solve_free_joint(self, search, seed)):
+                return done
+            if done := solve_from_starts(self, search, seed):
+                return done
+            if done := solve_with_restarts(self, search, random_seed, max_attempts):
+                return done
+            if done := polish_best(self, search):
+                return done
+            return search.failure()
+
+    def _affordable_table(self, end: float) -> SeedTable | None:
+        """The seed table, loaded or built now when that ends before ``end``, else None.
+
+        Expected costs: :data:`TABLE_LOAD_COST` from memory or the disk cache,
+        :data:`TABLE_BUILD_COST` per sample to build it.
+        """
+        if self._table is not None:
+            return self._table
+        cached = seed_cache.exists(self.robot, self.table_size)
+        cost = TABLE_LOAD_COST if cached else TABLE_BUILD_COST * self.table_size
+        if time.perf_counter() + cost > end:
+            logger.info("%s: no time to build the seed table in this call", self.robot.name)
+            return None
+        return self.table
+
+    def _beyond_reach(self, target: NumericTarget, distance: float, start: float) -> IKResult:
+        """``out_of_reach`` for a target farther than :attr:`reach` from the base (no search)."""
+        reach = self.arm_reach.maximum
+        return IKResult(
+            False,
+            PIPELINE,
+            "out_of_reach",
+            f"target is {distance - reach:.4g} m beyond the arm's reach ({reach:.4g} m from its "
+            "base); no search",
+            distance_to_workspace=distance - reach,
+            time=time.perf_counter() - start,
+        )
 
     def distance_from_base(self, position: np.ndarray) -> float:
         """Distance of a world point from the base origin [m]."""
         x, y, z = np.subtract(position, self._base_origin).tolist()
-        return math.sqrt(x * x + y * y + z * z)
+        return math.hypot(x, y, z)  # no overflow for 1e308
 
     def seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
         """The caller's seed as a finite joint vector (the solver never writes into it)."""
@@ -280,20 +340,6 @@ class NumericIK:
             return as_joint_vector(self.robot, seed_q)
         except KinError as err:
             raise TargetError(f"seed of '{self.robot.name}': {err}") from err
-
-
-def _reach(robot: RobotModel) -> float:
-    """Upper bound of the tool's distance from the base origin [m].
-
-    Every link length, offset, prismatic travel and the tool offset, laid end to end.
-    """
-    total = 0.0
-    for row in robot.table.rows:
-        total += abs(row.a) + abs(row.d)
-        if row.joint_type == "prismatic":
-            total += max(abs(row.lower), abs(row.upper))
-    tool = np.asarray(robot.table.T_last_tool, dtype=float)[:3, 3]
-    return float(total + np.linalg.norm(tool))
 
 
 def _is_shipped(robot: RobotModel) -> bool:

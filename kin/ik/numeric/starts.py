@@ -25,8 +25,8 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from ..result import IKResult
-from .damped_newton import load_linalg
 from .numeric_target import NumericTarget
+from .seed_table import DEFAULT_ROTATION_WEIGHT
 
 if TYPE_CHECKING:
     from .search import Search
@@ -42,10 +42,8 @@ def solve_from_starts(
 ) -> IKResult | None:
     """Damped Newton from each start in turn; the first verified result, else None.
 
-    The first run of the process loads SciPy's LAPACK (:func:`.damped_newton.load_linalg`)
-    outside the budget: the deadline moves by the loading time.
+    Without a seed table (the call could not afford it) only the posture and the caller's seed.
     """
-    search.deadline += load_linalg()
     for label, q0, index, patience, leash in seed_table_starts(ik, search, seed_q):
         outcome = search.newton(q0, patience, leash)
         method = SEED_TABLE if index >= 0 else DAMPED_NEWTON
@@ -72,7 +70,7 @@ def seed_table_starts(
     the caller's; ``patience`` and ``leash`` those of the damped Newton run (None: the whole
     budget; no leash).
     """
-    table = ik.table
+    table = search.table
     target = search.target
     posture = target.posture
     if posture is not None:  # the caller's preference: always first, the whole budget
@@ -91,6 +89,10 @@ def seed_table_starts(
         elif first is not None:  # likewise, on a leash
             yield "the given seed", seed, -1, ik.patience, first
             seed = None
+    if table is None:  # no samples this call: the seed alone
+        if seed is not None:
+            yield "the given seed", seed, -1, ik.patience, None
+        return
     found = table.ranked(target.position, target.rotation)
     if found is None or found[0].size < ik.nearest:  # outside the grid: the KD-tree
         candidates, distances = table.nearest(target.position, target.rotation, k=ik.nearest), None
@@ -210,4 +212,4 @@ def _rotation_share(ik: NumericIK, pose: pin.SE3, target: NumericTarget) -> tupl
     if target.rotation is None:
         return 0.0, 3.0
     inner = float(np.vdot(pose.rotation, target.rotation))
-    return ik.table.rotation_weight**2 * (6.0 - 2.0 * inner), inner
+    return DEFAULT_ROTATION_WEIGHT**2 * (6.0 - 2.0 * inner), inner
