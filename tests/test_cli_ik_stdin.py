@@ -32,9 +32,11 @@ def _pose_lines(name: str, count: int, full: bool, seed: int = 0) -> tuple[list[
     return lines, q_all
 
 
-def _stream(monkeypatch, capsys, argv: list[str], lines: list[str]) -> list[dict]:
+def _stream(
+    monkeypatch, capsys, argv: list[str], lines: list[str], code: int = 0
+) -> list[dict]:
     monkeypatch.setattr("sys.stdin", io.StringIO("".join(line + "\n" for line in lines)))
-    assert ik.main([*argv, "--stdin"]) == 0
+    assert ik.main([*argv, "--stdin"]) == code
     captured = capsys.readouterr()
     assert captured.err == ""
     return [json.loads(line) for line in captured.out.splitlines()]
@@ -99,6 +101,8 @@ def test_prismatic_seed_q_in_mm(tmp_path, monkeypatch, capsys):
         ('{"rpy": [0, 0, 0]}', 'missing "target"'),
         ('{"target": [1, 2]}', "must be 3 number(s)"),
         ('{"target": [NaN, 0, 0]}', "must be finite"),
+        ('{"target": [0.3, 0, 0.3], "seed_q": [NaN, 0, 0]}', "finite"),
+        ('{"target": [0.3, 0, 0.3], "seed_q": [1e400, 0, 0]}', "finite"),
         ('{"target": ["a", 0, 0]}', "must be numbers"),
         ('{"target": [0.3, 0, 0.3], "rpy": [0, 0, 0]}', "a full pose needs at least 6 joints"),
         ('{"target": [0.3, 0, 0.3], "seed_q": [0]}', "\"seed_q\" needs 3 values for 'pickplace3'"),
@@ -108,12 +112,14 @@ def test_prismatic_seed_q_in_mm(tmp_path, monkeypatch, capsys):
     ],
 )
 def test_bad_line_gives_an_error_line_and_the_run_goes_on(line, needle, monkeypatch, capsys):
-    """A bad line answers {"line": n, "error": ...}; the next line is still solved."""
+    """A bad line answers {"line": n, "error": ...}; the next line is still solved; exit 1."""
     good = json.dumps({"target": [0.39, 0.08, 0.3]})
-    answers = _stream(monkeypatch, capsys, ["--robot", "pickplace3"], [good, line, "", good])
-    assert len(answers) == 3 and answers[1] == {"line": 2, "error": answers[1]["error"]}
+    lines = [good, line, "", good]
+    answers = _stream(monkeypatch, capsys, ["--robot", "pickplace3"], lines, code=1)
+    assert len(answers) == 4 and answers[1] == {"line": 2, "error": answers[1]["error"]}
     assert needle in answers[1]["error"]
-    assert answers[0]["success"] and answers[2]["success"] and answers[2]["line"] == 4
+    assert answers[2] == {"line": 3, "skipped": "blank line"}
+    assert answers[0]["success"] and answers[3]["success"] and answers[3]["line"] == 4
 
 
 def _throughput(name: str, lines: list[str]) -> float:
@@ -172,7 +178,7 @@ def test_no_valid_solution_keeps_the_best_attempt(monkeypatch, capsys):
     """Without a valid solution the answer keeps the rejected one (nr: Table IX case 1, cm)."""
     lines = [json.dumps({"target": [-37.457, -2.759, 18.861]})]
     argv = ["--robot", "humanoid7", "--unit", "cm", "--solver", "nr"]
-    (answer,) = _stream(monkeypatch, capsys, argv, lines)
+    (answer,) = _stream(monkeypatch, capsys, argv, lines, code=1)
     assert not answer["success"] and answer["status"] == "outside_limits"
     assert answer["solutions"] == [] and answer["rejected"][0]["position_error_m"] < 1e-7
     assert answer["rejected"][0]["rotation_error_rad"] is None
@@ -210,7 +216,7 @@ def test_each_answer_comes_before_the_next_line_is_written():
         process.stdin.flush()
         answers.append(json.loads(process.stdout.readline()))  # blocks if not flushed
     process.stdin.close()
-    assert process.wait(timeout=60) == 0 and process.stdout.read() == b""
+    assert process.wait(timeout=60) == 1 and process.stdout.read() == b""  # line 3 failed
     assert [a["line"] for a in answers] == [1, 2, 3]
     assert answers[0]["success"] and answers[1]["success"] and "error" in answers[2]
     reached = Configuration(load_robot("pickplace3")).fk(np.array(answers[1]["solutions"][0]["q"]))
@@ -228,3 +234,28 @@ def test_line_batches_of_a_pipe_keep_every_line(tmp_path):
     lines = [line for batch in batches for line in batch]
     assert len(batches) > 1 and len(lines) == 20001 and lines[-1] == b"tail"
     assert [json.loads(line)["target"][0] for line in lines[:-1]] == list(range(20000))
+
+
+def test_an_unexpected_exception_in_one_line_is_that_lines_error(monkeypatch, capsys):
+    """A solver that raises something nobody foresaw: that line's error record, the rest solved."""
+    from kin.commands.ik_stream import StreamSolver
+    from kin.commands.joint_units import JointUnits
+
+    robot = load_robot("pickplace3")
+    real = __import__("kin.ik", fromlist=["get_solver"]).get_solver(robot)
+
+    def solve(target, seed):
+        if target.position[0] > 0.35:
+            raise ZeroDivisionError("boom")
+        return real.solve(target, seed)
+
+    units = JointUnits.of(robot.name, robot.table, "m", False)
+    stream = StreamSolver(robot.name, robot.nq, units, solve, None, None, 1.0, 1.0)
+    out = io.StringIO()
+    lines = [json.dumps({"target": t}) for t in ([0.3, -0.05, 0.25], [0.39, 0.08, 0.3])] * 2
+    assert stream.run(io.StringIO("\n".join(lines) + "\n"), out) == 1
+    answers = [json.loads(line) for line in out.getvalue().splitlines()]
+    assert [a["line"] for a in answers] == [1, 2, 3, 4]
+    assert answers[0]["success"] and answers[2]["success"]
+    assert answers[1] == answers[3] | {"line": 2}
+    assert answers[1]["error"] == "internal error: ZeroDivisionError: boom"

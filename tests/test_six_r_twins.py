@@ -139,7 +139,9 @@ def test_compiled_solver_reports_like_python_for_bad_targets():
     """Non-finite targets, wrong seeds and far targets: the same statuses and errors."""
     robot = kin.robot_from_table(load_table(get_robot("ur5").table_path))
     compiled, python = ClosedFormSolver(robot), ClosedFormSolver(robot, compiled=False)
-    for target in (PoseTarget([math.nan, 0, 0], np.eye(3)), PoseTarget([5.0, 0, 0], np.eye(3))):
+    overwritten = PoseTarget([0.0, 0, 0], np.eye(3))
+    overwritten.position[0] = math.nan  # after the constructor's check
+    for target in (overwritten, PoseTarget([5.0, 0, 0], np.eye(3))):
         assert_same_result(compiled.solve(target), python.solve(target), str(target.position))
     with pytest.raises(kin.ik.TargetError, match="must have 6 values"):
         compiled.solve(PoseTarget([0.3, 0.1, 0.3], np.eye(3)), [0.0] * 5)

@@ -14,17 +14,19 @@ and the --rpy/--pitch/--roll angles in radians, degrees with --deg. --json and -
 SI (q in rad / m as "q_units" says, errors in m and rad, time in s).
 
 --stdin reads one JSON target per line ({"target": [x, y, z], "rpy": [r, p, y]} or "quat",
-"pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes one JSON answer per
-line ({"error": ...} for a bad line).
+"pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes exactly one JSON answer
+per input line, in order, each with its "line" number ({"error": ...} for a bad line,
+{"skipped": ...} for a blank one).
 
 Exit 0 when a valid solution exists, 1 when none (success false), 2 for bad input; with --stdin,
-0 once the input ends.
+once the input ends: 1 when any line had an error or no valid solution, else 0.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from typing import TYPE_CHECKING
 
@@ -161,6 +163,23 @@ def _run(args: argparse.Namespace) -> int:
     return 0 if result.success else EXIT_NO_SOLUTION
 
 
+#: A length in meters as the library's messages write it: ``0.386 m`` (not ``m^3``, ``ms``).
+_METERS = re.compile(r"(?<![\w.])([-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?) m\b(?!\^)")
+
+
+def message_in_unit(message: str, length: float, unit: str) -> str:
+    """``message`` with its lengths in meters (``0.386 m``) written in ``unit`` (``386 mm``).
+
+    Args:
+        message: A library message (lengths in meters).
+        length: Meters per ``unit``.
+        unit: The user's length unit.
+    """
+    if unit == "m":
+        return message
+    return _METERS.sub(lambda found: f"{float(found.group(1)) / length:.4g} {unit}", message)
+
+
 def _print_result(
     result: IKResult,
     robot: str,
@@ -172,7 +191,8 @@ def _print_result(
     """The result as text, every number with its unit."""
     length = length_scale(unit)
     method = f", {result.method}" if result.method else ""
-    print(f"{robot} ({result.solver}{method}): {result.status}: {result.message}")
+    message = message_in_unit(result.message, length, unit)
+    print(f"{robot} ({result.solver}{method}): {result.status}: {message}")
     if result.distance_to_workspace is not None:
         print(f"distance to the workspace: {result.distance_to_workspace / length:.6g} {unit}")
     print(f"iterations: {result.iterations}, time: {result.time * 1e3:.3f} ms")
@@ -184,12 +204,13 @@ def _print_result(
     columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]
     widths = [max(10, len(c)) for c in columns]
     header = "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths))
-    print(f"{'branch':<34} {header}  limits  pos.err [{unit}]  rot.err [rad]")
+    label = max([len("branch"), *(len(solution.branch) for solution in shown)])
+    print(f"{'branch':<{label}} {header}  limits  pos.err [{unit}]  rot.err [rad]")
     for solution in shown:
         values = "  ".join(f"{v:>{w}.4f}" for v, w in zip(units.from_si(solution.q), widths))
         error = None if free_rotation else solution.rotation_error
         rotation = "-" if error is None else f"{error:.3g}"
         print(
-            f"{solution.branch:<34} {values}  {'ok' if solution.within_limits else 'OUT':>6}  "
+            f"{solution.branch:<{label}} {values}  {'ok' if solution.within_limits else 'OUT':>6}  "
             f"{solution.position_error / length:.3g}  {rotation}"
         )

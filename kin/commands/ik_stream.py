@@ -8,8 +8,11 @@ input line is an object: ``"target": [x, y, z]`` [--unit], optionally one of ``"
 An answer is :meth:`kin.ik.IKResult.to_dict` (SI: q in rad / m, errors in m and rad, time in s)
 with ``"line"`` (the 1-based input line number) and ``"q_units"``; ``"rejected"`` (solutions
 outside the limits) is filled only with --all or when there is no valid solution (then it holds
-the best attempt). A bad line gives ``{"line": n, "error": "..."}`` and the run goes on. Blank
-lines are skipped. Nothing else is written on stdout.
+the best attempt). A bad line gives ``{"line": n, "error": "..."}`` and the run goes on; so does
+a line whose solve fails in a way nobody foresaw (``"error": "internal error: ..."``, logged with
+its traceback at debug level). A blank line gives ``{"line": n, "skipped": "blank line"}``.
+Exactly one output line per input line, in order; nothing else is written on stdout. The exit
+code is 1 when any line had an error or no valid solution, else 0.
 
 Answers are flushed before the command waits for more input, and at least every
 :data:`FLUSH_EVERY` answers: a client that writes one line and waits gets its answer at once,
@@ -19,6 +22,7 @@ while a producer that queues thousands of lines does not pay one write per line.
 from __future__ import annotations
 
 import json
+import logging
 import os
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -31,6 +35,8 @@ from ..ik.result import IKResult
 from ..ik.target import PositionTarget, Target
 from .joint_units import JointUnits
 from .targets import build_target, check_kind
+
+logger = logging.getLogger(__name__)
 
 #: Most answers written between two flushes while input lines are already there.
 FLUSH_EVERY = 32
@@ -127,33 +133,48 @@ class StreamSolver:
         return result_record(self.solve(target, seed), target, self.all_solutions)
 
     def run(self, source: TextIO | Iterable[str], out: TextIO) -> int:
-        """Answer every line of ``source`` on ``out``, one JSON line each; return 0.
+        """Answer every line of ``source`` on ``out``, one JSON line each.
 
         Every answer is flushed before the stream waits for more input (see
         :func:`line_batches`): a client that writes a line and waits gets its answer.
+
+        Returns:
+            1 when any line had an error or no valid solution, else 0.
         """
         q_units = list(self.units.si_labels)
         # the records are fresh trees of dicts and lists: no need to look for cycles
         dumps = json.JSONEncoder(check_circular=False).encode
         write, flush, answer = out.write, out.flush, self.answer
         number = 0
+        failed = False
         for batch in line_batches(source):
             for count, line in enumerate(batch, start=1):
                 number += 1
                 if not line or line.isspace():
-                    continue
-                try:
-                    record = answer(line)
-                except (KinError, ValueError, TypeError) as err:
-                    record = {"line": number, "error": " ".join(str(err).split())}
+                    record: dict[str, Any] = {"line": number, "skipped": "blank line"}
                 else:
-                    record["line"] = number
-                    record["q_units"] = q_units
+                    try:
+                        record = answer(line)
+                    except (KinError, ValueError, TypeError) as err:
+                        record = {"line": number, "error": " ".join(str(err).split())}
+                        failed = True
+                    except Exception as err:  # noqa: BLE001 - one line fails, never the stream
+                        logger.debug("line %d: unexpected error", number, exc_info=True)
+                        text = " ".join(str(err).split())
+                        record = {
+                            "line": number,
+                            "error": f"internal error: {type(err).__name__}: {text}",
+                        }
+                        failed = True
+                    else:
+                        record["line"] = number
+                        record["q_units"] = q_units
+                        failed = failed or not record["success"]
                 write(dumps(record) + "\n")
                 if count % FLUSH_EVERY == 0:
                     flush()
             flush()
-        return 0
+        return 1 if failed else 0
 
 
 def line_batches(source: TextIO | Iterable[str]) -> Iterator[Sequence[str | bytes]]:

@@ -43,6 +43,20 @@ def _numpy_syrk(alpha: float, a: np.ndarray, beta: float, c: np.ndarray) -> np.n
 _LINALG: tuple = ()
 
 
+#: ``(syrk, posv)`` in NumPy alone (no import to wait for; a few microseconds slower per step).
+NUMPY_LINALG = (_numpy_syrk, _numpy_solve_spd)
+
+#: Expected time to import SciPy's linear algebra [s] (about 0.15 s measured on a 2-core machine).
+LINALG_COST = 0.25
+
+
+def linalg_within(affordable: bool) -> tuple:
+    """The steps' ``(syrk, posv)``: SciPy's when loaded or ``affordable`` (then loaded), else NumPy's."""
+    if _LINALG:
+        return _LINALG
+    return _linalg() if affordable else NUMPY_LINALG
+
+
 def load_linalg() -> float:
     """Load the linear algebra of the steps now (once per process); the time it took [s]."""
     if _LINALG:
@@ -58,7 +72,7 @@ def _linalg() -> tuple:
     try:
         from scipy.linalg import blas, lapack
     except ImportError:  # pragma: no cover - SciPy comes with osqp
-        _LINALG = (_numpy_syrk, _numpy_solve_spd)
+        _LINALG = NUMPY_LINALG
         return _LINALG
 
     def posv(upper: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, int]:
@@ -110,6 +124,7 @@ def damped_newton(
     posture_until: float = 1e-2,
     patience: int | None = None,
     leash: float | None = None,
+    linalg: tuple | None = None,
 ) -> NewtonOutcome:
     """Run clamped damped Newton steps from ``q0`` toward a tool target.
 
@@ -137,6 +152,8 @@ def damped_newton(
         leash: Give up (``converged=False``) once the joint vector, not yet converged, is
             farther than this from the clipped ``q0`` (largest joint change [rad]): the solution
             near ``q0``, if any, is not where the steps go. None: no leash.
+        linalg: ``(syrk, posv)`` of the steps (:func:`linalg_within`), or None: SciPy's,
+            imported now if it is not yet.
     """
     # The loop runs a few microseconds per step: names are bound once, buffers are reused,
     # scalar work is done on Python floats (a NumPy call costs about a microsecond).
@@ -152,7 +169,7 @@ def damped_newton(
     e_position = e[:3]
     e_rotation = e[3:]
     jacobian_of, log3, subtract, dot = pin.computeFrameJacobian, pin.log3, np.subtract, np.dot
-    syrk, posv = _LINALG or _linalg()
+    syrk, posv = linalg or _LINALG or _linalg()
     position_tol2, rotation_tol2 = position_tol * position_tol, rotation_tol * rotation_tol
     rotation_error2 = 0.0
     iterations = 0
@@ -290,7 +307,7 @@ def _step(
     """``z + J^T (J J^T + lam I)^-1 (e - J z)`` through a Cholesky solve."""
     rhs = e if z is None else e - jacobian @ z
     normal = jacobian @ jacobian.T + lam * identity
-    x, info = (_LINALG or _linalg())[1](normal, rhs)
+    x, info = (_LINALG or NUMPY_LINALG)[1](normal, rhs)
     if info != 0:  # not positive definite (no damping at an exact singularity)
         x = np.linalg.lstsq(normal, rhs, rcond=None)[0]
     dq = x @ jacobian

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..reach import REACH_COST, known_reach
 from ..result import IKResult, IKSolution
-from .damped_newton import NewtonOutcome, damped_newton
+from .damped_newton import LINALG_COST, NewtonOutcome, damped_newton, linalg_within
 from .numeric_target import NumericTarget
 
 if TYPE_CHECKING:
@@ -75,6 +75,7 @@ class Search:
         "seed_tried",
         "allowance",
         "table",
+        "linalg",
     )
 
     def __init__(
@@ -97,6 +98,8 @@ class Search:
         #: cost fits before it (:func:`allowance`).
         self.allowance = self.start + allowance(timeout)
         self.table = table
+        #: The damped Newton steps' linear algebra: SciPy's LAPACK when loaded or affordable.
+        self.linalg = linalg_within(self.affords(LINALG_COST))
         self.best: NewtonOutcome | None = None
         self.best_from_qp = False
         self.iterations = 0
@@ -134,6 +137,7 @@ class Search:
             posture=target.posture,
             patience=patience,
             leash=leash,
+            linalg=self.linalg,
         )
         self.iterations += outcome.iterations
         self.attempts += 1

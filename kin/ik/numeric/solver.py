@@ -118,6 +118,8 @@ class NumericIK:
         compiled: Run the free-joint closed form's compiled twin (``_closed7`` for humanoid7's
             structure, ``_shoulder7`` for the spherical shoulder) when it is built (False: the
             Python module). Both return the same joint vectors; the twin is faster.
+        prepare: Build (or load) the seed table now (False: on the first solve that can afford
+            it within its time budget, see :meth:`solve`).
     """
 
     #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
@@ -145,6 +147,7 @@ class NumericIK:
         closed_form_starts: int = 32,
         closed_form_steps: tuple[float, ...] = DEFAULT_CLOSED_FORM_STEPS,
         compiled: bool = True,
+        prepare: bool = True,
     ):
         self.robot = robot
         self.model = robot.model
@@ -195,9 +198,14 @@ class NumericIK:
         # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
         # that share a solver get the answers one thread would).
         self._lock = threading.Lock()
-        # SciPy's LAPACK for the damped Newton steps, imported with the solver (once per
-        # process), not inside a solve's time budget.
-        load_linalg()
+        # The seed table (tens of milliseconds to build, a few to load) and, for an arm without
+        # a free-joint closed form (whose targets all go to damped Newton), SciPy's LAPACK for
+        # the steps (imported once per process) come with the solver, not inside a solve's
+        # budget. A solve that finds SciPy not loaded and cannot afford it uses NumPy's.
+        if prepare:
+            _ = self.table
+            if self.closed_form is None:
+                load_linalg()
 
     @property
     def arm_reach(self) -> Reach:
