@@ -34,7 +34,7 @@ def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
         raise TargetError(f"{what} must be {size} numbers, got {values!r}") from err
     if array.size != size:
         raise TargetError(f"{what} must be {size} numbers, got {array.size}")
-    if not math.isfinite(array.sum()) and not np.isfinite(array).all():
+    if not all(map(math.isfinite, array.tolist())):
         i = int(np.flatnonzero(~np.isfinite(array))[0])
         where = f"{what}[{i}]" if size <= 3 else f"{what}[{i // 3}][{i % 3}]"
         raise TargetError(f"{where} is {array[i]}: every target value must be a finite number")
@@ -44,16 +44,21 @@ def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
 def _rotation(values: npt.ArrayLike) -> np.ndarray:
     """A rotation matrix from 9 numbers (row-major): checked, snapped to SO(3) when nearly one."""
     matrix = _vector(values, 9, "rotation").reshape(3, 3)
-    deviation = float(np.abs(matrix.T @ matrix - _EYE).max())
+    if float(np.abs(matrix).max()) > 2.0:  # no rotation has such an entry (and no overflow)
+        deviation = math.inf
+    else:
+        deviation = float(np.abs(matrix.T @ matrix - _EYE).max())
     if deviation <= _ROTATION_EXACT and np.linalg.det(matrix) > 0.0:
         return matrix
     if deviation <= ROTATION_SNAP:
         u, _, vt = np.linalg.svd(matrix)
         if np.linalg.det(u @ vt) > 0.0:
             return u @ vt
+    with np.errstate(all="ignore"):
+        det = float(np.linalg.det(matrix))
     raise TargetError(
         f"rotation is not a rotation matrix (max |R^T R - I| = {deviation:.3g}, "
-        f"det = {np.linalg.det(matrix):.3g}): give orthonormal axes with det +1 "
+        f"det = {det:.3g}): give orthonormal axes with det +1 "
         f"(a matrix off by at most {ROTATION_SNAP:g} is rounded to the nearest rotation)"
     )
 

@@ -1,0 +1,109 @@
+"""Threads, processes and time budgets: one solver shared by threads, one cache file written by two
+processes at once, and a timeout that bounds the whole call, cold caches included."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from kin import Configuration, load_robot
+from kin.ik import PoseTarget, PositionTarget, get_solver
+from kin.ik.numeric import seed_cache
+from kin.ik.numeric.solver import NumericIK
+
+
+def _targets(name: str, count: int, full: bool, seed: int) -> list:
+    robot = load_robot(name)
+    configuration = Configuration(robot)
+    rng = np.random.default_rng(seed)
+    q_all = rng.uniform(robot.lower, robot.upper, size=(count, robot.nq))
+    targets = []
+    for q in q_all:
+        pose = configuration.fk(q)
+        targets.append(
+            PoseTarget(pose.translation, pose.rotation) if full else PositionTarget(pose.translation)
+        )
+    return targets
+
+
+def _answer(result) -> tuple:
+    return (result.success, result.status, tuple(tuple(s.q.tolist()) for s in result.solutions))
+
+
+@pytest.mark.parametrize(("name", "full"), [("humanoid7", True), ("ur5", True), ("panda", False)])
+def test_one_solver_shared_by_four_threads_answers_as_one_thread(name, full):
+    """4,000 poses split over 4 threads sharing one get_solver(): the answers of one thread.
+
+    A generous time budget and an attempt cap make each answer independent of the machine's
+    speed (the numeric stages stop on the cap, not the clock).
+    """
+    count = 4000 if name == "humanoid7" else 1000
+    robot = load_robot(name)
+    solver = get_solver(robot)
+    targets = _targets(name, count, full, seed=17)
+
+    cap = {"max_attempts": 60} if isinstance(solver, NumericIK) else {}
+
+    def solve(target):
+        return _answer(solver.solve(target, timeout=10.0, **cap))
+
+    alone = [solve(target) for target in targets]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        shared = list(pool.map(solve, targets, chunksize=50))
+    assert shared == alone
+    assert sum(success for success, _, _ in alone) >= 0.99 * count
+
+
+_BUILD = """
+import sys
+from kin import load_robot
+from kin.ik.numeric.seed_table import build_seed_table
+from kin.robot_model import robot_from_table
+from dh2urdf import get_robot, load_table
+robot = robot_from_table(load_table(get_robot("panda").table_path))
+table = build_seed_table(robot, size=int(sys.argv[1]))
+print(len(table))
+"""
+
+
+def test_two_processes_building_one_cache_leave_one_valid_file(tmp_path, monkeypatch):
+    """Two processes build the same seed table at once: one file, which a third one loads."""
+    env = {"XDG_CACHE_HOME": str(tmp_path), "PATH": "/usr/bin:/bin"}
+    size = "30000"
+    processes = [
+        subprocess.Popen(
+            [sys.executable, "-c", _BUILD, size], env=env, stdout=subprocess.PIPE, text=True
+        )
+        for _ in range(2)
+    ]
+    outputs = [process.communicate(timeout=300)[0].strip() for process in processes]
+    assert [process.returncode for process in processes] == [0, 0] and outputs == [size] * 2
+    files = sorted((tmp_path / "dh-kinematics").iterdir())
+    assert len(files) == 1 and files[0].name.startswith("seed_table_"), files
+    key = files[0].name[len("seed_table_") : -len(".npz")]
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    arrays = seed_cache.load(key)
+    assert arrays is not None and len(arrays["q"]) == int(size)
+
+
+@pytest.mark.parametrize("name", ["humanoid7", "panda", "ur5", "puma560", "lab5", "scorbot"])
+def test_a_timeout_bounds_the_call_with_cold_caches(name, monkeypatch, tmp_path):
+    """timeout=5 ms on a fresh solver (no seed table on disk, no MuJoCo model loaded): every
+    target kind, reachable, hard or far, returns within 50 ms (the figures are in the bench)."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    robot = load_robot(name)
+    solver = NumericIK(robot, prepare=False)  # nothing loaded: the first solve meets it all
+    configuration = Configuration(robot)
+    reachable = configuration.fk(np.zeros(robot.nq) + 0.1).translation
+    positions = [reachable, reachable * 1.05 + 0.02, [0.0, 0.0, 0.0], [1e308, 0, 0], [3.0, 0, 0]]
+    for position in positions:
+        target = PositionTarget(position)
+        start = time.perf_counter()
+        result = solver.solve(target, timeout=0.005)
+        elapsed = time.perf_counter() - start
+        assert elapsed < 0.05, f"{name=} {position=} {elapsed=} {result.message}"
