@@ -26,7 +26,9 @@ def _targets(name: str, count: int, full: bool, seed: int) -> list:
     for q in q_all:
         pose = configuration.fk(q)
         targets.append(
-            PoseTarget(pose.translation, pose.rotation) if full else PositionTarget(pose.translation)
+            PoseTarget(pose.translation, pose.rotation)
+            if full
+            else PositionTarget(pose.translation)
         )
     return targets
 

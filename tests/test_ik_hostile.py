@@ -138,14 +138,15 @@ def test_library_answers_or_raises_its_own_error(
 @pytest.mark.parametrize("name", NAMES)
 def test_far_targets_answer_out_of_reach_at_once(name):
     """1e308, 1e200 and 1e3 m away: out_of_reach in well under a millisecond of search."""
-    robot = load_robot(name)
     solver = _solver(name)
     solver.solve(PositionTarget([1e3, 0, 0]), timeout=0.05)  # the reach, once
     kinds = [PositionTarget] + ([PoseTarget] if PoseTarget in solver.target_kinds else [])
     for value in (1e308, -1e200, 1e3):
         for kind in kinds:
-            target = PositionTarget([value, value, 0]) if kind is PositionTarget else PoseTarget(
-                [value, 0, -value], np.eye(3)
+            target = (
+                PositionTarget([value, value, 0])
+                if kind is PositionTarget
+                else PoseTarget([value, 0, -value], np.eye(3))
             )
             start = time.perf_counter()
             result = solver.solve(target, timeout=0.05)

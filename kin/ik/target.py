@@ -18,7 +18,6 @@ import numpy.typing as npt
 
 from .exceptions import TargetError
 
-
 #: Largest ``max |R^T R - I|`` of a target rotation replaced by its nearest rotation matrix; a
 #: farther matrix is refused.
 ROTATION_SNAP = 1e-3

@@ -35,7 +35,6 @@ from ..analytic.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shou
 from ..analytic.structure import seven_dof
 from ..exceptions import StructureError
 from ..result import IKResult, IKSolution
-from .numeric_target import NumericTarget
 from .starts import DAMPED_NEWTON, seed_leash
 
 if TYPE_CHECKING:
@@ -206,9 +205,7 @@ def _moved(q: np.ndarray, seed: np.ndarray) -> float:
     return max(map(abs, map(sub, q.tolist(), seed.tolist())))
 
 
-def _sample_starts(
-    ik: NumericIK, search: Search
-) -> Iterator[tuple[np.ndarray, np.ndarray, float]]:
+def _sample_starts(ik: NumericIK, search: Search) -> Iterator[tuple[np.ndarray, np.ndarray, float]]:
     """Blocks of closed-form starts after the caller's seed: ``(starts, sample indices, step)``.
 
     The seed-table sample nearest the target (scanned, coarse then fine; for a full pose by pose

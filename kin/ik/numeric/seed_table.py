@@ -10,8 +10,8 @@ into one contiguous block, kept, and ranked in the pose embedding by one matrix-
 few microseconds). The tool poses of the samples are the table's NumPy DH product
 (:mod:`kin.batch_fk`), all at once: a new arm's table takes tens of milliseconds. Only
 when that cell holds fewer than ``k`` samples (the target is outside the sampled workspace, or at
-its thin edge) does the query fall back to SciPy's KD-tree (built then; a NumPy argmin without
-SciPy). The samples and the grid are cached on disk per table (:mod:`.seed_cache`).
+its thin edge) does the query rank every sample (one matrix-vector product, tens of
+microseconds; no KD-tree to import and build inside a solve's time budget). The samples and the grid are cached on disk per table (:mod:`.seed_cache`).
 """
 
 from __future__ import annotations
@@ -20,7 +20,6 @@ import functools
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -55,8 +54,6 @@ class SeedTable:
     rotations: np.ndarray
     rotation_weight: float
     cell_size: float = 0.06
-    _position_index: Any = None
-    _pose_index: Any = None
     _cells: dict[int, tuple[int, int]] | None = None
     _origin: np.ndarray | None = None
     _grid_shape: tuple[int, int, int] = (0, 0, 0)
@@ -88,23 +85,29 @@ class SeedTable:
         found = self._nearest_in_grid(position, rotation, k)
         if found is not None:
             return found
-        if rotation is None:
-            point = position
-            points = self.positions
-        else:
-            point = np.concatenate((position, self.rotation_weight * rotation.reshape(-1)))
-            points = None
-        index = self._kd_tree(rotation is not None)
-        if index is not None:
-            _, found = index.query(point, k=k)
-            return np.atleast_1d(found)
-        if points is None:
+        # Outside the grid (or at its thin edge): every sample, one matrix-vector product.
+        if self._lifted is None:
             points = np.hstack((self.positions, self.rotation_weight * self.rotations))
-        distances = np.einsum("ij,ij->i", points - point, points - point)
+            if rotation is None:
+                points, point = self.positions, position
+            else:
+                point = np.concatenate((position, self.rotation_weight * rotation.reshape(-1)))
+            distances = np.einsum("ij,ij->i", points - point, points - point)
+        else:
+            distances = self._lifted @ self._query(position, rotation)
         if k == 1:
             return np.array([int(np.argmin(distances))])
         best = np.argpartition(distances, k - 1)[:k]
-        return best[np.argsort(distances[best])]
+        return best[np.argsort(distances[best], kind="stable")]
+
+    def _query(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """The target's row whose product with a lifted sample row is their squared distance."""
+        px, py, pz = position.tolist()
+        offset = px * px + py * py + pz * pz
+        if rotation is None:
+            return np.array((px, py, pz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, offset))
+        offset += 6.0 * self.rotation_weight * self.rotation_weight
+        return np.array([px, py, pz, *rotation.ravel().tolist(), 1.0, offset])
 
     def ranked(
         self, position: np.ndarray, rotation: np.ndarray | None = None
@@ -133,14 +136,7 @@ class SeedTable:
         block = self._blocks.get(key)
         if block is None:  # the cell's rows, gathered once into one contiguous block
             block = self._blocks[key] = np.ascontiguousarray(self._lifted[owners])  # type: ignore[index]
-        px, py, pz = position.tolist()
-        offset = px * px + py * py + pz * pz
-        if rotation is None:
-            query = np.array((px, py, pz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, offset))
-        else:
-            offset += 6.0 * self.rotation_weight * self.rotation_weight
-            query = np.array([px, py, pz, *rotation.ravel().tolist(), 1.0, offset])
-        return owners, np.dot(block, query)
+        return owners, np.dot(block, self._query(position, rotation))
 
     def _cell_key(self, position: np.ndarray) -> int | None:
         """The grid key of the cell holding ``position``, or None (no grid, outside it, not finite)."""
@@ -184,26 +180,6 @@ class SeedTable:
             order = np.argsort(np.einsum("ij,ij->i", gap, gap), kind="stable")
             found = self._by_centre[key] = owners[order]
         return found
-
-    def _kd_tree(self, pose: bool) -> Any:
-        """SciPy's KD-tree over the positions (or the pose embedding), built on first use.
-
-        None without SciPy (the lookup falls back to a NumPy argmin).
-        """
-        name = "_pose_index" if pose else "_position_index"
-        tree = getattr(self, name)
-        if tree is None:
-            try:
-                from scipy.spatial import cKDTree
-            except ImportError:  # pragma: no cover
-                logger.info("SciPy not installed: seed lookup falls back to a NumPy argmin")
-                return None
-            points = self.positions
-            if pose:
-                points = np.hstack((points, self.rotation_weight * self.rotations))
-            tree = cKDTree(points)
-            object.__setattr__(self, name, tree)
-        return tree
 
     def _nearest_in_grid(
         self, position: np.ndarray, rotation: np.ndarray | None, k: int
@@ -330,8 +306,6 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
         rotations,
         rotation_weight,
         cell_size,
-        None,
-        None,
         cells,  # type: ignore[arg-type]
         arrays["origin"],
         (nx, ny, nz),

@@ -37,14 +37,14 @@ from kin import KinError, RobotModel, as_joint_vector, load_robot
 
 from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
+from ..reach import Reach, arm_reach, reach_bound
 from ..result import IKResult
 from ..target import PoseTarget, PositionTarget, kind_error
+from . import seed_cache
+from .damped_newton import load_linalg
 from .differential_ik import DifferentialIK
 from .free_joint import FreeJointClosedForm, free_joint_closed_form, solve_free_joint
 from .numeric_target import NumericTarget
-from ..reach import Reach, arm_reach, reach_bound
-from . import seed_cache
-from .damped_newton import load_linalg
 from .restarts import polish_best, solve_with_restarts
 from .search import PIPELINE, Search, allowance
 from .seed_table import SeedTable, build_seed_table, seed_table_for

@@ -94,7 +94,7 @@ def seed_table_starts(
             yield "the given seed", seed, -1, ik.patience, None
         return
     found = table.ranked(target.position, target.rotation)
-    if found is None or found[0].size < ik.nearest:  # outside the grid: the KD-tree
+    if found is None or found[0].size < ik.nearest:  # outside the grid: every sample
         candidates, distances = table.nearest(target.position, target.rotation, k=ik.nearest), None
         first_index = 0
     else:
