@@ -294,3 +294,22 @@ def test_five_joint_arm_takes_a_position_target(capsys):
     assert out["success"] and out["solutions"][0]["rotation_error_rad"] is None
     reached = Configuration(load_robot("ned5")).fk(np.array(out["solutions"][0]["q"]))
     np.testing.assert_allclose(reached.translation, [0.2, 0.0, 0.1], atol=1e-5)
+
+
+@pytest.mark.parametrize("start", [None, ["0", "-1", "1", "0", "0", "0"]])
+def test_kin_ik_and_preview_ik_agree_from_the_same_start(start, capsys, tmp_path):
+    """ur5 position target: `kin ik` (default start q = 0) and `kin preview --ik` (--q) agree."""
+    from kin.commands import preview
+
+    target = ["--target", "0.4", "0.1", "0.3"]
+    seed = [] if start is None else ["--seed-q", *start]
+    answer = _json(capsys, ["--robot", "ur5", *target, *seed, "--json"])
+    q_ik = np.array(answer["solutions"][0]["q"])
+    html = tmp_path / "p.html"
+    q_flag = [] if start is None else ["--q", *start]
+    assert preview.main(["--robot", "ur5", *target, *q_flag, "--ik", "--html", str(html)]) == 0
+    shown = capsys.readouterr().out.split("q = ")[1].split(",")
+    q_preview = np.array([float(value.split()[0]) for value in shown])
+    np.testing.assert_allclose(q_preview, q_ik, atol=5e-4)  # printed with 4 digits
+    reached = Configuration(load_robot("ur5")).fk(q_ik).translation
+    np.testing.assert_allclose(reached, [0.4, 0.1, 0.3], atol=1e-5)

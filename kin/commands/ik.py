@@ -116,6 +116,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     """Load the robot and its solver, then solve the target or the stdin stream."""
+    import numpy as np
+
     from ..ik.target import PositionTarget
     from ..robot_model import load_robot
     from .joint_units import JointUnits
@@ -124,7 +126,9 @@ def _run(args: argparse.Namespace) -> int:
 
     robot = load_robot(args.robot)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
-    seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
+    # The documented default start is q = 0, as `kin preview --ik` starts from --q's zeros: the
+    # same target and start give the same answer in both.
+    seed = np.zeros(robot.nq) if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
     solver = choose_solver(robot, args.solver)
     solve = solve_function(solver, args.timeout / 1e3)
     kinds = None if isinstance(solver, NewtonRaphsonSolver) else target_kinds(solver)
