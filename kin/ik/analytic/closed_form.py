@@ -190,7 +190,9 @@ class ClosedFormSolver:
         if self._numeric is None:
             from ..numeric.solver import NumericIK
 
-            self._numeric = NumericIK(self.robot, closed_form=False)
+            # Built inside a solve: its seed table within that call's budget, or in the
+            # background for the next calls (NumericIK.solve).
+            self._numeric = NumericIK(self.robot, closed_form=False, prepare=False)
         return self._numeric
 
     def _failure(

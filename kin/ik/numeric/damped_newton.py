@@ -51,7 +51,11 @@ LINALG_COST = 0.25
 
 
 def linalg_within(affordable: bool) -> tuple:
-    """The steps' ``(syrk, posv)``: SciPy's when loaded or ``affordable`` (then loaded), else NumPy's."""
+    """The steps' ``(syrk, posv)``: SciPy's when loaded or ``affordable`` (then loaded now).
+
+    Else NumPy's (an import in a background thread would hold the interpreter lock for longer
+    than a short budget): a solver built with ``prepare`` imports SciPy's, outside any call.
+    """
     if _LINALG:
         return _LINALG
     return _linalg() if affordable else NUMPY_LINALG

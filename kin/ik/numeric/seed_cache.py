@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 #: Bumped when the cached arrays change meaning.
-FORMAT = 2
+FORMAT = 3
 
 #: Number of seed tables sampled in this process (a test sees whether the cache was used).
 BUILDS = 0

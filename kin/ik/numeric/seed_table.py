@@ -1,17 +1,19 @@
 """A precomputed table of sampled joint vectors and their tool poses, to start IK near the target.
 
 The table samples joint vectors uniformly inside the limits (seeded, reproducible), computes the
-tool pose of each with Pinocchio, and answers "which samples have a tool pose nearest to this
+tool pose of each with the table's NumPy DH product (:mod:`kin.batch_fk`, all samples at once; the
+tests hold it to Pinocchio's FK), and answers "which samples have a tool pose nearest to this
 target?". Poses are compared in an embedding where 1 rad of rotation weighs about
 ``rotation_weight`` [m]: ``(p, rotation_weight * vec(R))`` (``|R1 - R2|_F ~ sqrt(2) * angle``).
-Queries look up a uniform grid over the tool positions first: each cell holds the samples of
-its 3 x 3 x 3 neighbourhood; on a cell's first query its samples' lifted embeddings are gathered
-into one contiguous block, kept, and ranked in the pose embedding by one matrix-vector product (a
-few microseconds). The tool poses of the samples are the table's NumPy DH product
-(:mod:`kin.batch_fk`), all at once: a new arm's table takes tens of milliseconds. Only
-when that cell holds fewer than ``k`` samples (the target is outside the sampled workspace, or at
-its thin edge) does the query rank every sample (one matrix-vector product, tens of
-microseconds; no KD-tree to import and build inside a solve's time budget). The samples and the grid are cached on disk per table (:mod:`.seed_cache`).
+
+Queries look up a uniform grid over the tool positions first: on a cell's first query the samples
+of its 3 x 3 x 3 neighbourhood and their lifted embeddings are gathered into one contiguous block
+and kept; each query then ranks them by one matrix-vector product (a few microseconds). Only when
+that neighbourhood holds fewer than ``k`` samples (the target is outside the sampled workspace,
+or at its thin edge) does the query rank every sample (one matrix-vector product, tens of
+microseconds; no KD-tree to import and build inside a solve's time budget). Building a table of
+20,000 samples takes about 30 ms; the samples and the grid are cached on disk per table
+(:mod:`.seed_cache`).
 """
 
 from __future__ import annotations
@@ -59,8 +61,9 @@ class SeedTable:
     _grid_shape: tuple[int, int, int] = (0, 0, 0)
     _lifted: np.ndarray | None = None
     _owners: np.ndarray | None = None
-    #: Per cell key: its samples' lifted embeddings as one contiguous block (made on first use).
-    _blocks: dict[int, np.ndarray] = field(default_factory=dict)
+    #: Per cell key: the samples of its 3 x 3 x 3 neighbourhood and their lifted embeddings as
+    #: one contiguous block (gathered on the cell's first query).
+    _blocks: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     #: Per cell key: its samples nearest to the cell's centre first (made on first use).
     _by_centre: dict[int, np.ndarray] = field(default_factory=dict)
 
@@ -125,18 +128,29 @@ class SeedTable:
         key = self._cell_key(position)
         if key is None:
             return None
-        span = self._cells.get(key)  # type: ignore[union-attr]
-        if span is None:
-            return None
-        # Each row of a cell's block is ``(-2 p, -2 w^2 vec(R), |p|^2, 1)``: its product with
+        # Each row of a block is ``(-2 p, -2 w^2 vec(R), |p|^2, 1)``: its product with
         # ``(p_t, vec(R_t), 1, |p_t|^2 + 6 w^2)`` is the squared distance (``|vec(R)|^2 = 3``
         # for a rotation); a position-only query has ``R_t = 0`` and no ``6 w^2``.
-        begin, end = span
-        owners = self._owners[begin:end]  # type: ignore[index]
-        block = self._blocks.get(key)
-        if block is None:  # the cell's rows, gathered once into one contiguous block
-            block = self._blocks[key] = np.ascontiguousarray(self._lifted[owners])  # type: ignore[index]
+        owners, block = self._neighbourhood(key)
+        if not owners.size:
+            return None
         return owners, np.dot(block, self._query(position, rotation))
+
+    def _neighbourhood(self, key: int) -> tuple[np.ndarray, np.ndarray]:
+        """The samples of cell ``key``'s 3 x 3 x 3 neighbourhood and their lifted rows (cached)."""
+        found = self._blocks.get(key)
+        if found is None:
+            cells, owners = self._cells, self._owners
+            assert cells is not None and owners is not None and self._lifted is not None
+            _, ny, nz = self._grid_shape
+            parts = []
+            for dx, dy, dz in _OFFSETS:
+                span = cells.get(key + (dx * ny + dy) * nz + dz)
+                if span is not None:
+                    parts.append(owners[span[0] : span[1]])
+            members = np.concatenate(parts) if parts else owners[:0]
+            found = self._blocks[key] = (members, np.ascontiguousarray(self._lifted[members]))
+        return found
 
     def _cell_key(self, position: np.ndarray) -> int | None:
         """The grid key of the cell holding ``position``, or None (no grid, outside it, not finite)."""
@@ -169,10 +183,9 @@ class SeedTable:
             return None
         found = self._by_centre.get(key)
         if found is None:
-            span = self._cells.get(key)  # type: ignore[union-attr]
-            if span is None:
+            owners = self._neighbourhood(key)[0]
+            if not owners.size:
                 return None
-            owners = self._owners[span[0] : span[1]]  # type: ignore[index]
             _, ny, nz = self._grid_shape
             cell = np.array((key // (ny * nz), (key // nz) % ny, key % nz), dtype=float)
             centre = self._origin + (cell + 0.5) * self.cell_size  # type: ignore[operator]
@@ -194,32 +207,34 @@ class SeedTable:
         return candidates[best[np.argsort(distances[best])]]
 
 
+#: The 27 cell offsets of a neighbourhood.
+_OFFSETS = tuple((dx - 1, dy - 1, dz - 1) for dx, dy, dz in np.ndindex(3, 3, 3))
+
+
 def _grid(
     positions: np.ndarray, cell_size: float
 ) -> tuple[dict[int, tuple[int, int]], np.ndarray, np.ndarray, tuple[int, int, int]]:
-    """A uniform grid whose cells hold the samples of their 3 x 3 x 3 neighbourhood.
+    """A uniform grid over the tool positions: each cell's own samples.
+
+    A query gathers the 27 cells around the target's on its first visit (``_neighbourhood``).
+    The grid has one empty layer of cells around the samples, so that a cell's neighbours are
+    never outside it.
 
     Returns:
         ``(spans, owners, origin, shape)``: cell key -> ``(begin, end)`` into ``owners``, the
-        sample indices sorted by cell (each sample appears in 27 cells).
+        sample indices sorted by cell.
     """
     origin = positions.min(axis=0) - cell_size
     cell = np.floor((positions - origin) / cell_size).astype(np.int64)
     shape = tuple(int(v) for v in cell.max(axis=0) + 2)
     nx, ny, nz = shape
-    base = (cell[:, 0] * ny + cell[:, 1]) * nz + cell[:, 2]
-    shifts = [(dx * ny + dy) * nz + dz for dx, dy, dz in np.ndindex(3, 3, 3)]
-    shift0 = (ny + 1) * nz + 1  # the (1, 1, 1) offset is the sample's own cell
-    by_cell = np.argsort(base, kind="stable")
-    # 27 sorted runs (one per offset): the stable sort (timsort) merges them.
-    key = (base[by_cell][None, :] + (np.array(shifts) - shift0)[:, None]).reshape(-1)
-    owner = np.tile(by_cell, 27)
-    order = np.argsort(key, kind="stable")
-    key, owner = key[order], owner[order]
-    unique, starts = np.unique(key, return_index=True)
+    key = (cell[:, 0] * ny + cell[:, 1]) * nz + cell[:, 2]
+    owner = np.argsort(key, kind="stable")
+    key = key[owner]
+    starts = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
     ends = np.append(starts[1:], len(key))
     spans = dict(
-        zip(unique.tolist(), zip(starts.tolist(), ends.tolist(), strict=True), strict=True)
+        zip(key[starts].tolist(), zip(starts.tolist(), ends.tolist(), strict=True), strict=True)
     )
     return spans, owner, origin, (nx, ny, nz)
 

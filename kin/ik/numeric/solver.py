@@ -27,6 +27,7 @@ from __future__ import annotations
 import functools
 import logging
 import math
+import sys
 import threading
 import time
 
@@ -60,8 +61,9 @@ DEFAULT_TIMEOUT = 0.05
 
 #: Expected time to take a seed table from memory or the disk cache [s] (a few ms measured).
 TABLE_LOAD_COST = 0.015
-#: Expected time to build a seed table, per sample [s] (60 ms for 20,000 samples measured).
-TABLE_BUILD_COST = 5e-6
+#: Expected time to build a seed table, per sample [s] (20 to 30 ms for 20,000 samples measured).
+#: A call that cannot afford it has it built in a background thread for the next calls.
+TABLE_BUILD_COST = 2e-6
 
 #: Default free-joint scan steps of the closed form [rad], coarse to fine (with or without the
 #: compiled twins: the same answers either way).
@@ -198,6 +200,8 @@ class NumericIK:
         # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
         # that share a solver get the answers one thread would).
         self._lock = threading.Lock()
+        self._table_lock = threading.Lock()
+        self._table_thread: threading.Thread | None = None
         # The seed table (tens of milliseconds to build, a few to load) and, for an arm without
         # a free-joint closed form (whose targets all go to damped Newton), SciPy's LAPACK for
         # the steps (imported once per process) come with the solver, not inside a solve's
@@ -216,10 +220,12 @@ class NumericIK:
     def table(self) -> SeedTable:
         """The seed table (built on first use; cached on disk per table, in memory per shipped robot)."""
         if self._table is None:
-            if _is_shipped(self.robot):
-                self._table = seed_table_for(self.robot.name, self.table_size)
-            else:  # a robot loaded from a table file: its own table
-                self._table = build_seed_table(self.robot, self.table_size)
+            with self._table_lock:  # one build, whoever asks first (a solve or the background)
+                if self._table is None:
+                    if _is_shipped(self.robot):
+                        self._table = seed_table_for(self.robot.name, self.table_size)
+                    else:  # a robot loaded from a table file: its own table
+                        self._table = build_seed_table(self.robot, self.table_size)
         return self._table
 
     @property
@@ -320,12 +326,40 @@ class NumericIK:
         """
         if self._table is not None:
             return self._table
+        building = self._table_thread
+        if building is not None:  # being built in the background: wait while the call affords it
+            building.join(max(0.0, end - time.perf_counter() - 2e-3))
+            return self._table
         cached = seed_cache.exists(self.robot, self.table_size)
         cost = TABLE_LOAD_COST if cached else TABLE_BUILD_COST * self.table_size
         if time.perf_counter() + cost > end:
-            logger.info("%s: no time to build the seed table in this call", self.robot.name)
+            logger.info(
+                "%s: seed table built in the background (no time in this call)", self.robot.name
+            )
+            self._table_thread = threading.Thread(
+                target=self._build_in_background,
+                name=f"seed table of {self.robot.name}",
+                daemon=True,
+            )
+            self._table_thread.start()
             return None
         return self.table
+
+    def _build_in_background(self) -> None:
+        """Build :attr:`table` in a background thread, handing the interpreter lock back often.
+
+        While it runs, the interpreter's thread switch interval is 0.5 ms instead of 5 ms, so
+        that a solve waiting for the lock (with a budget of a few milliseconds) waits little.
+        """
+        interval = sys.getswitchinterval()
+        sys.setswitchinterval(min(interval, 5e-4))
+        try:
+            _ = self.table
+        except Exception:  # noqa: BLE001 - a later solve builds it again and reports
+            logger.info("%s: background seed table failed", self.robot.name, exc_info=True)
+            self._table_thread = None
+        finally:
+            sys.setswitchinterval(interval)
 
     def _beyond_reach(self, target: NumericTarget, distance: float, start: float) -> IKResult:
         """``out_of_reach`` for a target farther than :attr:`reach` from the base (no search)."""
