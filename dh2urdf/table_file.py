@@ -23,9 +23,9 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     mass = 1.5                     # optional, kg: the link gets a solid-cylinder inertial
     radius = 40.0                  # optional, length_unit: radius of the link's primitive
 
-    [base]                         # optional: xyz + rpy, or a DH-style row a, alpha, d, theta
-    xyz = [0.0, 0.0, 0.0]
-    rpy = [0.0, 0.0, 0.0]
+    [base]                         # optional: xyz + rpy, xyz + quat_wxyz, or a DH-style row
+    xyz = [0.0, 0.0, 0.0]          #   a, alpha, d, theta
+    rpy = [0.0, 0.0, 0.0]          # (or quat_wxyz = [1.0, 0.0, 0.0, 0.0]: W X Y Z, unit)
 
     [tool]                         # optional, same forms as [base]
 
@@ -137,6 +137,8 @@ def _fixed_transform(
     if not isinstance(data, dict):
         raise TableError(path, "expected a table ([base] / [tool])", None, key)
     dh_keys = {"a", "alpha", "d", "theta"}
+    if "quat_wxyz" in data and set(data) <= {"xyz", "quat_wxyz"}:
+        return _xyz_quaternion(path, data, key, meters)
     if set(data) <= {"xyz", "rpy"}:
         xyz = data.get("xyz", [0.0, 0.0, 0.0])
         rpy = data.get("rpy", [0.0, 0.0, 0.0])
@@ -163,10 +165,42 @@ def _fixed_transform(
         )
     raise TableError(
         path,
-        "give either xyz/rpy or a DH-style row a/alpha/d/theta, not " + ", ".join(sorted(data)),
+        "give either xyz/rpy, xyz/quat_wxyz or a DH-style row a/alpha/d/theta, not "
+        + ", ".join(sorted(data)),
         None,
         key,
     )
+
+
+def _xyz_quaternion(path: str, data: dict[str, Any], key: str, meters: float) -> np.ndarray:
+    """``xyz`` [length_unit] and a unit quaternion ``quat_wxyz`` (W X Y Z) as a 4x4 transform.
+
+    The quaternion is exact where roll-pitch-yaw is not (near pitch +-90 deg), so the tables
+    read from URDFs (:mod:`.urdf_to_dh`) write it.
+    """
+    xyz = data.get("xyz", [0.0, 0.0, 0.0])
+    quat = data["quat_wxyz"]
+    for sub, vec, size in (("xyz", xyz, 3), ("quat_wxyz", quat, 4)):
+        if not isinstance(vec, list) or len(vec) != size:
+            raise TableError(
+                path, f"expected a list of {size} numbers, got {vec!r}", None, f"{key}.{sub}"
+            )
+    x, y, z = (_length(path, v, None, f"{key}.xyz", meters) for v in xyz)
+    w, qx, qy, qz = (_number(path, v, None, f"{key}.quat_wxyz") for v in quat)
+    norm = math.sqrt(w * w + qx * qx + qy * qy + qz * qz)
+    if not abs(norm - 1.0) < 1e-6:
+        raise TableError(
+            path, f"expected a unit quaternion (W X Y Z), got norm {norm:.6g}", None, f"{key}.quat_wxyz"
+        )
+    w, qx, qy, qz = w / norm, qx / norm, qy / norm, qz / norm
+    out = np.eye(4)
+    out[:3, :3] = [
+        [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * w), 2 * (qx * qz + qy * w)],
+        [2 * (qx * qy + qz * w), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * w)],
+        [2 * (qx * qz - qy * w), 2 * (qy * qz + qx * w), 1 - 2 * (qx * qx + qy * qy)],
+    ]
+    out[:3, 3] = (x, y, z)
+    return out
 
 
 def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHRow:

@@ -1,0 +1,153 @@
+"""Write a :class:`DHTable` as a table file (TOML), in the format users write by hand.
+
+Lengths in meters and angles in radians (``length_unit = "m"``, ``angle_unit = "rad"``), every
+number written with all its digits (``repr``), so that :func:`~dh2urdf.load_table` of the text
+gives the same table: the rows exactly, ``[base]`` and ``[tool]`` through ``xyz`` and ``rpy`` (URDF
+roll-pitch-yaw) when that keeps every digit, else ``quat_wxyz`` (near pitch +-90 deg).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .dh_table import DHTable
+
+__all__ = ["table_text", "write_table"]
+
+
+def _number(value: float) -> str:
+    text = repr(float(value))
+    return "0.0" if text == "-0.0" else text
+
+
+def _string(text: str) -> str:
+    escaped = text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", " ")
+    return f'"{escaped}"'
+
+
+def _rpy(rotation: np.ndarray) -> tuple[float, float, float]:
+    """URDF roll-pitch-yaw of a rotation matrix: ``R = Rz(yaw) Ry(pitch) Rx(roll)`` [rad]."""
+    r = np.asarray(rotation, dtype=float)
+    pitch = math.atan2(-r[2, 0], math.hypot(r[0, 0], r[1, 0]))
+    if math.hypot(r[0, 0], r[1, 0]) > 1e-12:
+        roll = math.atan2(r[2, 1], r[2, 2])
+        yaw = math.atan2(r[1, 0], r[0, 0])
+    else:  # gimbal lock: yaw 0, all of it in roll
+        roll = math.atan2(-r[1, 2], r[1, 1])
+        yaw = 0.0
+    return roll, pitch, yaw
+
+
+def _quaternion(rotation: np.ndarray) -> tuple[float, float, float, float]:
+    """Unit quaternion (W X Y Z, W >= 0) of a rotation matrix (Shepperd's method)."""
+    r = np.asarray(rotation, dtype=float)
+    trace = r[0, 0] + r[1, 1] + r[2, 2]
+    if trace > 0.0:
+        s = 2.0 * math.sqrt(1.0 + trace)
+        w, x, y, z = (
+            0.25 * s,
+            (r[2, 1] - r[1, 2]) / s,
+            (r[0, 2] - r[2, 0]) / s,
+            (r[1, 0] - r[0, 1]) / s,
+        )
+    elif r[0, 0] > r[1, 1] and r[0, 0] > r[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + r[0, 0] - r[1, 1] - r[2, 2])
+        w, x, y, z = (
+            (r[2, 1] - r[1, 2]) / s,
+            0.25 * s,
+            (r[0, 1] + r[1, 0]) / s,
+            (r[0, 2] + r[2, 0]) / s,
+        )
+    elif r[1, 1] > r[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + r[1, 1] - r[0, 0] - r[2, 2])
+        w, x, y, z = (
+            (r[0, 2] - r[2, 0]) / s,
+            (r[0, 1] + r[1, 0]) / s,
+            0.25 * s,
+            (r[1, 2] + r[2, 1]) / s,
+        )
+    else:
+        s = 2.0 * math.sqrt(1.0 + r[2, 2] - r[0, 0] - r[1, 1])
+        w, x, y, z = (
+            (r[1, 0] - r[0, 1]) / s,
+            (r[0, 2] + r[2, 0]) / s,
+            (r[1, 2] + r[2, 1]) / s,
+            0.25 * s,
+        )
+    sign = -1.0 if w < 0.0 else 1.0
+    norm = math.sqrt(w * w + x * x + y * y + z * z)
+    return sign * w / norm, sign * x / norm, sign * y / norm, sign * z / norm
+
+
+def _fixed(name: str, matrix: np.ndarray) -> list[str]:
+    """The ``[name]`` section: ``xyz`` and ``rpy``, or ``quat_wxyz`` when rpy loses digits.
+
+    Near pitch +-90 deg roll and yaw are ill-conditioned: the quaternion keeps every digit.
+    """
+    if np.array_equal(matrix, np.eye(4)):
+        return []
+    xyz = ", ".join(_number(v) for v in matrix[:3, 3])
+    rotation = matrix[:3, :3]
+    rpy = _rpy(rotation)
+    if np.abs(_rpy_matrix(rpy) - rotation).max() <= 1e-15:
+        return ["", f"[{name}]", f"xyz = [{xyz}]", f"rpy = [{', '.join(map(_number, rpy))}]"]
+    quat = ", ".join(_number(v) for v in _quaternion(rotation))
+    return ["", f"[{name}]", f"xyz = [{xyz}]", f"quat_wxyz = [{quat}]"]
+
+
+def _rpy_matrix(rpy: tuple[float, float, float]) -> np.ndarray:
+    """``Rz(yaw) Ry(pitch) Rx(roll)``."""
+    from .transforms import xyz_rpy
+
+    return xyz_rpy((0.0, 0.0, 0.0), rpy)[:3, :3]
+
+
+def table_text(table: DHTable, header: str = "") -> str:
+    """The TOML text of ``table`` (SI units); ``header`` becomes leading ``#`` comment lines."""
+    lines = [f"# {line}".rstrip() for line in header.splitlines()]
+    lines += [
+        f"name = {_string(table.name)}",
+        f"description = {_string(table.description)}",
+        f"source = {_string(table.source)}",
+        f"convention = {_string(table.convention)}",
+        'length_unit = "m"',
+        'angle_unit = "rad"',
+    ]
+    for row in table.rows:
+        lines += [
+            "",
+            "[[joints]]",
+            f"name = {_string(row.name)}",
+            f"type = {_string(row.joint_type)}",
+            f"a = {_number(row.a)}",
+            f"alpha = {_number(row.alpha)}",
+            f"d = {_number(row.d)}",
+            f"theta = {_number(row.theta)}",
+            f"limits = [{_number(row.lower)}, {_number(row.upper)}]",
+            f"velocity = {_number(row.velocity)}",
+            f"effort = {_number(row.effort)}",
+        ]
+    lines += _fixed("base", np.asarray(table.T_world_base))
+    lines += _fixed("tool", np.asarray(table.T_last_tool))
+    return "\n".join(lines) + "\n"
+
+
+def write_table(table: DHTable, path: str | Path, header: str = "") -> None:
+    """Write ``table`` to ``path`` (a temporary file moved into place: never half a file)."""
+    import os
+    import tempfile
+
+    path = Path(path)
+    text = table_text(table, header)
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent or ".")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as file:
+            file.write(text)
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
