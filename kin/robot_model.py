@@ -94,18 +94,33 @@ def robot_from_table(table: DHTable) -> RobotModel:
     return _build(table.name, table, urdf_string(table), table.path or table.name)
 
 
-def load_robot(robot: str | Path) -> RobotModel:
-    """Load a shipped robot by name, or any DH table file by path.
+def load_robot(
+    robot: str | Path, base: str | None = None, tip: str | None = None
+) -> RobotModel:
+    """Load a shipped robot by name, a DH table file, or the chain of a URDF file.
+
+    A URDF (``.urdf``, or ``.xacro`` with the optional ``xacrodoc``) is read as a DH table
+    (:func:`dh2urdf.urdf_to_dh.table_from_urdf`: the chain from ``base`` to ``tip``), and the
+    model is built from that table like any other: every solver sees one DH table.
 
     Args:
-        robot: Registry name (e.g. ``"ur5"``) or path to a ``.toml`` DH table.
+        robot: Registry name (e.g. ``"ur5"``), path to a ``.toml`` DH table, or a URDF.
+        base: Base link of a URDF's chain (default: its root link).
+        tip: Tip link of a URDF's chain (default: the single leaf below its last joint).
 
     Raises:
         dh2urdf.UnknownRobotError: Not a known name (the message lists them) nor a path.
         dh2urdf.TableError: The table file is malformed.
-        ModelLoadError: The URDF cannot be read or loaded.
+        dh2urdf.urdf_chain.UrdfChainError: The URDF gives no serial chain from base to tip.
+        ModelLoadError: The URDF cannot be read or loaded; base or tip given for a table.
     """
     text = str(robot)
+    if text.endswith((".urdf", ".xacro", ".URDF")):
+        from dh2urdf.urdf_to_dh import table_from_urdf
+
+        return robot_from_table(table_from_urdf(text, base, tip))
+    if base is not None or tip is not None:
+        raise ModelLoadError(f"{text}: --base and --tip choose links of a URDF, not of a DH table")
     if isinstance(robot, Path) or text.endswith(".toml") or "/" in text:
         return robot_from_table(load_table(robot))
     return _load_by_name(text)
