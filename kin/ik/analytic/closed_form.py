@@ -34,7 +34,7 @@ import numpy.typing as npt
 
 from kin import RobotModel
 
-from ..exceptions import TargetError
+from ..exceptions import StructureError, TargetError
 from ..judge import ToolJudge, axis_error, rotation_error
 from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target, kind_error
@@ -45,6 +45,7 @@ from .closed_form_structure import (
     PitchStructure,
     candidate_branches,
 )
+from .idealised import Idealised, idealise, polish
 from .registry import recognise
 from .six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
 
@@ -138,7 +139,21 @@ class ClosedFormSolver:
         compiled: bool = True,
     ):
         self.robot = robot
-        self.structure: ClosedFormStructure = recognise(robot.table)
+        #: The idealised table the structure fits when the true one misses it by rounding
+        #: (:mod:`.idealised`: answers polished on the true chain), else None.
+        self.idealised: Idealised | None = None
+        try:
+            self.structure: ClosedFormStructure = recognise(robot.table)
+        except StructureError as exact:
+            ideal = idealise(robot.table)
+            if ideal is None:
+                raise
+            try:
+                self.structure = recognise(ideal.table)
+            except StructureError:
+                raise exact from None
+            self.idealised = ideal
+            compiled = False  # the twins measure with the table they solve: the ideal one
         self.name = f"closed_form:{self.structure.name}"
         self._detailed = isinstance(self.structure, DetailedStructure)
         self.tolerance_position = tolerance_position
@@ -287,8 +302,24 @@ class ClosedFormSolver:
         branches = self._branches(target, seed_list)
         if branches.status == "out_of_reach":
             return self._failure("out_of_reach", branches.message, start, branches.gap, target)
+        method = "closed_form"
+        if self.idealised is not None and not isinstance(target, PitchTarget):
+            branches = self._polished(branches, target)
+            method = "closed_form_polished"
         valid, rejected = self._verify(target, branches, seed_list, p, r)
-        return self._result(valid, rejected, branches.status, branches.message, start)
+        return self._result(valid, rejected, branches.status, branches.message, start, method)
+
+    def _polished(self, branches: Branches, target: Target) -> Branches:
+        """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`)."""
+        judge, offsets = self._judge, self._offsets
+        rotation = target.rotation if isinstance(target, PoseTarget) else None
+        moved = []
+        for thetas, label in branches.thetas:
+            q = np.subtract(thetas, offsets)
+            q = polish(judge.model, judge.data, judge.frame_id, q, target.position, rotation)
+            moved.append((tuple(np.add(q, offsets).tolist()), label))
+        branches.thetas = moved
+        return branches
 
     def _seed_list(self, seed: npt.ArrayLike | None) -> list[float]:
         """The seed as floats [rad] (zeros if None).
@@ -315,6 +346,7 @@ class ClosedFormSolver:
         branch_status: BranchStatus,
         branch_message: str,
         start: float,
+        method: str = "closed_form",
     ) -> IKResult:
         """The result of verified branches: valid ones ordered by distance to the seed."""
         if len(valid) > 1:
@@ -340,7 +372,7 @@ class ClosedFormSolver:
             solutions=solutions,
             rejected=rejected_solutions,
             time=time.perf_counter() - start,
-            method="closed_form" if solutions else "",
+            method=method if solutions else "",
         )
 
     def _solve_twin(self, target: PoseTarget, seed: npt.ArrayLike | None, start: float) -> IKResult:

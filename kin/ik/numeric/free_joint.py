@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from operator import sub
+from operator import le, sub
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
@@ -30,6 +30,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ..analytic.idealised import polish
 from ..analytic.seven_dof import SevenDofIK
 from ..analytic.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shoulder7
 from ..analytic.structure import seven_dof
@@ -190,8 +191,17 @@ def _verified(
 ) -> tuple[float, float | None] | None:
     """The judge's errors of a closed-form answer when within the tolerances, else None.
 
-    The limits are the closed form's business.
+    The limits are the closed form's business, except after a polish: the answer of an idealised
+    table (``ik.idealised``) is first moved onto the true chain (:func:`.idealised.polish`, in
+    place), then checked against the limits too.
     """
+    if ik.idealised is not None:
+        judge = ik.judge
+        target = search.target
+        q[:] = polish(judge.model, judge.data, judge.frame_id, q, target.position, target.rotation)
+        values = q.tolist()
+        if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
+            return None
     position_error, rotation_error = ik.judge.errors(q, position, rotation)
     if position_error < search.position_tol and (
         rotation_error is None or rotation_error < search.rotation_tol

@@ -36,6 +36,7 @@ import numpy.typing as npt
 
 from kin import KinError, RobotModel, as_joint_vector, load_robot
 
+from ..analytic.idealised import Idealised, idealise
 from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
 from ..reach import Reach, arm_reach, reach_bound
@@ -191,8 +192,15 @@ class NumericIK:
         self._differential: DifferentialIK | None = None
         #: The free-joint closed form of this arm, or None (no structure fits, or not asked).
         self.closed_form: FreeJointClosedForm | None = None
+        #: The idealised table the free-joint closed form fits when the true one misses it by
+        #: rounding (its answers are polished on the true chain), else None.
+        self.idealised: Idealised | None = None
         if closed_form:
             self.closed_form = free_joint_closed_form(robot.table, self.lower, self.upper)
+            ideal = idealise(robot.table) if self.closed_form is None else None
+            if ideal is not None:
+                self.closed_form = free_joint_closed_form(ideal.table, self.lower, self.upper)
+                self.idealised = ideal if self.closed_form is not None else None
         self.closed_form_starts = closed_form_starts
         self.closed_form_steps = tuple(closed_form_steps)
         #: Whether the closed form runs its compiled twin (asked for and built).
