@@ -41,23 +41,37 @@ def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
 
 
 def _rotation(values: npt.ArrayLike) -> np.ndarray:
-    """A rotation matrix from 9 numbers (row-major): checked, snapped to SO(3) when nearly one."""
+    """A rotation matrix from 9 numbers (row-major): checked, snapped to SO(3) when nearly one.
+
+    The check runs on Python floats (a few microseconds): a target is built once per solve.
+    """
     matrix = _vector(values, 9, "rotation").reshape(3, 3)
-    if float(np.abs(matrix).max()) > 2.0:  # no rotation has such an entry (and no overflow)
-        deviation = math.inf
+    a, b, c, d, e, f, g, h, i = matrix.ravel().tolist()
+    if max(abs(a), abs(b), abs(c), abs(d), abs(e), abs(f), abs(g), abs(h), abs(i)) > 2.0:
+        deviation = math.inf  # no rotation has such an entry (and no overflow below)
     else:
-        deviation = float(np.abs(matrix.T @ matrix - _EYE).max())
-    if deviation <= _ROTATION_EXACT and np.linalg.det(matrix) > 0.0:
+        # The entries of R^T R - I (symmetric: six of them).
+        deviation = max(
+            abs(a * a + d * d + g * g - 1.0),
+            abs(b * b + e * e + h * h - 1.0),
+            abs(c * c + f * f + i * i - 1.0),
+            abs(a * b + d * e + g * h),
+            abs(a * c + d * f + g * i),
+            abs(b * c + e * f + h * i),
+        )
+    determinant = (
+        a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+        if deviation < math.inf
+        else math.nan
+    )
+    if deviation <= _ROTATION_EXACT and determinant > 0.0:
         return matrix
-    if deviation <= ROTATION_SNAP:
+    if deviation <= ROTATION_SNAP and determinant > 0.0:
         u, _, vt = np.linalg.svd(matrix)
-        if np.linalg.det(u @ vt) > 0.0:
-            return u @ vt
-    with np.errstate(all="ignore"):
-        det = float(np.linalg.det(matrix))
+        return u @ vt
     raise TargetError(
         f"rotation is not a rotation matrix (max |R^T R - I| = {deviation:.3g}, "
-        f"det = {det:.3g}): give orthonormal axes with det +1 "
+        f"det = {determinant:.3g}): give orthonormal axes with det +1 "
         f"(a matrix off by at most {ROTATION_SNAP:g} is rounded to the nearest rotation)"
     )
 

@@ -77,10 +77,11 @@ class NumericTarget:
             return target
         from ..target import PoseTarget, PositionTarget
 
+        # Checked when they were built (finite, a rotation matrix): no second check.
         if isinstance(target, PoseTarget):
-            return cls.from_arrays(target.position, target.rotation)
+            return cls(target.position, target.rotation)
         if isinstance(target, PositionTarget):
-            return cls.from_arrays(target.position)
+            return cls(target.position)
         raise TargetError(
             f"the numeric solver takes a PositionTarget, PoseTarget or NumericTarget, "
             f"got {type(target).__name__}"
