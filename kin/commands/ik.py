@@ -39,6 +39,8 @@ from ..cli import (
     run_guarded,
 )
 
+from .robot_argument import add_robot_arguments, load_robot_argument
+
 if TYPE_CHECKING:
     from ..ik.result import IKResult
     from .joint_units import JointUnits
@@ -51,7 +53,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     """Command-line arguments of ``kin ik``."""
     parser = ArgumentParser(prog=prog, description=__doc__)
     add = parser.add_argument
-    add("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
+    add_robot_arguments(parser)
     add(
         "--target",
         type=finite_float,
@@ -119,12 +121,11 @@ def _run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..ik.target import PositionTarget
-    from ..robot_model import load_robot
     from .joint_units import JointUnits
     from .solver_choice import NewtonRaphsonSolver, choose_solver, solve_function, target_kinds
     from .targets import build_target, check_kind
 
-    robot = load_robot(args.robot)
+    robot = load_robot_argument(args)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     # The documented default start is q = 0, as `kin preview --ik` starts from --q's zeros: the
     # same target and start give the same answer in both.
