@@ -348,15 +348,26 @@ def load_table(path: str | Path) -> DHTable:
         path: A ``.toml`` table file.
 
     Raises:
-        TableError: The file is missing, not TOML, or malformed.
+        TableError: The file is missing, not UTF-8 text (the message gives the byte, line and
+            column), not TOML, or malformed.
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        raw = path.read_bytes()
     except OSError as err:
         raise TableError(str(path), f"cannot read the file ({err.strerror})") from err
     try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as err:
+        line = raw.count(b"\n", 0, err.start) + 1
+        column = err.start - (raw.rfind(b"\n", 0, err.start) + 1) + 1
+        raise TableError(
+            str(path),
+            f"not UTF-8 text: byte {err.start} (line {line}, column {column}) is "
+            f"0x{raw[err.start]:02x}; save the file as UTF-8",
+        ) from None
+    try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
-        raise TableError(str(path), f"not valid TOML: {err}") from err
+        raise TableError(str(path), f"not valid TOML: {' '.join(str(err).split())}") from err
     return parse_table(data, str(path), default_name=path.stem)
