@@ -2,7 +2,10 @@
 
 Joint values: revolute in radians (degrees with --deg), prismatic in --unit, like every length.
 The text output names the unit of each number; --json is SI (q in rad / m, as "q_units" says;
-"position_m" in meters).
+"position_m" in meters). The orientation is printed three ways: the rotation matrix, URDF
+roll-pitch-yaw (R = Rz(yaw) Ry(pitch) Rx(roll), in rad or deg with --deg: JSON "rpy" in the unit
+"rpy_unit" names) and the unit quaternion W X Y Z (JSON "quat_wxyz", W >= 0): the same forms
+`kin ik --rpy` and `kin ik --quat` take, so one command's output pastes into the other.
 """
 
 from __future__ import annotations
@@ -10,7 +13,8 @@ from __future__ import annotations
 import json
 import sys
 
-from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
+from ..cli import ArgumentParser, angle_scale, finite_float, length_scale, run_guarded
+from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin fk"
 
@@ -18,9 +22,7 @@ PROG = "kin fk"
 def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     """Command-line arguments of ``kin fk``."""
     parser = ArgumentParser(prog=prog, description=__doc__)
-    parser.add_argument(
-        "--robot", required=True, help="shipped robot name, or a DH table file (.toml)"
-    )
+    add_robot_arguments(parser)
     parser.add_argument(
         "--q",
         type=finite_float,
@@ -47,17 +49,24 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     args = get_argument_parser(prog).parse_args(argv)
 
     def body() -> int:
+        import pinocchio as pin
+
         from ..configuration import Configuration, limit_violations
-        from ..robot_model import load_robot
         from .joint_units import JointUnits
 
-        robot = load_robot(args.robot)
+        robot = load_robot_argument(args)
         units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
         configuration = Configuration(robot, units.to_si(args.q, "--q"))
         violations = limit_violations(robot, configuration.q)
         for violation in violations:
             print(f"{prog}: warning: {violation}", file=sys.stderr)
         pose = configuration.transform_frame_to_world(args.frame)
+        angle = angle_scale(args.deg)
+        rpy = [v / angle for v in pin.rpy.matrixToRpy(pose.rotation).tolist()]
+        x, y, z, w = pin.Quaternion(pose.rotation).coeffs().tolist()
+        sign = -1.0 if w < 0.0 else 1.0  # q and -q are one rotation: W >= 0
+        quat = [sign * w, sign * x, sign * y, sign * z]
+        rpy_unit = "deg" if args.deg else "rad"
         if args.json:
             record = {
                 "robot": robot.name,
@@ -68,6 +77,9 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 "within_limits": not violations,
                 "position_m": pose.translation.tolist(),
                 "rotation": pose.rotation.tolist(),
+                "rpy": rpy,
+                "rpy_unit": rpy_unit,
+                "quat_wxyz": quat,
             }
             print(json.dumps(record))
             return 0
@@ -80,6 +92,11 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         print("rotation (columns: frame axes in world axes):")
         for line in pose.rotation:
             print("  " + "  ".join(f"{v:+.6f}" for v in line))
+        print(
+            f"rpy [{rpy_unit}] (URDF roll pitch yaw, as kin ik --rpy): "
+            + "  ".join(f"{v:.9g}" for v in rpy)
+        )
+        print("quat (W X Y Z, as kin ik --quat): " + "  ".join(f"{v:.12f}" for v in quat))
         return 0
 
     return run_guarded(prog, body)
