@@ -38,7 +38,6 @@ from ..cli import (
     positive_float,
     run_guarded,
 )
-
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 if TYPE_CHECKING:
