@@ -2,7 +2,8 @@
 
 Commands exit with code 2 and print exactly one line on stderr for bad input (argparse errors and
 the project's exceptions alike), never a traceback; a closed output pipe (``kin fk ... | head``)
-ends the command quietly; Ctrl-C prints one line and exits 130.
+is ignored quietly and the command keeps its own exit code (1 stays 1 under ``set -o
+pipefail``); Ctrl-C prints one line and exits 130.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import os
 import re
 import sys
 from collections.abc import Callable
-from typing import NoReturn
+from typing import Any, NoReturn, TextIO
 
 from .exceptions import Dh2UrdfError
 from .units import ANGLE_UNITS, LENGTH_UNITS
@@ -24,8 +25,11 @@ EXIT_BAD_INPUT = 2
 #: Exit code after Ctrl-C (128 + SIGINT).
 EXIT_INTERRUPTED = 130
 
-# argparse takes "-1.2e-16" for an option because its own pattern knows no exponent.
-_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+# argparse takes "-1.2e-16" for an option because its own pattern knows no exponent; "-inf" and
+# "-nan" are values too (refused by the converters with a clear line, not "expected 3 arguments").
+_NEGATIVE_NUMBER = re.compile(
+    r"^-((\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|inf|infinity|nan)$", re.IGNORECASE
+)
 
 
 class ArgumentParser(argparse.ArgumentParser):
@@ -101,6 +105,44 @@ def _silence_stdout() -> None:
         os.close(devnull)
 
 
+class PipeGuard:
+    """Standard output that survives its reader going away (``| head``).
+
+    The first write or flush that meets a closed pipe points the file descriptor at
+    ``/dev/null`` and sets :attr:`broken`; later output is dropped. The command goes on and
+    returns its own exit code; a stream (``kin ik --stdin``) stops reading when it sees
+    :attr:`broken`.
+    """
+
+    def __init__(self, target: TextIO):
+        self.target = target
+        self.broken = False
+
+    def write(self, text: str) -> int:
+        """Write ``text`` (dropped once the pipe is broken)."""
+        if not self.broken:
+            try:
+                return self.target.write(text)
+            except BrokenPipeError:
+                self._break()
+        return len(text)
+
+    def flush(self) -> None:
+        """Flush (nothing once the pipe is broken)."""
+        if not self.broken:
+            try:
+                self.target.flush()
+            except BrokenPipeError:
+                self._break()
+
+    def _break(self) -> None:
+        self.broken = True
+        _silence_stdout()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.target, name)
+
+
 def run_guarded(
     prog: str,
     body: Callable[[], int],
@@ -108,14 +150,18 @@ def run_guarded(
 ) -> int:
     """Run ``body`` and turn ``errors`` into a one-line exit 2.
 
-    A closed output pipe returns 0 without a word (the reader has what it wanted); Ctrl-C
-    prints ``prog: interrupted`` and returns 130.
+    Standard output is a :class:`PipeGuard` meanwhile: a closed output pipe is ignored without a
+    word and ``body``'s own exit code is returned. Ctrl-C prints ``prog: interrupted`` and
+    returns 130.
     """
+    previous = sys.stdout
+    guard = PipeGuard(previous) if not isinstance(previous, PipeGuard) else previous
+    sys.stdout = guard  # type: ignore[assignment]
     try:
         code = body()
-        sys.stdout.flush()
+        guard.flush()
         return code
-    except BrokenPipeError:
+    except BrokenPipeError:  # output written around the guard
         _silence_stdout()
         return 0
     except errors as err:
@@ -123,3 +169,5 @@ def run_guarded(
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    finally:
+        sys.stdout = previous

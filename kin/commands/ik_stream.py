@@ -174,6 +174,8 @@ class StreamSolver:
                 if count % FLUSH_EVERY == 0:
                     flush()
             flush()
+            if getattr(out, "broken", False):  # the reader is gone (| head): stop reading
+                break
         return 1 if failed else 0
 
 
