@@ -32,11 +32,22 @@ FORMATS = ("mjcf", "urdf")
 MJCF_SUFFIXES = (".mjcf", ".xml")
 #: Subcommands: first argument -> module with ``main(argv, prog)``, loaded only when used.
 SUBCOMMANDS: dict[str, str] = {"audit": "kin.audit.command"}
+#: One line per subcommand, for ``dh2urdf --help``.
+SUBCOMMAND_HELP: dict[str, str] = {
+    "audit": "which reading of a paper's DH table reproduces its printed poses or a URDF",
+}
 
 
 def get_argument_parser() -> ArgumentParser:
     """Arguments of the export form ``dh2urdf (TABLE.toml | --robot NAME) -o FILE``."""
-    parser = ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
+    parser = ArgumentParser(
+        prog=PROG,
+        description=__doc__.splitlines()[0],
+        epilog="subcommands:\n"
+        + "\n".join(f"  {PROG} {name:<10} {SUBCOMMAND_HELP[name]}" for name in SUBCOMMANDS)
+        + f"\n\n{PROG} SUBCOMMAND --help shows its options.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("table", nargs="?", type=Path, help="DH table file (.toml)")

@@ -44,7 +44,7 @@ def get_argument_parser() -> ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"kin {__version__}")
     parser.add_argument("command", choices=tuple(COMMANDS), metavar="COMMAND", help="see below")
-    parser.add_argument("args", nargs="...", help="options of the command")
+    parser.add_argument("args", nargs="...", help=argparse.SUPPRESS)  # the command's own options
     return parser
 
 
