@@ -13,6 +13,7 @@ import math
 import os
 import re
 import sys
+import warnings
 from collections.abc import Callable
 from typing import Any, NoReturn, TextIO
 
@@ -157,6 +158,12 @@ def run_guarded(
     previous = sys.stdout
     guard = PipeGuard(previous) if not isinstance(previous, PipeGuard) else previous
     sys.stdout = guard  # type: ignore[assignment]
+    show = warnings.showwarning
+
+    def one_line(message: Warning | str, *_: object, **__: object) -> None:
+        print(f"{prog}: warning: {' '.join(str(message).split())}", file=sys.stderr)
+
+    warnings.showwarning = one_line  # a library warning is one line on stderr, no source line
     try:
         code = body()
         guard.flush()
@@ -171,3 +178,4 @@ def run_guarded(
         return EXIT_INTERRUPTED
     finally:
         sys.stdout = previous
+        warnings.showwarning = show

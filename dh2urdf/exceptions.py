@@ -47,3 +47,10 @@ class UnknownRobotError(Dh2UrdfError, KeyError):
 
 class UrdfBuildError(Dh2UrdfError):
     """The URDF built from a table did not pass yourdfpy's validation."""
+
+
+class UnitWarning(UserWarning):
+    """A value probably in another unit than the one said (degrees as radians, mm as m).
+
+    The commands print it as one line on stderr; the value is used as given.
+    """

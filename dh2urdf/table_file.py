@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import sys
+import warnings
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -48,7 +49,7 @@ import numpy as np
 
 from .dh_table import DHRow, DHTable, dh_link_transform
 from .drive_section import parse_drives
-from .exceptions import TableError
+from .exceptions import TableError, UnitWarning
 from .table_values import MAX_LENGTH, MAX_MASS
 from .table_values import length as _length
 from .table_values import number as _number
@@ -190,7 +191,10 @@ def _xyz_quaternion(path: str, data: dict[str, Any], key: str, meters: float) ->
     norm = math.sqrt(w * w + qx * qx + qy * qy + qz * qz)
     if not abs(norm - 1.0) < 1e-6:
         raise TableError(
-            path, f"expected a unit quaternion (W X Y Z), got norm {norm:.6g}", None, f"{key}.quat_wxyz"
+            path,
+            f"expected a unit quaternion (W X Y Z), got norm {norm:.6g}",
+            None,
+            f"{key}.quat_wxyz",
         )
     w, qx, qy, qz = w / norm, qx / norm, qy / norm, qz / norm
     out = np.eye(4)
@@ -282,6 +286,53 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     )
 
 
+#: An angle above this in a table said to be in radians is probably in degrees [rad].
+RADIAN_SUSPECT = 2 * math.pi + 1e-9
+#: An arm longer than this (its lengths laid end to end) is probably not in meters [m].
+LENGTH_SUSPECT = 20.0
+
+
+def _warn_units(
+    path: str,
+    rows: tuple[DHRow, ...],
+    angle_unit: str,
+    length_unit: str,
+    base: np.ndarray,
+    tool: np.ndarray,
+) -> None:
+    """One :class:`UnitWarning` per suspicious unit: degrees in a radian table, a giant arm."""
+    if angle_unit == "rad":
+        for row in rows:
+            angles = [("alpha", row.alpha), ("theta", row.theta)]
+            if row.joint_type == "revolute":
+                angles += [("limits", row.lower), ("limits", row.upper)]
+            for field, value in angles:
+                if abs(value) > RADIAN_SUSPECT:
+                    warnings.warn(
+                        f"{path}, joint row {row.index}, field '{field}': {value:g} rad is more "
+                        'than a turn: are the angles in degrees? then write angle_unit = "deg"',
+                        UnitWarning,
+                        stacklevel=3,
+                    )
+                    break
+            else:
+                continue
+            break
+    length = sum(abs(row.a) + abs(row.d) for row in rows)
+    length += sum(
+        max(abs(row.lower), abs(row.upper)) for row in rows if row.joint_type == "prismatic"
+    )
+    length += float(np.linalg.norm(base[:3, 3])) + float(np.linalg.norm(tool[:3, 3]))
+    if length > LENGTH_SUSPECT:
+        hint = 'length_unit = "mm"' if length_unit == "m" else "the length unit"
+        warnings.warn(
+            f"{path}: the arm's lengths add up to {length:g} m (more than {LENGTH_SUSPECT:g} m): "
+            f"are they in millimeters? then write {hint}",
+            UnitWarning,
+            stacklevel=3,
+        )
+
+
 def parse_table(
     data: dict[str, Any], path: str = "<string>", default_name: str = "robot"
 ) -> DHTable:
@@ -328,6 +379,7 @@ def parse_table(
         base = _fixed_transform(path, data["base"], "base", convention, meters, radians)
     if "tool" in data:
         tool = _fixed_transform(path, data["tool"], "tool", convention, meters, radians)
+    _warn_units(path, rows, angle_unit, length_unit, base, tool)
     return DHTable(
         name=texts["name"],
         description=texts["description"],

@@ -7,6 +7,7 @@ and radians. JSON output stays SI and says so per joint (``"q_units": ["rad", "m
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -92,8 +93,27 @@ class JointUnits:
             raise JointVectorError(
                 f"{option} values must be finite, got {array.tolist()}", nq, array.size
             )
+        if self.labels and "rad" in self.labels:
+            warn_radians(
+                option, [v for v, label in zip(array.tolist(), self.labels) if label == "rad"]
+            )
         return array * self.scales
 
     def from_si(self, q: np.ndarray) -> np.ndarray:
         """SI joint values ([rad] or [m]) in command-line units."""
         return np.asarray(q, dtype=float) / self.scales
+
+
+def warn_radians(option: str, values: Sequence[float]) -> None:
+    """A :class:`~dh2urdf.exceptions.UnitWarning` when a value in radians exceeds a turn."""
+    from dh2urdf.exceptions import UnitWarning
+    from dh2urdf.table_file import RADIAN_SUSPECT
+
+    for value in values:
+        if abs(value) > RADIAN_SUSPECT:
+            warnings.warn(
+                f"{option} value {value:g} rad is more than a turn: degrees? then add --deg",
+                UnitWarning,
+                stacklevel=3,
+            )
+            return

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 from ..ik.exceptions import TargetError
 from ..ik.target import PitchTarget, PoseTarget, PositionTarget, Target
+from .joint_units import warn_radians
 
 #: What each target class is called on the command line.
 KIND_TERMS: dict[type, str] = {
@@ -101,9 +102,14 @@ def build_target(
     if quat is not None:
         return PoseTarget(p, quaternion_matrix(*_finite(quat, 4, "--quat"))), "--quat"
     if rpy is not None:
-        rpy_si = [v * angle for v in _finite(rpy, 3, "--rpy")]
+        rpy_values = _finite(rpy, 3, "--rpy")
+        if angle == 1.0:
+            warn_radians("--rpy", rpy_values)
+        rpy_si = [v * angle for v in rpy_values]
         return PoseTarget.from_rpy(p, rpy_si), "--rpy"
     if pitch is not None:
+        if angle == 1.0:
+            warn_radians("--pitch", _finite(pitch, 1, "--pitch"))
         pitch_si = _finite(pitch, 1, "--pitch")[0] * angle
         roll_si = None if roll is None else _finite(roll, 1, "--roll")[0] * angle
         return PitchTarget(p, pitch_si, roll_si), "--pitch"
