@@ -63,3 +63,17 @@ class NotWithinLimitsError(KinError, ValueError):
             f"joint '{joint}' value {value:.6g} {unit} is outside its limits "
             f"[{lower:.6g}, {upper:.6g}] {unit}"
         )
+
+
+class OutputFileError(KinError, ValueError):
+    """An output file cannot be written as asked (missing folder, not writable, unknown suffix).
+
+    Attributes:
+        path: The file asked for.
+        option: The command-line option (or argument) that named it.
+    """
+
+    def __init__(self, path: str, option: str, reason: str):
+        self.path = path
+        self.option = option
+        super().__init__(f"{option} {path}: {reason}")

@@ -93,7 +93,9 @@ def _figure(work: WorkspaceMap, unit: str):  # noqa: ANN202
 
 
 def plot_workspace(work: WorkspaceMap, path: str | Path, unit: str = "m") -> Path:
-    """Write the PNG of ``work`` to ``path`` atomically (a temporary file, then a rename).
+    """Write the figure of ``work`` to ``path`` atomically (a temporary file, then a rename).
+
+    The format follows the suffix: ``.png``, ``.svg`` or ``.pdf``.
 
     Args:
         work: A sampled workspace (:func:`kin.workspace.workspace`).
@@ -104,11 +106,14 @@ def plot_workspace(work: WorkspaceMap, path: str | Path, unit: str = "m") -> Pat
         KinError: matplotlib is missing.
     """
     path = Path(path)
+    kind = path.suffix.lower().lstrip(".") or "png"
+    if kind not in ("png", "svg", "pdf"):
+        raise KinError(f"{path}: unknown figure type '.{kind}'; use .png, .svg or .pdf")
     figure = _figure(work, unit)
-    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", prefix=f".{path.name}.", suffix=".png")
+    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", prefix=f".{path.name}.", suffix=f".{kind}")
     try:
         with os.fdopen(fd, "wb") as handle:
-            figure.savefig(handle, format="png")
+            figure.savefig(handle, format=kind)
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     except BaseException:

@@ -13,6 +13,7 @@ import json
 import numpy as np
 
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
+from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin drives"
 
@@ -20,9 +21,7 @@ PROG = "kin drives"
 def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     """Command-line arguments of ``kin drives``."""
     parser = ArgumentParser(prog=prog, description=__doc__)
-    parser.add_argument(
-        "--robot", required=True, help="shipped robot name, or a DH table file (.toml)"
-    )
+    add_robot_arguments(parser)
     given = parser.add_mutually_exclusive_group(required=True)
     given.add_argument(
         "--q", type=finite_float, nargs="+", help="joint angles, base to tip [rad, deg with --deg]"
@@ -63,10 +62,9 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
 
     def body() -> int:
         from ..drives import from_pulses, quantize, table_drives
-        from ..robot_model import load_robot
         from .joint_units import JointUnits
 
-        robot = load_robot(args.robot)
+        robot = load_robot_argument(args)
         drives = table_drives(robot.table)
         units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
         if args.q is not None:

@@ -29,6 +29,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
+from .robot_argument import add_robot_arguments, load_robot_argument
 
 if TYPE_CHECKING:
     from ..path import PathResult, TimedPath
@@ -60,7 +61,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     """Command-line arguments of ``kin path``."""
     parser = ArgumentParser(prog=prog, description=__doc__)
     add = parser.add_argument
-    add("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
+    add_robot_arguments(parser)
     for option, text in (
         ("--from", "start point of the tool, world frame [--unit]"),
         ("--via", "intermediate point (repeat for a polyline) [--unit]"),
@@ -136,11 +137,13 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
     from ..cli import angle_scale, length_scale
     from ..path import follow_path, path_solver, polyline
     from ..path.follow import MAX_JOINT_STEP
-    from ..robot_model import load_robot
     from .joint_units import JointUnits
+    from .output_file import checked_output
     from .targets import build_target, check_kind
 
-    robot = load_robot(args.robot)
+    if args.csv:
+        checked_output(args.csv, "--csv", (".csv",))  # before the path is computed
+    robot = load_robot_argument(args)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     length, angle = length_scale(args.unit), angle_scale(args.deg)
     ordered = [p for p in points if p["option"] == "--from"]
@@ -263,13 +266,19 @@ def _write_csv(
         rows = zip(timed.waypoint_times, result.q, timed.waypoint_qd)
     else:
         rows = ((None, q, None) for q in result.q)
-    with open(file, "w", newline="", encoding="utf-8") as stream:
-        writer = csv.writer(stream)
-        writer.writerow(header)
-        for index, (t, q, qd) in enumerate(rows):
-            row = [index] + ([] if t is None else [f"{t:.9g}"])
-            row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v + 0.0:.9g}" for v in qd])
-            writer.writerow(row)
+    import io
+    from pathlib import Path
+
+    from .output_file import write_text_atomic
+
+    stream = io.StringIO()
+    writer = csv.writer(stream)
+    writer.writerow(header)
+    for index, (t, q, qd) in enumerate(rows):
+        row = [index] + ([] if t is None else [f"{t:.9g}"])
+        row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v + 0.0:.9g}" for v in qd])
+        writer.writerow(row)
+    write_text_atomic(Path(file), stream.getvalue())  # whole, or not at all
 
 
 def _print_text(

@@ -52,7 +52,9 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     """Command-line arguments of ``kin preview``."""
     parser = ArgumentParser(prog=prog, description=__doc__)
     add = parser.add_argument
-    add("--robot", required=True, help="shipped robot name, or a DH table file (.toml)")
+    from .robot_argument import add_robot_arguments
+
+    add_robot_arguments(parser)
     add(
         "--q",
         type=finite_float,
@@ -119,11 +121,15 @@ def _run(args: argparse.Namespace, prog: str) -> int:
     import numpy as np
 
     from ..configuration import limit_violations
-    from ..robot_model import load_robot
     from .joint_units import JointUnits
+    from .robot_argument import load_robot_argument
     from .targets import build_target
 
-    robot = load_robot(args.robot)
+    if args.html is not None:
+        from .output_file import checked_output
+
+        checked_output(args.html, "--html", (".html", ".htm"))
+    robot = load_robot_argument(args)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     if args.q is None:
         q_start = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)

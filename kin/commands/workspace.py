@@ -13,6 +13,7 @@ import sys
 import time
 
 from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
+from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin workspace"
 
@@ -20,14 +21,14 @@ PROG = "kin workspace"
 def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     """Command-line arguments of ``kin workspace``."""
     parser = ArgumentParser(prog=prog, description=__doc__)
-    parser.add_argument(
-        "--robot", required=True, help="shipped robot name, or a DH table file (.toml)"
-    )
+    add_robot_arguments(parser)
     parser.add_argument(
         "--n", type=positive_int, default=1_000_000, help="joint vectors (default 1000000)"
     )
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("-o", "--output", help="write the PNG of the views to this file")
+    parser.add_argument(
+        "-o", "--output", help="write the views to this file (.png, .svg or .pdf, by its suffix)"
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object, SI units")
     parser.add_argument(
         "--workers", type=positive_int, default=1, help="processes for the chunks (default 1)"
@@ -101,11 +102,14 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     def body() -> int:
         from contextlib import nullcontext
 
-        from ..robot_model import load_robot
         from ..workspace import workspace
         from ..workspace_run import dask_client
 
-        table = load_robot(args.robot).table
+        if args.output:
+            from .output_file import FIGURE_SUFFIXES, checked_output
+
+            checked_output(args.output, "-o", FIGURE_SUFFIXES)  # before minutes of sampling
+        table = load_robot_argument(args).table
         scale = length_scale(args.unit)
         voxel = None if args.voxel is None else args.voxel * scale
         context = dask_client(args.scheduler) if args.scheduler else nullcontext()
