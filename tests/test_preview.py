@@ -154,7 +154,7 @@ def test_show_points_and_show_path_api():
         (["--robot", "ur5", "--ik"], "--ik needs --target"),
         (["--robot", "ur5", "--rpy", "0", "0", "0"], "--rpy needs --target"),
         (["--robot", "ur5", "--q", "0", "0"], "--q needs 6 values"),
-        (["--robot", "ur5", "--frames", "--html", "/nonexistent/folder/page.html"], "cannot write"),
+        (["--robot", "ur5", "--frames", "--html", "/nonexistent/folder/page.html"], "does not exist"),
         (
             [
                 "--robot",
@@ -211,7 +211,7 @@ def test_unwritable_folder_leaves_nothing(tmp_path, capsys):
         pytest.skip("this user writes into read-only folders (root)")
     try:
         code = call(command.main, ["--robot", "planar2", "--html", str(folder / "p.html")])
-        assert_one_line_error(code, capsys.readouterr().err, "cannot write the page")
+        assert_one_line_error(code, capsys.readouterr().err, "is not writable")
         assert list(folder.iterdir()) == []
     finally:
         folder.chmod(0o700)

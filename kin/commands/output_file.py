@@ -28,14 +28,14 @@ def checked_output(path: str, option: str, suffixes: tuple[str, ...] | None = No
         OutputFileError: A directory, a missing or unwritable folder, or another suffix.
     """
     target = Path(path)
+    if target.is_dir():
+        raise OutputFileError(path, option, "is a directory; give a file name")
     if suffixes is not None and target.suffix.lower() not in suffixes:
         raise OutputFileError(
             path,
             option,
             f"unknown file type {target.suffix or '(no suffix)'!r}; use " + ", ".join(suffixes),
         )
-    if target.is_dir():
-        raise OutputFileError(path, option, "is a directory; give a file name")
     folder = target.parent if str(target.parent) else Path(".")
     if not folder.is_dir():
         raise OutputFileError(path, option, f"the folder {str(folder)!r} does not exist")
