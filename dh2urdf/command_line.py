@@ -106,6 +106,20 @@ def _silence_stdout() -> None:
         os.close(devnull)
 
 
+def _listen_to_ctrl_c() -> None:
+    """Take SIGINT even when started with it ignored (``cmd &`` in a script, ``timeout -s INT``).
+
+    Python leaves an inherited SIG_IGN in place; a command that computes for minutes must stop
+    on ``kill -INT`` (exit 130), so the default handler (KeyboardInterrupt) is put back.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 class PipeGuard:
     """Standard output that survives its reader going away (``| head``).
 
@@ -155,6 +169,7 @@ def run_guarded(
     word and ``body``'s own exit code is returned. Ctrl-C prints ``prog: interrupted`` and
     returns 130.
     """
+    _listen_to_ctrl_c()
     previous = sys.stdout
     guard = PipeGuard(previous) if not isinstance(previous, PipeGuard) else previous
     sys.stdout = guard  # type: ignore[assignment]

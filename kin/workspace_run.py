@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import signal
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
 from typing import Any
 
@@ -40,13 +39,30 @@ def _merged(results: Iterator[Any], n: int, progress: Callable[[int, int], None]
 
 
 def _in_pool(tasks: Sequence[tuple], workers: int) -> Iterator[Any]:
-    executor = ProcessPoolExecutor(max_workers=workers, initializer=_ignore_sigint)
+    """The chunks' reductions from a pool of ``workers`` processes, in completion order.
+
+    On Ctrl-C (or any error) the workers are terminated at once, not waited for: a second
+    Ctrl-C during that cleanup is ignored (the command is ending anyway), so that neither a
+    worker nor the parent goes on computing.
+    """
+    import multiprocessing
+
+    pool = multiprocessing.get_context().Pool(workers, initializer=_ignore_sigint)
+    finished = False
     try:
-        futures = [executor.submit(_chunk, task) for task in tasks]
-        for future in as_completed(futures):
-            yield future.result()
+        yield from pool.imap_unordered(_chunk, tasks)
+        finished = True
     finally:
-        executor.shutdown(wait=False, cancel_futures=True)
+        if finished:
+            pool.close()
+            pool.join()
+        else:
+            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                pool.terminate()
+                pool.join()
+            finally:
+                signal.signal(signal.SIGINT, previous)
 
 
 def _on_dask(tasks: Sequence[tuple], client: Any) -> Iterator[Any]:
