@@ -82,11 +82,10 @@ def _figure(work: WorkspaceMap, unit: str):  # noqa: ANN202
     middle = (xyz.max(axis=0) + xyz.min(axis=0)) / 2 if len(xyz) else np.zeros(3)
     for setter, c in zip((axes3d.set_xlim, axes3d.set_ylim, axes3d.set_zlim), middle):
         setter(c - span / 2, c + span / 2)
-    l3 = scale**3
     figure.suptitle(
         f"{stats.robot} workspace: {stats.n_samples:,} samples (seed {stats.seed}); "
         f"radius from base axis {stats.min_radius_m / scale:.3g} to "
-        f"{stats.max_radius_m / scale:.4g} {unit}; volume {stats.volume_m3 / l3:.4g} ± {stats.volume_error_m3 / l3:.2g} {unit}³",
+        f"{stats.max_radius_m / scale:.4g} {unit}; volume {stats.volume_m3:.4g} m³{'' if stats.volume_converged else ' (not converged)'}",
         fontsize=13,
     )
     return figure

@@ -68,6 +68,14 @@ class _Progress:
             )
 
 
+def _volume(volume_m3: float, unit: str) -> str:
+    """A volume in m^3 with 4 digits, and in the user's length unit cubed when not m."""
+    text = f"{volume_m3:.4g} m^3"
+    if unit != "m":
+        text += f" ({volume_m3 / length_scale(unit) ** 3:.4g} {unit}^3)"
+    return text
+
+
 def _print_text(stats, unit: str) -> None:  # noqa: ANN001
     s = length_scale(unit)
     print(
@@ -85,10 +93,17 @@ def _print_text(stats, unit: str) -> None:  # noqa: ANN001
     for axis, lo, hi in zip("xyz", stats.bbox_min_m, stats.bbox_max_m):
         print(f"bounding box {axis}:                  {lo / s:.6g} .. {hi / s:.6g}")
     v = stats.voxel_size_m / s
+    growth = stats.volume_error_m3 / max(stats.volume_m3, 1e-300)
     print(
-        f"volume ({stats.occupied_voxels:,} voxels of {v:.4g} {unit}): "
-        f"{stats.volume_m3 / s**3:.6g} {unit}^3 +- {stats.volume_error_m3 / s**3:.2g} (half samples)"
+        f"volume ({stats.occupied_voxels:,} voxels of {v:.4g} {unit} hit): "
+        f"{_volume(stats.volume_m3, unit)}; +{100 * growth:.2g}% from N/2 to N samples, "
+        + ("converged" if stats.volume_converged else "NOT converged")
     )
+    if not stats.volume_converged:
+        print(
+            f"  with the voxels not hit yet (Chao's estimate): {_volume(stats.volume_estimate_m3, unit)}"
+            "; still low: more samples (--n) or larger voxels (--voxel) converge"
+        )
     print(
         f"area seen from above: {stats.area_xy_m2 / s**2:.6g} {unit}^2 "
         f"+- {stats.area_xy_error_m2 / s**2:.2g}"
