@@ -1,8 +1,9 @@
 """From a Denavit-Hartenberg table to a validated URDF (meters, radians).
 
-The URDF writer (``build_urdf``, ``urdf_string``, ``write_urdf``) imports yourdfpy, which is slow
-to import, and the MJCF writer (``mjcf_string``, ``write_mjcf``) imports MuJoCo; both are loaded on
-first use so that reading tables and ``import kin`` stay fast.
+The URDF writer (``urdf_string``, ``write_urdf``) writes text with NumPy and string formatting;
+only ``build_urdf`` (the same URDF as a yourdfpy model) imports yourdfpy and trimesh, which are slow
+to import, and the MJCF writer (``mjcf_string``, ``write_mjcf``) imports MuJoCo; they are loaded on
+first use so that reading tables, building a model from one and ``import kin`` stay fast.
 """
 
 from typing import Any

@@ -1,4 +1,4 @@
-"""Convert a :class:`DHTable` into a URDF (yourdfpy model), validated, in meters and radians.
+"""Convert a :class:`DHTable` into URDF text, in meters and radians, without yourdfpy.
 
 Frames and links of the generated URDF:
 
@@ -20,6 +20,10 @@ the inertials are placeholders and the file says so in a comment.
 
 The ``<mujoco>`` element (MuJoCo's URDF extension) keeps fixed links as bodies
 (``fusestatic="false"``), so MuJoCo loads every DH frame and the tool.
+
+The elements are plain values (:mod:`dh2urdf.urdf_elements`) written as text with string
+formatting, so building a model from a table imports neither yourdfpy nor trimesh (0.7 s);
+:func:`build_urdf` gives the same URDF as a yourdfpy model, checked by yourdfpy, where one is wanted.
 """
 
 from __future__ import annotations
@@ -27,14 +31,29 @@ from __future__ import annotations
 import os
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import yourdfpy
-from lxml import etree
 
 from .dh_table import DHTable
-from .exceptions import UrdfBuildError
 from .transforms import clean, rot_x, rot_z, translation
+from .urdf_elements import (
+    Box,
+    Collision,
+    Cylinder,
+    Inertial,
+    Joint,
+    Limit,
+    Link,
+    Material,
+    Robot,
+    Sphere,
+    Visual,
+    robot_xml,
+)
+
+if TYPE_CHECKING:
+    import yourdfpy
 
 #: Radius of the cylinder drawn along each joint axis [m].
 JOINT_RADIUS = 0.02
@@ -45,20 +64,14 @@ SEGMENT_RADIUS = 0.01
 #: Mass given to each link [kg]; the URDF is for kinematics, not dynamics.
 LINK_MASS = 0.1
 
-_JOINT_MATERIAL = yourdfpy.Material(
-    name="joint", color=yourdfpy.Color(np.array([0.9, 0.5, 0.1, 1.0]))
-)
-_LINK_MATERIAL = yourdfpy.Material(
-    name="link", color=yourdfpy.Color(np.array([0.6, 0.6, 0.65, 1.0]))
-)
-_TOOL_MATERIAL = yourdfpy.Material(
-    name="tool", color=yourdfpy.Color(np.array([0.2, 0.6, 0.9, 1.0]))
-)
+_JOINT_MATERIAL = Material(name="joint", rgba=np.array([0.9, 0.5, 0.1, 1.0]))
+_LINK_MATERIAL = Material(name="link", rgba=np.array([0.6, 0.6, 0.65, 1.0]))
+_TOOL_MATERIAL = Material(name="tool", rgba=np.array([0.2, 0.6, 0.9, 1.0]))
 
 
 def _segment(
     start: np.ndarray, end: np.ndarray, name: str, radius: float = SEGMENT_RADIUS
-) -> list[yourdfpy.Visual]:
+) -> list[Visual]:
     """A cylinder from ``start`` to ``end`` (link frame, [m]); none if they coincide."""
     vector = np.asarray(end, dtype=float) - np.asarray(start, dtype=float)
     length = float(np.linalg.norm(vector))
@@ -71,27 +84,24 @@ def _segment(
     origin = np.eye(4)
     origin[:3, :3] = np.column_stack([x, np.cross(z, x), z])
     origin[:3, 3] = (np.asarray(start) + np.asarray(end)) / 2.0
-    geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=radius, length=length))
-    return [
-        yourdfpy.Visual(name=name, origin=clean(origin), geometry=geometry, material=_LINK_MATERIAL)
-    ]
+    geometry = Cylinder(radius=radius, length=length)
+    return [Visual(name=name, origin=clean(origin), geometry=geometry, material=_LINK_MATERIAL)]
 
 
-def _joint_visual(name: str, prismatic: bool = False) -> yourdfpy.Visual:
+def _joint_visual(name: str, prismatic: bool = False) -> Visual:
     """A cylinder (revolute) or box (prismatic) along the z axis of the joint frame."""
+    geometry: Box | Cylinder
     if prismatic:
-        geometry = yourdfpy.Geometry(box=yourdfpy.Box(size=np.array([0.03, 0.03, JOINT_LENGTH])))
+        geometry = Box(size=np.array([0.03, 0.03, JOINT_LENGTH]))
     else:
-        geometry = yourdfpy.Geometry(
-            cylinder=yourdfpy.Cylinder(radius=JOINT_RADIUS, length=JOINT_LENGTH)
-        )
-    return yourdfpy.Visual(name=name, origin=np.eye(4), geometry=geometry, material=_JOINT_MATERIAL)
+        geometry = Cylinder(radius=JOINT_RADIUS, length=JOINT_LENGTH)
+    return Visual(name=name, origin=np.eye(4), geometry=geometry, material=_JOINT_MATERIAL)
 
 
-def _inertial() -> yourdfpy.Inertial:
+def _inertial() -> Inertial:
     """Placeholder inertial: a small solid sphere of radius JOINT_RADIUS and mass LINK_MASS."""
     moment = 0.4 * LINK_MASS * JOINT_RADIUS**2
-    return yourdfpy.Inertial(origin=np.eye(4), mass=LINK_MASS, inertia=np.eye(3) * moment)
+    return Inertial(origin=np.eye(4), mass=LINK_MASS, inertia=np.eye(3) * moment)
 
 
 def cylinder_inertia(mass: float, radius: float, length: float) -> np.ndarray:
@@ -110,66 +120,54 @@ def cylinder_inertia(mass: float, radius: float, length: float) -> np.ndarray:
     return np.diag([side, side, 0.5 * mass * radius**2])
 
 
-def _primitive_inertial(
-    mass: float, radius: float, segment: list[yourdfpy.Visual]
-) -> yourdfpy.Inertial:
+def _primitive_inertial(mass: float, radius: float, segment: list[Visual]) -> Inertial:
     """Inertial of the link's primitive: the cylinder of ``segment``, or a sphere at the origin."""
     if not segment:
-        return yourdfpy.Inertial(
-            origin=np.eye(4), mass=mass, inertia=cylinder_inertia(mass, radius, 0.0)
-        )
-    cylinder = segment[0].geometry.cylinder
+        return Inertial(origin=np.eye(4), mass=mass, inertia=cylinder_inertia(mass, radius, 0.0))
+    cylinder = segment[0].geometry
+    assert isinstance(cylinder, Cylinder)
     origin = np.asarray(segment[0].origin, dtype=float)
     inertia = cylinder_inertia(mass, cylinder.radius, cylinder.length)
-    return yourdfpy.Inertial(origin=origin, mass=mass, inertia=inertia)
+    return Inertial(origin=origin, mass=mass, inertia=inertia)
 
 
-def _collisions(visuals: list[yourdfpy.Visual]) -> list[yourdfpy.Collision]:
+def _collisions(visuals: list[Visual]) -> tuple[Collision, ...]:
     """Collision geometry: the link cylinders among ``visuals``."""
-    return [
-        yourdfpy.Collision(name=f"{v.name}_collision", origin=v.origin, geometry=v.geometry)
+    return tuple(
+        Collision(name=f"{v.name}_collision", origin=v.origin, geometry=v.geometry)
         for v in visuals
-        if v.geometry.cylinder is not None and not (v.name or "").endswith("_axis")
-    ]
+        if isinstance(v.geometry, Cylinder) and not v.name.endswith("_axis")
+    )
 
 
-def _link(
-    name: str,
-    visuals: list[yourdfpy.Visual],
-    inertial: yourdfpy.Inertial | None,
-    massless: bool = False,
-) -> yourdfpy.Link:
+def _link(name: str, visuals: list[Visual], inertial: Inertial | None, massless: bool) -> Link:
     """A link; without ``inertial`` a placeholder one, or none when ``massless`` (all masses given)."""
     # The root link carries no inertial: KDL (ROS tools, TRAC-IK) rejects a root inertia.
     if name == "base_link":
         inertial = None
     elif inertial is None and not massless:
         inertial = _inertial()
-    return yourdfpy.Link(
-        name=name, inertial=inertial, visuals=visuals, collisions=_collisions(visuals)
+    return Link(
+        name=name, inertial=inertial, visuals=tuple(visuals), collisions=_collisions(visuals)
     )
 
 
-def _fixed(name: str, parent: str, child: str, origin: np.ndarray) -> yourdfpy.Joint:
-    return yourdfpy.Joint(name=name, type="fixed", parent=parent, child=child, origin=clean(origin))
+def _fixed(name: str, parent: str, child: str, origin: np.ndarray) -> Joint:
+    return Joint(name=name, type="fixed", parent=parent, child=child, origin=clean(origin))
 
 
-def build_urdf(table: DHTable) -> yourdfpy.URDF:
-    """Build and validate the URDF model of a DH table.
+def urdf_elements(table: DHTable) -> Robot:
+    """The links, joints and materials of a table's URDF (NumPy only, no XML library).
 
     Args:
         table: The DH table (SI units).
 
     Returns:
-        The yourdfpy model, without scene graph or meshes.
-
-    Raises:
-        UrdfBuildError: yourdfpy's validation rejects the model.
+        The elements, in the order they are written.
     """
-    links: dict[str, yourdfpy.Link] = {}
-    visuals: dict[str, list[yourdfpy.Visual]] = {"base_link": [], "frame0": []}
-    joints: list[yourdfpy.Joint] = [_fixed("base_joint", "base_link", "frame0", table.T_world_base)]
-    inertials: dict[str, yourdfpy.Inertial] = {}
+    visuals: dict[str, list[Visual]] = {"base_link": [], "frame0": []}
+    joints = [_fixed("base_joint", "base_link", "frame0", table.T_world_base)]
+    inertials: dict[str, Inertial] = {}
     order = ["base_link", "frame0"]
     base_origin = table.T_world_base[:3, 3]
     visuals["base_link"] += _segment(np.zeros(3), base_origin, "base_offset")
@@ -197,14 +195,14 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
         if row.mass is not None:
             inertials[child] = _primitive_inertial(row.mass, radius, segment)
         joints.append(
-            yourdfpy.Joint(
+            Joint(
                 name=row.name,
                 type=row.joint_type,
                 parent=parent,
                 child=child,
                 origin=clean(origin),
                 axis=np.array([0.0, 0.0, 1.0]),
-                limit=yourdfpy.Limit(
+                limit=Limit(
                     effort=row.effort, velocity=row.velocity, lower=row.lower, upper=row.upper
                 ),
             )
@@ -217,37 +215,48 @@ def build_urdf(table: DHTable) -> yourdfpy.URDF:
             )
     last = f"frame{table.dof}"
     visuals[last] += _segment(np.zeros(3), table.T_last_tool[:3, 3], "tool_offset")
-    tool_marker = yourdfpy.Visual(
+    tool_marker = Visual(
         name="tool_marker",
         origin=np.eye(4),
-        geometry=yourdfpy.Geometry(sphere=yourdfpy.Sphere(radius=0.015)),
+        geometry=Sphere(radius=0.015),
         material=_TOOL_MATERIAL,
     )
     visuals["tool"] = [tool_marker]
     order.append("tool")
     joints.append(_fixed("tool_joint", last, "tool", table.T_last_tool))
-    for name in order:
-        massless = all(row.mass is not None for row in table.rows)
-        links[name] = _link(name, visuals[name], inertials.get(name), massless)
-    robot = yourdfpy.Robot(
+    massless = all(row.mass is not None for row in table.rows)
+    links = tuple(_link(name, visuals[name], inertials.get(name), massless) for name in order)
+    return Robot(
         name=table.name,
-        links=list(links.values()),
-        joints=joints,
-        materials=[_JOINT_MATERIAL, _LINK_MATERIAL, _TOOL_MATERIAL],
+        links=links,
+        joints=tuple(joints),
+        materials=(_JOINT_MATERIAL, _LINK_MATERIAL, _TOOL_MATERIAL),
     )
-    model = yourdfpy.URDF(robot=robot, build_scene_graph=False, load_meshes=False)
-    if not model.validate():
-        raise UrdfBuildError(
-            f"{table.path or table.name}: the generated URDF is invalid: {model.errors}"
-        )
-    return model
 
 
-#: MuJoCo's URDF extension: keep fixed links (DH frames, tool) as bodies, keep visuals.
-MUJOCO_COMPILER = (
-    '<mujoco><compiler fusestatic="false" discardvisual="false" '
-    'balanceinertia="true" inertiafromgeom="false" angle="radian"/></mujoco>'
-)
+def build_urdf(table: DHTable) -> yourdfpy.URDF:
+    """The URDF of a DH table as a yourdfpy model, validated (imports yourdfpy).
+
+    See :func:`dh2urdf.urdf_yourdfpy.yourdfpy_model`; a kinematic model needs only the text
+    (:func:`urdf_string`), which does not import yourdfpy.
+
+    Raises:
+        UrdfBuildError: yourdfpy's validation rejects the model.
+    """
+    from .urdf_yourdfpy import yourdfpy_model
+
+    return yourdfpy_model(table)
+
+
+#: MuJoCo's URDF extension ``<mujoco><compiler .../></mujoco>``: keep fixed links (DH frames,
+#: tool) as bodies, keep visuals.
+MUJOCO_COMPILER = {
+    "fusestatic": "false",
+    "discardvisual": "false",
+    "balanceinertia": "true",
+    "inertiafromgeom": "false",
+    "angle": "radian",
+}
 
 _PLACEHOLDER_NOTE = (
     " Inertials are placeholders for visualization, not dynamics: the table gives no link\n"
@@ -268,13 +277,12 @@ def _table_file(table: DHTable) -> str:
 
 
 def urdf_string(table: DHTable) -> str:
-    """URDF text of a table, with a header comment naming its source and the MuJoCo extension."""
-    model = build_urdf(table)
-    root = model.write_xml().getroot()
-    if any(row.mass is None for row in table.rows):
-        root.insert(0, etree.Comment(_PLACEHOLDER_NOTE))
-    root.insert(0, etree.fromstring(MUJOCO_COMPILER))
-    body = etree.tostring(root, pretty_print=True, encoding="unicode")
+    """URDF text of a table, with a header comment naming its source and the MuJoCo extension.
+
+    Written from :func:`urdf_elements` without yourdfpy (the same text its writer gives).
+    """
+    note = _PLACEHOLDER_NOTE if any(row.mass is None for row in table.rows) else None
+    body = robot_xml(urdf_elements(table), MUJOCO_COMPILER, note)
     header = (
         f"<!-- Generated by dh2urdf from the DH table '{_comment(table.name)}' "
         f"({table.convention} convention).\n"

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -22,25 +22,15 @@ class RobotModel:
         name: Robot name.
         table: Its DH table (SI units).
         model: Pinocchio model built from the generated URDF.
-        urdf_text: The full URDF text (visuals included), or None until :attr:`urdf` writes it
-            (a table's model is built from its kinematic URDF, :mod:`dh2urdf.kinematic_urdf`).
+        urdf: URDF text the model was built from (visuals included).
         tool_frame: Name of the tool frame.
     """
 
     name: str
     table: DHTable
     model: pin.Model
-    urdf_text: str | None = field(default=None, repr=False)
+    urdf: str
     tool_frame: str = "tool"
-
-    @property
-    def urdf(self) -> str:
-        """URDF text of the robot (for a table built here, written on first use with yourdfpy)."""
-        if self.urdf_text is None:
-            from dh2urdf.urdf_writer import urdf_string  # yourdfpy: only when the text is asked
-
-            object.__setattr__(self, "urdf_text", urdf_string(self.table))
-        return self.urdf_text  # type: ignore[return-value]
 
     @property
     def nq(self) -> int:
@@ -83,25 +73,24 @@ def _load_by_name(name: str) -> RobotModel:
     return _build(name, table, text, str(path))
 
 
-def _build(name: str, table: DHTable, text: str, where: str, full: bool = True) -> RobotModel:
+def _build(name: str, table: DHTable, text: str, where: str) -> RobotModel:
     try:
         model = pin.buildModelFromXML(text)
     except (RuntimeError, ValueError) as err:
         raise ModelLoadError(f"{where}: Pinocchio cannot load the URDF: {err}") from err
     model.name = name
-    return RobotModel(name=name, table=table, model=model, urdf_text=text if full else None)
+    return RobotModel(name=name, table=table, model=model, urdf=text)
 
 
 def robot_from_table(table: DHTable) -> RobotModel:
     """Robot of an in-memory DH table (e.g. a variant of a shipped one), through its URDF.
 
     Raises:
-        dh2urdf.UrdfBuildError: The URDF does not validate.
         ModelLoadError: Pinocchio cannot load it.
     """
-    from dh2urdf.kinematic_urdf import kinematic_urdf  # no yourdfpy: the full text is lazy
+    from dh2urdf.urdf_writer import urdf_string  # string formatting: no yourdfpy, no trimesh
 
-    return _build(table.name, table, kinematic_urdf(table), table.path or table.name, full=False)
+    return _build(table.name, table, urdf_string(table), table.path or table.name)
 
 
 def load_robot(robot: str | Path, base: str | None = None, tip: str | None = None) -> RobotModel:
