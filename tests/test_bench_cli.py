@@ -9,11 +9,11 @@ from scripts_helper import exit_code, load_script
 
 
 def test_bench_cli_prints_every_row(capsys):
-    """Four wall times [s], two --stdin rates [/s] with every target solved, the start-up split."""
+    """Six wall times [s] (two on a table file), two --stdin rates [/s], the start-up split."""
     assert load_script("bench_cli").main(["--runs", "1", "--targets", "20"]) == 0
     out = capsys.readouterr().out
     walls = [float(v) for v in re.findall(r" (\d+\.\d+) s ", out + " ")]
-    assert len(walls) == 4 and all(0 < wall < 30 for wall in walls), out
+    assert len(walls) == 6 and all(0 < wall < 30 for wall in walls), out
     rates = re.findall(r" (\d+) /s .*success (\d+)/(\d+)", out)
     assert len(rates) == 2 and all(int(r) > 0 and ok == total for r, ok, total in rates), out
     split = re.search(r"import kin.ik ([\d.]+), load_robot humanoid7 ([\d.]+)", out)

@@ -66,3 +66,26 @@ def test_importtime_of_kin_fk_names_no_heavy_module():
         if "|" in line
     }
     assert "pinocchio" in imported and imported.isdisjoint(HEAVY)
+
+
+def test_a_table_file_builds_its_model_without_yourdfpy_or_trimesh(tmp_path):
+    """A user's table (a shipped one copied elsewhere): load_robot, FK and `kin fk` import neither
+    yourdfpy nor trimesh (nor lxml): only reading or checking a URDF needs them (issue 22.3)."""
+    from dh2urdf import get_robot
+
+    path = tmp_path / "my_arm.toml"
+    path.write_bytes(get_robot("ur5").table_path.read_bytes())
+    setup = f"""
+from kin import Configuration, load_robot
+from kin.commands import main
+robot = load_robot({str(path)!r})
+assert robot.table.path == {str(path)!r} and "<visual" in robot.urdf
+Configuration(robot).fk([0.1] * 6)
+with contextlib.redirect_stdout(io.StringIO()):
+    assert main(["fk", "--robot", {str(path)!r}, "--q", *["0.1"] * 6]) == 0
+"""
+    heavy = (*HEAVY, "trimesh", "lxml")
+    code = _PROBE.format(setup=setup, heavy=heavy)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.splitlines()[-1]) == []
