@@ -35,6 +35,7 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
 from __future__ import annotations
 
 import math
+import re
 import sys
 import warnings
 
@@ -393,33 +394,58 @@ def parse_table(
     )
 
 
+_TOML_PLACE = re.compile(r"\(at line (\d+), column (\d+)\)|\(at end of document\)")
+
+
+def _toml_error(raw: bytes, text: str, err: Exception) -> str:
+    """``err``'s message with the byte offset of the place it names (line and column kept)."""
+    message = " ".join(str(err).split())
+    place = _TOML_PLACE.search(message)
+    if place is None:
+        return message
+    if place.group(1) is None:
+        return f"{message[: place.start()].rstrip()} at the end of the file (byte {len(raw)})"
+    line, column = int(place.group(1)), int(place.group(2))
+    lines = text.split("\n")
+    start = sum(len(item) + 1 for item in lines[: line - 1]) + column - 1
+    offset = len(text[:start].encode("utf-8")) + (3 if raw.startswith(_UTF8_BOM) else 0)
+    return f"{message[: place.start()].rstrip()} at byte {offset} (line {line}, column {column})"
+
+
+_UTF8_BOM = b"\xef\xbb\xbf"
+_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+
+
 def load_table(path: str | Path) -> DHTable:
-    """Read a DH table file.
+    """Read a DH table file (UTF-8, with or without a byte-order mark).
 
     Args:
         path: A ``.toml`` table file.
 
     Raises:
-        TableError: The file is missing, not UTF-8 text (the message gives the byte, line and
-            column), not TOML, or malformed.
+        TableError: The file is missing, not UTF-8 text, not TOML (the message gives the byte
+            offset, line and column), or malformed.
     """
     path = Path(path)
     try:
         raw = path.read_bytes()
     except OSError as err:
         raise TableError(str(path), f"cannot read the file ({err.strerror})") from err
+    if raw.startswith(_UTF16_BOMS):
+        raise TableError(str(path), "not UTF-8 text: the file is UTF-16; save it as UTF-8")
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a byte-order mark, as Windows editors write, is skipped
     except UnicodeDecodeError as err:
-        line = raw.count(b"\n", 0, err.start) + 1
-        column = err.start - (raw.rfind(b"\n", 0, err.start) + 1) + 1
+        start = err.start + (3 if raw.startswith(_UTF8_BOM) else 0)
+        line = raw.count(b"\n", 0, start) + 1
+        column = start - (raw.rfind(b"\n", 0, start) + 1) + 1
         raise TableError(
             str(path),
-            f"not UTF-8 text: byte {err.start} (line {line}, column {column}) is "
-            f"0x{raw[err.start]:02x}; save the file as UTF-8",
+            f"not UTF-8 text: byte {start} (line {line}, column {column}) is "
+            f"0x{raw[start]:02x}; save the file as UTF-8",
         ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
-        raise TableError(str(path), f"not valid TOML: {' '.join(str(err).split())}") from err
+        raise TableError(str(path), f"not valid TOML: {_toml_error(raw, text, err)}") from err
     return parse_table(data, str(path), default_name=path.stem)

@@ -47,3 +47,46 @@ def test_commands_answer_one_line_exit_2(content, tmp_path, capsys):
     code = dh2urdf_main([str(path), "-o", str(out)])
     assert_one_line_error(code, capsys.readouterr().err, needle)
     assert not out.exists()
+
+
+def _ur5_bytes() -> bytes:
+    return get_robot("ur5").table_path.read_bytes()
+
+
+def test_utf8_with_a_byte_order_mark_loads_as_without(tmp_path):
+    """A UTF-8 file with a BOM (as Windows Notepad saves it) gives the same table."""
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + _ur5_bytes())
+    table, reference = load_table(path), get_robot("ur5").load_table()
+    assert table.rows == reference.rows and table.description == reference.description
+
+
+def test_utf16_is_named_as_such(tmp_path):
+    """A UTF-16 file (Windows 'Unicode'): the error says UTF-16 and the fix."""
+    path = tmp_path / "utf16.toml"
+    path.write_bytes(_ur5_bytes().decode("utf-8").encode("utf-16"))
+    with pytest.raises(TableError, match="the file is UTF-16; save it as UTF-8"):
+        load_table(path)
+
+
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+@pytest.mark.parametrize("bom", [b"", b"\xef\xbb\xbf"])
+def test_toml_error_gives_the_byte_of_its_line_and_column(tmp_path, newline, bom):
+    """Not TOML: the byte offset given is the first byte of the bad value (multi-byte text before)."""
+    text = newline.join(['name = "caf\u00e9 \u20ac"', "convention = = 2", ""])
+    raw = bom + text.encode("utf-8")
+    path = tmp_path / "bad.toml"
+    path.write_bytes(raw)
+    with pytest.raises(TableError) as err:
+        load_table(path)
+    message = str(err.value)
+    offset = raw.index(b"= 2")
+    assert f"at byte {offset} (line 2, column 14)" in message and str(path) in message, message
+
+
+def test_toml_error_at_the_end_gives_the_file_length(tmp_path):
+    """An unterminated string: 'at the end of the file (byte N)', N the file's length."""
+    path = tmp_path / "cut.toml"
+    path.write_bytes(b'name = "abc')
+    with pytest.raises(TableError, match=r"at the end of the file \(byte 11\)"):
+        load_table(path)
