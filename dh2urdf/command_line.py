@@ -132,9 +132,19 @@ class PipeGuard:
     def __init__(self, target: TextIO):
         self.target = target
         self.broken = False
+        #: Warning lines not shown yet (see :func:`run_guarded`).
+        self.pending: list[str] = []
+
+    def show_warnings(self) -> None:
+        """Print the pending warning lines on stderr."""
+        for line in self.pending:
+            print(line, file=sys.stderr)
+        self.pending.clear()
 
     def write(self, text: str) -> int:
-        """Write ``text`` (dropped once the pipe is broken)."""
+        """Write ``text`` (dropped once the pipe is broken), after any pending warning."""
+        if self.pending:
+            self.show_warnings()
         if not self.broken:
             try:
                 return self.target.write(text)
@@ -176,11 +186,14 @@ def run_guarded(
     show = warnings.showwarning
 
     def one_line(message: Warning | str, *_: object, **__: object) -> None:
-        print(f"{prog}: warning: {' '.join(str(message).split())}", file=sys.stderr)
+        guard.pending.append(f"{prog}: warning: {' '.join(str(message).split())}")
 
-    warnings.showwarning = one_line  # a library warning is one line on stderr, no source line
+    # A library warning is one line on stderr, no source line; held until the command writes
+    # its first output or ends, so that bad input stays exactly one line (the error).
+    warnings.showwarning = one_line
     try:
         code = body()
+        guard.show_warnings()
         guard.flush()
         return code
     except BrokenPipeError:  # output written around the guard

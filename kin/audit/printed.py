@@ -2,15 +2,19 @@
 
 The forward kinematics of every reading at every sample is one array computation
 (:mod:`kin.audit.fk_many`), and so is the comparison with the printed values, over (readings,
-samples, values). A printed value is reproduced when the computed one gives it at its printed precision: rounded
-(``|computed - printed| <= 10**-decimals / 2``), or, under the reading "printed values truncated",
-also truncated (the printed digits are the computed ones cut short). A sample is reproduced when
-all its printed values are.
+samples, values). A printed value is reproduced when the computed one gives it at its printed
+precision: rounded (``|computed - printed| <= 10**-decimals / 2 + joint slack``), or, under the
+reading "printed values truncated", also truncated (the printed digits are the computed ones cut
+short). The joint slack is the first-order effect of the rounding of the printed joint values
+themselves: per joint, the change of the computed value when that joint moves by half a unit
+of its last printed digit, summed over the joints (:func:`joint_slack`); a source that prints
+joint values to 6 decimals of degrees moves its tool by a few 1e-6 mm, which a position printed
+to 4 decimals must be allowed. A sample is reproduced when all its printed values are.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -21,6 +25,10 @@ from .samples import SampleSet
 
 #: Configurations (readings x samples) computed per block.
 BLOCK = 100_000
+
+#: Printed joint values with at least this many decimals are taken as rounded (their rounding
+#: enters the tolerance); fewer decimals as exact inputs.
+ROUNDED_JOINT_DECIMALS = 2
 
 #: Slack [printed unit] for values on a rounding tie or a truncation edge (floating-point noise).
 EPS = 1e-9
@@ -40,6 +48,8 @@ class SampleScore:
         orientation_residual: Per sample, largest orientation difference (N,): [rad] for
             roll-pitch-yaw, [-] for matrix entries; NaN without printed orientation.
         order: Place of the reading in the generation order (ties keep it).
+        joint_slack: Per sample and printed value, the tolerance added for the rounding of
+            the printed joint values (N, K) [printed unit] (:func:`joint_slack`).
     """
 
     reading: Reading
@@ -50,6 +60,7 @@ class SampleScore:
     position_residual_m: np.ndarray
     orientation_residual: np.ndarray
     order: int
+    joint_slack: np.ndarray | None = None
 
     @property
     def count(self) -> int:
@@ -129,6 +140,39 @@ def _within_limits(audited: AuditedTable, reading: Reading, q_printed: np.ndarra
     return np.all((q >= table.lower - 1e-9) & (q <= table.upper + 1e-9), axis=1)
 
 
+def joint_slack(
+    audited: AuditedTable, samples: SampleSet, readings: list[Reading], computed: np.ndarray
+) -> np.ndarray:
+    """The rounding of the printed joint values, carried to the printed values (R, N, K).
+
+    Per joint ``j``: ``|value(q + h_j e_j) - value(q)|`` with ``h_j`` half a unit of the last
+    printed digit of ``q_j`` (a first-order bound of what that rounding moves each value),
+    summed over the joints. A joint value printed with fewer than
+    :data:`ROUNDED_JOINT_DECIMALS` decimals counts as exact (``h_j = 0``): sources choose
+    inputs such as 90 or -30.5 and print them whole; values such as 41.1993 are outputs.
+    """
+    if samples.q_decimals is None:
+        return np.zeros(1)
+    total = np.zeros_like(computed)
+    decimals = samples.q_decimals.astype(float)
+    # A value printed with fewer than ROUNDED_JOINT_DECIMALS decimals (90, -30.5) is a chosen
+    # input, exact; more decimals (41.1993) are the rounded output of a computation.
+    half = np.where(decimals >= ROUNDED_JOINT_DECIMALS, 0.5 * 10.0 ** (-decimals), 0.0)
+    if not half.any():
+        return total
+    for j in range(samples.q.shape[1]):
+        moved_q = samples.q.copy()
+        moved_q[:, j] += half[:, j]
+        moved = predicted_values(audited, replace(samples, q=moved_q), readings)
+        change = np.abs(moved - computed)
+        if samples.orientation == "rpy":  # angles: the change modulo one turn
+            turn = 2 * np.pi / np.array([sample_radians(r) for r in readings])[:, None, None]
+            wrapped = np.minimum(change, np.abs(turn - change))
+            change = np.where(np.arange(change.shape[2]) >= 3, wrapped, change)
+        total += change
+    return total
+
+
 def score_readings(
     audited: AuditedTable, samples: SampleSet, readings: list[Reading]
 ) -> list[SampleScore]:
@@ -140,6 +184,7 @@ def score_readings(
         readings: The readings to try (e.g. :func:`kin.audit.readings.candidate_readings`).
     """
     computed = predicted_values(audited, samples, readings)  # (R, N, K)
+    slack = joint_slack(audited, samples, readings, computed)
     printed = samples.values[None]
     given = ~np.isnan(printed)
     unit = 10.0 ** (-samples.decimals[None].astype(float))
@@ -148,7 +193,7 @@ def score_readings(
         wrapped = printed + (computed - printed + turn / 2) % turn - turn / 2
         computed = np.where(np.arange(computed.shape[2]) >= 3, wrapped, computed)
     error = np.abs(computed - printed)
-    rounded = error <= unit / 2 + EPS
+    rounded = error <= unit / 2 + slack + EPS
     same_side = (printed == 0) | (np.sign(computed) == np.sign(printed))
     cut = same_side & (np.abs(printed) <= np.abs(computed) + EPS)
     cut &= np.abs(computed) - np.abs(printed) < unit + EPS
@@ -175,6 +220,7 @@ def score_readings(
             position_residual_m=position[k],
             orientation_residual=orientation[k],
             order=k,
+            joint_slack=slack[k] if slack.ndim == 3 else np.zeros(computed.shape[1:]),
         )
         for k, reading in enumerate(readings)
     ]

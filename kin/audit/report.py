@@ -152,6 +152,17 @@ def sample_audit_text(audit: SampleAudit, top: int = 10) -> str:
         shown = ", ".join(f"[{s.reading.label}]" for s in same[:5])
         more = f", ... ({len(same)} in all)" if len(same) > 5 else ""
         lines.append(f"equally good (the samples cannot tell them apart): {shown}{more}")
+    slack = best.joint_slack
+    largest = float(np.nanmax(slack)) if slack is not None and slack.size else 0.0
+    lines.append(
+        "tolerance of a printed value: half a unit of its last printed digit"
+        + (
+            f", plus the rounding of the printed joint values carried to it (at most "
+            f"{largest:.2g} in the printed unit, first order)"
+            if largest > 0
+            else ""
+        )
+    )
     lines.append("samples under the best reading:")
     width = max(len(label) for label in samples.labels)
     for k, label in enumerate(samples.labels):

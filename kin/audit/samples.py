@@ -56,6 +56,7 @@ class SampleSet:
         decimals: Decimals of each printed value (N, K): its precision is ``10**-decimals``.
         columns: Names of the K value columns (``x, y, z`` then the orientation's).
         orientation: ``"none"``, ``"rpy"`` or ``"matrix"``.
+        q_decimals: Decimals of each printed joint value (N, dof), or None (exact values).
     """
 
     path: str
@@ -66,6 +67,7 @@ class SampleSet:
     decimals: np.ndarray
     columns: tuple[str, ...]
     orientation: Orientation
+    q_decimals: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.labels)
@@ -180,4 +182,5 @@ def read_samples(path: str | Path, dof: int) -> SampleSet:
         decimals=np.array(decimals, dtype=int)[:, dof:],
         columns=tuple(wanted[dof:]),
         orientation=orientation,
+        q_decimals=np.array(decimals, dtype=int)[:, :dof],
     )

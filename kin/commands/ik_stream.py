@@ -10,7 +10,8 @@ with ``"line"`` (the 1-based input line number) and ``"q_units"``; ``"rejected"`
 outside the limits) is filled only with --all or when there is no valid solution (then it holds
 the best attempt). A bad line gives ``{"line": n, "error": "..."}`` and the run goes on; so does
 a line whose solve fails in a way nobody foresaw (``"error": "internal error: ..."``, logged with
-its traceback at debug level). A blank line gives ``{"line": n, "skipped": "blank line"}``.
+its traceback at debug level). A blank line gives ``{"line": n, "skipped": "blank line"}``. A unit slip of a line (an angle
+beyond a turn without --deg) is listed in its answer's ``"warnings"``, not on stderr.
 Exactly one output line per input line, in order; nothing else is written on stdout. The exit
 code is 1 when any line had an error or no valid solution, else 0.
 
@@ -24,6 +25,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, TextIO
@@ -154,7 +156,11 @@ class StreamSolver:
                     record: dict[str, Any] = {"line": number, "skipped": "blank line"}
                 else:
                     try:
-                        record = answer(line)
+                        with warnings.catch_warnings(record=True) as caught:
+                            warnings.simplefilter("always")
+                            record = answer(line)
+                        if caught:  # unit slips of this line: in its answer, not on stderr
+                            record["warnings"] = [" ".join(str(w.message).split()) for w in caught]
                     except (KinError, ValueError, TypeError) as err:
                         record = {"line": number, "error": " ".join(str(err).split())}
                         failed = True
