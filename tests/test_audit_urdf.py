@@ -186,3 +186,32 @@ def test_continuous_joints(tmp_path):
     audit = audit_urdf("ur5", urdf, "tool", pairs=False)
     assert audit.best.reading.changes == () and audit.best.reproduced
     assert all(audit.reference.continuous)
+
+
+def test_readings_that_are_one_model_up_to_base_and_tool_are_grouped(capsys):
+    """ur5 against example-robot-data's URDF: d1 sign, theta1 +-90 deg, d6 sign... reproduce
+    only because the fitted base and tool absorb them: one line 'same model as rank 1', and
+    each such reading's FK is the best one's with constant transforms (checked independently)."""
+    from kin import batch_forward_kinematics
+    from kin.audit.report import urdf_audit_text
+
+    relative, frame, _ = CASES["ur5"]
+    audit = audit_urdf("ur5", erd_urdf(relative), frame)
+    best = audit.best
+    assert best.reproduced and not best.reading.changes
+    same = [s for s in audit.scores if s.same_as_best]
+    labels = " ".join(s.reading.label for s in same)
+    assert len(same) >= 8 and "d1: " in labels and "theta1: " in labels
+    assert all(s.reproduced for s in same)
+    assert not any(s.same_as_best for s in audit.scores if not s.reproduced)
+    rng = np.random.default_rng(5)
+    q = rng.uniform(-3, 3, size=(50, 6))
+    for s in same[:5]:
+        ours = batch_forward_kinematics(s.reading.table, q * s.reading.signs)
+        first = batch_forward_kinematics(best.reading.table, q)
+        # Through the reference: B_s T_s E_s = B_1 T_1 E_1 at every q.
+        left = s.fit.T_ref_base @ ours @ s.fit.T_tool_ref
+        right = best.fit.T_ref_base @ first @ best.fit.T_tool_ref
+        assert np.abs(left - right).max() < 1e-6
+    text = urdf_audit_text(audit)
+    assert text.count("same model as rank 1 up to the base/tool transform") == 1

@@ -66,6 +66,7 @@ def urdf_audit_json(audit: UrdfAudit) -> dict[str, Any]:
                 "changes": _changes(s),
                 "edits": _edits(s),
                 "reproduced": s.reproduced,
+                "same_as_best": s.same_as_best,
                 "position_residual_m": s.fit.position_residual_m,
                 "rotation_residual_rad": s.fit.rotation_residual_rad,
                 "unique": bool(s.fit.unique),
@@ -184,12 +185,21 @@ def urdf_audit_text(audit: UrdfAudit, top: int = 10) -> str:
         "",
         f"{'rank':>4}  {'reproduced':>10}  {'position [m]':>12}  {'rotation [rad]':>14}  reading",
     ]
-    for rank, s in enumerate(audit.scores[:top], start=1):
+    same = [s for s in audit.scores[1:] if s.same_as_best]
+    others = [s for s in audit.scores if not s.same_as_best]
+    for rank, s in enumerate(others[:top], start=1):
         lines.append(
             f"{rank:>4}  {'yes' if s.reproduced else 'no':>10}  "
             f"{s.fit.position_residual_m:>12.3e}  {s.fit.rotation_residual_rad:>14.3e}  "
             f"{s.reading.label}"
         )
+        if rank == 1 and same:
+            labels = ", ".join(f"[{t.reading.label}]" for t in same[:6])
+            more = f", ... ({len(same)} in all)" if len(same) > 6 else ""
+            lines.append(
+                f"{'':>4}  {len(same):>10}  same model as rank 1 up to the base/tool transform "
+                f"(one finding, not {len(same) + 1}): {labels}{more}"
+            )
     best = audit.best
     lines += ["", f"best reading: {best.reading.label}"]
     lines += [f"  - {c.text}: {c.edit}" for c in best.reading.changes]
@@ -208,10 +218,6 @@ def urdf_audit_text(audit: UrdfAudit, top: int = 10) -> str:
             "  base and tool are not unique: a motion of both leaves every sample in place "
             "(e.g. a planar arm: a shift or turn along the common joint axis)"
         )
-    same = [f"[{s.reading.label}]" for s in audit.scores[1:] if s.reproduced and best.reproduced]
-    if same:
-        shown = ", ".join(same[:5]) + (f", ... ({len(same)} in all)" if len(same) > 5 else "")
-        lines.append(f"  equally good (absorbed by the base or tool transform): {shown}")
     return "\n".join(lines)
 
 

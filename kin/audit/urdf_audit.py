@@ -7,7 +7,7 @@ both models' limits; the residuals rank the readings.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -34,12 +34,15 @@ class UrdfScore:
         fit: The fitted base and tool transforms and the residuals.
         reproduced: Both residuals within the tolerances.
         order: Place of the reading in the generation order.
+        same_as_best: The reading is the best one's model up to constant base and tool
+            transforms (:func:`same_model`): one finding, not another.
     """
 
     reading: Reading
     fit: BaseToolFit
     reproduced: bool
     order: int
+    same_as_best: bool = False
 
     @property
     def rank_key(self) -> tuple:
@@ -119,5 +122,28 @@ def audit_urdf(
     ):
         ok = fit.position_residual_m <= position_tol and fit.rotation_residual_rad <= rotation_tol
         scores.append(UrdfScore(reading, fit, ok, order))
-    ranked = tuple(sorted(scores, key=lambda s: s.rank_key))
-    return UrdfAudit(audited, reference, q, ranked, position_tol, rotation_tol)
+    ranked = sorted(scores, key=lambda s: s.rank_key)
+    best = ranked[0]
+    check = sample_joint_vectors(audited.table, reference, 64, seed + 1)  # fresh joint vectors
+    for k, score in enumerate(ranked[1:], start=1):
+        if score.reproduced and best.reproduced and same_model(best, score, check):
+            ranked[k] = replace(score, same_as_best=True)
+    return UrdfAudit(audited, reference, q, tuple(ranked), position_tol, rotation_tol)
+
+
+def same_model(first: UrdfScore, second: UrdfScore, q: np.ndarray, tol: float = 1e-9) -> bool:
+    """Whether two readings are one model up to constant base and tool transforms.
+
+    Both were fitted to the reference: ``T_ref = B1 T1(q) E1 = B2 T2(q) E2``, so
+    ``T2(q) = B2^-1 B1 T1(q) E1 E2^-1`` must hold at every joint vector; this checks it at
+    ``q`` (other joint vectors than the fit's) with each table's own NumPy DH product, to ``tol``
+    [m, and in the rotation entries].
+    """
+    from kin.batch_fk import batch_forward_kinematics
+
+    t1 = batch_forward_kinematics(first.reading.table, q * first.reading.signs)
+    t2 = batch_forward_kinematics(second.reading.table, q * second.reading.signs)
+    base = np.linalg.inv(second.fit.T_ref_base) @ first.fit.T_ref_base
+    tool = first.fit.T_tool_ref @ np.linalg.inv(second.fit.T_tool_ref)
+    predicted = base @ t1 @ tool
+    return bool(np.abs(predicted - t2).max() <= tol)
