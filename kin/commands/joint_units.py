@@ -15,6 +15,7 @@ import numpy as np
 
 from dh2urdf import DHTable
 from dh2urdf.command_line import angle_scale, length_scale
+from dh2urdf.table_values import MAX_LENGTH
 
 from ..exceptions import JointVectorError
 
@@ -72,8 +73,13 @@ class JointUnits:
     def to_si(self, values: Sequence[float], option: str = "--q") -> np.ndarray:
         """Joint values given in command-line units, in SI ([rad] or [m]).
 
+        Revolute values may be any finite number (a warning above a turn without ``--deg``);
+        prismatic ones at most ``MAX_LENGTH`` (1e6 m) in magnitude, the bound of a table's lengths,
+        so that forward kinematics stays finite.
+
         Raises:
-            JointVectorError: Not one value per joint; the message names the robot and joints.
+            JointVectorError: Not one value per joint, a value not finite or a prismatic value
+                beyond 1e6 m; the message names the robot, the joint and the option.
         """
         nq = len(self.joint_names)
         try:
@@ -97,7 +103,19 @@ class JointUnits:
             warn_radians(
                 option, [v for v, label in zip(array.tolist(), self.labels) if label == "rad"]
             )
-        return array * self.scales
+        si = array * self.scales
+        for name, value, given, unit, si_unit in zip(
+            self.joint_names, si.tolist(), array.tolist(), self.labels, self.si_labels
+        ):
+            if si_unit == "m" and abs(value) > MAX_LENGTH:
+                raise JointVectorError(
+                    f"{option}: prismatic joint '{name}' value {given:g} {unit} is beyond "
+                    f"{MAX_LENGTH:g} m, the longest length a table may give; check the value "
+                    "and --unit",
+                    nq,
+                    array.size,
+                )
+        return si
 
     def from_si(self, q: np.ndarray) -> np.ndarray:
         """SI joint values ([rad] or [m]) in command-line units."""
