@@ -58,6 +58,11 @@ class WorkspaceGrid:
         """
         bound = max(reach_bound(table), 1e-6)
         size = voxel_size_m or 2.0 * bound / DEFAULT_VOXELS_PER_SIDE
+        if not (0 < size <= 4.0 * bound and math.isfinite(bound)):
+            raise KinError(
+                f"voxel size {size:g} m for a reach of {bound:g} m: give a positive voxel of at "
+                f"most {4.0 * bound:.3g} m (twice the workspace's width)"
+            )
         side = math.ceil(2.0 * bound / size) + 1
         if not size > 0 or side > _MAX_VOXELS_PER_SIDE:
             raise KinError(

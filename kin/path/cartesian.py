@@ -107,7 +107,15 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
             f"steps must be an integer of at least {segments} (one per segment), got {steps!r}",
             "steps",
         )
-    counts = _share_steps([_segment_length(a, b) for a, b in zip(waypoints, waypoints[1:])], steps)
+    lengths = [_segment_length(a, b) for a, b in zip(waypoints, waypoints[1:])]
+    for number, length in enumerate(lengths, start=1):
+        if not math.isfinite(length):  # e.g. a waypoint 1e308 m away
+            raise PathError(
+                f"segment {number} (waypoints {number} and {number + 1}) is too long to sample "
+                f"({length:g} m): give waypoints the arm can reach",
+                f"waypoint {number + 1}",
+            )
+    counts = _share_steps(lengths, steps)
     positions, rotations, pitches, rolls = [], [], [], []
     indices = [0]
     for k, (a, b) in enumerate(zip(waypoints, waypoints[1:])):
@@ -133,7 +141,7 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
 
 def _segment_length(a: Target, b: Target) -> float:
     """Position change [m] plus :data:`ROTATION_LENGTH` times the angle change [rad]."""
-    length = float(np.linalg.norm(b.position - a.position))
+    length = math.hypot(*(b.position - a.position).tolist())  # inf, not an overflow, when huge
     if isinstance(a, PoseTarget) and isinstance(b, PoseTarget):
         turn = pin.log3(a.rotation.T @ b.rotation)
         length += ROTATION_LENGTH * math.sqrt(float(turn @ turn))
