@@ -358,3 +358,18 @@ def test_path_and_workspace_argument_errors(argv, needle, tmp_path, capsys):
     """Conflicting or out-of-range --path / --workspace: exit 2 with one line."""
     full = ["--robot", "ur5", *argv, "--html", str(tmp_path / "page.html")]
     assert_one_line_error(call(command.main, full), capsys.readouterr().err, needle)
+
+
+def test_a_path_of_another_robot_is_refused(tmp_path, capsys):
+    """kin preview --robot ur3 --path <a ur5 path>: one line naming both robots, exit 2, no page."""
+    from kin.commands import path as path_command
+
+    joint_path = tmp_path / "ur5.json"
+    argv = ["--robot", "ur5", "--from", "0.4", "0", "0.3", "--rpy", "180", "0", "0", "--deg"]
+    argv += ["--to", "0.4", "0.2", "0.3", "--rpy", "180", "0", "0", "--steps", "5", "--json"]
+    assert path_command.main(argv) == 0
+    joint_path.write_text(capsys.readouterr().out)
+    page = tmp_path / "p.html"
+    code = call(command.main, ["--robot", "ur3", "--path", str(joint_path), "--html", str(page)])
+    assert_one_line_error(code, capsys.readouterr().err, "computed for 'ur5', not 'ur3'")
+    assert not page.exists()

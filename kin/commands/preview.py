@@ -233,11 +233,20 @@ def _path_frames(
     robot: RobotModel, file: str, duration: float, prog: str
 ) -> tuple[np.ndarray, np.ndarray, float]:
     """Samples and animation frames [rad, m], frame interval [s] of a ``kin path --json`` file."""
+    from pathlib import Path
+
+    from ..path.exceptions import PathError
     from ..path.joint_path_file import animation_frames, read_joint_path
 
+    if not Path(file).is_file():
+        raise PathError(f"--path {file}: no such file", "--path")
     joint_path = read_joint_path(file, robot.nq)
     if joint_path.robot and joint_path.robot != robot.name:
-        print(f"{prog}: warning: {file} was computed for '{joint_path.robot}'", file=sys.stderr)
+        raise PathError(
+            f"--path {file} was computed for '{joint_path.robot}', not '{robot.name}': give "
+            f"--robot {joint_path.robot} (or a path of this robot)",
+            "--path",
+        )
     frames, dt = animation_frames(joint_path, duration)
     return joint_path.q, frames, dt
 
