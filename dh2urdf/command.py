@@ -5,6 +5,7 @@ Usage::
     dh2urdf TABLE.toml -o arm.urdf
     dh2urdf --robot ur5 -o ur5.xml          # MJCF, from the .xml suffix
     dh2urdf --robot ur5 --format mjcf -o -  # to stdout
+    dh2urdf from-urdf arm.urdf --tip tool0 -o arm.toml   # a URDF's chain as a DH table
 
 Bad input (missing file, bad table, unknown robot, unwritable output folder) exits 2 with one line
 on stderr and leaves no file behind. A first argument naming a subcommand (``audit``) is set apart
@@ -31,10 +32,14 @@ PROG = "dh2urdf"
 FORMATS = ("mjcf", "urdf")
 MJCF_SUFFIXES = (".mjcf", ".xml")
 #: Subcommands: first argument -> module with ``main(argv, prog)``, loaded only when used.
-SUBCOMMANDS: dict[str, str] = {"audit": "kin.audit.command"}
+SUBCOMMANDS: dict[str, str] = {
+    "audit": "kin.audit.command",
+    "from-urdf": "dh2urdf.from_urdf_command",
+}
 #: One line per subcommand, for ``dh2urdf --help``.
 SUBCOMMAND_HELP: dict[str, str] = {
     "audit": "which reading of a paper's DH table reproduces its printed poses or a URDF",
+    "from-urdf": "the DH table (.toml) of a URDF's chain from --base to --tip",
 }
 
 

@@ -293,39 +293,56 @@ RADIAN_SUSPECT = 2 * math.pi + 1e-9
 LENGTH_SUSPECT = 20.0
 
 
+def _fixed_angles(data: dict[str, Any]) -> list[tuple[str, float]]:
+    """The angles of ``[base]`` and ``[tool]`` as written (rpy, or a DH-style alpha/theta)."""
+    angles = []
+    for key in ("base", "tool"):
+        section = data.get(key)
+        if isinstance(section, dict):
+            angles += [(f"{key}.rpy", float(v)) for v in section.get("rpy", [])]
+            angles += [
+                (f"{key}.{k}", float(section[k])) for k in ("alpha", "theta") if k in section
+            ]
+    return angles
+
+
 def _warn_units(
     path: str,
     rows: tuple[DHRow, ...],
-    angle_unit: str,
-    length_unit: str,
+    data: dict[str, Any],
     base: np.ndarray,
     tool: np.ndarray,
 ) -> None:
-    """One :class:`UnitWarning` per suspicious unit: degrees in a radian table, a giant arm."""
-    if angle_unit == "rad":
+    """One :class:`UnitWarning` per suspicious unit: degrees in a radian table, a giant arm.
+
+    Angles: alpha, theta and revolute limits of every row, the rpy or alpha/theta of ``[base]``
+    and ``[tool]`` (prismatic limits are lengths). Length: every ``|a| + |d|``, the largest
+    prismatic travel and the base and tool offsets, laid end to end.
+    """
+    if data["angle_unit"] == "rad":
+        angles: list[tuple[str, float]] = []
         for row in rows:
-            angles = [("alpha", row.alpha), ("theta", row.theta)]
+            where = f"{path}, joint row {row.index}, field"
+            angles += [(f"{where} 'alpha'", row.alpha), (f"{where} 'theta'", row.theta)]
             if row.joint_type == "revolute":
-                angles += [("limits", row.lower), ("limits", row.upper)]
-            for field, value in angles:
-                if abs(value) > RADIAN_SUSPECT:
-                    warnings.warn(
-                        f"{path}, joint row {row.index}, field '{field}': {value:g} rad is more "
-                        'than a turn: are the angles in degrees? then write angle_unit = "deg"',
-                        UnitWarning,
-                        stacklevel=3,
-                    )
-                    break
-            else:
-                continue
-            break
+                angles += [(f"{where} 'limits'", row.lower), (f"{where} 'limits'", row.upper)]
+        angles += [(f"{path}, field '{field}'", value) for field, value in _fixed_angles(data)]
+        for where, value in angles:
+            if abs(value) > RADIAN_SUSPECT:
+                warnings.warn(
+                    f"{where}: {value:g} rad is more than a turn: are the angles in degrees? "
+                    'then write angle_unit = "deg"',
+                    UnitWarning,
+                    stacklevel=3,
+                )
+                break
     length = sum(abs(row.a) + abs(row.d) for row in rows)
     length += sum(
         max(abs(row.lower), abs(row.upper)) for row in rows if row.joint_type == "prismatic"
     )
     length += float(np.linalg.norm(base[:3, 3])) + float(np.linalg.norm(tool[:3, 3]))
     if length > LENGTH_SUSPECT:
-        hint = 'length_unit = "mm"' if length_unit == "m" else "the length unit"
+        hint = 'length_unit = "mm"' if data["length_unit"] == "m" else "the length unit"
         warnings.warn(
             f"{path}: the arm's lengths add up to {length:g} m (more than {LENGTH_SUSPECT:g} m): "
             f"are they in millimeters? then write {hint}",
@@ -380,7 +397,7 @@ def parse_table(
         base = _fixed_transform(path, data["base"], "base", convention, meters, radians)
     if "tool" in data:
         tool = _fixed_transform(path, data["tool"], "tool", convention, meters, radians)
-    _warn_units(path, rows, angle_unit, length_unit, base, tool)
+    _warn_units(path, rows, data, base, tool)
     return DHTable(
         name=texts["name"],
         description=texts["description"],

@@ -106,7 +106,7 @@ def table_from_chain(chain: UrdfChain, convention: Convention = "standard") -> D
     return DHTable(
         name=_name(chain),
         description=f"{chain.name}: {chain.base} to {chain.tip}, read from {Path(chain.path).name}",
-        source=f"{chain.path} (URDF), chain {chain.base} -> {chain.tip}",
+        source=f"{Path(chain.path).name} (URDF), chain {chain.base} -> {chain.tip}",
         convention=convention,
         rows=tuple(rows),
         T_world_base=_clean_matrix(base_frame),
