@@ -71,3 +71,60 @@ def test_shipped_tables_and_radian_values_warn_nothing(capsys):
         ik.main(["--robot", "ur5", "--target", "0.4", "0.1", "0.3", "--rpy", "3.14", "0", "0"]) == 0
     )
     assert "warning" not in capsys.readouterr().err
+
+
+def _document(**changes) -> dict:
+    """A two-joint table in m and rad (revolute, then prismatic), with ``changes`` applied."""
+    document = {
+        "convention": "standard",
+        "length_unit": "m",
+        "angle_unit": "rad",
+        "joints": [
+            {"type": "revolute", "a": 0.5, "alpha": 0.0, "d": 0.2, "theta": 0.0, "limits": [-3, 3]},
+            {"type": "prismatic", "a": 0.0, "alpha": 0.0, "d": 0.0, "theta": 0.0, "limits": [0, 8]},
+        ],
+    }
+    document.update(changes)
+    return document
+
+
+def _unit_warnings(document: dict) -> list[str]:
+    from dh2urdf import parse_table
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        parse_table(document, "arm.toml")
+    return [str(w.message) for w in caught if issubclass(w.category, UnitWarning)]
+
+
+def test_prismatic_travel_in_a_radian_table_is_a_length_not_an_angle():
+    """A prismatic joint moving 8 m in a rad table: no angle warning (8 > 2 pi, but meters)."""
+    assert _unit_warnings(_document()) == []
+
+
+@pytest.mark.parametrize(
+    ("section", "needle"),
+    [
+        ({"base": {"xyz": [0, 0, 0], "rpy": [0, 0, 90.0]}}, "field 'base.rpy': 90 rad"),
+        ({"tool": {"a": 0.0, "alpha": -90.0, "d": 0.1, "theta": 0.0}}, "field 'tool.alpha': -90"),
+    ],
+)
+def test_base_and_tool_angles_in_a_radian_table(section, needle):
+    """Degrees in [base] rpy or a DH-style [tool]: one warning naming the field and the fix."""
+    messages = _unit_warnings(_document(**section))
+    assert len(messages) == 1 and needle in messages[0] and 'angle_unit = "deg"' in messages[0]
+
+
+def test_many_degree_values_give_one_angle_warning():
+    """Every angle in degrees (rows, limits, base): still one warning line, the first value."""
+    joints = _document()["joints"]
+    joints[0].update(alpha=-90.0, theta=90.0, limits=[-165.0, 165.0])
+    messages = _unit_warnings(_document(joints=joints, base={"rpy": [0, 0, 180.0]}))
+    assert len(messages) == 1 and "joint row 1, field 'alpha': -90 rad" in messages[0]
+
+
+def test_the_tool_offset_counts_in_the_arm_length():
+    """Links of 8.7 m (a, d, travel) and a 12 m tool offset: over 20 m, one length warning."""
+    assert _unit_warnings(_document(tool={"xyz": [0, 0, 11.0]})) == []
+    messages = _unit_warnings(_document(tool={"xyz": [0, 0, 12.0]}))
+    assert len(messages) == 1 and "20.7 m" in messages[0] and 'length_unit = "mm"' in messages[0]
