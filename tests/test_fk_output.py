@@ -123,12 +123,18 @@ def _reference_pose(path, q: np.ndarray) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def rrpr4_path(tmp_path_factory):
-    """The prismatic test arm (a length joint in mm) as a table file."""
-    return write_rrpr4(tmp_path_factory.mktemp("fk_extreme"))
+def table_files(tmp_path_factory) -> dict:
+    """Table files of the test arms: rrpr4 (a prismatic joint in mm) and 'giant', ur5 with
+    links of 1e6 m (the bound of a table's lengths)."""
+    folder = tmp_path_factory.mktemp("fk_extreme")
+    text = get_robot("ur5").table_path.read_text(encoding="utf-8")
+    giant = text.replace("a = -0.425\n", "a = -1e6\n").replace("d = 0.089159\n", "d = 1e6\n")
+    assert giant.count("1e6") == 2
+    (folder / "giant.toml").write_text(giant, encoding="utf-8")
+    return {"rrpr4": write_rrpr4(folder), "giant": folder / "giant.toml"}
 
 
-@pytest.mark.parametrize("name", [*ROBOTS, "rrpr4"])
+@pytest.mark.parametrize("name", [*ROBOTS, "rrpr4", "giant"])
 @settings(
     max_examples=30,
     deadline=None,
@@ -137,15 +143,15 @@ def rrpr4_path(tmp_path_factory):
 )
 @given(data=st.data(), deg=st.booleans(), unit=st.sampled_from(["m", "mm"]), text=st.booleans())
 def test_fk_any_joint_values_a_finite_answer_or_one_line(
-    name, data, deg, unit, text, rrpr4_path, capsys
+    name, data, deg, unit, text, table_files, capsys
 ):
     """kin fk with extreme or non-finite --q (issue 19): never a traceback; exit 0 with finite
     numbers equal to a NumPy DH product at the q it reports, or exit 2 with one stderr line and
     nothing on stdout."""
-    path = rrpr4_path if name == "rrpr4" else get_robot(name).table_path
+    path = table_files[name] if name in table_files else get_robot(name).table_path
     dof = len(load_reference(path).names)
     q = data.draw(st.lists(EXTREME, min_size=dof, max_size=dof), label="q")
-    argv = ["--robot", str(path) if name == "rrpr4" else name, "--q", *map(repr, q)]
+    argv = ["--robot", str(path) if name in table_files else name, "--q", *map(repr, q)]
     argv += ["--unit", unit] + (["--deg"] if deg else []) + ([] if text else ["--json"])
     code = call(fk.main, argv)
     captured = capsys.readouterr()
