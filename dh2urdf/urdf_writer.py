@@ -237,13 +237,13 @@ def urdf_elements(table: DHTable) -> Robot:
 def build_urdf(table: DHTable) -> yourdfpy.URDF:
     """The URDF of a DH table as a yourdfpy model, validated (imports yourdfpy).
 
-    See :func:`dh2urdf.urdf_yourdfpy.yourdfpy_model`; a kinematic model needs only the text
+    See :func:`dh2urdf.yourdfpy_model.yourdfpy_model`; a kinematic model needs only the text
     (:func:`urdf_string`), which does not import yourdfpy.
 
     Raises:
         UrdfBuildError: yourdfpy's validation rejects the model.
     """
-    from .urdf_yourdfpy import yourdfpy_model
+    from .yourdfpy_model import yourdfpy_model
 
     return yourdfpy_model(table)
 
