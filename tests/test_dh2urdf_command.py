@@ -121,3 +121,23 @@ def test_export_urdf_script_is_a_shim(tmp_path, capsys):
     assert load_script("export_urdf").main(["--robot", "lab5", "-o", str(out)]) == 0
     assert out.read_text() == ROBOTS["lab5"].urdf_path.read_text()
     assert capsys.readouterr().out.startswith(f"wrote {out} (URDF, lab5, 5 joints")
+
+
+def test_mujoco_remark_is_one_warning_line_and_no_log_file(tmp_path, monkeypatch, capsys):
+    """Equal joint limits (MuJoCo ignores them): the MJCF is written, MuJoCo's remark is one
+    'dh2urdf: warning:' line naming the table, and no MUJOCO_LOG.TXT lands in the working folder."""
+    from dh2urdf.command import main
+
+    text = (ROBOTS["ur5"].table_path).read_text(encoding="utf-8")
+    old = "limits = [-3.141592653589793, 3.141592653589793]"
+    assert old in text
+    table = tmp_path / "fixed_elbow.toml"
+    table.write_text(text.replace(old, "limits = [0.5, 0.5]"), encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert main([str(table), "-o", "arm.xml"]) == 0
+    err = capsys.readouterr().err
+    assert err.splitlines() == [
+        f"dh2urdf: warning: {table}: MuJoCo: joint 'elbow_joint' has equal lower and upper "
+        "limits, limit ignored"
+    ], err
+    assert (tmp_path / "arm.xml").exists() and not (tmp_path / "MUJOCO_LOG.TXT").exists()

@@ -129,8 +129,11 @@ def _fk_check(path, urdf_text: str) -> None:
     suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
 )
 @given(case=extreme_tables())
-def test_extreme_table_gives_a_finite_file_or_one_line(kind, case, tmp_path, capsys):
-    """Exit 0: a whole file, every number finite (URDF: FK as NumPy's); exit 2: one line, no file."""
+def test_extreme_table_gives_a_finite_file_or_one_line(kind, case, tmp_path, monkeypatch, capsys):
+    """Exit 0: a whole file, every number finite (URDF: FK as NumPy's); exit 2: one line, no file.
+
+    Run in the temporary folder: nothing may appear in the working folder (MuJoCo's log file)."""
+    monkeypatch.chdir(tmp_path)
     name, document = case
     folder = Path(tempfile.mkdtemp(dir=tmp_path))  # one per example: hypothesis reuses tmp_path
     path = folder / f"{name}_extreme.toml"
@@ -149,6 +152,7 @@ def test_extreme_table_gives_a_finite_file_or_one_line(kind, case, tmp_path, cap
         assert not out.exists(), "a file was written although the command failed"
         assert list(folder.iterdir()) == [path], "a temporary file was left behind"
         return
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
     text = out.read_text(encoding="utf-8")
     root = etree.fromstring(text.encode("utf-8"))  # a whole XML document
     numbers = [
