@@ -1,0 +1,266 @@
+"""Benchmark IK of arms given as URDFs (example-robot-data) against TRAC-IK, ssik and EAIK.
+
+For each arm, poses from Pinocchio's FK of the original URDF at random joint vectors inside the
+limits; every solver gets the same URDF, base and tip, and every answer is judged by Pinocchio
+on the original URDF (1e-5 m, 1e-4 rad, inside the URDF's limits). Timed is the call a user makes:
+ours is ``kin.ik.get_solver(kin.load_robot(urdf, base, tip)).solve(PoseTarget(p, R), seed)``
+(the solver built once, outside the loop, like each peer's). Every-branch arms (a closed form):
+our time for all branches beside ssik's and EAIK's all-branch call; redundant arms: one verified
+answer near the seed (q = 0 moved into the limits) beside TRAC-IK's. The table prints the median of single calls and
+the success rate; peers not installed (``pip install ".[bench]"``) or refusing an arm are named.
+
+    python scripts/bench_ik_urdf.py                  # every arm, 200 poses each
+    python scripts/bench_ik_urdf.py --arms ur5 panda --poses 1000
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import importlib.metadata  # noqa: E402
+import math  # noqa: E402
+import statistics  # noqa: E402
+import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+import pinocchio as pin  # noqa: E402
+
+from dh2urdf.urdf_chain import read_chain  # noqa: E402
+from kin import load_robot  # noqa: E402
+from kin.cli import ArgumentParser, positive_int  # noqa: E402
+from kin.ik import PoseTarget, get_solver  # noqa: E402
+
+#: arm -> (URDF inside example-robot-data's robots folder, base link or None, tip link).
+ARMS = {
+    "ur3": ("ur_description/urdf/ur3_robot.urdf", None, "tool0"),
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", None, "tool0"),
+    "ur10": ("ur_description/urdf/ur10_robot.urdf", None, "tool0"),
+    "kinova": ("kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector"),
+    "z1": ("z1_description/urdf/z1.urdf", None, "link06"),
+    "panda": ("panda_description/urdf/panda.urdf", None, "panda_link8"),
+    "xarm7": ("xarm_description/urdf/xarm7.urdf", None, "link_eef"),
+    "tiago": ("tiago_description/robots/tiago.urdf", "torso_lift_link", "arm_tool_link"),
+    "baxter_left": ("baxter_description/urdf/baxter.urdf", "torso", "left_gripper"),
+}
+
+#: Judge's tolerances [m], [rad].
+POSITION_TOL, ROTATION_TOL = 1e-5, 1e-4
+
+
+def erd(relative: str) -> Path:
+    """Absolute path of an example-robot-data file (``robots/<relative>``)."""
+    suffix = f"example-robot-data/robots/{relative}"
+    for file in importlib.metadata.files("example-robot-data") or ():
+        if str(file).endswith(suffix):
+            return Path(str(file.locate()))
+    raise FileNotFoundError(suffix)
+
+
+class Judge:
+    """Pinocchio's FK of the original URDF between base and tip, and its limits."""
+
+    def __init__(self, urdf: Path, base: str, tip: str, joints: tuple[str, ...]):
+        self.model = pin.buildModelFromUrdf(str(urdf))
+        self.data = self.model.createData()
+        self.base = self.model.getFrameId(base, pin.FrameType.BODY)
+        self.tip = self.model.getFrameId(tip, pin.FrameType.BODY)
+        self.joints = [self.model.joints[self.model.getJointId(name)] for name in joints]
+
+    def pose(self, q: np.ndarray) -> pin.SE3:
+        """``T_base_tip`` at the chain's joint vector ``q`` (every other joint at 0)."""
+        full = pin.neutral(self.model)
+        for joint, value in zip(self.joints, q, strict=True):
+            if joint.nq == 2:
+                full[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
+            else:
+                full[joint.idx_q] = value
+        pin.forwardKinematics(self.model, self.data, full)
+        pin.updateFramePlacements(self.model, self.data)
+        return self.data.oMf[self.base].inverse() * self.data.oMf[self.tip]
+
+    def on_target(self, q: np.ndarray, target: pin.SE3, lower, upper) -> bool:  # noqa: ANN001
+        """Whether ``q`` is inside the limits and reaches ``target`` within the tolerances."""
+        q = np.asarray(q, dtype=float)
+        if not (np.all(q >= lower - 1e-9) and np.all(q <= upper + 1e-9)):
+            return False
+        reached = self.pose(q)
+        position = np.linalg.norm(reached.translation - target.translation)
+        angle = np.linalg.norm(pin.log3(reached.rotation.T @ target.rotation))
+        return bool(position < POSITION_TOL and angle < ROTATION_TOL)
+
+
+Solve = Callable[[pin.SE3, np.ndarray], list[np.ndarray]]
+
+
+def ours(urdf: Path, base: str | None, tip: str) -> tuple[str, Solve]:
+    """Our documented call on the robot loaded from the URDF."""
+    robot = load_robot(urdf, base, tip)
+    solver = get_solver(robot)
+
+    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
+        result = solver.solve(PoseTarget(target.translation, target.rotation), seed)
+        return [s.q for s in result.solutions]
+
+    return solver.name, solve
+
+
+def _kdl_friendly(urdf: Path) -> Path:
+    """The URDF with a dummy root link above its root (KDL rejects a root link with inertia)."""
+    import tempfile
+    import xml.etree.ElementTree as ElementTree
+
+    root = ElementTree.parse(urdf).getroot()
+    children = {c.get("link") for c in root.iter("child")}
+    first = next(link.get("name") for link in root.iter("link") if link.get("name") not in children)
+    ElementTree.SubElement(root, "link", name="bench_root")
+    joint = ElementTree.SubElement(root, "joint", name="bench_root_joint", type="fixed")
+    ElementTree.SubElement(joint, "parent", link="bench_root")
+    ElementTree.SubElement(joint, "child", link=str(first))
+    handle, name = tempfile.mkstemp(suffix=".urdf")
+    os.close(handle)
+    ElementTree.ElementTree(root).write(name)
+    return Path(name)
+
+
+def tracik(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
+    """TRAC-IK (pytracik): 5 ms, epsilon 1e-6, Speed; or why it is not measured."""
+    try:
+        from trac_ik import TracIK
+    except ImportError as err:
+        return f"not installed ({err})"
+    try:
+        friendly = str(_kdl_friendly(urdf))
+        solver = TracIK(base, tip, friendly, timeout=0.005, epsilon=1e-6, solver_type="Speed")
+    except Exception as err:  # noqa: BLE001 - a peer's refusal is a row of the table
+        return f"refuses: {' '.join(str(err).split())[:60]}"
+
+    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
+        q = solver.ik(target.translation, target.rotation, seed_jnt_values=seed)
+        return [] if q is None else [np.asarray(q)]
+
+    return "TRAC-IK (5 ms, Speed)", solve
+
+
+def ssik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
+    """The every-branch solve of ssik from the URDF; or why it is not measured."""
+    try:
+        import ssik
+    except ImportError as err:
+        return f"not installed ({err})"
+    try:
+        arm = ssik.Manipulator.from_urdf(str(urdf), base=base, ee=tip)
+        name = f"ssik {arm.solver_name}"
+    except Exception as err:  # noqa: BLE001
+        return f"refuses: {' '.join(str(err).split())[:60]}"
+
+    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
+        return [np.asarray(s.q) for s in arm.solve(target.homogeneous)]
+
+    return name, solve
+
+
+def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
+    """EAIK's every-branch solve from the URDF (its frames related to ours); or why not."""
+    try:
+        from eaik.IK_URDF import UrdfRobot
+    except ImportError as err:
+        return f"not installed ({err})"
+    try:
+        robot = UrdfRobot(str(urdf))
+        family = robot.getKinematicFamily()
+    except Exception as err:  # noqa: BLE001
+        return f"refuses: {' '.join(str(err).split())[:60]}"
+    if not robot.hasKnownDecomposition():
+        return f"refuses: {family}"
+
+    # EAIK reads the whole URDF with frames of its own: relate them to base -> tip once
+    # (T_urdf(q) = A T_eaik(q) B, fitted over sampled q) and hand it targets in its frames.
+    from kin.audit.se3_fit import fit_base_tool_many
+
+    chain = read_chain(urdf, base, tip)
+    judge = Judge(urdf, chain.base, chain.tip, tuple(j.name for j in chain.joints))
+    rng = np.random.default_rng(1)
+    lower = np.array([max(j.lower, -3.0) for j in chain.joints])
+    upper = np.array([min(j.upper, 3.0) for j in chain.joints])
+    q = rng.uniform(lower, upper, size=(32, len(chain.joints)))
+    ours_poses = np.array([judge.pose(v).homogeneous for v in q])
+    theirs = np.array([robot.fwdKin(v) for v in q])
+    fit = next(iter(fit_base_tool_many(theirs[None], ours_poses)))
+    if fit.position_residual_m > 1e-6:
+        return f"refuses: its chain is not {chain.base} -> {chain.tip}"
+    a_inv, b_inv = np.linalg.inv(fit.T_ref_base), np.linalg.inv(fit.T_tool_ref)
+
+    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
+        answer = robot.IK(a_inv @ target.homogeneous @ b_inv)
+        return [np.asarray(q) for q, least in zip(answer.Q, answer.is_LS) if not least]
+
+    return f"EAIK {family}", solve
+
+
+def measure(solve: Solve, targets, seeds, judge: Judge, lower, upper) -> tuple[float, float, float]:  # noqa: ANN001
+    """(success [%], median single-call time [us], valid answers per pose)."""
+    times, hits, counts = [], 0, []
+    for target, seed in zip(targets, seeds, strict=True):
+        start = time.perf_counter()
+        answers = solve(target, seed)
+        times.append(time.perf_counter() - start)
+        valid = [q for q in answers if judge.on_target(q, target, lower, upper)]
+        hits += bool(valid)
+        counts.append(len(valid))
+    return 100.0 * hits / len(targets), statistics.median(times) * 1e6, float(np.mean(counts))
+
+
+def get_argument_parser() -> ArgumentParser:
+    """Command-line arguments."""
+    parser = ArgumentParser(prog="bench_ik_urdf.py", description=__doc__)
+    parser.add_argument("--arms", nargs="+", choices=tuple(ARMS), default=list(ARMS))
+    parser.add_argument("--poses", type=positive_int, default=200, help="poses per arm (200)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Print one row per arm and solver."""
+    args = get_argument_parser().parse_args(argv)
+    print(
+        f"{'arm':<12} {'solver':<40} {'success':>8} {'median':>10} {'answers':>8}"
+        "   (answers: valid branches per pose; judged on the original URDF)"
+    )
+    for arm in args.arms:
+        relative, base, tip = ARMS[arm]
+        urdf = erd(relative)
+        chain = read_chain(urdf, base, tip)
+        joints = tuple(joint.name for joint in chain.joints)
+        judge = Judge(urdf, chain.base, chain.tip, joints)
+        lower = np.array([j.lower for j in chain.joints])
+        upper = np.array([j.upper for j in chain.joints])
+        rng = np.random.default_rng(7)
+        qs = rng.uniform(
+            np.maximum(lower, -math.pi), np.minimum(upper, math.pi), size=(args.poses, len(joints))
+        )
+        targets = [judge.pose(q) for q in qs]
+        seeds = [np.clip(np.zeros(len(joints)), lower, upper)] * len(targets)  # q = 0, in limits
+        name, solve = ours(urdf, base, tip)
+        rows: list[tuple[str, tuple[str, Solve] | str]] = [("ours", (f"ours: {name}", solve))]
+        rows += [("trac", tracik(urdf, chain.base, chain.tip))]
+        rows += [("ssik", ssik_solver(urdf, chain.base, chain.tip))]
+        rows += [("eaik", eaik_solver(urdf, chain.base, chain.tip))]
+        for key, entry in rows:
+            if isinstance(entry, str):
+                print(f"{arm:<12} {key + ': ' + entry:<40}")
+                continue
+            label, fn = entry
+            try:
+                success, median, answers = measure(fn, targets, seeds, judge, lower, upper)
+            except Exception as err:  # noqa: BLE001 - a peer failing mid-run is reported
+                print(f"{arm:<12} {label:<40} failed: {' '.join(str(err).split())[:50]}")
+                continue
+            print(f"{arm:<12} {label:<40} {success:>7.1f}% {median:>8.1f}us {answers:>8.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
