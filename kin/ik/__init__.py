@@ -9,6 +9,7 @@ from .analytic.planar2r import Planar2R
 from .analytic.registry import recognise, register
 from .analytic.seven_dof import SevenDofIK
 from .analytic.structure import SevenDof
+from .batch_solve import BatchIKResult, solve_batch
 from .dispatch import Solver, get_solver, solve_ik
 from .exceptions import IKError, StructureError, TargetError
 from .numeric.differential_ik import DifferentialIK
@@ -19,6 +20,7 @@ from .result import IKResult, IKSolution
 from .target import PitchTarget, PoseTarget, PositionTarget
 
 __all__ = [
+    "BatchIKResult",
     "BatchResult",
     "BatchSolver",
     "ClosedFormSolver",
@@ -44,6 +46,7 @@ __all__ = [
     "newton_raphson",
     "recognise",
     "register",
+    "solve_batch",
     "solve_ik",
     "solve_numeric",
 ]

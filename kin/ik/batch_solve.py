@@ -1,0 +1,192 @@
+"""IK of many poses in one call: :func:`solve_batch`, vectorized where a closed form fits.
+
+For an arm whose table fits a closed-form structure that takes the targets (poses, or positions),
+every pose is solved at once in NumPy (:class:`~kin.ik.analytic.batch.BatchSolver`: every branch,
+wrapped into the limits, each measured by the table's NumPy DH product); the answer of a pose is
+its valid branch nearest its seed. For the others (a numeric arm, a position on a six-joint arm,
+a rounded table solved on its idealised geometry), the robot's own solver answers pose by pose,
+Pinocchio judging each answer. Either way every success is on target (1e-9 m and rad for the
+closed forms, 1e-5 m and 1e-4 rad for the numeric stages) and inside the limits, and the stage
+that answered is named per pose.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from kin import RobotModel
+
+from .analytic.batch import BatchResult, BatchSolver
+from .dispatch import get_solver
+from .exceptions import StructureError, TargetError
+from .target import ROTATION_SNAP, PoseTarget, PositionTarget
+
+__all__ = ["BatchIKResult", "solve_batch"]
+
+
+@dataclass(frozen=True, eq=False)
+class BatchIKResult:
+    """The answers of N targets.
+
+    Attributes:
+        q: One joint vector per target (N, nq) [rad, m]: the valid answer nearest its seed; NaN
+            where there is none.
+        success: (N,) a valid answer exists.
+        position_error: (N,) its position error [m] (NaN without one).
+        rotation_error: (N,) its rotation error [rad] (NaN without one, or for positions).
+        stage: Per target, the stage that answered (``"closed_form"``, or a numeric stage as
+            :attr:`IKResult.method` names it; ``""`` when none did).
+        branches: With ``all_branches`` and a vectorized closed form, every branch (the
+            :class:`~kin.ik.analytic.batch.BatchResult`, (N, B, nq)); else None.
+    """
+
+    q: np.ndarray
+    success: np.ndarray
+    position_error: np.ndarray
+    rotation_error: np.ndarray
+    stage: tuple[str, ...]
+    branches: BatchResult | None = None
+
+
+def _array(values: npt.ArrayLike, shape: tuple[int, ...], what: str) -> np.ndarray:
+    try:
+        array = np.array(values, dtype=float)
+    except (TypeError, ValueError, OverflowError) as err:
+        raise TargetError(f"{what} must be numbers of shape {shape}, got {values!r}") from err
+    if array.shape[1:] != shape[1:] or (shape[0] >= 0 and array.shape[0] != shape[0]):
+        raise TargetError(f"{what} must have shape {shape}, got {array.shape}")
+    bad = ~np.isfinite(array.reshape(array.shape[0], -1)).all(axis=1)
+    if bad.any():
+        raise TargetError(f"{what}[{int(np.flatnonzero(bad)[0])}] is not finite")
+    return array
+
+
+def _rotations(values: npt.ArrayLike, n: int) -> np.ndarray:
+    """N rotation matrices, each within :data:`ROTATION_SNAP` of one (snapped), else refused."""
+    rotations = _array(values, (n, 3, 3), "rotations")
+    with np.errstate(all="ignore"):
+        gram = np.einsum("nji,njk->nik", rotations, rotations) - np.eye(3)
+        deviation = np.abs(gram).reshape(n, 9).max(axis=1)
+        determinant = np.linalg.det(rotations)
+    bad = ~((deviation <= ROTATION_SNAP) & (determinant > 0.0))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise TargetError(
+            f"rotations[{i}] is not a rotation matrix (max |R^T R - I| = {deviation[i]:.3g}, "
+            f"det = {determinant[i]:.3g})"
+        )
+    snap = deviation > 1e-12
+    if snap.any():
+        u, _, vt = np.linalg.svd(rotations[snap])
+        rotations[snap] = u @ vt
+    return rotations
+
+
+def solve_batch(
+    robot: RobotModel,
+    positions: npt.ArrayLike,
+    rotations: npt.ArrayLike | None = None,
+    seeds: npt.ArrayLike | None = None,
+    *,
+    all_branches: bool = False,
+    timeout: float | None = None,
+) -> BatchIKResult:
+    """Solve N targets: tool positions (N, 3) [m], with rotations (N, 3, 3) for full poses.
+
+    Args:
+        robot: The robot.
+        positions: Tool points in the world frame (N, 3) [m].
+        rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None for positions only.
+        seeds: Start joint vectors (N, nq) or one (nq,) for all [rad, m]; None: q = 0. The
+            answer of a target is the valid one nearest its seed.
+        all_branches: Keep every branch of a vectorized closed form in :attr:`BatchIKResult.branches`.
+        timeout: Time budget of each numeric solve [s] (None: the solver's default).
+
+    Raises:
+        TargetError: A non-finite value, a wrong shape or a matrix that is no rotation; the
+            message names the array and the row.
+    """
+    points = _array(positions, (-1, 3), "positions")
+    n, nq = points.shape[0], robot.nq
+    frames = None if rotations is None else _rotations(rotations, n)
+    if seeds is None:
+        start = np.zeros((n, nq))
+    else:
+        start = np.array(seeds, dtype=float)
+        start = np.broadcast_to(start, (n, nq)).copy() if start.shape == (nq,) else start
+        start = _array(start, (n, nq), "seeds")
+    vectorized = _closed_form(robot, frames is not None)
+    if vectorized is not None and n:
+        return _vectorized(vectorized, points, frames, start, all_branches)
+    return _one_by_one(robot, points, frames, start, timeout)
+
+
+def _closed_form(robot: RobotModel, poses: bool) -> BatchSolver | None:
+    """The batch closed form of ``robot`` when it takes these targets, else None."""
+    try:
+        solver = BatchSolver(robot)
+    except StructureError:
+        return None
+    kind = PoseTarget if poses else PositionTarget
+    return solver if kind in solver.structure.target_kinds else None
+
+
+def _vectorized(
+    solver: BatchSolver,
+    points: np.ndarray,
+    frames: np.ndarray | None,
+    seeds: np.ndarray,
+    all_branches: bool,
+) -> BatchIKResult:
+    n = points.shape[0]
+    if frames is None:
+        result = solver.solve_positions(points)
+    else:
+        poses = np.zeros((n, 4, 4))
+        poses[:, :3, :3], poses[:, :3, 3], poses[:, 3, 3] = frames, points, 1.0
+        result = solver.solve_poses(poses)
+    valid = result.valid
+    # The valid branch nearest the seed (Euclidean joint distance), as the per-call solver orders.
+    distance = np.where(valid, np.linalg.norm(result.q - seeds[:, None, :], axis=2), math.inf)
+    choice = distance.argmin(axis=1)
+    rows = np.arange(n)
+    success = valid[rows, choice]
+    q = np.where(success[:, None], result.q[rows, choice], np.nan)
+    position_error = np.where(success, result.position_error[rows, choice], np.nan)
+    rotation = result.rotation_error[rows, choice] if frames is not None else np.full(n, np.nan)
+    rotation_error = np.where(success, rotation, np.nan)
+    stage = tuple("closed_form" if ok else "" for ok in success.tolist())
+    return BatchIKResult(
+        q, success, position_error, rotation_error, stage, result if all_branches else None
+    )
+
+
+def _one_by_one(
+    robot: RobotModel,
+    points: np.ndarray,
+    frames: np.ndarray | None,
+    seeds: np.ndarray,
+    timeout: float | None,
+) -> BatchIKResult:
+    solver = get_solver(robot)
+    n, nq = points.shape[0], robot.nq
+    q = np.full((n, nq), np.nan)
+    position_error = np.full(n, np.nan)
+    rotation_error = np.full(n, np.nan)
+    stage = []
+    for i in range(n):
+        target = PositionTarget(points[i]) if frames is None else PoseTarget(points[i], frames[i])
+        result = solver.solve(target, seeds[i], timeout=timeout)
+        if result.success:
+            best = result.solutions[0]
+            q[i] = best.q
+            position_error[i] = best.position_error
+            if best.rotation_error is not None:
+                rotation_error[i] = best.rotation_error
+        stage.append(result.method if result.success else "")
+    success = ~np.isnan(q).any(axis=1)
+    return BatchIKResult(q, success, position_error, rotation_error, tuple(stage))
