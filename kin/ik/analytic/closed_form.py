@@ -330,6 +330,10 @@ class ClosedFormSolver:
         if seed is None:
             return self._zero_seed
         nq = len(self._lower)
+        if seed.__class__ is np.ndarray and seed.shape == (nq,):  # type: ignore[union-attr]
+            seed_list = seed.tolist()  # type: ignore[union-attr]
+            if math.isfinite(sum(seed_list)):  # the common case: one check, no copy
+                return seed_list
         seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
         if len(seed_list) != nq:
             raise TargetError(
@@ -381,7 +385,17 @@ class ClosedFormSolver:
         Branches moved into the limits as :func:`_wrap` does, measured by the table's DH
         product in C (:mod:`.six_r_twin`) instead of Pinocchio; the tests compare the two paths.
         """
-        seed_array = self._zero_seed_array if seed is None else np.array(self._seed_list(seed))
+        if seed is None:
+            seed_array = self._zero_seed_array
+        elif (
+            seed.__class__ is np.ndarray
+            and seed.dtype == np.float64  # type: ignore[union-attr]
+            and seed.shape == self._zero_seed_array.shape  # type: ignore[union-attr]
+            and math.isfinite(sum(seed.tolist()))  # type: ignore[union-attr]
+        ):
+            seed_array = seed  # type: ignore[assignment]  # already valid: no copy
+        else:
+            seed_array = np.array(self._seed_list(seed))
         found, q, info = self._twin(  # type: ignore[misc]
             target.position, target.rotation, seed_array
         )
