@@ -135,6 +135,13 @@ def tracik(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
     try:
         friendly = str(_kdl_friendly(urdf))
         solver = TracIK(base, tip, friendly, timeout=0.005, epsilon=1e-6, solver_type="Speed")
+        # pytracik misreads some URDFs' limits (panda's as [0, 0]): hand it the chain's.
+        chain = read_chain(urdf, base, tip)
+        lower = np.array([max(j.lower, -2 * math.pi) for j in chain.joints])
+        upper = np.array([min(j.upper, 2 * math.pi) for j in chain.joints])
+        import pytracik
+
+        pytracik.set_joint_limits(solver._ik_solver, lower, upper)
     except Exception as err:  # noqa: BLE001 - a peer's refusal is a row of the table
         return f"refuses: {' '.join(str(err).split())[:60]}"
 
