@@ -35,7 +35,7 @@ from .dh_table import Convention, DHRow, DHTable
 from .table_file import DEFAULT_EFFORT, DEFAULT_VELOCITY
 from .urdf_chain import UrdfChain, UrdfChainError, read_chain
 
-__all__ = ["table_from_chain", "table_from_urdf"]
+__all__ = ["check_table", "table_from_chain", "table_from_urdf"]
 
 #: Below this, two axes are parallel (|sin| of their angle) [1].
 PARALLEL = 1e-9
@@ -65,7 +65,7 @@ def table_from_urdf(
     """
     chain = read_chain(path, base, tip)
     table = table_from_chain(chain, convention)
-    _check(chain, table)
+    check_table(chain, table)
     return table
 
 
@@ -274,7 +274,9 @@ def _modified_row(frames: list[np.ndarray], i: int) -> tuple[float, float, float
     return float(step @ x0), _angle(z0, z1, x0), float(step @ z1), _angle(x0, x1, z1)
 
 
-def _check(chain: UrdfChain, table: DHTable, samples: int = 20, tolerance: float = 1e-9) -> None:
+def check_table(
+    chain: UrdfChain, table: DHTable, samples: int = 20, tolerance: float = 1e-9
+) -> None:
     """The table's DH product equals Pinocchio's FK of the URDF chain, else an error."""
     import pinocchio as pin
 

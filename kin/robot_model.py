@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +24,8 @@ class RobotModel:
         model: Pinocchio model built from the generated URDF.
         urdf: URDF text the model was built from (visuals included).
         tool_frame: Name of the tool frame.
+        urdf_source: For a robot loaded from a URDF, ``(file, base link, tip link)`` of the
+            chain its table was read from (the preview draws the maker's meshes from it).
     """
 
     name: str
@@ -31,6 +33,7 @@ class RobotModel:
     model: pin.Model
     urdf: str
     tool_frame: str = "tool"
+    urdf_source: tuple[str, str, str] | None = None
 
     @property
     def nq(self) -> int:
@@ -113,9 +116,14 @@ def load_robot(robot: str | Path, base: str | None = None, tip: str | None = Non
     """
     text = str(robot)
     if text.endswith((".urdf", ".xacro", ".URDF")):
-        from dh2urdf.urdf_to_dh import table_from_urdf
+        from dh2urdf.urdf_chain import read_chain
+        from dh2urdf.urdf_to_dh import check_table, table_from_chain
 
-        return robot_from_table(table_from_urdf(text, base, tip))
+        chain = read_chain(text, base, tip)
+        table = table_from_chain(chain)
+        check_table(chain, table)
+        model = robot_from_table(table)
+        return replace(model, urdf_source=(text, chain.base, chain.tip))
     if base is not None or tip is not None:
         raise ModelLoadError(f"{text}: --base and --tip choose links of a URDF, not of a DH table")
     if isinstance(robot, Path) or text.endswith(".toml") or "/" in text:

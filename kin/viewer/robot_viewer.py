@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import warnings
 from collections.abc import Sequence
 
 import meshcat
@@ -32,6 +33,7 @@ from ..configuration import as_joint_vector
 from ..exceptions import FrameError
 from ..robot_model import RobotModel
 from .exceptions import ViewerError, ViewerInputError
+from .maker_meshes import MakerMeshes, maker_meshes
 from .markers import draw_points, draw_sphere, draw_triad
 from .scene_recorder import SceneRecorder
 
@@ -58,18 +60,34 @@ class RobotViewer:
 
     def __init__(self, robot: RobotModel, *, serve: bool = False):
         self.robot = robot
-        try:
-            visual_model = pin.buildGeomFromUrdfString(
-                robot.model, robot.urdf, pin.GeometryType.VISUAL
-            )
-        except (RuntimeError, ValueError) as err:
-            raise ViewerError(f"'{robot.name}': no visual geometry from its URDF: {err}") from err
+        #: The maker's meshes of a robot loaded from a URDF, or None (the DH cylinders).
+        self.meshes: MakerMeshes | None = None
+        if robot.urdf_source is not None:
+            try:
+                self.meshes = maker_meshes(robot)
+            except ViewerError as err:
+                warnings.warn(f"{err}: drawing the DH cylinders instead", stacklevel=2)
+        if self.meshes is not None:
+            drawn, visual_model = self.meshes.model, self.meshes.visual_model
+        else:
+            drawn = robot.model
+            try:
+                visual_model = pin.buildGeomFromUrdfString(
+                    robot.model, robot.urdf, pin.GeometryType.VISUAL
+                )
+            except (RuntimeError, ValueError) as err:
+                raise ViewerError(
+                    f"'{robot.name}': no visual geometry from its URDF: {err}"
+                ) from err
         self.visual_model = visual_model
         self.viewer = _open_viewer(serve)
-        self._pin = MeshcatVisualizer(robot.model, None, visual_model)
+        self._pin = MeshcatVisualizer(drawn, None, visual_model)
         self._pin.initViewer(viewer=self.viewer)
         self.scene = self.viewer["scene"]
         self._pin.loadViewerModel(rootNodeName="scene/robot")
+        if self.meshes is not None:  # the URDF root's drawing in the chain's base frame
+            self.scene["robot"].set_transform(np.linalg.inv(self.meshes.base_in_root))
+        self._frames = robot.model.createData()  # the DH model's frames (triads)
         self.viewer["/Axes"].set_property("visible", False)  # the base triad stands for them
         self._followed: dict[str, int] = {}  # frame name -> Pinocchio frame id
         self.q = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
@@ -253,10 +271,11 @@ class RobotViewer:
         live = self._pin.viewer
         self._pin.viewer = viewer
         try:
-            self._pin.display(q)
+            self._pin.display(q if self.meshes is None else self.meshes.full_q(q))
         finally:
             self._pin.viewer = live
-        data = self._pin.data
+        data = self._frames
+        pin.forwardKinematics(self.robot.model, data, q)
         for name, frame_id in self._followed.items():
             pin.updateFramePlacement(self.robot.model, data, frame_id)
             viewer["scene/frames"][name].set_transform(data.oMf[frame_id].homogeneous)  # type: ignore[index]
