@@ -3,7 +3,8 @@
 A robot loaded from a URDF (:func:`kin.load_robot`) is a DH table; the preview draws it with the
 visual geometry of the original URDF instead of the DH cylinders: Pinocchio builds the original
 model and its visuals (``package://`` and relative mesh paths resolved from the URDF's folder and
-its parents), the chain's joints take the DH model's values (by name; the others stay at 0), and
+its parents; when they are COLLADA files, which meshcat draws with pieces missing, the collision
+meshes in grey), the chain's joints take the DH model's values (by name; the others stay at 0), and
 the drawing is placed in the chain's base frame (the DH model's world). A mesh that cannot be
 found gives a :class:`~kin.viewer.exceptions.ViewerError`: the viewer then warns in one line and
 draws the DH cylinders.
@@ -25,6 +26,11 @@ __all__ = ["MakerMeshes", "maker_meshes"]
 
 #: Folders above the URDF searched for ``package://NAME/...`` (NAME is a folder there).
 PACKAGE_LEVELS = 6
+
+#: Color of meshes drawn without the URDF's materials (the collision meshes), RGBA in [0, 1].
+MESH_RGBA = (0.72, 0.74, 0.78, 1.0)
+#: Their emission (a share of that color that needs no light) [0, 1].
+MESH_EMISSION = (0.35, 0.36, 0.38, 1.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,6 +79,23 @@ def maker_meshes(robot: RobotModel) -> MakerMeshes:
         visual = pin.buildGeomFromUrdf(
             model, path, pin.GeometryType.VISUAL, package_dirs=package_dirs
         )
+        if any(g.meshPath.lower().endswith(".dae") for g in visual.geometryObjects):
+            # meshcat draws COLLADA meshes incompletely (pieces missing): the collision
+            # meshes (STL), when there are any, give the whole arm
+            collision = pin.buildGeomFromUrdf(
+                model, path, pin.GeometryType.COLLISION, package_dirs=package_dirs
+            )
+            if collision.geometryObjects and not any(
+                g.meshPath.lower().endswith(".dae") for g in collision.geometryObjects
+            ):
+                for geometry in collision.geometryObjects:
+                    geometry.meshColor = np.array(MESH_RGBA)
+                    # STL meshes come without normals: an emissive share keeps them visible
+                    geometry.meshMaterial = pin.GeometryPhongMaterial(
+                        np.array(MESH_EMISSION), np.array((0.2, 0.2, 0.2, 1.0)), 0.3
+                    )
+                    geometry.overrideMaterial = True
+                visual = collision
     except (RuntimeError, ValueError, OSError) as err:
         raise ViewerError(
             f"{path}: cannot load its meshes ({' '.join(str(err).split())[:160]})"
