@@ -211,6 +211,27 @@ class SeedTable:
 _OFFSETS = tuple((dx - 1, dy - 1, dz - 1) for dx, dy, dz in np.ndindex(3, 3, 3))
 
 
+def _spans_dict(
+    keys: np.ndarray, begins: np.ndarray, ends: np.ndarray
+) -> dict[int, tuple[int, int]]:
+    """``{key: (begin, end)}``, built in slices of 1024.
+
+    A table built in a background thread must not hold the interpreter lock for milliseconds in
+    one C call: a solve with a budget of a few milliseconds waits on it.
+    """
+    spans: dict[int, tuple[int, int]] = {}
+    for i in range(0, len(keys), 1024):
+        part = slice(i, i + 1024)
+        spans.update(
+            zip(
+                keys[part].tolist(),
+                zip(begins[part].tolist(), ends[part].tolist(), strict=True),
+                strict=True,
+            )
+        )
+    return spans
+
+
 def _grid(
     positions: np.ndarray, cell_size: float
 ) -> tuple[dict[int, tuple[int, int]], np.ndarray, np.ndarray, tuple[int, int, int]]:
@@ -233,9 +254,7 @@ def _grid(
     key = key[owner]
     starts = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
     ends = np.append(starts[1:], len(key))
-    spans = dict(
-        zip(key[starts].tolist(), zip(starts.tolist(), ends.tolist(), strict=True), strict=True)
-    )
+    spans = _spans_dict(key[starts], starts, ends)
     return spans, owner, origin, (nx, ny, nz)
 
 
@@ -302,7 +321,8 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
     """The :class:`SeedTable` of the arrays of :data:`CACHED_ARRAYS`."""
     q, positions, rotations = arrays["q"], arrays["positions"], arrays["rotations"]
     owners = arrays["owners"]
-    cells = dict(zip(arrays["keys"].tolist(), map(tuple, arrays["spans"].tolist()), strict=True))
+    spans_array = arrays["spans"]
+    cells = _spans_dict(arrays["keys"], spans_array[:, 0], spans_array[:, 1])
     size = len(q)
     # The lifted embedding of every sample (see ``SeedTable.ranked``); a cell's rows are gathered
     # into a contiguous block on its first query.
