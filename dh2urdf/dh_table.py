@@ -44,6 +44,8 @@ class DHRow:
             none (path timing then uses its default).
         mass: Mass of the link this row moves [kg], or None (placeholder inertial).
         radius: Radius of the link's cylinder/sphere primitive [m], or None (default drawing).
+        continuous: A revolute joint without limits (a URDF ``continuous`` joint): its limits
+            are [-pi, pi], every angle having a copy there; the solvers wrap into them.
     """
 
     index: int
@@ -60,6 +62,7 @@ class DHRow:
     acceleration: float | None = None
     mass: float | None = None
     radius: float | None = None
+    continuous: bool = False
 
 
 def _readonly(matrix: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     d = 105.0
     theta = 0.0                    # offset added to q (revolute)
     limits = [-90.0, 90.0]         # of the joint variable q
+    continuous = false             # optional: a revolute joint without limits (give [-180, 180])
     velocity = 90.0                # optional, angle_unit/s or length_unit/s
     effort = 10.0                  # optional, N m or N
     acceleration = 360.0           # optional, angle_unit/s^2 or length_unit/s^2 (path timing)
@@ -94,6 +95,7 @@ _ROW_KEYS = {
     "acceleration",
     "mass",
     "radius",
+    "continuous",
 }
 _REQUIRED_ROW_KEYS = ("type", "a", "alpha", "d", "theta", "limits")
 _CONVENTIONS = ("modified", "standard")
@@ -227,6 +229,11 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     if not isinstance(name, str) or not name.strip():
         raise TableError(path, f"expected a non-empty string, got {name!r}", index, "name")
     _xml_text(path, name, index, "name")
+    continuous = data.get("continuous", False)
+    if continuous is not True and continuous is not False:
+        raise TableError(path, f"expected true or false, got {continuous!r}", index, "continuous")
+    if continuous and joint_type != "revolute":
+        raise TableError(path, "only a revolute joint can be continuous", index, "continuous")
     limits = data["limits"]
     if not isinstance(limits, list) or len(limits) != 2:
         raise TableError(path, f"expected [lower, upper], got {limits!r}", index, "limits")
@@ -284,6 +291,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         acceleration=acceleration,
         mass=mass,
         radius=radius,
+        continuous=continuous,
     )
 
 

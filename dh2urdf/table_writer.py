@@ -130,6 +130,8 @@ def table_text(table: DHTable, header: str = "") -> str:
             f"velocity = {_number(row.velocity)}",
             f"effort = {_number(row.effort)}",
         ]
+        if row.continuous:
+            lines.append("continuous = true")
     lines += _fixed("base", np.asarray(table.T_world_base))
     lines += _fixed("tool", np.asarray(table.T_last_tool))
     return "\n".join(lines) + "\n"

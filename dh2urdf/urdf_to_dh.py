@@ -99,6 +99,7 @@ def table_from_chain(chain: UrdfChain, convention: Convention = "standard") -> D
                 upper=joint.upper,
                 velocity=joint.velocity or DEFAULT_VELOCITY[joint.joint_type],
                 effort=joint.effort or DEFAULT_EFFORT[joint.joint_type],
+                continuous=joint.continuous,
             )
         )
     base_frame = frames[0]

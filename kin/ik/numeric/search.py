@@ -8,6 +8,7 @@ best failed attempt for :meth:`Search.failure`.
 
 from __future__ import annotations
 
+import math
 import time
 from operator import le
 from typing import TYPE_CHECKING
@@ -125,7 +126,7 @@ class Search:
         """Damped Newton from ``q0`` (``patience``, ``leash``: see :func:`damped_newton`), counted."""
         ik, target = self.ik, self.target
         outcome = damped_newton(
-            ik.model,
+            ik.search_model,
             ik.data,
             ik.frame_id,
             q0,
@@ -141,6 +142,10 @@ class Search:
         )
         self.iterations += outcome.iterations
         self.attempts += 1
+        if ik.continuous:  # back into [-pi, pi]: the same pose
+            q = outcome.q
+            for i in ik.continuous:
+                q[i] = math.remainder(q[i], 2.0 * math.pi)
         return outcome
 
     def accept(

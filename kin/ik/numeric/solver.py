@@ -177,6 +177,16 @@ class NumericIK:
         self.near_seed = near_seed
         self.lower = robot.model.lowerPositionLimit.copy()
         self.upper = robot.model.upperPositionLimit.copy()
+        #: Joints without limits (``continuous`` rows): damped Newton moves them freely (a model
+        #: with limits of +-3 pi for them, :attr:`search_model`) and answers are wrapped back
+        #: into [-pi, pi], so that a solution across pi is found, not clamped away.
+        self.continuous = tuple(i for i, row in enumerate(robot.table.rows) if row.continuous)
+        self.search_model = robot.model
+        if self.continuous:
+            self.search_model = robot.model.copy()
+            for i in self.continuous:
+                self.search_model.lowerPositionLimit[i] = -3.0 * math.pi
+                self.search_model.upperPositionLimit[i] = 3.0 * math.pi
         self._lows, self._highs = self.lower.tolist(), self.upper.tolist()
         #: Upper bound of the tool's distance from the base origin [m] (triangle inequality): a
         #: target beyond it is answered ``out_of_reach`` before any search.

@@ -1,0 +1,78 @@
+"""Continuous joints (URDF `continuous`, table `continuous = true`): limits [-pi, pi], and the
+numeric solver moves across pi instead of stopping at it; the table format keeps the flag."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from dh2urdf import get_robot, load_table, parse_table
+from dh2urdf.table_writer import table_text
+from kin import Configuration
+from kin.ik import PoseTarget
+from kin.ik.numeric.solver import NumericIK
+from kin.robot_model import robot_from_table
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # Python 3.10
+    import tomli as tomllib
+
+
+def _puma(continuous: bool):
+    """PUMA 560 with joint 1 limited to [-pi, pi], continuous or not."""
+    table = load_table(get_robot("puma560").table_path)
+    first = dataclasses.replace(table.rows[0], lower=-math.pi, upper=math.pi, continuous=continuous)
+    return robot_from_table(dataclasses.replace(table, rows=(first, *table.rows[1:])))
+
+
+@pytest.mark.parametrize("continuous", [True, False])
+def test_numeric_solver_crosses_pi_on_a_continuous_joint(continuous):
+    """Targets at q1 = +-3.1 rad, seeds just across pi: on a continuous joint damped Newton goes
+    through pi to the answer next to the seed (wrapped into [-pi, pi]); on a limited one it stops
+    at pi and the answer comes from elsewhere (the contrast that makes the test able to fail)."""
+    robot = _puma(continuous)
+    solver = NumericIK(robot, closed_form=False)
+    configuration = Configuration(robot)
+    rng = np.random.default_rng(5)
+    solved = near = 0
+    for k in range(40):
+        q = rng.uniform(robot.lower, robot.upper)
+        q[0] = 3.1 if k % 2 else -3.1
+        seed = q.copy()
+        seed[0] = -q[0] + 0.02 * np.sign(q[0])  # just across pi
+        seed[1:] += rng.uniform(-0.05, 0.05, size=robot.nq - 1)
+        pose = configuration.fk(q)
+        result = solver.solve(
+            PoseTarget(pose.translation, pose.rotation), seed, timeout=1.0, max_attempts=2
+        )
+        if result.success:
+            answer = result.solutions[0].q
+            assert -math.pi <= answer[0] <= math.pi
+            reached = configuration.fk(answer)
+            assert np.linalg.norm(reached.translation - pose.translation) < 1e-5
+            assert np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) < 1e-4
+            solved += 1
+            gap = np.abs(np.remainder(answer - q + math.pi, 2 * math.pi) - math.pi).max()
+            near += gap < 1e-4  # the answer next to the seed: the pose's own q
+    if continuous:
+        assert solved == 40 and near >= 38, (solved, near)
+    else:
+        assert near < 30, (solved, near)  # clamped at pi: mostly other answers
+
+
+def test_table_file_keeps_the_continuous_flag():
+    """continuous = true is written and read back; a prismatic continuous joint is refused."""
+    robot = _puma(True)
+    text = table_text(robot.table)
+    assert "continuous = true" in text
+    again = parse_table(tomllib.loads(text))
+    assert [row.continuous for row in again.rows] == [True] + [False] * 5
+    broken = text.replace('type = "revolute"', 'type = "prismatic"', 1)
+    with pytest.raises(Exception, match="only a revolute joint can be continuous"):
+        parse_table(tomllib.loads(broken))
