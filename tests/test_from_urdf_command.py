@@ -9,7 +9,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from cli_helper import assert_one_line_error
-from test_urdf_to_dh import ARMS, UrdfReference, erd
+from urdf_reference import ARMS, UrdfReference, erd
 
 from dh2urdf import load_table
 from dh2urdf.command import main

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
-from test_urdf_to_dh import ARMS, erd
+from urdf_reference import ARMS, erd
 
 from kin import Configuration, load_robot
 from kin.viewer import RobotViewer

@@ -3,12 +3,10 @@ trips judged by Pinocchio's FK of the original URDF (not of the extracted table)
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pinocchio as pin
 import pytest
-from test_urdf_to_dh import ARMS, erd
+from urdf_reference import ARMS, UrdfReference, erd
 
 from dh2urdf.urdf_chain import read_chain
 from kin import load_robot
@@ -36,28 +34,12 @@ SOLVERS = {
 POSES = 1000
 
 
-class OriginalUrdf:
-    """Pinocchio's FK of the original URDF between the chain's base and tip."""
-
-    def __init__(self, arm: str):
-        relative, base, tip = ARMS[arm]
-        chain = read_chain(erd(relative), base, tip)
-        self.model = pin.buildModelFromUrdf(str(erd(relative)))
-        self.data = self.model.createData()
-        self.base = self.model.getFrameId(chain.base, pin.FrameType.BODY)
-        self.tip = self.model.getFrameId(chain.tip, pin.FrameType.BODY)
-        self.joints = [self.model.joints[self.model.getJointId(j.name)] for j in chain.joints]
-
-    def pose(self, q: np.ndarray) -> pin.SE3:
-        full = pin.neutral(self.model)
-        for joint, value in zip(self.joints, q, strict=True):
-            if joint.nq == 2:
-                full[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
-            else:
-                full[joint.idx_q] = value
-        pin.forwardKinematics(self.model, self.data, full)
-        pin.updateFramePlacements(self.model, self.data)
-        return self.data.oMf[self.base].inverse() * self.data.oMf[self.tip]
+def original(arm: str) -> UrdfReference:
+    """Pinocchio's FK of the arm's original URDF between the chain's base and tip."""
+    relative, base, tip = ARMS[arm]
+    chain = read_chain(erd(relative), base, tip)
+    names = tuple(joint.name for joint in chain.joints)
+    return UrdfReference(erd(relative), chain.base, chain.tip, names)
 
 
 @pytest.mark.parametrize("arm", list(SOLVERS))
@@ -77,19 +59,21 @@ def test_urdf_arm_round_trips_judged_on_the_original_urdf(arm):
     relative, base, tip = ARMS[arm]
     robot = load_robot(erd(relative), base, tip)
     solver = get_solver(robot)
-    original = OriginalUrdf(arm)
+    reference = original(arm)
     full = PoseTarget in solver.target_kinds and robot.nq >= 6
     rng = np.random.default_rng(len(arm))
     solved = false = 0
     for q in rng.uniform(robot.lower, robot.upper, size=(POSES, robot.nq)):
-        pose = original.pose(q)
+        pose = pin.SE3(reference.pose(q))
         target = (
-            PoseTarget(pose.translation, pose.rotation) if full else PositionTarget(pose.translation)
+            PoseTarget(pose.translation, pose.rotation)
+            if full
+            else PositionTarget(pose.translation)
         )
         result = solver.solve(target, timeout=0.05)
         solved += result.success
         for solution in result.solutions:
-            reached = original.pose(solution.q)
+            reached = pin.SE3(reference.pose(solution.q))
             position = np.linalg.norm(reached.translation - pose.translation)
             angle = np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) if full else 0.0
             inside = np.all(solution.q >= robot.lower) and np.all(solution.q <= robot.upper)
@@ -107,11 +91,11 @@ def test_rounded_seven_joint_arm_gets_its_closed_form_polished():
     assert isinstance(solver, NumericIK) and solver.idealised is not None
     assert any("alpha 1.5708" in change for change in solver.idealised.changes)
     assert 1e-7 < solver.idealised.deviation < 1e-4  # micrometers: rounding, not structure
-    original = OriginalUrdf("xarm7")
+    reference = original("xarm7")
     rng = np.random.default_rng(3)
     for q in rng.uniform(robot.lower, robot.upper, size=(50, robot.nq)):
-        pose = original.pose(q)
+        pose = pin.SE3(reference.pose(q))
         result = solver.solve(PoseTarget(pose.translation, pose.rotation))
         assert result.method == "closed_form_free_joint"
-        reached = original.pose(result.solutions[0].q)
+        reached = pin.SE3(reference.pose(result.solutions[0].q))
         assert np.linalg.norm(reached.translation - pose.translation) < 1e-12

@@ -3,13 +3,12 @@ leaves free, against Pinocchio's FK of the original URDF (1000 random q, 1e-12).
 
 from __future__ import annotations
 
-import importlib.metadata
 import math
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from urdf_reference import ARMS, UrdfReference, erd
 
 from dh2urdf import Dh2UrdfError, parse_table
 from dh2urdf.dh_table import DHTable, dh_link_transform
@@ -26,39 +25,6 @@ SAMPLES = 1000
 TOLERANCE = 1e-12
 
 
-def erd(relative: str) -> Path:
-    """Absolute path of an example-robot-data URDF (``robots/<relative>``)."""
-    suffix = f"example-robot-data/robots/{relative}"
-    for file in importlib.metadata.files("example-robot-data") or ():
-        if str(file).endswith(suffix):
-            return Path(str(file.locate()))
-    raise FileNotFoundError(suffix)
-
-
-#: arm -> (URDF inside example-robot-data's robots folder, base link or None, tip link or None).
-ARMS = {
-    "ur3": ("ur_description/urdf/ur3_robot.urdf", None, "tool0"),
-    "ur5": ("ur_description/urdf/ur5_robot.urdf", None, "tool0"),
-    "ur10": ("ur_description/urdf/ur10_robot.urdf", None, "tool0"),
-    "ur5_limited": ("ur_description/urdf/ur5_joint_limited_robot.urdf", None, "tool0"),
-    "panda": ("panda_description/urdf/panda.urdf", None, "panda_link8"),
-    "xarm7": ("xarm_description/urdf/xarm7.urdf", None, None),
-    "kinova": ("kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector"),
-    "z1": ("z1_description/urdf/z1.urdf", None, "link06"),
-    "so100": ("so_arm_description/urdf/so100.urdf", None, "gripper"),
-    "so101": ("so_arm_description/urdf/so101.urdf", None, "gripper_link"),
-    "baxter_left": ("baxter_description/urdf/baxter.urdf", "torso", "left_gripper"),
-    "baxter_right": ("baxter_description/urdf/baxter.urdf", "torso", "right_gripper"),
-    "tiago": ("tiago_description/robots/tiago.urdf", "torso_lift_link", "arm_tool_link"),
-    "double_pendulum": (
-        "double_pendulum_description/urdf/double_pendulum_continuous.urdf",
-        None,
-        None,
-    ),
-    "asr_twodof": ("asr_twodof_description/urdf/TwoDofs.urdf", None, None),
-}
-
-
 def dh_product(table: DHTable, q: np.ndarray) -> np.ndarray:
     """``T_base_tip`` of the table at ``q``: a plain product of its rows (no package code)."""
     product = np.array(table.T_world_base)
@@ -67,28 +33,6 @@ def dh_product(table: DHTable, q: np.ndarray) -> np.ndarray:
         d = row.d + (value if row.joint_type == "prismatic" else 0.0)
         product = product @ dh_link_transform(table.convention, row.a, row.alpha, d, theta)
     return product @ table.T_last_tool
-
-
-class UrdfReference:
-    """Pinocchio's FK of the original URDF: the chain's joints at q, every other one at 0."""
-
-    def __init__(self, path: Path, base: str, tip: str, joint_names: tuple[str, ...]):
-        self.model = pin.buildModelFromUrdf(str(path))
-        self.data = self.model.createData()
-        self.base = self.model.getFrameId(base, pin.FrameType.BODY)
-        self.tip = self.model.getFrameId(tip, pin.FrameType.BODY)
-        self.joints = [self.model.joints[self.model.getJointId(name)] for name in joint_names]
-
-    def pose(self, q: np.ndarray) -> np.ndarray:
-        full = pin.neutral(self.model)
-        for joint, value in zip(self.joints, q, strict=True):
-            if joint.nq == 2:  # continuous: (cos, sin)
-                full[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
-            else:
-                full[joint.idx_q] = value
-        pin.forwardKinematics(self.model, self.data, full)
-        pin.updateFramePlacements(self.model, self.data)
-        return (self.data.oMf[self.base].inverse() * self.data.oMf[self.tip]).homogeneous
 
 
 def _samples(table: DHTable, count: int, seed: int) -> np.ndarray:
