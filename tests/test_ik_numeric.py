@@ -507,3 +507,10 @@ def test_damped_newton_leaves_the_start_untouched(robot, position_only):
     assert outcome.converged, f"{outcome=}"
     assert outcome.q is not q0
     np.testing.assert_array_equal(q0, before)
+
+
+def test_posture_of_the_wrong_size_is_a_target_error(solver):
+    """A posture with 3 values for a 7-joint arm: TargetError naming the size, no NumPy error."""
+    target = NumericTarget.from_arrays([0.3, 0.1, 0.2], posture=[0.1, 0.2, 0.3])
+    with pytest.raises(TargetError, match="posture of 'humanoid7' must have 7 values, got 3"):
+        solver.solve(target)

@@ -308,13 +308,13 @@ class NumericIK:
             return IKResult(False, PIPELINE, "invalid_target", f"target is not finite: {target}")
         target = NumericTarget.from_target(target)
         posture = target.posture
+        if posture is not None and posture.shape != self._shape:
+            raise TargetError(
+                f"posture of '{self.robot.name}' must have {self.nq} values, got {posture.size}"
+            )
         if posture is not None and not (
             np.all(posture >= self.lower) and np.all(posture <= self.upper)
         ):  # a preference outside the limits pulls toward the nearest joint vector inside
-            if posture.shape != self._shape:
-                raise TargetError(
-                    f"posture of '{self.robot.name}' must have {self.nq} values, got {posture.size}"
-                )
             clipped = np.minimum(np.maximum(posture, self.lower), self.upper)
             target = NumericTarget(target.position, target.rotation, clipped)
         budget = DEFAULT_TIMEOUT if timeout is None else timeout
