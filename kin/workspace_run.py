@@ -38,31 +38,35 @@ def _merged(results: Iterator[Any], n: int, progress: Callable[[int, int], None]
     return total
 
 
-def _in_pool(tasks: Sequence[tuple], workers: int) -> Iterator[Any]:
-    """The chunks' reductions from a pool of ``workers`` processes, in completion order.
+def _merged_in_pool(
+    tasks: Sequence[tuple],
+    workers: int,
+    progress: Callable[[int, int], None] | None,
+    n: int,
+) -> Any:
+    """The merged reductions of the chunks, run by a pool of ``workers`` processes.
 
-    On Ctrl-C (or any error) the workers are terminated at once, not waited for: a second
-    Ctrl-C during that cleanup is ignored (the command is ending anyway), so that neither a
-    worker nor the parent goes on computing.
+    On Ctrl-C (or any error) the workers are terminated at once, not waited for, right where the
+    interrupt lands (not when a generator is collected later): a second Ctrl-C during that
+    cleanup is ignored (the command is ending anyway), so that neither a worker nor the parent
+    goes on computing, and nothing is left to hang at exit.
     """
     import multiprocessing
 
     pool = multiprocessing.get_context().Pool(workers, initializer=_ignore_sigint)
-    finished = False
     try:
-        yield from pool.imap_unordered(_chunk, tasks)
-        finished = True
-    finally:
-        if finished:
-            pool.close()
+        total = _merged(pool.imap_unordered(_chunk, tasks), n, progress)
+    except BaseException:
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            pool.terminate()
             pool.join()
-        else:
-            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-            try:
-                pool.terminate()
-                pool.join()
-            finally:
-                signal.signal(signal.SIGINT, previous)
+        finally:
+            signal.signal(signal.SIGINT, previous)
+        raise
+    pool.close()
+    pool.join()
+    return total
 
 
 def _on_dask(tasks: Sequence[tuple], client: Any) -> Iterator[Any]:
@@ -96,7 +100,7 @@ def run_chunks(
     if client is not None:
         results: Iterator[Any] = _on_dask(tasks, client)
     elif workers > 1 and len(tasks) > 1:
-        results = _in_pool(tasks, workers)
+        return _merged_in_pool(tasks, workers, progress, n)
     else:
         results = (_chunk(task) for task in tasks)
     return _merged(results, n, progress)
