@@ -87,17 +87,25 @@ def render(
     chromium = chromium or find_chromium()
     if chromium is None:
         raise RuntimeError("no chromium on PATH (Debian: apt-get install chromium)")
-    with tempfile.TemporaryDirectory(prefix="kin-chromium-") as profile:
-        command = [
-            chromium,
-            *CHROMIUM_FLAGS,
-            f"--user-data-dir={profile}",
-            f"--window-size={width},{height}",
-            f"--virtual-time-budget={budget_ms}",
-            f"--screenshot={Path(png).resolve()}",
-            Path(page).resolve().as_uri(),
-        ]
-        done = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    # Headless Chromium on a loaded machine now and then never finishes a page (seen once in
+    # about ten CI runs): a stuck run is killed after 60 s and tried once more, fresh profile.
+    for attempt in (1, 2):
+        with tempfile.TemporaryDirectory(prefix="kin-chromium-") as profile:
+            command = [
+                chromium,
+                *CHROMIUM_FLAGS,
+                f"--user-data-dir={profile}",
+                f"--window-size={width},{height}",
+                f"--virtual-time-budget={budget_ms}",
+                f"--screenshot={Path(png).resolve()}",
+                Path(page).resolve().as_uri(),
+            ]
+            try:
+                done = subprocess.run(command, capture_output=True, text=True, timeout=60)
+                break
+            except subprocess.TimeoutExpired:
+                if attempt == 2:
+                    raise
     if not Path(png).is_file():
         raise RuntimeError(
             f"chromium wrote no {png} (exit {done.returncode}): {done.stderr[-300:]}"
