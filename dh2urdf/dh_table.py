@@ -6,8 +6,10 @@ Conventions (``convention`` of a table):
 - ``"modified"`` (Craig): ``T_{i-1,i} = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``, the
   row ``i`` holding ``alpha_{i-1}`` and ``a_{i-1}``.
 
-For a revolute joint the DH angle is ``q + theta`` (``theta`` is the offset); for a prismatic one
-the DH length is ``q + d`` (``d`` is the offset) and ``theta`` is fixed.
+For a revolute joint the DH angle is ``theta + direction * q`` (``theta`` is the offset); for a
+prismatic one the DH length is ``d + direction * q`` (``d`` is the offset) and ``theta`` is fixed.
+``direction`` is 1 unless the row reverses its joint (-1: the joint turns or slides the other
+way, as the Robotics Toolbox's ``flip``); the limits are always those of ``q``.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from typing import Literal
 import numpy as np
 
 from .drive_section import JointDrive
+from .exceptions import TableError
 from .transforms import rot_x, rot_z, translation
 
 Convention = Literal["standard", "modified"]
@@ -46,6 +49,8 @@ class DHRow:
         radius: Radius of the link's cylinder/sphere primitive [m], or None (default drawing).
         continuous: A revolute joint without limits (a URDF ``continuous`` joint): its limits
             are [-pi, pi], every angle having a copy there; the solvers wrap into them.
+        direction: 1, or -1 for a reversed joint: the DH angle is ``theta + direction * q``
+            (revolute), the DH length ``d + direction * q`` (prismatic) [1].
     """
 
     index: int
@@ -63,6 +68,26 @@ class DHRow:
     mass: float | None = None
     radius: float | None = None
     continuous: bool = False
+    direction: int = 1
+
+    def __post_init__(self) -> None:
+        if self.direction not in (1, -1) or isinstance(self.direction, bool):
+            raise TableError(
+                "<DHRow>",
+                f"expected 1 or -1, got {self.direction!r}: write direction = -1 for a joint "
+                "that moves the other way, else leave it out",
+                self.index,
+                "direction",
+            )
+
+    def dh_values(self, q: float) -> tuple[float, float]:
+        """The row's full DH angle [rad] and length [m] at joint value ``q`` [rad] or [m].
+
+        Revolute: ``(theta + direction * q, d)``; prismatic: ``(theta, d + direction * q)``.
+        """
+        if self.joint_type == "revolute":
+            return self.theta + self.direction * q, self.d
+        return self.theta, self.d + self.direction * q
 
 
 def _readonly(matrix: np.ndarray) -> np.ndarray:
@@ -110,6 +135,11 @@ class DHTable:
     def joint_names(self) -> tuple[str, ...]:
         """Joint names, base to tip."""
         return tuple(row.name for row in self.rows)
+
+    @property
+    def directions(self) -> np.ndarray:
+        """Per joint, 1.0, or -1.0 where the row reverses its joint (:attr:`DHRow.direction`)."""
+        return np.array([float(row.direction) for row in self.rows])
 
     @property
     def lower(self) -> np.ndarray:

@@ -18,6 +18,7 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     theta = 0.0                    # offset added to q (revolute)
     limits = [-90.0, 90.0]         # of the joint variable q
     continuous = false             # optional: a revolute joint without limits (give [-180, 180])
+    direction = 1                  # optional: -1 reverses the joint (DH angle theta - q)
     velocity = 90.0                # optional, angle_unit/s or length_unit/s
     effort = 10.0                  # optional, N m or N
     acceleration = 360.0           # optional, angle_unit/s^2 or length_unit/s^2 (path timing)
@@ -96,6 +97,7 @@ _ROW_KEYS = {
     "mass",
     "radius",
     "continuous",
+    "direction",
 }
 _REQUIRED_ROW_KEYS = ("type", "a", "alpha", "d", "theta", "limits")
 _CONVENTIONS = ("modified", "standard")
@@ -234,6 +236,15 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         raise TableError(path, f"expected true or false, got {continuous!r}", index, "continuous")
     if continuous and joint_type != "revolute":
         raise TableError(path, "only a revolute joint can be continuous", index, "continuous")
+    direction = data.get("direction", 1)
+    if isinstance(direction, bool) or not isinstance(direction, int) or direction not in (1, -1):
+        raise TableError(
+            path,
+            f"expected 1 or -1, got {direction!r}: write direction = -1 for a joint that moves "
+            "the other way (DH angle theta - q, length d - q), else leave the field out",
+            index,
+            "direction",
+        )
     limits = data["limits"]
     if not isinstance(limits, list) or len(limits) != 2:
         raise TableError(path, f"expected [lower, upper], got {limits!r}", index, "limits")
@@ -292,6 +303,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         mass=mass,
         radius=radius,
         continuous=continuous,
+        direction=direction,
     )
 
 

@@ -132,6 +132,8 @@ def table_text(table: DHTable, header: str = "") -> str:
         ]
         if row.continuous:
             lines.append("continuous = true")
+        if row.direction != 1:
+            lines.append(f"direction = {row.direction}")
     lines += _fixed("base", np.asarray(table.T_world_base))
     lines += _fixed("tool", np.asarray(table.T_last_tool))
     return "\n".join(lines) + "\n"

@@ -304,14 +304,8 @@ def check_table(
         expected = (data.oMf[base].inverse() * data.oMf[tip]).homogeneous
         product = np.array(table.T_world_base)
         for row, value in zip(table.rows, q, strict=True):
-            if row.joint_type == "revolute":
-                product = product @ dh_link_transform(
-                    table.convention, row.a, row.alpha, row.d, row.theta + value
-                )
-            else:
-                product = product @ dh_link_transform(
-                    table.convention, row.a, row.alpha, row.d + value, row.theta
-                )
+            theta, d = row.dh_values(float(value))
+            product = product @ dh_link_transform(table.convention, row.a, row.alpha, d, theta)
         product = product @ table.T_last_tool
         error = float(np.abs(product - expected).max())
         if not error < tolerance:

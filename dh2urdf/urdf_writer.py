@@ -8,7 +8,9 @@ Frames and links of the generated URDF:
   ``frame{i-1}`` to ``frame{i}`` with origin ``Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``.
   Standard tables: joint ``i`` goes from ``frame{i-1}`` to the moving link ``link{i}`` with origin
   ``Rz(theta_i) Tz(d_i)``, and a fixed joint ``frame{i}_joint`` with origin
-  ``Tx(a_i) Rx(alpha_i)`` places ``frame{i}`` on it. Every joint moves about (or along) its z axis.
+  ``Tx(a_i) Rx(alpha_i)`` places ``frame{i}`` on it. Every joint moves about (or along) its z axis:
+  ``axis xyz="0 0 1"``, or ``"0 0 -1"`` for a reversed row (``direction = -1``), the URDF's joint
+  variable being the table's q (same limits).
 - ``tool``: fixed on ``frame{n}`` with the table's ``[tool]`` transform.
 
 Each link gets simple visuals (a cylinder along each joint axis, cylinders along the link
@@ -201,7 +203,7 @@ def urdf_elements(table: DHTable) -> Robot:
                 parent=parent,
                 child=child,
                 origin=clean(origin),
-                axis=np.array([0.0, 0.0, 1.0]),
+                axis=np.array([0.0, 0.0, float(row.direction)]),
                 limit=Limit(
                     effort=row.effort, velocity=row.velocity, lower=row.lower, upper=row.upper
                 ),

@@ -3,7 +3,8 @@
 For the work that needs FK of thousands to millions of configurations (workspace sampling, table
 audits, batched IK verification), where a Pinocchio call per configuration costs microseconds of
 Python each. The product is the table's own (``T_world_base``, one DH transform per row in its
-convention, ``T_last_tool``), computed column by column on arrays of length N; the tests check it
+convention, the DH angle ``theta + direction * q`` or length ``d + direction * q``,
+``T_last_tool``), computed column by column on arrays of length N; the tests check it
 against Pinocchio's FK of the generated URDF and against an independent DH product.
 """
 
@@ -63,11 +64,12 @@ def _chain(table: DHTable, q: np.ndarray, keep: frozenset[int] | None):
         yield 0, cols, p
     modified = table.convention == "modified"
     for i, row in enumerate(table.rows):
+        value = q[:, i] if row.direction == 1 else -q[:, i]  # a reversed row: -q
         if row.joint_type == "prismatic":
             ct, st = _rotation_terms(row.theta)
-            d: float | np.ndarray = q[:, i] + row.d
+            d: float | np.ndarray = value + row.d
         else:
-            angle = q[:, i] + row.theta
+            angle = value + row.theta
             ct, st = np.cos(angle), np.sin(angle)  # type: ignore[assignment]
             d = row.d
         ca, sa = _rotation_terms(row.alpha)

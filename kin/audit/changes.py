@@ -205,7 +205,7 @@ def elementary_changes(audited: AuditedTable, *, samples: bool = True) -> list[C
                 r.index,
                 None,
                 f"q{r.index}: reversed (the source's joint {r.index} moves the other way)",
-                f"joint {r.index}: the source's value is -q (or flip its axis)",
+                f"write direction = {-r.direction} on row {r.index}",
             )
         )
     if samples:

@@ -46,10 +46,11 @@ def many_tool_poses(tables: Sequence[DHTable], q: np.ndarray) -> np.ndarray:
         alpha = per_sample(np.array([t.rows[i].alpha for t in tables]))
         d = per_sample(np.array([t.rows[i].d for t in tables]))
         theta = per_sample(np.array([t.rows[i].theta for t in tables]))
+        value = joints[:, i] * per_sample(np.array([float(t.rows[i].direction) for t in tables]))
         if row.joint_type == "prismatic":
-            d = d + joints[:, i]
+            d = d + value
         else:
-            theta = theta + joints[:, i]
+            theta = theta + value
         ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
         c0, c1, c2 = cols
         # standard: Rz(theta) Tz(d) Tx(a) Rx(alpha)

@@ -136,6 +136,7 @@ def _within_limits(audited: AuditedTable, reading: Reading, q_printed: np.ndarra
         q = q - np.array(
             [r.theta if r.joint_type == "revolute" else r.d for r in audited.table.rows]
         )
+        q = q * audited.table.directions  # DH angle theta + direction * q
     table = audited.table
     return np.all((q >= table.lower - 1e-9) & (q <= table.upper + 1e-9), axis=1)
 

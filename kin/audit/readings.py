@@ -77,9 +77,13 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
         i = (change.row or 0) - 1
         if change.kind == "convention":
             convention = "standard" if convention == "modified" else "modified"
-        elif change.kind == "offsets":
+        elif change.kind == "offsets":  # the values are the DH angles (lengths) themselves
             rows = [
-                with_field(r, "theta" if r.joint_type == "revolute" else "d", 0.0) for r in rows
+                dataclasses.replace(
+                    with_field(r, "theta" if r.joint_type == "revolute" else "d", 0.0),
+                    direction=1,
+                )
+                for r in rows
             ]
         elif change.kind == "angle_unit":
             angle_unit = str(change.value)
@@ -120,7 +124,7 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
 
 def _signature(reading: Reading) -> tuple:
     t = reading.table
-    params = tuple((r.a, r.alpha, r.d, r.theta) for r in t.rows)
+    params = tuple((r.a, r.alpha, r.d, r.theta, r.direction) for r in t.rows)
     return (
         t.convention,
         params,

@@ -50,7 +50,9 @@ def table_key(
     parts.append(cell_size)
     parts.append(rotation_weight)
     for row in table.rows:
-        parts.append((row.joint_type, row.a, row.alpha, row.d, row.theta, row.lower, row.upper))
+        part = (row.joint_type, row.a, row.alpha, row.d, row.theta, row.lower, row.upper)
+        # A reversed joint changes the samples; the keys of the other rows stay as they were.
+        parts.append(part if row.direction == 1 else (*part, "direction", row.direction))
     digest = hashlib.sha256(repr(parts).encode())
     for matrix in (table.T_world_base, table.T_last_tool):
         digest.update(np.ascontiguousarray(matrix, dtype=float).tobytes())
