@@ -24,6 +24,7 @@ from ..exceptions import TargetError
 from ..judge import batch_axis_errors, batch_pose_errors
 from ..target import PitchTarget, PoseTarget, PositionTarget
 from .closed_form_structure import BatchBranches, DetailedStructure, PitchStructure
+from .joint_directions import forward_table, mirrored_limits, reversed_joints, to_joint
 from .registry import recognise
 
 
@@ -99,10 +100,15 @@ class BatchSolver:
     ):
         self.robot = robot
         self.table = robot.table
-        self.structure = recognise(robot.table)
+        # A reversed joint (direction = -1): the structure solves the forward table in
+        # q' = direction * q, wrapped into its mirrored limits; q goes to the judge.
+        self._directions = reversed_joints(robot.table)
+        self.structure = recognise(forward_table(robot.table))
         self.tolerance_position = tolerance_position
         self.tolerance_rotation = tolerance_rotation
         self._lower, self._upper = robot.lower, robot.upper
+        if self._directions is not None:
+            self._lower, self._upper = mirrored_limits(self._lower, self._upper, self._directions)
 
     def _wrap(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         q = q - (2 * np.pi) * np.rint(q / (2 * np.pi))
@@ -179,6 +185,8 @@ class BatchSolver:
         n, b, nq = candidates.q.shape
         exists = ~np.isnan(candidates.q).any(-1)
         q, inside = self._wrap(candidates.q)
+        if self._directions is not None:
+            q = to_joint(q, self._directions)
         poses = batch_forward_kinematics(self.table, q.reshape(-1, nq))
         positions = np.repeat(p, b, axis=0)
         rotations = None if rotation is None else np.repeat(rotation, b, axis=0)

@@ -46,6 +46,7 @@ from .closed_form_structure import (
     candidate_branches,
 )
 from .idealised import Idealised, idealise, polish
+from .joint_directions import forward_table, mirrored_limits, reversed_joints
 from .registry import recognise
 from .six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
 
@@ -139,13 +140,18 @@ class ClosedFormSolver:
         compiled: bool = True,
     ):
         self.robot = robot
+        #: Per joint 1 or -1 when the table reverses a joint, else None: the structure solves the
+        #: forward table (:mod:`.joint_directions`) in ``q' = direction * q``; seeds are mapped
+        #: in, answers out before the judge measures them on the true arm.
+        self._directions = reversed_joints(robot.table)
+        table = forward_table(robot.table)
         #: The idealised table the structure fits when the true one misses it by rounding
         #: (:mod:`.idealised`: answers polished on the true chain), else None.
         self.idealised: Idealised | None = None
         try:
-            self.structure: ClosedFormStructure = recognise(robot.table)
+            self.structure: ClosedFormStructure = recognise(table)
         except StructureError as exact:
-            ideal = idealise(robot.table)
+            ideal = idealise(table)
             if ideal is None:
                 raise
             try:
@@ -164,7 +170,10 @@ class ClosedFormSolver:
         self._lock = threading.Lock()
         self._lower = robot.model.lowerPositionLimit.tolist()
         self._upper = robot.model.upperPositionLimit.tolist()
-        self._offsets = [row.theta for row in robot.table.rows]
+        if self._directions is not None:  # the limits of q' (those of the forward table)
+            lower, upper = mirrored_limits(self._lower, self._upper, self._directions)
+            self._lower, self._upper = lower.tolist(), upper.tolist()
+        self._offsets = [row.theta for row in table.rows]
         self._has_offsets = any(self._offsets)
         # Everything below depends only on the table: computed once, as floats and tuples, so that
         # a solve runs on the math module rather than on small NumPy arrays.
@@ -178,9 +187,7 @@ class ClosedFormSolver:
         self._twin = (
             None
             if verifier is None or not compiled
-            else verifier(
-                robot.table, self._lower, self._upper, tolerance_position, tolerance_rotation
-            )
+            else verifier(table, self._lower, self._upper, tolerance_position, tolerance_rotation)
         )
         self._zero_seed_array = np.zeros(len(self._lower))
 
@@ -292,6 +299,8 @@ class ClosedFormSolver:
 
     def _solve_closed(self, target: Target, seed: npt.ArrayLike | None, start: float) -> IKResult:
         """:meth:`solve` of a target the closed form takes (under the solver's lock)."""
+        if self._directions is not None and seed is not None:
+            seed = self._forward_seed(seed)
         if self._twin is not None and target.__class__ is PoseTarget:
             return self._solve_twin(target, seed, start)  # type: ignore[arg-type]
         seed_list = self._seed_list(seed)
@@ -313,13 +322,27 @@ class ClosedFormSolver:
         """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`)."""
         judge, offsets = self._judge, self._offsets
         rotation = target.rotation if isinstance(target, PoseTarget) else None
+        signs = 1.0 if self._directions is None else self._directions  # q' <-> q (the judge's)
         moved = []
         for thetas, label in branches.thetas:
-            q = np.subtract(thetas, offsets)
+            q = np.subtract(thetas, offsets) * signs
             q = polish(judge.model, judge.data, judge.frame_id, q, target.position, rotation)
-            moved.append((tuple(np.add(q, offsets).tolist()), label))
+            moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
         branches.thetas = moved
         return branches
+
+    def _forward_seed(self, seed: npt.ArrayLike) -> npt.ArrayLike:
+        """The seed ``q`` [rad] as the forward table's ``q' = direction * q``.
+
+        A seed of the wrong size, or with a value that is not finite, is returned as given, for
+        :meth:`_seed_list` to name.
+        """
+        directions = self._directions
+        assert directions is not None
+        values = np.asarray(seed, dtype=float).reshape(-1)
+        if values.shape != directions.shape or not np.isfinite(values).all():
+            return seed
+        return values * directions
 
     def _seed_list(self, seed: npt.ArrayLike | None) -> list[float]:
         """The seed as floats [rad] (zeros if None).
@@ -399,6 +422,8 @@ class ClosedFormSolver:
         found, q, info = self._twin(  # type: ignore[misc]
             target.position, target.rotation, seed_array
         )
+        if self._directions is not None:  # the twin measured q' on the forward table
+            q = q * self._directions
         if found < 0:
             return self._failure("invalid_target", "the target has a NaN or infinite value", start)
         if found == 0:
@@ -467,6 +492,7 @@ class ClosedFormSolver:
         valid: list[tuple[float, IKSolution]] = []
         rejected: list[IKSolution] = []
         has_offsets = self._has_offsets
+        directions = self._directions
         for thetas, label in branches.thetas:
             q_list = list(map(sub, thetas, offsets)) if has_offsets else list(thetas)
             inside = True
@@ -481,6 +507,8 @@ class ClosedFormSolver:
                             inside = False
                     i += 1
             q = array(q_list)
+            if directions is not None:  # the structure's q' to the arm's q, for the judge
+                q = q * directions
             angle: float | None
             if position_only:  # the translation alone; the orientation is not constrained
                 position_error = dist(tool_position(q), p)

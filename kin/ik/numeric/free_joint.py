@@ -31,6 +31,7 @@ import numpy.typing as npt
 from dh2urdf import DHTable
 
 from ..analytic.idealised import polish
+from ..analytic.joint_directions import forward_table, mirrored_limits, reversed_joints
 from ..analytic.seven_dof import SevenDofIK
 from ..analytic.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shoulder7
 from ..analytic.structure import seven_dof
@@ -78,6 +79,11 @@ def free_joint_closed_form(
         lower: Lower joint limits [rad].
         upper: Upper joint limits [rad].
     """
+    directions = reversed_joints(table)
+    if directions is not None:  # solved on the forward table, in q' = direction * q
+        low, high = mirrored_limits(lower, upper, directions)
+        closed = free_joint_closed_form(forward_table(table), low.tolist(), high.tolist())
+        return None if closed is None else _ReversedJoints(closed, directions)
     try:
         return SevenDofIK(seven_dof(table), lower, upper)
     except StructureError:
@@ -86,6 +92,32 @@ def free_joint_closed_form(
         return SphericalShoulder7RIK(spherical_shoulder7(table), lower, upper)
     except StructureError:
         return None
+
+
+class _ReversedJoints:
+    """A free-joint closed form of the forward table, taking and giving the arm's q.
+
+    The table reverses a joint (:mod:`~kin.ik.analytic.joint_directions`): starts are mapped in
+    (``q' = direction * q``), answers out, before the judge measures them on the true arm.
+    """
+
+    def __init__(self, closed: FreeJointClosedForm, directions: np.ndarray):
+        self._closed = closed
+        self._directions = directions
+        self.compiled_twin = closed.compiled_twin
+
+    def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> Any:
+        """The forward closed form's :meth:`FreeJointClosedForm.prepare` (the same target)."""
+        return self._closed.prepare(position, rotation)
+
+    def first(
+        self, target: Any, starts: np.ndarray, out: np.ndarray, step: float, compiled: bool
+    ) -> int:
+        """:meth:`FreeJointClosedForm.first` in the arm's q: ``out`` holds q (7,) [rad]."""
+        index = self._closed.first(target, starts * self._directions, out, step, compiled)
+        if index >= 0:
+            out *= self._directions
+        return index
 
 
 def solve_free_joint(
