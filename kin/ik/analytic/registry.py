@@ -13,6 +13,7 @@ from dh2urdf import DHTable
 from ..exceptions import StructureError
 from .closed_form_structure import ClosedFormStructure
 from .five_dof import FiveDof
+from .general_6r import General6R
 from .offset3r import Offset3R
 from .pieper import Pieper6R
 from .planar2r import Planar2R
@@ -30,7 +31,8 @@ CLOSED_FORMS: list[type[ClosedFormStructure]] = [
     SphericalWrist6R,
     Pieper6R,
     ThreeParallel6R,
-    Reversed6R,  # last: the 6R families above, read from the tool
+    Reversed6R,  # the 6R families above, read from the tool
+    General6R,  # last: any other 6R arm, by elimination
 ]
 
 

@@ -1,0 +1,275 @@
+"""Raghavan-Roth elimination of a general 6R loop: the 12x12 quadratic eigenproblem and its roots.
+
+References: M. Raghavan and B. Roth, "Inverse kinematics of the general 6R manipulator and
+related linkages", ASME J. Mech. Des. 115(3):502-508, 1993; D. Manocha and J. F. Canny,
+"Efficient inverse kinematics for general 6R manipulators", IEEE Trans. Robot. Autom.
+10(5):648-657, 1994.
+
+The arm is a chain ``T(q) = F0 Rz(q1) F1 Rz(q2) F2 ... Rz(q6) F6`` of constant rigid transforms
+``F_i`` (4x4, [m]). A tool pose ``T`` closes it into the loop ``Rz(u1) C1 Rz(u2) C2 ... Rz(u6) C6
+= I``: read forwards ``u_k = q_k``, ``C_k = F_k`` (k < 6) and ``C6 = F6 T^-1 F0``; read
+backwards ``u_k = -q_(7-k)``, ``C_k = F_(6-k)^-1`` and ``C6 = F0^-1 T F6^-1``.
+
+A :class:`Formulation` (a reading and a start ``a``) writes the loop as
+
+    ``Rz(u_a) C_a Rz(u_a+1) C_a+1 Rz(u_a+2) . C_a+2 (z, o)
+    = C_a+5^-1 Rz(-u_a+5) C_a+4^-1 Rz(-u_a+4) . C_a+3^-1 (z, o)``
+
+(indices modulo 6): the axis ``l`` and the point ``p`` that both sides map the unit z axis and
+the origin to (``u_a+3`` drops out). From ``l`` and ``p`` the 14 Raghavan-Roth equations are
+``l, p, p.p, p.l, p x l, (p.p) l - 2 (p.l) p``; each side is then linear in the products of
+``{1, sin, cos}`` of its joints, so ``P(u_a) m(u_a+1, u_a+2) = Q m'(u_a+4, u_a+5)`` with
+``P`` linear in ``(1, sin u_a, cos u_a)`` (14 x 9) and ``Q`` constant per pose (14 x 9). The
+coefficients are read exactly by sampling each side on a 3-point grid per joint (the basis
+``{1, sin, cos}`` at 0, 120 and 240 deg is invertible) instead of by symbolic expansion.
+
+The 8 non-constant columns of ``Q`` are eliminated with the left null space of ``Q`` (6 rows
+from its SVD): 6 equations in the 9 products of ``u_a+1, u_a+2``. With half-angle tangents
+``x, y, z`` of ``u_a - tau_x``, ``u_a+1 - tau_y``, ``u_a+2 - tau_z`` (fixed shifts ``tau``,
+away from the angles arms are often at) they are biquadratic in ``y, z`` and quadratic in ``x``;
+with the same equations times ``y`` they are 12 equations linear in the 12 monomials
+``y^i z^j`` (``i <= 3``, ``j <= 2``): ``(M2 x^2 + M1 x + M0) v = 0``, solved as a 24x24
+companion eigenproblem (in ``x`` or in ``1/x``, whichever leading matrix is better conditioned).
+Its real eigenvalues give ``u_a``, the eigenvectors ``u_a+1``, ``u_a+2``; the monomials of
+``u_a+4``, ``u_a+5`` then follow by least squares on ``Q``, ``u_a+3`` from the loop. Up to 16
+real roots exist; 8 of the 24 eigenvalues are the spurious pairs ``x = +-i``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: Sample angles of the coefficient fits [rad], and ``{1, sin, cos}`` at them (3x3).
+_GRID = np.array([0.0, 2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0])
+_BASIS = np.stack([np.ones(3), np.sin(_GRID), np.cos(_GRID)], axis=1)
+_FIT9 = np.linalg.inv(np.kron(_BASIS, _BASIS))
+_FIT27 = np.linalg.inv(np.kron(np.kron(_BASIS, _BASIS), _BASIS))
+#: Shifts of the half-angle tangents (x, y, z) [rad]: a root at ``tau + pi`` is at infinity.
+TAU = (0.4137, -0.7219, 1.1113)
+#: An eigenvalue is taken as real when ``|Im| <= IMAG_TOL (1 + |lambda|)`` (Newton decides).
+IMAG_TOL = 1e-3
+
+
+def rot_z(angle: np.ndarray) -> np.ndarray:
+    """``Rz(angle)`` as 4x4 transforms, (..., 4, 4), of angles (...) [rad]."""
+    angle = np.asarray(angle, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.zeros(angle.shape + (4, 4))
+    out[..., 0, 0] = c
+    out[..., 0, 1] = -s
+    out[..., 1, 0] = s
+    out[..., 1, 1] = c
+    out[..., 2, 2] = 1.0
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def inverse(T: np.ndarray) -> np.ndarray:
+    """Inverse of rigid transforms (..., 4, 4) [m]."""
+    out = np.zeros_like(T)
+    rt = np.swapaxes(T[..., :3, :3], -1, -2)
+    out[..., :3, :3] = rt
+    out[..., :3, 3] = -np.einsum("...ij,...j->...i", rt, T[..., :3, 3])
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def equations(l: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The 14 Raghavan-Roth quantities (..., 14) of axes ``l`` and points ``p`` (..., 3) [m]."""
+    pp = np.einsum("...i,...i->...", p, p)[..., None]
+    pl = np.einsum("...i,...i->...", p, l)[..., None]
+    return np.concatenate((l, p, pp, pl, np.cross(p, l), pp * l - 2.0 * pl * p), axis=-1)
+
+
+def _half_angle(tau: float) -> np.ndarray:
+    """``H`` with ``(1 + t^2) (1, sin u, cos u) = H (1, t, t^2)`` for ``t = tan((u - tau)/2)``."""
+    s, c = math.sin(tau), math.cos(tau)
+    return np.array([[1.0, 0.0, 1.0], [s, 2.0 * c, -s], [c, -2.0 * s, -c]])
+
+
+@dataclass(frozen=True, eq=False)
+class Formulation:
+    """One way of eliminating a 6R loop (see the module): its reading, start and fixed parts.
+
+    Attributes:
+        reverse: The loop read from the tool (joints ``-q6 .. -q1``).
+        start: The first joint ``a`` (0, 1 or 2, 0-based) of the three kept; ``u_a`` is the
+            eigenvalue.
+        F: The chain's constant transforms ``F0 .. F6`` (7, 4, 4) [m].
+    """
+
+    reverse: bool
+    start: int
+    F: np.ndarray = field(repr=False)
+    joints: tuple[int, ...] = field(init=False)
+    signs: tuple[float, ...] = field(init=False)
+    _C: list[np.ndarray | None] = field(init=False, repr=False)
+    _P: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        F = self.F
+        if self.reverse:
+            joints = tuple(5 - k for k in range(6))
+            signs = (-1.0,) * 6
+            C: list[np.ndarray | None] = [inverse(F[5 - k]) for k in range(5)] + [None]
+        else:
+            joints, signs = tuple(range(6)), (1.0,) * 6
+            C = [F[k + 1] for k in range(5)] + [None]
+        setattr_ = object.__setattr__
+        setattr_(self, "joints", joints)
+        setattr_(self, "signs", signs)
+        setattr_(self, "_C", C)
+        a = self.start
+        # Left side at the 27 grid points (u_a, u_a+1, u_a+2), fitted on {1, s, c}^3.
+        g = np.stack(np.meshgrid(_GRID, _GRID, _GRID, indexing="ij"), axis=-1).reshape(27, 3)
+        X = rot_z(g[:, 0]) @ C[a] @ rot_z(g[:, 1]) @ C[a + 1] @ rot_z(g[:, 2]) @ C[a + 2]
+        values = equations(X[:, :3, 2], X[:, :3, 3])  # (27, 14)
+        coeff = (_FIT27 @ values).reshape(3, 9, 14)  # (theta basis, phi-psi basis, eq)
+        h = np.kron(_half_angle(TAU[1]), _half_angle(TAU[2]))  # (9 basis, 9 monomials)
+        P1, Ps, Pc = (coeff[k].T @ h for k in range(3))  # (14, 9) each, in y^i z^j
+        s, c = math.sin(TAU[0]), math.cos(TAU[0])
+        setattr_(
+            self,
+            "_P",
+            np.stack((P1 + s * Ps + c * Pc, 2.0 * c * Ps - 2.0 * s * Pc, P1 - s * Ps - c * Pc)),
+        )
+        setattr_(self, "_h0", np.kron(np.array([1.0, 0.0, 1.0]), np.array([1.0, 0.0, 1.0])))
+
+    def _loop_constants(self, G: np.ndarray) -> list[np.ndarray]:
+        """``C1 .. C6`` of N poses, (N, 4, 4) each: the fixed ones broadcast, ``C6`` from ``G``."""
+        n = G.shape[0]
+        out = [np.broadcast_to(c, (n, 4, 4)) for c in self._C[:5]]  # type: ignore[arg-type]
+        return out + [G]
+
+    def closure(self, T_inv_chain: np.ndarray) -> np.ndarray:
+        """``C6`` of N poses, from ``F0^-1 T F6^-1`` (N, 4, 4) (forwards: its inverse)."""
+        return T_inv_chain if self.reverse else inverse(T_inv_chain)
+
+    def candidates(self, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Joint vectors ``q`` [rad] of the real eigenvalues of N poses.
+
+        Args:
+            K: ``F0^-1 T F6^-1`` of the N tool poses ``T`` (N, 4, 4) [m].
+
+        Returns:
+            ``q`` (N, 24, 6) [rad] (rows of non-real eigenvalues NaN) and the imaginary parts
+            (N, 24) of the eigenvalues, relative to ``1 + |lambda|``.
+        """
+        n = K.shape[0]
+        C = self._loop_constants(self.closure(K))
+        a = self.start
+        i3, i4, i5 = (a + 3) % 6, (a + 4) % 6, (a + 5) % 6
+        # Right side at the 9 grid points (u_a+4, u_a+5), fitted on {1, s, c}^2.
+        g4 = np.repeat(_GRID, 3)
+        g5 = np.tile(_GRID, 3)
+        w = inverse(C[i3])  # (N, 4, 4)
+        Y = (
+            inverse(C[i5])[:, None]
+            @ rot_z(-g5)[None]
+            @ inverse(C[i4])[:, None]
+            @ rot_z(-g4)[None]
+            @ w[:, None]
+        )  # (N, 9, 4, 4)
+        values = equations(Y[..., :3, 2], Y[..., :3, 3])  # (N, 9, 14)
+        Q = np.einsum("ij,njk->nki", _FIT9, values)  # (N, 14, 9)
+        q0 = Q[:, :, 0]
+        P = self._P[None] - np.stack(
+            (q0, np.zeros_like(q0), q0), axis=1
+        )[..., None] * self._h0  # type: ignore[attr-defined]
+        U, sv, Vt = np.linalg.svd(Q[:, :, 1:], full_matrices=True)
+        null = np.swapaxes(U[:, :, 8:], 1, 2)  # (N, 6, 14)
+        S = null[:, None] @ P  # (N, 3, 6, 9)
+        M = np.zeros((n, 3, 12, 12))
+        M[:, :, :6, :9] = S
+        M[:, :, 6:, 3:] = S
+        values, flip, vectors = _quadratic_eig(M)  # (N, 24), (N,), (N, 24, 12)
+        imag = np.abs(values.imag) / (1.0 + np.abs(values))
+        # x = tan((u_a - tau) / 2) is the eigenvalue, or its inverse when flipped.
+        num = np.where(flip[:, None], 1.0, values.real)
+        den = np.where(flip[:, None], values.real, 1.0)
+        theta = TAU[0] + 2.0 * np.arctan2(num, den)
+        V = _real_vectors(vectors).reshape(n, 24, 4, 3)
+        phi = TAU[1] + 2.0 * _ratio_angle(V, axis=2)
+        psi = TAU[2] + 2.0 * _ratio_angle(V, axis=3)
+        # Right-side joints from the monomials: Q' m' = f_L - Q0.
+        u = np.full((n, 24, 6), np.nan)
+        u[:, :, a], u[:, :, (a + 1) % 6], u[:, :, (a + 2) % 6] = theta, phi, psi
+        L = (
+            rot_z(theta) @ C[a][:, None] @ rot_z(phi) @ C[a + 1][:, None] @ rot_z(psi)
+            @ C[a + 2][:, None]
+        )  # (N, 24, 4, 4)
+        f = equations(L[..., :3, 2], L[..., :3, 3]) - q0[:, None]  # (N, 24, 14)
+        inv_s = np.where(sv > sv[:, :1] * 1e-12, 1.0 / np.where(sv > 0, sv, 1.0), 0.0)
+        pinv = np.swapaxes(Vt, 1, 2) @ (inv_s[..., None] * np.swapaxes(U[:, :, :8], 1, 2))
+        m = np.einsum("nij,nbj->nbi", pinv, f)  # (N, 24, 8): (i4, i5) index - 1
+        u[:, :, i5] = np.arctan2(m[..., 0], m[..., 1])
+        u[:, :, i4] = np.arctan2(m[..., 2], m[..., 5])
+        R = (
+            C[i3][:, None] @ rot_z(u[:, :, i4]) @ C[i4][:, None] @ rot_z(u[:, :, i5])
+            @ C[i5][:, None]
+        )
+        Rz3 = np.swapaxes(L[..., :3, :3], -1, -2) @ np.swapaxes(R[..., :3, :3], -1, -2)
+        u[:, :, i3] = np.arctan2(
+            Rz3[..., 1, 0] - Rz3[..., 0, 1], Rz3[..., 0, 0] + Rz3[..., 1, 1]
+        )
+        q = np.empty_like(u)
+        for k, (j, sign) in enumerate(zip(self.joints, self.signs)):
+            q[..., j] = sign * u[..., k]
+        return q, imag
+
+
+def _quadratic_eig(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Eigenpairs of ``(M2 x^2 + M1 x + M0) v = 0`` for N stacks ``M`` (N, 3, 12, 12).
+
+    Per pose the companion matrix is built on ``M2`` (eigenvalues ``x``) or, when ``M0`` is
+    better conditioned (``flip``), on ``M0`` (eigenvalues ``1/x``). Returns the 24 complex
+    eigenvalues (N, 24), ``flip`` (N,) and the vectors ``v`` (N, 24, 12).
+    """
+    n = M.shape[0]
+    M0, M1, M2 = M[:, 0], M[:, 1], M[:, 2]
+    flip = np.linalg.cond(M0) < np.linalg.cond(M2)
+    lead = np.where(flip[:, None, None], M0, M2)
+    tail = np.where(flip[:, None, None], M2, M0)
+    A = np.zeros((n, 24, 24))
+    A[:, :12, 12:] = np.eye(12)
+    try:
+        A[:, 12:, :12] = -np.linalg.solve(lead, tail)
+        A[:, 12:, 12:] = -np.linalg.solve(lead, M1)
+    except np.linalg.LinAlgError:
+        pinv = np.linalg.pinv(lead)
+        A[:, 12:, :12] = -pinv @ tail
+        A[:, 12:, 12:] = -pinv @ M1
+    values, vectors = np.linalg.eig(A)  # (N, 24), (N, 24, 24): columns
+    vectors = np.swapaxes(vectors, 1, 2)
+    top, bottom = vectors[..., :12], vectors[..., 12:]
+    use_top = np.linalg.norm(top, axis=-1) >= np.linalg.norm(bottom, axis=-1)
+    return values, flip, np.where(use_top[..., None], top, bottom)
+
+
+def _real_vectors(v: np.ndarray) -> np.ndarray:
+    """Complex vectors (..., 12) rotated so their largest entry is real, real part kept."""
+    k = np.argmax(np.abs(v), axis=-1)
+    big = np.take_along_axis(v, k[..., None], axis=-1)
+    phase = np.conj(big) / np.maximum(np.abs(big), 1e-300)
+    return (v * phase).real
+
+
+def _ratio_angle(V: np.ndarray, axis: int) -> np.ndarray:
+    """``atan`` of the ratio ``y`` (axis 2, of 4 entries) or ``z`` (axis 3, 3 entries) [rad].
+
+    ``V`` (N, B, 4, 3) holds ``y^i z^j`` times a scale; the pair of consecutive entries with
+    the largest norm gives ``atan2(next, this)``.
+    """
+    if axis == 2:
+        this, nxt = V[:, :, :-1, :], V[:, :, 1:, :]
+    else:
+        this, nxt = V[:, :, :, :-1], V[:, :, :, 1:]
+    n, b = V.shape[:2]
+    this, nxt = this.reshape(n, b, -1), nxt.reshape(n, b, -1)
+    k = np.argmax(this * this + nxt * nxt, axis=-1)[..., None]
+    return np.arctan2(
+        np.take_along_axis(nxt, k, axis=-1)[..., 0], np.take_along_axis(this, k, axis=-1)[..., 0]
+    )

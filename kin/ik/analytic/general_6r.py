@@ -1,0 +1,319 @@
+"""Closed-form IK of any revolute 6R arm: every isolated solution (up to 16), by elimination.
+
+The families of :mod:`.ur_wrist`, :mod:`.spherical_wrist`, :mod:`.pieper`,
+:mod:`.three_parallel` and :mod:`.reversed_chain` keep their arms (this structure is registered
+last); the rest, e.g. the xArm6, Jaco 2, FANUC CRX or PiPER tables with their offsets, are solved
+here instead of by the numeric solver.
+
+Method: Raghavan and Roth's elimination, in the numerically stable form of Manocha and Canny
+(M. Raghavan, B. Roth, "Inverse kinematics of the general 6R manipulator and related
+linkages", ASME J. Mech. Des. 115(3):502-508, 1993; D. Manocha, J. F. Canny, "Efficient
+inverse kinematics for general 6R manipulators", IEEE Trans. Robot. Autom. 10(5):648-657, 1994):
+the 14 Raghavan-Roth equations of the loop give a 12x12 matrix quadratic in the half-angle
+tangent of one joint, solved as a 24x24 eigenproblem (:mod:`._general_6r_elimination`). The
+loop may be cut in six ways (joint 1, 2 or 3 as the eigenvalue, read from the base; joint 6, 5 or
+4 read from the tool); an arm's special geometry (zero lengths, parallel or meeting axes) makes
+some of them singular. :meth:`General6R.recognise` solves sampled poses of the arm with each and
+keeps the one (or two, their answers merged) that recovers them all.
+
+Every candidate is polished by Newton steps on the true chain (to about 1e-13 [m], [rad]),
+kept only when on target to :data:`KEEP_TOL`, and duplicates are merged; the solvers' judge
+then verifies each branch as for any structure.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from dh2urdf import DHTable
+
+from ..exceptions import StructureError, TargetError
+from ..target import PoseTarget
+from ._general_6r_elimination import IMAG_TOL, Formulation, inverse, rot_z
+from .structure import Checker
+
+#: Number of branches (columns of :meth:`General6R.solve`): a 6R arm has at most 16.
+BRANCHES = 16
+#: Newton steps of the polish, and the error it stops at [m, rad].
+NEWTON_STEPS = 8
+NEWTON_TOL = 1e-14
+#: A polished candidate is kept when its position [m] and rotation [rad] errors are below this.
+KEEP_TOL = 1e-10
+#: Two branches closer than this in every joint (modulo 2 pi) [rad] are one.
+SAME_TOL = 1e-7
+#: Sampled poses per formulation when an arm is recognised, and the seed of their joints.
+PROBES = 24
+PROBE_SEED = 6
+
+
+def _rot_x(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    out = np.eye(4)
+    out[1:3, 1:3] = [[c, -s], [s, c]]
+    return out
+
+
+def _trans(x: float = 0.0, z: float = 0.0) -> np.ndarray:
+    out = np.eye(4)
+    out[0, 3], out[2, 3] = x, z
+    return out
+
+
+def chain_transforms(table: DHTable) -> tuple[np.ndarray, np.ndarray]:
+    """The constant transforms ``F0 .. F6`` (7, 4, 4) [m] and the joint directions (6,).
+
+    ``T_world_tool(q) = F0 Rz(s1 q1) F1 ... Rz(s6 q6) F6`` with ``s_i`` the row's direction
+    (+-1): the base and a modified row's ``Rx(alpha) Tx(a)`` before the joint, the offset
+    ``theta`` into the transform before the joint, the tool into ``F6``.
+    """
+    F = [np.array(table.T_world_base, dtype=float)] + [np.eye(4) for _ in range(6)]
+    signs = np.ones(6)
+    for i, row in enumerate(table.rows):
+        signs[i] = float(getattr(row, "direction", 1) or 1)
+        if table.convention == "modified":
+            F[i] = F[i] @ _rot_x(row.alpha) @ _trans(x=row.a) @ rot_z(row.theta)
+            F[i + 1] = _trans(z=row.d)
+        else:
+            F[i] = F[i] @ rot_z(row.theta)
+            F[i + 1] = _trans(z=row.d) @ _trans(x=row.a) @ _rot_x(row.alpha)
+    F[6] = F[6] @ np.array(table.T_last_tool, dtype=float)
+    return np.stack(F), signs
+
+
+def forward(F: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tool poses (..., 4, 4), joint axes and joint origins (..., 6, 3) in the world [m].
+
+    ``u`` (..., 6) [rad] are the DH joint variables (``s_i q_i``).
+    """
+    T = np.broadcast_to(F[0], u.shape[:-1] + (4, 4))
+    axes, origins = [], []
+    R = rot_z(u)
+    for i in range(6):
+        axes.append(T[..., :3, 2])
+        origins.append(T[..., :3, 3])
+        T = T @ R[..., i, :, :] @ F[i + 1]
+    return T, np.stack(axes, axis=-2), np.stack(origins, axis=-2)
+
+
+def _errors(T: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Position error and (small-angle) rotation error vectors (..., 6) of poses to targets."""
+    dp = target[..., :3, 3] - T[..., :3, 3]
+    E = target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
+    dr = 0.5 * np.stack(
+        (E[..., 2, 1] - E[..., 1, 2], E[..., 0, 2] - E[..., 2, 0], E[..., 1, 0] - E[..., 0, 1]),
+        axis=-1,
+    )
+    return np.concatenate((dp, dr), axis=-1)
+
+
+def polish(F: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Newton steps of DH joint variables ``u`` (N, B, 6) [rad] towards targets (N, 4, 4).
+
+    Returns the polished ``u`` and the largest error of each (N, B) [m or rad] (``inf`` for
+    NaN rows; a rotation error near pi counts as large).
+    """
+    u = np.where(np.isfinite(u), u, 0.0)
+    goal = target[:, None]
+    for _ in range(NEWTON_STEPS):
+        T, axes, origins = forward(F, u)
+        e = _errors(T, goal)
+        if float(np.abs(e).max(initial=0.0)) < NEWTON_TOL:
+            break
+        J = np.empty(u.shape[:-1] + (6, 6))
+        J[..., :3, :] = np.swapaxes(np.cross(axes, T[..., None, :3, 3] - origins), -1, -2)
+        J[..., 3:, :] = np.swapaxes(axes, -1, -2)
+        JJt = J @ np.swapaxes(J, -1, -2) + 1e-14 * np.eye(6)
+        step = np.swapaxes(J, -1, -2) @ np.linalg.solve(JJt, e[..., None])
+        u = u + np.clip(step[..., 0], -0.5, 0.5)
+    T = forward(F, u)[0]
+    error = np.abs(_errors(T, goal)).max(axis=-1)
+    cosine = np.einsum("...ij,...ij->...", T[..., :3, :3], goal[..., :3, :3])
+    error = np.where(cosine > 0.0, error, np.inf)
+    return np.remainder(u + math.pi, 2.0 * math.pi) - math.pi, error
+
+
+def distinct(u: np.ndarray, ok: np.ndarray) -> np.ndarray:
+    """The distinct kept rows of ``u`` (N, B, 6) [rad] packed first in (N, 16, 6), NaN after."""
+    n = u.shape[0]
+    out = np.full((n, BRANCHES, 6), np.nan)
+    for i in range(n):
+        rows = u[i][ok[i]]
+        kept: list[np.ndarray] = []
+        for row in rows:
+            if all(
+                np.abs(np.remainder(row - other + math.pi, 2.0 * math.pi) - math.pi).max()
+                > SAME_TOL
+                for other in kept
+            ):
+                kept.append(row)
+        kept.sort(key=lambda r: tuple(np.round(r, 9)))
+        for b, row in enumerate(kept[:BRANCHES]):
+            out[i, b] = row
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class General6R:
+    """Any revolute 6R arm (16 branches), by Raghavan-Roth / Manocha-Canny elimination.
+
+    Attributes:
+        robot: Robot name.
+        formulations: The eliminations used (one, or two whose answers are merged).
+        F: The chain's constant transforms ``F0 .. F6`` (7, 4, 4) [m] (world to tool, see
+            :func:`chain_transforms`).
+        signs: The joints' directions (+-1): DH angle ``theta_i + s_i q_i``.
+    """
+
+    name: ClassVar[str] = "general_6r"
+    dof: ClassVar[int] = 6
+    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
+    branch_labels: ClassVar[tuple[str, ...]] = tuple(
+        f"branch {k} (joints ascending)" for k in range(1, BRANCHES + 1)
+    )
+
+    robot: str
+    formulations: tuple[Formulation, ...]
+    F: np.ndarray = field(repr=False)
+    signs: np.ndarray = field(repr=False)
+    _F0_inv: np.ndarray = field(init=False, repr=False)
+    _F6_inv: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_F0_inv", inverse(self.F[0]))
+        object.__setattr__(self, "_F6_inv", inverse(self.F[6]))
+
+    @classmethod
+    def recognise(cls, table: DHTable) -> General6R:
+        """Any 6R table whose sampled poses an elimination recovers.
+
+        Raises:
+            StructureError: Not 6 revolute joints; or a rounded table that a special family
+                fits once idealised (:mod:`.idealised`: that family answers); or no elimination
+                recovers the sampled poses (the arm's solutions are not isolated, e.g. two
+                axes are one line).
+        """
+        check = Checker(table, "general 6R")
+        check.revolute(6)
+        _refuse_idealised(table)
+        F, signs = chain_transforms(table)
+        rng = np.random.default_rng(PROBE_SEED)
+        u = rng.uniform(-math.pi, math.pi, size=(PROBES, 6))
+        T = forward(F, u)[0]
+        scored = []
+        for reverse in (False, True):
+            for start in range(3):
+                formulation = Formulation(reverse, start, F)
+                found = _found(F, (formulation,), T, u)
+                scored.append((found.sum(), formulation, found))
+        scored.sort(key=lambda item: -item[0])
+        best = scored[0]
+        if best[0] == PROBES:
+            return cls(table.name, (best[1],), F, signs)
+        for other in scored[1:]:
+            if (best[2] | other[2]).all():
+                return cls(table.name, (best[1], other[1]), F, signs)
+        raise check.fail(
+            f"no elimination recovers the arm's sampled poses (best {best[0]} of {PROBES}): "
+            "its solutions are not isolated or the elimination is singular"
+        )
+
+    def solve(self, position: npt.ArrayLike, rotation: npt.ArrayLike | None) -> np.ndarray:
+        """Every branch reaching a tool pose.
+
+        Args:
+            position: Tool position in the world frame [m], (3,).
+            rotation: Tool rotation ``R_world_tool``, (3, 3).
+
+        Returns:
+            Joint vectors ``q`` [rad] in [-pi, pi), (16, 6), distinct branches first (ordered by
+            their joints), NaN rows after. Polished, not verified by the judge, not wrapped
+            into limits.
+
+        Raises:
+            TargetError: No rotation.
+        """
+        if rotation is None:
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
+        return self.solve_batch(np.reshape(position, (1, 3)), np.reshape(rotation, (1, 3, 3)))[0]
+
+    def solve_batch(self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None) -> np.ndarray:
+        """:meth:`solve` of N tool poses at once: (N, 16, 6) [rad].
+
+        Raises:
+            TargetError: No rotations, or ``positions`` not (N, 3) / ``rotations`` not (N, 3, 3).
+        """
+        if rotations is None:
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
+        p = np.asarray(positions, dtype=float)
+        r = np.asarray(rotations, dtype=float)
+        if p.ndim != 2 or p.shape[1] != 3 or r.shape != (p.shape[0], 3, 3):
+            raise TargetError(
+                f"{self.name}: positions must be (N, 3) and rotations (N, 3, 3), got "
+                f"{p.shape} and {r.shape}"
+            )
+        T = np.zeros((p.shape[0], 4, 4))
+        T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = r, p, 1.0
+        finite = np.isfinite(T).all(axis=(1, 2))
+        T = np.where(finite[:, None, None], T, np.eye(4))
+        u, ok = _candidates(self.F, self.formulations, T, self._F0_inv, self._F6_inv)
+        out = distinct(u, ok & finite[:, None]) * self.signs
+        return out
+
+
+def _candidates(
+    F: np.ndarray,
+    formulations: tuple[Formulation, ...],
+    T: np.ndarray,
+    F0_inv: np.ndarray | None = None,
+    F6_inv: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Polished DH joint variables (N, B, 6) [rad] of poses ``T`` (N, 4, 4), and which are kept."""
+    F0_inv = inverse(F[0]) if F0_inv is None else F0_inv
+    F6_inv = inverse(F[6]) if F6_inv is None else F6_inv
+    K = F0_inv @ T @ F6_inv
+    parts, keep = [], []
+    for formulation in formulations:
+        u, imag = formulation.candidates(K)
+        real = (imag <= IMAG_TOL) & np.isfinite(u).all(axis=-1)
+        parts.append(u)
+        keep.append(real)
+    u = np.concatenate(parts, axis=1)
+    real = np.concatenate(keep, axis=1)
+    u, error = polish(F, u, T)
+    return u, real & (error <= KEEP_TOL)
+
+
+def _found(F: np.ndarray, formulations: tuple[Formulation, ...], T: np.ndarray, u: np.ndarray):
+    """Whether the joint variables ``u`` (N, 6) that made poses ``T`` are among the branches."""
+    with np.errstate(all="ignore"):
+        got, ok = _candidates(F, formulations, T)
+    diff = np.remainder(got - u[:, None] + math.pi, 2.0 * math.pi) - math.pi
+    return (ok & (np.abs(diff).max(axis=-1) < 1e-6)).any(axis=1)
+
+
+def _refuse_idealised(table: DHTable) -> None:
+    """Raise when the table, idealised (:mod:`.idealised`), fits one of the special families."""
+    from .idealised import idealise
+    from .registry import CLOSED_FORMS
+
+    ideal = idealise(table)
+    if ideal is None:
+        return
+    for structure in CLOSED_FORMS:
+        if structure is General6R or structure.dof != 6:
+            continue
+        try:
+            structure.recognise(ideal.table)
+        except StructureError:
+            continue
+        raise StructureError(
+            table.name,
+            "general 6R",
+            f"the table fits {structure.name} once rounded values are snapped "
+            f"({'; '.join(ideal.changes)}): that closed form answers, polished",
+        )
