@@ -8,7 +8,8 @@ Conventions:
 
 - standard: ``T_{i-1,i} = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``;
 - modified (Craig): ``T_{i-1,i} = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``;
-- revolute joint: DH angle ``q + theta``; prismatic joint: DH length ``q + d``;
+- revolute joint: DH angle ``theta + direction * q``; prismatic joint: DH length
+  ``d + direction * q`` (``direction`` 1, or -1 on a row that says ``direction = -1``);
 - ``[base]`` / ``[tool]``: ``xyz`` + ``rpy`` with ``R = Rz(yaw) Ry(pitch) Rx(roll)``, or a DH-style
   row ``a, alpha, d, theta`` in the table's convention, in the table's units.
 """
@@ -47,6 +48,7 @@ class ReferenceTable:
         upper: Upper limits of q [rad] or [m].
         T_world_base: URDF root to DH frame 0 (4x4, [m]).
         T_last_tool: Last DH frame to tool (4x4, [m]).
+        direction: Per joint 1.0, or -1.0 for a reversed joint (all ones if None).
     """
 
     convention: str
@@ -60,6 +62,7 @@ class ReferenceTable:
     upper: np.ndarray
     T_world_base: np.ndarray
     T_last_tool: np.ndarray
+    direction: np.ndarray | None = None
 
     @property
     def dof(self) -> int:
@@ -154,6 +157,7 @@ def load_reference(path: str | Path) -> ReferenceTable:
         upper=limits[:, 1],
         T_world_base=_fixed(data.get("base", {}), convention, meters, radians),
         T_last_tool=_fixed(data.get("tool", {}), convention, meters, radians),
+        direction=np.array([j.get("direction", 1) for j in joints], dtype=float),
     )
 
 
@@ -168,6 +172,8 @@ def fk_frames(table: ReferenceTable, q: np.ndarray) -> np.ndarray:
         Array of shape (N, dof + 2, 4, 4): ``T_world_frame0 .. T_world_frame{n}, T_world_tool``.
     """
     q = np.atleast_2d(np.asarray(q, dtype=float))
+    if table.direction is not None:
+        q = q * table.direction
     theta = np.where(table.prismatic, table.theta, q + table.theta)
     d = np.where(table.prismatic, q + table.d, table.d)
     links = dh_matrices(table.convention, table.a, table.alpha, d, theta)  # (N, dof, 4, 4)
