@@ -61,6 +61,10 @@ def register(structure: type[ClosedFormStructure], *, first: bool = False) -> No
 def recognise(table: DHTable) -> ClosedFormStructure:
     """The structure of the table's arm: the first of :data:`CLOSED_FORMS` that fits.
 
+    Structures read the DH values only, not the rows' ``direction``: give them
+    :func:`.joint_directions.forward_table` of a table with reversed joints (their answers are
+    then ``q' = direction * q``), as :class:`~.closed_form.ClosedFormSolver` does.
+
     Raises:
         StructureError: No closed-form structure fits; the message says what does not fit each
             one that has the table's number of joints.
