@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator, Sequence
 from operator import le, sub
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -83,7 +83,11 @@ def free_joint_closed_form(
     if directions is not None:  # solved on the forward table, in q' = direction * q
         low, high = mirrored_limits(lower, upper, directions)
         closed = free_joint_closed_form(forward_table(table), low.tolist(), high.tolist())
-        return None if closed is None else _ReversedJoints(closed, directions)
+        return (
+            None
+            if closed is None
+            else cast(FreeJointClosedForm, _ReversedJoints(closed, directions))
+        )
     try:
         return SevenDofIK(seven_dof(table), lower, upper)
     except StructureError:
