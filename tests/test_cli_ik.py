@@ -149,21 +149,26 @@ def test_nr_reports_the_limits(capsys):
     "argv, needle",
     [
         (
-            ["--robot", "pickplace3", "--target", "0.3", "0", "0.3", "--rpy", "0", "0", "0"],
-            "a full pose needs at least 6 joints; 'pickplace3' (3 joints) takes a position target: "
-            "drop --rpy/--quat",
+            ["--robot", "pickplace3", "--target", "0.3", "0", "0.3", "--mask", "1", "1", "1", "0"]
+            + ["0", "1"],
+            "--mask needs --rpy or --quat",
         ),
         (
-            ["--robot", "planar2", "--target", "0.3", "0", "0", "--quat", "1", "0", "0", "0"],
-            "'planar2' (2 joints) takes a position target: drop --rpy/--quat",
+            ["--robot", "planar2", "--target", "0.3", "0", "0", "--quat", "1", "0", "0", "0"]
+            + ["--mask", "1", "1", "1", "0", "0", "2"],
+            "--mask must be 6 flags 0 or 1",
         ),
         (
             ["--robot", "pickplace3", "--target", "0.3", "0", "0.3", "--pitch", "0"],
-            "'pickplace3' (3 joints) takes: a position target; got --pitch",
+            "'pickplace3' (3 joints) takes: --rpy, --quat, --axis, or a position target; got --pitch",
         ),
         (
             ["--robot", "humanoid7", "--target", "0.4", "0", "0", "--pitch", "1"],
-            "'humanoid7' (7 joints) takes: --rpy, --quat, or a position target; got --pitch",
+            "'humanoid7' (7 joints) takes: --rpy, --quat, --axis, or a position target; got --pitch",
+        ),
+        (
+            ["--robot", "ur5", "--target", "0.4", "0", "0", "--axis", "0", "0", "0"],
+            "axis must be a nonzero direction",
         ),
         (
             ["--robot", "humanoid7", "--target", "0.4", "0", "0", "--seed-q", "1", "2"],
@@ -212,7 +217,7 @@ def test_nr_reports_the_limits(capsys):
                 "0",
                 "0",
             ],
-            "give one of --rpy, --quat, --pitch",
+            "give one of --rpy, --quat, --axis, --pitch",
         ),
         (
             [
@@ -247,10 +252,10 @@ def test_bad_input_exits_2_with_one_line(argv, needle, capsys):
 
 def test_bad_kind_in_a_subprocess_has_no_class_names():
     """Through `python -m kin ik`: one line, no internal class names (PoseTarget, ...)."""
-    done = run(
-        ["ik", "--robot", "pickplace3", "--target", "0.3", "0", "0.3", "--rpy", "0", "0", "0"]
+    done = run(["ik", "--robot", "pickplace3", "--target", "0.3", "0", "0.3", "--pitch", "0"])
+    assert_one_line_error(
+        done.returncode, done.stderr, "kin ik: error: 'pickplace3' (3 joints) takes"
     )
-    assert_one_line_error(done.returncode, done.stderr, "kin ik: error: a full pose needs")
     assert "Target" not in done.stderr and "closed_form" not in done.stderr
 
 

@@ -32,9 +32,7 @@ def _pose_lines(name: str, count: int, full: bool, seed: int = 0) -> tuple[list[
     return lines, q_all
 
 
-def _stream(
-    monkeypatch, capsys, argv: list[str], lines: list[str], code: int = 0
-) -> list[dict]:
+def _stream(monkeypatch, capsys, argv: list[str], lines: list[str], code: int = 0) -> list[dict]:
     monkeypatch.setattr("sys.stdin", io.StringIO("".join(line + "\n" for line in lines)))
     assert ik.main([*argv, "--stdin"]) == code
     captured = capsys.readouterr()
@@ -104,7 +102,8 @@ def test_prismatic_seed_q_in_mm(tmp_path, monkeypatch, capsys):
         ('{"target": [0.3, 0, 0.3], "seed_q": [NaN, 0, 0]}', "finite"),
         ('{"target": [0.3, 0, 0.3], "seed_q": [1e400, 0, 0]}', "finite"),
         ('{"target": ["a", 0, 0]}', "must be numbers"),
-        ('{"target": [0.3, 0, 0.3], "rpy": [0, 0, 0]}', "a full pose needs at least 6 joints"),
+        ('{"target": [0.3, 0, 0.3], "mask": [1, 1, 1, 0, 0, 1]}', "--mask needs --rpy or --quat"),
+        ('{"target": [0.3, 0, 0.3], "axis": [0, 0, 1], "rpy": [0, 0, 0]}', "give one of"),
         ('{"target": [0.3, 0, 0.3], "seed_q": [0]}', "\"seed_q\" needs 3 values for 'pickplace3'"),
         ('{"target": [0.3, 0, 0.3], "seed_q": 5}', '"seed_q" must be a list'),
         ('{"target": [0.3, 0, 0.3], "position_only": 1}', '"position_only" must be true or false'),

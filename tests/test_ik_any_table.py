@@ -23,6 +23,7 @@ import kin.ik as ik
 from dh2urdf import get_robot
 from kin import load_robot
 from kin.ik import (
+    AxisTarget,
     ClosedFormSolver,
     NumericIK,
     PitchTarget,
@@ -282,14 +283,22 @@ def test_two_joint_arm_of_no_closed_form(tmp_path):
     assert good >= 49, f"{good=}"
 
 
-def test_full_pose_on_a_short_arm_names_the_kinds_it_takes(user_tables):
-    """A full pose on a 3R user arm: TargetError naming 'position', never a class name."""
+def test_full_pose_on_a_short_arm_is_solved_or_says_how_far(user_tables):
+    """A full pose on a 3R user arm (issue #21): its own FK's pose is solved; an orientation it
+    cannot take fails with the nearest pose's distances; a kind no solver takes names the kinds."""
     robot = load_robot(str(user_tables["user3r"]))
-    with pytest.raises(TargetError) as raised:
-        solve_ik(robot, PoseTarget([0.2, 0.1, 0.3], np.eye(3)))
-    message = str(raised.value)
-    assert message == "'user3r' takes a position target, not a full pose target"
-    with pytest.raises(TargetError, match=r"takes a position or full pose target, not a position"):
+    q = np.array([0.3, -0.4, 0.5])
+    pose = fk_frames(load_reference(user_tables["user3r"]), q[None])[0, -1]
+    reached = solve_ik(robot, PoseTarget(pose[:3, 3], pose[:3, :3]))
+    assert reached.success, reached.message
+    assert reached.best.position_error < 1e-5 and reached.best.rotation_error < 1e-4
+    tilted = pose[:3, :3] @ np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    missed = solve_ik(robot, PoseTarget(pose[:3, 3], tilted), timeout=0.02)
+    assert not missed.success  # three joints cannot turn the tool a quarter turn in place
+    assert missed.status == "out_of_reach"
+    assert "the nearest pose found is" in missed.message
+    assert missed.rejected and missed.rejected[0].rotation_error > 1e-4
+    with pytest.raises(TargetError, match=r"takes a position, .*full pose target, not a position"):
         solve_ik(load_robot("ur5"), PitchTarget([0.3, 0.0, 0.3], 0.2))
 
 
@@ -297,7 +306,7 @@ def test_five_joint_arm_takes_all_three_kinds():
     """lab5: full pose and pitch by the closed form, a position by the numeric solver."""
     robot = load_robot("lab5")
     solver = get_solver(robot)
-    assert set(solver.target_kinds) == {PoseTarget, PitchTarget, PositionTarget}
+    assert set(solver.target_kinds) == {PoseTarget, PitchTarget, PositionTarget, AxisTarget}
     q = np.array([0.2, 0.3, -0.4, 0.2, 0.1])
     from kin import Configuration
 

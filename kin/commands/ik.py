@@ -3,8 +3,12 @@
 The solver is the robot's own (kin.ik.get_solver): the closed form when the DH table fits one,
 with every branch, else the numeric solver (seed table, damped Newton, mink QP, inside the
 limits, within --timeout); --solver mink forces the numeric one, --solver nr is the paper's
-Newton-Raphson (position only, no limits). Targets: a position; a full pose (--rpy, URDF
-roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll); or --quat); or, for five-joint arms, a position
+Newton-Raphson (position only, no limits). Targets: a position; a pose (--rpy, URDF
+roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll); or --quat), whole or with --mask X Y Z RX RY RZ
+(1 = constrained, 0 = free; rotations about the world axes: a SCARA's position and yaw is
+1 1 1 0 0 1), on any arm (one of fewer than six joints is solved where it reaches the pose, else
+told how far the nearest pose it reaches is); a position with --axis AX AY AZ, the world
+direction of the tool's z axis with the roll about it free (a drill); or, for five-joint arms, a position
 with --pitch, the angle of the tool's approach axis BELOW the horizontal in the vertical plane
 through the base axis and the target (0 = straight out, 90 deg = straight down), with --roll the
 wrist-roll joint value q5 (default: the seed's).
@@ -14,7 +18,7 @@ and the --rpy/--pitch/--roll angles in radians, degrees with --deg. --json and -
 SI (q in rad / m as "q_units" says, errors in m and rad, time in s).
 
 --stdin reads one JSON target per line ({"target": [x, y, z], "rpy": [r, p, y]} or "quat",
-"pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes exactly one JSON answer
+"mask", "axis", "pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes exactly one JSON answer
 per input line, in order, each with its "line" number ({"error": ...} for a bad line,
 {"skipped": ...} for a blank one).
 
@@ -66,6 +70,21 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     )
     add("--rpy", type=finite_float, nargs=3, metavar=("R", "P", "Y"), help="URDF roll-pitch-yaw")
     add("--quat", type=finite_float, nargs=4, metavar=("W", "X", "Y", "Z"), help="unit quaternion")
+    add(
+        "--mask",
+        type=finite_float,
+        nargs=6,
+        metavar=("X", "Y", "Z", "RX", "RY", "RZ"),
+        help="with --rpy/--quat: the pose components kept (1) or free (0); rotations about the "
+        "world axes (a SCARA: 1 1 1 0 0 1)",
+    )
+    add(
+        "--axis",
+        type=finite_float,
+        nargs=3,
+        metavar=("AX", "AY", "AZ"),
+        help="world direction of the tool's z axis; the roll about it is free (a drill)",
+    )
     add("--position-only", action="store_true", help="ignore the tool orientation")
     add(
         "--unit",
@@ -103,6 +122,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             ("--target", args.target),
             ("--rpy", args.rpy),
             ("--quat", args.quat),
+            ("--mask", args.mask),
+            ("--axis", args.axis),
             ("--pitch", args.pitch),
             ("--roll", args.roll),
         )
@@ -150,6 +171,8 @@ def _run(args: argparse.Namespace) -> int:
         position_only=args.position_only,
         length=length,
         angle=angle,
+        mask=args.mask,
+        axis=args.axis,
     )
     if kinds is not None:
         check_kind(robot.name, robot.nq, kinds, target, given)
@@ -197,6 +220,8 @@ def _print_result(
     method = f", {result.method}" if result.method else ""
     message = message_in_unit(result.message, length, unit)
     print(f"{robot} ({result.solver}{method}): {result.status}: {message}")
+    if result.free:
+        print(f"free: {', '.join(result.free)} (verified on the other components)")
     if result.distance_to_workspace is not None:
         print(f"distance to the workspace: {result.distance_to_workspace / length:.6g} {unit}")
     print(f"iterations: {result.iterations}, time: {result.time * 1e3:.3f} ms")

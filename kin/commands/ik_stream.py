@@ -46,7 +46,7 @@ FLUSH_EVERY = 32
 _CHUNK = 1 << 16
 
 #: Keys an input line may have.
-KEYS = ("target", "rpy", "quat", "pitch", "roll", "position_only", "seed_q")
+KEYS = ("target", "rpy", "quat", "mask", "axis", "pitch", "roll", "position_only", "seed_q")
 _KEYS = frozenset(KEYS)
 _decode = json.JSONDecoder().decode
 
@@ -123,6 +123,8 @@ class StreamSolver:
             position_only=position_only,
             length=self.length,
             angle=self.angle,
+            mask=request.get("mask"),
+            axis=request.get("axis"),
         )
         if self.kinds is not None:
             check_kind(self.robot, self.nq, self.kinds, target, given)

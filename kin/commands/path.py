@@ -135,6 +135,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
 def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
     """Build the path, follow it, time it, and write the outputs."""
     from ..cli import angle_scale, length_scale
+    from ..ik.target import AxisTarget, PoseTarget
     from ..path import follow_path, path_solver, polyline
     from ..path.follow import MAX_JOINT_STEP
     from .joint_units import JointUnits
@@ -151,6 +152,12 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
     ordered += [p for p in points if p["option"] == "--to"]
     _check_orientations(ordered)
     solver = path_solver(robot)
+    # A path's waypoints are whole: no partial poses (kin ik takes those).
+    path_kinds = tuple(
+        kind
+        for kind in solver.target_kinds  # type: ignore[attr-defined]
+        if kind is not AxisTarget and not (kind is PoseTarget and robot.nq < 6)
+    )
     waypoints = []
     for point in ordered:
         target, given = build_target(
@@ -162,7 +169,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
             length=length,
             angle=angle,
         )
-        check_kind(robot.name, robot.nq, tuple(solver.target_kinds), target, given)  # type: ignore[attr-defined]
+        check_kind(robot.name, robot.nq, path_kinds, target, given)
         waypoints.append(target)
     seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
     max_step = MAX_JOINT_STEP if args.max_step is None else _max_step(args, units)

@@ -1,9 +1,11 @@
 """IK targets from command-line terms, and target-kind errors worded in those terms.
 
 A target is a tool position (``--target X Y Z``) with, optionally, an orientation: ``--rpy``
-(URDF roll-pitch-yaw), ``--quat`` (unit quaternion w x y z) or ``--pitch`` (approach angle of a
-five-joint arm, with ``--roll``). ``kin ik --stdin`` reads the same fields from JSON lines
-(``"target"``, ``"rpy"``, ``"quat"``, ``"pitch"``, ``"roll"``, ``"position_only"``).
+(URDF roll-pitch-yaw), ``--quat`` (unit quaternion w x y z), either with ``--mask`` (the
+components kept: x y z rx ry rz, 1 = constrained), ``--axis`` (the world direction of the tool's
+z axis, roll free) or ``--pitch`` (approach angle of a five-joint arm, with ``--roll``).
+``kin ik --stdin`` reads the same fields from JSON lines (``"target"``, ``"rpy"``, ``"quat"``,
+``"mask"``, ``"axis"``, ``"pitch"``, ``"roll"``, ``"position_only"``).
 """
 
 from __future__ import annotations
@@ -12,12 +14,13 @@ import math
 from collections.abc import Sequence
 
 from ..ik.exceptions import TargetError
-from ..ik.target import PitchTarget, PoseTarget, PositionTarget, Target
+from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
 from .joint_units import warn_radians
 
 #: What each target class is called on the command line.
 KIND_TERMS: dict[type, str] = {
     PoseTarget: "--rpy, --quat",
+    AxisTarget: "--axis",
     PitchTarget: "--pitch [--roll]",
     PositionTarget: "a position target",
 }
@@ -55,6 +58,18 @@ def quaternion_matrix(w: float, x: float, y: float, z: float) -> list[list[float
     ]
 
 
+def _mask_flags(values: object) -> list[int]:
+    """``--mask``: six flags 0 or 1 (x y z rx ry rz)."""
+    items = values if isinstance(values, (list, tuple)) else [values]
+    if len(items) != 6 or any(
+        isinstance(v, bool) or not isinstance(v, (int, float)) or v not in (0, 1) for v in items
+    ):
+        raise TargetError(
+            f"--mask must be 6 flags 0 or 1 (x y z rx ry rz; 1 = constrained), got {values!r}"
+        )
+    return [int(v) for v in items]
+
+
 def build_target(
     position: Sequence[float],
     *,
@@ -65,6 +80,8 @@ def build_target(
     position_only: bool = False,
     length: float = 1.0,
     angle: float = 1.0,
+    mask: Sequence[float] | None = None,
+    axis: Sequence[float] | None = None,
 ) -> tuple[Target, str]:
     """The target of the command-line values, and the option that chose its kind.
 
@@ -77,9 +94,11 @@ def build_target(
         position_only: Ignore the orientation (no ``rpy``, ``quat`` or ``pitch`` allowed).
         length: Meters per ``--unit``.
         angle: Radians per input angle unit.
+        mask: Six flags 0/1 (x y z rx ry rz) with ``rpy`` or ``quat``, or None.
+        axis: World direction of the tool's z axis (the roll about it free), or None.
 
     Returns:
-        The target in SI units, and ``"--rpy"``, ``"--quat"``, ``"--pitch"`` or
+        The target in SI units, and ``"--rpy"``, ``"--quat"``, ``"--axis"``, ``"--pitch"`` or
         ``"a position target"``.
 
     Raises:
@@ -88,25 +107,34 @@ def build_target(
     p = _finite(position, 3, "the target position")
     if length != 1.0:
         p = [v * length for v in p]
-    if rpy is None and quat is None and pitch is None and roll is None:
+    if mask is not None and rpy is None and quat is None:
+        raise TargetError("--mask needs --rpy or --quat (the pose whose components it keeps)")
+    if rpy is None and quat is None and pitch is None and roll is None and axis is None:
         return PositionTarget(p), "a position target"
     given = [
-        name for name, v in (("--rpy", rpy), ("--quat", quat), ("--pitch", pitch)) if v is not None
+        name
+        for name, v in (("--rpy", rpy), ("--quat", quat), ("--axis", axis), ("--pitch", pitch))
+        if v is not None
     ]
     if position_only and given:
         raise TargetError(f"--position-only excludes {', '.join(given)}")
     if len(given) > 1:
-        raise TargetError(f"give one of --rpy, --quat, --pitch; got {' and '.join(given)}")
+        raise TargetError(f"give one of --rpy, --quat, --axis, --pitch; got {' and '.join(given)}")
     if roll is not None and pitch is None:
         raise TargetError("--roll needs --pitch")
+    if mask is not None:
+        mask = _mask_flags(mask)
+    if axis is not None:
+        return AxisTarget(p, _finite(axis, 3, "--axis")), "--axis"
     if quat is not None:
-        return PoseTarget(p, quaternion_matrix(*_finite(quat, 4, "--quat"))), "--quat"
+        rotation = quaternion_matrix(*_finite(quat, 4, "--quat"))
+        return PoseTarget(p, rotation, mask), "--quat"
     if rpy is not None:
         rpy_values = _finite(rpy, 3, "--rpy")
         if angle == 1.0:
             warn_radians("--rpy", rpy_values)
         rpy_si = [v * angle for v in rpy_values]
-        return PoseTarget.from_rpy(p, rpy_si), "--rpy"
+        return PoseTarget.from_rpy(p, rpy_si, mask), "--rpy"
     if pitch is not None:
         if angle == 1.0:
             warn_radians("--pitch", _finite(pitch, 1, "--pitch"))

@@ -16,10 +16,12 @@ from .numeric.differential_ik import DifferentialIK
 from .numeric.newton_raphson import newton_raphson
 from .numeric.numeric_target import NumericTarget
 from .numeric.solver import NumericIK, solve_numeric
+from .partial_pose import PartialPoseIK
 from .result import IKResult, IKSolution
-from .target import PitchTarget, PoseTarget, PositionTarget
+from .target import AxisTarget, PitchTarget, PoseTarget, PositionTarget
 
 __all__ = [
+    "AxisTarget",
     "BatchIKResult",
     "BatchResult",
     "BatchSolver",
@@ -33,6 +35,7 @@ __all__ = [
     "NumericIK",
     "NumericTarget",
     "Offset3R",
+    "PartialPoseIK",
     "PitchTarget",
     "Planar2R",
     "PoseTarget",

@@ -92,6 +92,8 @@ class IKResult:
             set [m]; else None.
         iterations: Iterations used (numeric solvers), 0 for closed form.
         time: Wall time of the solve [s].
+        free: The pose components the target left free (``"rx"``, ``"ry"``, ...; the roll
+            about the tool axis of an axis target), ``()`` when it constrains all it names.
     """
 
     success: bool
@@ -104,6 +106,7 @@ class IKResult:
     iterations: int = 0
     time: float = 0.0
     method: str = ""
+    free: tuple[str, ...] = ()
 
     def __init__(
         self,
@@ -117,6 +120,7 @@ class IKResult:
         iterations: int = 0,
         time: float = 0.0,
         method: str = "",
+        free: tuple[str, ...] = (),
     ):
         # Same fields and defaults as the generated frozen __init__, without its per-field
         # object.__setattr__ calls (see IKSolution).
@@ -131,6 +135,7 @@ class IKResult:
             iterations=iterations,
             time=time,
             method=method,
+            free=free,
         )
 
     @property
@@ -159,4 +164,5 @@ class IKResult:
             "distance_to_workspace_m": self.distance_to_workspace,
             "iterations": int(self.iterations),
             "time_s": float(self.time),
+            "free": list(self.free),
         }

@@ -1,4 +1,4 @@
-"""IK targets: a position, a full pose, or a position with the tool pitch (and wrist roll).
+"""IK targets: a position, a pose (full or masked), a position with a tool axis, or with a pitch.
 
 All targets are expressed in the world frame (the URDF root), in meters and radians. They are
 checked once, when built, so that a solve never checks them again: a NaN or infinite value is a
@@ -98,44 +98,79 @@ class PositionTarget:
         return all(map(math.isfinite, self.position.tolist()))
 
 
+#: The components of a pose error, in the order of a mask (the Robotics Toolbox's): the
+#: position along the world axes, then the rotation about the world axes.
+MASK_COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")
+
+
+def _mask(values: object) -> tuple[bool, ...] | None:
+    """A mask of 6 flags (1 = constrained) or None when every component is constrained."""
+    if values is None:
+        return None
+    try:
+        flags = [float(v) for v in values]  # type: ignore[attr-defined]
+    except (TypeError, ValueError) as err:
+        raise TargetError(f"mask must be 6 flags 0 or 1 (x y z rx ry rz), got {values!r}") from err
+    if len(flags) != 6 or any(f not in (0.0, 1.0) for f in flags):
+        raise TargetError(
+            f"mask must be 6 flags 0 or 1 (x y z rx ry rz: 1 = constrained), got {values!r}"
+        )
+    if not any(flags):
+        raise TargetError("mask constrains nothing: give at least one 1 (x y z rx ry rz)")
+    mask = tuple(f == 1.0 for f in flags)
+    return None if all(mask) else mask
+
+
 @dataclass(frozen=True, eq=False)
 class PoseTarget:
-    """A full tool pose ``T_world_tool``.
+    """A tool pose ``T_world_tool``, whole or with some components left free (a mask).
+
+    The error of a joint vector is ``e = (p_target - p, log3(R_target R^T))``: the position along
+    the world axes [m] and the rotation vector about the world axes [rad] (the Robotics
+    Toolbox's ``ik_LM`` error). A mask keeps the components flagged 1, in the order
+    :data:`MASK_COMPONENTS` ``(x, y, z, rx, ry, rz)``; a solution is verified on those only. A
+    SCARA's task is ``mask=(1, 1, 1, 0, 0, 1)``: the position and the yaw.
 
     Attributes:
         position: Tool point in the world frame [m], shape (3,).
         rotation: Tool axes in the world frame, shape (3, 3).
+        mask: Six flags, True where the component is constrained, or None: all are (the default;
+            a mask of six 1 is None too).
     """
 
     position: np.ndarray
     rotation: np.ndarray
+    mask: tuple[bool, ...] | None = None
 
-    def __init__(self, position: npt.ArrayLike, rotation: npt.ArrayLike):
+    def __init__(
+        self, position: npt.ArrayLike, rotation: npt.ArrayLike, mask: object | None = None
+    ):
         object.__setattr__(self, "position", _vector(position, 3, "position"))
         object.__setattr__(self, "rotation", _rotation(rotation))
+        object.__setattr__(self, "mask", _mask(mask))
+
+    @property
+    def free(self) -> tuple[str, ...]:
+        """The names of the free components (of :data:`MASK_COMPONENTS`), ``()`` without a mask."""
+        if self.mask is None:
+            return ()
+        return tuple(name for name, kept in zip(MASK_COMPONENTS, self.mask) if not kept)
 
     @classmethod
-    def from_matrix(cls, T_world_tool: npt.ArrayLike) -> PoseTarget:
+    def from_matrix(cls, T_world_tool: npt.ArrayLike, mask: object | None = None) -> PoseTarget:
         """From a 4x4 homogeneous matrix (or a ``pin.SE3``)."""
         homogeneous = getattr(T_world_tool, "homogeneous", T_world_tool)
         matrix = np.asarray(homogeneous, dtype=float)
         if matrix.shape != (4, 4):
             raise TargetError(f"a pose must be a 4x4 matrix, got shape {matrix.shape}")
-        return cls(matrix[:3, 3], matrix[:3, :3])
+        return cls(matrix[:3, 3], matrix[:3, :3], mask)
 
     @classmethod
-    def from_rpy(cls, position: npt.ArrayLike, rpy: npt.ArrayLike) -> PoseTarget:
+    def from_rpy(
+        cls, position: npt.ArrayLike, rpy: npt.ArrayLike, mask: object | None = None
+    ) -> PoseTarget:
         """From a position [m] and URDF roll-pitch-yaw [rad]: ``R = Rz(yaw) Ry(pitch) Rx(roll)``."""
-        roll, pitch, yaw = _vector(rpy, 3, "rpy")
-        cr, sr = math.cos(roll), math.sin(roll)
-        cp, sp = math.cos(pitch), math.sin(pitch)
-        cy, sy = math.cos(yaw), math.sin(yaw)
-        rotation = [
-            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-            [-sp, cp * sr, cp * cr],
-        ]
-        return cls(position, rotation)
+        return cls(position, rpy_matrix(rpy), mask)
 
     @property
     def finite(self) -> bool:
@@ -144,6 +179,66 @@ class PoseTarget:
         return all(map(isfinite, self.position.tolist())) and all(
             map(isfinite, self.rotation.ravel().tolist())
         )
+
+
+def rpy_matrix(rpy: npt.ArrayLike) -> list[list[float]]:
+    """URDF roll-pitch-yaw [rad] as a rotation matrix ``Rz(yaw) Ry(pitch) Rx(roll)`` (rows)."""
+    roll, pitch, yaw = _vector(rpy, 3, "rpy")
+    cr, sr = math.cos(roll), math.sin(roll)
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    return [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
+
+
+#: The tool axis an :class:`AxisTarget` may name, as a column of ``R_world_tool``.
+TOOL_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass(frozen=True, eq=False)
+class AxisTarget:
+    """A tool position and the world direction of one tool axis; the roll about it is free.
+
+    The task of a drill, a welding torch, a spray gun or a suction cup (five constraints). A
+    joint vector's errors are the position error [m] and the angle between its tool axis and
+    :attr:`axis` [rad].
+
+    Attributes:
+        position: Tool point in the world frame [m], shape (3,).
+        axis: Unit vector in the world frame the tool axis must point along, shape (3,).
+        tool_axis: Which tool axis: ``"x"``, ``"y"`` or ``"z"`` (the default, the approach axis of
+            most flanges).
+    """
+
+    position: np.ndarray
+    axis: np.ndarray
+    tool_axis: str = "z"
+
+    def __init__(self, position: npt.ArrayLike, axis: npt.ArrayLike, tool_axis: str = "z"):
+        object.__setattr__(self, "position", _vector(position, 3, "position"))
+        direction = _vector(axis, 3, "axis")
+        scale = float(np.abs(direction).max())
+        norm = float(np.linalg.norm(direction / scale)) * scale if scale > 0.0 else 0.0
+        if not (norm > 1e-12 and math.isfinite(norm)):
+            raise TargetError(f"axis must be a nonzero direction, got {direction.tolist()}")
+        object.__setattr__(self, "axis", direction / norm)
+        if tool_axis not in TOOL_AXES:
+            raise TargetError(f"tool_axis must be 'x', 'y' or 'z', got {tool_axis!r}")
+        object.__setattr__(self, "tool_axis", tool_axis)
+
+    @property
+    def free(self) -> tuple[str, ...]:
+        """The free component: the roll about the tool axis."""
+        return (f"roll about tool {self.tool_axis}",)
+
+    @property
+    def finite(self) -> bool:
+        """Whether every value is finite."""
+        isfinite = math.isfinite
+        return all(map(isfinite, self.position.tolist())) and all(map(isfinite, self.axis.tolist()))
 
 
 @dataclass(frozen=True, eq=False)
@@ -197,13 +292,22 @@ def _angle(value: object, what: str) -> float:
     return angle
 
 
-Target = PositionTarget | PoseTarget | PitchTarget
+Target = PositionTarget | PoseTarget | PitchTarget | AxisTarget
+
+
+def is_partial(target: object, nq: int) -> bool:
+    """Whether ``target`` is solved here: an axis target, a masked pose, or a pose on < 6 joints."""
+    cls = target.__class__
+    if cls is AxisTarget:
+        return True
+    return cls is PoseTarget and (target.mask is not None or nq < 6)  # type: ignore[attr-defined]
 
 
 #: Target kinds in user terms, as error messages name them.
 KIND_NAMES: dict[type, str] = {
     PositionTarget: "position",
     PitchTarget: "position with pitch (and roll)",
+    AxisTarget: "position with a tool axis",
     PoseTarget: "full pose",
 }
 
@@ -211,6 +315,8 @@ KIND_NAMES: dict[type, str] = {
 def describe_kinds(kinds: tuple[type, ...]) -> str:
     """``"position or full pose"``: the user terms of ``kinds`` (in :data:`KIND_NAMES` order)."""
     names = [name for kind, name in KIND_NAMES.items() if kind in kinds]
+    if len(names) > 2:
+        return ", ".join(names[:-1]) + " or " + names[-1]
     return " or ".join(names) if names else "no target"
 
 

@@ -37,7 +37,15 @@ from kin import RobotModel
 from ..exceptions import StructureError, TargetError
 from ..judge import ToolJudge, axis_error, rotation_error
 from ..result import IKResult, IKSolution, Status
-from ..target import PitchTarget, PoseTarget, PositionTarget, Target, kind_error
+from ..target import (
+    AxisTarget,
+    PitchTarget,
+    PoseTarget,
+    PositionTarget,
+    Target,
+    is_partial,
+    kind_error,
+)
 from .branches import Branches, BranchStatus
 from .closed_form_structure import (
     ClosedFormStructure,
@@ -179,6 +187,10 @@ class ClosedFormSolver:
         # a solve runs on the math module rather than on small NumPy arrays.
         self._kinds = self.closed_form_kinds
         self._numeric: Any = None
+        self._partial: Any = None
+        # A full pose goes to the partial-pose solver on an arm of fewer than six joints whose
+        # closed form does not take it whole (a five-joint arm's does, with its own reasons).
+        self._partial_below = len(self._lower) if PoseTarget not in self._kinds else 6
         self._zero_seed = [0.0] * len(self._lower)
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # A structure with a compiled twin that also verifies (the 6R closed forms): pose targets
@@ -204,7 +216,21 @@ class ClosedFormSolver:
         the numeric solver, see :meth:`solve`).
         """
         kinds = self.closed_form_kinds
-        return kinds if PositionTarget in kinds else (*kinds, PositionTarget)
+        kinds = kinds if PositionTarget in kinds else (*kinds, PositionTarget)
+        extra = tuple(kind for kind in (PoseTarget, AxisTarget) if kind not in kinds)
+        return (*kinds, *extra)
+
+    @property
+    def partial(self) -> Any:
+        """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use.
+
+        This closed form's branches are its candidates, then weighted least squares.
+        """
+        if self._partial is None:
+            from ..partial_pose import PartialPoseIK
+
+            self._partial = PartialPoseIK(self.robot, self.structure, self.name)
+        return self._partial
 
     @property
     def numeric(self) -> Any:
@@ -290,6 +316,9 @@ class ClosedFormSolver:
             TargetError: The target kind does not fit the arm, or the seed has the wrong size.
         """
         start = time.perf_counter()
+        if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
+            if is_partial(target, self._partial_below):
+                return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds):
             if isinstance(target, self.target_kinds):
                 return self._solve_numeric(target, seed, timeout)

@@ -39,9 +39,10 @@ from kin import KinError, RobotModel, as_joint_vector, load_robot
 from ..analytic.idealised import Idealised, idealise
 from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
+from ..partial_pose import PartialPoseIK
 from ..reach import Reach, arm_reach, reach_bound
 from ..result import IKResult
-from ..target import PoseTarget, PositionTarget, kind_error
+from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
 from . import seed_cache
 from .damped_newton import load_linalg
 from .differential_ik import DifferentialIK
@@ -193,11 +194,10 @@ class NumericIK:
         self.reach = reach_bound(robot)
         self._base_origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
         self._shape = (robot.model.nq,)
-        self._kinds: tuple[type, ...] = (
-            (NumericTarget, PoseTarget, PositionTarget)
-            if robot.model.nq >= 6
-            else (NumericTarget, PositionTarget)
-        )
+        # A pose on an arm of fewer than six joints, a masked pose and an axis target go to
+        # :mod:`kin.ik.partial_pose` (weighted least squares on the constrained components).
+        self._kinds: tuple[type, ...] = (NumericTarget, PoseTarget, PositionTarget, AxisTarget)
+        self._partial: PartialPoseIK | None = None
         self._table: SeedTable | None = None
         self._differential: DifferentialIK | None = None
         #: The free-joint closed form of this arm, or None (no structure fits, or not asked).
@@ -247,6 +247,13 @@ class NumericIK:
         return self._table
 
     @property
+    def partial(self) -> PartialPoseIK:
+        """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use."""
+        if self._partial is None:
+            self._partial = PartialPoseIK(self.robot, None, PIPELINE)
+        return self._partial
+
+    @property
     def differential(self) -> DifferentialIK:
         """The mink differential IK (MuJoCo model loaded on first use)."""
         if self._differential is None:
@@ -272,8 +279,9 @@ class NumericIK:
         """Find a joint vector inside the limits that puts the tool on ``target``.
 
         Args:
-            target: Tool target: a position, or a full pose for an arm of six joints or more (a
-                :class:`NumericTarget` may add a posture preference).
+            target: Tool target: a position or a full pose (a :class:`NumericTarget` may add a
+                posture preference); a masked pose, an axis target, or a pose on an arm of fewer
+                than six joints is solved by :class:`~kin.ik.partial_pose.PartialPoseIK`.
             seed: Start joint vector [rad] (or [m] for prismatic joints). The free-joint closed
                 form (when the arm has one) starts from it first: the answer keeps its free
                 joint as nearly as the target allows. Damped Newton tries it first, with its whole
@@ -302,6 +310,8 @@ class NumericIK:
                 an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
         """
         start = time.perf_counter()
+        if is_partial(target, self.nq):
+            return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds):
             raise kind_error(self.robot.name, self._kinds, target)
         if not getattr(target, "finite", True):  # a target's arrays changed after it was built

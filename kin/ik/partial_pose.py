@@ -1,0 +1,570 @@
+"""Partial poses: a masked pose, a free tool axis, a full pose on an arm of fewer than six joints.
+
+The targets real tasks give constrain fewer than six components of the tool pose: a SCARA's
+position and yaw, a drill's position and axis (the roll about it free), any pose with a mask. An
+arm of fewer than six joints asked for a full pose reaches it only when the pose lies in its
+(lower-dimensional) set of poses. All of these are solved here, for any arm, by one method:
+
+1. **Closed-form candidates** where the arm has a closed form (:mod:`.analytic.registry`): its
+   branches for the pose (a mask keeps the given values of the free components); for an
+   :class:`~kin.ik.AxisTarget`, the branches of the seed's roll (the seed's tool turned onto the
+   axis by the smallest rotation: the answer nearest the seed), and of a grid of
+   :data:`ROLL_GRID` rolls over a turn when those give none or when every roll is asked. An
+   arm whose structure takes positions only (planar 2R, offset 3R) gives the branches of the
+   position.
+2. **Weighted least squares** (Levenberg-Marquardt, clamped to the joint limits) on the
+   constrained components: from each off-target candidate, then from the seed, then from random
+   joint vectors inside the limits until the time budget is spent. The residual is
+   ``e = (p_target - p, w log3(R_target R^T))`` in world axes ([m], and [rad] weighted by
+   :data:`ROTATION_WEIGHT` [m/rad]), the rows the mask keeps; for an axis target the rotation
+   rows are ``w theta n`` with ``theta`` the angle from the tool axis to the target axis and
+   ``n`` the unit vector of their cross product (the roll about the axis takes no part). Where
+   the pose is not reachable this converges to the nearest pose the arm reaches (in that
+   weighted sense), which the failure reports.
+
+Every returned solution is measured by Pinocchio's forward kinematics on the constrained
+components only (:class:`PartialTask`): position error ``|e_p|`` [m] and rotation error
+``|e_r|`` [rad] of the kept components (the angle between the axes for an axis target), below
+the judge's tolerances (:data:`~kin.ik.judge.POSITION_TOLERANCE`,
+:data:`~kin.ik.judge.ROTATION_TOLERANCE`), and inside the joint limits. The result names the
+free components (:attr:`IKResult.free`).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pinocchio as pin
+
+from kin import KinError, RobotModel, as_joint_vector
+
+from .exceptions import StructureError, TargetError
+from .judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
+from .reach import reach_bound
+from .result import IKResult, IKSolution
+from .target import TOOL_AXES, AxisTarget, PoseTarget, PositionTarget, is_partial
+
+__all__ = ["PartialPoseIK", "PartialTask", "is_partial"]
+
+#: Weight of the rotation rows in the least squares [m/rad]: 1 rad of tool rotation weighs as
+#: 0.1 m of tool position when a pose cannot be reached and the nearest one is sought.
+ROTATION_WEIGHT = 0.1
+
+#: Roll values of an axis target tried by a closed form (evenly spaced over a turn), besides the
+#: seed's roll.
+ROLL_GRID = 24
+
+#: Default time budget of one solve [s].
+DEFAULT_TIMEOUT = 0.05
+
+#: Levenberg-Marquardt steps per start.
+MAX_ITERATIONS = 60
+
+#: Largest joint change of one step (infinity norm) [rad].
+MAX_STEP = 0.5
+
+#: Two solutions closer than this (largest joint difference [rad]) are the same.
+SAME_SOLUTION = 1e-6
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+#: The components of a pose error a mask names (the Robotics Toolbox's order).
+_POSITION_ROWS = (0, 1, 2)
+
+
+class PartialTask:
+    """The errors and least-squares rows of one partial target (:mod:`.partial_pose`).
+
+    Args:
+        target: A :class:`~kin.ik.PoseTarget` (with or without a mask) or an
+            :class:`~kin.ik.AxisTarget`, in the world frame.
+    """
+
+    def __init__(self, target: PoseTarget | AxisTarget):
+        self.target = target
+        self.position = target.position
+        self.axis_column: int | None = None
+        if isinstance(target, AxisTarget):
+            self.axis_column = TOOL_AXES[target.tool_axis]
+            self.rows = np.arange(6)
+            self.position_rows = [0, 1, 2]
+            self.rotation_rows = [3, 4, 5]
+        else:
+            mask = target.mask or (True,) * 6
+            self.rows = np.flatnonzero(mask)
+            self.position_rows = [i for i in _POSITION_ROWS if mask[i]]
+            self.rotation_rows = [i for i in range(3, 6) if mask[i]]
+        self.weights = np.where(self.rows >= 3, ROTATION_WEIGHT, 1.0)
+        self.free = target.free
+
+    def error(self, p: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+        """The unweighted error (6,): position [m] and rotation vector [rad], world axes."""
+        e = np.empty(6)
+        e[:3] = self.position - p
+        if self.axis_column is None:
+            e[3:] = pin.log3(self.target.rotation @ rotation.T)  # type: ignore[union-attr]
+        else:
+            e[3:] = _axis_rotation(rotation[:, self.axis_column], self.target.axis)  # type: ignore[union-attr]
+        return e
+
+    def errors(self, e: np.ndarray) -> tuple[float, float]:
+        """Position and rotation errors [m], [rad] of the constrained components of ``e``."""
+        position = math.sqrt(sum(e[i] * e[i] for i in self.position_rows))
+        rotation = math.sqrt(sum(e[i] * e[i] for i in self.rotation_rows))
+        return position, rotation
+
+    def jacobian(
+        self, e: np.ndarray, rotation: np.ndarray, frame_jacobian: np.ndarray
+    ) -> np.ndarray:
+        """Rows (6, nq) of ``-d e / d q`` from the tool's ``LOCAL_WORLD_ALIGNED`` Jacobian."""
+        rows = frame_jacobian.copy()
+        if self.axis_column is None:
+            rows[3:] = pin.Jlog3(self.target.rotation @ rotation.T) @ frame_jacobian[3:]  # type: ignore[union-attr]
+        else:  # the roll about the current tool axis changes nothing
+            a = rotation[:, self.axis_column]
+            rows[3:] = frame_jacobian[3:] - np.outer(a, a @ frame_jacobian[3:])
+        return rows
+
+
+def _axis_rotation(a: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """The rotation vector [rad] turning unit vector ``a`` onto ``target`` about their normal."""
+    cross = np.cross(a, target)
+    sine = float(np.linalg.norm(cross))
+    cosine = float(a @ target)
+    angle = math.atan2(sine, cosine)
+    if sine > 1e-12:
+        return cross * (angle / sine)
+    if cosine > 0.0:
+        return np.zeros(3)
+    normal = np.cross(a, (1.0, 0.0, 0.0) if abs(a[0]) < 0.9 else (0.0, 1.0, 0.0))
+    return normal * (math.pi / np.linalg.norm(normal))
+
+
+class PartialPoseIK:
+    """IK of partial poses of one robot: closed-form candidates, then weighted least squares.
+
+    Args:
+        robot: The robot.
+        structure: Its closed-form structure (:func:`kin.ik.analytic.registry.recognise`), or
+            None: looked up (the idealised table's when the true one misses a structure by
+            rounding), none if no structure fits.
+        name: The pipeline reported in :attr:`IKResult.solver`.
+    """
+
+    def __init__(self, robot: RobotModel, structure: Any = None, name: str = "numeric"):
+        self.robot = robot
+        self.name = name
+        self.model = robot.model
+        self.data = robot.model.createData()
+        self.frame_id = robot.model.getFrameId(robot.tool_frame)
+        self.nq = robot.model.nq
+        self.lower = robot.model.lowerPositionLimit.copy()
+        self.upper = robot.model.upperPositionLimit.copy()
+        self.revolute = np.array([row.joint_type == "revolute" for row in robot.table.rows])
+        self.continuous = np.array([row.continuous for row in robot.table.rows], dtype=bool)
+        #: Search limits: continuous joints move through pi (wrapped back after).
+        self.search_lower = np.where(self.continuous, -3.0 * math.pi, self.lower)
+        self.search_upper = np.where(self.continuous, 3.0 * math.pi, self.upper)
+        self.structure = structure if structure is not None else _structure(robot)
+        self.reach = reach_bound(robot)
+        self._base = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
+        self._lock = threading.Lock()
+
+    # -- the solve ------------------------------------------------------------------------------
+
+    def solve(
+        self,
+        target: PoseTarget | AxisTarget,
+        seed: npt.ArrayLike | None = None,
+        *,
+        timeout: float | None = None,
+        random_seed: int = 0,
+        position_tol: float = POSITION_TOLERANCE,
+        rotation_tol: float = ROTATION_TOLERANCE,
+        every_roll: bool = False,
+    ) -> IKResult:
+        """The joint vectors inside the limits that put the tool on ``target``'s constrained components.
+
+        Args:
+            target: A pose (masked, or full on an arm of fewer than six joints) or an axis target.
+            seed: Start joint vector [rad] (or [m] for prismatic joints); the solutions are
+                ordered by distance to it (None: the middle of the limits).
+            timeout: Time budget [s] (None: :data:`DEFAULT_TIMEOUT`); the search stops at the
+                first solution after the closed-form candidates, or at the budget.
+            random_seed: Seed of the random starts (results are reproducible).
+            position_tol: Success tolerance on the constrained position components [m].
+            rotation_tol: Success tolerance on the constrained rotation components [rad].
+            every_roll: For an axis target on a closed-form arm: the branches of every roll of
+                the grid (:data:`ROLL_GRID` rolls over a turn) too, not only of the seed's roll
+                (when that gives a solution).
+
+        Raises:
+            TargetError: A seed of the wrong size or with a value that is not finite.
+        """
+        start = time.perf_counter()
+        budget = DEFAULT_TIMEOUT if timeout is None else timeout
+        if not budget >= 0.0:
+            raise TargetError(f"timeout must be a number of seconds >= 0, got {timeout!r}")
+        seed_q = self._seed(seed)
+        if not target.finite:
+            return IKResult(False, self.name, "invalid_target", f"target is not finite: {target}")
+        task = PartialTask(target)
+        if task.position_rows == [0, 1, 2]:  # the whole position is asked: out of reach is sure
+            distance = math.dist(target.position.tolist(), self._base.tolist())
+            if distance > self.reach:
+                return self._failure(
+                    task,
+                    "out_of_reach",
+                    f"target is {distance - self.reach:.4g} m beyond the arm's reach "
+                    f"({self.reach:.4g} m from its base); no search",
+                    (),
+                    start,
+                    distance - self.reach,
+                )
+        with self._lock:
+            return self._search(
+                task,
+                seed_q,
+                start,
+                start + budget,
+                random_seed,
+                position_tol,
+                rotation_tol,
+                every_roll,
+            )
+
+    def _search(
+        self,
+        task: PartialTask,
+        seed: np.ndarray,
+        start: float,
+        deadline: float,
+        random_seed: int,
+        position_tol: float,
+        rotation_tol: float,
+        every_roll: bool,
+    ) -> IKResult:
+        found: list[IKSolution] = []
+        outside: list[IKSolution] = []
+        attempts: list[tuple[float, np.ndarray]] = []  # (weighted cost, q) of the off-target ones
+        method = ""
+        for grid in (False, True) if task.axis_column is not None else (False,):
+            for q, label in self._candidates(task, seed, grid):
+                verdict = self._judged(task, q, label, position_tol, rotation_tol)
+                if verdict is None:
+                    attempts.append((self._cost(task, q), q))
+                elif verdict.within_limits:
+                    _add(found, verdict)
+                else:
+                    outside.append(verdict)
+            if found and not every_roll:
+                break
+        if found:
+            method = "closed_form"
+        else:
+            starts = [q for _, q in sorted(attempts, key=lambda item: item[0])]
+            starts.append(seed)
+            rng = np.random.default_rng(random_seed)
+            best: tuple[float, np.ndarray] | None = None
+            tried = 0
+            while True:
+                if starts:
+                    q0 = starts.pop(0)
+                else:
+                    if time.perf_counter() > deadline:
+                        break
+                    q0 = rng.uniform(self.search_lower, self.search_upper)
+                q, cost = self._least_squares(task, q0, 0.1 * position_tol, 0.1 * rotation_tol)
+                tried += 1
+                verdict = self._judged(task, q, "", position_tol, rotation_tol)
+                if verdict is not None and verdict.within_limits:
+                    _add(found, verdict)
+                    method = "weighted_newton"
+                    break
+                if verdict is not None:
+                    outside.append(verdict)
+                if best is None or cost < best[0]:
+                    best = (cost, q)
+                if time.perf_counter() > deadline and tried >= 2:
+                    break
+            if not found:
+                return self._unreached(task, best, outside, start, tried)
+        found.sort(key=lambda s: float(np.abs(s.q - seed).sum()))
+        message = f"{len(found)} solution(s)"
+        return IKResult(
+            True,
+            self.name,
+            "ok",
+            message,
+            tuple(found),
+            tuple(outside),
+            time=time.perf_counter() - start,
+            method=method,
+            free=task.free,
+        )
+
+    # -- pieces ---------------------------------------------------------------------------------
+
+    def _seed(self, seed: npt.ArrayLike | None) -> np.ndarray:
+        if seed is None:
+            middle = 0.5 * (self.lower + self.upper)
+            return np.where(self.continuous, 0.0, middle)
+        try:
+            return as_joint_vector(self.robot, seed)
+        except KinError as err:
+            raise TargetError(f"seed of '{self.robot.name}': {err}") from err
+
+    def _fk(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        pin.forwardKinematics(self.model, self.data, q)
+        pose = pin.updateFramePlacement(self.model, self.data, self.frame_id)
+        return pose.translation.copy(), pose.rotation.copy()
+
+    def _cost(self, task: PartialTask, q: np.ndarray) -> float:
+        p, rotation = self._fk(q)
+        e = task.error(p, rotation)[task.rows] * task.weights
+        return float(e @ e)
+
+    def _wrapped(self, q: np.ndarray, seed: np.ndarray) -> tuple[np.ndarray, bool]:
+        """``q`` with each revolute angle moved by 2 pi into the limits, nearest the seed."""
+        out = q.copy()
+        inside = True
+        for i in range(self.nq):
+            lower, upper = self.lower[i], self.upper[i]
+            if self.revolute[i]:
+                turns = math.floor((seed[i] - out[i]) / (2.0 * math.pi) + 0.5)
+                value = out[i] + 2.0 * math.pi * turns
+                if not lower <= value <= upper:
+                    candidates = [
+                        value + 2.0 * math.pi * k
+                        for k in (-2, -1, 1, 2)
+                        if lower <= value + 2.0 * math.pi * k <= upper
+                    ]
+                    if candidates:
+                        value = min(candidates, key=lambda v: abs(v - seed[i]))
+                out[i] = value
+            if not lower <= out[i] <= upper:
+                inside = False
+        return out, inside
+
+    def _judged(
+        self, task: PartialTask, q: np.ndarray, label: str, position_tol: float, rotation_tol: float
+    ) -> IKSolution | None:
+        """The solution ``q`` measured by Pinocchio on the constrained components; None when off target."""
+        if self.continuous.any():
+            q = q.copy()
+            q[self.continuous] = np.remainder(q[self.continuous] + math.pi, 2.0 * math.pi) - math.pi
+        p, rotation = self._fk(q)
+        position_error, rotation_error = task.errors(task.error(p, rotation))
+        if not (position_error < position_tol and rotation_error < rotation_tol):
+            return None
+        inside = bool(np.all(q >= self.lower) and np.all(q <= self.upper))
+        rotation_value = rotation_error if task.rotation_rows else None
+        return IKSolution(q, label, inside, position_error, rotation_value)
+
+    def _candidates(
+        self, task: PartialTask, seed: np.ndarray, grid: bool = False
+    ) -> list[tuple[np.ndarray, str]]:
+        """The closed form's branches for the target (moved into the limits nearest the seed).
+
+        An axis target gives the branches of the seed's roll (``grid`` False) or of
+        :data:`ROLL_GRID` rolls over a turn (``grid`` True).
+        """
+        structure = self.structure
+        if structure is None:
+            return []
+        kinds = structure.target_kinds
+        target = task.target
+        labels = structure.branch_labels
+        try:
+            if isinstance(target, AxisTarget):
+                if PoseTarget not in kinds:
+                    return []
+                rotations = _rolls(target, self._fk(seed)[1], grid)
+                positions = np.repeat(target.position[None, :], len(rotations), axis=0)
+                raw = np.asarray(structure.solve_batch(positions, rotations), dtype=float)
+                raw = raw.reshape(-1, raw.shape[-1])
+                rolls = [f"roll {360.0 * k / ROLL_GRID:g} deg" for k in range(ROLL_GRID)]
+                names = [
+                    f"{label}, {roll}"
+                    for roll in (rolls if grid else ["seed's roll"])
+                    for label in labels
+                ]
+            elif PoseTarget in kinds:
+                raw = np.asarray(structure.solve(target.position, target.rotation), dtype=float)
+                names = list(labels)
+            elif PositionTarget in kinds:
+                raw = np.asarray(structure.solve(target.position, None), dtype=float)
+                names = list(labels)
+            else:
+                return []
+        except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+            return []
+        out = []
+        for q, name in zip(raw, names):
+            if q.shape == (self.nq,) and np.isfinite(q).all():
+                out.append((self._wrapped(q, seed)[0], name))
+        return out
+
+    def _least_squares(
+        self, task: PartialTask, q0: np.ndarray, position_tol: float, rotation_tol: float
+    ) -> tuple[np.ndarray, float]:
+        """Levenberg-Marquardt from ``q0`` inside the (search) limits; the last q and its weighted cost."""
+        lower, upper = self.search_lower, self.search_upper
+        q = np.minimum(np.maximum(q0, lower), upper)
+        rows, weights = task.rows, task.weights[:, None]
+        model, data, frame_id = self.model, self.data, self.frame_id
+        identity = np.eye(self.nq)
+
+        def evaluate(q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, bool]:
+            frame_jacobian = pin.computeFrameJacobian(model, data, q, frame_id, _LWA)
+            pose = data.oMf[frame_id]
+            full = task.error(pose.translation, pose.rotation)
+            position_error, rotation_error = task.errors(full)
+            e = full[rows] * weights[:, 0]
+            jacobian = task.jacobian(full, pose.rotation, frame_jacobian)[rows] * weights
+            done = position_error < position_tol and rotation_error < rotation_tol
+            return e, jacobian, float(e @ e), done
+
+        e, jacobian, cost, done = evaluate(q)
+        lam = 1e-3
+        for _ in range(MAX_ITERATIONS):
+            if done:
+                break
+            normal = jacobian.T @ jacobian
+            gradient = jacobian.T @ e
+            improved = False
+            while lam < 1e10:
+                try:
+                    dq = np.linalg.solve(normal + lam * identity, gradient)
+                except np.linalg.LinAlgError:
+                    lam *= 10.0
+                    continue
+                scale = float(np.abs(dq).max())
+                if scale > MAX_STEP:
+                    dq *= MAX_STEP / scale
+                stepped = np.minimum(np.maximum(q + dq, lower), upper)
+                e_new, jacobian_new, cost_new, done_new = evaluate(stepped)
+                if cost_new < cost:
+                    improved = True
+                    progress = cost - cost_new
+                    q, e, jacobian, cost, done = stepped, e_new, jacobian_new, cost_new, done_new
+                    lam = max(lam / 3.0, 1e-12)
+                    break
+                lam *= 4.0
+            if not improved or progress <= 1e-15 * max(cost, 1e-300) + 1e-30:
+                break  # a minimum of the weighted error (the nearest reachable pose, or stuck)
+        return q, cost
+
+    def _unreached(
+        self,
+        task: PartialTask,
+        best: tuple[float, np.ndarray] | None,
+        outside: list[IKSolution],
+        start: float,
+        tried: int,
+    ) -> IKResult:
+        """The failure: on target only outside the limits, or the nearest pose found."""
+        if outside:
+            return self._failure(
+                task,
+                "outside_limits",
+                f"reachable only outside the joint limits ({len(outside)} joint vector(s))",
+                tuple(outside),
+                start,
+            )
+        if best is None:
+            return self._failure(task, "not_converged", "no joint vector tried", (), start)
+        q = best[1]
+        if self.continuous.any():
+            q = q.copy()
+            q[self.continuous] = np.remainder(q[self.continuous] + math.pi, 2.0 * math.pi) - math.pi
+        p, rotation = self._fk(q)
+        position_error, rotation_error = task.errors(task.error(p, rotation))
+        inside = bool(np.all(q >= self.lower) and np.all(q <= self.upper))
+        nearest = IKSolution(
+            q, "nearest", inside, position_error, rotation_error if task.rotation_rows else None
+        )
+        what = f"{position_error:.4g} m" + (
+            f" and {rotation_error:.4g} rad" if task.rotation_rows else ""
+        )
+        hint = ""
+        if self.nq < 6 and task.target.__class__ is PoseTarget and task.target.mask is None:  # type: ignore[attr-defined]
+            hint = (
+                f"; an arm of {self.nq} joints reaches only some orientations at a point: "
+                "free the others with a mask (--mask)"
+            )
+        return self._failure(
+            task,
+            "out_of_reach",
+            f"no joint vector inside the limits reaches the target ({tried} starts): the nearest "
+            f"pose found is {what} away (position, rotation){hint}",
+            (nearest,),
+            start,
+        )
+
+    def _failure(
+        self,
+        task: PartialTask,
+        status: str,
+        message: str,
+        rejected: tuple[IKSolution, ...],
+        start: float,
+        gap: float | None = None,
+    ) -> IKResult:
+        return IKResult(
+            False,
+            self.name,
+            status,  # type: ignore[arg-type]
+            message,
+            (),
+            rejected,
+            distance_to_workspace=gap,
+            time=time.perf_counter() - start,
+            free=task.free,
+        )
+
+
+def _add(found: list[IKSolution], solution: IKSolution) -> None:
+    """Append ``solution`` unless one of ``found`` is the same joint vector."""
+    for other in found:
+        if float(np.abs(other.q - solution.q).max()) < SAME_SOLUTION:
+            return
+    found.append(solution)
+
+
+def _rolls(target: AxisTarget, seed_rotation: np.ndarray, grid: bool) -> np.ndarray:
+    """Tool rotations (K, 3, 3) with the target's tool axis along ``target.axis``.
+
+    ``grid`` False: the seed's roll alone (the seed's tool turned onto the axis by the smallest
+    rotation); True: :data:`ROLL_GRID` rolls over a turn from it.
+    """
+    column = TOOL_AXES[target.tool_axis]
+    axis = target.axis
+    turned = pin.exp3(_axis_rotation(seed_rotation[:, column], axis)) @ seed_rotation
+    if not grid:
+        return turned[None]
+    return np.array(
+        [pin.exp3(axis * (2.0 * math.pi * k / ROLL_GRID)) @ turned for k in range(ROLL_GRID)]
+    )
+
+
+def _structure(robot: RobotModel) -> Any:
+    """The closed-form structure of the robot's table (or of its idealised table), or None."""
+    from .analytic.idealised import idealise
+    from .analytic.registry import recognise
+
+    try:
+        return recognise(robot.table)
+    except StructureError:
+        ideal = idealise(robot.table)
+        if ideal is None:
+            return None
+        try:
+            return recognise(ideal.table)
+        except StructureError:
+            return None
