@@ -176,9 +176,7 @@ class Formulation:
         values = equations(Y[..., :3, 2], Y[..., :3, 3])  # (N, 9, 14)
         Q = np.einsum("ij,njk->nki", _FIT9, values)  # (N, 14, 9)
         q0 = Q[:, :, 0]
-        P = self._P[None] - np.stack(
-            (q0, np.zeros_like(q0), q0), axis=1
-        )[..., None] * self._h0  # type: ignore[attr-defined]
+        P = self._P[None] - np.stack((q0, np.zeros_like(q0), q0), axis=1)[..., None] * self._h0  # type: ignore[attr-defined]
         U, sv, Vt = np.linalg.svd(Q[:, :, 1:], full_matrices=True)
         null = np.swapaxes(U[:, :, 8:], 1, 2)  # (N, 6, 14)
         S = null[:, None] @ P  # (N, 3, 6, 9)
@@ -198,7 +196,11 @@ class Formulation:
         u = np.full((n, 24, 6), np.nan)
         u[:, :, a], u[:, :, (a + 1) % 6], u[:, :, (a + 2) % 6] = theta, phi, psi
         L = (
-            rot_z(theta) @ C[a][:, None] @ rot_z(phi) @ C[a + 1][:, None] @ rot_z(psi)
+            rot_z(theta)
+            @ C[a][:, None]
+            @ rot_z(phi)
+            @ C[a + 1][:, None]
+            @ rot_z(psi)
             @ C[a + 2][:, None]
         )  # (N, 24, 4, 4)
         f = equations(L[..., :3, 2], L[..., :3, 3]) - q0[:, None]  # (N, 24, 14)
@@ -208,13 +210,14 @@ class Formulation:
         u[:, :, i5] = np.arctan2(m[..., 0], m[..., 1])
         u[:, :, i4] = np.arctan2(m[..., 2], m[..., 5])
         R = (
-            C[i3][:, None] @ rot_z(u[:, :, i4]) @ C[i4][:, None] @ rot_z(u[:, :, i5])
+            C[i3][:, None]
+            @ rot_z(u[:, :, i4])
+            @ C[i4][:, None]
+            @ rot_z(u[:, :, i5])
             @ C[i5][:, None]
         )
         Rz3 = np.swapaxes(L[..., :3, :3], -1, -2) @ np.swapaxes(R[..., :3, :3], -1, -2)
-        u[:, :, i3] = np.arctan2(
-            Rz3[..., 1, 0] - Rz3[..., 0, 1], Rz3[..., 0, 0] + Rz3[..., 1, 1]
-        )
+        u[:, :, i3] = np.arctan2(Rz3[..., 1, 0] - Rz3[..., 0, 1], Rz3[..., 0, 0] + Rz3[..., 1, 1])
         q = np.empty_like(u)
         for k, (j, sign) in enumerate(zip(self.joints, self.signs)):
             q[..., j] = sign * u[..., k]

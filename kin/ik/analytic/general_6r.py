@@ -100,60 +100,76 @@ def forward(F: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
     return T, np.stack(axes, axis=-2), np.stack(origins, axis=-2)
 
 
-def _errors(T: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """Position error and (small-angle) rotation error vectors (..., 6) of poses to targets."""
-    dp = target[..., :3, 3] - T[..., :3, 3]
-    E = target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
+def _errors(T: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Error vectors (M, 6) (position [m], small-angle rotation [rad]) of poses to targets,
+    and the largest of each (M,) (``inf`` when the rotation is more than 90 deg off)."""
+    dp = target[:, :3, 3] - T[:, :3, 3]
+    E = target[:, :3, :3] @ np.swapaxes(T[:, :3, :3], 1, 2)
     dr = 0.5 * np.stack(
-        (E[..., 2, 1] - E[..., 1, 2], E[..., 0, 2] - E[..., 2, 0], E[..., 1, 0] - E[..., 0, 1]),
+        (E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]), axis=1
+    )
+    e = np.concatenate((dp, dr), axis=1)
+    size = np.abs(e).max(axis=1)
+    trace = E[:, 0, 0] + E[:, 1, 1] + E[:, 2, 2]
+    return e, np.where(trace > 1.0, size, np.inf)
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of (..., 3) vectors (faster than ``np.cross`` on small stacks)."""
+    return np.stack(
+        (
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ),
         axis=-1,
     )
-    return np.concatenate((dp, dr), axis=-1)
 
 
 def polish(F: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Newton steps of DH joint variables ``u`` (N, B, 6) [rad] towards targets (N, 4, 4).
+    """Newton steps of DH joint variables ``u`` (M, 6) [rad] towards targets ``target`` (M, 4, 4).
 
-    Returns the polished ``u`` and the largest error of each (N, B) [m or rad] (``inf`` for
-    NaN rows; a rotation error near pi counts as large).
+    Each row stops once on target to :data:`NEWTON_TOL` or off it by more than 1 (m or rad,
+    a root that is not one). Returns the polished ``u`` wrapped to [-pi, pi) and the largest
+    error of each row (M,) [m or rad].
     """
-    u = np.where(np.isfinite(u), u, 0.0)
-    goal = target[:, None]
-    for _ in range(NEWTON_STEPS):
-        T, axes, origins = forward(F, u)
-        e = _errors(T, goal)
-        if float(np.abs(e).max(initial=0.0)) < NEWTON_TOL:
+    u = np.array(u, dtype=float)
+    error = np.full(u.shape[0], np.inf)
+    rows = np.arange(u.shape[0])
+    for step in range(NEWTON_STEPS + 1):
+        T, axes, origins = forward(F, u[rows])
+        e, size = _errors(T, target[rows])
+        error[rows] = size
+        go = (size > NEWTON_TOL) & (size < 1.0)
+        if step == NEWTON_STEPS or not go.any():
             break
-        J = np.empty(u.shape[:-1] + (6, 6))
-        J[..., :3, :] = np.swapaxes(np.cross(axes, T[..., None, :3, 3] - origins), -1, -2)
-        J[..., 3:, :] = np.swapaxes(axes, -1, -2)
-        JJt = J @ np.swapaxes(J, -1, -2) + 1e-14 * np.eye(6)
-        step = np.swapaxes(J, -1, -2) @ np.linalg.solve(JJt, e[..., None])
-        u = u + np.clip(step[..., 0], -0.5, 0.5)
-    T = forward(F, u)[0]
-    error = np.abs(_errors(T, goal)).max(axis=-1)
-    cosine = np.einsum("...ij,...ij->...", T[..., :3, :3], goal[..., :3, :3])
-    error = np.where(cosine > 0.0, error, np.inf)
+        rows, e, T, axes, origins = rows[go], e[go], T[go], axes[go], origins[go]
+        J = np.empty((rows.size, 6, 6))
+        J[:, :3, :] = np.swapaxes(_cross(axes, T[:, None, :3, 3] - origins), 1, 2)
+        J[:, 3:, :] = np.swapaxes(axes, 1, 2)
+        JJt = J @ np.swapaxes(J, 1, 2) + 1e-14 * np.eye(6)
+        delta = (np.swapaxes(J, 1, 2) @ np.linalg.solve(JJt, e[..., None]))[..., 0]
+        u[rows] += np.clip(delta, -0.5, 0.5)
     return np.remainder(u + math.pi, 2.0 * math.pi) - math.pi, error
 
 
 def distinct(u: np.ndarray, ok: np.ndarray) -> np.ndarray:
-    """The distinct kept rows of ``u`` (N, B, 6) [rad] packed first in (N, 16, 6), NaN after."""
-    n = u.shape[0]
-    out = np.full((n, BRANCHES, 6), np.nan)
-    for i in range(n):
-        rows = u[i][ok[i]]
-        kept: list[np.ndarray] = []
-        for row in rows:
-            if all(
-                np.abs(np.remainder(row - other + math.pi, 2.0 * math.pi) - math.pi).max()
-                > SAME_TOL
-                for other in kept
-            ):
-                kept.append(row)
-        kept.sort(key=lambda r: tuple(np.round(r, 9)))
-        for b, row in enumerate(kept[:BRANCHES]):
-            out[i, b] = row
+    """The distinct kept rows of ``u`` (N, B, 6) [rad], by ascending ``q1``, in (N, 16, 6).
+
+    Rows within :data:`SAME_TOL` of a kept row before them (modulo 2 pi) are dropped; NaN rows
+    fill the rest.
+    """
+    n, b = ok.shape
+    diff = np.abs(np.remainder(u[:, :, None] - u[:, None] + math.pi, 2.0 * math.pi) - math.pi)
+    same = (diff.max(axis=-1) <= SAME_TOL) & ok[:, None, :] & np.tri(b, k=-1, dtype=bool)
+    keep = ok & ~same.any(axis=2)
+    key = np.where(keep, u[..., 0], np.inf)
+    order = np.argsort(key, axis=1, kind="stable")[:, :BRANCHES]
+    out = np.take_along_axis(u, order[..., None], axis=1)
+    kept = np.take_along_axis(keep, order, axis=1)
+    out = np.where(kept[..., None], out, np.nan)
+    if out.shape[1] < BRANCHES:
+        out = np.concatenate((out, np.full((n, BRANCHES - out.shape[1], 6), np.nan)), axis=1)
     return out
 
 
@@ -284,8 +300,14 @@ def _candidates(
         keep.append(real)
     u = np.concatenate(parts, axis=1)
     real = np.concatenate(keep, axis=1)
-    u, error = polish(F, u, T)
-    return u, real & (error <= KEEP_TOL)
+    n, b = real.shape
+    pose, branch = np.nonzero(real)
+    polished, error = polish(F, u[pose, branch], T[pose])
+    out = np.full((n, b, 6), np.nan)
+    out[pose, branch] = polished
+    ok = np.zeros((n, b), dtype=bool)
+    ok[pose, branch] = error <= KEEP_TOL
+    return out, ok
 
 
 def _found(F: np.ndarray, formulations: tuple[Formulation, ...], T: np.ndarray, u: np.ndarray):
@@ -293,7 +315,7 @@ def _found(F: np.ndarray, formulations: tuple[Formulation, ...], T: np.ndarray, 
     with np.errstate(all="ignore"):
         got, ok = _candidates(F, formulations, T)
     diff = np.remainder(got - u[:, None] + math.pi, 2.0 * math.pi) - math.pi
-    return (ok & (np.abs(diff).max(axis=-1) < 1e-6)).any(axis=1)
+    return (ok & (np.abs(np.nan_to_num(diff, nan=9.0)).max(axis=-1) < 1e-6)).any(axis=1)
 
 
 def _refuse_idealised(table: DHTable) -> None:
