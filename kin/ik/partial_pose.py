@@ -114,8 +114,9 @@ class PartialTask:
 
     def errors(self, e: np.ndarray) -> tuple[float, float]:
         """Position and rotation errors [m], [rad] of the constrained components of ``e``."""
-        position = math.sqrt(sum(e[i] * e[i] for i in self.position_rows))
-        rotation = math.sqrt(sum(e[i] * e[i] for i in self.rotation_rows))
+        values = e.tolist()
+        position = math.hypot(*[values[i] for i in self.position_rows])  # no overflow
+        rotation = math.hypot(*[values[i] for i in self.rotation_rows])
         return position, rotation
 
     def jacobian(
@@ -214,8 +215,9 @@ class PartialPoseIK:
         if not target.finite:
             return IKResult(False, self.name, "invalid_target", f"target is not finite: {target}")
         task = PartialTask(target)
-        if task.position_rows == [0, 1, 2]:  # the whole position is asked: out of reach is sure
-            distance = math.dist(target.position.tolist(), self._base.tolist())
+        if task.position_rows:  # the kept position components alone may be out of reach
+            offset = (target.position - self._base).tolist()
+            distance = math.hypot(*[offset[i] for i in task.position_rows])
             if distance > self.reach:
                 return self._failure(
                     task,
