@@ -151,8 +151,9 @@ class PartialPoseIK:
 
     Args:
         robot: The robot.
-        structure: Its closed-form structure (:func:`kin.ik.analytic.registry.recognise`), or
-            None: looked up (the idealised table's when the true one misses a structure by
+        structure: Its closed-form structure (:func:`kin.ik.analytic.registry.recognise` of its
+            forward table, :func:`~kin.ik.analytic.joint_directions.forward_table`), or None:
+            looked up (the idealised table's when the true one misses a structure by
             rounding), none if no structure fits.
         name: The pipeline reported in :attr:`IKResult.solver`.
     """
@@ -172,6 +173,9 @@ class PartialPoseIK:
         self.search_lower = np.where(self.continuous, -3.0 * math.pi, self.lower)
         self.search_upper = np.where(self.continuous, 3.0 * math.pi, self.upper)
         self.structure = structure if structure is not None else _structure(robot)
+        #: The structure solves the forward table (every direction 1,
+        #: :mod:`.analytic.joint_directions`): its ``q'`` is ``direction * q``.
+        self.directions = robot.table.directions
         self.reach = reach_bound(robot)
         self._base = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
         self._lock = threading.Lock()
@@ -407,7 +411,7 @@ class PartialPoseIK:
         except (ValueError, ArithmeticError, np.linalg.LinAlgError):
             return []
         out = []
-        for q, name in zip(raw, names):
+        for q, name in zip(raw * self.directions, names):
             if q.shape == (self.nq,) and np.isfinite(q).all():
                 out.append((self._wrapped(q, seed)[0], name))
         return out
@@ -558,12 +562,14 @@ def _rolls(target: AxisTarget, seed_rotation: np.ndarray, grid: bool) -> np.ndar
 def _structure(robot: RobotModel) -> Any:
     """The closed-form structure of the robot's table (or of its idealised table), or None."""
     from .analytic.idealised import idealise
+    from .analytic.joint_directions import forward_table
     from .analytic.registry import recognise
 
+    table = forward_table(robot.table)
     try:
-        return recognise(robot.table)
+        return recognise(table)
     except StructureError:
-        ideal = idealise(robot.table)
+        ideal = idealise(table)
         if ideal is None:
             return None
         try:
