@@ -238,11 +238,17 @@ def test_dispatch_picks_the_numeric_solver_for_other_shipped_arms(name):
     assert solver.closed_form is not None, f"{name=}"
 
 
-@pytest.mark.parametrize("name", ["user3r", "rrpr4", "rprrrr"])
+@pytest.mark.parametrize("name", ["user3r", "rprrrr"])
 def test_dispatch_picks_the_numeric_solver_for_user_tables(name, user_tables):
     """A user table no closed form fits (3R, prismatic joints) gets the numeric solver."""
     solver = get_solver(load_robot(str(user_tables[name])))
     assert isinstance(solver, NumericIK), f"{name=}"
+
+
+def test_scara_table_gets_the_parallel_axes_closed_form(user_tables):
+    """rrpr4 (a SCARA: every axis parallel) gets the parallel-axes closed form for its poses."""
+    solver = get_solver(load_robot(str(user_tables["rrpr4"])))
+    assert solver.name == "closed_form:parallel_axes"
 
 
 @pytest.mark.parametrize("name", ["panda", "ur5"])

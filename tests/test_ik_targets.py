@@ -197,7 +197,7 @@ def test_cli_json_and_exit_codes(capsys):
         ["--robot", "lab5", "--target", "1", "nan", "3", "--pitch", "0"],
         ["--robot", "lab5", "--target", "1", "2", "3", "--unit", "km", "--pitch", "0"],
         ["--robot", "lab5", "--target", "0.2", "0", "0.2", "--pitch", "0", "--seed-q", "1"],
-        ["--robot", "pickplace3", "--target", "0.3", "0", "0.2", "--rpy", "0", "0", "0"],
+        ["--robot", "pickplace3", "--target", "0.3", "0", "0.2", "--pitch", "0"],
     ):
         assert exit_code(solve, argv) == 2, argv
         err = capsys.readouterr().err

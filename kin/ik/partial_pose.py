@@ -412,7 +412,7 @@ class PartialPoseIK:
             return []
         out = []
         for q, name in zip(raw * self.directions, names):
-            if q.shape == (self.nq,) and np.isfinite(q).all():
+            if q.shape == (self.nq,) and np.isfinite(q).all() and np.abs(q).max() < 1e9:
                 out.append((self._wrapped(q, seed)[0], name))
         return out
 

@@ -190,7 +190,9 @@ class ClosedFormSolver:
         self._partial: Any = None
         # A full pose goes to the partial-pose solver on an arm of fewer than six joints whose
         # closed form does not take it whole (a five-joint arm's does, with its own reasons).
-        self._partial_below = len(self._lower) if PoseTarget not in self._kinds else 6
+        # So does one whose closed form projects the pose on what the arm reaches (a SCARA's).
+        whole = PoseTarget in self._kinds and not getattr(self.structure, "projects", False)
+        self._partial_below = 6 if whole else len(self._lower)
         self._zero_seed = [0.0] * len(self._lower)
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # A structure with a compiled twin that also verifies (the 6R closed forms): pose targets

@@ -15,6 +15,7 @@ from .closed_form_structure import ClosedFormStructure
 from .five_dof import FiveDof
 from .general_6r import General6R
 from .offset3r import Offset3R
+from .parallel_axes import ParallelAxes, ParallelAxes2, ParallelAxes3
 from .pieper import Pieper6R
 from .planar2r import Planar2R
 from .reversed_chain import Reversed6R
@@ -25,7 +26,10 @@ from .ur_wrist import URWrist6R
 #: The registered structures, in the order they are asked.
 CLOSED_FORMS: list[type[ClosedFormStructure]] = [
     Planar2R,
+    ParallelAxes2,  # every axis parallel: planar 2R read from any frame, RRP, planar 3R, SCARA
     Offset3R,
+    ParallelAxes3,
+    ParallelAxes,
     FiveDof,
     URWrist6R,
     SphericalWrist6R,
