@@ -273,7 +273,17 @@ class PartialPoseIK:
         if found:
             method = "closed_form"
         else:
-            starts = [q for _, q in sorted(attempts, key=lambda item: item[0])]
+            attempts.sort(key=lambda item: item[0])
+            inside = [
+                attempt
+                for attempt in attempts
+                if np.all(attempt[1] >= self.lower) and np.all(attempt[1] <= self.upper)
+            ]
+            if inside and getattr(self.structure, "projects", False):
+                # The closed form projected the target on the arm's poses: its nearest branch
+                # inside the limits is the nearest pose (a SCARA's tool cannot tilt).
+                return self._unreached(task, inside[0], outside, start, 0)
+            starts = [q for _, q in attempts]
             starts.append(seed)
             rng = np.random.default_rng(random_seed)
             best: tuple[float, np.ndarray] | None = None
@@ -495,6 +505,7 @@ class PartialPoseIK:
         nearest = IKSolution(
             q, "nearest", inside, position_error, rotation_error if task.rotation_rows else None
         )
+        searched = f"{tried} starts" if tried else "the closed form's branches"
         what = f"{position_error:.4g} m" + (
             f" and {rotation_error:.4g} rad" if task.rotation_rows else ""
         )
@@ -507,7 +518,7 @@ class PartialPoseIK:
         return self._failure(
             task,
             "out_of_reach",
-            f"no joint vector inside the limits reaches the target ({tried} starts): the nearest "
+            f"no joint vector inside the limits reaches the target ({searched}): the nearest "
             f"pose found is {what} away (position, rotation){hint}",
             (nearest,),
             start,
