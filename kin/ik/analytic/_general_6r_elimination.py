@@ -233,18 +233,23 @@ def _quadratic_eig(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """
     n = M.shape[0]
     M0, M1, M2 = M[:, 0], M[:, 1], M[:, 2]
-    flip = np.linalg.cond(M0) < np.linalg.cond(M2)
+    # |det| over the product of the row norms (Hadamard's ratio, 1 for orthogonal rows): the
+    # leading matrix farther from singular of the two.
+    ratio = []
+    for lead in (M2, M0):
+        sign, logdet = np.linalg.slogdet(lead)
+        norms = np.log(np.maximum(np.linalg.norm(lead, axis=2), 1e-300)).sum(axis=1)
+        ratio.append(np.where(sign != 0.0, logdet - norms, -np.inf))
+    flip = ratio[1] > ratio[0]
     lead = np.where(flip[:, None, None], M0, M2)
     tail = np.where(flip[:, None, None], M2, M0)
     A = np.zeros((n, 24, 24))
     A[:, :12, 12:] = np.eye(12)
+    rhs = np.concatenate((tail, M1), axis=2)
     try:
-        A[:, 12:, :12] = -np.linalg.solve(lead, tail)
-        A[:, 12:, 12:] = -np.linalg.solve(lead, M1)
+        A[:, 12:, :] = -np.linalg.solve(lead, rhs)
     except np.linalg.LinAlgError:
-        pinv = np.linalg.pinv(lead)
-        A[:, 12:, :12] = -pinv @ tail
-        A[:, 12:, 12:] = -pinv @ M1
+        A[:, 12:, :] = -np.linalg.pinv(lead) @ rhs
     values, vectors = np.linalg.eig(A)  # (N, 24), (N, 24, 24): columns
     vectors = np.swapaxes(vectors, 1, 2)
     top, bottom = vectors[..., :12], vectors[..., 12:]

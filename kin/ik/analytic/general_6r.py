@@ -39,9 +39,9 @@ from .structure import Checker
 
 #: Number of branches (columns of :meth:`General6R.solve`): a 6R arm has at most 16.
 BRANCHES = 16
-#: Newton steps of the polish, and the error it stops at [m, rad].
+#: Newton steps of the polish, and the error it stops at [m, rad] (most roots start below it).
 NEWTON_STEPS = 8
-NEWTON_TOL = 1e-14
+NEWTON_TOL = 1e-12
 #: A polished candidate is kept when its position [m] and rotation [rad] errors are below this.
 KEEP_TOL = 1e-10
 #: Two branches closer than this in every joint (modulo 2 pi) [rad] are one.
@@ -153,23 +153,33 @@ def polish(F: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray
     return np.remainder(u + math.pi, 2.0 * math.pi) - math.pi, error
 
 
-def distinct(u: np.ndarray, ok: np.ndarray) -> np.ndarray:
-    """The distinct kept rows of ``u`` (N, B, 6) [rad], by ascending ``q1``, in (N, 16, 6).
+def distinct(n: int, pose: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Branches (n, 16, 6) [rad] of the polished rows ``u`` (M, 6) of poses ``pose`` (M,).
 
-    Rows within :data:`SAME_TOL` of a kept row before them (modulo 2 pi) are dropped; NaN rows
-    fill the rest.
+    Per pose, rows within :data:`SAME_TOL` of another row before them (modulo 2 pi) are
+    dropped; the rest are ordered by ascending joint 1, NaN rows after.
     """
-    n, b = ok.shape
-    diff = np.abs(np.remainder(u[:, :, None] - u[:, None] + math.pi, 2.0 * math.pi) - math.pi)
-    same = (diff.max(axis=-1) <= SAME_TOL) & ok[:, None, :] & np.tri(b, k=-1, dtype=bool)
-    keep = ok & ~same.any(axis=2)
-    key = np.where(keep, u[..., 0], np.inf)
-    order = np.argsort(key, axis=1, kind="stable")[:, :BRANCHES]
-    out = np.take_along_axis(u, order[..., None], axis=1)
-    kept = np.take_along_axis(keep, order, axis=1)
-    out = np.where(kept[..., None], out, np.nan)
-    if out.shape[1] < BRANCHES:
-        out = np.concatenate((out, np.full((n, BRANCHES - out.shape[1], 6), np.nan)), axis=1)
+    out = np.full((n, BRANCHES, 6), np.nan)
+    if not pose.size:
+        return out
+    order = np.lexsort((u[:, 0], pose))
+    pose, u = pose[order], u[order]
+    # A duplicate follows its twin within the rows of equal pose and joint 1 (sorted).
+    duplicate = np.zeros(pose.size, dtype=bool)
+    for shift in range(1, pose.size):
+        near = (pose[shift:] == pose[:-shift]) & (
+            np.abs(u[shift:, 0] - u[:-shift, 0]) <= SAME_TOL
+        )
+        if not near.any():
+            break
+        gap = np.remainder(u[shift:] - u[:-shift] + math.pi, 2.0 * math.pi) - math.pi
+        duplicate[shift:] |= near & (np.abs(gap).max(axis=1) <= SAME_TOL)
+    keep = ~duplicate
+    pose, u = pose[keep], u[keep]
+    first = np.searchsorted(pose, pose)  # index of each pose's first row
+    rank = np.arange(pose.size) - first
+    fits = rank < BRANCHES
+    out[pose[fits], rank[fits]] = u[fits]
     return out
 
 
@@ -276,9 +286,9 @@ class General6R:
         T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = r, p, 1.0
         finite = np.isfinite(T).all(axis=(1, 2))
         T = np.where(finite[:, None, None], T, np.eye(4))
-        u, ok = _candidates(self.F, self.formulations, T, self._F0_inv, self._F6_inv)
-        out = distinct(u, ok & finite[:, None]) * self.signs
-        return out
+        pose, u = _candidates(self.F, self.formulations, T, self._F0_inv, self._F6_inv)
+        kept = finite[pose]
+        return distinct(T.shape[0], pose[kept], u[kept]) * self.signs
 
 
 def _candidates(
@@ -288,34 +298,31 @@ def _candidates(
     F0_inv: np.ndarray | None = None,
     F6_inv: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Polished DH joint variables (N, B, 6) [rad] of poses ``T`` (N, 4, 4), and which are kept."""
+    """Polished DH joint variables on target (M, 6) [rad] of poses ``T`` (N, 4, 4), and their
+    pose index (M,): every real root of every formulation, polished, kept when on target."""
     F0_inv = inverse(F[0]) if F0_inv is None else F0_inv
     F6_inv = inverse(F[6]) if F6_inv is None else F6_inv
     K = F0_inv @ T @ F6_inv
-    parts, keep = [], []
+    poses, rows = [], []
     for formulation in formulations:
         u, imag = formulation.candidates(K)
-        real = (imag <= IMAG_TOL) & np.isfinite(u).all(axis=-1)
-        parts.append(u)
-        keep.append(real)
-    u = np.concatenate(parts, axis=1)
-    real = np.concatenate(keep, axis=1)
-    n, b = real.shape
-    pose, branch = np.nonzero(real)
-    polished, error = polish(F, u[pose, branch], T[pose])
-    out = np.full((n, b, 6), np.nan)
-    out[pose, branch] = polished
-    ok = np.zeros((n, b), dtype=bool)
-    ok[pose, branch] = error <= KEEP_TOL
-    return out, ok
+        pose, branch = np.nonzero((imag <= IMAG_TOL) & np.isfinite(u).all(axis=-1))
+        poses.append(pose)
+        rows.append(u[pose, branch])
+    pose = np.concatenate(poses)
+    polished, error = polish(F, np.concatenate(rows), T[pose])
+    ok = error <= KEEP_TOL
+    return pose[ok], polished[ok]
 
 
 def _found(F: np.ndarray, formulations: tuple[Formulation, ...], T: np.ndarray, u: np.ndarray):
     """Whether the joint variables ``u`` (N, 6) that made poses ``T`` are among the branches."""
     with np.errstate(all="ignore"):
-        got, ok = _candidates(F, formulations, T)
-    diff = np.remainder(got - u[:, None] + math.pi, 2.0 * math.pi) - math.pi
-    return (ok & (np.abs(np.nan_to_num(diff, nan=9.0)).max(axis=-1) < 1e-6)).any(axis=1)
+        pose, got = _candidates(F, formulations, T)
+    diff = np.abs(np.remainder(got - u[pose] + math.pi, 2.0 * math.pi) - math.pi).max(axis=1)
+    found = np.zeros(len(u), dtype=bool)
+    found[pose[diff < 1e-6]] = True
+    return found
 
 
 def _refuse_idealised(table: DHTable) -> None:
