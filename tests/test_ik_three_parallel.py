@@ -21,6 +21,7 @@ import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
 from kin.ik import PoseTarget
 from kin.ik.analytic import registry
+from kin.ik.analytic.general_6r import General6R
 from kin.ik.analytic.three_parallel import NEAR_MEET, ThreeParallel6R
 from kin.ik.analytic.ur_wrist import URWrist6R
 from kin.ik.exceptions import StructureError, TargetError
@@ -292,7 +293,10 @@ def test_no_other_registered_structure_takes_the_general_family(arm):
     """A table with a5 != 0 is refused by every other registered 6R structure: the registry
     raises StructureError until ThreeParallel6R is registered, then it gives ThreeParallel6R."""
     table = arm_table(arm)
-    others = [s for s in registry.CLOSED_FORMS if s.dof == 6 and s is not ThreeParallel6R]
+    # General6R (registered last) takes any 6R table: not one of the others.
+    others = [
+        s for s in registry.CLOSED_FORMS if s.dof == 6 and s not in (ThreeParallel6R, General6R)
+    ]
     assert len(others) >= 3
     for structure in others:
         with pytest.raises(StructureError):
