@@ -145,20 +145,22 @@ def test_quat_and_rpy_give_the_same_path(capsys):
                 "0.3",
                 "0.1",
                 "0",
-                "--rpy",
+                "--axis",
                 "0",
                 "0",
-                "0",
+                "1",
                 "--to",
                 "0.3",
                 "0.2",
                 "0",
-                "--rpy",
+                "--axis",
                 "0",
                 "0",
-                "0",
+                "1",
+                "--tool-axis",
+                "w",
             ],
-            "takes a position target",
+            "--tool-axis: invalid choice",
         ),  # fmt: skip
         (
             [
@@ -223,8 +225,10 @@ def test_quat_and_rpy_give_the_same_path(capsys):
                 "0",
                 "0",
                 "0",
+                "--tool-axis",
+                "x",
             ],
-            "'pickplace3' (3 joints) takes a position target",
+            "--tool-axis needs --axis at the points",
         ),  # fmt: skip
         (
             [

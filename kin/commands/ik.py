@@ -8,7 +8,8 @@ roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll); or --quat), whole or with --mask
 (1 = constrained, 0 = free; rotations about the world axes: a SCARA's position and yaw is
 1 1 1 0 0 1), on any arm (one of fewer than six joints is solved where it reaches the pose, else
 told how far the nearest pose it reaches is); a position with --axis AX AY AZ, the world
-direction of the tool's z axis with the roll about it free (a drill); or, for five-joint arms, a position
+direction of the tool's z axis (or --tool-axis x/y) with the roll about it free (a drill); or, for
+five-joint arms, a position
 with --pitch, the angle of the tool's approach axis BELOW the horizontal in the vertical plane
 through the base axis and the target (0 = straight out, 90 deg = straight down), with --roll the
 wrist-roll joint value q5 (default: the seed's).
@@ -18,7 +19,7 @@ and the --rpy/--pitch/--roll angles in radians, degrees with --deg. --json and -
 SI (q in rad / m as "q_units" says, errors in m and rad, time in s).
 
 --stdin reads one JSON target per line ({"target": [x, y, z], "rpy": [r, p, y]} or "quat",
-"mask", "axis", "pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes exactly one JSON answer
+"mask", "axis", "tool_axis", "pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes exactly one JSON answer
 per input line, in order, each with its "line" number ({"error": ...} for a bad line,
 {"skipped": ...} for a blank one).
 
@@ -85,6 +86,11 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         metavar=("AX", "AY", "AZ"),
         help="world direction of the tool's z axis; the roll about it is free (a drill)",
     )
+    add(
+        "--tool-axis",
+        choices=("x", "y", "z"),
+        help="with --axis: the tool axis that points along it (default z)",
+    )
     add("--position-only", action="store_true", help="ignore the tool orientation")
     add(
         "--unit",
@@ -124,6 +130,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             ("--quat", args.quat),
             ("--mask", args.mask),
             ("--axis", args.axis),
+            ("--tool-axis", args.tool_axis),
             ("--pitch", args.pitch),
             ("--roll", args.roll),
         )
@@ -173,6 +180,7 @@ def _run(args: argparse.Namespace) -> int:
         angle=angle,
         mask=args.mask,
         axis=args.axis,
+        tool_axis=args.tool_axis,
     )
     if kinds is not None:
         check_kind(robot.name, robot.nq, kinds, target, given)

@@ -46,7 +46,18 @@ FLUSH_EVERY = 32
 _CHUNK = 1 << 16
 
 #: Keys an input line may have.
-KEYS = ("target", "rpy", "quat", "mask", "axis", "pitch", "roll", "position_only", "seed_q")
+KEYS = (
+    "target",
+    "rpy",
+    "quat",
+    "mask",
+    "axis",
+    "tool_axis",
+    "pitch",
+    "roll",
+    "position_only",
+    "seed_q",
+)
 _KEYS = frozenset(KEYS)
 _decode = json.JSONDecoder().decode
 
@@ -125,6 +136,7 @@ class StreamSolver:
             angle=self.angle,
             mask=request.get("mask"),
             axis=request.get("axis"),
+            tool_axis=request.get("tool_axis"),
         )
         if self.kinds is not None:
             check_kind(self.robot, self.nq, self.kinds, target, given)

@@ -3,7 +3,9 @@
 The tool moves from --from through each --via (in the order given) to --to, in --steps steps in
 all: positions on straight segments, orientations turning about one axis (slerp). A point takes
 its orientation from the option right after it: --rpy R P Y (URDF roll-pitch-yaw) or --quat W X
-Y Z (full pose), or, for five-joint arms, --pitch P [--roll R]; give one at every point or none. Closed-form arms
+Y Z (full pose; --mask X Y Z RX RY RZ keeps only some of its components, at every point), --axis
+AX AY AZ (the tool's z axis, or --tool-axis, along that world direction, the roll free), or, for
+five-joint arms, --pitch P [--roll R]; give one at every point or none. Closed-form arms
 stay on one branch (the one nearest --seed-q, or --branch); redundant and numeric-only arms move
 by velocity-limited differential IK steps. A joint limit, an unreachable point or a jump larger
 than --max-step stops the motion there: "stopped_at" is that sample.
@@ -91,6 +93,22 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         action=_PointAction,
         help="orientation of the point before it: unit quaternion",
     )
+    add(
+        "--axis",
+        type=finite_float,
+        nargs=3,
+        metavar=("AX", "AY", "AZ"),
+        action=_PointAction,
+        help="tool z axis (or --tool-axis) of the point before it, world direction; roll free",
+    )
+    add(
+        "--mask",
+        type=finite_float,
+        nargs=6,
+        metavar=("X", "Y", "Z", "RX", "RY", "RZ"),
+        help="with --rpy/--quat points: the pose components kept (1) or free (0), every point",
+    )
+    add("--tool-axis", choices=("x", "y", "z"), help="with --axis: the tool axis (default z)")
     add("--pitch", type=finite_float, action=_PointAction, help="five-joint arms: approach angle")
     add("--roll", type=finite_float, action=_PointAction, help="with --pitch: wrist-roll q5")
     add("--steps", type=positive_int, required=True, help="number of steps along the whole path")
@@ -129,13 +147,18 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     for option in ("--vmax", "--amax", "--dt"):
         if getattr(args, option[2:]) is not None and not args.time:
             parser.error(f"{option} needs --time")
+    if args.mask is not None and not any("rpy" in p or "quat" in p for p in points):
+        parser.error(
+            "--mask needs --rpy or --quat at the points (the poses whose components it keeps)"
+        )
+    if args.tool_axis is not None and not any("axis" in p for p in points):
+        parser.error("--tool-axis needs --axis at the points")
     return run_guarded(prog, lambda: _run(args, points))
 
 
 def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
     """Build the path, follow it, time it, and write the outputs."""
     from ..cli import angle_scale, length_scale
-    from ..ik.target import AxisTarget, PoseTarget
     from ..path import follow_path, path_solver, polyline
     from ..path.follow import MAX_JOINT_STEP
     from .joint_units import JointUnits
@@ -152,12 +175,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
     ordered += [p for p in points if p["option"] == "--to"]
     _check_orientations(ordered)
     solver = path_solver(robot)
-    # A path's waypoints are whole: no partial poses (kin ik takes those).
-    path_kinds = tuple(
-        kind
-        for kind in solver.target_kinds  # type: ignore[attr-defined]
-        if kind is not AxisTarget and not (kind is PoseTarget and robot.nq < 6)
-    )
+    path_kinds = tuple(solver.target_kinds)  # type: ignore[attr-defined]
     waypoints = []
     for point in ordered:
         target, given = build_target(
@@ -168,6 +186,9 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
             roll=point.get("roll"),
             length=length,
             angle=angle,
+            mask=args.mask if ("rpy" in point or "quat" in point) else None,
+            axis=point.get("axis"),
+            tool_axis=args.tool_axis if "axis" in point else None,
         )
         check_kind(robot.name, robot.nq, path_kinds, target, given)
         waypoints.append(target)
@@ -194,6 +215,8 @@ def _check_orientations(points: list[dict[str, Any]]) -> None:
     def kind(point: dict[str, Any]) -> str:
         if "rpy" in point or "quat" in point:
             return "--rpy/--quat"
+        if "axis" in point:
+            return "--axis"
         return "--pitch" if "pitch" in point else "none"
 
     first = kind(points[0])

@@ -82,6 +82,7 @@ def build_target(
     angle: float = 1.0,
     mask: Sequence[float] | None = None,
     axis: Sequence[float] | None = None,
+    tool_axis: str | None = None,
 ) -> tuple[Target, str]:
     """The target of the command-line values, and the option that chose its kind.
 
@@ -96,6 +97,7 @@ def build_target(
         angle: Radians per input angle unit.
         mask: Six flags 0/1 (x y z rx ry rz) with ``rpy`` or ``quat``, or None.
         axis: World direction of the tool's z axis (the roll about it free), or None.
+        tool_axis: With ``axis``: the tool axis ``"x"``, ``"y"`` or ``"z"`` (None: z).
 
     Returns:
         The target in SI units, and ``"--rpy"``, ``"--quat"``, ``"--axis"``, ``"--pitch"`` or
@@ -122,10 +124,14 @@ def build_target(
         raise TargetError(f"give one of --rpy, --quat, --axis, --pitch; got {' and '.join(given)}")
     if roll is not None and pitch is None:
         raise TargetError("--roll needs --pitch")
+    if tool_axis is not None and axis is None:
+        raise TargetError("--tool-axis needs --axis (the world direction it points along)")
     if mask is not None:
         mask = _mask_flags(mask)
     if axis is not None:
-        return AxisTarget(p, _finite(axis, 3, "--axis")), "--axis"
+        if tool_axis is not None and tool_axis not in ("x", "y", "z"):
+            raise TargetError(f"--tool-axis must be x, y or z, got {tool_axis!r}")
+        return AxisTarget(p, _finite(axis, 3, "--axis"), tool_axis or "z"), "--axis"
     if quat is not None:
         rotation = quaternion_matrix(*_finite(quat, 4, "--quat"))
         return PoseTarget(p, rotation, mask), "--quat"

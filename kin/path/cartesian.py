@@ -7,8 +7,9 @@ orientation turns at a constant rate about one axis (quaternion slerp, Pinocchio
 a sample, so consecutive samples always lie on one segment.
 
 The waypoints are :mod:`kin.ik` targets, all of one kind: :class:`~kin.ik.PositionTarget`
-(position-only arms), :class:`~kin.ik.PoseTarget` (full pose) or :class:`~kin.ik.PitchTarget`
-(five-joint arms).
+(position-only arms), :class:`~kin.ik.PoseTarget` (full pose, or all with one mask),
+:class:`~kin.ik.AxisTarget` (a tool axis, roll free: the axis turns at a constant rate on the
+great circle between two waypoints' axes) or :class:`~kin.ik.PitchTarget` (five-joint arms).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..ik.target import PitchTarget, PoseTarget, PositionTarget, Target
+from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
 from .exceptions import PathError
 
 #: Length that one radian of tool rotation (or pitch) counts for when steps are shared out among
@@ -39,6 +40,10 @@ class CartesianPath:
         pitches: Approach angle below the horizontal per sample [rad], for pitch paths; else None.
         rolls: Wrist-roll joint value per sample [rad] for pitch paths that give one; else None.
         waypoint_indices: Sample index of each waypoint, first 0 and last M - 1.
+        axes: World direction of the tool axis per sample, shape (M, 3), for axis paths; else
+            None.
+        tool_axis: The tool axis of an axis path (``"x"``, ``"y"``, ``"z"``).
+        mask: The mask of a masked pose path (every waypoint's), else None.
     """
 
     kind: type
@@ -47,6 +52,9 @@ class CartesianPath:
     pitches: np.ndarray | None
     rolls: np.ndarray | None
     waypoint_indices: tuple[int, ...]
+    axes: np.ndarray | None = None
+    tool_axis: str = "z"
+    mask: tuple[bool, ...] | None = None
 
     def __len__(self) -> int:
         return int(self.positions.shape[0])
@@ -59,8 +67,10 @@ class CartesianPath:
     def target(self, index: int) -> Target:
         """The IK target of sample ``index`` (world frame, SI)."""
         position = self.positions[index]
+        if self.axes is not None:
+            return AxisTarget(position, self.axes[index], self.tool_axis)
         if self.rotations is not None:
-            return PoseTarget(position, self.rotations[index])
+            return PoseTarget(position, self.rotations[index], self.mask)
         if self.pitches is not None:
             roll = None if self.rolls is None else float(self.rolls[index])
             return PitchTarget(position, float(self.pitches[index]), roll)
@@ -98,6 +108,10 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
             )
         if not waypoint.finite:
             raise PathError(f"waypoint {number} is not finite", f"waypoint {number}")
+    if kind is PoseTarget and len({w.mask for w in waypoints}) > 1:  # type: ignore[attr-defined]
+        raise PathError("give every waypoint the same mask (or none)", "mask")
+    if kind is AxisTarget and len({w.tool_axis for w in waypoints}) > 1:  # type: ignore[attr-defined]
+        raise PathError("give every waypoint the same tool axis", "tool_axis")
     rolls_given = [getattr(w, "roll", None) is not None for w in waypoints]
     if kind is PitchTarget and any(rolls_given) and not all(rolls_given):
         raise PathError("give the wrist roll at every waypoint or at none", "roll")
@@ -116,7 +130,7 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
                 f"waypoint {number + 1}",
             )
     counts = _share_steps(lengths, steps)
-    positions, rotations, pitches, rolls = [], [], [], []
+    positions, rotations, pitches, rolls, axes = [], [], [], [], []
     indices = [0]
     for k, (a, b) in enumerate(zip(waypoints, waypoints[1:])):
         fractions = np.arange(0 if k == 0 else 1, counts[k] + 1) / counts[k]
@@ -124,6 +138,9 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
         if isinstance(a, PoseTarget) and isinstance(b, PoseTarget):
             qa, qb = pin.Quaternion(a.rotation), pin.Quaternion(b.rotation)
             rotations += [qa.slerp(float(f), qb).toRotationMatrix() for f in fractions]
+        elif isinstance(a, AxisTarget) and isinstance(b, AxisTarget):
+            turn = _axis_turn(a.axis, b.axis)
+            axes += [pin.exp3(turn * float(f)) @ a.axis for f in fractions]
         elif isinstance(a, PitchTarget) and isinstance(b, PitchTarget):
             pitches.append(a.pitch + fractions * (b.pitch - a.pitch))
             if a.roll is not None and b.roll is not None:
@@ -136,7 +153,26 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
         pitches=np.concatenate(pitches) if pitches else None,
         rolls=np.concatenate(rolls) if rolls else None,
         waypoint_indices=tuple(indices),
+        axes=np.array(axes) if axes else None,
+        tool_axis=getattr(waypoints[0], "tool_axis", "z"),
+        mask=getattr(waypoints[0], "mask", None),
     )
+
+
+def _axis_turn(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The rotation vector [rad] turning unit vector ``a`` onto ``b`` on their great circle.
+
+    Opposite vectors: a half turn about an axis normal to ``a`` (any; one is chosen).
+    """
+    cross = np.cross(a, b)
+    sine = float(np.linalg.norm(cross))
+    angle = math.atan2(sine, float(a @ b))
+    if sine > 1e-12:
+        return cross * (angle / sine)
+    if angle < 1.0:
+        return np.zeros(3)
+    normal = np.cross(a, (1.0, 0.0, 0.0) if abs(a[0]) < 0.9 else (0.0, 1.0, 0.0))
+    return normal * (math.pi / float(np.linalg.norm(normal)))
 
 
 def _segment_length(a: Target, b: Target) -> float:
@@ -145,6 +181,8 @@ def _segment_length(a: Target, b: Target) -> float:
     if isinstance(a, PoseTarget) and isinstance(b, PoseTarget):
         turn = pin.log3(a.rotation.T @ b.rotation)
         length += ROTATION_LENGTH * math.sqrt(float(turn @ turn))
+    elif isinstance(a, AxisTarget) and isinstance(b, AxisTarget):
+        length += ROTATION_LENGTH * float(np.linalg.norm(_axis_turn(a.axis, b.axis)))
     elif isinstance(a, PitchTarget) and isinstance(b, PitchTarget):
         length += ROTATION_LENGTH * abs(b.pitch - a.pitch)
         if a.roll is not None and b.roll is not None:

@@ -82,8 +82,10 @@ def follow_path(
     """
     seed_q = None if seed is None else as_joint_vector(robot, seed)
     solver = path_solver(robot, method) if solver is None else solver
-    if isinstance(solver, ClosedFormSolver):
-        chosen = "closed_form"
+    if isinstance(solver, ClosedFormSolver) or _partial(path, robot.nq):
+        # A partial pose (a mask, a free tool axis, a pose on a short arm) is solved per sample
+        # from the previous one (kin.ik.partial_pose), every answer verified: the nearest is kept.
+        chosen = "closed_form" if isinstance(solver, ClosedFormSolver) else "partial"
         trace = follow_closed_form(robot, solver, path, seed_q, branch, max_joint_step)
     else:
         chosen = "differential"
@@ -118,6 +120,11 @@ def follow_path(
         max_joint_step=measured.max_joint_step,
         max_step_joint=measured.max_step_joint,
     )
+
+
+def _partial(path: CartesianPath, nq: int) -> bool:
+    """Whether the path's samples are partial poses (:func:`kin.ik.target.is_partial`)."""
+    return path.axes is not None or path.mask is not None or (path.rotations is not None and nq < 6)
 
 
 def path_solver(robot: RobotModel, method: Method = "auto") -> object:

@@ -28,7 +28,9 @@ class PathResult:
         q: Joint path, shape (M, nq) [rad] / [m]; the samples reached, so M is ``stopped_at``
             when the motion stopped.
         path: The Cartesian path that was followed.
-        method: ``"closed_form"`` (one branch, chosen per sample) or ``"differential"``
+        method: ``"closed_form"`` (one branch, chosen per sample), ``"partial"`` (partial poses
+            on an arm without a closed form: each sample solved from the previous one) or
+            ``"differential"``
             (velocity-limited QP steps, :class:`kin.ik.DifferentialIK`).
         branches: Branch label of each reached sample (``""`` for the differential method).
         branch_changes: Sample indices where the branch label changed (with a small joint step).
@@ -113,7 +115,19 @@ def measure_path(
     targets = path.positions[:m]
     deviation = float(np.linalg.norm(T[:, :3, 3] - targets, axis=1).max())
     rotation = None
-    if path.rotations is not None:
+    partial = path.axes is not None or path.mask is not None
+    if partial:  # measured on the constrained components (kin.ik.partial_pose)
+        from ..ik.partial_pose import PartialTask
+
+        errors = [
+            PartialTask(path.target(i)).errors(  # type: ignore[arg-type]
+                PartialTask(path.target(i)).error(T[i, :3, 3], T[i, :3, :3])  # type: ignore[arg-type]
+            )
+            for i in range(m)
+        ]
+        deviation = max(position for position, _ in errors)
+        rotation = max(turn for _, turn in errors)
+    elif path.rotations is not None:
         rotation = max(
             float(np.linalg.norm(pin.log3(R.T @ R_target)))
             for R, R_target in zip(T[:, :3, :3], path.rotations[:m])
@@ -125,7 +139,8 @@ def measure_path(
     points = batch_forward_kinematics(robot.table, inner.reshape(-1, q.shape[1]))[:, :3, 3]
     a = np.repeat(targets[:-1], between, axis=0)
     b = np.repeat(targets[1:], between, axis=0)
-    deviation = max(deviation, float(segment_distance(points, a, b).max()))
+    if path.mask is None or all(path.mask[:3]):  # the tool point is on the segments' line
+        deviation = max(deviation, float(segment_distance(points, a, b).max()))
     steps = np.abs(np.diff(q, axis=0))
     joint = int(np.unravel_index(int(np.argmax(steps)), steps.shape)[1])
     return PathMeasure(deviation, rotation, float(steps.max()), joint)

@@ -72,21 +72,49 @@ class ParallelAxes:
 
     def __init__(self, table: DHTable):
         directions, points, tool = _axes(table)
-        n = directions[0] / np.linalg.norm(directions[0])
         kinds = [row.joint_type for row in table.rows]
+        self._build(table.name, directions, points, tool, kinds)
+
+    @classmethod
+    def from_axes(
+        cls,
+        name: str,
+        directions: list[np.ndarray],
+        points: list[np.ndarray],
+        tool: np.ndarray,
+        kinds: list[str],
+    ) -> ParallelAxes:
+        """The structure of a chain given by its joint axes (world, at ``q = 0``) and tool pose.
+
+        Raises:
+            StructureError: The axes are not all parallel, or the joint counts do not fit.
+        """
+        chain = cls.__new__(cls)
+        chain._build(name, directions, points, tool, kinds)
+        return chain
+
+    def _build(
+        self,
+        name: str,
+        directions: list[np.ndarray],
+        points: list[np.ndarray],
+        tool: np.ndarray,
+        kinds: list[str],
+    ) -> None:
+        n = directions[0] / np.linalg.norm(directions[0])
         for i, u in enumerate(directions):
             if np.linalg.norm(np.cross(u, n)) > PARALLEL_TOL:
                 raise StructureError(
-                    table.name,
+                    name,
                     self.name,
-                    f"{table.dof} joints whose axes are not all parallel (joint {i + 1}'s is not "
+                    f"{len(kinds)} joints whose axes are not all parallel (joint {i + 1}'s is not "
                     "parallel to joint 1's)",
                 )
         self.revolute = [i for i, kind in enumerate(kinds) if kind == "revolute"]
         self.prismatic = [i for i, kind in enumerate(kinds) if kind == "prismatic"]
         if len(self.revolute) not in (2, 3) or len(self.prismatic) > 1:
             raise StructureError(
-                table.name,
+                name,
                 self.name,
                 f"{len(self.revolute)} revolute and {len(self.prismatic)} prismatic joints "
                 "(parallel axes: 2 or 3 revolute, at most 1 prismatic)",
@@ -106,7 +134,7 @@ class ParallelAxes:
             float(np.sign(directions[self.prismatic[0]] @ n)) if self.prismatic else 0.0
         )
         self.tool_rotation = tool[:3, :3]
-        self.nq = table.dof
+        self.nq = len(kinds)
 
     def _plane(self, point: np.ndarray) -> np.ndarray:
         return np.array([point @ self.e1, point @ self.e2])

@@ -22,6 +22,7 @@ from .reversed_chain import Reversed6R
 from .spherical_wrist import SphericalWrist6R
 from .three_parallel import ThreeParallel6R
 from .ur_wrist import URWrist6R
+from .yaw_planar import YawPlanar
 
 #: The registered structures, in the order they are asked.
 CLOSED_FORMS: list[type[ClosedFormStructure]] = [
@@ -30,6 +31,7 @@ CLOSED_FORMS: list[type[ClosedFormStructure]] = [
     Offset3R,
     ParallelAxes3,
     ParallelAxes,
+    YawPlanar,  # base yaw, three parallel pitch joints
     FiveDof,
     URWrist6R,
     SphericalWrist6R,
