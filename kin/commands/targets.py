@@ -67,7 +67,7 @@ def _mask_flags(values: object) -> list[int]:
         raise TargetError(
             f"--mask must be 6 flags 0 or 1 (x y z rx ry rz; 1 = constrained), got {values!r}"
         )
-    return [int(v) for v in items]
+    return [int(v) for v in items]  # type: ignore[call-overload, arg-type]
 
 
 def build_target(

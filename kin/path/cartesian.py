@@ -108,9 +108,9 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
             )
         if not waypoint.finite:
             raise PathError(f"waypoint {number} is not finite", f"waypoint {number}")
-    if kind is PoseTarget and len({w.mask for w in waypoints}) > 1:  # type: ignore[attr-defined]
+    if kind is PoseTarget and len({getattr(w, "mask", None) for w in waypoints}) > 1:
         raise PathError("give every waypoint the same mask (or none)", "mask")
-    if kind is AxisTarget and len({w.tool_axis for w in waypoints}) > 1:  # type: ignore[attr-defined]
+    if kind is AxisTarget and len({getattr(w, "tool_axis", "z") for w in waypoints}) > 1:
         raise PathError("give every waypoint the same tool axis", "tool_axis")
     rolls_given = [getattr(w, "roll", None) is not None for w in waypoints]
     if kind is PitchTarget and any(rolls_given) and not all(rolls_given):

@@ -72,7 +72,7 @@ class ParallelAxes:
 
     def __init__(self, table: DHTable):
         directions, points, tool = _axes(table)
-        kinds = [row.joint_type for row in table.rows]
+        kinds: list[str] = [row.joint_type for row in table.rows]
         self._build(table.name, directions, points, tool, kinds)
 
     @classmethod
