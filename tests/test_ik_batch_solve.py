@@ -81,3 +81,21 @@ def test_bad_arrays_name_the_row():
         solve_batch(robot, points, frames)
     with pytest.raises(TargetError, match="shape"):
         solve_batch(robot, points[:, :2])
+
+
+@pytest.mark.parametrize("name", ["humanoid7", "panda", "xarm7"])
+def test_free_joint_stage_in_a_batch_gives_the_per_call_answers(name):
+    """The batched stage 0 (each seed's free joint, compiled closed form, batched judge) answers
+    what one call per pose answers from the same seed; every answer verified by Pinocchio."""
+    robot, points, frames = _poses(name, 300, seed=8)
+    rng = np.random.default_rng(2)
+    seeds = rng.uniform(robot.lower, robot.upper, size=(300, robot.nq))
+    result = solve_batch(robot, points, frames, seeds)
+    _check(robot, result, points, frames)
+    assert result.success.mean() >= 0.999
+    assert result.stage.count("closed_form_free_joint") >= 290
+    solver = get_solver(robot)
+    for i in range(0, 300, 15):
+        single = solver.solve(PoseTarget(points[i], frames[i]), seeds[i])
+        if result.stage[i] == "closed_form_free_joint" and single.method == result.stage[i]:
+            np.testing.assert_allclose(result.q[i], single.best.q, atol=1e-9)

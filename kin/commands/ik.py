@@ -166,7 +166,17 @@ def _run(args: argparse.Namespace) -> int:
         from .ik_stream import StreamSolver
 
         stream = StreamSolver(
-            robot.name, robot.nq, units, solve, kinds, seed, length, angle, args.all
+            robot.name,
+            robot.nq,
+            units,
+            solve,
+            kinds,
+            seed,
+            length,
+            angle,
+            args.all,
+            batch=_batch_stage(robot, solver),
+            pipeline=getattr(solver, "name", ""),
         )
         return stream.run(sys.stdin, sys.stdout)
     target, given = build_target(
@@ -196,6 +206,50 @@ def _run(args: argparse.Namespace) -> int:
         free_rotation = isinstance(target, PositionTarget)
         _print_result(result, robot.name, units, args.unit, args.all, free_rotation)
     return 0 if result.success else EXIT_NO_SOLUTION
+
+
+def _batch_stage(robot: object, solver: object) -> object:
+    """``batch(points, rotations, seeds)`` of the solver's free-joint closed form, or None.
+
+    The lines of a read batch are answered together by it
+    (:func:`kin.ik.batch_solve.free_joint_answers`) when the solver is the numeric one with a
+    free-joint closed form (humanoid7, Panda, xArm7): the answers its calls would give first.
+    """
+    import numpy as np
+
+    from ..batch_fk import batch_forward_kinematics
+    from ..ik.batch_solve import free_joint_answers
+
+    if getattr(solver, "closed_form", None) is None or getattr(solver, "idealised", None):
+        return None
+    near = 0.0
+    if getattr(solver, "near_seed", False):
+        # A seed whose tool is within the solver's seed reach of the target is answered by its
+        # call (:func:`kin.ik.numeric.starts.seed_leash`: the answer near the seed), not here.
+        near = max(solver.seed_reach, solver.seed_radius)  # type: ignore[attr-defined]
+
+    def batch(points: np.ndarray, rotations: np.ndarray | None, seeds: np.ndarray) -> tuple:
+        far = np.ones(len(points), dtype=bool)
+        if near > 0.0:
+            tools = batch_forward_kinematics(robot.table, seeds)[:, :3, 3]  # type: ignore[attr-defined]
+            far = np.linalg.norm(tools - points, axis=1) > near
+        q = np.full((len(points), seeds.shape[1]), np.nan)
+        position_error = np.full(len(points), np.nan)
+        rotation_error = np.full(len(points), np.nan)
+        if far.any():
+            rows = np.flatnonzero(far)
+            answers = free_joint_answers(
+                solver,
+                robot,
+                points[rows],
+                None if rotations is None else rotations[rows],
+                seeds[rows],
+            )
+            if answers is not None:
+                q[rows], position_error[rows], rotation_error[rows] = answers
+        return q, position_error, rotation_error
+
+    return batch
 
 
 #: A length in meters as the library's messages write it: ``0.386 m`` (not ``m^3``, ``ms``).

@@ -25,6 +25,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -33,8 +34,10 @@ from typing import Any, TextIO
 import numpy as np
 
 from ..exceptions import KinError
+from ..ik.batch_solve import FREE_JOINT_STAGE
+from ..ik.numeric.free_joint import FROM_SEED
 from ..ik.result import IKResult
-from ..ik.target import PositionTarget, Target
+from ..ik.target import PoseTarget, PositionTarget, Target
 from .joint_units import JointUnits
 from .targets import build_target, check_kind
 
@@ -92,6 +95,11 @@ class StreamSolver:
         length: Meters per ``--unit``.
         angle: Radians per input angle unit.
         all_solutions: Answers keep the rejected solutions (``--all``).
+        batch: ``batch(points (N, 3), rotations (N, 3, 3) or None, seeds (N, nq)) -> (q, position
+            errors, rotation errors)`` answering the lines of a read batch together where the
+            solver's first stage can (:func:`kin.ik.batch_solve.free_joint_answers`, NaN rows
+            where it gives none: those lines are solved one by one), or None.
+        pipeline: The solver's name, as the answers of ``batch`` report it.
     """
 
     robot: str
@@ -103,9 +111,20 @@ class StreamSolver:
     length: float
     angle: float
     all_solutions: bool = False
+    batch: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
+    pipeline: str = "numeric"
 
     def answer(self, line: str | bytes) -> dict[str, Any]:
         """The answer to one input line.
+
+        Raises:
+            KinError, ValueError: A bad line (not JSON, unknown key, bad values, wrong kind).
+        """
+        target, seed = self.request(line)
+        return result_record(self.solve(target, seed), target, self.all_solutions)
+
+    def request(self, line: str | bytes) -> tuple[Target, np.ndarray | None]:
+        """The target and seed [rad, m] of one input line.
 
         Raises:
             KinError, ValueError: A bad line (not JSON, unknown key, bad values, wrong kind).
@@ -146,7 +165,7 @@ class StreamSolver:
             if not isinstance(seed_q, list):
                 raise ValueError(f'"seed_q" must be a list of numbers, got {seed_q!r}')
             seed = self.units.to_si(seed_q, '"seed_q"')
-        return result_record(self.solve(target, seed), target, self.all_solutions)
+        return target, seed
 
     def run(self, source: TextIO | Iterable[str], out: TextIO) -> int:
         """Answer every line of ``source`` on ``out``, one JSON line each.
@@ -160,43 +179,141 @@ class StreamSolver:
         q_units = list(self.units.si_labels)
         # the records are fresh trees of dicts and lists: no need to look for cycles
         dumps = json.JSONEncoder(check_circular=False).encode
-        write, flush, answer = out.write, out.flush, self.answer
+        write, flush = out.write, out.flush
         number = 0
         failed = False
-        for batch in line_batches(source):
-            for count, line in enumerate(batch, start=1):
-                number += 1
-                if not line or line.isspace():
-                    record: dict[str, Any] = {"line": number, "skipped": "blank line"}
-                else:
-                    try:
-                        with warnings.catch_warnings(record=True) as caught:
-                            warnings.simplefilter("always")
-                            record = answer(line)
-                        if caught:  # unit slips of this line: in its answer, not on stderr
-                            record["warnings"] = [" ".join(str(w.message).split()) for w in caught]
-                    except (KinError, ValueError, TypeError) as err:
-                        record = {"line": number, "error": " ".join(str(err).split())}
-                        failed = True
-                    except Exception as err:  # noqa: BLE001 - one line fails, never the stream
-                        logger.debug("line %d: unexpected error", number, exc_info=True)
-                        text = " ".join(str(err).split())
-                        record = {
-                            "line": number,
-                            "error": f"internal error: {type(err).__name__}: {text}",
-                        }
-                        failed = True
-                    else:
-                        record["line"] = number
-                        record["q_units"] = q_units
-                        failed = failed or not record["success"]
+        for lines in line_batches(source):
+            records = self._records(lines, number)
+            for count, record in enumerate(records, start=1):
+                if "error" in record or ("success" in record and not record["success"]):
+                    failed = True
+                if "success" in record:
+                    record["q_units"] = q_units
                 write(dumps(record) + "\n")
                 if count % FLUSH_EVERY == 0:
                     flush()
+            number += len(lines)
             flush()
             if getattr(out, "broken", False):  # the reader is gone (| head): stop reading
                 break
         return 1 if failed else 0
+
+    def _records(self, lines: Sequence[str | bytes], before: int) -> list[dict[str, Any]]:
+        """The answers of a batch of input lines (the first is line ``before + 1``), in order.
+
+        Lines the batch stage takes (:attr:`batch`: full poses or positions, without --all) are
+        solved together; the others, and those it leaves unanswered, one by one.
+        """
+        records: list[dict[str, Any] | None] = [None] * len(lines)
+        notes: list[list[str]] = [[] for _ in lines]
+        together: list[tuple[int, Target, np.ndarray | None]] = []
+        for index, line in enumerate(lines):
+            number = before + index + 1
+            if not line or line.isspace():
+                records[index] = {"skipped": "blank line"}
+                continue
+            try:
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always")
+                    target, seed = self.request(line)
+                notes[index] = [" ".join(str(w.message).split()) for w in caught]
+            except Exception as err:  # noqa: BLE001 - one line fails, never the stream
+                records[index] = _error_record(number, err)
+                continue
+            if self._batched(target):
+                together.append((index, target, seed))
+            else:
+                records[index] = self._solved(number, target, seed)
+        if together:
+            for index, record in self._solved_together(together, before).items():
+                records[index] = record
+        out = []
+        for index, record in enumerate(records):
+            assert record is not None
+            number = before + index + 1
+            if "error" in record or "skipped" in record:
+                out.append({"line": number, **record})
+                continue
+            if notes[index]:
+                record["warnings"] = notes[index]
+            record["line"] = number
+            out.append(record)
+        return out
+
+    def _batched(self, target: Target) -> bool:
+        """Whether ``target`` goes to the batch stage."""
+        if self.batch is None or self.all_solutions:
+            return False
+        cls = target.__class__
+        return cls is PositionTarget or (cls is PoseTarget and target.mask is None)  # type: ignore[union-attr]
+
+    def _solved(self, number: int, target: Target, seed: np.ndarray | None) -> dict[str, Any]:
+        """The answer of one target by the solver (an error record if it raises)."""
+        try:
+            return result_record(self.solve(target, seed), target, self.all_solutions)
+        except Exception as err:  # noqa: BLE001 - one line fails, never the stream
+            return _error_record(number, err)
+
+    def _solved_together(
+        self, items: list[tuple[int, Target, np.ndarray | None]], before: int
+    ) -> dict[int, dict[str, Any]]:
+        """The answers of the batch stage's lines (poses and positions apart), by line index."""
+        records: dict[int, dict[str, Any]] = {}
+        assert self.batch is not None
+        for poses in (True, False):
+            group = [item for item in items if (item[1].__class__ is PoseTarget) == poses]
+            if not group:
+                continue
+            start = time.perf_counter()
+            points = np.array([target.position for _, target, _ in group])
+            rotations = (
+                np.array([target.rotation for _, target, _ in group])  # type: ignore[union-attr]
+                if poses
+                else None
+            )
+            default = np.zeros(self.nq) if self.seed is None else self.seed
+            seeds = np.array([default if seed is None else seed for _, _, seed in group])
+            try:
+                q, position_error, rotation_error = self.batch(points, rotations, seeds)
+            except Exception:  # noqa: BLE001 - the lines go one by one instead
+                logger.debug("batch stage failed", exc_info=True)
+                q = np.full((len(group), self.nq), np.nan)
+            each = (time.perf_counter() - start) / len(group)
+            found = ~np.isnan(q).any(axis=1)
+            for k, (index, target, seed) in enumerate(group):
+                if not found[k]:
+                    records[index] = self._solved(before + index + 1, target, seed)
+                    continue
+                solution = {
+                    "q": q[k].tolist(),
+                    "branch": "",
+                    "within_limits": True,
+                    "position_error_m": float(position_error[k]),
+                    "rotation_error_rad": float(rotation_error[k]) if poses else None,
+                }
+                records[index] = {
+                    "success": True,
+                    "solver": self.pipeline,
+                    "status": "ok",
+                    "message": FROM_SEED,
+                    "solutions": [solution],
+                    "rejected": [],
+                    "method": FREE_JOINT_STAGE,
+                    "distance_to_workspace_m": None,
+                    "iterations": 0,
+                    "time_s": each,
+                    "free": [],
+                }
+        return records
+
+
+def _error_record(number: int, err: Exception) -> dict[str, Any]:
+    """The answer of a line that failed: its message, or an internal error's (logged)."""
+    text = " ".join(str(err).split())
+    if isinstance(err, (KinError, ValueError, TypeError)):
+        return {"error": text}
+    logger.debug("line %d: unexpected error", number, exc_info=True)
+    return {"error": f"internal error: {type(err).__name__}: {text}"}
 
 
 def line_batches(source: TextIO | Iterable[str]) -> Iterator[Sequence[str | bytes]]:

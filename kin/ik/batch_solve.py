@@ -18,14 +18,15 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from kin import RobotModel
+from kin import RobotModel, batch_forward_kinematics
 
 from .analytic.batch import BatchResult, BatchSolver
 from .dispatch import get_solver
 from .exceptions import StructureError, TargetError
+from .judge import batch_pose_errors
 from .target import ROTATION_SNAP, PoseTarget, PositionTarget
 
-__all__ = ["BatchIKResult", "solve_batch"]
+__all__ = ["FREE_JOINT_STAGE", "BatchIKResult", "free_joint_answers", "solve_batch"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,7 +123,7 @@ def solve_batch(
     vectorized = _closed_form(robot, frames is not None)
     if vectorized is not None and n:
         return _vectorized(vectorized, points, frames, start, all_branches)
-    return _one_by_one(robot, points, frames, start, timeout)
+    return _free_joint_first(robot, points, frames, start, timeout)
 
 
 def _closed_form(robot: RobotModel, poses: bool) -> BatchSolver | None:
@@ -165,14 +166,130 @@ def _vectorized(
     )
 
 
-def _one_by_one(
+def _free_joint_first(
     robot: RobotModel,
     points: np.ndarray,
     frames: np.ndarray | None,
     seeds: np.ndarray,
     timeout: float | None,
 ) -> BatchIKResult:
+    """Stage 0 of the numeric pipeline for every target, then the whole solver for the rest.
+
+    For an arm with a free-joint closed form (:func:`free_joint_answers`), the targets it
+    answers; the others go through the robot's solver one by one (:func:`_one_by_one`), every
+    stage of it.
+    """
     solver = get_solver(robot)
+    answers = free_joint_answers(solver, robot, points, frames, seeds) if len(points) else None
+    if answers is None:
+        return _one_by_one(robot, points, frames, seeds, timeout, solver)
+    q, position_error, rotation_error = answers
+    found = ~np.isnan(q).any(axis=1)
+    stage = [FREE_JOINT_STAGE if ok else "" for ok in found.tolist()]
+    rest = np.flatnonzero(~found)
+    if rest.size:
+        others = _one_by_one(
+            robot,
+            points[rest],
+            None if frames is None else frames[rest],
+            seeds[rest],
+            timeout,
+            solver,
+        )
+        q[rest] = others.q
+        position_error[rest] = others.position_error
+        rotation_error[rest] = others.rotation_error
+        for k, i in enumerate(rest.tolist()):
+            stage[i] = others.stage[k]
+    success = ~np.isnan(q).any(axis=1)
+    return BatchIKResult(q, success, position_error, rotation_error, tuple(stage))
+
+
+#: :attr:`BatchIKResult.stage` of an answer of the free-joint closed form (as the per-call
+#: solver's :attr:`~kin.ik.IKResult.method`).
+FREE_JOINT_STAGE = "closed_form_free_joint"
+
+
+def free_joint_answers(
+    solver: object,
+    robot: RobotModel,
+    points: np.ndarray,
+    frames: np.ndarray | None,
+    seeds: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The free-joint closed form's answers of N targets, or None when the solver has none.
+
+    For an arm with a free-joint closed form (:mod:`.numeric.free_joint`: humanoid7's, Panda's,
+    xArm7's; not on an idealised table), each target's branch with its seed's free joint
+    (scanned outward, coarse to fine, when that gives none inside the limits), as the first step
+    of a call of the solver from that seed: the compiled twin in one call per target. The
+    candidates are measured together by the batched judge (:func:`~kin.ik.judge.batch_pose_errors`
+    on the table's DH product): kept within 1e-9 m and rad and inside the limits.
+
+    Args:
+        solver: The robot's solver (:func:`~kin.ik.get_solver`).
+        robot: The robot.
+        points: Target positions (N, 3) [m], world frame.
+        frames: Target rotations (N, 3, 3), or None for positions.
+        seeds: Start joint vectors (N, nq) [rad].
+
+    Returns:
+        ``(q, position_error, rotation_error)``: (N, nq) with NaN rows where the closed form
+        gave no verified answer, and the errors (N,) [m], [rad] (NaN there, and for positions).
+    """
+    closed = getattr(solver, "closed_form", None)
+    if closed is None or getattr(solver, "idealised", None) is not None:
+        return None
+    n, nq = points.shape[0], robot.nq
+    candidates = np.full((n, nq), np.nan)
+    out = np.empty(nq)
+    compiled = bool(getattr(solver, "compiled", False))
+    steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
+    prepare, first = closed.prepare, closed.first
+    for i in range(n):
+        prepared = prepare(points[i], None if frames is None else frames[i])
+        if prepared is None:
+            continue
+        start = seeds[i : i + 1]
+        for step in steps:
+            if first(prepared, start, out, step, compiled) == 0:
+                candidates[i] = out
+                break
+    found = ~np.isnan(candidates).any(axis=1)
+    position_error = np.full(n, np.nan)
+    rotation_error = np.full(n, np.nan)
+    if found.any():
+        rows = np.flatnonzero(found)
+        chosen = candidates[rows]
+        poses = batch_forward_kinematics(robot.table, chosen)
+        p_err, r_err = batch_pose_errors(
+            poses, points[rows], None if frames is None else frames[rows]
+        )
+        ok = p_err < _CLOSED_TOLERANCE
+        if r_err is not None:
+            ok &= r_err < _CLOSED_TOLERANCE
+        ok &= np.all((chosen >= robot.lower) & (chosen <= robot.upper), axis=1)
+        candidates[rows[~ok]] = np.nan
+        position_error[rows[ok]] = p_err[ok]
+        if r_err is not None:
+            rotation_error[rows[ok]] = r_err[ok]
+    return candidates, position_error, rotation_error
+
+
+#: Largest position [m] and rotation [rad] error of a closed-form candidate in a batch.
+_CLOSED_TOLERANCE = 1e-9
+
+
+def _one_by_one(
+    robot: RobotModel,
+    points: np.ndarray,
+    frames: np.ndarray | None,
+    seeds: np.ndarray,
+    timeout: float | None,
+    solver: object | None = None,
+) -> BatchIKResult:
+    """The robot's solver, target by target (every stage of it)."""
+    solve = (get_solver(robot) if solver is None else solver).solve  # type: ignore[attr-defined]
     n, nq = points.shape[0], robot.nq
     q = np.full((n, nq), np.nan)
     position_error = np.full(n, np.nan)
@@ -180,7 +297,7 @@ def _one_by_one(
     stage = []
     for i in range(n):
         target = PositionTarget(points[i]) if frames is None else PoseTarget(points[i], frames[i])
-        result = solver.solve(target, seeds[i], timeout=timeout)
+        result = solve(target, seeds[i], timeout=timeout)
         if result.success:
             best = result.solutions[0]
             q[i] = best.q
