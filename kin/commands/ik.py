@@ -46,7 +46,10 @@ from ..cli import (
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from ..ik.result import IKResult
+    from ..robot_model import RobotModel
     from .joint_units import JointUnits
 
 PROG = "kin ik"
@@ -208,7 +211,7 @@ def _run(args: argparse.Namespace) -> int:
     return 0 if result.success else EXIT_NO_SOLUTION
 
 
-def _batch_stage(robot: object, solver: object) -> object:
+def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., tuple] | None:
     """``batch(points, rotations, seeds)`` of the solver's free-joint closed form, or None.
 
     The lines of a read batch are answered together by it

@@ -228,8 +228,9 @@ class StreamSolver:
             for index, record in self._solved_together(together, before).items():
                 records[index] = record
         out = []
-        for index, record in enumerate(records):
-            assert record is not None
+        for index, answer in enumerate(records):
+            assert answer is not None
+            record = answer
             number = before + index + 1
             if "error" in record or "skipped" in record:
                 out.append({"line": number, **record})
