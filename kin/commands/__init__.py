@@ -23,6 +23,7 @@ COMMANDS: dict[str, str] = {
     "ik": "inverse kinematics of a tool target (or JSON targets on stdin)",
     "path": "joint path along a Cartesian line or polyline, optionally time-optimal (toppra)",
     "preview": "browser view (meshcat) of the arm, its frames, a target and the IK motion",
+    "reach": "reachability map: fraction of tool orientations reached per voxel (.npz, PNG)",
     "robots": "the shipped robots: joints and source of each DH table",
     "workspace": "Monte Carlo workspace: reach, bounding box, volume, PNG of the views",
 }

@@ -1,0 +1,96 @@
+"""Reachability (capability) map: per voxel, the fraction of K tool orientations the arm reaches.
+
+For each voxel of the cube around the base that holds the arm's maximum reach, K tool
+orientations spread evenly over SO(3) (a super-Fibonacci spiral: deterministic, the same K gives
+the same rotations) are solved by batch IK at the voxel's centre; the index is the fraction with
+a verified answer inside the joint limits. Voxels beyond the maximum reach get 0 unsolved.
+--scheduler ADDRESS (or local-cluster:N) runs the chunks on a Dask cluster: same map.
+
+-o writes the map (.npz: voxel_m, centers_m (n, n, n, 3), index (n, n, n), orientations,
+rotations, time_s; SI units) through a temporary file and a rename; --png draws horizontal
+slices. --json prints the same as one JSON object (SI units). Progress on stderr; Ctrl-C stops
+with one line and exit 130, leaving no file.
+"""
+
+from __future__ import annotations
+
+import json
+
+from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
+from .robot_argument import add_robot_arguments, load_robot_argument
+
+PROG = "kin reach"
+
+
+def get_argument_parser(prog: str = PROG) -> ArgumentParser:
+    """Command-line arguments of ``kin reach``."""
+    parser = ArgumentParser(prog=prog, description=__doc__)
+    add_robot_arguments(parser)
+    parser.add_argument(
+        "--voxel", type=positive_float, default=0.05, help="voxel edge in --unit (default 0.05 m)"
+    )
+    parser.add_argument(
+        "--orientations",
+        type=positive_int,
+        default=64,
+        metavar="K",
+        help="tool orientations per voxel (default 64)",
+    )
+    parser.add_argument(
+        "--scheduler",
+        default="local",
+        metavar="local|ADDRESS",
+        help="local (this process, default), a Dask scheduler address, or local-cluster:N",
+    )
+    parser.add_argument("-o", "--output", required=True, metavar="FILE.npz", help="the map")
+    parser.add_argument("--png", metavar="FILE", help="draw horizontal slices (.png, .svg, .pdf)")
+    parser.add_argument("--json", action="store_true", help="print the map as JSON, SI units")
+    parser.add_argument(
+        "--unit", choices=("m", "cm", "mm"), default="m", help="length unit (default m)"
+    )
+    parser.add_argument(
+        "--timeout",
+        type=positive_float,
+        help="numeric IK time budget per pose [ms] (default: the solver's)",
+    )
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = PROG) -> int:
+    """Compute and write the map; exit 0, 2 for bad input, 130 on Ctrl-C."""
+    args = get_argument_parser(prog).parse_args(argv)
+
+    def body() -> int:
+        from ..reach_map import plot_reach_map, reachability_map, save_reach_map
+        from .output_file import FIGURE_SUFFIXES, checked_output
+        from .workspace import _Progress
+
+        output = checked_output(args.output, "-o", (".npz",))  # before minutes of solving
+        if args.png:
+            checked_output(args.png, "--png", FIGURE_SUFFIXES)
+        robot = load_robot_argument(args)
+        reach_map = reachability_map(
+            robot,
+            args.voxel * length_scale(args.unit),
+            args.orientations,
+            scheduler=args.scheduler,
+            progress=_Progress(prog),
+            timeout=None if args.timeout is None else args.timeout / 1e3,
+        )
+        save_reach_map(reach_map, output)
+        if args.png:
+            plot_reach_map(reach_map, args.png, args.unit)
+        if args.json:
+            print(json.dumps(reach_map.to_dict()))
+        else:
+            solved = int((reach_map.index > 0).sum())
+            print(
+                f"{reach_map.robot}: {reach_map.index.size:,} voxels of "
+                f"{args.voxel:g} {args.unit}, {solved:,} with an index above 0, "
+                f"best {reach_map.index.max():.3g}; {reach_map.orientations} orientations; "
+                f"{reach_map.time_s:.1f} s; wrote {output}"
+                + (f" and {args.png}" if args.png else "")
+            )
+        return 0
+
+    return run_guarded(prog, body)

@@ -1,0 +1,216 @@
+"""Reachability maps (``kin reach``): zero beyond the reach, per-call IK agrees voxel by voxel,
+a Dask LocalCluster gives the local map, bad input is one line and exit 2, Ctrl-C leaves no file.
+
+``KIN_REACH_CHECK_VOXELS`` sets how many random voxels are recomputed with per-call IK (default
+40; the issue's check is 200).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+from kin import KinError, load_robot
+from kin.commands.reach import main as reach_main
+from kin.ik import PoseTarget, get_solver
+from kin.ik.reach import arm_reach
+from kin.reach_map import (
+    ReachMap,
+    load_reach_map,
+    reachability_map,
+    save_reach_map,
+    super_fibonacci_rotations,
+)
+
+VOXEL = 0.2
+K = 8
+CHECK_VOXELS = int(os.environ.get("KIN_REACH_CHECK_VOXELS", "40"))
+
+
+@pytest.fixture(scope="module")
+def ur5_map() -> ReachMap:
+    return reachability_map(load_robot("ur5"), VOXEL, K)
+
+
+def test_orientations_are_rotations_spread_over_so3():
+    """Super-Fibonacci rotations: orthonormal, det 1, deterministic, and evenly spread (the mean
+    of each matrix entry of a uniform rotation is 0; no two rotations coincide)."""
+    rotations = super_fibonacci_rotations(500)
+    gram = np.einsum("kji,kjl->kil", rotations, rotations)
+    assert np.abs(gram - np.eye(3)).max() < 1e-12
+    assert np.allclose(np.linalg.det(rotations), 1.0)
+    assert np.array_equal(rotations, super_fibonacci_rotations(500))
+    assert np.abs(rotations.mean(axis=0)).max() < 0.02
+    traces = np.einsum("aji,bji->ab", rotations[:50], rotations)  # trace(Ra^T Rb)
+    np.fill_diagonal(traces[:, :50], -1.0)
+    assert traces.max() < 3.0 - 1e-3  # angle between any two > ~1.8 degrees
+
+
+def test_shape_units_and_zero_beyond_the_maximum_reach(ur5_map):
+    """Centres on the voxel grid around the base origin; every centre beyond the maximum reach
+    has index 0; indices are multiples of 1/K in [0, 1], some 1 and some 0 inside."""
+    robot = load_robot("ur5")
+    reach = arm_reach(robot)
+    n = ur5_map.index.shape[0]
+    assert ur5_map.centers_m.shape == (n, n, n, 3) and ur5_map.orientations == K
+    assert np.allclose(np.diff(ur5_map.centers_m[:, 0, 0, 0]), VOXEL)
+    assert np.allclose(ur5_map.centers_m[n // 2, n // 2, n // 2], reach.origin)
+    assert (n // 2 + 0.5) * VOXEL >= reach.maximum
+    distance = np.linalg.norm(ur5_map.centers_m - reach.origin, axis=-1)
+    assert (distance > reach.maximum).any()
+    assert np.all(ur5_map.index[distance > reach.maximum] == 0.0)
+    assert np.allclose(ur5_map.index * K, np.round(ur5_map.index * K))
+    assert ur5_map.index.max() == 1.0 and (ur5_map.index[distance < 0.5] > 0).any()
+
+
+def test_random_voxels_agree_with_per_call_ik(ur5_map):
+    """Random voxels inside the reach, recomputed with the documented per-call solver (one
+    PoseTarget per orientation): the same index, exactly (the UR5 is solved in closed form)."""
+    robot = load_robot("ur5")
+    solver = get_solver(robot)
+    reach = arm_reach(robot)
+    rotations = super_fibonacci_rotations(K)
+    centers = ur5_map.centers_m.reshape(-1, 3)
+    index = ur5_map.index.reshape(-1)
+    inside = np.flatnonzero(np.linalg.norm(centers - reach.origin, axis=1) <= reach.maximum)
+    rng = np.random.default_rng(20)
+    picked = rng.choice(inside, size=min(CHECK_VOXELS, len(inside)), replace=False)
+    mismatches = []
+    for i in picked.tolist():
+        reached = sum(solver.solve(PoseTarget(centers[i], r)).success for r in rotations)
+        if reached != round(index[i] * K):
+            mismatches.append((centers[i].tolist(), reached, index[i] * K))
+    assert mismatches == []
+    assert len({round(index[i] * K) for i in picked.tolist()}) > 2  # not all 0 or all K
+
+
+def test_a_local_dask_cluster_gives_the_local_map(ur5_map):
+    """A LocalCluster of 2 workers (a Client, and its address) gives the local map exactly."""
+    distributed = pytest.importorskip("distributed", reason="dask[distributed] not installed")
+    robot = load_robot("ur5")
+    cluster = distributed.LocalCluster(
+        n_workers=2, processes=False, threads_per_worker=1, dashboard_address=None
+    )
+    with cluster, distributed.Client(cluster) as client:
+        assert len(client.scheduler_info()["workers"]) == 2
+        on_dask = reachability_map(robot, VOXEL, K, scheduler=client, chunk_poses=400)
+        by_address = reachability_map(robot, VOXEL, K, scheduler=cluster.scheduler_address)
+    assert np.array_equal(on_dask.index, ur5_map.index)
+    assert np.array_equal(by_address.index, ur5_map.index)
+    assert np.array_equal(on_dask.centers_m, ur5_map.centers_m)
+
+
+def test_chunking_does_not_change_the_map(ur5_map):
+    """Chunks of one voxel give the map of the default chunks."""
+    small = reachability_map(load_robot("ur5"), VOXEL, K, chunk_poses=1)
+    assert np.array_equal(small.index, ur5_map.index)
+
+
+def test_cli_writes_npz_png_and_json(tmp_path, capsys):
+    """-o, --png, --json: the .npz and the JSON hold the same arrays; no temporary file is left;
+    --unit cm takes the voxel in cm."""
+    pytest.importorskip("matplotlib")
+    out, png = tmp_path / "ur5.npz", tmp_path / "ur5.png"
+    argv = ["--robot", "ur5", "--voxel", "20", "--unit", "cm", "--orientations", str(K)]
+    assert reach_main([*argv, "-o", str(out), "--png", str(png), "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert {"voxel_m", "centers_m", "index", "orientations", "time_s"} <= set(document)
+    assert document["voxel_m"] == pytest.approx(VOXEL) and document["orientations"] == K
+    saved = load_reach_map(out)
+    assert np.array_equal(saved.index, np.array(document["index"]))
+    assert np.allclose(saved.centers_m, np.array(document["centers_m"]))
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5.npz", "ur5.png"]
+    with np.load(out) as data:
+        assert {"voxel_m", "centers_m", "index", "orientations", "time_s"} <= set(data.files)
+
+
+def _exit_code(argv: list[str]) -> int:
+    """The exit code of ``kin reach argv`` (argparse's errors exit through SystemExit)."""
+    try:
+        return reach_main(argv)
+    except SystemExit as stop:
+        return int(stop.code or 0)
+
+
+@pytest.mark.parametrize(
+    ("extra", "needle"),
+    [
+        (["--voxel", "-0.1"], "--voxel"),
+        (["--voxel", "0"], "--voxel"),
+        (["--orientations", "0"], "--orientations"),
+        (["--voxel", "0.0001"], "voxel"),
+        (["--scheduler", "local-cluster:x"], "local-cluster:N"),
+    ],
+)
+def test_cli_bad_input_is_one_line_and_exit_2(tmp_path, capsys, extra, needle):
+    out = tmp_path / "m.npz"
+    code = _exit_code(["--robot", "ur5", "-o", str(out), *extra])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and needle in err, err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("output", ["missing/m.npz", "m.txt", "."])
+def test_cli_unwritable_output_is_one_line_and_exit_2(tmp_path, capsys, output):
+    code = reach_main(["--robot", "ur5", "--voxel", "0.3", "-o", str(tmp_path / output)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and err.startswith("kin reach: error: -o"), err
+
+
+def test_cli_read_only_folder_is_one_line_and_exit_2(tmp_path, capsys):
+    if os.geteuid() == 0:
+        pytest.skip("root writes anywhere")
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o500)
+    try:
+        code = reach_main(["--robot", "ur5", "--voxel", "0.3", "-o", str(folder / "m.npz")])
+    finally:
+        folder.chmod(0o700)
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "not writable" in err
+
+
+def test_cli_ctrl_c_leaves_no_file(tmp_path, capsys, monkeypatch):
+    """Ctrl-C after some chunks: one line, exit 130, neither the map nor a temporary file."""
+    import kin.reach_map as reach_module
+
+    calls = []
+    real = reach_module.count_reached
+
+    def interrupted(*args, **kwargs):  # noqa: ANN002, ANN003
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(reach_module, "count_reached", interrupted)
+    monkeypatch.setattr(reach_module, "DEFAULT_CHUNK_POSES", 80)
+    out = tmp_path / "m.npz"
+    code = reach_main(["--robot", "ur5", "--voxel", "0.2", "--orientations", "8", "-o", str(out)])
+    assert code == 130
+    assert capsys.readouterr().err == "kin reach: interrupted\n"
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_ctrl_c_while_writing_leaves_no_file(tmp_path, ur5_map, monkeypatch):
+    """An interrupt inside the .npz write removes the temporary file and leaves no map."""
+
+    def interrupted(*args, **kwargs):  # noqa: ANN002, ANN003
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(np, "savez_compressed", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        save_reach_map(ur5_map, tmp_path / "m.npz")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_library_refuses_bad_arguments():
+    robot = load_robot("ur5")
+    for voxel, k in ((-0.1, 8), (float("nan"), 8), (0.2, 0), (0.2, 2.5)):
+        with pytest.raises(KinError):
+            reachability_map(robot, voxel, k)  # type: ignore[arg-type]
