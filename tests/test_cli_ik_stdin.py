@@ -10,7 +10,7 @@ import time
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import kin_command, write_rrpr4
+from cli_helper import kin_command, run, write_rrpr4
 from dh_reference import fk_frames, load_reference
 
 from kin import Configuration, load_robot
@@ -258,3 +258,55 @@ def test_an_unexpected_exception_in_one_line_is_that_lines_error(monkeypatch, ca
     assert answers[0]["success"] and answers[2]["success"]
     assert answers[1] == answers[3] | {"line": 2}
     assert answers[1]["error"] == "internal error: ZeroDivisionError: boom"
+
+
+def test_batched_stream_gives_the_per_line_answers():
+    """Hundreds of lines through a pipe (read in batches): plain poses and positions are answered
+    together, the rest line by line; every answer is the one `kin ik` gives that line alone."""
+    import numpy as np
+
+    from kin import load_robot
+    from kin.batch_fk import batch_forward_kinematics
+
+    robot = load_robot("humanoid7")
+    rng = np.random.default_rng(4)
+    q = rng.uniform(robot.lower, robot.upper, size=(240, robot.nq))
+    poses = batch_forward_kinematics(robot.table, q)
+    lines = []
+    for i, pose in enumerate(poses):
+        target = pose[:3, 3].tolist()
+        r = pose[:3, :3]
+        rpy = [
+            float(np.arctan2(r[2, 1], r[2, 2])),
+            float(np.arcsin(-np.clip(r[2, 0], -1.0, 1.0))),
+            float(np.arctan2(r[1, 0], r[0, 0])),
+        ]
+        kind = i % 8
+        if kind == 0:
+            lines.append(json.dumps({"target": target}))
+        elif kind == 1:
+            lines.append(json.dumps({"target": target, "rpy": rpy, "seed_q": q[i].tolist()}))
+        elif kind == 2:
+            lines.append("")
+        elif kind == 3:
+            lines.append(json.dumps({"target": [1e3, 0.0, 0.0], "rpy": rpy}))
+        elif kind == 4:
+            lines.append(json.dumps({"target": target, "position_only": True}))
+        elif kind == 5:
+            lines.append('{"target": [1, 2]}')
+        else:
+            lines.append(json.dumps({"target": target, "rpy": rpy}))
+    done = run(["ik", "--robot", "humanoid7", "--stdin"], stdin="\n".join(lines) + "\n")
+    answers = [json.loads(line) for line in done.stdout.splitlines()]
+    assert [a["line"] for a in answers] == list(range(1, len(lines) + 1))
+    for number in range(0, len(lines), 7):  # every 7th line, alone
+        alone = run(["ik", "--robot", "humanoid7", "--stdin"], stdin=lines[number] + "\n")
+        single = json.loads(alone.stdout)
+        both = answers[number]
+        assert set(single) - {"time_s"} == set(both) - {"time_s"}, number
+        for key in ("success", "status", "method", "error", "skipped"):
+            assert single.get(key) == both.get(key), (number, key)
+        if single.get("solutions"):
+            np.testing.assert_allclose(
+                single["solutions"][0]["q"], both["solutions"][0]["q"], atol=1e-12
+            )

@@ -234,8 +234,9 @@ def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., tuple] | No
     def batch(points: np.ndarray, rotations: np.ndarray | None, seeds: np.ndarray) -> tuple:
         far = np.ones(len(points), dtype=bool)
         if near > 0.0:
-            tools = batch_forward_kinematics(robot.table, seeds)[:, :3, 3]  # type: ignore[attr-defined]
-            far = np.linalg.norm(tools - points, axis=1) > near
+            tools = batch_forward_kinematics(robot.table, seeds)[:, :3, 3]
+            with np.errstate(all="ignore"):  # a target 1e200 m away is far (inf), no warning
+                far = np.hypot(np.hypot(*(tools - points)[:, :2].T), (tools - points)[:, 2]) > near
         q = np.full((len(points), seeds.shape[1]), np.nan)
         position_error = np.full(len(points), np.nan)
         rotation_error = np.full(len(points), np.nan)

@@ -185,11 +185,14 @@ class StreamSolver:
         for lines in line_batches(source):
             records = self._records(lines, number)
             for count, record in enumerate(records, start=1):
-                if "error" in record or ("success" in record and not record["success"]):
-                    failed = True
-                if "success" in record:
-                    record["q_units"] = q_units
-                write(dumps(record) + "\n")
+                if record.__class__ is str:  # a verified answer of the batch stage, encoded
+                    write(record)  # type: ignore[arg-type]
+                else:
+                    if "error" in record or ("success" in record and not record["success"]):
+                        failed = True
+                    if "success" in record:
+                        record["q_units"] = q_units  # type: ignore[index]
+                    write(dumps(record) + "\n")
                 if count % FLUSH_EVERY == 0:
                     flush()
             number += len(lines)
@@ -198,16 +201,23 @@ class StreamSolver:
                 break
         return 1 if failed else 0
 
-    def _records(self, lines: Sequence[str | bytes], before: int) -> list[dict[str, Any]]:
+    def _records(self, lines: Sequence[str | bytes], before: int) -> list[dict[str, Any] | str]:
         """The answers of a batch of input lines (the first is line ``before + 1``), in order.
 
         Lines the batch stage takes (:attr:`batch`: full poses or positions, without --all) are
-        solved together; the others, and those it leaves unanswered, one by one.
+        solved together (those of the plainest form, ``{"target": [...], "rpy": [...]}`` or a
+        target alone, read together too: :meth:`_plain`); the others, and those it leaves
+        unanswered, one by one.
         """
-        records: list[dict[str, Any] | None] = [None] * len(lines)
+        records: list[dict[str, Any] | str | None] = [None] * len(lines)
+        if self.batch is not None and not self.all_solutions:
+            for index, encoded in self._plain(lines, before).items():
+                records[index] = encoded
         notes: list[list[str]] = [[] for _ in lines]
         together: list[tuple[int, Target, np.ndarray | None]] = []
         for index, line in enumerate(lines):
+            if records[index] is not None:
+                continue
             number = before + index + 1
             if not line or line.isspace():
                 records[index] = {"skipped": "blank line"}
@@ -227,10 +237,13 @@ class StreamSolver:
         if together:
             for index, record in self._solved_together(together, before).items():
                 records[index] = record
-        out = []
+        out: list[dict[str, Any] | str] = []
         for index, answer in enumerate(records):
             assert answer is not None
-            record = answer
+            if answer.__class__ is str:
+                out.append(answer)
+                continue
+            record: dict[str, Any] = answer  # type: ignore[assignment]
             number = before + index + 1
             if "error" in record or "skipped" in record:
                 out.append({"line": number, **record})
@@ -240,6 +253,100 @@ class StreamSolver:
             record["line"] = number
             out.append(record)
         return out
+
+    def _plain(self, lines: Sequence[str | bytes], before: int) -> dict[int, str]:
+        """The encoded answers of the plainest lines, read and solved together, by line index.
+
+        A line ``{"target": [x, y, z]}`` or ``{"target": [x, y, z], "rpy": [r, p, y]}`` of finite
+        numbers (no ``true``/``false`` anywhere, no angle beyond a turn without --deg: those
+        take the checks of :meth:`request`) is read with the others into arrays (one check for
+        all) and answered by :attr:`batch`; what it answers is encoded here (the record of
+        :func:`result_record`, the same keys in the same order). Every other line is left to
+        the line-by-line path.
+        """
+        groups: dict[bool, list[tuple[int, Any, Any]]] = {True: [], False: []}
+        for index, line in enumerate(lines):
+            if not line:
+                continue
+            text = line.decode() if line.__class__ is bytes else line
+            if "true" in text or "false" in text:  # type: ignore[operator]
+                continue
+            try:
+                request = _decode(text)
+            except ValueError:
+                continue
+            if request.__class__ is not dict:
+                continue
+            size = len(request)
+            if size == 1 and "target" in request:
+                groups[False].append((index, request["target"], None))
+            elif size == 2 and "target" in request and "rpy" in request:
+                groups[True].append((index, request["target"], request["rpy"]))
+        answers: dict[int, str] = {}
+        for poses, group in groups.items():
+            if group:
+                answers.update(self._plain_group(group, poses, before))
+        return answers
+
+    def _plain_group(
+        self, group: list[tuple[int, Any, Any]], poses: bool, before: int
+    ) -> dict[int, str]:
+        """:meth:`_plain` of the lines of one kind (poses with rpy, or positions)."""
+        from dh2urdf.table_file import RADIAN_SUSPECT
+
+        try:
+            with np.errstate(all="ignore"):
+                points = np.array([item[1] for item in group], dtype=float) * self.length
+                angles = np.array([item[2] for item in group], dtype=float) if poses else None
+        except (TypeError, ValueError, OverflowError):
+            return {}
+        if points.shape != (len(group), 3) or (
+            angles is not None and angles.shape != (len(group), 3)
+        ):
+            return {}
+        keep = np.isfinite(points).all(axis=1)
+        rotations = None
+        if angles is not None:
+            keep &= np.isfinite(angles).all(axis=1)
+            if self.angle == 1.0:
+                keep &= (np.abs(angles) <= RADIAN_SUSPECT).all(axis=1)
+            rotations = rpy_matrices(np.where(keep[:, None], angles, 0.0) * self.angle)
+        rows = np.flatnonzero(keep)
+        if not rows.size:
+            return {}
+        start = time.perf_counter()
+        default = np.zeros(self.nq) if self.seed is None else self.seed
+        seeds = np.broadcast_to(default, (rows.size, self.nq))
+        assert self.batch is not None
+        try:
+            q, position_error, rotation_error = self.batch(
+                points[rows], None if rotations is None else rotations[rows], seeds
+            )
+        except Exception:  # noqa: BLE001 - the lines go the line-by-line way instead
+            logger.debug("batch stage failed", exc_info=True)
+            return {}
+        each = repr((time.perf_counter() - start) / rows.size)
+        head = (
+            f'{{"success": true, "solver": {json.dumps(self.pipeline)}, "status": "ok", '
+            f'"message": {json.dumps(FROM_SEED)}, "solutions": [{{"q": ['
+        )
+        tail = (
+            f'"rejected": [], "method": "{FREE_JOINT_STAGE}", "distance_to_workspace_m": null, '
+            f'"iterations": 0, "time_s": {each}, "free": [], "line": '
+        )
+        units = json.dumps(list(self.units.si_labels))
+        answers: dict[int, str] = {}
+        found = ~np.isnan(q).any(axis=1)
+        for k in np.flatnonzero(found).tolist():
+            index = group[int(rows[k])][0]
+            rotation = repr(float(rotation_error[k])) if poses else "null"
+            answers[index] = (
+                f'{head}{", ".join(map(repr, q[k].tolist()))}], "branch": "", '
+                f'"within_limits": true, "position_error_m": {float(position_error[k])!r}, '
+                f'"rotation_error_rad": {rotation}}}], {tail}{before + index + 1}, '
+                f'"q_units": {units}}}\n'
+            )
+        return answers
 
     def _batched(self, target: Target) -> bool:
         """Whether ``target`` goes to the batch stage."""
@@ -306,6 +413,29 @@ class StreamSolver:
                     "free": [],
                 }
         return records
+
+
+def rpy_matrices(rpy: np.ndarray) -> np.ndarray:
+    """URDF roll-pitch-yaw (N, 3) [rad] as rotation matrices ``Rz(yaw) Ry(pitch) Rx(roll)`` (N, 3, 3).
+
+    The batched twin of :func:`kin.ik.target.rpy_matrix`.
+    """
+    cr, sr = np.cos(rpy[:, 0]), np.sin(rpy[:, 0])
+    cp, sp = np.cos(rpy[:, 1]), np.sin(rpy[:, 1])
+    cy, sy = np.cos(rpy[:, 2]), np.sin(rpy[:, 2])
+    out = np.empty((len(rpy), 3, 3))
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = (
+        cy * cp,
+        cy * sp * sr - sy * cr,
+        cy * sp * cr + sy * sr,
+    )
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = (
+        sy * cp,
+        sy * sp * sr + cy * cr,
+        sy * sp * cr - cy * sr,
+    )
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = -sp, cp * sr, cp * cr
+    return out
 
 
 def _error_record(number: int, err: Exception) -> dict[str, Any]:

@@ -262,9 +262,10 @@ def free_joint_answers(
         rows = np.flatnonzero(found)
         chosen = candidates[rows]
         poses = batch_forward_kinematics(robot.table, chosen)
-        p_err, r_err = batch_pose_errors(
-            poses, points[rows], None if frames is None else frames[rows]
-        )
+        with np.errstate(all="ignore"):  # a target far away is just off target
+            p_err, r_err = batch_pose_errors(
+                poses, points[rows], None if frames is None else frames[rows]
+            )
         ok = p_err < _CLOSED_TOLERANCE
         if r_err is not None:
             ok &= r_err < _CLOSED_TOLERANCE
