@@ -185,13 +185,13 @@ class StreamSolver:
         for lines in line_batches(source):
             records = self._records(lines, number)
             for count, record in enumerate(records, start=1):
-                if record.__class__ is str:  # a verified answer of the batch stage, encoded
-                    write(record)  # type: ignore[arg-type]
+                if isinstance(record, str):  # a verified answer of the batch stage, encoded
+                    write(record)
                 else:
                     if "error" in record or ("success" in record and not record["success"]):
                         failed = True
                     if "success" in record:
-                        record["q_units"] = q_units  # type: ignore[index]
+                        record["q_units"] = q_units
                     write(dumps(record) + "\n")
                 if count % FLUSH_EVERY == 0:
                     flush()
@@ -235,15 +235,15 @@ class StreamSolver:
             else:
                 records[index] = self._solved(number, target, seed)
         if together:
-            for index, record in self._solved_together(together, before).items():
-                records[index] = record
+            for index, solved in self._solved_together(together, before).items():
+                records[index] = solved
         out: list[dict[str, Any] | str] = []
         for index, answer in enumerate(records):
             assert answer is not None
-            if answer.__class__ is str:
+            if isinstance(answer, str):
                 out.append(answer)
                 continue
-            record: dict[str, Any] = answer  # type: ignore[assignment]
+            record = answer
             number = before + index + 1
             if "error" in record or "skipped" in record:
                 out.append({"line": number, **record})
@@ -268,8 +268,8 @@ class StreamSolver:
         for index, line in enumerate(lines):
             if not line:
                 continue
-            text = line.decode() if line.__class__ is bytes else line
-            if "true" in text or "false" in text:  # type: ignore[operator]
+            text = line.decode() if isinstance(line, bytes) else line
+            if "true" in text or "false" in text:
                 continue
             try:
                 request = _decode(text)
