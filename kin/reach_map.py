@@ -354,9 +354,16 @@ def load_reach_map(path: str | Path) -> ReachMap:
     Raises:
         KinError: Not such a file (missing, unreadable, or arrays missing or misshapen).
     """
+    file = Path(path)
     try:
-        with np.load(path, allow_pickle=False) as data:
+        with file.open("rb") as handle:
+            zipped = handle.read(4) == b"PK\x03\x04"
+        if not zipped:
+            raise ValueError("not a .npz file")
+        with np.load(file, allow_pickle=False) as data:
             fields = {name: data[name] for name in data.files}
+    except FileNotFoundError as err:
+        raise KinError(f"{path}: no such file; write one with kin reach -o FILE.npz") from err
     except (OSError, ValueError) as err:
         raise KinError(f"{path}: not a reachability map written by kin reach ({err})") from err
     try:

@@ -214,3 +214,35 @@ def test_library_refuses_bad_arguments():
     for voxel, k in ((-0.1, 8), (float("nan"), 8), (0.2, 0), (0.2, 2.5)):
         with pytest.raises(KinError):
             reachability_map(robot, voxel, k)  # type: ignore[arg-type]
+
+
+def test_preview_draws_the_reached_voxels_coloured_by_index(tmp_path, capsys, ur5_map):
+    """kin preview --reach: one point per voxel with an index above 0, at its centre, coloured
+    dark for low indices and yellow for 1; a map of another robot is one line and exit 2."""
+    import base64
+    import re
+
+    umsgpack = pytest.importorskip("umsgpack")  # comes with meshcat
+    pytest.importorskip("kin.viewer")
+    from kin.commands.preview import main as preview_main
+    from kin.viewer.reach_voxels import index_colors
+
+    file = save_reach_map(ur5_map, tmp_path / "ur5.npz")
+    page = tmp_path / "page.html"
+    assert preview_main(["--robot", "ur5", "--reach", str(file), "--html", str(page)]) == 0
+    encoded = re.findall(
+        r'data:application/octet-binary;base64,([A-Za-z0-9+/=]+)"', page.read_text()
+    )
+    commands = [umsgpack.unpackb(base64.b64decode(data)) for data in encoded]
+    (cloud,) = [c for c in commands if c.get("path") == "/meshcat/scene/markers/reach"]
+    attributes = cloud["object"]["geometries"][0]["data"]["attributes"]
+    points = np.frombuffer(attributes["position"]["array"].data, dtype=np.float32).reshape(-1, 3)
+    colors = np.frombuffer(attributes["color"]["array"].data, dtype=np.float32).reshape(-1, 3)
+    reached = ur5_map.index > 0
+    assert np.allclose(points, ur5_map.centers_m[reached], atol=1e-6)
+    assert np.allclose(colors, index_colors(ur5_map.index[reached]), atol=1e-6)
+    assert np.allclose(index_colors([1.0])[0], [0.993, 0.906, 0.144])
+    capsys.readouterr()
+    code = preview_main(["--robot", "puma560", "--reach", str(file), "--html", str(page)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "--robot ur5" in err, err

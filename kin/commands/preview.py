@@ -6,7 +6,8 @@ every DH frame (frame0..frameN; x red, y green, z blue): a wrong twist sign show
 solves it from --q and animates the joint-space motion to the answer (meshcat's "Animations"
 controls replay it). --path FILE animates a joint path written by `kin path --json` (in real
 time when it was timed with --time) and draws the tool's trace; --workspace N draws the tool
-points of N joint vectors drawn uniformly within the limits (seeded), colored by height.
+points of N joint vectors drawn uniformly within the limits (seeded), colored by height;
+--reach FILE.npz draws the voxels of a `kin reach` map, colored by index (viridis, as its PNG).
 
 Without --html: start meshcat's server, print the viewer URL and serve until Ctrl-C (exit 130).
 With --html FILE: write one self-contained page (three.js inlined; no server, no network
@@ -88,6 +89,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         metavar="N",
         help=f"draw the tool points of N random joint vectors (default N {WORKSPACE_POINTS:,})",
     )
+    add("--reach", metavar="FILE.npz", help="draw the voxels of a kin reach map by index")
     add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
     add(
         "--duration", type=positive_float, default=2.0, help="--ik animation length [s] (default 2)"
@@ -181,6 +183,8 @@ def _run(args: argparse.Namespace, prog: str) -> int:
             cloud = _workspace_points(robot, args.workspace)
             viewer.show_points(cloud, rgb=_height_colors(cloud), name="workspace")
             extra.extend(cloud[:: max(1, len(cloud) // 2000)])
+        if args.reach is not None:
+            extra.extend(_reach_voxels(viewer, robot.name, args.reach))
         viewer.fit_camera(np.array(extra).reshape(-1, 3) if extra else None, in_view)
         if args.html is not None:
             written = write_page(args.html, viewer.static_html())
@@ -249,6 +253,22 @@ def _path_frames(
         )
     frames, dt = animation_frames(joint_path, duration)
     return joint_path.q, frames, dt
+
+
+def _reach_voxels(viewer: object, robot: str, file: str) -> list[np.ndarray]:
+    """Draw the map of ``kin reach`` in ``file``; some of its voxel centres [m] (for the camera)."""
+    from ..exceptions import KinError
+    from ..reach_map import load_reach_map
+    from ..viewer.reach_voxels import show_reach_voxels
+
+    reach_map = load_reach_map(file)
+    if reach_map.robot and reach_map.robot != robot:
+        raise KinError(
+            f"--reach {file} was computed for '{reach_map.robot}', not '{robot}': give "
+            f"--robot {reach_map.robot} (or a map of this robot)"
+        )
+    drawn = show_reach_voxels(viewer, reach_map.centers_m, reach_map.index, reach_map.voxel_m)
+    return list(drawn[:: max(1, len(drawn) // 2000)])
 
 
 def _workspace_points(robot: RobotModel, count: int) -> np.ndarray:
