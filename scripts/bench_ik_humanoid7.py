@@ -42,8 +42,8 @@ import pinocchio as pin
 
 from kin import batch_forward_kinematics
 from kin.cli import ArgumentParser, positive_float, positive_int, run_guarded
+from kin.ik import PoseTarget, PositionTarget, get_solver
 from kin.ik.numeric.numeric_target import NumericTarget, measure
-from kin.ik.numeric.solver import NumericIK
 from kin.robot_model import RobotModel, load_robot
 
 #: A solver under test: (position [m], rotation or None, seed q [rad]) -> q or None.
@@ -235,14 +235,18 @@ def run(
 
 
 def ours(robot: RobotModel, timeout_ms: float) -> SolveFn:
-    """Our solver (ik.numeric: closed form from the seed or the seed table, then damped Newton and mink QP)."""
-    solver = NumericIK(robot)
-    _ = solver.table, solver.differential  # one-time setup outside the timing
+    """Our solver through the documented call: ``get_solver(robot).solve(PoseTarget(p, R), seed)``.
+
+    (ik.numeric: closed form from the seed or the seed table, then damped Newton and mink QP.)
+    The target is built inside the timed call, as a user's code builds it.
+    """
+    solver = get_solver(robot)
+    _ = solver.table, solver.differential  # type: ignore[attr-defined]  # setup, untimed
+    timeout = timeout_ms / 1e3
 
     def solve(position, rotation, seed):
-        result = solver.solve(
-            NumericTarget(position, rotation), seed=seed, timeout=timeout_ms / 1e3
-        )
+        target = PositionTarget(position) if rotation is None else PoseTarget(position, rotation)
+        result = solver.solve(target, seed, timeout=timeout)
         return result.solutions[0].q if result.success else None
 
     return solve

@@ -419,6 +419,9 @@ def test_target_changed_after_it_was_built_is_an_invalid_target_result(solver):
     from kin.ik.target import PositionTarget
 
     target = PositionTarget([0.3, 0.0, 0.0])
+    with pytest.raises(ValueError, match="read-only"):  # a target cannot change after its check
+        target.position[1] = float("nan")
+    target.position.flags.writeable = True  # unless its array is made writeable again
     target.position[1] = float("nan")
     result = solver.solve(target)
     assert not result.success and result.status == "invalid_target"

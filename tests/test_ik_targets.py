@@ -44,6 +44,9 @@ def test_target_changed_after_it_was_built_is_an_invalid_target_result():
     """A closed-form target overwritten with a NaN after it was built: status invalid_target."""
     solver = ClosedFormSolver(kin.load_robot("planar2"))
     target = PositionTarget([0.3, 0.1, 0.0])
+    with pytest.raises(ValueError, match="read-only"):  # a target cannot change after its check
+        target.position[0] = math.inf
+    target.position.flags.writeable = True  # unless its array is made writeable again
     target.position[0] = math.inf
     result = solver.solve(target)
     assert not result.success and result.status == "invalid_target"

@@ -140,7 +140,8 @@ def test_compiled_solver_reports_like_python_for_bad_targets():
     robot = kin.robot_from_table(load_table(get_robot("ur5").table_path))
     compiled, python = ClosedFormSolver(robot), ClosedFormSolver(robot, compiled=False)
     overwritten = PoseTarget([0.0, 0, 0], np.eye(3))
-    overwritten.position[0] = math.nan  # after the constructor's check
+    overwritten.position.flags.writeable = True  # read-only after the constructor's check
+    overwritten.position[0] = math.nan
     for target in (overwritten, PoseTarget([5.0, 0, 0], np.eye(3))):
         assert_same_result(compiled.solve(target), python.solve(target), str(target.position))
     with pytest.raises(kin.ik.TargetError, match="must have 6 values"):

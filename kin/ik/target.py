@@ -1,7 +1,8 @@
 """IK targets: a position, a pose (full or masked), a position with a tool axis, or with a pitch.
 
 All targets are expressed in the world frame (the URDF root), in meters and radians. They are
-checked once, when built, so that a solve never checks them again: a NaN or infinite value is a
+checked once, when built, and their arrays are read-only copies, so that a solve never checks
+them again: a NaN or infinite value is a
 :class:`~kin.ik.TargetError` that names the field (``position[1]``, ``rotation[2][0]``,
 ``pitch``). A rotation must be a rotation matrix: one that is off by at most
 :data:`ROTATION_SNAP` (``max |R^T R - I|``, e.g. a matrix printed with six decimals) is replaced by
@@ -37,6 +38,7 @@ def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
         i = int(np.flatnonzero(~np.isfinite(array))[0])
         where = f"{what}[{i}]" if size <= 3 else f"{what}[{i // 3}][{i % 3}]"
         raise TargetError(f"{where} is {array[i]}: every target value must be a finite number")
+    array.flags.writeable = False  # checked once: it cannot change after (a copy of the input)
     return array
 
 
@@ -68,7 +70,9 @@ def _rotation(values: npt.ArrayLike) -> np.ndarray:
         return matrix
     if deviation <= ROTATION_SNAP and determinant > 0.0:
         u, _, vt = np.linalg.svd(matrix)
-        return u @ vt
+        snapped = u @ vt
+        snapped.flags.writeable = False
+        return snapped
     raise TargetError(
         f"rotation is not a rotation matrix (max |R^T R - I| = {deviation:.3g}, "
         f"det = {determinant:.3g}): give orthonormal axes with det +1 "
@@ -88,14 +92,19 @@ class PositionTarget:
     """
 
     position: np.ndarray
+    #: No orientation, no posture preference (what the numeric stages read of a target).
+    rotation = None
+    posture = None
+    position_only = True
 
     def __init__(self, position: npt.ArrayLike):
         object.__setattr__(self, "position", _vector(position, 3, "position"))
 
     @property
     def finite(self) -> bool:
-        """Whether every value is finite."""
-        return all(map(math.isfinite, self.position.tolist()))
+        """Whether every value is finite (always, unless its array was made writeable again)."""
+        position = self.position
+        return not position.flags.writeable or all(map(math.isfinite, position.tolist()))
 
 
 #: The components of a pose error, in the order of a mask (the Robotics Toolbox's): the
@@ -141,6 +150,9 @@ class PoseTarget:
     position: np.ndarray
     rotation: np.ndarray
     mask: tuple[bool, ...] | None = None
+    #: No posture preference (what the numeric stages read of a target).
+    posture = None
+    position_only = False
 
     def __init__(
         self, position: npt.ArrayLike, rotation: npt.ArrayLike, mask: object | None = None
@@ -174,10 +186,13 @@ class PoseTarget:
 
     @property
     def finite(self) -> bool:
-        """Whether every value is finite."""
+        """Whether every value is finite (always, unless an array was made writeable again)."""
+        position, rotation = self.position, self.rotation
+        if not (position.flags.writeable or rotation.flags.writeable):
+            return True
         isfinite = math.isfinite
-        return all(map(isfinite, self.position.tolist())) and all(
-            map(isfinite, self.rotation.ravel().tolist())
+        return all(map(isfinite, position.tolist())) and all(
+            map(isfinite, rotation.ravel().tolist())
         )
 
 

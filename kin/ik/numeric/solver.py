@@ -310,6 +310,18 @@ class NumericIK:
                 an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
         """
         start = time.perf_counter()
+        cls = target.__class__
+        if cls is PoseTarget or cls is PositionTarget:
+            # Checked when built, read-only since: the numeric stages read it as it is.
+            if cls is PoseTarget and (target.mask is not None or self.nq < 6):  # type: ignore[attr-defined]
+                return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
+            if not target.finite:  # type: ignore[attr-defined]  # an array made writeable again
+                return IKResult(
+                    False, PIPELINE, "invalid_target", f"target is not finite: {target}"
+                )
+            return self._solve(
+                target, seed, start, timeout, random_seed, position_tol, rotation_tol, max_attempts
+            )  # type: ignore[arg-type]
         if is_partial(target, self.nq):
             return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds):
@@ -317,6 +329,22 @@ class NumericIK:
         if not getattr(target, "finite", True):  # a target's arrays changed after it was built
             return IKResult(False, PIPELINE, "invalid_target", f"target is not finite: {target}")
         target = NumericTarget.from_target(target)
+        return self._solve(
+            target, seed, start, timeout, random_seed, position_tol, rotation_tol, max_attempts
+        )
+
+    def _solve(
+        self,
+        target: NumericTarget,
+        seed: npt.ArrayLike | None,
+        start: float,
+        timeout: float | None,
+        random_seed: int,
+        position_tol: float,
+        rotation_tol: float,
+        max_attempts: int | None,
+    ) -> IKResult:
+        """:meth:`solve` of a checked target (``position``, ``rotation``, ``posture``)."""
         posture = target.posture
         if posture is not None and posture.shape != self._shape:
             raise TargetError(
