@@ -4,7 +4,8 @@ The URDF carries MuJoCo's ``<mujoco><compiler fusestatic="false" .../></mujoco>`
 MuJoCo keeps every URDF link as a body of the same name: ``base_link``, ``frame{i}`` (DH frame
 ``i``), ``link{i}`` (standard tables) and ``tool``. The writer adds a site ``tool`` on the tool body
 (identity pose, [m]) for sensors and controllers, and keeps the visuals. Joints keep the table's
-names and order; lengths in meters, angles in radians.
+names and order; lengths in meters, angles in radians. A continuous row's joint is unlimited
+(``limited="false"``; the URDF writes its [-pi, pi] for the tools that need limits).
 
 MuJoCo is imported inside the functions: ``import dh2urdf`` stays light.
 """
@@ -85,6 +86,9 @@ def mjcf_string(table: DHTable) -> str:
         site = tool.add_site()
         site.name = TOOL_SITE
         site.size = [0.005, 0.005, 0.005]
+        for row in table.rows:  # a continuous joint has no limits (its [-pi, pi] is the URDF's)
+            if row.continuous:
+                spec.joint(row.name).limited = mujoco.mjtLimited.mjLIMITED_FALSE
         model = spec.compile()
         text = _full_precision(spec.to_xml(), model)
     except ValueError as err:

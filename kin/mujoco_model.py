@@ -41,6 +41,8 @@ def mujoco_urdf_text(robot: RobotModel) -> str:
 def load_mujoco_model(robot: RobotModel) -> mujoco.MjModel:
     """MuJoCo model of ``robot`` built from its URDF, fixed links kept as bodies.
 
+    A continuous joint (a table row's ``continuous``) is unlimited in it, as in the MJCF writer.
+
     Raises:
         ModelLoadError: MuJoCo is not installed or rejects the URDF.
     """
@@ -49,6 +51,10 @@ def load_mujoco_model(robot: RobotModel) -> mujoco.MjModel:
     except ImportError as err:  # pragma: no cover
         raise ModelLoadError("MuJoCo is not installed: pip install mujoco") from err
     try:
-        return mujoco.MjModel.from_xml_string(mujoco_urdf_text(robot))
+        model = mujoco.MjModel.from_xml_string(mujoco_urdf_text(robot))
     except ValueError as err:
         raise ModelLoadError(f"'{robot.name}': MuJoCo cannot load the URDF: {err}") from err
+    for row in robot.table.rows:  # a continuous joint has no limits (the URDF's [-pi, pi] aside)
+        if row.continuous:
+            model.jnt_limited[model.joint(row.name).id] = 0
+    return model

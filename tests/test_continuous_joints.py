@@ -76,3 +76,55 @@ def test_table_file_keeps_the_continuous_flag():
     broken = text.replace('type = "revolute"', 'type = "prismatic"', 1)
     with pytest.raises(Exception, match="only a revolute joint can be continuous"):
         parse_table(tomllib.loads(broken))
+
+
+def _ur5_wrist(continuous: bool):
+    """UR5 with joint 6 limited to [-pi, pi], continuous or not."""
+    table = load_table(get_robot("ur5").table_path)
+    last = dataclasses.replace(table.rows[5], lower=-math.pi, upper=math.pi, continuous=continuous)
+    return robot_from_table(dataclasses.replace(table, rows=(*table.rows[:5], last)))
+
+
+@pytest.mark.parametrize("method", ["closed_form", "differential"])
+@pytest.mark.parametrize("continuous", [True, False])
+def test_path_crosses_pi_on_a_continuous_joint(continuous, method):
+    """The tool turning about its z from q6 = 3.0 to 3.3 rad: on a continuous joint the path is
+    followed, q6 going past pi without a jump; on a limited one it stops at the limit."""
+    from kin.path import follow_path, line
+
+    robot = _ur5_wrist(continuous)
+    configuration = Configuration(robot)
+    q0 = np.array([0.3, -1.2, 1.4, -0.5, 1.1, 3.0])
+    q1 = q0.copy()
+    q1[5] = 3.3 - 2.0 * math.pi  # the same pose as 3.3 rad
+    start, end = configuration.fk(q0), configuration.fk(q1)
+    path = line(
+        PoseTarget(start.translation, start.rotation),
+        PoseTarget(end.translation, end.rotation),
+        12,
+    )
+    result = follow_path(robot, path, q0, method=method)
+    if continuous:
+        assert result.success, result.message
+        assert result.max_joint_step < 0.1
+        assert abs(result.q[-1, 5] - 3.3) < 1e-3  # past pi, not wrapped to -2.98
+        for q, k in zip(result.q, range(len(result.q))):
+            reached = configuration.fk(q)  # the same joint positions once wrapped
+            assert np.linalg.norm(reached.translation - path.positions[k]) < 1e-5
+    else:
+        assert not result.success and result.stopped_at is not None
+
+
+def test_mjcf_and_mujoco_model_leave_a_continuous_joint_unlimited():
+    """The MJCF writer and the MuJoCo model of the robot: no limits on a continuous joint only."""
+    mujoco = pytest.importorskip("mujoco")
+    from dh2urdf.mjcf_writer import mjcf_string
+    from kin.mujoco_model import load_mujoco_model
+
+    robot = _ur5_wrist(True)
+    for model in (
+        mujoco.MjModel.from_xml_string(mjcf_string(robot.table)),
+        load_mujoco_model(robot),
+    ):
+        limited = [bool(model.jnt_limited[model.joint(name).id]) for name in robot.joint_names]
+        assert limited == [True] * 5 + [False]

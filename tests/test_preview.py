@@ -154,7 +154,10 @@ def test_show_points_and_show_path_api():
         (["--robot", "ur5", "--ik"], "--ik needs --target"),
         (["--robot", "ur5", "--rpy", "0", "0", "0"], "--rpy needs --target"),
         (["--robot", "ur5", "--q", "0", "0"], "--q needs 6 values"),
-        (["--robot", "ur5", "--frames", "--html", "/nonexistent/folder/page.html"], "does not exist"),
+        (
+            ["--robot", "ur5", "--frames", "--html", "/nonexistent/folder/page.html"],
+            "does not exist",
+        ),
         (
             [
                 "--robot",
@@ -166,10 +169,10 @@ def test_show_points_and_show_path_api():
                 "--rpy",
                 "0",
                 "0",
-                "0",
+                "1e400",
                 "--ik",
             ],
-            "a full pose needs at least 6 joints",
+            "not a finite number",
         ),
     ],
 )

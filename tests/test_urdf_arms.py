@@ -28,7 +28,7 @@ SOLVERS = {
     "baxter_left": ("numeric", None),
     "baxter_right": ("numeric", None),
     "tiago": ("numeric", "SevenDofIK"),
-    "double_pendulum": ("numeric", None),
+    "double_pendulum": ("closed_form:parallel_axes", None),
     "asr_twodof": ("closed_form:planar2r", None),
 }
 POSES = 1000

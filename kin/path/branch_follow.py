@@ -8,7 +8,8 @@ front" solution continues as "shoulder back") and records the branch change. Whe
 within the bound, the motion stops there: at a joint limit, out of reach, or before a jump.
 
 Revolute joint values are compared modulo 2 pi where the limits allow the shifted value, so a
-wrist roll with limits wider than a turn does not jump by 2 pi.
+wrist roll with limits wider than a turn does not jump by 2 pi; a continuous joint (no limits)
+always takes the value nearest the previous sample's, so it crosses pi without a jump.
 """
 
 from __future__ import annotations
@@ -32,6 +33,9 @@ class TurnUnwrapper:
 
     def __init__(self, robot: RobotModel):
         self.revolute = np.array([row.joint_type == "revolute" for row in robot.table.rows])
+        #: Joints without limits (continuous rows): turned toward the reference always, so a
+        #: path crosses pi smoothly (its values leave [-pi, pi]: the same joint positions).
+        self.continuous = np.array([row.continuous for row in robot.table.rows], dtype=bool)
         self.lower = robot.lower
         self.upper = robot.upper
 
@@ -47,7 +51,7 @@ class TurnUnwrapper:
         q = np.array(q, dtype=float)
         turns = np.round((reference - q) / TWO_PI) * self.revolute
         shifted = q + TWO_PI * turns
-        inside = (shifted >= self.lower) & (shifted <= self.upper)
+        inside = ((shifted >= self.lower) & (shifted <= self.upper)) | self.continuous
         return np.where(inside, shifted, q)
 
 
@@ -160,7 +164,14 @@ def _why_not(
 
 
 def _inside(robot: RobotModel, q: np.ndarray) -> bool:
-    return bool(((q >= robot.lower) & (q <= robot.upper)).all())
+    """Whether ``q`` is inside the limits (a continuous joint has none)."""
+    inside = (q >= robot.lower) & (q <= robot.upper)
+    return bool((inside | continuous_joints(robot)).all())
+
+
+def continuous_joints(robot: RobotModel) -> np.ndarray:
+    """Per joint, whether it is continuous (no limits; its table row says ``continuous``)."""
+    return np.array([row.continuous for row in robot.table.rows], dtype=bool)
 
 
 def _outside(robot: RobotModel, q: np.ndarray) -> str:

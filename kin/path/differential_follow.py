@@ -18,6 +18,7 @@ import pinocchio as pin
 
 from ..ik import DifferentialIK, IKError, NumericTarget, PoseTarget, PositionTarget
 from ..robot_model import RobotModel
+from .branch_follow import continuous_joints
 from .cartesian import CartesianPath
 from .exceptions import PathError
 from .result import Trace
@@ -62,7 +63,10 @@ def follow_differential(
     ik = DifferentialIK(robot, velocity_limit=substep)
     model, data = robot.model, robot.model.createData()
     tool = model.getFrameId(robot.tool_frame)
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    # A continuous joint has no limits: its path crosses pi (values leave [-pi, pi]).
+    free = continuous_joints(robot)
+    lower = np.where(free, -np.inf, model.lowerPositionLimit)
+    upper = np.where(free, np.inf, model.upperPositionLimit)
     q = np.clip(np.asarray(q_start, dtype=float), lower, upper)
     trace = Trace(q=[q], branches=[""], branch_changes=[])
 
