@@ -52,17 +52,28 @@ class AuditedTable:
         return f"{value_rad / self.radians:.6g} {self.angle_unit}"
 
 
-def load_audited_table(table: str | Path) -> AuditedTable:
-    """Read a table file (or a shipped robot by name) with the units of its file.
+def load_audited_table(
+    table: str | Path, base: str | None = None, tip: str | None = None
+) -> AuditedTable:
+    """Read a table file (or a shipped robot by name, or a URDF) with the units of its file.
 
     Args:
-        table: Path of a ``.toml`` DH table, or a shipped robot name (``"humanoid7"``).
+        table: Path of a ``.toml`` DH table, a shipped robot name (``"humanoid7"``), or a
+            ``.urdf`` / ``.xacro`` file: the DH table of its chain from the root to the single
+            tip (:func:`dh2urdf.urdf_to_dh.table_from_urdf`), in meters and radians.
+        base: A URDF's base link (default: its root).
+        tip: A URDF's tip link (default: the single leaf below the last moving joint).
 
     Raises:
         dh2urdf.UnknownRobotError: Neither a file nor a shipped robot name.
         dh2urdf.TableError: The table file is malformed.
+        dh2urdf.urdf_chain.UrdfChainError: The URDF gives no serial chain.
     """
     text = str(table)
+    if text.endswith((".urdf", ".xacro")):
+        from dh2urdf.urdf_to_dh import table_from_urdf
+
+        return AuditedTable(table_from_urdf(text, base, tip), "m", "rad", text)
     path = Path(text) if (text.endswith(".toml") or "/" in text) else get_robot(text).table_path
     loaded = load_table(path)  # validates, with errors naming file, row and field
     header = tomllib.loads(path.read_text(encoding="utf-8"))

@@ -29,8 +29,12 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument(
-        "table", metavar="TABLE", help="DH table file (.toml) or shipped robot name"
+        "table",
+        metavar="TABLE",
+        help="DH table file (.toml), shipped robot name, or a URDF (its chain read as a table; m, rad)",
     )
+    parser.add_argument("--base", metavar="LINK", help="a URDF TABLE: the chain's base link")
+    parser.add_argument("--tip", metavar="LINK", help="a URDF TABLE: the chain's tip link")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("--samples", metavar="CSV", help="printed samples, in the table's units")
     source.add_argument("--urdf", metavar="URDF", help="reference URDF (e.g. the maker's)")
@@ -69,15 +73,19 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("--urdf needs --frame (the URDF frame of the table's tool, e.g. tool0)")
     if args.frame and not args.urdf:
         parser.error("--frame goes with --urdf")
+    if (args.base or args.tip) and not args.table.endswith((".urdf", ".xacro")):
+        parser.error("--base and --tip go with a URDF TABLE (a .urdf or .xacro file)")
 
     def body() -> int:
         from . import report
+        from .audited_table import load_audited_table
         from .sample_audit import audit_samples
         from .urdf_audit import audit_urdf
 
+        table = load_audited_table(args.table, args.base, args.tip)
         if args.samples:
             audit = audit_samples(
-                args.table, args.samples, pairs=not args.singles, refit=not args.no_refit
+                table, args.samples, pairs=not args.singles, refit=not args.no_refit
             )
             text = (
                 json.dumps(report.sample_audit_json(audit))
@@ -87,7 +95,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             best_changes = audit.best.reading.changes
         else:
             audit_u = audit_urdf(
-                args.table,
+                table,
                 args.urdf,
                 args.frame,
                 count=args.count,
