@@ -26,7 +26,6 @@ from operator import le, sub
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol, cast
 
 import numpy as np
-import numpy.typing as npt
 
 from dh2urdf import DHTable
 
@@ -40,8 +39,8 @@ from ..result import IKResult, IKSolution
 from .starts import DAMPED_NEWTON, seed_leash
 
 if TYPE_CHECKING:
+    from .context import NumericContext
     from .search import Search
-    from .solver import NumericIK
 
 #: :attr:`IKResult.method` of this stage.
 METHOD = "closed_form_free_joint"
@@ -124,26 +123,25 @@ class _ReversedJoints:
         return index
 
 
-def solve_free_joint(
-    ik: NumericIK, search: Search, seed_q: npt.ArrayLike | None
-) -> IKResult | None:
+def solve_free_joint(ik: NumericContext, search: Search) -> IKResult | None:
     """The closed form from the caller's seed, then from seed-table samples; None if none verifies.
 
     With ``ik.near_seed``, a seed whose tool is near the target (:func:`.starts.seed_leash`)
-    expects the answer near it: :func:`_near_seed` first.
+    expects the answer near it: :func:`_near_seed` first. A target with a posture preference
+    skips this stage (the closed form does not weigh it).
     """
     closed = ik.closed_form
-    if closed is None:
-        return None
     target = search.target
+    if closed is None or target.posture is not None:
+        return None
     prepared = closed.prepare(target.position, target.rotation)
     if prepared is None:  # a target this closed form does not take
         return None
     position = target.position.tolist()
     rotation = None if target.rotation is None else target.rotation.ravel().tolist()
     out = np.empty(7)
-    if seed_q is not None:
-        seed = ik.seed_vector(seed_q)
+    seed = search.seed
+    if seed is not None:
         leash = seed_leash(ik, search, seed) if ik.near_seed else None
         if leash is not None:
             done = _near_seed(ik, search, closed, prepared, seed, leash, out, position, rotation)
@@ -176,7 +174,7 @@ def solve_free_joint(
 
 
 def _near_seed(
-    ik: NumericIK,
+    ik: NumericContext,
     search: Search,
     closed: FreeJointClosedForm,
     prepared: Any,
@@ -219,7 +217,7 @@ def _near_seed(
 
 
 def _verified(
-    ik: NumericIK,
+    ik: NumericContext,
     search: Search,
     q: np.ndarray,
     position: list[float],
@@ -236,7 +234,7 @@ def _verified(
         target = search.target
         q[:] = polish(judge.model, judge.data, judge.frame_id, q, target.position, target.rotation)
         values = q.tolist()
-        if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
+        if not (all(map(le, ik.lows, values)) and all(map(le, values, ik.highs))):
             return None
     position_error, rotation_error = ik.judge.errors(q, position, rotation)
     if position_error < search.position_tol and (
@@ -251,7 +249,9 @@ def _moved(q: np.ndarray, seed: np.ndarray) -> float:
     return max(map(abs, map(sub, q.tolist(), seed.tolist())))
 
 
-def _sample_starts(ik: NumericIK, search: Search) -> Iterator[tuple[np.ndarray, np.ndarray, float]]:
+def _sample_starts(
+    ik: NumericContext, search: Search
+) -> Iterator[tuple[np.ndarray, np.ndarray, float]]:
     """Blocks of closed-form starts after the caller's seed: ``(starts, sample indices, step)``.
 
     The seed-table sample nearest the target (scanned, coarse then fine; for a full pose by pose

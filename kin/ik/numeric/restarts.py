@@ -18,9 +18,9 @@ import numpy as np
 from ..result import IKResult
 
 if TYPE_CHECKING:
+    from .context import NumericContext
     from .damped_newton import NewtonOutcome
     from .search import Search
-    from .solver import NumericIK
 
 #: :attr:`IKResult.method` of a random start, and of a mink QP run (with its Newton polish).
 RANDOM_RESTART = "random_restart"
@@ -31,11 +31,13 @@ MINK_QP = "mink_qp"
 MINK_COST = 0.3
 
 
-def solve_with_restarts(
-    ik: NumericIK, search: Search, random_seed: int, max_attempts: int | None
-) -> IKResult | None:
-    """Random starts and mink QP runs until the deadline; the first verified result, else None."""
-    rng = np.random.default_rng(random_seed)
+def solve_with_restarts(ik: NumericContext, search: Search) -> IKResult | None:
+    """Random starts and mink QP runs until the deadline; the first verified result, else None.
+
+    Stopped early by ``search.max_attempts``; seeded by ``search.random_seed`` (reproducible).
+    """
+    rng = np.random.default_rng(search.random_seed)
+    max_attempts = search.max_attempts
     fallback = qp_runs = 0
     nearest_best = search.best
     out_of_reach = search.out_of_reach
@@ -66,7 +68,7 @@ def solve_with_restarts(
     return None
 
 
-def polish_best(ik: NumericIK, search: Search) -> IKResult | None:
+def polish_best(ik: NumericContext, search: Search) -> IKResult | None:
     """A last mink QP run from the best configuration (a random start's, stopped early)."""
     best = search.best
     if best is None or search.best_from_qp or search.expired():
@@ -76,14 +78,14 @@ def polish_best(ik: NumericIK, search: Search) -> IKResult | None:
     return search.accept(outcome, MINK_QP, "mink QP from the best", from_qp=True)
 
 
-def _qp_run(ik: NumericIK, search: Search, q0: np.ndarray) -> tuple[np.ndarray, int]:
+def _qp_run(ik: NumericContext, search: Search, q0: np.ndarray) -> tuple[np.ndarray, int]:
     """Run mink QP steps from ``q0``: the final joint vector and the steps taken.
 
     The MuJoCo model is loaded on the first run when the call affords it (:data:`MINK_COST`
     before its hard end, :meth:`Search.affords`); else ``q0`` is returned as it is (0 steps) and
     the damped Newton run after it is one more start.
     """
-    if ik._differential is None and not search.affords(MINK_COST):
+    if not ik.differential_loaded and not search.affords(MINK_COST):
         return q0, 0
     differential = ik.differential
     differential.set_target(search.target)

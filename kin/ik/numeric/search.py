@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from operator import le
 from typing import TYPE_CHECKING
 
@@ -21,8 +23,8 @@ from .damped_newton import LINALG_COST, NewtonOutcome, damped_newton, linalg_wit
 from .numeric_target import NumericTarget
 
 if TYPE_CHECKING:
+    from .context import NumericContext
     from .seed_table import SeedTable
-    from .solver import NumericIK
 
 #: Weight of the rotation error when ranking failed attempts [m/rad].
 RANK_WEIGHT = 0.1
@@ -48,14 +50,18 @@ class Search:
     """One solve in progress.
 
     Args:
-        ik: The solver (model, limits, settings).
-        target: The target.
+        ik: The solver as its stages see it (:class:`~.context.NumericContext`).
+        target: The target (``position`` [m], ``rotation`` or None, ``posture`` or None).
         position_tol: Success tolerance on the position [m].
         rotation_tol: Success tolerance on the rotation [rad].
         timeout: Time budget [s], counted from ``start``.
         start: ``time.perf_counter()`` when the call began (default: now).
         table: The seed table, or None when this call could not afford to build it (the stages
             that start from its samples are skipped).
+        seed: The caller's seed as a checked joint vector [rad], or None: prepared once, read by
+            every stage.
+        random_seed: Seed of the random restarts.
+        max_attempts: Stop after this many starts even before the deadline, or None.
     """
 
     __slots__ = (
@@ -77,19 +83,28 @@ class Search:
         "allowance",
         "table",
         "linalg",
+        "seed",
+        "random_seed",
+        "max_attempts",
     )
 
     def __init__(
         self,
-        ik: NumericIK,
+        ik: NumericContext,
         target: NumericTarget,
         position_tol: float,
         rotation_tol: float,
         timeout: float,
         start: float | None = None,
         table: SeedTable | None = None,
+        seed: np.ndarray | None = None,
+        random_seed: int = 0,
+        max_attempts: int | None = None,
     ):
         self.ik = ik
+        self.seed = seed
+        self.random_seed = random_seed
+        self.max_attempts = max_attempts
         self.target = target
         self.position_tol = position_tol
         self.rotation_tol = rotation_tol
@@ -163,8 +178,8 @@ class Search:
             outcome.converged
             and outcome.position_error < self.position_tol
             and outcome.rotation_error < self.rotation_tol
-            and all(map(le, self.ik._lows, values))
-            and all(map(le, values, self.ik._highs))
+            and all(map(le, self.ik.lows, values))
+            and all(map(le, values, self.ik.highs))
         ):
             rotation_error = None if self.target.rotation is None else outcome.rotation_error
             solution = IKSolution(q.copy(), "", True, outcome.position_error, rotation_error)
@@ -263,3 +278,26 @@ class Search:
             iterations=self.iterations,
             time=elapsed,
         )
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One stage of the numeric pipeline: its name and what it runs.
+
+    Attributes:
+        name: The stage, as :attr:`IKResult.method` names its answers (``"seed_table"``, ...).
+        run: ``run(ik, search)``: a verified result, or None to hand the search to the next
+            stage.
+    """
+
+    name: str
+    run: Callable[[NumericContext, Search], IKResult | None]
+
+
+def run_stages(stages: Sequence[Stage], ik: NumericContext, search: Search) -> IKResult:
+    """The first verified result of ``stages`` in order, else the search's failure."""
+    for stage in stages:
+        done = stage.run(ik, search)
+        if done is not None:
+            return done
+    return search.failure()

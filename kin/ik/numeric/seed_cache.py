@@ -70,20 +70,20 @@ def path_for(key: str) -> Path:
     return cache_dir() / f"seed_table_{key}.npz"
 
 
-def exists(robot: RobotModel, size: int) -> bool:
-    """Whether the seed table of ``robot`` (default seed, weight, cell) is cached on disk."""
+def exists(robot: RobotModel, size: int, rotation_weight: float, cell_size: float) -> bool:
+    """Whether the seed table of ``robot`` (seed 0, the weight [m/rad] and cell [m]) is on disk."""
     if not _enabled():
         return False
-    from .seed_table import DEFAULT_CELL_SIZE, DEFAULT_ROTATION_WEIGHT
-
-    key = table_key(robot, size, 0, DEFAULT_ROTATION_WEIGHT, DEFAULT_CELL_SIZE)
+    key = table_key(robot, size, 0, rotation_weight, cell_size)
     return path_for(key).is_file()
 
 
-def load(key: str) -> dict[str, np.ndarray] | None:
-    """The cached arrays of ``key``, or None (no file, unreadable, corrupt)."""
-    from .seed_table import CACHED_ARRAYS
+#: The arrays a cached seed table holds (:func:`kin.ik.numeric.seed_table.build_seed_table`).
+CACHED_ARRAYS = ("q", "positions", "rotations", "keys", "spans", "owners", "origin", "shape")
 
+
+def load(key: str) -> dict[str, np.ndarray] | None:
+    """The cached arrays of ``key`` (:data:`CACHED_ARRAYS`), or None (no file, unreadable, corrupt)."""
     if not _enabled():
         return None
     path = path_for(key)

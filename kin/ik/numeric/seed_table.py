@@ -289,7 +289,7 @@ def build_seed_table(
 
 
 #: Arrays of a seed table that the disk cache keeps (the rest is derived from them).
-CACHED_ARRAYS = ("q", "positions", "rotations", "keys", "spans", "owners", "origin", "shape")
+CACHED_ARRAYS = seed_cache.CACHED_ARRAYS
 
 
 def _sample(robot: RobotModel, size: int, seed: int, cell_size: float) -> dict[str, np.ndarray]:

@@ -46,12 +46,19 @@ from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_er
 from . import seed_cache
 from .damped_newton import load_linalg
 from .differential_ik import DifferentialIK
+from .free_joint import METHOD as FREE_JOINT
 from .free_joint import FreeJointClosedForm, free_joint_closed_form, solve_free_joint
 from .numeric_target import NumericTarget
-from .restarts import polish_best, solve_with_restarts
-from .search import PIPELINE, Search, allowance
-from .seed_table import SeedTable, build_seed_table, seed_table_for
-from .starts import solve_from_starts
+from .restarts import MINK_QP, RANDOM_RESTART, polish_best, solve_with_restarts
+from .search import PIPELINE, Search, Stage, allowance, run_stages
+from .seed_table import (
+    DEFAULT_CELL_SIZE,
+    DEFAULT_ROTATION_WEIGHT,
+    SeedTable,
+    build_seed_table,
+    seed_table_for,
+)
+from .starts import SEED_TABLE, solve_from_starts
 
 logger = logging.getLogger(__name__)
 
@@ -70,6 +77,15 @@ TABLE_BUILD_COST = 2e-6
 #: Default free-joint scan steps of the closed form [rad], coarse to fine (with or without the
 #: compiled twins: the same answers either way).
 DEFAULT_CLOSED_FORM_STEPS = (0.05, 0.01)
+
+#: The numeric pipeline, in order (see the module): each stage gets the solver as its context
+#: (:class:`~.context.NumericContext`) and the shared :class:`~.search.Search`.
+STAGES: tuple[Stage, ...] = (
+    Stage(FREE_JOINT, solve_free_joint),
+    Stage(SEED_TABLE, solve_from_starts),
+    Stage(RANDOM_RESTART, solve_with_restarts),
+    Stage(MINK_QP, polish_best),
+)
 
 
 class NumericIK:
@@ -188,7 +204,12 @@ class NumericIK:
             for i in self.continuous:
                 self.search_model.lowerPositionLimit[i] = -3.0 * math.pi
                 self.search_model.upperPositionLimit[i] = 3.0 * math.pi
-        self._lows, self._highs = self.lower.tolist(), self.upper.tolist()
+        #: The limits as lists of floats (the stages' checks run on Python floats).
+        self.lows, self.highs = self.lower.tolist(), self.upper.tolist()
+        self._lows, self._highs = self.lows, self.highs
+        #: The pipeline, in order (:class:`~.context.Stage`): each gets the shared search and
+        #: returns a verified result, or hands the search on.
+        self.stages: tuple[Stage, ...] = STAGES
         #: Upper bound of the tool's distance from the base origin [m] (triangle inequality): a
         #: target beyond it is answered ``out_of_reach`` before any search.
         self.reach = reach_bound(robot)
@@ -245,6 +266,11 @@ class NumericIK:
                     else:  # a robot loaded from a table file: its own table
                         self._table = build_seed_table(self.robot, self.table_size)
         return self._table
+
+    @property
+    def differential_loaded(self) -> bool:
+        """Whether the mink differential IK is loaded (a QP run costs no model load)."""
+        return self._differential is not None
 
     @property
     def partial(self) -> PartialPoseIK:
@@ -320,8 +346,15 @@ class NumericIK:
                     False, PIPELINE, "invalid_target", f"target is not finite: {target}"
                 )
             return self._solve(
-                target, seed, start, timeout, random_seed, position_tol, rotation_tol, max_attempts
-            )  # type: ignore[arg-type]
+                target,  # type: ignore[arg-type]  # read as a NumericTarget (same attributes)
+                seed,
+                start,
+                timeout,
+                random_seed,
+                position_tol,
+                rotation_tol,
+                max_attempts,
+            )
         if is_partial(target, self.nq):
             return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds):
@@ -362,17 +395,21 @@ class NumericIK:
             distance = self.distance_from_base(target.position)
             if distance > self.reach:  # surely unreachable: no search
                 return self._beyond_reach(target, distance, start)
+            seed_vector = None if seed is None else self.seed_vector(seed)  # checked once
             table = self._affordable_table(start + allowance(budget))
-            search = Search(self, target, position_tol, rotation_tol, budget, start, table)
-            if target.posture is None and (done := solve_free_joint(self, search, seed)):
-                return done
-            if done := solve_from_starts(self, search, seed):
-                return done
-            if done := solve_with_restarts(self, search, random_seed, max_attempts):
-                return done
-            if done := polish_best(self, search):
-                return done
-            return search.failure()
+            search = Search(
+                self,
+                target,
+                position_tol,
+                rotation_tol,
+                budget,
+                start,
+                table,
+                seed_vector,
+                random_seed,
+                max_attempts,
+            )
+            return run_stages(self.stages, self, search)
 
     def _affordable_table(self, end: float) -> SeedTable | None:
         """The seed table, loaded or built now when that ends before ``end``, else None.
@@ -386,7 +423,9 @@ class NumericIK:
         if building is not None:  # being built in the background: wait while the call affords it
             building.join(max(0.0, end - time.perf_counter() - 2e-3))
             return self._table
-        cached = seed_cache.exists(self.robot, self.table_size)
+        cached = seed_cache.exists(
+            self.robot, self.table_size, DEFAULT_ROTATION_WEIGHT, DEFAULT_CELL_SIZE
+        )
         cost = TABLE_LOAD_COST if cached else TABLE_BUILD_COST * self.table_size
         if time.perf_counter() + cost > end:
             logger.info(

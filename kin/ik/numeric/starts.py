@@ -21,7 +21,6 @@ from operator import le
 from typing import TYPE_CHECKING
 
 import numpy as np
-import numpy.typing as npt
 import pinocchio as pin
 
 from ..result import IKResult
@@ -29,22 +28,20 @@ from .numeric_target import NumericTarget
 from .seed_table import DEFAULT_ROTATION_WEIGHT
 
 if TYPE_CHECKING:
+    from .context import NumericContext
     from .search import Search
-    from .solver import NumericIK
 
 #: :attr:`IKResult.method` of a start from the seed table, and from the caller's seed / posture.
 SEED_TABLE = "seed_table"
 DAMPED_NEWTON = "damped_newton"
 
 
-def solve_from_starts(
-    ik: NumericIK, search: Search, seed_q: npt.ArrayLike | None
-) -> IKResult | None:
+def solve_from_starts(ik: NumericContext, search: Search) -> IKResult | None:
     """Damped Newton from each start in turn; the first verified result, else None.
 
     Without a seed table (the call could not afford it) only the posture and the caller's seed.
     """
-    for label, q0, index, patience, leash in seed_table_starts(ik, search, seed_q):
+    for label, q0, index, patience, leash in seed_table_starts(ik, search):
         outcome = search.newton(q0, patience, leash)
         method = SEED_TABLE if index >= 0 else DAMPED_NEWTON
         message = f"damped Newton from {label}, {outcome.iterations} steps"
@@ -57,7 +54,7 @@ def solve_from_starts(
 
 
 def seed_table_starts(
-    ik: NumericIK, search: Search, seed_q: npt.ArrayLike | None
+    ik: NumericContext, search: Search
 ) -> Iterator[tuple[str, np.ndarray, int, int | None, float | None]]:
     """Start joint vectors, most promising first (ranked lazily: most targets need one).
 
@@ -77,8 +74,8 @@ def seed_table_starts(
         posture = np.asarray(posture, dtype=float)
         yield "the preferred posture", posture, -1, None, None
     seed: np.ndarray | None = None
-    if seed_q is not None and not search.seed_tried:
-        seed = ik.seed_vector(seed_q)
+    if search.seed is not None and not search.seed_tried:
+        seed = search.seed
         if posture is not None and np.array_equal(seed, posture):
             seed = None  # the same run again
     if seed is not None:
@@ -126,7 +123,7 @@ def seed_table_starts(
         yield f"seed-table sample {index}", table.q[index], index, ik.patience, None
 
 
-def seed_leash(ik: NumericIK, search: Search, seed: np.ndarray) -> float | None:
+def seed_leash(ik: NumericContext, search: Search, seed: np.ndarray) -> float | None:
     """The leash [rad] of damped Newton from the caller's seed as the first start, or None.
 
     For a redundant target (:func:`redundant`) whose seed's tool is near it (the caller, a user or
@@ -151,7 +148,7 @@ def seed_leash(ik: NumericIK, search: Search, seed: np.ndarray) -> float | None:
             search.seed_bound = distance
         return None
     values = seed.tolist()
-    if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
+    if not (all(map(le, ik.lows, values)) and all(map(le, values, ik.highs))):
         return seed_leash(ik, search, np.minimum(np.maximum(seed, ik.lower), ik.upper))
     share, inner = _rotation_share(ik, pose, target)
     distance += share
@@ -163,7 +160,7 @@ def seed_leash(ik: NumericIK, search: Search, seed: np.ndarray) -> float | None:
     return ik.seed_leash
 
 
-def seed_distance(ik: NumericIK, search: Search, seed: np.ndarray) -> float:
+def seed_distance(ik: NumericContext, search: Search, seed: np.ndarray) -> float:
     """:func:`embedding_distance` of the caller's seed, measured once per solve."""
     distance = search.seed_distance
     if distance is None:
@@ -171,7 +168,7 @@ def seed_distance(ik: NumericIK, search: Search, seed: np.ndarray) -> float:
     return distance
 
 
-def seed_beyond(ik: NumericIK, search: Search, seed: np.ndarray, bound: float) -> bool:
+def seed_beyond(ik: NumericContext, search: Search, seed: np.ndarray, bound: float) -> bool:
     """Whether :func:`seed_distance` exceeds ``bound`` (a known lower bound spares measuring)."""
     lower = search.seed_bound
     if lower is not None and lower > bound:
@@ -179,7 +176,7 @@ def seed_beyond(ik: NumericIK, search: Search, seed: np.ndarray, bound: float) -
     return seed_distance(ik, search, seed) > bound
 
 
-def redundant(ik: NumericIK, target: NumericTarget) -> bool:
+def redundant(ik: NumericContext, target: NumericTarget) -> bool:
     """Whether many joint vectors reach ``target``: a posture, or more joints than it constrains.
 
     A position constrains three coordinates, a full pose six.
@@ -187,10 +184,10 @@ def redundant(ik: NumericIK, target: NumericTarget) -> bool:
     return target.posture is not None or ik.nq > (3 if target.rotation is None else 6)
 
 
-def embedding_distance(ik: NumericIK, q: np.ndarray, target: NumericTarget) -> float:
+def embedding_distance(ik: NumericContext, q: np.ndarray, target: NumericTarget) -> float:
     """Squared distance of ``q``'s tool pose to the target in the seed table's embedding."""
     values = q.tolist()
-    if not (all(map(le, ik._lows, values)) and all(map(le, values, ik._highs))):
+    if not (all(map(le, ik.lows, values)) and all(map(le, values, ik.highs))):
         q = np.minimum(np.maximum(q, ik.lower), ik.upper)
     pose = ik.judge.tool_pose(q)
     return _translation2(pose, target) + _rotation_share(ik, pose, target)[0]
@@ -204,7 +201,9 @@ def _translation2(pose: pin.SE3, target: NumericTarget) -> float:
     return x * x + y * y + z * z
 
 
-def _rotation_share(ik: NumericIK, pose: pin.SE3, target: NumericTarget) -> tuple[float, float]:
+def _rotation_share(
+    ik: NumericContext, pose: pin.SE3, target: NumericTarget
+) -> tuple[float, float]:
     """The rotation's share of the embedding distance [m^2] and ``<R, R_t>`` (3.0 without one).
 
     ``|R - R_t|_F^2 = 6 - 2 <R, R_t>`` for rotations, and ``<R, R_t> = 1 + 2 cos(angle)``.

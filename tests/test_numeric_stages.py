@@ -1,0 +1,91 @@
+"""The numeric pipeline as stages over a context (issue #20): no import circle, the seed checked
+once, the stages an ordered list that can be changed."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kin import Configuration, load_robot
+from kin.ik import NumericIK, PoseTarget
+from kin.ik.numeric.search import Stage
+from kin.ik.numeric.starts import solve_from_starts
+
+NUMERIC = Path(__file__).resolve().parent.parent / "kin" / "ik" / "numeric"
+
+
+def _imports(path: Path) -> set[str]:
+    """The sibling modules ``path`` imports (``from .x import``, ``from . import x``), typing too."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.level == 1:
+            if node.module:
+                found.add(node.module.split(".")[0])
+            else:
+                found.update(alias.name for alias in node.names)
+    return found
+
+
+def test_numeric_modules_import_no_circle():
+    """The graph of kin/ik/numeric's imports of each other (TYPE_CHECKING ones included) has no
+    cycle: a depth-first search finds no back edge."""
+    graph = {path.stem: _imports(path) for path in NUMERIC.glob("*.py")}
+    state: dict[str, int] = {}
+
+    def visit(module: str, trail: list[str]) -> None:
+        state[module] = 1
+        for other in graph.get(module, ()):
+            if state.get(other) == 1:
+                raise AssertionError(f"import circle: {' -> '.join([*trail, module, other])}")
+            if other in graph and not state.get(other):
+                visit(other, [*trail, module])
+        state[module] = 2
+
+    for module in graph:
+        if not state.get(module):
+            visit(module, [])
+    assert "solver" not in set().union(*(graph[m] for m in graph if m != "__init__"))
+
+
+@pytest.fixture(scope="module")
+def humanoid7():
+    return load_robot("humanoid7")
+
+
+def _pose(robot, q):
+    pose = Configuration(robot).fk(np.asarray(q, dtype=float))
+    return PoseTarget(pose.translation, pose.rotation)
+
+
+def test_the_seed_is_checked_once_per_solve(humanoid7, monkeypatch):
+    """Whichever stages run, the caller's seed is made a joint vector once, then handed down."""
+    solver = NumericIK(humanoid7, closed_form=False)
+    calls = []
+    original = solver.seed_vector
+    monkeypatch.setattr(solver, "seed_vector", lambda seed: calls.append(1) or original(seed))
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        q = rng.uniform(humanoid7.lower, humanoid7.upper)
+        calls.clear()
+        result = solver.solve(_pose(humanoid7, q), list(q + 0.3), timeout=0.2)
+        assert result.success
+        assert len(calls) == 1
+
+
+def test_the_pipeline_is_an_ordered_list_of_stages(humanoid7):
+    """The default stages, in order; a solver given the seed-table stage alone still solves, its
+    answers named by that stage (or a failure, never another stage's answer)."""
+    solver = NumericIK(humanoid7)
+    names = [stage.name for stage in solver.stages]
+    assert names == ["closed_form_free_joint", "seed_table", "random_restart", "mink_qp"]
+    solver.stages = (Stage("seed_table", solve_from_starts),)
+    rng = np.random.default_rng(4)
+    methods = set()
+    for _ in range(20):
+        q = rng.uniform(humanoid7.lower, humanoid7.upper)
+        result = solver.solve(_pose(humanoid7, q), timeout=0.2)
+        methods.add(result.method if result.success else "")
+    assert methods <= {"seed_table", "damped_newton", ""} and "seed_table" in methods
