@@ -1,4 +1,4 @@
-"""Benchmark the closed-form IK of the two 6R families: all 8 branches per call, and batched.
+"""Benchmark the closed-form IK of the 6R families: all branches per call, and batched.
 
 UR5 and UR10 (``ur_wrist``) and PUMA 560 (``spherical_wrist``, the Robotics Toolbox's DH model),
 their shipped tables. Columns, medians over repeated timings of ``--number`` calls on
@@ -13,6 +13,17 @@ ur-analytic-ik's Python call (all branches) and the Robotics Toolbox's ``ikine_a
 configurations, 8 calls); ``same solutions``: targets where the peer's solutions are exactly
 ours (same count, each within 1e-9 rad modulo 2 pi). Targets are the FK of seeded random q
 within +-pi.
+
+General 6R (``general_6r``, Raghavan-Roth elimination, up to 16 branches): the non-Pieper arms of
+``tests/data/six_r`` (xArm6, Jaco 2 6-DOF, CRX-10iA, the makers' parameters). Columns, medians
+of ``--number // 10`` calls: ``solve`` (the structure's branches, polished, not verified),
+``verified`` (the documented call ``kin.ik.get_solver(robot).solve(PoseTarget(p, R))``: every
+branch wrapped into the limits and verified, valid and rejected), ``batch`` (``solve_batch`` of
+``min(--batch, 10000)`` targets, per target) and the peer ssik when installed (``pip install
+ssik``: ``Manipulator.from_transforms`` of the same chain, ``solve(T, respect_limits=False,
+enumerate_windings=False)``: every branch, its own verification; its first call on an arm
+prepares it, tens of seconds, not timed), ``ratio`` = verified / ssik, ``same count``: targets
+where ssik finds as many solutions as our branches.
 """
 
 from __future__ import annotations
@@ -26,6 +37,7 @@ import math
 import statistics
 import timeit
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
@@ -38,7 +50,10 @@ from kin.ik.analytic.ur_wrist import URWrist6R
 #: The arms benchmarked, in order: (label, shipped robot, structure).
 ARMS = (("UR5", "ur5", URWrist6R), ("UR10", "ur10", URWrist6R),
         ("PUMA 560", "puma560", SphericalWrist6R))  # fmt: skip
-ROBOTS = tuple(name for _, name, _ in ARMS)
+#: The general-6R arms benchmarked: (label, table file in tests/data/six_r).
+GENERAL_ARMS = (("xArm6", "xarm6"), ("Jaco 2", "jaco2_6dof"), ("CRX-10iA", "crx10ia"))
+SIX_R = Path(__file__).resolve().parents[1] / "tests" / "data" / "six_r"
+ROBOTS = tuple(name for _, name, _ in ARMS) + tuple(name for _, name in GENERAL_ARMS)
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -53,7 +68,10 @@ def get_argument_parser() -> ArgumentParser:
     parser.add_argument(
         "--batch", type=positive_int, default=100_000, help="targets of the batch (default 100000)"
     )
-    parser.add_argument("--robot", choices=ROBOTS, help="one arm only (default: all three)")
+    parser.add_argument("--robot", choices=ROBOTS, help="one arm only (default: all)")
+    parser.add_argument(
+        "--no-ssik", action="store_true", help="general 6R: leave the peer ssik out"
+    )
     parser.add_argument(
         "--compare",
         type=positive_int,
@@ -123,6 +141,15 @@ def _same_solutions(ours: np.ndarray, theirs: np.ndarray, tol: float = 1e-9) -> 
 def main(argv: list[str] | None = None) -> int:
     """Print the benchmark table; exit 0."""
     args = get_argument_parser().parse_args(argv)
+    if args.robot is None or args.robot in {name for _, name, _ in ARMS}:
+        _families(args)
+    if args.robot is None or args.robot in {name for _, name in GENERAL_ARMS}:
+        _general(args)
+    return 0
+
+
+def _families(args) -> None:
+    """The UR and spherical-wrist table (see the module)."""
     arms = []
     for label, name, structure in ARMS:
         if args.robot not in (None, name):
@@ -171,7 +198,73 @@ def main(argv: list[str] | None = None) -> int:
             f"{label:<9} {solver.name:<16} {per_call:9.1f} {verified:9.1f} {python:11.1f} "
             f"{batch / args.batch:9.2f}  {peer_us:9.1f}  {f'{same}/{count}':>16}  {name}"
         )
-    return 0
+
+
+def _ssik_peer(F: np.ndarray, use: bool) -> Callable[[np.ndarray], list] | None:
+    """The peer ssik's every-branch solve of the chain ``F`` (solutions, ``.q``), or None."""
+    if not use:
+        return None
+    try:
+        import ssik
+    except ImportError:
+        return None
+    arm = ssik.Manipulator.from_transforms(F)
+
+    def solve(pose: np.ndarray) -> list:
+        return arm.solve(pose, respect_limits=False, enumerate_windings=False)
+
+    return solve
+
+
+def _general(args) -> None:
+    """The general-6R table (see the module)."""
+    from kin import robot_from_table
+    from kin.ik import PoseTarget, get_solver
+    from kin.ik.analytic.general_6r import General6R, chain_transforms
+
+    number = max(1, args.number // 10)
+    size = min(args.batch, 10_000)
+    print(
+        f"\n{'arm':<9} {'solver':<11} {'branches':>8} {'solve':>9} {'verified':>9} "
+        f"{'batch':>9}  {'ssik':>9} {'ratio':>6}  {'same count':>10}"
+    )
+    print(f"{'':<9} {'':<11} {'[mean]':>8} {'[us]':>9} {'[us]':>9} {'[us/tgt]':>9}  {'[us]':>9}")
+    for label, name in GENERAL_ARMS:
+        if args.robot not in (None, name):
+            continue
+        table = load_table(SIX_R / f"{name}.toml")
+        structure = General6R.recognise(table)
+        solver = get_solver(robot_from_table(table))
+        rng = np.random.default_rng(0)
+        q = rng.uniform(-math.pi, math.pi, (max(size, 1000), 6))
+        poses = batch_forward_kinematics(table, q)
+        targets = [(T[:3, 3].copy(), T[:3, :3].copy()) for T in poses[:1000]]
+        take = _cycle(targets)
+        solve_us = _median_us(lambda: structure.solve(*take()), number, args.repeat)  # type: ignore[misc]
+        documented = _cycle([PoseTarget(p, r) for p, r in targets])
+        verified_us = _median_us(lambda: solver.solve(documented()), number, args.repeat)
+        positions, rotations = poses[:size, :3, 3], poses[:size, :3, :3]
+        batch = _median_us(
+            lambda: structure.solve_batch(positions, rotations), 1, max(3, args.repeat // 2)
+        )
+        ours = structure.solve_batch(poses[:1000, :3, 3], poses[:1000, :3, :3])
+        counts = (~np.isnan(ours[..., 0])).sum(axis=1)
+        peer = _ssik_peer(chain_transforms(table)[0], not args.no_ssik)
+        if peer is None:
+            print(f"{label:<9} {solver.name.split(':')[-1]:<11} {counts.mean():8.2f} "
+                  f"{solve_us:9.1f} {verified_us:9.1f} {batch / size:9.2f}  {'-':>9} {'-':>6}  "
+                  f"{'-':>10}  ssik not installed")  # fmt: skip
+            continue
+        peer(poses[0])  # ssik prepares the arm on its first call
+        peer_take = _cycle(list(poses[:1000]))
+        peer_us = _median_us(lambda: peer(peer_take()), number, args.repeat)
+        compare = min(args.compare, 1000)
+        same = sum(len(peer(poses[k])) == counts[k] for k in range(compare))
+        print(
+            f"{label:<9} {solver.name.split(':')[-1]:<11} {counts.mean():8.2f} {solve_us:9.1f} "
+            f"{verified_us:9.1f} {batch / size:9.2f}  {peer_us:9.1f} "
+            f"{verified_us / peer_us:6.2f}  {f'{same}/{compare}':>10}"
+        )
 
 
 def _verified_us(

@@ -252,8 +252,19 @@ def test_refusals():
         General6R.recognise(make_table(a, alpha, d, theta))
     puma = load_table(get_robot("puma560").table_path)
     rounded = tuple(
-        DHRow(r.index, r.name, r.joint_type, r.a, round(r.alpha, 4), r.d, r.theta, r.lower,
-              r.upper, r.velocity, r.effort)  # fmt: skip
+        DHRow(
+            r.index,
+            r.name,
+            r.joint_type,
+            r.a,
+            round(r.alpha, 4),
+            r.d,
+            r.theta,
+            r.lower,
+            r.upper,
+            r.velocity,
+            r.effort,
+        )  # fmt: skip
         for r in puma.rows
     )
     rounded_table = DHTable("puma_rounded", "", "", puma.convention, rounded,

@@ -41,6 +41,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import numpy.typing as npt
 
 #: Sample angles of the coefficient fits [rad], and ``{1, sin, cos}`` at them (3x3).
 _GRID = np.array([0.0, 2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0])
@@ -53,7 +54,7 @@ TAU = (0.4137, -0.7219, 1.1113)
 IMAG_TOL = 1e-3
 
 
-def rot_z(angle: np.ndarray) -> np.ndarray:
+def rot_z(angle: npt.ArrayLike) -> np.ndarray:
     """``Rz(angle)`` as 4x4 transforms, (..., 4, 4), of angles (...) [rad]."""
     angle = np.asarray(angle, dtype=float)
     c, s = np.cos(angle), np.sin(angle)
@@ -77,11 +78,11 @@ def inverse(T: np.ndarray) -> np.ndarray:
     return out
 
 
-def equations(l: np.ndarray, p: np.ndarray) -> np.ndarray:
+def equations(axis: np.ndarray, p: np.ndarray) -> np.ndarray:
     """The 14 Raghavan-Roth quantities (..., 14) of axes ``l`` and points ``p`` (..., 3) [m]."""
     pp = np.einsum("...i,...i->...", p, p)[..., None]
-    pl = np.einsum("...i,...i->...", p, l)[..., None]
-    return np.concatenate((l, p, pp, pl, np.cross(p, l), pp * l - 2.0 * pl * p), axis=-1)
+    pl = np.einsum("...i,...i->...", p, axis)[..., None]
+    return np.concatenate((axis, p, pp, pl, np.cross(p, axis), pp * axis - 2.0 * pl * p), axis=-1)
 
 
 def _half_angle(tau: float) -> np.ndarray:

@@ -101,8 +101,11 @@ def forward(F: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
 
 
 def _errors(T: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Error vectors (M, 6) (position [m], small-angle rotation [rad]) of poses to targets,
-    and the largest of each (M,) (``inf`` when the rotation is more than 90 deg off)."""
+    """Error vectors (M, 6) of poses to targets, and the largest of each (M,).
+
+    Position [m] and small-angle rotation [rad]; the largest is ``inf`` when the rotation is
+    more than 90 deg off.
+    """
     dp = target[:, :3, 3] - T[:, :3, 3]
     E = target[:, :3, :3] @ np.swapaxes(T[:, :3, :3], 1, 2)
     dr = 0.5 * np.stack(
@@ -167,9 +170,7 @@ def distinct(n: int, pose: np.ndarray, u: np.ndarray) -> np.ndarray:
     # A duplicate follows its twin within the rows of equal pose and joint 1 (sorted).
     duplicate = np.zeros(pose.size, dtype=bool)
     for shift in range(1, pose.size):
-        near = (pose[shift:] == pose[:-shift]) & (
-            np.abs(u[shift:, 0] - u[:-shift, 0]) <= SAME_TOL
-        )
+        near = (pose[shift:] == pose[:-shift]) & (np.abs(u[shift:, 0] - u[:-shift, 0]) <= SAME_TOL)
         if not near.any():
             break
         gap = np.remainder(u[shift:] - u[:-shift] + math.pi, 2.0 * math.pi) - math.pi
@@ -284,7 +285,7 @@ class General6R:
             )
         T = np.zeros((p.shape[0], 4, 4))
         T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = r, p, 1.0
-        finite = np.isfinite(T).all(axis=(1, 2))
+        finite = np.asarray(np.isfinite(T).all(axis=(1, 2)))
         T = np.where(finite[:, None, None], T, np.eye(4))
         pose, u = _candidates(self.F, self.formulations, T, self._F0_inv, self._F6_inv)
         kept = finite[pose]
@@ -298,8 +299,10 @@ def _candidates(
     F0_inv: np.ndarray | None = None,
     F6_inv: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Polished DH joint variables on target (M, 6) [rad] of poses ``T`` (N, 4, 4), and their
-    pose index (M,): every real root of every formulation, polished, kept when on target."""
+    """Pose index (M,) and polished DH joint variables on target (M, 6) [rad] of poses ``T``.
+
+    Every real root of every formulation, polished, kept when on target to :data:`KEEP_TOL`.
+    """
     F0_inv = inverse(F[0]) if F0_inv is None else F0_inv
     F6_inv = inverse(F[6]) if F6_inv is None else F6_inv
     K = F0_inv @ T @ F6_inv
@@ -315,7 +318,9 @@ def _candidates(
     return pose[ok], polished[ok]
 
 
-def _found(F: np.ndarray, formulations: tuple[Formulation, ...], T: np.ndarray, u: np.ndarray):
+def _found(
+    F: np.ndarray, formulations: tuple[Formulation, ...], T: np.ndarray, u: np.ndarray
+) -> np.ndarray:
     """Whether the joint variables ``u`` (N, 6) that made poses ``T`` are among the branches."""
     with np.errstate(all="ignore"):
         pose, got = _candidates(F, formulations, T)
