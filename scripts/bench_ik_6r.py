@@ -257,7 +257,7 @@ def _general(args) -> None:
             continue
         peer(poses[0])  # ssik prepares the arm on its first call
         peer_take = _cycle(list(poses[:1000]))
-        peer_us = _median_us(lambda: peer(peer_take()), number, args.repeat)
+        peer_us = _median_us(lambda: peer(peer_take()), number, args.repeat)  # type: ignore[arg-type]
         compare = min(args.compare, 1000)
         same = sum(len(peer(poses[k])) == counts[k] for k in range(compare))
         print(
