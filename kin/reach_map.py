@@ -28,6 +28,7 @@ Lengths in meters, the world frame throughout.
 
 from __future__ import annotations
 
+import logging
 import math
 import os
 import tempfile
@@ -205,7 +206,7 @@ def _client(scheduler: Any) -> Iterator[Any]:
     if not isinstance(scheduler, str):
         yield scheduler  # a distributed.Client of the caller's
         return
-    from .workspace_run import DASK_HINT, dask_client
+    from .workspace_run import DASK_HINT, _ignore_sigint, dask_client
 
     if not scheduler.startswith("local-cluster:"):
         with dask_client(scheduler) as client:
@@ -233,9 +234,14 @@ def _client(scheduler: Any) -> Iterator[Any]:
     }
     with dask.config.set(settings):
         cluster = LocalCluster(
-            n_workers=int(workers), threads_per_worker=1, dashboard_address=None, processes=True
+            n_workers=int(workers),
+            threads_per_worker=1,
+            dashboard_address=None,
+            processes=True,
+            silence_logs=logging.CRITICAL,  # a task's error still reaches the caller
         )
         with cluster, Client(cluster) as client:
+            client.run(_ignore_sigint)  # Ctrl-C is the parent's: no traceback per worker
             yield client
 
 

@@ -197,6 +197,56 @@ def test_cli_ctrl_c_leaves_no_file(tmp_path, capsys, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize(
+    "scheduler",
+    [
+        "local",
+        pytest.param(
+            "local-cluster:2",
+            marks=pytest.mark.skipif(
+                not os.environ.get("KIN_REACH_SLOW"), reason="KIN_REACH_SLOW=1 runs it (~12 s)"
+            ),
+        ),
+    ],
+)
+def test_sigint_to_a_running_command_leaves_no_file(tmp_path, scheduler):
+    """SIGINT to the process group (a terminal's Ctrl-C) mid-run: exit 130, the last stderr line
+    'kin reach: interrupted', no traceback, no map, no temporary file, no process left."""
+    import signal
+    import subprocess
+    import time
+
+    from cli_helper import kin_command
+
+    argv = ["reach", "--robot", "ur5", "--voxel", "0.02", "--orientations", "64"]
+    process = subprocess.Popen(
+        [*kin_command(), *argv, "--scheduler", scheduler, "-o", str(tmp_path / "m.npz")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    try:
+        time.sleep(3.0 if scheduler == "local" else 8.0)
+        assert process.poll() is None, "ended before the interrupt"
+        os.killpg(process.pid, signal.SIGINT)
+        _, err = process.communicate(timeout=30)
+        text = err.decode()
+        assert process.returncode == 130, text
+        assert text.strip().splitlines()[-1] == "kin reach: interrupted"
+        assert "Traceback" not in text, text
+        assert list(tmp_path.iterdir()) == []
+        time.sleep(0.2)
+        # Nothing left running (a zombie of an exited worker is not: this machine's init may
+        # be slow to reap it).
+        states = subprocess.run(
+            ["ps", "-o", "stat=", "-g", str(process.pid)], capture_output=True, text=True
+        ).stdout.split()
+        assert [s for s in states if not s.startswith("Z")] == [], states
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+
+
 def test_ctrl_c_while_writing_leaves_no_file(tmp_path, ur5_map, monkeypatch):
     """An interrupt inside the .npz write removes the temporary file and leaves no map."""
 
