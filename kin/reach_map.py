@@ -33,8 +33,8 @@ import math
 import os
 import tempfile
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable, Generator, Iterator
+from contextlib import closing, contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -167,7 +167,7 @@ def count_reached(
 
 def _in_process(
     robot: RobotModel, chunks: list[np.ndarray], rotations: np.ndarray, timeout: float | None
-) -> Iterator[tuple[int, np.ndarray]]:
+) -> Generator[tuple[int, np.ndarray], None, None]:
     for i, chunk in enumerate(chunks):
         yield i, count_reached(robot, chunk, rotations, timeout)
 
@@ -182,7 +182,7 @@ def _on_dask(
     chunks: list[np.ndarray],
     rotations: np.ndarray,
     timeout: float | None,
-) -> Iterator[tuple[int, np.ndarray]]:
+) -> Generator[tuple[int, np.ndarray], None, None]:
     from distributed import as_completed
 
     [shared] = client.scatter([robot], broadcast=True)
@@ -302,11 +302,12 @@ def reachability_map(
             if client is None
             else _on_dask(client, robot, chunks, rotations, timeout)
         )
-        for i, reached in results:
-            counts[slices[i]] = reached
-            done += len(slices[i]) * int(orientations)
-            if progress is not None:
-                progress(done, total)
+        with closing(results):  # on Ctrl-C the futures are cancelled here, not when collected
+            for i, reached in results:
+                counts[slices[i]] = reached
+                done += len(slices[i]) * int(orientations)
+                if progress is not None:
+                    progress(done, total)
     return ReachMap(
         robot=robot.name,
         voxel_m=float(voxel),
