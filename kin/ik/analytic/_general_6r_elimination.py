@@ -149,15 +149,18 @@ class Formulation:
         """``C6`` of N poses, from ``F0^-1 T F6^-1`` (N, 4, 4) (forwards: its inverse)."""
         return T_inv_chain if self.reverse else inverse(T_inv_chain)
 
-    def candidates(self, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def candidates(self, K: np.ndarray, careful: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Joint vectors ``q`` [rad] of the real eigenvalues of N poses.
 
         Args:
             K: ``F0^-1 T F6^-1`` of the N tool poses ``T`` (N, 4, 4) [m].
+            careful: Also read every solution of a multiple root (solutions sharing ``u_a``):
+                its null space of ``M(x)`` by the shift in ``y`` (:func:`_multiple_root`).
 
         Returns:
-            ``q`` (N, 24, 6) [rad] (rows of non-real eigenvalues NaN) and the imaginary parts
-            (N, 24) of the eigenvalues, relative to ``1 + |lambda|``.
+            ``q`` (N, B, 6) [rad] (B = 24, more when careful; rows of non-real eigenvalues may
+            be anything, NaN rows pad) and the imaginary parts (N, B) of the eigenvalues,
+            relative to ``1 + |lambda|``.
         """
         n = K.shape[0]
         C = self._loop_constants(self.closure(K))
@@ -193,8 +196,11 @@ class Formulation:
         V = _real_vectors(vectors).reshape(n, 24, 4, 3)
         phi = TAU[1] + 2.0 * _ratio_angle(V, axis=2)
         psi = TAU[2] + 2.0 * _ratio_angle(V, axis=3)
+        if careful:
+            theta, phi, psi, imag = _multiple_roots(M, values, flip, theta, phi, psi, imag)
+        b = theta.shape[1]
         # Right-side joints from the monomials: Q' m' = f_L - Q0.
-        u = np.full((n, 24, 6), np.nan)
+        u = np.full((n, b, 6), np.nan)
         u[:, :, a], u[:, :, (a + 1) % 6], u[:, :, (a + 2) % 6] = theta, phi, psi
         L = (
             rot_z(theta)
@@ -203,7 +209,7 @@ class Formulation:
             @ C[a + 1][:, None]
             @ rot_z(psi)
             @ C[a + 2][:, None]
-        )  # (N, 24, 4, 4)
+        )  # (N, B, 4, 4)
         f = equations(L[..., :3, 2], L[..., :3, 3]) - q0[:, None]  # (N, 24, 14)
         inv_s = np.where(sv > sv[:, :1] * 1e-12, 1.0 / np.where(sv > 0, sv, 1.0), 0.0)
         pinv = np.swapaxes(Vt, 1, 2) @ (inv_s[..., None] * np.swapaxes(U[:, :, :8], 1, 2))
@@ -223,6 +229,70 @@ class Formulation:
         for k, (j, sign) in enumerate(zip(self.joints, self.signs)):
             q[..., j] = sign * u[..., k]
         return q, imag
+
+
+def _multiple_roots(
+    M: np.ndarray,
+    values: np.ndarray,
+    flip: np.ndarray,
+    theta: np.ndarray,
+    phi: np.ndarray,
+    psi: np.ndarray,
+    imag: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``theta, phi, psi, imag`` (N, B) with the solutions of multiple real roots appended.
+
+    At a root shared by k solutions the null space of ``M(x)`` has k dimensions and an
+    eigenvector mixes them. The true vectors ``v = y^i z^j`` (4 x 3) are ``N c`` for the null
+    basis ``N``; the rows ``i = 1..3`` are ``y`` times the rows ``i = 0..2``, so ``y`` and ``c``
+    are the eigenpairs of ``down^+ up`` (k x k), each giving ``phi`` and ``psi``.
+    """
+    n = M.shape[0]
+    pose, root = np.nonzero(imag <= IMAG_TOL)
+    if not pose.size:
+        return theta, phi, psi, imag
+    x = values.real[pose, root]
+    f = flip[pose][:, None, None]
+    xx = x[:, None, None]
+    Mp = M[pose]
+    A = np.where(
+        f,
+        Mp[:, 0] * xx * xx + Mp[:, 1] * xx + Mp[:, 2],
+        Mp[:, 2] * xx * xx + Mp[:, 1] * xx + Mp[:, 0],
+    )
+    _, sv, vh = np.linalg.svd(A)
+    k = np.minimum((sv < 1e-7 * sv[:, :1]).sum(axis=1), 4)
+    extra: list[list[tuple[float, float, float]]] = [[] for _ in range(n)]
+    for r in np.nonzero(k >= 2)[0]:
+        basis = vh[r, -k[r] :].T.reshape(4, 3, k[r])
+        down, up = basis[:3].reshape(9, -1), basis[1:].reshape(9, -1)
+        shift = np.linalg.lstsq(down, up, rcond=None)[0]
+        ys, cs = np.linalg.eig(shift)
+        for j in range(len(ys)):
+            if abs(ys[j].imag) > IMAG_TOL * (1.0 + abs(ys[j])):
+                continue
+            v = _real_vectors((basis.reshape(12, -1) @ cs[:, j])[None])[0].reshape(1, 1, 4, 3)
+            extra[pose[r]].append(
+                (
+                    float(theta[pose[r], root[r]]),
+                    float(TAU[1] + 2.0 * _ratio_angle(v, axis=2)[0, 0]),
+                    float(TAU[2] + 2.0 * _ratio_angle(v, axis=3)[0, 0]),
+                )
+            )
+    width = max(len(rows) for rows in extra)
+    if not width:
+        return theta, phi, psi, imag
+    more = np.full((n, width, 3), np.nan)
+    for i, rows in enumerate(extra):
+        if rows:
+            more[i, : len(rows)] = rows
+    zeros = np.where(np.isnan(more[..., 0]), np.inf, 0.0)
+    return (
+        np.concatenate((theta, more[..., 0]), axis=1),
+        np.concatenate((phi, more[..., 1]), axis=1),
+        np.concatenate((psi, more[..., 2]), axis=1),
+        np.concatenate((imag, zeros), axis=1),
+    )
 
 
 def _quadratic_eig(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

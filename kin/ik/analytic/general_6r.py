@@ -46,6 +46,8 @@ NEWTON_TOL = 1e-12
 KEEP_TOL = 1e-10
 #: Two branches closer than this in every joint (modulo 2 pi) [rad] are one.
 SAME_TOL = 1e-7
+#: Further eliminations asked for a pose the first one does not solve cleanly, at most.
+FALLBACKS = 2
 #: Sampled poses per formulation when an arm is recognised, and the seed of their joints.
 PROBES = 24
 PROBE_SEED = 6
@@ -165,12 +167,16 @@ def distinct(n: int, pose: np.ndarray, u: np.ndarray) -> np.ndarray:
     out = np.full((n, BRANCHES, 6), np.nan)
     if not pose.size:
         return out
-    order = np.lexsort((u[:, 0], pose))
+    # Joint 1 near +pi sorts with -pi (the same angle).
+    order = np.lexsort(
+        (np.where(u[:, 0] > math.pi - SAME_TOL, u[:, 0] - 2.0 * math.pi, u[:, 0]), pose)
+    )
     pose, u = pose[order], u[order]
     # A duplicate follows its twin within the rows of equal pose and joint 1 (sorted).
     duplicate = np.zeros(pose.size, dtype=bool)
     for shift in range(1, pose.size):
-        near = (pose[shift:] == pose[:-shift]) & (np.abs(u[shift:, 0] - u[:-shift, 0]) <= SAME_TOL)
+        gap1 = np.remainder(u[shift:, 0] - u[:-shift, 0] + math.pi, 2.0 * math.pi) - math.pi
+        near = (pose[shift:] == pose[:-shift]) & (np.abs(gap1) <= SAME_TOL)
         if not near.any():
             break
         gap = np.remainder(u[shift:] - u[:-shift] + math.pi, 2.0 * math.pi) - math.pi
@@ -194,6 +200,9 @@ class General6R:
         F: The chain's constant transforms ``F0 .. F6`` (7, 4, 4) [m] (world to tool, see
             :func:`chain_transforms`).
         signs: The joints' directions (+-1): DH angle ``theta_i + s_i q_i``.
+        fallbacks: Further eliminations, asked for the poses where the first leaves a real
+            root unsolved (two solutions sharing the eliminated joint's angle, a root that does
+            not polish onto the target, an odd count): their branches are merged.
     """
 
     name: ClassVar[str] = "general_6r"
@@ -207,6 +216,7 @@ class General6R:
     formulations: tuple[Formulation, ...]
     F: np.ndarray = field(repr=False)
     signs: np.ndarray = field(repr=False)
+    fallbacks: tuple[Formulation, ...] = ()
     _F0_inv: np.ndarray = field(init=False, repr=False)
     _F6_inv: np.ndarray = field(init=False, repr=False)
 
@@ -239,11 +249,13 @@ class General6R:
                 scored.append((found.sum(), formulation, found))
         scored.sort(key=lambda item: -item[0])
         best = scored[0]
+        fallbacks = tuple(item[1] for item in scored[1:] if 2 * item[0] >= PROBES)[:FALLBACKS]
         if best[0] == PROBES:
-            return cls(table.name, (best[1],), F, signs)
+            return cls(table.name, (best[1],), F, signs, fallbacks)
         for other in scored[1:]:
             if (best[2] | other[2]).all():
-                return cls(table.name, (best[1], other[1]), F, signs)
+                rest = tuple(f for f in fallbacks if f is not other[1])
+                return cls(table.name, (best[1], other[1]), F, signs, rest)
         raise check.fail(
             f"no elimination recovers the arm's sampled poses (best {best[0]} of {PROBES}): "
             "its solutions are not isolated or the elimination is singular"
@@ -287,7 +299,19 @@ class General6R:
         T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = r, p, 1.0
         finite = np.asarray(np.isfinite(T).all(axis=(1, 2)))
         T = np.where(finite[:, None, None], T, np.eye(4))
-        pose, u = _candidates(self.F, self.formulations, T, self._F0_inv, self._F6_inv)
+        inverses = (self._F0_inv, self._F6_inv)
+        pose, u, trouble = _candidates(self.F, self.formulations, T, *inverses)
+        for extra in self.formulations[:1] + self.fallbacks:
+            again = np.nonzero(trouble & finite)[0]
+            if not again.size:
+                break
+            more_pose, more_u, still = _candidates(
+                self.F, (extra,), T[again], *inverses, careful=True
+            )
+            pose = np.concatenate((pose, again[more_pose]))
+            u = np.concatenate((u, more_u))
+            trouble = np.zeros_like(trouble)
+            trouble[again] = still
         kept = finite[pose]
         return distinct(T.shape[0], pose[kept], u[kept]) * self.signs
 
@@ -298,24 +322,32 @@ def _candidates(
     T: np.ndarray,
     F0_inv: np.ndarray | None = None,
     F6_inv: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+    careful: bool = False,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pose index (M,) and polished DH joint variables on target (M, 6) [rad] of poses ``T``.
 
     Every real root of every formulation, polished, kept when on target to :data:`KEEP_TOL`.
+    The third array (N,) flags the poses where the distinct branches are not as many as the
+    real roots, or odd in number (a root lost: ask another formulation). ``careful``: read
+    every solution of a multiple root too (:meth:`Formulation.candidates`).
     """
     F0_inv = inverse(F[0]) if F0_inv is None else F0_inv
     F6_inv = inverse(F[6]) if F6_inv is None else F6_inv
     K = F0_inv @ T @ F6_inv
+    n = T.shape[0]
     poses, rows = [], []
     for formulation in formulations:
-        u, imag = formulation.candidates(K)
+        u, imag = formulation.candidates(K, careful)
         pose, branch = np.nonzero((imag <= IMAG_TOL) & np.isfinite(u).all(axis=-1))
         poses.append(pose)
         rows.append(u[pose, branch])
     pose = np.concatenate(poses)
     polished, error = polish(F, np.concatenate(rows), T[pose])
     ok = error <= KEEP_TOL
-    return pose[ok], polished[ok]
+    roots = np.bincount(pose, minlength=n)
+    found = (~np.isnan(distinct(n, pose[ok], polished[ok])[..., 0])).sum(axis=1)
+    trouble = (found < roots / len(formulations)) | (found % 2 == 1)
+    return pose[ok], polished[ok], trouble
 
 
 def _found(
@@ -323,7 +355,7 @@ def _found(
 ) -> np.ndarray:
     """Whether the joint variables ``u`` (N, 6) that made poses ``T`` are among the branches."""
     with np.errstate(all="ignore"):
-        pose, got = _candidates(F, formulations, T)
+        pose, got, _ = _candidates(F, formulations, T)
     diff = np.abs(np.remainder(got - u[pose] + math.pi, 2.0 * math.pi) - math.pi).max(axis=1)
     found = np.zeros(len(u), dtype=bool)
     found[pose[diff < 1e-6]] = True
