@@ -14,7 +14,11 @@ tangent of one joint, solved as a 24x24 eigenproblem (:mod:`._general_6r_elimina
 loop may be cut in six ways (joint 1, 2 or 3 as the eigenvalue, read from the base; joint 6, 5 or
 4 read from the tool); an arm's special geometry (zero lengths, parallel or meeting axes) makes
 some of them singular. :meth:`General6R.recognise` solves sampled poses of the arm with each and
-keeps the one (or two, their answers merged) that recovers them all.
+keeps the one (or two, their answers merged) that recovers them all, the next ones as fallbacks.
+A pose whose distinct branches are fewer than the real roots (solutions sharing the eliminated
+joint's angle: a multiple root, common at symmetric poses) is solved again reading every
+solution of a multiple root from its null space, then by the fallbacks, the answers merged.
+Poses whose solutions are not isolated (singular ones) give some of them.
 
 Every candidate is polished by Newton steps on the true chain (to about 1e-13 [m], [rad]),
 kept only when on target to :data:`KEEP_TOL`, and duplicates are merged; the solvers' judge
