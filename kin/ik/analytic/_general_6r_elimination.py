@@ -82,7 +82,16 @@ def equations(axis: np.ndarray, p: np.ndarray) -> np.ndarray:
     """The 14 Raghavan-Roth quantities (..., 14) of axes ``l`` and points ``p`` (..., 3) [m]."""
     pp = np.einsum("...i,...i->...", p, p)[..., None]
     pl = np.einsum("...i,...i->...", p, axis)[..., None]
-    return np.concatenate((axis, p, pp, pl, np.cross(p, axis), pp * axis - 2.0 * pl * p), axis=-1)
+    return np.concatenate((axis, p, pp, pl, _cross(p, axis), pp * axis - 2.0 * pl * p), axis=-1)
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of (..., 3) vectors (faster than ``np.cross`` on small stacks)."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return out
 
 
 def _half_angle(tau: float) -> np.ndarray:
@@ -108,6 +117,8 @@ class Formulation:
     joints: tuple[int, ...] = field(init=False)
     signs: tuple[float, ...] = field(init=False)
     _C: list[np.ndarray | None] = field(init=False, repr=False)
+    _C_inv: list[np.ndarray] = field(init=False, repr=False)
+    _h0: np.ndarray = field(init=False, repr=False)
     _P: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -123,6 +134,7 @@ class Formulation:
         setattr_(self, "joints", joints)
         setattr_(self, "signs", signs)
         setattr_(self, "_C", C)
+        setattr_(self, "_C_inv", [inverse(c) for c in C[:5] if c is not None])
         a = self.start
         # Left side at the 27 grid points (u_a, u_a+1, u_a+2), fitted on {1, s, c}^3.
         g = np.stack(np.meshgrid(_GRID, _GRID, _GRID, indexing="ij"), axis=-1).reshape(27, 3)
@@ -139,15 +151,17 @@ class Formulation:
         )
         setattr_(self, "_h0", np.kron(np.array([1.0, 0.0, 1.0]), np.array([1.0, 0.0, 1.0])))
 
-    def _loop_constants(self, G: np.ndarray) -> list[np.ndarray]:
-        """``C1 .. C6`` of N poses, (N, 4, 4) each: the fixed ones broadcast, ``C6`` from ``G``."""
-        n = G.shape[0]
-        out = [np.broadcast_to(c, (n, 4, 4)) for c in self._C[:5]]  # type: ignore[arg-type]
-        return out + [G]
+    def _loop_constants(self, K: np.ndarray) -> tuple[list[np.ndarray], list[np.ndarray]]:
+        """``C1 .. C6`` of N poses and their inverses, (N, 4, 4) each (see the module).
 
-    def closure(self, T_inv_chain: np.ndarray) -> np.ndarray:
-        """``C6`` of N poses, from ``F0^-1 T F6^-1`` (N, 4, 4) (forwards: its inverse)."""
-        return T_inv_chain if self.reverse else inverse(T_inv_chain)
+        The fixed ones broadcast; ``C6`` is ``K^-1`` read forwards, ``K`` backwards.
+        """
+        n = K.shape[0]
+        K_inv = inverse(K)
+        G, G_inv = (K, K_inv) if self.reverse else (K_inv, K)
+        fixed = [np.broadcast_to(c, (n, 4, 4)) for c in self._C[:5]]  # type: ignore[arg-type]
+        fixed_inv = [np.broadcast_to(c, (n, 4, 4)) for c in self._C_inv]
+        return fixed + [G], fixed_inv + [G_inv]
 
     def candidates(self, K: np.ndarray, careful: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Joint vectors ``q`` [rad] of the real eigenvalues of N poses.
@@ -163,24 +177,23 @@ class Formulation:
             relative to ``1 + |lambda|``.
         """
         n = K.shape[0]
-        C = self._loop_constants(self.closure(K))
+        C, C_inv = self._loop_constants(K)
         a = self.start
         i3, i4, i5 = (a + 3) % 6, (a + 4) % 6, (a + 5) % 6
         # Right side at the 9 grid points (u_a+4, u_a+5), fitted on {1, s, c}^2.
         g4 = np.repeat(_GRID, 3)
         g5 = np.tile(_GRID, 3)
-        w = inverse(C[i3])  # (N, 4, 4)
         Y = (
-            inverse(C[i5])[:, None]
+            C_inv[i5][:, None]
             @ rot_z(-g5)[None]
-            @ inverse(C[i4])[:, None]
+            @ C_inv[i4][:, None]
             @ rot_z(-g4)[None]
-            @ w[:, None]
+            @ C_inv[i3][:, None]
         )  # (N, 9, 4, 4)
         values = equations(Y[..., :3, 2], Y[..., :3, 3])  # (N, 9, 14)
         Q = np.einsum("ij,njk->nki", _FIT9, values)  # (N, 14, 9)
         q0 = Q[:, :, 0]
-        P = self._P[None] - np.stack((q0, np.zeros_like(q0), q0), axis=1)[..., None] * self._h0  # type: ignore[attr-defined]
+        P = self._P[None] - np.stack((q0, np.zeros_like(q0), q0), axis=1)[..., None] * self._h0
         U, sv, Vt = np.linalg.svd(Q[:, :, 1:], full_matrices=True)
         null = np.swapaxes(U[:, :, 8:], 1, 2)  # (N, 6, 14)
         S = null[:, None] @ P  # (N, 3, 6, 9)

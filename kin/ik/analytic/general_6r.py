@@ -304,20 +304,24 @@ class General6R:
         finite = np.asarray(np.isfinite(T).all(axis=(1, 2)))
         T = np.where(finite[:, None, None], T, np.eye(4))
         inverses = (self._F0_inv, self._F6_inv)
-        pose, u, trouble = _candidates(self.F, self.formulations, T, *inverses)
+        n = T.shape[0]
+        pose, u, roots = _candidates(self.F, self.formulations, T, *inverses)
+        pose, u = pose[finite[pose]], u[finite[pose]]
+        out = distinct(n, pose, u)
         for extra in self.formulations[:1] + self.fallbacks:
-            again = np.nonzero(trouble & finite)[0]
+            found = (~np.isnan(out[..., 0])).sum(axis=1)
+            again = np.nonzero(((found < roots) | (found % 2 == 1)) & finite)[0]
             if not again.size:
                 break
-            more_pose, more_u, still = _candidates(
+            more_pose, more_u, more_roots = _candidates(
                 self.F, (extra,), T[again], *inverses, careful=True
             )
             pose = np.concatenate((pose, again[more_pose]))
             u = np.concatenate((u, more_u))
-            trouble = np.zeros_like(trouble)
-            trouble[again] = still
-        kept = finite[pose]
-        return distinct(T.shape[0], pose[kept], u[kept]) * self.signs
+            roots = np.zeros_like(roots)
+            roots[again] = more_roots  # a pose asks the next elimination if this one failed too
+            out = distinct(n, pose, u)
+        return out * self.signs
 
 
 def _candidates(
@@ -331,9 +335,9 @@ def _candidates(
     """Pose index (M,) and polished DH joint variables on target (M, 6) [rad] of poses ``T``.
 
     Every real root of every formulation, polished, kept when on target to :data:`KEEP_TOL`.
-    The third array (N,) flags the poses where the distinct branches are not as many as the
-    real roots, or odd in number (a root lost: ask another formulation). ``careful``: read
-    every solution of a multiple root too (:meth:`Formulation.candidates`).
+    The third array (N,) counts the real roots per pose (divided by the formulations): a pose
+    with fewer distinct branches, or an odd number, lost one (ask another formulation).
+    ``careful``: read every solution of a multiple root too (:meth:`Formulation.candidates`).
     """
     F0_inv = inverse(F[0]) if F0_inv is None else F0_inv
     F6_inv = inverse(F[6]) if F6_inv is None else F6_inv
@@ -348,10 +352,8 @@ def _candidates(
     pose = np.concatenate(poses)
     polished, error = polish(F, np.concatenate(rows), T[pose])
     ok = error <= KEEP_TOL
-    roots = np.bincount(pose, minlength=n)
-    found = (~np.isnan(distinct(n, pose[ok], polished[ok])[..., 0])).sum(axis=1)
-    trouble = (found < roots / len(formulations)) | (found % 2 == 1)
-    return pose[ok], polished[ok], trouble
+    roots = np.bincount(pose, minlength=n) / len(formulations)
+    return pose[ok], polished[ok], roots
 
 
 def _found(
