@@ -232,22 +232,32 @@ def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., tuple] | No
         near = max(solver.seed_reach, solver.seed_radius)  # type: ignore[attr-defined]
 
     def batch(points: np.ndarray, rotations: np.ndarray | None, seeds: np.ndarray) -> tuple:
-        far = np.ones(len(points), dtype=bool)
+        # As the solver's call: a seed whose tool is within its seed reach of the target (and,
+        # for a pose, turned less than seed_turn from it) expects the answer near it.
+        n = len(points)
+        close = np.zeros(n, dtype=bool)
         if near > 0.0:
-            tools = batch_forward_kinematics(robot.table, seeds)[:, :3, 3]
+            tools = batch_forward_kinematics(robot.table, seeds)
             with np.errstate(all="ignore"):  # a target 1e200 m away is far (inf), no warning
-                far = np.hypot(np.hypot(*(tools - points)[:, :2].T), (tools - points)[:, 2]) > near
-        q = np.full((len(points), seeds.shape[1]), np.nan)
-        position_error = np.full(len(points), np.nan)
-        rotation_error = np.full(len(points), np.nan)
-        if far.any():
-            rows = np.flatnonzero(far)
+                offset = tools[:, :3, 3] - points
+                close = np.hypot(np.hypot(offset[:, 0], offset[:, 1]), offset[:, 2]) <= near
+            if rotations is not None:
+                inner = np.einsum("nij,nij->n", tools[:, :3, :3], rotations)
+                turn = 1.0 + 2.0 * np.cos(solver.seed_turn)  # type: ignore[attr-defined]
+                close &= inner >= turn
+        inside = np.all((seeds >= robot.lower) & (seeds <= robot.upper), axis=1)
+        q = np.full((n, seeds.shape[1]), np.nan)
+        position_error = np.full(n, np.nan)
+        rotation_error = np.full(n, np.nan)
+        rows = np.flatnonzero(~close | inside)  # a near seed outside the limits: by the call
+        if rows.size:
             answers = free_joint_answers(
                 solver,
                 robot,
                 points[rows],
                 None if rotations is None else rotations[rows],
                 seeds[rows],
+                close[rows],
             )
             if answers is not None:
                 q[rows], position_error[rows], rotation_error[rows] = answers

@@ -216,6 +216,7 @@ def free_joint_answers(
     points: np.ndarray,
     frames: np.ndarray | None,
     seeds: np.ndarray,
+    near: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The free-joint closed form's answers of N targets, or None when the solver has none.
 
@@ -232,6 +233,11 @@ def free_joint_answers(
         points: Target positions (N, 3) [m], world frame.
         frames: Target rotations (N, 3, 3), or None for positions.
         seeds: Start joint vectors (N, nq) [rad].
+        near: Per target, whether its seed's tool is near it (the solver's ``near_seed`` check,
+            :func:`kin.ik.numeric.starts.seed_leash`), or None: none is. Such a target takes
+            the branch of the seed's own free joint (no scan), and only when no joint moved
+            farther than the solver's ``seed_near`` from the seed, as the solver's call does
+            first; else no answer here.
 
     Returns:
         ``(q, position_error, rotation_error)``: (N, nq) with NaN rows where the closed form
@@ -246,15 +252,19 @@ def free_joint_answers(
     compiled = bool(getattr(solver, "compiled", False))
     steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
     prepare, first = closed.prepare, closed.first
+    near_rows = np.zeros(n, dtype=bool) if near is None else np.asarray(near, dtype=bool)
     for i in range(n):
         prepared = prepare(points[i], None if frames is None else frames[i])
         if prepared is None:
             continue
         start = seeds[i : i + 1]
-        for step in steps:
+        for step in (0.0,) if near_rows[i] else steps:
             if first(prepared, start, out, step, compiled) == 0:
                 candidates[i] = out
                 break
+    if near_rows.any():  # kept only within seed_near of the seed (else the call's damped Newton)
+        moved = np.abs(candidates - seeds).max(axis=1)
+        candidates[near_rows & ~(moved <= getattr(solver, "seed_near", 0.0))] = np.nan
     found = ~np.isnan(candidates).any(axis=1)
     position_error = np.full(n, np.nan)
     rotation_error = np.full(n, np.nan)
