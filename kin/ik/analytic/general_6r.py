@@ -48,6 +48,9 @@ NEWTON_STEPS = 8
 NEWTON_TOL = 1e-12
 #: A polished candidate is kept when its position [m] and rotation [rad] errors are below this.
 KEEP_TOL = 1e-10
+#: Eigenvalues this close to real (relative imaginary part) count as roots a pose must keep:
+#: a pose with fewer branches is solved again (nearer ones are also polished, not counted).
+ROOT_TOL = 1e-7
 #: Two branches closer than this in every joint (modulo 2 pi) [rad] are one.
 SAME_TOL = 1e-7
 #: Further eliminations asked for a pose the first one does not solve cleanly, at most.
@@ -344,15 +347,18 @@ def _candidates(
     K = F0_inv @ T @ F6_inv
     n = T.shape[0]
     poses, rows = [], []
+    roots = np.zeros(n)
     for formulation in formulations:
         u, imag = formulation.candidates(K, careful)
-        pose, branch = np.nonzero((imag <= IMAG_TOL) & np.isfinite(u).all(axis=-1))
+        finite = np.isfinite(u).all(axis=-1)
+        pose, branch = np.nonzero((imag <= IMAG_TOL) & finite)
         poses.append(pose)
         rows.append(u[pose, branch])
+        roots += ((imag <= ROOT_TOL) & finite).sum(axis=1)
     pose = np.concatenate(poses)
     polished, error = polish(F, np.concatenate(rows), T[pose])
     ok = error <= KEEP_TOL
-    roots = np.bincount(pose, minlength=n) / len(formulations)
+    roots /= len(formulations)
     return pose[ok], polished[ok], roots
 
 
