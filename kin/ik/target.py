@@ -28,18 +28,26 @@ _ROTATION_EXACT = 1e-12
 
 def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
     """``values`` as a new float array of ``size`` finite numbers (a TargetError names the field)."""
+    return _checked(values, size, what)[0]
+
+
+def _checked(values: npt.ArrayLike, size: int, what: str) -> tuple[np.ndarray, list[float]]:
+    """:func:`_vector`, and its values as Python floats (row-major)."""
     try:
         array = np.array(values, dtype=float).reshape(-1)
     except (TypeError, ValueError, OverflowError) as err:
         raise TargetError(f"{what} must be {size} numbers, got {values!r}") from err
     if array.size != size:
         raise TargetError(f"{what} must be {size} numbers, got {array.size}")
-    if not all(map(math.isfinite, array.tolist())):
+    floats = array.tolist()
+    # A finite sum means every value is finite (a NaN or an infinity makes it NaN or infinite);
+    # a sum that overflows is looked at value by value.
+    if not math.isfinite(sum(floats)) and not all(map(math.isfinite, floats)):
         i = int(np.flatnonzero(~np.isfinite(array))[0])
         where = f"{what}[{i}]" if size <= 3 else f"{what}[{i // 3}][{i % 3}]"
         raise TargetError(f"{where} is {array[i]}: every target value must be a finite number")
     array.flags.writeable = False  # checked once: it cannot change after (a copy of the input)
-    return array
+    return array, floats
 
 
 def _rotation(values: npt.ArrayLike) -> np.ndarray:
@@ -47,8 +55,9 @@ def _rotation(values: npt.ArrayLike) -> np.ndarray:
 
     The check runs on Python floats (a few microseconds): a target is built once per solve.
     """
-    matrix = _vector(values, 9, "rotation").reshape(3, 3)
-    a, b, c, d, e, f, g, h, i = matrix.ravel().tolist()
+    flat, floats = _checked(values, 9, "rotation")
+    matrix = flat.reshape(3, 3)
+    a, b, c, d, e, f, g, h, i = floats
     if max(abs(a), abs(b), abs(c), abs(d), abs(e), abs(f), abs(g), abs(h), abs(i)) > 2.0:
         deviation = math.inf  # no rotation has such an entry (and no overflow below)
     else:
