@@ -23,7 +23,8 @@ branch wrapped into the limits and verified, valid and rejected), ``batch`` (``s
 ssik``: ``Manipulator.from_transforms`` of the same chain, ``solve(T, respect_limits=False,
 enumerate_windings=False)``: every branch, its own verification; its first call on an arm
 prepares it, tens of seconds, not timed), ``ratio`` = verified / ssik, ``same count``: targets
-where ssik finds as many solutions as our branches.
+where ssik finds as many solutions as our branches. With ssik, ``verified`` and ``ssik`` are
+timed in alternation (``--repeat`` pairs of timings on the same targets).
 """
 
 from __future__ import annotations
@@ -83,6 +84,11 @@ def get_argument_parser() -> ArgumentParser:
 
 def _median_us(function: Callable[[], object], number: int, repeat: int) -> float:
     return statistics.median(timeit.repeat(function, number=number, repeat=repeat)) / number * 1e6
+
+
+def _per_call_us(function: Callable[[], object], calls: int) -> float:
+    """One timing of ``function`` (which makes ``calls`` calls), per call [us]."""
+    return timeit.timeit(function, number=1) / calls * 1e6
 
 
 def _cycle(items: list) -> Callable[[], object]:
@@ -241,7 +247,8 @@ def _general(args) -> None:
         targets = [(T[:3, 3].copy(), T[:3, :3].copy()) for T in poses[:1000]]
         take = _cycle(targets)
         solve_us = _median_us(lambda: structure.solve(*take()), number, args.repeat)  # type: ignore[misc]
-        documented = _cycle([PoseTarget(p, r) for p, r in targets])
+        documented_targets = [PoseTarget(p, r) for p, r in targets]
+        documented = _cycle(documented_targets)
         verified_us = _median_us(lambda: solver.solve(documented()), number, args.repeat)
         positions, rotations = poses[:size, :3, 3], poses[:size, :3, :3]
         batch = _median_us(
@@ -256,8 +263,18 @@ def _general(args) -> None:
                   f"{'-':>10}  ssik not installed")  # fmt: skip
             continue
         peer(poses[0])  # ssik prepares the arm on its first call
-        peer_take = _cycle(list(poses[:1000]))
-        peer_us = _median_us(lambda: peer(peer_take()), number, args.repeat)  # type: ignore[arg-type]
+        # Ours and ssik's timed in alternation on the same targets (the machine's load drifts):
+        # the medians of the interleaved timings.
+        peer_poses = list(poses[:1000])
+        ours_times, peer_times = [], []
+        for r in range(args.repeat):
+            start = (r * number) % 1000
+            chunk = [documented_targets[(start + k) % 1000] for k in range(number)]
+            poses_chunk = [peer_poses[(start + k) % 1000] for k in range(number)]
+            ours_times.append(_per_call_us(lambda c=chunk: [solver.solve(t) for t in c], number))
+            peer_times.append(_per_call_us(lambda c=poses_chunk: [peer(T) for T in c], number))
+        verified_us = statistics.median(ours_times)
+        peer_us = statistics.median(peer_times)
         compare = min(args.compare, 1000)
         same = sum(len(peer(poses[k])) == counts[k] for k in range(compare))
         print(
