@@ -48,6 +48,14 @@ _GRID = np.array([0.0, 2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0])
 _BASIS = np.stack([np.ones(3), np.sin(_GRID), np.cos(_GRID)], axis=1)
 _FIT9 = np.linalg.inv(np.kron(_BASIS, _BASIS))
 _FIT27 = np.linalg.inv(np.kron(np.kron(_BASIS, _BASIS), _BASIS))
+#: ``Rz(-u)`` at the 9 grid points of the right side: ``u_a+4`` slow, ``u_a+5`` fast.
+_ROT4 = np.zeros((9, 4, 4))
+_ROT5 = np.zeros((9, 4, 4))
+for _rot, _angles in ((_ROT4, -np.repeat(_GRID, 3)), (_ROT5, -np.tile(_GRID, 3))):
+    _rot[:, 0, 0] = _rot[:, 1, 1] = np.cos(_angles)
+    _rot[:, 1, 0] = np.sin(_angles)
+    _rot[:, 0, 1] = -np.sin(_angles)
+    _rot[:, 2, 2] = _rot[:, 3, 3] = 1.0
 #: Shifts of the half-angle tangents (x, y, z) [rad]: a root at ``tau + pi`` is at infinity.
 TAU = (0.4137, -0.7219, 1.1113)
 #: An eigenvalue is taken as real when ``|Im| <= IMAG_TOL (1 + |lambda|)`` (Newton decides).
@@ -172,23 +180,17 @@ class Formulation:
                 its null space of ``M(x)`` by the shift in ``y`` (:func:`_multiple_root`).
 
         Returns:
-            ``q`` (N, B, 6) [rad] (B = 24, more when careful; rows of non-real eigenvalues may
-            be anything, NaN rows pad) and the imaginary parts (N, B) of the eigenvalues,
-            relative to ``1 + |lambda|``.
+            ``q`` (N, B, 6) [rad] of the (near-)real eigenvalues first (B: the most of a pose;
+            a pose's other rows are non-real, anything, or NaN) and the imaginary parts (N, B)
+            of the eigenvalues, relative to ``1 + |lambda|``.
         """
         n = K.shape[0]
         C, C_inv = self._loop_constants(K)
         a = self.start
         i3, i4, i5 = (a + 3) % 6, (a + 4) % 6, (a + 5) % 6
         # Right side at the 9 grid points (u_a+4, u_a+5), fitted on {1, s, c}^2.
-        g4 = np.repeat(_GRID, 3)
-        g5 = np.tile(_GRID, 3)
         Y = (
-            C_inv[i5][:, None]
-            @ rot_z(-g5)[None]
-            @ C_inv[i4][:, None]
-            @ rot_z(-g4)[None]
-            @ C_inv[i3][:, None]
+            C_inv[i5][:, None] @ _ROT5[None] @ C_inv[i4][:, None] @ _ROT4[None] @ C_inv[i3][:, None]
         )  # (N, 9, 4, 4)
         values = equations(Y[..., :3, 2], Y[..., :3, 3])  # (N, 9, 14)
         Q = np.einsum("ij,njk->nki", _FIT9, values)  # (N, 14, 9)
@@ -211,7 +213,13 @@ class Formulation:
         psi = TAU[2] + 2.0 * _ratio_angle(V, axis=3)
         if careful:
             theta, phi, psi, imag = _multiple_roots(M, values, flip, theta, phi, psi, imag)
-        b = theta.shape[1]
+        # Only the real roots go on: each pose's first, as many columns as the most real.
+        real = imag <= IMAG_TOL
+        b = max(int(real.sum(axis=1).max(initial=0)), 1)
+        order = np.argsort(~real, axis=1, kind="stable")[:, :b]
+        theta, phi, psi, imag = (
+            np.take_along_axis(x, order, axis=1) for x in (theta, phi, psi, imag)
+        )
         # Right-side joints from the monomials: Q' m' = f_L - Q0.
         u = np.full((n, b, 6), np.nan)
         u[:, :, a], u[:, :, (a + 1) % 6], u[:, :, (a + 2) % 6] = theta, phi, psi
