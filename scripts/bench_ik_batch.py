@@ -147,8 +147,9 @@ def batch(robot: RobotModel, poses: np.ndarray, seeds: np.ndarray, passes: int) 
 
 
 def stream(robot: RobotModel, poses: np.ndarray, lines: int = STREAM_LINES) -> dict:
-    """``kin ik --stdin`` on ``lines`` lines, the poses repeated (q = 0 seeds): lines/s, start-up
-    (the same command on one line) taken off.
+    """``kin ik --stdin`` on ``lines`` lines, the poses repeated (q = 0 seeds): lines/s.
+
+    The start-up (the same command on one line) is taken off.
     """
     rows = []
     for k in range(lines):
