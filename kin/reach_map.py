@@ -185,7 +185,9 @@ def _on_dask(
 ) -> Generator[tuple[int, np.ndarray], None, None]:
     from distributed import as_completed
 
-    [shared] = client.scatter([robot], broadcast=True)
+    # A key of its own (not the data's hash): two maps of one robot on one scheduler (two
+    # clients) must not share it, or the first one's release loses the second one's copy.
+    [shared] = client.scatter([robot], broadcast=True, hash=False)
     futures = [
         client.submit(_numbered, i, shared, chunk, rotations, timeout, pure=False)
         for i, chunk in enumerate(chunks)
