@@ -33,7 +33,7 @@ import argparse
 import json
 import re
 import sys
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ..cli import (
     ArgumentParser,
@@ -218,50 +218,15 @@ def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., tuple] | No
     (:func:`kin.ik.batch_solve.free_joint_answers`) when the solver is the numeric one with a
     free-joint closed form (humanoid7, Panda, xArm7): the answers its calls would give first.
     """
-    import numpy as np
-
-    from ..batch_fk import batch_forward_kinematics
     from ..ik.batch_solve import free_joint_answers
 
     if getattr(solver, "closed_form", None) is None or getattr(solver, "idealised", None):
         return None
-    near = 0.0
-    if getattr(solver, "near_seed", False):
-        # A seed whose tool is within the solver's seed reach of the target is answered by its
-        # call (:func:`kin.ik.numeric.starts.seed_leash`: the answer near the seed), not here.
-        near = max(solver.seed_reach, solver.seed_radius)  # type: ignore[attr-defined]
 
-    def batch(points: np.ndarray, rotations: np.ndarray | None, seeds: np.ndarray) -> tuple:
-        # As the solver's call: a seed whose tool is within its seed reach of the target (and,
-        # for a pose, turned less than seed_turn from it) expects the answer near it.
-        n = len(points)
-        close = np.zeros(n, dtype=bool)
-        if near > 0.0:
-            tools = batch_forward_kinematics(robot.table, seeds)
-            with np.errstate(all="ignore"):  # a target 1e200 m away is far (inf), no warning
-                offset = tools[:, :3, 3] - points
-                close = np.hypot(np.hypot(offset[:, 0], offset[:, 1]), offset[:, 2]) <= near
-            if rotations is not None:
-                inner = np.einsum("nij,nij->n", tools[:, :3, :3], rotations)
-                turn = 1.0 + 2.0 * np.cos(solver.seed_turn)  # type: ignore[attr-defined]
-                close &= inner >= turn
-        inside = np.all((seeds >= robot.lower) & (seeds <= robot.upper), axis=1)
-        q = np.full((n, seeds.shape[1]), np.nan)
-        position_error = np.full(n, np.nan)
-        rotation_error = np.full(n, np.nan)
-        rows = np.flatnonzero(~close | inside)  # a near seed outside the limits: by the call
-        if rows.size:
-            answers = free_joint_answers(
-                solver,
-                robot,
-                points[rows],
-                None if rotations is None else rotations[rows],
-                seeds[rows],
-                close[rows],
-            )
-            if answers is not None:
-                q[rows], position_error[rows], rotation_error[rows] = answers
-        return q, position_error, rotation_error
+    def batch(points: Any, rotations: Any, seeds: Any) -> tuple:
+        answers = free_joint_answers(solver, robot, points, rotations, seeds)
+        assert answers is not None  # the solver has a free-joint closed form (checked above)
+        return answers
 
     return batch
 

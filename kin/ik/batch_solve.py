@@ -216,7 +216,6 @@ def free_joint_answers(
     points: np.ndarray,
     frames: np.ndarray | None,
     seeds: np.ndarray,
-    near: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The free-joint closed form's answers of N targets, or None when the solver has none.
 
@@ -227,17 +226,17 @@ def free_joint_answers(
     candidates are measured together by the batched judge (:func:`~kin.ik.judge.batch_pose_errors`
     on the table's DH product): kept within 1e-9 m and rad and inside the limits.
 
+    A solver with ``near_seed`` (the ``kin`` commands') answers a target whose seed's tool is
+    near it (:func:`_near_seeds`) with the branch of the seed's own free joint (no scan), and
+    only when no joint moved farther than its ``seed_near``, as its call does first; else (and
+    for such a seed outside the limits) no answer here.
+
     Args:
         solver: The robot's solver (:func:`~kin.ik.get_solver`).
         robot: The robot.
         points: Target positions (N, 3) [m], world frame.
         frames: Target rotations (N, 3, 3), or None for positions.
         seeds: Start joint vectors (N, nq) [rad].
-        near: Per target, whether its seed's tool is near it (the solver's ``near_seed`` check,
-            :func:`kin.ik.numeric.starts.seed_leash`), or None: none is. Such a target takes
-            the branch of the seed's own free joint (no scan), and only when no joint moved
-            farther than the solver's ``seed_near`` from the seed, as the solver's call does
-            first; else no answer here.
 
     Returns:
         ``(q, position_error, rotation_error)``: (N, nq) with NaN rows where the closed form
@@ -247,13 +246,15 @@ def free_joint_answers(
     if closed is None or getattr(solver, "idealised", None) is not None:
         return None
     n, nq = points.shape[0], robot.nq
+    near_rows, skipped = _near_seeds(solver, robot, points, frames, seeds)
     candidates = np.full((n, nq), np.nan)
     out = np.empty(nq)
     compiled = bool(getattr(solver, "compiled", False))
     steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
     prepare, first = closed.prepare, closed.first
-    near_rows = np.zeros(n, dtype=bool) if near is None else np.asarray(near, dtype=bool)
     for i in range(n):
+        if skipped[i]:
+            continue
         prepared = prepare(points[i], None if frames is None else frames[i])
         if prepared is None:
             continue
@@ -285,6 +286,35 @@ def free_joint_answers(
         if r_err is not None:
             rotation_error[rows[ok]] = r_err[ok]
     return candidates, position_error, rotation_error
+
+
+def _near_seeds(
+    solver: object,
+    robot: RobotModel,
+    points: np.ndarray,
+    frames: np.ndarray | None,
+    seeds: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per target, whether its seed is near it for a ``near_seed`` solver, and whether to skip it.
+
+    Near, as :func:`kin.ik.numeric.starts.seed_leash` decides: the seed's tool within the
+    solver's ``max(seed_reach, seed_radius)`` [m] of the target and, for a pose, turned less
+    than its ``seed_turn`` [rad]. A near seed outside the limits is skipped (the call clips it).
+    """
+    n = len(points)
+    near = np.zeros(n, dtype=bool)
+    if not getattr(solver, "near_seed", False):
+        return near, near
+    reach = max(solver.seed_reach, solver.seed_radius)  # type: ignore[attr-defined]
+    tools = batch_forward_kinematics(robot.table, seeds)
+    with np.errstate(all="ignore"):  # a target 1e200 m away is far (inf), no warning
+        offset = tools[:, :3, 3] - points
+        near = np.hypot(np.hypot(offset[:, 0], offset[:, 1]), offset[:, 2]) <= reach
+    if frames is not None:
+        inner = np.einsum("nij,nij->n", tools[:, :3, :3], frames)
+        near &= inner >= 1.0 + 2.0 * math.cos(solver.seed_turn)  # type: ignore[attr-defined]
+    inside = np.all((seeds >= robot.lower) & (seeds <= robot.upper), axis=1)
+    return near, near & ~inside
 
 
 #: Largest position [m] and rotation [rad] error of a closed-form candidate in a batch.

@@ -47,7 +47,7 @@ from .exceptions import StructureError, TargetError
 from .judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
 from .reach import reach_bound
 from .result import IKResult, IKSolution
-from .target import TOOL_AXES, AxisTarget, PoseTarget, PositionTarget, is_partial
+from .target import TOOL_AXES, AxisTarget, PoseTarget, PositionTarget, axis_turn, is_partial
 
 __all__ = ["PartialPoseIK", "PartialTask", "is_partial"]
 
@@ -109,7 +109,7 @@ class PartialTask:
         if self.axis_column is None:
             e[3:] = pin.log3(self.target.rotation @ rotation.T)  # type: ignore[union-attr]
         else:
-            e[3:] = _axis_rotation(rotation[:, self.axis_column], self.target.axis)  # type: ignore[union-attr]
+            e[3:] = axis_turn(rotation[:, self.axis_column], self.target.axis)  # type: ignore[union-attr]
         return e
 
     def errors(self, e: np.ndarray) -> tuple[float, float]:
@@ -130,20 +130,6 @@ class PartialTask:
             a = rotation[:, self.axis_column]
             rows[3:] = frame_jacobian[3:] - np.outer(a, a @ frame_jacobian[3:])
         return rows
-
-
-def _axis_rotation(a: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """The rotation vector [rad] turning unit vector ``a`` onto ``target`` about their normal."""
-    cross = np.cross(a, target)
-    sine = float(np.linalg.norm(cross))
-    cosine = float(a @ target)
-    angle = math.atan2(sine, cosine)
-    if sine > 1e-12:
-        return cross * (angle / sine)
-    if cosine > 0.0:
-        return np.zeros(3)
-    normal = np.cross(a, (1.0, 0.0, 0.0) if abs(a[0]) < 0.9 else (0.0, 1.0, 0.0))
-    return normal * (math.pi / np.linalg.norm(normal))
 
 
 class PartialPoseIK:
@@ -562,7 +548,7 @@ def _rolls(target: AxisTarget, seed_rotation: np.ndarray, grid: bool) -> np.ndar
     """
     column = TOOL_AXES[target.tool_axis]
     axis = target.axis
-    turned = pin.exp3(_axis_rotation(seed_rotation[:, column], axis)) @ seed_rotation
+    turned = pin.exp3(axis_turn(seed_rotation[:, column], axis)) @ seed_rotation
     if not grid:
         return turned[None]
     return np.array(

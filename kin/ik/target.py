@@ -222,6 +222,25 @@ def rpy_matrix(rpy: npt.ArrayLike) -> list[list[float]]:
 TOOL_AXES = {"x": 0, "y": 1, "z": 2}
 
 
+def axis_turn(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The rotation vector [rad] turning unit vector ``a`` onto unit vector ``b``, about their normal.
+
+    The shortest turn (on their great circle); opposite vectors get a half turn about an axis
+    normal to ``a`` (one chosen), equal ones none. The rotation error of an
+    :class:`AxisTarget` and the interpolation of its axis along a path.
+    """
+    cross = np.cross(a, b)
+    sine = float(np.linalg.norm(cross))
+    cosine = float(a @ b)
+    angle = math.atan2(sine, cosine)
+    if sine > 1e-12:
+        return cross * (angle / sine)
+    if cosine > 0.0:
+        return np.zeros(3)
+    normal = np.cross(a, (1.0, 0.0, 0.0) if abs(a[0]) < 0.9 else (0.0, 1.0, 0.0))
+    return normal * (math.pi / float(np.linalg.norm(normal)))
+
+
 @dataclass(frozen=True, eq=False)
 class AxisTarget:
     """A tool position and the world direction of one tool axis; the roll about it is free.

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
+from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target, axis_turn
 from .exceptions import PathError
 
 #: Length that one radian of tool rotation (or pitch) counts for when steps are shared out among
@@ -139,7 +139,7 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
             qa, qb = pin.Quaternion(a.rotation), pin.Quaternion(b.rotation)
             rotations += [qa.slerp(float(f), qb).toRotationMatrix() for f in fractions]
         elif isinstance(a, AxisTarget) and isinstance(b, AxisTarget):
-            turn = _axis_turn(a.axis, b.axis)
+            turn = axis_turn(a.axis, b.axis)
             axes += [pin.exp3(turn * float(f)) @ a.axis for f in fractions]
         elif isinstance(a, PitchTarget) and isinstance(b, PitchTarget):
             pitches.append(a.pitch + fractions * (b.pitch - a.pitch))
@@ -159,22 +159,6 @@ def polyline(waypoints: Sequence[Target], steps: int) -> CartesianPath:
     )
 
 
-def _axis_turn(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The rotation vector [rad] turning unit vector ``a`` onto ``b`` on their great circle.
-
-    Opposite vectors: a half turn about an axis normal to ``a`` (any; one is chosen).
-    """
-    cross = np.cross(a, b)
-    sine = float(np.linalg.norm(cross))
-    angle = math.atan2(sine, float(a @ b))
-    if sine > 1e-12:
-        return cross * (angle / sine)
-    if angle < 1.0:
-        return np.zeros(3)
-    normal = np.cross(a, (1.0, 0.0, 0.0) if abs(a[0]) < 0.9 else (0.0, 1.0, 0.0))
-    return normal * (math.pi / float(np.linalg.norm(normal)))
-
-
 def _segment_length(a: Target, b: Target) -> float:
     """Position change [m] plus :data:`ROTATION_LENGTH` times the angle change [rad]."""
     length = math.hypot(*(b.position - a.position).tolist())  # inf, not an overflow, when huge
@@ -182,7 +166,7 @@ def _segment_length(a: Target, b: Target) -> float:
         turn = pin.log3(a.rotation.T @ b.rotation)
         length += ROTATION_LENGTH * math.sqrt(float(turn @ turn))
     elif isinstance(a, AxisTarget) and isinstance(b, AxisTarget):
-        length += ROTATION_LENGTH * float(np.linalg.norm(_axis_turn(a.axis, b.axis)))
+        length += ROTATION_LENGTH * float(np.linalg.norm(axis_turn(a.axis, b.axis)))
     elif isinstance(a, PitchTarget) and isinstance(b, PitchTarget):
         length += ROTATION_LENGTH * abs(b.pitch - a.pitch)
         if a.roll is not None and b.roll is not None:
