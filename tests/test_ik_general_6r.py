@@ -6,8 +6,10 @@
   default 100 x 10);
 - every distinct solution found by 200 independent least-squares starts (no limits) is a branch;
 - real non-Pieper arms written from the makers' parameters (``tests/data/six_r``): xArm6,
-  Jaco 2 6-DOF, CRX-10iA go to this form, PiPER (spherical wrist) keeps its family; the branch
-  counts are compared with ssik's (``enumerate_windings=False``) when it is installed;
+  Jaco 2 6-DOF, CRX-10iA go to this form, PiPER (spherical wrist) keeps its family; the Gen3
+  lite through the URDF extraction of its maker's URDF (rounded: 1.5708, 3.1416), judged by
+  Pinocchio on that URDF; the branch counts are compared with ssik's
+  (``enumerate_windings=False``) when it is installed;
 - the registry order, the documented solver call, the batch against the scalar solve, refusals.
 """
 
@@ -189,6 +191,40 @@ def test_real_arms_every_branch_and_the_family(name):
         theirs = family.solve_batch(poses[:, :3, 3], poses[:, :3, :3])
         count = (~np.isnan(found[..., 0])).sum(axis=1)
         assert np.array_equal(count, (~np.isnan(theirs[..., 0])).sum(axis=1)), name
+
+
+def test_gen3_lite_from_the_makers_urdf():
+    """Kinova's Gen3 lite URDF (axes 2 and 3 parallel but for the rounding of pi to 3.1416):
+    loaded through the URDF extraction, it gets this form; on 300 poses (FK by Pinocchio of the
+    original URDF, not of the extraction) the q is among the branches and every branch, valid or
+    rejected, reaches the pose on that URDF to 1e-9."""
+    import pinocchio as pin
+
+    path = SIX_R / "gen3_lite.urdf"
+    robot = kin.load_robot(path)
+    solver = get_solver(robot)
+    assert solver.name == "closed_form:general_6r"
+    model = pin.buildModelFromUrdf(str(path))
+    data = model.createData()
+    frame = model.getFrameId("end_effector_link")
+
+    def tool(q: np.ndarray) -> pin.SE3:
+        pin.framesForwardKinematics(model, data, q)
+        return data.oMf[frame].copy()
+
+    rng = np.random.default_rng(11)
+    missed = []
+    for q in rng.uniform(model.lowerPositionLimit, model.upperPositionLimit, (300, 6)):
+        pose = tool(q)
+        result = solver.solve(PoseTarget(pose.translation, pose.rotation))
+        assert result.success, result.message
+        branches = np.array([s.q for s in result.solutions + result.rejected])
+        for branch in branches:
+            error = pin.log6(tool(branch).actInv(pose)).vector
+            assert np.abs(error).max() < TOL, f"{q=} {branch=}"
+        if wrapped_gap(branches, q).min() > JOINT_TOL:
+            missed.append(q)
+    assert not missed, f"{missed=}"
 
 
 #: ssik prepares each non-Pieper arm once (a symbolic derivation, about 45 s here, cached in the
