@@ -326,6 +326,35 @@ def _fixed_angles(data: dict[str, Any]) -> list[tuple[str, float]]:
     return angles
 
 
+def _tool_extent(
+    rows: tuple[DHRow, ...], convention: str, base: np.ndarray, tool: np.ndarray
+) -> float:
+    """The tool's largest distance from the world origin [m] over a few joint vectors.
+
+    ``q = 0``, the lower and the upper limits, and eight seeded vectors inside the limits
+    (revolute ones within a turn). Where the lengths laid end to end are long only because two
+    nearly parallel axes put their common normal far away (a URDF that rounds pi to 3.1416:
+    ``d`` of tens of km, out and back), the tool stays near: no unit slip there.
+    """
+    lower = np.array([row.lower for row in rows], dtype=float)
+    upper = np.array([row.upper for row in rows], dtype=float)
+    revolute = np.array([row.joint_type == "revolute" for row in rows])
+    low = np.where(revolute, np.maximum(lower, -math.pi), lower)
+    high = np.where(revolute, np.minimum(upper, math.pi), upper)
+    samples = [np.zeros(len(rows)), low, high]
+    samples += list(np.random.default_rng(0).uniform(low, high, (8, len(rows))))
+    extent = 0.0
+    for q in samples:
+        pose = base
+        for row, value in zip(rows, q.tolist()):
+            move = row.direction * value
+            theta = row.theta + move if row.joint_type == "revolute" else row.theta
+            d = row.d if row.joint_type == "revolute" else row.d + move
+            pose = pose @ dh_link_transform(convention, row.a, row.alpha, d, theta)  # type: ignore[arg-type]
+        extent = max(extent, float(np.linalg.norm((pose @ tool)[:3, 3])))
+    return extent
+
+
 def _warn_units(
     path: str,
     rows: tuple[DHRow, ...],
@@ -361,7 +390,9 @@ def _warn_units(
         max(abs(row.lower), abs(row.upper)) for row in rows if row.joint_type == "prismatic"
     )
     length += float(np.linalg.norm(base[:3, 3])) + float(np.linalg.norm(tool[:3, 3]))
-    if length > LENGTH_SUSPECT:
+    if length > LENGTH_SUSPECT and _tool_extent(rows, data["convention"], base, tool) > (
+        LENGTH_SUSPECT
+    ):
         hint = 'length_unit = "mm"' if data["length_unit"] == "m" else "the length unit"
         warnings.warn(
             f"{path}: the arm's lengths add up to {length:g} m (more than {LENGTH_SUSPECT:g} m): "

@@ -128,3 +128,23 @@ def test_the_tool_offset_counts_in_the_arm_length():
     assert _unit_warnings(_document(tool={"xyz": [0, 0, 11.0]})) == []
     messages = _unit_warnings(_document(tool={"xyz": [0, 0, 12.0]}))
     assert len(messages) == 1 and "20.7 m" in messages[0] and 'length_unit = "mm"' in messages[0]
+
+
+def test_nearly_parallel_axes_are_no_unit_slip(tmp_path):
+    """Kinova's Gen3 lite URDF rounds pi to 3.1416: axes 2 and 3 are 7e-6 rad from parallel and
+    their common normal lies 38 km away (d = -38113.8 m out, -38113.8 m back). Its extracted
+    table lays 76 km end to end, but the tool stays within a meter: no length warning."""
+    from pathlib import Path
+
+    from dh2urdf.table_writer import write_table
+    from dh2urdf.urdf_to_dh import table_from_urdf
+
+    urdf = Path(__file__).parent / "data" / "six_r" / "gen3_lite.urdf"
+    path = tmp_path / "gen3_lite.toml"
+    write_table(table_from_urdf(urdf), path)
+    table = load_table(path)
+    assert sum(abs(row.d) for row in table.rows) > 7e4  # the far common normal
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitWarning)
+        load_table(path)
+    assert _unit_warnings(_document(tool={"xyz": [0, 0, 12.0]}))  # a long arm still warns
