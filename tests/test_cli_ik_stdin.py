@@ -310,3 +310,24 @@ def test_batched_stream_gives_the_per_line_answers():
             np.testing.assert_allclose(
                 single["solutions"][0]["q"], both["solutions"][0]["q"], atol=1e-12
             )
+
+
+def test_fragments_and_doubled_values_are_each_their_own_lines_error():
+    """Lines read together are read one by one: a line holding two values, a fragment whose
+    string swallows a brace, a value framed by spaces; each answers for itself, in order."""
+    plain = json.dumps(
+        {"target": [0.755721, -0.113688, 0.160173], "rpy": [0.652388, -0.162705, -0.237224]}
+    )
+    lines = [
+        '{"x": "}',  # with the next: one object, if lines were joined
+        '{"}',
+        plain + ", " + plain,  # two values in one line
+        "  " + plain + "  ",  # spaces around one value: a valid line
+        plain,
+    ]
+    done = run(["ik", "--robot", "humanoid7", "--stdin"], stdin="\n".join(lines) + "\n")
+    answers = [json.loads(line) for line in done.stdout.splitlines()]
+    assert [a["line"] for a in answers] == [1, 2, 3, 4, 5]
+    assert all("not JSON" in answers[k]["error"] for k in range(3)), answers[:3]
+    assert answers[3]["success"] and answers[4]["success"]
+    assert answers[3]["solutions"][0]["q"] == answers[4]["solutions"][0]["q"]
