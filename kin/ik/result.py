@@ -49,13 +49,12 @@ class IKSolution:
     ):
         # The generated frozen __init__ sets each field through object.__setattr__ (about 1 us in
         # all): too slow for the closed-form solvers' per-call budget. Same fields, still frozen.
-        self.__dict__.update(
-            q=q,
-            branch=branch,
-            within_limits=within_limits,
-            position_error=position_error,
-            rotation_error=rotation_error,
-        )
+        fields = self.__dict__
+        fields["q"] = q
+        fields["branch"] = branch
+        fields["within_limits"] = within_limits
+        fields["position_error"] = position_error
+        fields["rotation_error"] = rotation_error
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict, SI: ``q`` in rad (revolute) / m (prismatic), errors in m and rad."""
@@ -124,19 +123,18 @@ class IKResult:
     ):
         # Same fields and defaults as the generated frozen __init__, without its per-field
         # object.__setattr__ calls (see IKSolution).
-        self.__dict__.update(
-            success=success,
-            solver=solver,
-            status=status,
-            message=message,
-            solutions=solutions,
-            rejected=rejected,
-            distance_to_workspace=distance_to_workspace,
-            iterations=iterations,
-            time=time,
-            method=method,
-            free=free,
-        )
+        fields = self.__dict__
+        fields["success"] = success
+        fields["solver"] = solver
+        fields["status"] = status
+        fields["message"] = message
+        fields["solutions"] = solutions
+        fields["rejected"] = rejected
+        fields["distance_to_workspace"] = distance_to_workspace
+        fields["iterations"] = iterations
+        fields["time"] = time
+        fields["method"] = method
+        fields["free"] = free
 
     @property
     def best(self) -> IKSolution | None:

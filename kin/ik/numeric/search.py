@@ -114,8 +114,9 @@ class Search:
         #: cost fits before it (:func:`allowance`).
         self.allowance = self.start + allowance(timeout)
         self.table = table
-        #: The damped Newton steps' linear algebra: SciPy's LAPACK when loaded or affordable.
-        self.linalg = linalg_within(self.affords(LINALG_COST))
+        #: The damped Newton steps' linear algebra: SciPy's LAPACK when loaded or affordable;
+        #: chosen at the first step (most calls end in the closed form without one).
+        self.linalg: tuple | None = None
         self.best: NewtonOutcome | None = None
         self.best_from_qp = False
         self.iterations = 0
@@ -140,6 +141,8 @@ class Search:
     ) -> NewtonOutcome:
         """Damped Newton from ``q0`` (``patience``, ``leash``: see :func:`damped_newton`), counted."""
         ik, target = self.ik, self.target
+        if self.linalg is None:
+            self.linalg = linalg_within(self.affords(LINALG_COST))
         outcome = damped_newton(
             ik.search_model,
             ik.data,

@@ -213,7 +213,7 @@ class NumericIK:
         #: Upper bound of the tool's distance from the base origin [m] (triangle inequality): a
         #: target beyond it is answered ``out_of_reach`` before any search.
         self.reach = reach_bound(robot)
-        self._base_origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
+        self._base_origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].tolist()
         self._shape = (robot.model.nq,)
         # A pose on an arm of fewer than six joints, a masked pose and an axis target go to
         # :mod:`kin.ik.partial_pose` (weighted least squares on the constrained components).
@@ -471,8 +471,9 @@ class NumericIK:
 
     def distance_from_base(self, position: np.ndarray) -> float:
         """Distance of a world point from the base origin [m]."""
-        x, y, z = np.subtract(position, self._base_origin).tolist()
-        return math.hypot(x, y, z)  # no overflow for 1e308
+        x, y, z = position.tolist() if position.__class__ is np.ndarray else position
+        bx, by, bz = self._base_origin
+        return math.hypot(x - bx, y - by, z - bz)  # no overflow for 1e308
 
     def seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
         """The caller's seed as a finite joint vector (the solver never writes into it)."""
