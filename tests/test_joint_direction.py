@@ -410,3 +410,52 @@ def test_seed_cache_key_includes_the_direction():
     forward = dataclasses.replace(ur5, path=None)
     key = table_key(robot_from_table(forward), 100, 0, 0.1, 0.05)
     assert table_key(robot_from_table(reversed_once), 100, 0, 0.1, 0.05) != key
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_flipped_axes_keep_the_forward_kinematics(convention):
+    """Twists of +-pi turned to 0 (:func:`flipped_axes`): FK at ``q' = flips * q`` equals the
+    table's at ``q`` (Pinocchio from the table's URDF), limits mirrored on the turned joints;
+    random tables with revolute and prismatic rows, pi twists anywhere (the last row too, and two
+    in a row), random base and tool."""
+    from arm_tables import random_pose
+
+    from kin.ik.analytic.joint_directions import flipped_axes
+
+    rng = np.random.default_rng(12)
+    for k in range(40):
+        dof = int(rng.integers(2, 8))
+        twists = rng.choice([math.pi, -math.pi, math.pi / 2, 0.3, -1.1], size=dof)
+        twists[int(rng.integers(dof))] = -math.pi
+        if k % 4 == 0:
+            twists[-1] = math.pi
+        if k % 4 == 1 and dof > 2:
+            twists[:2] = math.pi
+        rows = tuple(
+            DHRow(
+                i + 1,
+                f"j{i + 1}",
+                "prismatic" if rng.random() < 0.2 else "revolute",
+                *rng.uniform(-0.4, 0.4, 1),
+                twists[i],
+                *rng.uniform(-0.4, 0.4, 1),
+                *rng.uniform(-math.pi, math.pi, 1),
+                -0.5,
+                0.8,
+                1.0,
+                1.0,
+            )  # fmt: skip
+            for i in range(dof)
+        )
+        table = DHTable(f"flip{k}", "", "", convention, rows, random_pose(rng), random_pose(rng))
+        turned, flips = flipped_axes(table)
+        assert all(abs(abs(row.alpha) - math.pi) > 1e-9 for row in turned.rows)
+        q = rng.uniform(-0.5, 0.8, (SAMPLES // 10, dof))
+        _assert_same_poses(
+            _pinocchio_tool(turned, q * flips), _pinocchio_tool(table, q), TOL, table.name
+        )
+        for row, old, flip in zip(turned.rows, table.rows, flips):
+            expected = (old.lower, old.upper) if flip > 0 else (-old.upper, -old.lower)
+            assert (row.lower, row.upper) == expected
+    plain = (dataclasses.replace(rows[0], alpha=0.3),)
+    assert flipped_axes(DHTable("plain", "", "", convention, plain)) is None
