@@ -251,3 +251,43 @@ def test_ikine_a_of_the_robotics_toolbox_is_among_the_branches():
             assert wrapped_gap(ours, theirs.q).min() < 1e-9, f"{q=} {config=} {theirs.q=}"
             compared += 1
     assert compared >= 400
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_antiparallel_axes_are_turned_over(convention):
+    """A spherical-wrist arm whose axes 2 and 3 are antiparallel (twist pi, as a URDF extraction
+    writes them) is this family's, not the general Pieper one's: the table is solved with axis 3
+    turned over (q3' = -q3); every branch, mapped back, reaches FK(q) by Pinocchio on the
+    table's URDF and the q is among them."""
+    import dataclasses
+
+    import pinocchio as pin
+
+    from kin.ik import PoseTarget, get_solver
+
+    base = random_pieper_table(3, convention, skew=False)
+    # The twist joining axes 2 and 3 (row 2 standard, row 3 modified) becomes pi; joint 3's
+    # axis turns over (its theta and d change sign) and the next twist gains pi.
+    twist, following = (1, 2) if convention == "standard" else (2, 3)
+    rows = list(base.rows)
+    rows[twist] = dataclasses.replace(rows[twist], alpha=PI)
+    row = rows[2]
+    rows[2] = dataclasses.replace(row, theta=-row.theta, d=-row.d)
+    after = rows[following]
+    rows[following] = dataclasses.replace(after, alpha=math.remainder(after.alpha + PI, 2 * PI))
+    table = dataclasses.replace(base, rows=tuple(rows), name=f"antiparallel_{convention}")
+    robot = kin.robot_from_table(table)
+    solver = get_solver(robot)
+    assert solver.name == "closed_form:spherical_wrist", solver.name
+    data = robot.model.createData()
+    frame = robot.model.getFrameId(robot.tool_frame)
+    rng = np.random.default_rng(8)
+    for q in rng.uniform(-PI, PI, (100, 6)):
+        pin.framesForwardKinematics(robot.model, data, q)
+        pose = data.oMf[frame].copy()
+        result = solver.solve(PoseTarget(pose.translation, pose.rotation))
+        branches = [s.q for s in result.solutions + result.rejected]
+        assert branches and wrapped_gap(np.array(branches), q).min() < 1e-6
+        for branch in branches:
+            pin.framesForwardKinematics(robot.model, data, branch)
+            assert np.abs(pin.log6(data.oMf[frame].actInv(pose)).vector).max() < TOL

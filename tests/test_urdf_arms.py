@@ -21,7 +21,7 @@ SOLVERS = {
     "ur5_limited": ("closed_form:ur_wrist", None),
     "panda": ("numeric", "SphericalShoulder7RIK"),
     "xarm7": ("numeric", "SphericalShoulder7RIK"),
-    "kinova": ("closed_form:pieper", None),
+    "kinova": ("closed_form:spherical_wrist", None),
     "z1": ("closed_form:ur_wrist", None),
     "so100": ("closed_form:fivedof", None),
     "so101": ("numeric", None),

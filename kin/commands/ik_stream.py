@@ -65,7 +65,7 @@ _KEYS = frozenset(KEYS)
 _decoder = json.JSONDecoder()
 _decode = _decoder.decode
 #: The decoder's scanner: ``(value, end)`` of the JSON value at an index of a string.
-_scan = _decoder.scan_once
+_scan = _decoder.scan_once  # type: ignore[attr-defined]  # set by JSONDecoder.__init__
 
 
 def result_record(result: IKResult, target: Target, rejected: bool = True) -> dict[str, Any]:

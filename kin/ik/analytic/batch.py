@@ -25,7 +25,7 @@ from ..judge import batch_axis_errors, batch_pose_errors
 from ..target import PitchTarget, PoseTarget, PositionTarget
 from .closed_form_structure import BatchBranches, DetailedStructure, PitchStructure
 from .joint_directions import forward_table, mirrored_limits, reversed_joints, to_joint
-from .registry import recognise
+from .registry import recognise_turned
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,8 +102,12 @@ class BatchSolver:
         self.table = robot.table
         # A reversed joint (direction = -1): the structure solves the forward table in
         # q' = direction * q, wrapped into its mirrored limits; q goes to the judge.
+        # Antiparallel axes turned over where that fits a structure (registry.recognise_turned):
+        # q' = -q on those joints too.
         self._directions = reversed_joints(robot.table)
-        self.structure = recognise(forward_table(robot.table))
+        self.structure, _, flips = recognise_turned(forward_table(robot.table))
+        if flips is not None:
+            self._directions = flips if self._directions is None else self._directions * flips
         self.tolerance_position = tolerance_position
         self.tolerance_rotation = tolerance_rotation
         self._lower, self._upper = robot.lower, robot.upper

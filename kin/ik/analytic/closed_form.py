@@ -55,7 +55,7 @@ from .closed_form_structure import (
 )
 from .idealised import Idealised, idealise, polish
 from .joint_directions import forward_table, mirrored_limits, reversed_joints
-from .registry import recognise
+from .registry import recognise_turned
 from .six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
 
 logger = logging.getLogger(__name__)
@@ -148,26 +148,31 @@ class ClosedFormSolver:
         compiled: bool = True,
     ):
         self.robot = robot
-        #: Per joint 1 or -1 when the table reverses a joint, else None: the structure solves the
-        #: forward table (:mod:`.joint_directions`) in ``q' = direction * q``; seeds are mapped
-        #: in, answers out before the judge measures them on the true arm.
-        self._directions = reversed_joints(robot.table)
+        directions = reversed_joints(robot.table)
         table = forward_table(robot.table)
         #: The idealised table the structure fits when the true one misses it by rounding
         #: (:mod:`.idealised`: answers polished on the true chain), else None.
         self.idealised: Idealised | None = None
         try:
-            self.structure: ClosedFormStructure = recognise(table)
+            self.structure: ClosedFormStructure
+            self.structure, table, flips = recognise_turned(table)
         except StructureError as exact:
             ideal = idealise(table)
             if ideal is None:
                 raise
             try:
-                self.structure = recognise(ideal.table)
+                self.structure, table, flips = recognise_turned(ideal.table)
             except StructureError:
                 raise exact from None
             self.idealised = ideal
             compiled = False  # the twins measure with the table they solve: the ideal one
+        if flips is not None:
+            directions = flips if directions is None else directions * flips
+        #: Per joint 1 or -1 when the table reverses a joint or the structure fits it with
+        #: antiparallel axes turned over (:func:`.registry.recognise_turned`), else None: the
+        #: structure solves its table (:mod:`.joint_directions`) in ``q' = direction * q``;
+        #: seeds are mapped in, answers out before the judge measures them on the true arm.
+        self._directions = directions
         self.name = f"closed_form:{self.structure.name}"
         self._detailed = isinstance(self.structure, DetailedStructure)
         self.tolerance_position = tolerance_position

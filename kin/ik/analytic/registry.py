@@ -8,12 +8,15 @@ count and takes the first that fits. :func:`register` adds one (see
 
 from __future__ import annotations
 
+import numpy as np
+
 from dh2urdf import DHTable
 
 from ..exceptions import StructureError
 from .closed_form_structure import ClosedFormStructure
 from .five_dof import FiveDof
 from .general_6r import General6R
+from .joint_directions import flipped_axes
 from .offset3r import Offset3R
 from .parallel_axes import ParallelAxes, ParallelAxes2, ParallelAxes3
 from .pieper import Pieper6R
@@ -62,6 +65,43 @@ def register(structure: type[ClosedFormStructure], *, first: bool = False) -> No
         CLOSED_FORMS.insert(0, structure)
     else:
         CLOSED_FORMS.append(structure)
+
+
+def recognise_turned(table: DHTable) -> tuple[ClosedFormStructure, DHTable, np.ndarray | None]:
+    """:func:`recognise`, asking each structure also of the table with antiparallel axes turned.
+
+    A twist of pi (two consecutive axes antiparallel, as a URDF extraction writes them) is the
+    same arm as a twist of 0 with the later axis turned over (:func:`.joint_directions.flipped_axes`):
+    each structure, in order, is asked of the table, then of that turned table. Kinova's arms
+    read from their URDF (twist pi between the parallel axes 2 and 3) get the spherical-wrist
+    family, with its compiled twin, instead of the general Pieper one.
+
+    Args:
+        table: A forward table (every direction 1, :func:`.joint_directions.forward_table`).
+
+    Returns:
+        ``(structure, the table it fits, flips)``: flips (dof,) of +-1 when it fits the turned
+        table (its joint values are ``q' = flips * q``), else None.
+
+    Raises:
+        StructureError: No structure fits either table (the message is :func:`recognise`'s of
+            the table as given).
+    """
+    found = flipped_axes(table)
+    if found is not None:
+        turned, flips = found
+        for structure in CLOSED_FORMS:
+            if structure.dof != table.dof:
+                continue
+            try:
+                return structure.recognise(table), table, None
+            except StructureError:
+                pass
+            try:
+                return structure.recognise(turned), turned, flips
+            except StructureError:
+                pass
+    return recognise(table), table, None
 
 
 def recognise(table: DHTable) -> ClosedFormStructure:
