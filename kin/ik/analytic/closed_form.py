@@ -375,6 +375,13 @@ class ClosedFormSolver:
         """
         directions = self._directions
         assert directions is not None
+        if (
+            seed.__class__ is np.ndarray
+            and seed.shape == directions.shape  # type: ignore[union-attr]
+            and seed.dtype == np.float64  # type: ignore[union-attr]
+            and math.isfinite(sum(seed.tolist()))  # type: ignore[union-attr]
+        ):
+            return seed * directions  # the common case: one check
         values = np.asarray(seed, dtype=float).reshape(-1)
         if values.shape != directions.shape or not np.isfinite(values).all():
             return seed
