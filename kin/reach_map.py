@@ -137,6 +137,11 @@ def super_fibonacci_rotations(count: int) -> np.ndarray:
     )
 
 
+def smallest_voxel(reach: float) -> float:
+    """The smallest voxel edge [m] whose grid holds ``reach`` [m] in :data:`MAX_VOXELS_PER_SIDE`."""
+    return 2.0 * reach / (MAX_VOXELS_PER_SIDE - 1)
+
+
 def _grid(origin: np.ndarray, voxel: float, reach: float) -> np.ndarray:
     """Voxel centres (n, n, n, 3) [m] of the cube around ``origin`` that holds ``reach``."""
     half = max(0, math.ceil(reach / voxel - 0.5))
@@ -144,8 +149,7 @@ def _grid(origin: np.ndarray, voxel: float, reach: float) -> np.ndarray:
     if side > MAX_VOXELS_PER_SIDE:
         raise KinError(
             f"voxel {voxel:g} m needs {side} voxels per side for a reach of {reach:.4g} m; at "
-            f"most {MAX_VOXELS_PER_SIDE}: give a voxel of at least "
-            f"{2.0 * reach / (MAX_VOXELS_PER_SIDE - 1):.3g} m"
+            f"most {MAX_VOXELS_PER_SIDE}: give a voxel of at least {smallest_voxel(reach):.3g} m"
         )
     steps = (np.arange(side) - half) * voxel
     axes = np.meshgrid(steps, steps, steps, indexing="ij")
@@ -272,8 +276,8 @@ def reachability_map(
         timeout: Time budget of each numeric solve [s] (None: the solver's default).
 
     Raises:
-        KinError: A voxel that is not a positive finite length or needs more than
-            :data:`MAX_VOXELS_PER_SIDE` per side, orientations not in 1 ..
+        KinError: An arm of fewer than 6 joints, a voxel that is not a positive finite length
+            or needs more than :data:`MAX_VOXELS_PER_SIDE` per side, orientations not in 1 ..
             :data:`MAX_ORIENTATIONS`, a bad ``chunk_poses``, or Dask missing or unreachable.
     """
     from .ik.reach import arm_reach
@@ -283,6 +287,12 @@ def reachability_map(
     if not isinstance(orientations, int | np.integer) or not 1 <= orientations <= MAX_ORIENTATIONS:
         raise KinError(
             f"orientations must be an integer from 1 to {MAX_ORIENTATIONS:,}, got {orientations!r}"
+        )
+    if robot.nq < 6:  # its tool poses form at most a 5-dimensional set: every index is 0
+        raise KinError(
+            f"'{robot.name}' has {robot.nq} joints: it reaches a full tool pose only on a set of "
+            "orientations of measure zero, so every voxel's index would be 0; a reachability map "
+            "needs an arm of 6 or more joints"
         )
     chunk_poses = DEFAULT_CHUNK_POSES if chunk_poses is None else chunk_poses
     if not isinstance(chunk_poses, int) or chunk_poses < 1:

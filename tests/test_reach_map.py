@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -257,6 +258,21 @@ def test_ctrl_c_while_writing_leaves_no_file(tmp_path, ur5_map, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         save_reach_map(ur5_map, tmp_path / "m.npz")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_small_voxels_and_small_arms_are_one_line_in_the_users_unit(tmp_path, capsys):
+    """--voxel 1 mm on UR5: one line in mm naming the smallest voxel; a 5-joint arm (whose full
+    poses are measure zero): one line at once, not minutes of failed solves; exit 2, no file."""
+    out = tmp_path / "m.npz"
+    assert reach_main(["--robot", "ur5", "--voxel", "1", "--unit", "mm", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--voxel 1 mm" in err[0] and " mm: give --voxel " in err[0], err
+    start = time.perf_counter()
+    assert reach_main(["--robot", "lab5", "--voxel", "0.1", "-o", str(out)]) == 2
+    assert time.perf_counter() - start < 5.0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "5 joints" in err[0] and "6 or more" in err[0], err
+    assert not out.exists()
 
 
 def test_library_refuses_bad_arguments():

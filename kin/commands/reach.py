@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 
 from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
+from ..exceptions import KinError
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin reach"
@@ -61,7 +62,14 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     args = get_argument_parser(prog).parse_args(argv)
 
     def body() -> int:
-        from ..reach_map import plot_reach_map, reachability_map, save_reach_map
+        from ..ik.reach import arm_reach
+        from ..reach_map import (
+            MAX_VOXELS_PER_SIDE,
+            plot_reach_map,
+            reachability_map,
+            save_reach_map,
+            smallest_voxel,
+        )
         from .output_file import FIGURE_SUFFIXES, checked_output
         from .workspace import _Progress
 
@@ -69,9 +77,17 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         if args.png:
             checked_output(args.png, "--png", FIGURE_SUFFIXES)
         robot = load_robot_argument(args)
+        scale = length_scale(args.unit)
+        reach = arm_reach(robot).maximum
+        if args.voxel * scale < smallest_voxel(reach):  # said in the user's unit
+            raise KinError(
+                f"--voxel {args.voxel:g} {args.unit} needs more than {MAX_VOXELS_PER_SIDE} voxels "
+                f"per side for a reach of {reach / scale:.4g} {args.unit}: give --voxel "
+                f"{smallest_voxel(reach) / scale:.3g} or more"
+            )
         reach_map = reachability_map(
             robot,
-            args.voxel * length_scale(args.unit),
+            args.voxel * scale,
             args.orientations,
             scheduler=args.scheduler,
             progress=_Progress(prog),
@@ -88,7 +104,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 f"{reach_map.robot}: {reach_map.index.size:,} voxels of "
                 f"{args.voxel:g} {args.unit}, {solved:,} with an index above 0, "
                 f"best {reach_map.index.max():.3g}; {reach_map.orientations} orientations; "
-                f"{reach_map.time_s:.1f} s; wrote {output}"
+                f"{reach_map.time_s:.3g} s; wrote {output}"
                 + (f" and {args.png}" if args.png else "")
             )
         return 0
