@@ -47,8 +47,8 @@ import numpy as np
 from dh2urdf import DHTable, get_robot, load_table
 from kin.batch_fk import batch_forward_kinematics
 from kin.cli import ArgumentParser, positive_int
-from kin.ik.analytic.spherical_wrist import SphericalWrist6R
-from kin.ik.analytic.ur_wrist import URWrist6R
+from kin.ik.analytic.six_r.spherical_wrist import SphericalWrist6R
+from kin.ik.analytic.six_r.ur_wrist import URWrist6R
 
 #: The arms benchmarked, in order: (label, shipped robot, structure).
 ARMS = (("UR5", "ur5", URWrist6R), ("UR10", "ur10", URWrist6R),
@@ -234,7 +234,7 @@ def _general(args) -> None:
     """The general-6R table (see the module)."""
     from kin import robot_from_table
     from kin.ik import PoseTarget, get_solver
-    from kin.ik.analytic.general_6r import General6R, chain_transforms
+    from kin.ik.analytic.six_r.general_6r import General6R, chain_transforms
 
     number = max(1, args.number // 10)
     size = min(args.batch, 10_000)

@@ -1,6 +1,6 @@
 """The compiled twin of the seven-joint closed form changes nothing: same layout, same answers.
 
-``kin/ik/analytic/_closed7.c`` declares its parameter layout once (``CLOSED7_PARAMS``, exported as
+``kin/ik/analytic/seven_r/_closed7.c`` declares its parameter layout once (``CLOSED7_PARAMS``, exported as
 ``LAYOUT``); :meth:`SevenDofIK.c_fields` fills it by name. The numeric solver with the twin and
 with the Python module (``NumericIK(compiled=False)``) has the same defaults and returns the same
 joint vectors over 1,000 humanoid7 targets, full pose and position.
@@ -14,7 +14,7 @@ import pytest
 from arm_tables import assert_layout_matches
 
 from kin import load_robot
-from kin.ik.analytic.seven_dof import COMPILED, pack_params
+from kin.ik.analytic.seven_r.seven_dof import COMPILED, pack_params
 from kin.ik.numeric.numeric_target import NumericTarget
 from kin.ik.numeric.solver import DEFAULT_CLOSED_FORM_STEPS, NumericIK
 
@@ -45,7 +45,7 @@ def test_defaults_do_not_depend_on_the_twin(solvers):
 def test_layout_is_read_from_the_twin(solvers):
     """The C layout is contiguous, covers PARAM_COUNT values, and names exactly the Python fields
     with their sizes; ``c_params`` puts each field at the C offset."""
-    from kin.ik.analytic import _closed7
+    from kin.ik.analytic.seven_r import _closed7
 
     assert_layout_matches(solvers[0].closed_form, _closed7)
 

@@ -417,7 +417,7 @@ def test_seed_table_cache_is_reused_and_a_corrupt_file_rebuilt(tmp_path):
 def test_several_structures_per_joint_count(monkeypatch):
     """recognise asks every registered structure of the table's joint count, first fit wins."""
     from kin.ik.analytic import registry
-    from kin.ik.analytic.offset3r import Offset3R
+    from kin.ik.analytic.planar.offset3r import Offset3R
 
     class Never:
         dof = 3
@@ -446,7 +446,7 @@ class PlainPlanar:
 
     @classmethod
     def recognise(cls, table):
-        from kin.ik.analytic.planar2r import Planar2R
+        from kin.ik.analytic.planar.planar2r import Planar2R
 
         return cls(Planar2R.recognise(table))
 

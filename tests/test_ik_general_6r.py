@@ -1,4 +1,4 @@
-"""The general 6R closed form (kin/ik/analytic/general_6r.py): every isolated branch of any 6R arm.
+"""The general 6R closed form (kin/ik/analytic/six_r/general_6r.py): every isolated branch of any 6R arm.
 
 - seeded random 6R tables in both conventions, random base and tool: every branch on target to
   1e-9 by the plain NumPy DH product of ``tests/dh_reference.py``, the q the pose came from among
@@ -28,7 +28,7 @@ import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
 from kin.ik import PoseTarget, get_solver
 from kin.ik.analytic import registry
-from kin.ik.analytic.general_6r import BRANCHES, General6R
+from kin.ik.analytic.six_r.general_6r import BRANCHES, General6R
 from kin.ik.exceptions import StructureError
 
 PI = math.pi
@@ -237,7 +237,7 @@ def test_branch_counts_match_ssik(name):
     """ssik (enumerate_windings=False, no limits) finds as many solutions as we do per pose, each
     of its solutions among our branches (200 poses per arm)."""
     ssik = pytest.importorskip("ssik")
-    from kin.ik.analytic.general_6r import chain_transforms
+    from kin.ik.analytic.six_r.general_6r import chain_transforms
 
     table = load_table(SIX_R / f"{name}.toml")
     reference = load_reference(SIX_R / f"{name}.toml")

@@ -1,11 +1,11 @@
-"""Closed-form IK of 6R arms with a spherical wrist and any first three joints (kin.ik.analytic.pieper).
+"""Closed-form IK of 6R arms with a spherical wrist and any first three joints (kin.ik.analytic.six_r.pieper).
 
 Round trips on every branch against Pinocchio's FK of the table's URDF: every branch that exists
 reaches the target to 1e-9 m / 1e-9 rad, and the original q is among the branches (modulo 2 pi).
 Arms: seeded random tables of each family (axes 1-2 intersecting, axes 1-2 parallel, general
 with skew twists) in both conventions, with random lengths, twists, joint offsets, base and
 tool, and PUMA 560 (a table of the spherical-wrist family), compared with
-:class:`~kin.ik.analytic.spherical_wrist.SphericalWrist6R`, the other implementation.
+:class:`~kin.ik.analytic.six_r.spherical_wrist.SphericalWrist6R`, the other implementation.
 """
 
 from __future__ import annotations
@@ -21,9 +21,9 @@ from test_ik_spherical_wrist import PUMA_A, PUMA_ALPHA, PUMA_D, random_pieper_ta
 import kin
 from dh2urdf import DHRow, DHTable
 from kin.ik import ClosedFormSolver, PoseTarget, get_solver
-from kin.ik.analytic.pieper import Pieper6R
 from kin.ik.analytic.registry import CLOSED_FORMS
-from kin.ik.analytic.spherical_wrist import SphericalWrist6R
+from kin.ik.analytic.six_r.pieper import Pieper6R
+from kin.ik.analytic.six_r.spherical_wrist import SphericalWrist6R
 from kin.ik.exceptions import StructureError
 
 SAMPLES = 200

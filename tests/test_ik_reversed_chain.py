@@ -1,4 +1,4 @@
-"""6R arms solved through their chain read from the tool (kin.ik.analytic.reversed_chain).
+"""6R arms solved through their chain read from the tool (kin.ik.analytic.six_r.reversed_chain).
 
 - :func:`reverse_table` against the plain NumPy DH product: ``FK_rev(-q reversed) = FK(q)^-1`` on
   random tables of both conventions and several joint counts, and reversing twice gives the
@@ -27,9 +27,9 @@ from test_ik_ur_wrist import random_ur_table
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
 from kin.ik import ClosedFormSolver, PoseTarget, get_solver
-from kin.ik.analytic.general_6r import General6R
 from kin.ik.analytic.registry import CLOSED_FORMS, recognise
-from kin.ik.analytic.reversed_chain import Reversed6R, reverse_table
+from kin.ik.analytic.six_r.general_6r import General6R
+from kin.ik.analytic.six_r.reversed_chain import Reversed6R, reverse_table
 from kin.ik.exceptions import StructureError
 
 PI = math.pi

@@ -25,7 +25,7 @@ import pinocchio as pin
 import pytest
 
 import kin
-from kin.ik.analytic.seven_dof import COMPILED, SevenDofIK
+from kin.ik.analytic.seven_r.seven_dof import COMPILED, SevenDofIK
 from kin.ik.analytic.structure import seven_dof
 from kin.ik.exceptions import StructureError
 from kin.ik.numeric.numeric_target import (
@@ -649,7 +649,7 @@ def _c_args():
     ],
 )
 def test_compiled_function_rejects_bad_inputs(changes, error, message):
-    from kin.ik.analytic import _closed7
+    from kin.ik.analytic.seven_r import _closed7
 
     args = {**_c_args(), **changes}
     with pytest.raises(error, match=message):
@@ -660,7 +660,7 @@ def test_compiled_function_rejects_bad_inputs(changes, error, message):
 
 @pytest.mark.skipif(not COMPILED, reason="ik/_closed7 not built")
 def test_compiled_function_with_no_start_or_read_only_out():
-    from kin.ik.analytic import _closed7
+    from kin.ik.analytic.seven_r import _closed7
 
     args = {**_c_args(), "starts": np.zeros((0, 7))}
     assert _closed7.first(*args.values()) == -1

@@ -1,4 +1,4 @@
-"""Closed-form IK of 7R arms with a spherical shoulder, joint 7 free (kin.ik.analytic.spherical_shoulder7).
+"""Closed-form IK of 7R arms with a spherical shoulder, joint 7 free (kin.ik.analytic.seven_r.spherical_shoulder7).
 
 Round trips on every branch against Pinocchio's FK of the table's URDF: every branch that exists
 for the original q7 reaches the target to 1e-9 m / 1e-9 rad, and the original q is among them.
@@ -22,8 +22,8 @@ from dh_reference import fk_frames, load_reference, rotation_angle
 
 import kin
 from dh2urdf import DHTable, get_robot
-from kin.ik.analytic.seven_dof import SevenDofIK
-from kin.ik.analytic.spherical_shoulder7 import (
+from kin.ik.analytic.seven_r.seven_dof import SevenDofIK
+from kin.ik.analytic.seven_r.spherical_shoulder7 import (
     SphericalShoulder7RIK,
     spherical_shoulder7,
 )

@@ -1,4 +1,4 @@
-"""Closed-form IK of 6R arms with a spherical wrist (kin.ik.analytic.spherical_wrist).
+"""Closed-form IK of 6R arms with a spherical wrist (kin.ik.analytic.six_r.spherical_wrist).
 
 Round trips on every branch against Pinocchio's FK of the table's URDF: every branch that exists
 reaches the target to 1e-9 m / 1e-9 rad, and the original q is among the branches (modulo 2 pi).
@@ -20,7 +20,7 @@ from arm_tables import TOL, Reference, assert_round_trips, make_table, random_po
 
 import kin
 from dh2urdf import DHRow, DHTable
-from kin.ik.analytic.spherical_wrist import SphericalWrist6R
+from kin.ik.analytic.six_r.spherical_wrist import SphericalWrist6R
 from kin.ik.exceptions import StructureError
 
 SAMPLES = 200

@@ -18,7 +18,7 @@ from kin.ik import (
     StructureError,
     TargetError,
 )
-from kin.ik.analytic.five_dof import FiveDof
+from kin.ik.analytic.five_joint.five_dof import FiveDof
 from kin.ik.analytic.registry import recognise
 
 

@@ -1,11 +1,11 @@
-"""Closed-form IK of 6R arms with three parallel axes 2-4 (kin.ik.analytic.three_parallel).
+"""Closed-form IK of 6R arms with three parallel axes 2-4 (kin.ik.analytic.six_r.three_parallel).
 
 Round trips on every branch against Pinocchio's FK of the table's URDF: every branch that exists
 reaches the target to 1e-9 m / 1e-9 rad, and the original q is among the branches (modulo 2 pi).
 Arms: seeded random tables of the general family (``a5 != 0``, random twists of joints 1, 4, 5;
 ``classic``: wrist twists +-90 deg) and of the intersecting family (``a5 = 0``), in both
 conventions, with random lengths, offsets, base and tool; UR5, compared with
-:class:`~kin.ik.analytic.ur_wrist.URWrist6R`, the other implementation.
+:class:`~kin.ik.analytic.six_r.ur_wrist.URWrist6R`, the other implementation.
 """
 
 from __future__ import annotations
@@ -21,9 +21,9 @@ import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
 from kin.ik import PoseTarget
 from kin.ik.analytic import registry
-from kin.ik.analytic.general_6r import General6R
-from kin.ik.analytic.three_parallel import NEAR_MEET, ThreeParallel6R
-from kin.ik.analytic.ur_wrist import URWrist6R
+from kin.ik.analytic.six_r.general_6r import General6R
+from kin.ik.analytic.six_r.three_parallel import NEAR_MEET, ThreeParallel6R
+from kin.ik.analytic.six_r.ur_wrist import URWrist6R
 from kin.ik.exceptions import StructureError, TargetError
 
 SAMPLES = 100

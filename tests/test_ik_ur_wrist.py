@@ -1,4 +1,4 @@
-"""Closed-form IK of the UR family (kin.ik.analytic.ur_wrist) against Pinocchio and ur-analytic-ik.
+"""Closed-form IK of the UR family (kin.ik.analytic.six_r.ur_wrist) against Pinocchio and ur-analytic-ik.
 
 Round trips on every branch: FK(q) by Pinocchio -> ``solve`` -> every branch that exists reaches
 the target to 1e-9 m / 1e-9 rad by Pinocchio's FK, and q is among the branches (modulo 2 pi). Arms:
@@ -17,7 +17,7 @@ from arm_tables import TOL, Reference, assert_round_trips, make_table, random_po
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
-from kin.ik.analytic.ur_wrist import URWrist6R
+from kin.ik.analytic.six_r.ur_wrist import URWrist6R
 from kin.ik.exceptions import StructureError
 
 SAMPLES = 200
@@ -262,7 +262,7 @@ def test_same_solutions_as_ur_analytic_ik():
 
 def test_batch_larger_than_a_block_and_malformed_targets():
     """More targets than a block give the same rows as solve; malformed shapes raise TargetError."""
-    from kin.ik.analytic._six_r import BLOCK
+    from kin.ik.analytic.six_r._six_r import BLOCK
     from kin.ik.exceptions import TargetError
 
     table = arm_table("random_modified_0")

@@ -1,6 +1,6 @@
 """The compiled twin of the spherical-shoulder closed form changes nothing: same layout, same answers.
 
-``kin/ik/analytic/_shoulder7.c`` declares its parameter layout once (``SHOULDER7_PARAMS``, exported
+``kin/ik/analytic/seven_r/_shoulder7.c`` declares its parameter layout once (``SHOULDER7_PARAMS``, exported
 as ``LAYOUT``); :meth:`SphericalShoulder7RIK.c_fields` fills it by name. Over 1,000 Panda and
 1,000 xArm7 full poses (FK of random joint vectors inside the limits), from the ready pose or
 q = 0 and from random starts, with the default joint-7 scan steps: the twin's and the Python
@@ -18,7 +18,7 @@ import pytest
 from arm_tables import assert_layout_matches
 
 from kin import load_robot
-from kin.ik.analytic.spherical_shoulder7 import COMPILED, SphericalShoulder7RIK
+from kin.ik.analytic.seven_r.spherical_shoulder7 import COMPILED, SphericalShoulder7RIK
 from kin.ik.numeric.numeric_target import NumericTarget
 from kin.ik.numeric.solver import DEFAULT_CLOSED_FORM_STEPS, NumericIK
 
@@ -82,7 +82,7 @@ def test_defaults_do_not_depend_on_the_twin(name):
 def test_layout_is_read_from_the_twin(name):
     """The C layout is contiguous, covers PARAM_COUNT values, and names exactly the Python fields
     with their sizes; ``c_params`` puts each field at the C offset."""
-    from kin.ik.analytic import _shoulder7
+    from kin.ik.analytic.seven_r import _shoulder7
 
     assert_layout_matches(closed_form(name), _shoulder7)
 

@@ -3,11 +3,11 @@
 from .analytic.batch import BatchResult, BatchSolver
 from .analytic.closed_form import ClosedFormSolver
 from .analytic.closed_form_structure import ClosedFormStructure
-from .analytic.five_dof import FiveDof
-from .analytic.offset3r import Offset3R
-from .analytic.planar2r import Planar2R
+from .analytic.five_joint.five_dof import FiveDof
+from .analytic.planar.offset3r import Offset3R
+from .analytic.planar.planar2r import Planar2R
 from .analytic.registry import recognise, register
-from .analytic.seven_dof import SevenDofIK
+from .analytic.seven_r.seven_dof import SevenDofIK
 from .analytic.structure import SevenDof
 from .batch_solve import BatchIKResult, solve_batch
 from .dispatch import Solver, get_solver, solve_ik

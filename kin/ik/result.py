@@ -22,7 +22,7 @@ class IKSolution:
     """One joint vector that the solver returns, verified by forward kinematics.
 
     The FK is Pinocchio's, except for the 6R closed forms' compiled path, which measures with the
-    table's DH product in C (:mod:`kin.ik.analytic.six_r_twin`).
+    table's DH product in C (:mod:`kin.ik.analytic.six_r.six_r_twin`).
 
     Attributes:
         q: Joint vector [rad] (or [m] for prismatic joints).

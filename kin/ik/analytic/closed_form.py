@@ -56,7 +56,7 @@ from .closed_form_structure import (
 from .idealised import Idealised, idealise, polish
 from .joint_directions import forward_table, mirrored_limits, reversed_joints
 from .registry import recognise_turned
-from .six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
+from .six_r.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
 
 logger = logging.getLogger(__name__)
 

@@ -14,18 +14,18 @@ from dh2urdf import DHTable
 
 from ..exceptions import StructureError
 from .closed_form_structure import ClosedFormStructure
-from .five_dof import FiveDof
-from .general_6r import General6R
+from .five_joint.five_dof import FiveDof
 from .joint_directions import flipped_axes
-from .offset3r import Offset3R
-from .parallel_axes import ParallelAxes, ParallelAxes2, ParallelAxes3
-from .pieper import Pieper6R
-from .planar2r import Planar2R
-from .reversed_chain import Reversed6R
-from .spherical_wrist import SphericalWrist6R
-from .three_parallel import ThreeParallel6R
-from .ur_wrist import URWrist6R
-from .yaw_planar import YawPlanar
+from .planar.offset3r import Offset3R
+from .planar.parallel_axes import ParallelAxes, ParallelAxes2, ParallelAxes3
+from .planar.planar2r import Planar2R
+from .planar.yaw_planar import YawPlanar
+from .six_r.general_6r import General6R
+from .six_r.pieper import Pieper6R
+from .six_r.reversed_chain import Reversed6R
+from .six_r.spherical_wrist import SphericalWrist6R
+from .six_r.three_parallel import ThreeParallel6R
+from .six_r.ur_wrist import URWrist6R
 
 #: The registered structures, in the order they are asked.
 CLOSED_FORMS: list[type[ClosedFormStructure]] = [

@@ -1,8 +1,8 @@
 """Stage 0 of the numeric pipeline: the closed form with a free joint, when the arm has one.
 
 :func:`free_joint_closed_form` picks the arm's closed form, first that fits:
-:class:`~kin.ik.analytic.seven_dof.SevenDofIK` (humanoid7's structure: joint 1 free, full poses
-and positions) and :class:`~kin.ik.analytic.spherical_shoulder7.SphericalShoulder7RIK` (axes 1-3
+:class:`~kin.ik.analytic.seven_r.seven_dof.SevenDofIK` (humanoid7's structure: joint 1 free, full poses
+and positions) and :class:`~kin.ik.analytic.seven_r.spherical_shoulder7.SphericalShoulder7RIK` (axes 1-3
 and 5-6 meeting: Panda, xArm7; joint 7 free, full poses only). Both meet :class:`FreeJointClosedForm`:
 the free joint from a start, the other joints in closed form, the branch nearest the start.
 Starts: the caller's seed, then the seed-table samples near the target. When a start's free joint
@@ -31,8 +31,8 @@ from dh2urdf import DHTable
 
 from ..analytic.idealised import polish
 from ..analytic.joint_directions import forward_table, mirrored_limits, reversed_joints
-from ..analytic.seven_dof import SevenDofIK
-from ..analytic.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shoulder7
+from ..analytic.seven_r.seven_dof import SevenDofIK
+from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shoulder7
 from ..analytic.structure import seven_dof
 from ..exceptions import StructureError
 from ..result import IKResult, IKSolution

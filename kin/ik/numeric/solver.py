@@ -4,7 +4,7 @@ The stages, in order, until one returns a verified solution or the time budget r
 
 0. :mod:`.free_joint`: the closed form with a free joint, for an arm that has one (humanoid7's
    :class:`~kin.ik.analytic.structure.SevenDof` structure; Panda's and xArm7's
-   :class:`~kin.ik.analytic.spherical_shoulder7.SphericalShoulder7R`, full poses) and a target
+   :class:`~kin.ik.analytic.seven_r.spherical_shoulder7.SphericalShoulder7R`, full poses) and a target
    without posture preference. Most of its targets end here, in tens of microseconds. With
    ``near_seed``, a seed near the target gets the answer near it (damped Newton from the seed
    when the closed form's branch with the seed's free joint is far from it).

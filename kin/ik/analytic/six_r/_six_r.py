@@ -23,8 +23,8 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..exceptions import StructureError, TargetError
-from .structure import Checker
+from ...exceptions import StructureError, TargetError
+from ..structure import Checker
 
 #: Tolerance on DH twists [rad] when a structure needs an exact value (0.1 deg is far outside).
 ANGLE_TOL = 1e-9

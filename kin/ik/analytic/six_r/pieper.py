@@ -61,8 +61,8 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..exceptions import TargetError
-from ..target import PoseTarget
+from ...exceptions import TargetError
+from ...target import PoseTarget
 from ._six_r import (
     ANGLE_TOL,
     LENGTH_TOL,

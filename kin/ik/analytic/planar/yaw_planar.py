@@ -26,8 +26,8 @@ import pinocchio as pin
 
 from dh2urdf import DHTable
 
-from ..exceptions import StructureError
-from ..target import PoseTarget
+from ...exceptions import StructureError
+from ...target import PoseTarget
 from .parallel_axes import PARALLEL_TOL, ParallelAxes, _axes
 
 

@@ -36,10 +36,10 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..exceptions import StructureError, TargetError
-from ..target import PoseTarget
+from ...exceptions import StructureError, TargetError
+from ...target import PoseTarget
+from ..structure import Checker
 from ._general_6r_elimination import IMAG_TOL, Formulation, inverse, rot_z
-from .structure import Checker
 
 #: Number of branches (columns of :meth:`General6R.solve`): a 6R arm has at most 16.
 BRANCHES = 16
@@ -376,8 +376,8 @@ def _found(
 
 def _refuse_idealised(table: DHTable) -> None:
     """Raise when the table, idealised (:mod:`.idealised`), fits one of the special families."""
-    from .idealised import idealise
-    from .registry import CLOSED_FORMS
+    from ..idealised import idealise
+    from ..registry import CLOSED_FORMS
 
     ideal = idealise(table)
     if ideal is None:

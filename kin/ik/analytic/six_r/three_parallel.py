@@ -62,8 +62,8 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..exceptions import TargetError
-from ..target import PoseTarget
+from ...exceptions import TargetError
+from ...target import PoseTarget
 from ._six_r import (
     LENGTH_TOL,
     NAN_ROW,

@@ -29,12 +29,12 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from ..target import PitchTarget, PoseTarget, Target
-from .branches import REACH_TOL, Branches
-from .closed_form_structure import BatchBranches, TableStructure
-from .offset3r import elbow_branches
-from .planar2r import two_link_batch, without_missing
-from .structure import LENGTH_TOL, BaseFrame, Checker, Link, near, tool_point
+from ...target import PitchTarget, PoseTarget, Target
+from ..branches import REACH_TOL, Branches
+from ..closed_form_structure import BatchBranches, TableStructure
+from ..planar.offset3r import elbow_branches
+from ..planar.planar2r import two_link_batch, without_missing
+from ..structure import LENGTH_TOL, BaseFrame, Checker, Link, near, tool_point
 
 #: Largest out-of-plane component of the approach axis (or target point, [m]) of a reachable pose.
 PLANE_TOL = 1e-9

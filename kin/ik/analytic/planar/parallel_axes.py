@@ -31,8 +31,8 @@ import numpy as np
 from dh2urdf import DHTable
 from dh2urdf.dh_table import dh_link_transform
 
-from ..exceptions import StructureError
-from ..target import PoseTarget
+from ...exceptions import StructureError
+from ...target import PoseTarget
 
 #: Largest ``|u_i x n|`` of an axis taken as parallel to ``n``.
 PARALLEL_TOL = 1e-9

@@ -21,11 +21,11 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from ..target import PositionTarget, Target
-from .branches import REACH_TOL, Branches
-from .closed_form_structure import BatchBranches, TableStructure
+from ...target import PositionTarget, Target
+from ..branches import REACH_TOL, Branches
+from ..closed_form_structure import BatchBranches, TableStructure
+from ..structure import BaseFrame, Checker, Link, tool_point
 from .planar2r import two_link, two_link_batch, without_missing
-from .structure import BaseFrame, Checker, Link, tool_point
 
 #: Labels of the batch columns: base angle 1 (towards the target) and 2, elbow sine + and -.
 BATCH_LABELS = ("base 1, elbow +", "base 1, elbow -", "base 2, elbow +", "base 2, elbow -")

@@ -19,10 +19,10 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from ..target import PositionTarget, Target
-from .branches import REACH_TOL, Branches
-from .closed_form_structure import BatchBranches, TableStructure
-from .structure import BaseFrame, Checker, Link, tool_point
+from ...target import PositionTarget, Target
+from ..branches import REACH_TOL, Branches
+from ..closed_form_structure import BatchBranches, TableStructure
+from ..structure import BaseFrame, Checker, Link, tool_point
 
 #: |cos b2| above which the two elbow branches are merged (stretched or folded arm).
 MERGE_COS = 1.0 - 1e-13

@@ -21,7 +21,7 @@ Up to 8 joint vectors per ``q7``. ``t_i`` are DH angles, ``q_i = t_i - theta_i``
 returns None): the numeric stages answer it. The sub-problems are those of :mod:`.seven_dof`
 (:func:`~.seven_dof._harmonic_roots`, :func:`~.seven_dof._rotation_pair`), the joint-7 scan its
 :func:`~.seven_dof.scan`. :meth:`SphericalShoulder7RIK.first` runs the compiled twin of this
-module (``kin/ik/analytic/_shoulder7.c``, an optional extension built at install when a C compiler
+module (``kin/ik/analytic/seven_r/_shoulder7.c``, an optional extension built at install when a C compiler
 is there) and this Python code otherwise; ``tests/test_shoulder7_parity.py`` compares the two.
 """
 
@@ -38,17 +38,17 @@ import numpy.typing as npt
 from dh2urdf import DHRow, DHTable
 from dh2urdf.transforms import rot_x, translation
 
-from ..exceptions import TargetError
-from ._six_r import wrap, wrap_array
+from ...exceptions import TargetError
+from ..six_r._six_r import wrap, wrap_array
+from ..structure import ANGLE_TOL, LENGTH_TOL, Checker, deg
 from .seven_dof import COS_SLACK, _harmonic_roots, _rotation_pair, pack_params, scan
-from .structure import ANGLE_TOL, LENGTH_TOL, Checker, deg
 
 try:
     from . import _shoulder7  # type: ignore[attr-defined]
 except ImportError:  # pragma: no cover - the extension is optional
     _shoulder7 = None
 
-#: Whether the compiled twin (``kin/ik/analytic/_shoulder7.c``) is built.
+#: Whether the compiled twin (``kin/ik/analytic/seven_r/_shoulder7.c``) is built.
 COMPILED = _shoulder7 is not None
 
 #: Solver name in :class:`~kin.ik.exceptions.StructureError` messages.
@@ -250,7 +250,9 @@ class SphericalShoulder7RIK:
         """:meth:`c_fields` packed in the order the compiled twin declares (``_shoulder7.LAYOUT``)."""
         if self._c_params is None:
             if _shoulder7 is None:
-                raise RuntimeError("the compiled twin kin.ik.analytic._shoulder7 is not built")
+                raise RuntimeError(
+                    "the compiled twin kin.ik.analytic.seven_r._shoulder7 is not built"
+                )
             self._c_params = pack_params(self.c_fields(), _shoulder7.LAYOUT)
         return self._c_params
 

@@ -44,8 +44,8 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..exceptions import TargetError
-from ..target import PoseTarget
+from ...exceptions import TargetError
+from ...target import PoseTarget
 from ._six_r import (
     NAN_ROW,
     SINGULAR,
@@ -97,7 +97,7 @@ class URWrist6R(CompiledSixR):
     dof: ClassVar[int] = 6
     target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     branch_labels: ClassVar[tuple[str, ...]] = _labels()
-    #: The compiled twin (``kin/ik/analytic/_ur_wrist.c``), or None when it is not built.
+    #: The compiled twin (``kin/ik/analytic/six_r/_ur_wrist.c``), or None when it is not built.
     compiled_twin: ClassVar[ModuleType | None] = load_twin("_ur_wrist")
 
     robot: str

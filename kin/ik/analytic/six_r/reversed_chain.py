@@ -31,10 +31,10 @@ import pinocchio as pin
 from dh2urdf import DHTable
 from dh2urdf.dh_table import Convention
 
-from ..exceptions import StructureError, TargetError
-from ..target import PoseTarget
+from ...exceptions import StructureError, TargetError
+from ...target import PoseTarget
+from ..closed_form_structure import ClosedFormStructure
 from ._six_r import target_arrays, wrap_array
-from .closed_form_structure import ClosedFormStructure
 from .pieper import Pieper6R
 from .spherical_wrist import SphericalWrist6R
 from .three_parallel import ThreeParallel6R

@@ -15,7 +15,7 @@ Up to 8 joint vectors per ``q1``. For a position-only target the wrist angles ar
 
 All of it is scalar arithmetic; the numeric solver (:mod:`ik.numeric`) picks ``q1`` (and the
 wrist) from its seed table and has Pinocchio judge every answer. :meth:`SevenDofIK.first` runs the
-compiled twin of this module (``kin/ik/analytic/_closed7.c``, an optional extension built at install when a C
+compiled twin of this module (``kin/ik/analytic/seven_r/_closed7.c``, an optional extension built at install when a C
 compiler is there) and this Python code otherwise; the tests compare the two. ``t_i`` are DH
 angles, ``q_i = t_i - theta_i`` joint values [rad]; lengths in [m].
 """
@@ -28,14 +28,14 @@ from typing import ClassVar
 
 import numpy as np
 
-from .structure import SevenDof
+from ..structure import SevenDof
 
 try:
     from . import _closed7  # type: ignore[attr-defined]
 except ImportError:  # pragma: no cover - the extension is optional
     _closed7 = None
 
-#: Whether the compiled twin (``kin/ik/analytic/_closed7.c``) is built.
+#: Whether the compiled twin (``kin/ik/analytic/seven_r/_closed7.c``) is built.
 COMPILED = _closed7 is not None
 
 #: Slack on ``|cos| <= 1`` of the elbow and pair angles (rounding at the edge of the workspace).
@@ -192,7 +192,9 @@ class SevenDofIK:
         """:meth:`c_fields` packed in the order the compiled twin declares (``_closed7.LAYOUT``)."""
         if self._c_params is None:
             if _closed7 is None:
-                raise RuntimeError("the compiled twin kin.ik.analytic._closed7 is not built")
+                raise RuntimeError(
+                    "the compiled twin kin.ik.analytic.seven_r._closed7 is not built"
+                )
             self._c_params = pack_params(self.c_fields(), _closed7.LAYOUT)
         return self._c_params
 

@@ -1,6 +1,6 @@
 """The compiled twins of the 6R closed forms: loading, their parameter blocks, solve and verify.
 
-``kin/ik/analytic/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
+``kin/ik/analytic/six_r/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
 when a C compiler is there) repeat :meth:`URWrist6R.solve <.ur_wrist.URWrist6R.solve>` and
 :meth:`SphericalWrist6R.solve <.spherical_wrist.SphericalWrist6R.solve>` operation for operation;
 the Python modules are the reference and the fallback. Each twin also has ``verify``: the 8
@@ -27,8 +27,8 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ..seven_r.seven_dof import pack_params
 from ._six_r import target_arrays
-from .seven_dof import pack_params
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
 MISSING, VALID, OUTSIDE_LIMITS, OFF_TARGET = 0, 1, 2, 3

@@ -18,7 +18,7 @@
  *   Returns the index of the first start with a branch inside the limits (the branch nearest the
  *   start, at the joint-7 value nearest the start's, is written to out), or -1.
  */
-#include "_twin.h"
+#include "../_twin.h"
 
 /*
  * The parameter layout, declared here once. SphericalShoulder7RIK.c_params reads the order,
