@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -248,21 +249,16 @@ def free_joint_answers(
     n, nq = points.shape[0], robot.nq
     near_rows, skipped = _near_seeds(solver, robot, points, frames, seeds)
     candidates = np.full((n, nq), np.nan)
-    out = np.empty(nq)
-    compiled = bool(getattr(solver, "compiled", False))
-    steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
-    prepare, first = closed.prepare, closed.first
-    for i in range(n):
-        if skipped[i]:
-            continue
-        prepared = prepare(points[i], None if frames is None else frames[i])
-        if prepared is None:
-            continue
-        start = seeds[i : i + 1]
-        for step in (0.0,) if near_rows[i] else steps:
-            if first(prepared, start, out, step, compiled) == 0:
-                candidates[i] = out
-                break
+    first_each = getattr(closed, "first_each", None)
+    if first_each is not None and frames is not None:
+        # A form whose solve is batched itself (General7RIK): one solve of every target at its
+        # seed's free joint, no scan (the targets it leaves go to the solver one by one).
+        targets = np.zeros((n, 4, 4))
+        targets[:, :3, :3], targets[:, :3, 3], targets[:, 3, 3] = frames, points, 1.0
+        candidates = first_each(targets, seeds)
+        candidates[skipped] = np.nan
+    else:
+        _first_one_by_one(closed, solver, points, frames, seeds, near_rows, skipped, candidates)
     if near_rows.any():  # kept only within seed_near of the seed (else the call's damped Newton)
         moved = np.abs(candidates - seeds).max(axis=1)
         candidates[near_rows & ~(moved <= getattr(solver, "seed_near", 0.0))] = np.nan
@@ -286,6 +282,34 @@ def free_joint_answers(
         if r_err is not None:
             rotation_error[rows[ok]] = r_err[ok]
     return candidates, position_error, rotation_error
+
+
+def _first_one_by_one(
+    closed: Any,
+    solver: object,
+    points: np.ndarray,
+    frames: np.ndarray | None,
+    seeds: np.ndarray,
+    near_rows: np.ndarray,
+    skipped: np.ndarray,
+    candidates: np.ndarray,
+) -> None:
+    """Each target's branch from its seed into ``candidates`` (the compiled twin per target)."""
+    out = np.empty(candidates.shape[1])
+    compiled = bool(getattr(solver, "compiled", False))
+    steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
+    prepare, first = closed.prepare, closed.first
+    for i in range(len(points)):
+        if skipped[i]:
+            continue
+        prepared = prepare(points[i], None if frames is None else frames[i])
+        if prepared is None:
+            continue
+        start = seeds[i : i + 1]
+        for step in (0.0,) if near_rows[i] else steps:
+            if first(prepared, start, out, step, compiled) == 0:
+                candidates[i] = out
+                break
 
 
 def _near_seeds(

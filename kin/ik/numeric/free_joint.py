@@ -3,7 +3,10 @@
 :func:`free_joint_closed_form` picks the arm's closed form, first that fits:
 :class:`~kin.ik.analytic.seven_r.seven_dof.SevenDofIK` (humanoid7's structure: joint 1 free, full poses
 and positions) and :class:`~kin.ik.analytic.seven_r.spherical_shoulder7.SphericalShoulder7RIK` (axes 1-3
-and 5-6 meeting: Panda, xArm7; joint 7 free, full poses only). Both meet :class:`FreeJointClosedForm`:
+and 5-6 meeting: Panda, xArm7; joint 7 free, full poses only), then
+:class:`~kin.ik.analytic.seven_r.general_7r.General7RIK` (any other 7R arm: joint 1 or 7 held,
+the 6R closed forms, the general elimination among them, for the rest; full poses only). All
+three meet :class:`FreeJointClosedForm`:
 the free joint from a start, the other joints in closed form, the branch nearest the start.
 Starts: the caller's seed, then the seed-table samples near the target. When a start's free joint
 gives no branch inside the limits, the seed and the first sample scan it outward from there
@@ -31,6 +34,7 @@ from dh2urdf import DHTable
 
 from ..analytic.idealised import polish
 from ..analytic.joint_directions import forward_table, mirrored_limits, reversed_joints
+from ..analytic.seven_r.general_7r import General7RIK
 from ..analytic.seven_r.seven_dof import SevenDofIK
 from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shoulder7
 from ..analytic.structure import seven_dof
@@ -93,6 +97,12 @@ def free_joint_closed_form(
         pass
     try:
         return SphericalShoulder7RIK(spherical_shoulder7(table), lower, upper)
+    except StructureError:
+        pass
+    if table.dof != 7:
+        return None
+    try:  # any other 7R: an end joint held, the 6R closed forms for the rest
+        return General7RIK(table, lower, upper)
     except StructureError:
         return None
 
