@@ -332,26 +332,29 @@ def _tool_extent(
     """The tool's largest distance from the world origin [m] over a few joint vectors.
 
     ``q = 0``, the lower and the upper limits, and eight seeded vectors inside the limits
-    (revolute ones within a turn). Where the lengths laid end to end are long only because two
+    (revolute ones within a turn of the lower limit). Where the lengths laid end to end are long only because two
     nearly parallel axes put their common normal far away (a URDF that rounds pi to 3.1416:
     ``d`` of tens of km, out and back), the tool stays near: no unit slip there.
     """
     lower = np.array([row.lower for row in rows], dtype=float)
     upper = np.array([row.upper for row in rows], dtype=float)
     revolute = np.array([row.joint_type == "revolute" for row in rows])
-    low = np.where(revolute, np.maximum(lower, -math.pi), lower)
-    high = np.where(revolute, np.minimum(upper, math.pi), upper)
-    samples = [np.zeros(len(rows)), low, high]
-    samples += list(np.random.default_rng(0).uniform(low, high, (8, len(rows))))
+    high = np.where(revolute, np.minimum(upper, lower + 2.0 * math.pi), upper)
+    samples = [np.zeros(len(rows)), lower, upper]
+    samples += list(
+        np.random.default_rng(0).uniform(lower, np.maximum(high, lower), (8, len(rows)))
+    )
     extent = 0.0
-    for q in samples:
-        pose = base
-        for row, value in zip(rows, q.tolist()):
-            move = row.direction * value
-            theta = row.theta + move if row.joint_type == "revolute" else row.theta
-            d = row.d if row.joint_type == "revolute" else row.d + move
-            pose = pose @ dh_link_transform(convention, row.a, row.alpha, d, theta)  # type: ignore[arg-type]
-        extent = max(extent, float(np.linalg.norm((pose @ tool)[:3, 3])))
+    with np.errstate(all="ignore"):  # extreme tables: an overflow is an infinite extent
+        for q in samples:
+            pose = base
+            for row, value in zip(rows, q.tolist()):
+                move = row.direction * value
+                theta = row.theta + move if row.joint_type == "revolute" else row.theta
+                d = row.d if row.joint_type == "revolute" else row.d + move
+                pose = pose @ dh_link_transform(convention, row.a, row.alpha, d, theta)  # type: ignore[arg-type]
+            distance = float(np.linalg.norm((pose @ tool)[:3, 3]))
+            extent = max(extent, distance) if math.isfinite(distance) else math.inf
     return extent
 
 
