@@ -334,3 +334,15 @@ def test_refusals():
     with pytest.raises(StructureError, match="once rounded values are snapped"):
         General6R.recognise(rounded_table)
     assert get_solver(kin.robot_from_table(rounded_table)).name != "closed_form:general_6r"
+
+
+def test_a_degenerate_table_is_no_crash():
+    """Lengths of 1e-300 m overflow the elimination's companion matrix: the structure is refused
+    (StructureError, the numeric solver answers), no LinAlgError; a 7R of them too."""
+    for dof in (6, 7):
+        table = make_table([1e-300] * dof, [0.3] * dof, [1e-300] * dof, [0.0] * dof)
+        solver = get_solver(kin.robot_from_table(table))
+        result = solver.solve(PoseTarget([0.0, 0.0, 0.0], np.eye(3)), timeout=0.05)
+        assert result.status in ("ok", "not_converged", "out_of_reach", "singular")
+    with pytest.raises(StructureError):
+        General6R.recognise(make_table([1e-300] * 6, [0.3] * 6, [1e-300] * 6, [0.0] * 6))

@@ -73,7 +73,7 @@ class FreeJointClosedForm(Protocol):
 
 
 def free_joint_closed_form(
-    table: DHTable, lower: Sequence[float], upper: Sequence[float]
+    table: DHTable, lower: Sequence[float], upper: Sequence[float], *, general: bool = True
 ) -> FreeJointClosedForm | None:
     """The free-joint closed form of an arm, or None when none fits its table.
 
@@ -81,11 +81,14 @@ def free_joint_closed_form(
         table: The arm's DH table.
         lower: Lower joint limits [rad].
         upper: Upper joint limits [rad].
+        general: Also the general 7R form (:class:`General7RIK`) when no special one fits.
     """
     directions = reversed_joints(table)
     if directions is not None:  # solved on the forward table, in q' = direction * q
         low, high = mirrored_limits(lower, upper, directions)
-        closed = free_joint_closed_form(forward_table(table), low.tolist(), high.tolist())
+        closed = free_joint_closed_form(
+            forward_table(table), low.tolist(), high.tolist(), general=general
+        )
         return (
             None
             if closed is None
@@ -99,7 +102,7 @@ def free_joint_closed_form(
         return SphericalShoulder7RIK(spherical_shoulder7(table), lower, upper)
     except StructureError:
         pass
-    if table.dof != 7:
+    if not general or table.dof != 7:
         return None
     try:  # any other 7R: an end joint held, the 6R closed forms for the rest
         return General7RIK(table, lower, upper)

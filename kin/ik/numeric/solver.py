@@ -227,11 +227,16 @@ class NumericIK:
         #: rounding (its answers are polished on the true chain), else None.
         self.idealised: Idealised | None = None
         if closed_form:
-            self.closed_form = free_joint_closed_form(robot.table, self.lower, self.upper)
+            # The special forms, on the true table, then on the idealised one (a rounded URDF);
+            # only then the general 7R form on the true table (slower, no compiled twin).
+            lower, upper = self.lower, self.upper
+            self.closed_form = free_joint_closed_form(robot.table, lower, upper, general=False)
             ideal = idealise(robot.table) if self.closed_form is None else None
             if ideal is not None:
-                self.closed_form = free_joint_closed_form(ideal.table, self.lower, self.upper)
+                self.closed_form = free_joint_closed_form(ideal.table, lower, upper, general=False)
                 self.idealised = ideal if self.closed_form is not None else None
+            if self.closed_form is None:
+                self.closed_form = free_joint_closed_form(robot.table, lower, upper)
         self.closed_form_starts = closed_form_starts
         self.closed_form_steps = tuple(closed_form_steps)
         #: Whether the closed form runs its compiled twin (asked for and built).

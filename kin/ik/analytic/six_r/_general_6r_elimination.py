@@ -342,7 +342,16 @@ def _quadratic_eig(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         A[:, 12:, :] = -np.linalg.solve(lead, rhs)
     except np.linalg.LinAlgError:
         A[:, 12:, :] = -np.linalg.pinv(lead) @ rhs
-    values, vectors = np.linalg.eig(A)  # (N, 24), (N, 24, 24): columns
+    # A degenerate table (lengths of 1e-300 m, ...) can overflow a pose's companion matrix: that
+    # pose gets NaN eigenpairs (no candidates) instead of stopping every pose.
+    finite = np.isfinite(A).all(axis=(1, 2))
+    if finite.all():
+        values, vectors = np.linalg.eig(A)  # (N, 24), (N, 24, 24): columns
+    else:
+        values = np.full((n, 24), np.nan, dtype=complex)
+        vectors = np.full((n, 24, 24), np.nan, dtype=complex)
+        if finite.any():
+            values[finite], vectors[finite] = np.linalg.eig(A[finite])
     vectors = np.swapaxes(vectors, 1, 2)
     top, bottom = vectors[..., :12], vectors[..., 12:]
     use_top = np.linalg.norm(top, axis=-1) >= np.linalg.norm(bottom, axis=-1)
