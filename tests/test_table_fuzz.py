@@ -67,6 +67,7 @@ def mutated_tables(draw: st.DrawFn) -> dict:
             if where == "limit":
                 limits = row.get("limits", [0.0, 0.0])
                 limits = list(limits) if isinstance(limits, list) else [limits, limits]
+                limits += [0.0] * (2 - len(limits))  # an earlier mutation may have shortened it
                 limits[draw(st.integers(0, 1))] = value
                 row["limits"] = limits
                 continue
