@@ -14,7 +14,8 @@ import pytest
 from arm_tables import assert_layout_matches
 
 from kin import load_robot
-from kin.ik.analytic.seven_r.seven_dof import COMPILED, pack_params
+from kin.ik.analytic.seven_r.seven_dof import COMPILED
+from kin.ik.analytic.seven_r.subproblems import pack_params
 from kin.ik.numeric.numeric_target import NumericTarget
 from kin.ik.numeric.solver import DEFAULT_CLOSED_FORM_STEPS, NumericIK
 

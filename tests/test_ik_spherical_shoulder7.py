@@ -23,10 +23,8 @@ from dh_reference import fk_frames, load_reference, rotation_angle
 import kin
 from dh2urdf import DHTable, get_robot
 from kin.ik.analytic.seven_r.seven_dof import SevenDofIK
-from kin.ik.analytic.seven_r.spherical_shoulder7 import (
-    SphericalShoulder7RIK,
-    spherical_shoulder7,
-)
+from kin.ik.analytic.seven_r.shoulder7_structure import spherical_shoulder7
+from kin.ik.analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK
 from kin.ik.exceptions import StructureError, TargetError
 from kin.ik.numeric.numeric_target import NumericTarget
 from kin.ik.numeric.solver import NumericIK

@@ -1,8 +1,8 @@
 /*
  * What the compiled twins of the seven-joint closed forms share (_closed7.c, _shoulder7.c): the
  * parameter block declared once per twin from an X-macro list, its export as LAYOUT, the two
- * formulas of seven_dof.py both use (_harmonic_roots, _rotation_pair), the float64 buffer check and
- * the module set-up. Angles in radians, lengths in meters.
+ * formulas both use (seven_r/subproblems.py: harmonic_roots, rotation_pair), the float64 buffer
+ * check and the module set-up. Angles in radians, lengths in meters.
  */
 #ifndef KIN_IK_ANALYTIC_TWIN_H
 #define KIN_IK_ANALYTIC_TWIN_H
@@ -52,7 +52,7 @@ static inline int clamp_cos(double *c)
     return 1;
 }
 
-/* seven_dof._harmonic_roots: angles t with p cos t + q sin t = k; returns how many (0 to 2). */
+/* seven_r/subproblems.harmonic_roots: angles t with p cos t + q sin t = k; returns how many (0 to 2). */
 static inline int harmonic_roots(double p, double q, double k, double *t)
 {
     double rho = hypot(p, q);
@@ -69,7 +69,7 @@ static inline int harmonic_roots(double p, double q, double k, double *t)
     return 2;
 }
 
-/* seven_dof._rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
+/* seven_r/subproblems.rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
    sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
 static inline int rotation_pair(double sa, double ca, const double *v, const double *d,
                                 double *ta, double *tb)

@@ -36,7 +36,8 @@ from ..analytic.idealised import polish
 from ..analytic.joint_directions import forward_table, mirrored_limits, reversed_joints
 from ..analytic.seven_r.general_7r import General7RIK
 from ..analytic.seven_r.seven_dof import SevenDofIK
-from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK, spherical_shoulder7
+from ..analytic.seven_r.shoulder7_structure import spherical_shoulder7
+from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK
 from ..analytic.structure import seven_dof
 from ..exceptions import StructureError
 from ..result import IKResult, IKSolution

@@ -229,7 +229,7 @@ static PyObject *first(PyObject *self, PyObject *args)
             double v[7], sol[BRANCHES][7];
             int n = 0;
             if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
-            /* seven_dof.scan: v7, then v7 + j step and v7 - j step inside the limits. */
+            /* subproblems.scan: v7, then v7 + j step and v7 - j step inside the limits. */
             double value = v[6];
             n = try_q7(P, T, reach, value, v, sol);
             if (n == 0 && step > 0.0) {

@@ -6,7 +6,7 @@ The arm is redundant: joint 1 is left free. For a given ``q1``:
    axes 5, 6 and 7 meet) follows from the tool pose; ``|SW|`` depends on the elbow angle only:
    ``P cos t4 + Q sin t4 = K`` gives ``t4`` (two branches);
 2. ``Rz(t2) Rx(alpha2) Rz(t3) v = SW`` (``v`` the shoulder-to-wrist vector in frame 3 rotated by
-   ``Rx(alpha3)``) gives ``t2, t3`` (two branches, :func:`_rotation_pair`);
+   ``Rx(alpha3)``) gives ``t2, t3`` (two branches, :func:`~.subproblems.rotation_pair`);
 3. the wrist: ``Rz(t5) Rx(alpha5) Rz(t6) Rx(alpha6) e_z`` must equal the tool's joint-7 axis seen
    in frame 4 (``t5, t6``: two branches, the same sub-problem), ``t7`` is what remains.
 
@@ -29,6 +29,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..structure import SevenDof
+from .subproblems import harmonic_roots, pack_params, rotation_pair, scan
 
 try:
     from . import _closed7  # type: ignore[attr-defined]
@@ -38,94 +39,7 @@ except ImportError:  # pragma: no cover - the extension is optional
 #: Whether the compiled twin (``kin/ik/analytic/seven_r/_closed7.c``) is built.
 COMPILED = _closed7 is not None
 
-#: Slack on ``|cos| <= 1`` of the elbow and pair angles (rounding at the edge of the workspace).
-COS_SLACK = 1e-12
-
 _TWO_PI = 2.0 * math.pi
-
-
-def _harmonic_roots(p: float, q: float, k: float) -> tuple[float, ...]:
-    """Angles ``t`` [rad] with ``p cos t + q sin t = k``: two, one (a double root) or none.
-
-    ``|k| / hypot(p, q)`` up to :data:`COS_SLACK` above 1 counts as 1 (rounding at the edge).
-    """
-    rho = math.hypot(p, q)
-    if rho < 1e-15:
-        return ()
-    c = k / rho
-    if c > 1.0:
-        if c > 1.0 + COS_SLACK:
-            return ()
-        c = 1.0
-    elif c < -1.0:
-        if c < -1.0 - COS_SLACK:
-            return ()
-        c = -1.0
-    phi, delta = math.atan2(q, p), math.acos(c)
-    return (phi + delta, phi - delta) if delta > 0.0 else (phi,)
-
-
-def _rotation_pair(
-    sa: float, ca: float, vx: float, vy: float, vz: float, dx: float, dy: float, dz: float
-) -> list[tuple[float, float]]:
-    """Angles ``(ta, tb)`` with ``Rz(ta) Rx(alpha) Rz(tb) v = d`` (``|v| = |d|``), up to two pairs.
-
-    The z row gives ``sa (vx sin tb + vy cos tb) + ca vz = dz`` (two ``tb``); ``ta`` then turns
-    ``Rx(alpha) Rz(tb) v`` about z onto ``d``. ``sa, ca`` are ``sin alpha, cos alpha``.
-    """
-    heading = math.atan2(dy, dx)
-    pairs = []
-    for tb in _harmonic_roots(sa * vy, sa * vx, dz - ca * vz):
-        cb, sb = math.cos(tb), math.sin(tb)
-        mx = vx * cb - vy * sb
-        my = ca * (vx * sb + vy * cb) - sa * vz
-        pairs.append((heading - math.atan2(my, mx), tb))
-    return pairs
-
-
-def scan(value: float, step: float, low: float, high: float) -> Iterator[float]:
-    """``value``, then ``value + j step`` and ``value - j step`` for j = 1, 2, ... inside ``[low, high]``.
-
-    The free joint's values [rad] outward from a start's: the first that gives a branch inside the
-    limits is the nearest to the start's at that resolution. ``step <= 0``: ``value`` alone.
-    """
-    yield value
-    if not step > 0.0:
-        return
-    j = 1
-    while True:
-        up, down = value + j * step, value - j * step
-        if up > high and down < low:
-            return
-        if low <= up <= high:
-            yield up
-        if low <= down <= high:
-            yield down
-        j += 1
-
-
-def pack_params(
-    fields: dict[str, tuple[float, ...]], layout: Sequence[tuple[str, int, int]]
-) -> np.ndarray:
-    """``fields`` as one float64 vector in ``layout`` order: ``(name, offset, size)`` per field.
-
-    Raises:
-        ValueError: A field missing, of another size, left over, or a layout with gaps.
-    """
-    values: list[float] = []
-    for name, offset, size in layout:
-        field = fields.get(name)
-        if field is None or len(field) != size or offset != len(values):
-            raise ValueError(
-                f"compiled layout field {name!r} (offset {offset}, size {size}) does not match "
-                f"the Python parameters: {None if field is None else len(field)} values at "
-                f"offset {len(values)}"
-            )
-        values.extend(field)
-    extra = sorted(set(fields) - {name for name, _, _ in layout})
-    if extra:
-        raise ValueError(f"Python parameters not in the compiled layout: {extra}")
-    return np.array(values, dtype=float)
 
 
 class SevenDofIK:
@@ -361,7 +275,7 @@ class SevenDofIK:
         ux, uy, uz = u
         sx, sy, sz = self._shoulder3
         k = 0.5 * (ux * ux + uy * uy + uz * uz + self._shoulder3_2 - dx * dx - dy * dy - dz * dz)
-        elbows = _harmonic_roots(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz)
+        elbows = harmonic_roots(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz)
         s2, c2, s3, c3 = s[1], c[1], s[2], c[2]
         remainder = math.remainder
         out: list[tuple[float, ...]] = []
@@ -375,7 +289,7 @@ class SevenDofIK:
             vz = uz - sz
             vy, vz = c3 * vy - s3 * vz, s3 * vy + c3 * vz  # Rx(alpha3) v
             # Rz(t2) Rx(alpha2) Rz(t3) v = d.
-            for t2, t3 in _rotation_pair(s2, c2, vx, vy, vz, dx, dy, dz):
+            for t2, t3 in rotation_pair(s2, c2, vx, vy, vz, dx, dy, dz):
                 q3 = remainder(t3 - off[2], _TWO_PI)
                 if not lo[2] <= q3 <= hi[2]:
                     continue
@@ -416,7 +330,7 @@ class SevenDofIK:
                 xy, xz = ca * xy + sa * xz, ca * xz - sa * xy
                 zx, zy = ct * zx + st * zy, ct * zy - st * zx
                 zy, zz = ca * zy + sa * zz, ca * zz - sa * zy
-            for t5, t6 in _rotation_pair(s5, c5, gx, gy, gz, zx, zy, zz):
+            for t5, t6 in rotation_pair(s5, c5, gx, gy, gz, zx, zy, zz):
                 q5 = remainder(t5 - off[4], _TWO_PI)
                 q6 = remainder(t6 - off[5], _TWO_PI)
                 if not (lo[4] <= q5 <= hi[4] and lo[5] <= q6 <= hi[5]):

@@ -19,8 +19,8 @@ For a full tool pose and a chosen ``q7`` the pose of ``J_6`` is known, and:
 Up to 8 joint vectors per ``q7``. ``t_i`` are DH angles, ``q_i = t_i - theta_i`` joint values
 [rad]; lengths in [m]. A position-only target is not handled (:meth:`SphericalShoulder7RIK.prepare`
 returns None): the numeric stages answer it. The sub-problems are those of :mod:`.seven_dof`
-(:func:`~.seven_dof._harmonic_roots`, :func:`~.seven_dof._rotation_pair`), the joint-7 scan its
-:func:`~.seven_dof.scan`. :meth:`SphericalShoulder7RIK.first` runs the compiled twin of this
+(:mod:`.subproblems`), the joint-7 scan its
+:func:`~.subproblems.scan`. :meth:`SphericalShoulder7RIK.first` runs the compiled twin of this
 module (``kin/ik/analytic/seven_r/_shoulder7.c``, an optional extension built at install when a C compiler
 is there) and this Python code otherwise; ``tests/test_shoulder7_parity.py`` compares the two.
 """
@@ -29,19 +29,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
-from dh2urdf import DHRow, DHTable
-from dh2urdf.transforms import rot_x, translation
-
 from ...exceptions import TargetError
 from ..six_r._six_r import wrap, wrap_array
-from ..structure import ANGLE_TOL, LENGTH_TOL, Checker, deg
-from .seven_dof import COS_SLACK, _harmonic_roots, _rotation_pair, pack_params, scan
+from .shoulder7_structure import SphericalShoulder7R, inverse_point
+from .subproblems import (
+    harmonic_roots,
+    harmonic_roots_array,
+    pack_params,
+    rotation_pair,
+    rotation_pair_array,
+    scan,
+)
 
 try:
     from . import _shoulder7  # type: ignore[attr-defined]
@@ -51,126 +54,10 @@ except ImportError:  # pragma: no cover - the extension is optional
 #: Whether the compiled twin (``kin/ik/analytic/seven_r/_shoulder7.c``) is built.
 COMPILED = _shoulder7 is not None
 
-#: Solver name in :class:`~kin.ik.exceptions.StructureError` messages.
-SOLVER = "seven-joint (spherical shoulder, wrist axes 5-6 meeting, joint 7 free)"
-#: Tolerance [m] of the computed shoulder and wrist points on their axes (a sanity check: the
-#: table's lengths are checked exactly, within :data:`~.structure.LENGTH_TOL`).
-POINT_TOL = 1e-9
 #: Branches per joint-7 value: 2 elbows x 2 wrists x 2 shoulders.
 BRANCHES = 8
 
 _TWO_PI = 2.0 * math.pi
-
-Vec = tuple[float, float, float]
-
-
-def joint_factors(table: DHTable) -> list[tuple[np.ndarray, np.ndarray]]:
-    """``(L_i, R_i)`` (4x4) of every row: joint ``i`` is ``L_i Rz(q_i + theta_i) R_i``."""
-    eye = np.eye(4)
-    if table.convention == "modified":
-        return [(rot_x(r.alpha) @ translation(x=r.a, z=r.d), eye) for r in table.rows]
-    return [(translation(z=r.d), translation(x=r.a) @ rot_x(r.alpha)) for r in table.rows]
-
-
-@dataclass(frozen=True, eq=False)
-class SphericalShoulder7R:
-    """A 7R arm whose axes 1-3 meet at a shoulder point and axes 5, 6 at a wrist point.
-
-    Attributes:
-        frames: ``M_1 .. M_8`` (4x4, [m]): the fixed transforms between the joint rotations.
-        offsets: DH angle offsets ``theta_1 .. theta_7`` [rad] (DH angle = q + offset).
-        shoulder: ``S`` on axis 1, in frame ``K`` (``M_1``): ``(0, 0, z)`` [m].
-        shoulder3: ``S`` in frame ``J_3`` [m] (on axis 3).
-        wrist4: ``W`` in frame ``J_4`` [m].
-        wrist6: ``W`` in frame ``J_6`` [m] (on axis 6).
-    """
-
-    frames: tuple[np.ndarray, ...] = field(repr=False)
-    offsets: tuple[float, ...]
-    shoulder: Vec
-    shoulder3: Vec
-    wrist4: Vec
-    wrist6: Vec
-
-    @property
-    def twists(self) -> tuple[float, ...]:
-        """``alpha_i'`` [rad] of ``M_i = (Rx(alpha_i'), translation)``, index ``i`` = 2 .. 7.
-
-        Indices 0 and 1 are unused (0.0): ``M_1`` and ``M_8`` hold the base and the tool.
-        """
-        return (0.0, 0.0) + tuple(math.atan2(m[2, 1], m[1, 1]) for m in self.frames[1:7])
-
-
-def spherical_shoulder7(table: DHTable) -> SphericalShoulder7R:
-    """Recognise a :class:`SphericalShoulder7R` table and read its parameters.
-
-    Raises:
-        StructureError: Not seven revolute joints; axes 1-3 not meeting in one point (row and
-            parameter named); axes 5, 6 not meeting; consecutive axes of the shoulder or the wrist
-            parallel; the shoulder or the wrist point on the elbow axis.
-    """
-    check = Checker(table, SOLVER)
-    check.revolute(7)
-    rows = table.rows
-    modified = table.convention == "modified"
-
-    def between(axis: int) -> DHRow:
-        """The row holding the common normal (a, alpha) of axes ``axis`` and ``axis + 1``."""
-        return rows[axis] if modified else rows[axis - 1]
-
-    for axis, what in ((1, "shoulder"), (2, "shoulder"), (5, "wrist")):
-        row = between(axis)
-        why = f"axes {axis} and {axis + 1} must meet at the {what} point"
-        check.zero(row, "a", why)
-        if abs(math.sin(row.alpha)) <= ANGLE_TOL:
-            raise check.fail(
-                f"row {row.index} ('{row.name}'): alpha = {deg(row.alpha)}, expected an angle "
-                f"other than 0 or 180 deg (axes {axis} and {axis + 1} must not be parallel)"
-            )
-    check.zero(rows[1], "d", "axes 1, 2 and 3 must meet in one point")
-
-    factors = joint_factors(table)
-    frames = [np.asarray(table.T_world_base, dtype=float) @ factors[0][0]]
-    frames += [factors[i - 1][1] @ factors[i][0] for i in range(1, 7)]
-    frames.append(factors[6][1] @ np.asarray(table.T_last_tool, dtype=float))
-    shoulder = _meeting(frames[1])  # axes 1 and 2, in K
-    shoulder2 = _inverse_point(frames[1], shoulder)
-    shoulder3 = _inverse_point(frames[2], shoulder2)
-    wrist5 = _meeting(frames[5])  # axes 5 and 6, in J_5
-    wrist6 = _inverse_point(frames[5], wrist5)
-    for point, where in ((shoulder2, "axis 2"), (shoulder3, "axis 3"), (wrist6, "axis 6")):
-        if math.hypot(point[0], point[1]) > POINT_TOL:  # pragma: no cover - exact checks above
-            raise check.fail(f"the computed {where} point is off its axis")
-    wrist4 = tuple((frames[4] @ (*wrist5, 1.0))[:3].tolist())
-    u = _inverse_point(frames[3], shoulder3)  # S just before Rz(t4)
-    for point, what in ((u, "shoulder"), (wrist4, "wrist")):
-        if math.hypot(point[0], point[1]) <= LENGTH_TOL:
-            raise check.fail(
-                f"the {what} point lies on axis 4: the elbow does not change the "
-                "shoulder-wrist distance"
-            )
-    return SphericalShoulder7R(
-        frames=tuple(frames),
-        offsets=tuple(row.theta for row in rows),
-        shoulder=shoulder,
-        shoulder3=shoulder3,
-        wrist4=(wrist4[0], wrist4[1], wrist4[2]),
-        wrist6=wrist6,
-    )
-
-
-def _meeting(frame: np.ndarray) -> Vec:
-    """Where the next axis (z of ``frame``, seen from its parent) meets the parent's z axis."""
-    p, z = frame[:3, 3], frame[:3, 2]
-    # p + s z on the parent's z axis: p_xy + s z_xy = 0 (least squares; z_xy != 0).
-    s = -float(p[:2] @ z[:2]) / float(z[:2] @ z[:2])
-    return 0.0, 0.0, float(p[2] + s * z[2])
-
-
-def _inverse_point(frame: np.ndarray, point: Sequence[float]) -> Vec:
-    """A parent-frame point seen from ``frame`` (4x4): ``frame^-1 point``."""
-    x, y, z = (frame[:3, :3].T @ (np.asarray(point, dtype=float) - frame[:3, 3])).tolist()
-    return x, y, z
 
 
 def _into_limits(q: float, low: float, high: float, near: float) -> float | None:
@@ -214,8 +101,8 @@ class SphericalShoulder7RIK:
         self._tool_pos = np.array(frames[7][:3, 3])
         self._m7_rot = tuple(tuple(r) for r in frames[6][:3, :3].tolist())
         # W just before Rz(t7): M_7^-1 W_6.
-        self._c7 = _inverse_point(frames[6], structure.wrist6)
-        self._u = _inverse_point(frames[3], structure.shoulder3)  # S just before Rz(t4)
+        self._c7 = inverse_point(frames[6], structure.wrist6)
+        self._u = inverse_point(frames[3], structure.shoulder3)  # S just before Rz(t4)
         self._w4 = structure.wrist4
         u, w = self._u, self._w4
         self._p4 = u[0] * w[0] + u[1] * w[1]
@@ -352,7 +239,7 @@ class SphericalShoulder7RIK:
         ux, uy, uz = self._u
         w4x, w4y, w4z = self._w4
         distance2 = rx * rx + ry * ry + rz * rz
-        elbows = _harmonic_roots(self._p4, self._q4, self._k4 - 0.5 * distance2)
+        elbows = harmonic_roots(self._p4, self._q4, self._k4 - 0.5 * distance2)
         if not elbows:
             return []
         (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = self._m7_rot
@@ -385,7 +272,7 @@ class SphericalShoulder7RIK:
             zy, zz = c4 * s[4], c[4]
             z4 = (s4 * s[4], c[5] * zy + s[5] * zz, c[5] * zz - s[5] * zy)
             x4 = (c4, -c[5] * s4, s[5] * s4)
-            for w, (t5, t6) in enumerate(_rotation_pair(s[6], c[6], v6x, v6y, v6z, vx, dy, dz)):
+            for w, (t5, t6) in enumerate(rotation_pair(s[6], c[6], v6x, v6y, v6z, vx, dy, dz)):
                 q5 = fit(4, t5 - off[4])
                 if q5 is None:
                     continue
@@ -395,7 +282,7 @@ class SphericalShoulder7RIK:
                 turn = (cos(t5), sin(t5), s[6], c[6], cos(t6), sin(t6))
                 z = _back(k6, turn, *z4)
                 x = _back(k6, turn, *x4)
-                for h, (t1, t2) in enumerate(_rotation_pair(s[2], c[2], 0.0, -s[3], c[3], *z)):
+                for h, (t1, t2) in enumerate(rotation_pair(s[2], c[2], 0.0, -s[3], c[3], *z)):
                     q1 = fit(0, t1 - off[0])
                     if q1 is None:
                         continue
@@ -448,7 +335,7 @@ class SphericalShoulder7RIK:
 
         The branches depend on joint 7 alone (a start only picks one). A start whose joint 7
         gives no branch inside the limits scans joint 7 outward from there when ``step > 0``
-        (:func:`~.seven_dof.scan`); the first joint-7 value with a branch is taken, and its
+        (:func:`~.subproblems.scan`); the first joint-7 value with a branch is taken, and its
         branch nearest the start (each joint shifted by ``2 pi`` into its limits, nearest the
         start's value).
 
@@ -547,7 +434,7 @@ class SphericalShoulder7RIK:
         distance2 = np.einsum("ni,ni->n", rv, rv)
         out = np.full((n, BRANCHES, 7), np.nan)
         out[:, :, 6] = q7[:, None]
-        elbows = _harmonic_roots_array(
+        elbows = harmonic_roots_array(
             np.full(n, self._p4), np.full(n, self._q4), self._k4 - 0.5 * distance2
         )
         u, w4 = np.asarray(self._u), np.asarray(self._w4)
@@ -558,14 +445,14 @@ class SphericalShoulder7RIK:
             vy = c4 * u[1] - s4 * u[0] - w4[1]
             vz = np.full(n, u[2] - w4[2])
             d = np.stack((vx, c[5] * vy + s[5] * vz, c[5] * vz - s[5] * vy), 1)
-            wrists = _rotation_pair_array(s[6], c[6], v6, d)
+            wrists = rotation_pair_array(s[6], c[6], v6, d)
             for wi in range(2):
                 t5, t6 = wrists[:, wi, 0], wrists[:, wi, 1]
                 turns = ((t4, s[5], c[5]), (t5, s[6], c[6]), (t6, 0.0, 1.0))
                 z = _back_array(k6, turns, np.array([0.0, s[4], c[4]]))
                 x = _back_array(k6, turns, np.array([1.0, 0.0, 0.0]))
                 v3 = np.broadcast_to(np.array([0.0, -s[3], c[3]]), (n, 3))
-                shoulders = _rotation_pair_array(s[2], c[2], v3, z)
+                shoulders = rotation_pair_array(s[2], c[2], v3, z)
                 for si in range(2):
                     t1, t2 = shoulders[:, si, 0], shoulders[:, si, 1]
                     ct, st = np.cos(t1), np.sin(t1)
@@ -623,34 +510,3 @@ def _back_array(
         x, y = ct * x + st * y, ct * y - st * x
         y, z = ca * y + sa * z, ca * z - sa * y
     return np.einsum("nij,nj->ni", k6, np.stack((x, y, z), 1))
-
-
-def _harmonic_roots_array(p: np.ndarray, q: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """:func:`~.seven_dof._harmonic_roots` of N equations: (N, 2), NaN where a root is missing.
-
-    A double root fills column 0 only (as the scalar returns one angle).
-    """
-    rho = np.hypot(p, q)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cosine = k / rho
-    ok = (rho >= 1e-15) & (np.abs(cosine) <= 1.0 + COS_SLACK)
-    phi = np.arctan2(q, p)
-    delta = np.arccos(np.clip(cosine, -1.0, 1.0))
-    out = np.stack((phi + delta, np.where(delta > 0.0, phi - delta, np.nan)), 1)
-    out[~ok] = np.nan
-    return out
-
-
-def _rotation_pair_array(sa: float, ca: float, v: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """:func:`~.seven_dof._rotation_pair` of N vector pairs (N, 3): ``(ta, tb)`` as (N, 2, 2)."""
-    vx, vy, vz = v[:, 0], v[:, 1], v[:, 2]
-    heading = np.arctan2(d[:, 1], d[:, 0])
-    tb = _harmonic_roots_array(sa * vy, sa * vx, d[:, 2] - ca * vz)
-    out = np.empty((v.shape[0], 2, 2))
-    for i in range(2):
-        cb, sb = np.cos(tb[:, i]), np.sin(tb[:, i])
-        mx = vx * cb - vy * sb
-        my = ca * (vx * sb + vy * cb) - sa * vz
-        out[:, i, 0] = heading - np.arctan2(my, mx)
-        out[:, i, 1] = tb[:, i]
-    return out

@@ -27,7 +27,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..seven_r.seven_dof import pack_params
+from ..seven_r.subproblems import pack_params
 from ._six_r import target_arrays
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
