@@ -246,6 +246,8 @@ def free_joint_answers(
     closed = getattr(solver, "closed_form", None)
     if closed is None or getattr(solver, "idealised", None) is not None:
         return None
+    if getattr(closed, "costly", False):  # a general 7R: the solver's stages, seed table first
+        return None
     n, nq = points.shape[0], robot.nq
     near_rows, skipped = _near_seeds(solver, robot, points, frames, seeds)
     candidates = np.full((n, nq), np.nan)

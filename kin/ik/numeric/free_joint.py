@@ -122,6 +122,7 @@ class _ReversedJoints:
         self._closed = closed
         self._directions = directions
         self.compiled_twin = closed.compiled_twin
+        self.costly = bool(getattr(closed, "costly", False))
 
     def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> Any:
         """The forward closed form's :meth:`FreeJointClosedForm.prepare` (the same target)."""

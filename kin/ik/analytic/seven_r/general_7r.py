@@ -16,8 +16,10 @@ Which end joint is held: the one whose 6R arm a special family fits; between two
 whose closed form recovers more of :data:`PROBES` sampled joint vectors from their tool poses
 (the better conditioned); then joint 7. The numeric solver's first stage
 (:mod:`kin.ik.numeric.free_joint`) asks :meth:`General7RIK.first` as it asks the other free-joint
-forms; each 6R solve costs 0.05 to 1 ms, so starts are solved together and a scan of the free
-joint is one batched solve of its values (nearest to the start first).
+forms when the 6R left is a special family's (tens of microseconds a solve); when it takes the
+general elimination (about 1 ms a solve, :attr:`General7RIK.costly`), after the seed-table
+stage, whose damped Newton answers such arms in a fraction of that. Starts are solved together
+and a scan of the free joint is one batched solve of its values (nearest to the start first).
 """
 
 from __future__ import annotations
@@ -144,6 +146,16 @@ class General7RIK:
         self._others = [i for i in range(7) if i != free]
         table = self.table
         self._outer = table.T_world_base if free == 0 else table.T_last_tool
+
+    @property
+    def costly(self) -> bool:
+        """Whether a solve takes the general elimination (about 1 ms) rather than a family's.
+
+        The numeric pipeline then asks this form after its seed-table stage, not first
+        (damped Newton answers such arms in a fraction of that), and ``solve_batch`` leaves it
+        to the solver's stages.
+        """
+        return isinstance(self.structure, General6R)
 
     def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray | None:
         """The target as ``T_world_tool`` (4, 4), or None for a position (full poses only)."""
