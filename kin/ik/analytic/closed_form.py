@@ -2,29 +2,20 @@
 
 :class:`ClosedFormSolver` asks the registered structures (:mod:`.registry`) which one fits the
 arm's DH table, computes every branch with it (:mod:`.closed_form_structure`: the solver knows
-no structure by name), then, per branch:
-
-1. brings each angle to the ``2 pi`` copy inside the joint limits closest to the seed (angles are
-   compared modulo ``2 pi`` where the limits allow);
-2. measures the tool pose of the joint vector with the judge (:mod:`kin.ik.judge`: Pinocchio;
-   position error [m], rotation error [rad]: the angle of ``R_fk^T R_target`` for pose targets,
-   the angle between the approach axes for pitch targets, None for position targets);
-3. keeps it as valid (within limits, on target), rejected (on target, outside limits) or drops it
-   (off target: never returned, logged).
-
-Valid solutions are ordered by Euclidean distance to the seed.
-
-A structure with a compiled twin that verifies (the 6R closed forms, :mod:`.six_r_twin`) does the
-three steps for a pose target in one C call: the same wrapping, and the table's plain DH product
-in C as the judge instead of Pinocchio (``tests/test_six_r_twins.py`` checks that both paths
-return the same solutions and errors).
+no structure by name), then moves each branch into the joint limits and has the judge measure
+it (:mod:`.branch_verification`: valid, rejected or dropped; valid ones ordered by distance to
+the seed). A structure with a compiled twin that verifies (the 6R closed forms,
+:mod:`.six_r.six_r_twin`) does that for a pose target in one C call: the same wrapping, and the
+table's plain DH product in C as the judge instead of Pinocchio (``tests/test_six_r_twins.py``
+checks that both paths return the same solutions and errors). A rounded table is solved on its
+idealised geometry and every branch polished on the true chain (:mod:`.idealised`); a target
+kind the closed form does not take goes to the numeric or the partial-pose solver.
 """
 
 from __future__ import annotations
 
 import logging
 import math
-import operator
 import threading
 import time
 from typing import Any
@@ -35,8 +26,8 @@ import numpy.typing as npt
 from kin import RobotModel
 
 from ..exceptions import StructureError, TargetError
-from ..judge import ToolJudge, axis_error, rotation_error
-from ..result import IKResult, IKSolution, Status
+from ..judge import ToolJudge
+from ..result import IKResult
 from ..target import (
     AxisTarget,
     PitchTarget,
@@ -46,85 +37,21 @@ from ..target import (
     is_partial,
     kind_error,
 )
-from .branches import Branches, BranchStatus
+from .branch_verification import BranchVerification
+from .branches import Branches
 from .closed_form_structure import (
     ClosedFormStructure,
     DetailedStructure,
-    PitchStructure,
     candidate_branches,
 )
 from .idealised import Idealised, idealise, polish
 from .joint_directions import forward_table, mirrored_limits, reversed_joints
 from .registry import recognise_turned
-from .six_r.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
 
 logger = logging.getLogger(__name__)
 
-TWO_PI = 2.0 * math.pi
-#: Slack on the joint limits [rad] for angles computed exactly at a limit.
-LIMIT_TOL = 1e-10
 
-
-#: Closer than this to the seed [rad], an angle inside the limits is the copy that
-#: :func:`_nearest_copy` picks (the other copies are more than ``pi`` away). The margin below
-#: ``pi`` covers the round-off of seeds up to :data:`_FAST_SEED` in magnitude.
-_FAST_COPY = math.pi - 1e-9
-_FAST_SEED = 1e5
-
-
-def _nearest_copy(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
-    """The ``value + 2 pi k`` inside ``[lower, upper]`` closest to ``seed``, else the least outside."""
-    base = value - TWO_PI * round((value - seed) / TWO_PI)
-    best, best_key = base, (math.inf, math.inf)
-    for candidate in (base, base - TWO_PI, base + TWO_PI, base - 2 * TWO_PI, base + 2 * TWO_PI):
-        violation = max(lower - LIMIT_TOL - candidate, candidate - upper - LIMIT_TOL, 0.0)
-        key = (violation, abs(candidate - seed))
-        if key < best_key:
-            best, best_key = candidate, key
-    return best, best_key[0] == 0.0
-
-
-def _wrap(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
-    """:func:`_nearest_copy`, comparing only the candidates that can win (same keys, same order).
-
-    When the copy nearest the seed, ``base``, is below the limits, the copies below it have a
-    larger violation and never win; going up, a copy that is no longer below the limits (inside
-    or above them) beats every copy after it: usually the first one up, the only one compared
-    here (the others go through :func:`_nearest_copy`). Likewise above the limits.
-    """
-    base = value - TWO_PI * round((value - seed) / TWO_PI)
-    lower_tol = lower - LIMIT_TOL
-    violation = lower_tol - base
-    if violation > 0.0:  # below the limits: the copy above decides
-        candidate = base + TWO_PI
-        if lower_tol - candidate > 0.0:  # still below
-            return _nearest_copy(value, seed, lower, upper)
-        candidate_violation = candidate - upper - LIMIT_TOL
-    else:
-        violation = base - upper - LIMIT_TOL
-        if violation > 0.0:  # above the limits: the copy below decides
-            candidate = base - TWO_PI
-            if candidate - upper - LIMIT_TOL > 0.0:  # still above
-                return _nearest_copy(value, seed, lower, upper)
-            candidate_violation = lower_tol - candidate
-        elif -_FAST_COPY < base - seed < _FAST_COPY:
-            return base, True
-        else:
-            return _nearest_copy(value, seed, lower, upper)
-    if candidate_violation < 0.0:
-        candidate_violation = 0.0
-    if candidate_violation < violation or (
-        candidate_violation == violation and abs(candidate - seed) < abs(base - seed)
-    ):
-        return candidate, candidate_violation == 0.0
-    return base, False
-
-
-#: Sort key of the (distance to the seed, solution) pairs.
-_DISTANCE = operator.itemgetter(0)
-
-
-class ClosedFormSolver:
+class ClosedFormSolver(BranchVerification):
     """Every closed-form IK branch of one small arm, verified with Pinocchio.
 
     Args:
@@ -277,21 +204,6 @@ class ClosedFormSolver:
         text = f"{distance:.4g} m from the base, within the arm's reach of {reach.maximum:.4g} m"
         return f"{message} (the target is {text}: not with this orientation)", gap
 
-    def _joints(self, seed: list[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        """Per joint, the open interval of angles that need no wrapping (lower ends, upper ends).
-
-        Inside it an angle is within the limits and is already the copy nearest the seed.
-        """
-        lows, highs = [], []
-        for s, lower, upper in zip(seed, self._lower, self._upper):
-            if abs(s) < _FAST_SEED:
-                lows.append(max(lower, s - _FAST_COPY))
-                highs.append(min(upper, s + _FAST_COPY))
-            else:  # every angle takes the exact path
-                lows.append(math.nan)
-                highs.append(math.nan)
-        return tuple(lows), tuple(highs)
-
     def _branches(self, target: Target, seed: list[float]) -> Branches:
         """Branches (DH angles) of a target of the closed form's kinds, in the world frame."""
         structure = self.structure
@@ -409,91 +321,6 @@ class ClosedFormSolver:
             raise TargetError(f"the seed must be finite, got {seed_list}")
         return seed_list
 
-    def _result(
-        self,
-        valid: list[tuple[float, IKSolution]],
-        rejected: list[IKSolution],
-        branch_status: BranchStatus,
-        branch_message: str,
-        start: float,
-        method: str = "closed_form",
-    ) -> IKResult:
-        """The result of verified branches: valid ones ordered by distance to the seed."""
-        if len(valid) > 1:
-            valid.sort(key=_DISTANCE)
-        solutions = tuple([solution for _, solution in valid])
-        rejected_solutions = tuple(rejected)
-        status: Status
-        if solutions:
-            status = branch_status
-            message = branch_message or f"{len(solutions)} valid solution(s)"
-        elif rejected_solutions:
-            status = "outside_limits"
-            message = (
-                f"reachable only outside the joint limits ({len(rejected_solutions)} branch(es))"
-            )
-        else:
-            status, message = "singular", branch_message or "no branch verified on target"
-        return IKResult(
-            success=bool(solutions),
-            solver=self.name,
-            status=status,
-            message=message,
-            solutions=solutions,
-            rejected=rejected_solutions,
-            time=time.perf_counter() - start,
-            method=method if solutions else "",
-        )
-
-    def _solve_twin(self, target: PoseTarget, seed: npt.ArrayLike | None, start: float) -> IKResult:
-        """:meth:`solve` of a pose by the structure's compiled twin (same steps, one call).
-
-        Branches moved into the limits as :func:`_wrap` does, measured by the table's DH
-        product in C (:mod:`.six_r_twin`) instead of Pinocchio; the tests compare the two paths.
-        """
-        if seed is None:
-            seed_array = self._zero_seed_array
-        elif (
-            seed.__class__ is np.ndarray
-            and seed.dtype == np.float64  # type: ignore[union-attr]
-            and seed.shape == self._zero_seed_array.shape  # type: ignore[union-attr]
-            and math.isfinite(sum(seed.tolist()))  # type: ignore[union-attr]
-        ):
-            seed_array = seed  # type: ignore[assignment]  # already valid: no copy
-        else:
-            seed_array = np.array(self._seed_list(seed))
-        found, q, info = self._twin(  # type: ignore[misc]
-            target.position, target.rotation, seed_array
-        )
-        if self._directions is not None:  # the twin measured q' on the forward table
-            q = q * self._directions
-        if found < 0:
-            return self._failure("invalid_target", "the target has a NaN or infinite value", start)
-        if found == 0:
-            return self._failure(
-                "out_of_reach",
-                f"no {self.structure.name} branch reaches the target",
-                start,
-                target=target,
-            )
-        labels = self.structure.branch_labels
-        valid: list[tuple[float, IKSolution]] = []
-        rejected: list[IKSolution] = []
-        for b, (status, position_error, angle, distance) in enumerate(info):
-            if status == VALID:
-                valid.append((distance, IKSolution(q[b], labels[b], True, position_error, angle)))
-            elif status == OUTSIDE_LIMITS:
-                rejected.append(IKSolution(q[b], labels[b], False, position_error, angle))
-            elif status == OFF_TARGET:
-                logger.warning(
-                    "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
-                    self.robot.name,
-                    labels[b],
-                    position_error,
-                    angle,
-                )
-        return self._result(valid, rejected, "ok", "", start)
-
     def _solve_numeric(
         self, target: Target, seed: npt.ArrayLike | None, timeout: float | None
     ) -> IKResult:
@@ -509,78 +336,3 @@ class ClosedFormSolver:
         posture = np.asarray(seed, dtype=float).reshape(-1)
         preferred = NumericTarget.from_arrays(target.position, None, posture=posture)
         return self.numeric.solve(preferred, posture, timeout=timeout)
-
-    def _verify(
-        self,
-        target: Target,
-        branches: Branches,
-        seed: list[float],
-        p: list[float],
-        r: list[list[float]] | None,
-    ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
-        """Per branch: the joint vector, the judge's errors, and where it goes (valid, rejected, dropped)."""
-        tool, tool_position = self._judge.tool, self._judge.tool_position
-        lows, highs = self._joints_zero_seed if seed is self._zero_seed else self._joints(seed)
-        offsets, lower, upper = self._offsets, self._lower, self._upper
-        sub, lt, dist, array = operator.sub, operator.lt, math.dist, np.array
-        tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
-        position_only = isinstance(target, PositionTarget)
-        if r is not None:
-            r_target = r[0] + r[1] + r[2]
-        elif not position_only:
-            structure = self.structure
-            assert isinstance(structure, PitchStructure) and isinstance(target, PitchTarget)
-            approach = structure.approach(target, seed)
-            tx, ty, tz = structure.approach_in_tool
-        valid: list[tuple[float, IKSolution]] = []
-        rejected: list[IKSolution] = []
-        has_offsets = self._has_offsets
-        directions = self._directions
-        for thetas, label in branches.thetas:
-            q_list = list(map(sub, thetas, offsets)) if has_offsets else list(thetas)
-            inside = True
-            if not (all(map(lt, lows, q_list)) and all(map(lt, q_list, highs))):
-                i = 0
-                for value in q_list:
-                    if (
-                        not lows[i] < value < highs[i]
-                    ):  # else: inside the limits, the copy nearest the seed
-                        q_list[i], ok = _wrap(value, seed[i], lower[i], upper[i])
-                        if not ok:
-                            inside = False
-                    i += 1
-            q = array(q_list)
-            if directions is not None:  # the structure's q' to the arm's q, for the judge
-                q = q * directions
-            angle: float | None
-            if position_only:  # the translation alone; the orientation is not constrained
-                position_error = dist(tool_position(q), p)
-                angle = None
-            else:
-                p_fk, r_fk = tool(q)
-                position_error = dist(p_fk, p)
-                if r is not None:
-                    angle = rotation_error(r_fk, r_target)
-                else:
-                    m00, m01, m02, m10, m11, m12, m20, m21, m22 = r_fk
-                    u = (
-                        m00 * tx + m01 * ty + m02 * tz,
-                        m10 * tx + m11 * ty + m12 * tz,
-                        m20 * tx + m21 * ty + m22 * tz,
-                    )
-                    angle = axis_error(u, approach)
-            if position_error > tol_p or (angle is not None and angle > tol_r):
-                logger.warning(
-                    "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
-                    self.robot.name,
-                    label,
-                    position_error,
-                    angle or 0.0,
-                )
-                continue
-            solution = IKSolution(q, label, inside, position_error, angle)
-            if inside:
-                valid.append((dist(q_list, seed), solution))
-            else:
-                rejected.append(solution)
-        return valid, rejected

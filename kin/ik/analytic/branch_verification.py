@@ -1,0 +1,299 @@
+"""The branches of a closed form moved into the joint limits and measured by the judge.
+
+For each branch of :class:`~.closed_form.ClosedFormSolver` (mixed into it: reads its fields):
+
+1. each angle goes to the ``2 pi`` copy inside the joint limits closest to the seed
+   (:func:`wrap`, the fast form of :func:`nearest_copy`);
+2. the judge (:mod:`kin.ik.judge`: Pinocchio) measures the tool pose of the joint vector:
+   position error [m], rotation error [rad] (the angle of ``R_fk^T R_target`` for pose targets,
+   between the approach axes for pitch targets, None for position targets);
+3. the branch is valid (inside the limits, on target), rejected (on target, outside) or dropped
+   (off target: never returned, logged).
+
+A structure with a compiled twin that verifies (the 6R closed forms, :mod:`.six_r.six_r_twin`)
+does the three steps for a pose in one C call (:meth:`BranchVerification._solve_twin`). Valid
+solutions are ordered by Euclidean distance to the seed (:meth:`BranchVerification._result`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import operator
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from kin import RobotModel
+
+from ..judge import ToolJudge, axis_error, rotation_error
+from ..result import IKResult, IKSolution, Status
+from ..target import PitchTarget, PoseTarget, PositionTarget, Target
+from .branches import Branches, BranchStatus
+from .closed_form_structure import ClosedFormStructure, PitchStructure
+from .six_r.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
+
+logger = logging.getLogger("kin.ik.analytic.closed_form")
+
+TWO_PI = 2.0 * math.pi
+#: Slack on the joint limits [rad] for angles computed exactly at a limit.
+LIMIT_TOL = 1e-10
+
+
+#: Closer than this to the seed [rad], an angle inside the limits is the copy that
+#: :func:`nearest_copy` picks (the other copies are more than ``pi`` away). The margin below
+#: ``pi`` covers the round-off of seeds up to :data:`FAST_SEED` in magnitude.
+FAST_COPY = math.pi - 1e-9
+FAST_SEED = 1e5
+
+
+def nearest_copy(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
+    """The ``value + 2 pi k`` inside ``[lower, upper]`` closest to ``seed``, else the least outside."""
+    base = value - TWO_PI * round((value - seed) / TWO_PI)
+    best, best_key = base, (math.inf, math.inf)
+    for candidate in (base, base - TWO_PI, base + TWO_PI, base - 2 * TWO_PI, base + 2 * TWO_PI):
+        violation = max(lower - LIMIT_TOL - candidate, candidate - upper - LIMIT_TOL, 0.0)
+        key = (violation, abs(candidate - seed))
+        if key < best_key:
+            best, best_key = candidate, key
+    return best, best_key[0] == 0.0
+
+
+def wrap(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
+    """:func:`nearest_copy`, comparing only the candidates that can win (same keys, same order).
+
+    When the copy nearest the seed, ``base``, is below the limits, the copies below it have a
+    larger violation and never win; going up, a copy that is no longer below the limits (inside
+    or above them) beats every copy after it: usually the first one up, the only one compared
+    here (the others go through :func:`nearest_copy`). Likewise above the limits.
+    """
+    base = value - TWO_PI * round((value - seed) / TWO_PI)
+    lower_tol = lower - LIMIT_TOL
+    violation = lower_tol - base
+    if violation > 0.0:  # below the limits: the copy above decides
+        candidate = base + TWO_PI
+        if lower_tol - candidate > 0.0:  # still below
+            return nearest_copy(value, seed, lower, upper)
+        candidate_violation = candidate - upper - LIMIT_TOL
+    else:
+        violation = base - upper - LIMIT_TOL
+        if violation > 0.0:  # above the limits: the copy below decides
+            candidate = base - TWO_PI
+            if candidate - upper - LIMIT_TOL > 0.0:  # still above
+                return nearest_copy(value, seed, lower, upper)
+            candidate_violation = lower_tol - candidate
+        elif -FAST_COPY < base - seed < FAST_COPY:
+            return base, True
+        else:
+            return nearest_copy(value, seed, lower, upper)
+    if candidate_violation < 0.0:
+        candidate_violation = 0.0
+    if candidate_violation < violation or (
+        candidate_violation == violation and abs(candidate - seed) < abs(base - seed)
+    ):
+        return candidate, candidate_violation == 0.0
+    return base, False
+
+
+#: Sort key of the (distance to the seed, solution) pairs.
+_DISTANCE = operator.itemgetter(0)
+
+
+class BranchVerification:
+    """Moving a closed form's branches into the limits and verifying them (see the module)."""
+
+    robot: RobotModel
+    name: str
+    structure: ClosedFormStructure
+    tolerance_position: float
+    tolerance_rotation: float
+    _judge: ToolJudge
+    _lower: list[float]
+    _upper: list[float]
+    _offsets: list[float]
+    _has_offsets: bool
+    _directions: np.ndarray | None
+    _zero_seed: list[float]
+    _joints_zero_seed: tuple[tuple[float, ...], tuple[float, ...]]
+    _zero_seed_array: np.ndarray
+    _twin: Any
+    _seed_list: Callable[[npt.ArrayLike | None], list[float]]
+    _failure: Callable[..., IKResult]
+
+    def _joints(self, seed: list[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """Per joint, the open interval of angles that need no wrapping (lower ends, upper ends).
+
+        Inside it an angle is within the limits and is already the copy nearest the seed.
+        """
+        lows, highs = [], []
+        for s, lower, upper in zip(seed, self._lower, self._upper):
+            if abs(s) < FAST_SEED:
+                lows.append(max(lower, s - FAST_COPY))
+                highs.append(min(upper, s + FAST_COPY))
+            else:  # every angle takes the exact path
+                lows.append(math.nan)
+                highs.append(math.nan)
+        return tuple(lows), tuple(highs)
+
+    def _result(
+        self,
+        valid: list[tuple[float, IKSolution]],
+        rejected: list[IKSolution],
+        branch_status: BranchStatus,
+        branch_message: str,
+        start: float,
+        method: str = "closed_form",
+    ) -> IKResult:
+        """The result of verified branches: valid ones ordered by distance to the seed."""
+        if len(valid) > 1:
+            valid.sort(key=_DISTANCE)
+        solutions = tuple([solution for _, solution in valid])
+        rejected_solutions = tuple(rejected)
+        status: Status
+        if solutions:
+            status = branch_status
+            message = branch_message or f"{len(solutions)} valid solution(s)"
+        elif rejected_solutions:
+            status = "outside_limits"
+            message = (
+                f"reachable only outside the joint limits ({len(rejected_solutions)} branch(es))"
+            )
+        else:
+            status, message = "singular", branch_message or "no branch verified on target"
+        return IKResult(
+            success=bool(solutions),
+            solver=self.name,
+            status=status,
+            message=message,
+            solutions=solutions,
+            rejected=rejected_solutions,
+            time=time.perf_counter() - start,
+            method=method if solutions else "",
+        )
+
+    def _solve_twin(self, target: PoseTarget, seed: npt.ArrayLike | None, start: float) -> IKResult:
+        """:meth:`solve` of a pose by the structure's compiled twin (same steps, one call).
+
+        Branches moved into the limits as :func:`wrap` does, measured by the table's DH
+        product in C (:mod:`.six_r_twin`) instead of Pinocchio; the tests compare the two paths.
+        """
+        if seed is None:
+            seed_array = self._zero_seed_array
+        elif (
+            seed.__class__ is np.ndarray
+            and seed.dtype == np.float64  # type: ignore[union-attr]
+            and seed.shape == self._zero_seed_array.shape  # type: ignore[union-attr]
+            and math.isfinite(sum(seed.tolist()))  # type: ignore[union-attr]
+        ):
+            seed_array = seed  # type: ignore[assignment]  # already valid: no copy
+        else:
+            seed_array = np.array(self._seed_list(seed))
+        found, q, info = self._twin(  # type: ignore[misc]
+            target.position, target.rotation, seed_array
+        )
+        if self._directions is not None:  # the twin measured q' on the forward table
+            q = q * self._directions
+        if found < 0:
+            return self._failure("invalid_target", "the target has a NaN or infinite value", start)
+        if found == 0:
+            return self._failure(
+                "out_of_reach",
+                f"no {self.structure.name} branch reaches the target",
+                start,
+                target=target,
+            )
+        labels = self.structure.branch_labels
+        valid: list[tuple[float, IKSolution]] = []
+        rejected: list[IKSolution] = []
+        for b, (status, position_error, angle, distance) in enumerate(info):
+            if status == VALID:
+                valid.append((distance, IKSolution(q[b], labels[b], True, position_error, angle)))
+            elif status == OUTSIDE_LIMITS:
+                rejected.append(IKSolution(q[b], labels[b], False, position_error, angle))
+            elif status == OFF_TARGET:
+                logger.warning(
+                    "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
+                    self.robot.name,
+                    labels[b],
+                    position_error,
+                    angle,
+                )
+        return self._result(valid, rejected, "ok", "", start)
+
+    def _verify(
+        self,
+        target: Target,
+        branches: Branches,
+        seed: list[float],
+        p: list[float],
+        r: list[list[float]] | None,
+    ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
+        """Per branch: the joint vector, the judge's errors, and where it goes (valid, rejected, dropped)."""
+        tool, tool_position = self._judge.tool, self._judge.tool_position
+        lows, highs = self._joints_zero_seed if seed is self._zero_seed else self._joints(seed)
+        offsets, lower, upper = self._offsets, self._lower, self._upper
+        sub, lt, dist, array = operator.sub, operator.lt, math.dist, np.array
+        tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
+        position_only = isinstance(target, PositionTarget)
+        if r is not None:
+            r_target = r[0] + r[1] + r[2]
+        elif not position_only:
+            structure = self.structure
+            assert isinstance(structure, PitchStructure) and isinstance(target, PitchTarget)
+            approach = structure.approach(target, seed)
+            tx, ty, tz = structure.approach_in_tool
+        valid: list[tuple[float, IKSolution]] = []
+        rejected: list[IKSolution] = []
+        has_offsets = self._has_offsets
+        directions = self._directions
+        for thetas, label in branches.thetas:
+            q_list = list(map(sub, thetas, offsets)) if has_offsets else list(thetas)
+            inside = True
+            if not (all(map(lt, lows, q_list)) and all(map(lt, q_list, highs))):
+                i = 0
+                for value in q_list:
+                    if (
+                        not lows[i] < value < highs[i]
+                    ):  # else: inside the limits, the copy nearest the seed
+                        q_list[i], ok = wrap(value, seed[i], lower[i], upper[i])
+                        if not ok:
+                            inside = False
+                    i += 1
+            q = array(q_list)
+            if directions is not None:  # the structure's q' to the arm's q, for the judge
+                q = q * directions
+            angle: float | None
+            if position_only:  # the translation alone; the orientation is not constrained
+                position_error = dist(tool_position(q), p)
+                angle = None
+            else:
+                p_fk, r_fk = tool(q)
+                position_error = dist(p_fk, p)
+                if r is not None:
+                    angle = rotation_error(r_fk, r_target)
+                else:
+                    m00, m01, m02, m10, m11, m12, m20, m21, m22 = r_fk
+                    u = (
+                        m00 * tx + m01 * ty + m02 * tz,
+                        m10 * tx + m11 * ty + m12 * tz,
+                        m20 * tx + m21 * ty + m22 * tz,
+                    )
+                    angle = axis_error(u, approach)
+            if position_error > tol_p or (angle is not None and angle > tol_r):
+                logger.warning(
+                    "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
+                    self.robot.name,
+                    label,
+                    position_error,
+                    angle or 0.0,
+                )
+                continue
+            solution = IKSolution(q, label, inside, position_error, angle)
+            if inside:
+                valid.append((dist(q_list, seed), solution))
+            else:
+                rejected.append(solution)
+        return valid, rejected
