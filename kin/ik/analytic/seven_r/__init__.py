@@ -1,7 +1,10 @@
 """Closed forms of seven-joint arms for chosen values of one free joint (the redundancy).
 
 The numeric solver's first stage (:mod:`kin.ik.numeric.free_joint`) asks them: ``seven_dof``
-(humanoid7's structure, joint 1 free; TIAGo's arm) and ``spherical_shoulder7`` (axes 1-3 and 5-6
-meeting: Panda, xArm7; joint 7 free). Their compiled twins ``_closed7`` and ``_shoulder7`` (C,
-optional) run the same steps.
+(humanoid7's structure, joint 1 free; TIAGo's arm, Kinova's Gen3), ``spherical_shoulder7``
+(axes 1-3 and 5-6 meeting: Panda, xArm7; joint 7 free; its structure in
+``shoulder7_structure``, its batched steps in ``shoulder7_batch``) and ``general_7r`` (any other
+7R arm: joint 1 or 7 held, the 6R closed forms of :mod:`..six_r` for the rest). ``subproblems``
+holds the sub-problems the first two share. Their compiled twins ``_closed7`` and ``_shoulder7``
+(C, optional) run the same steps.
 """
