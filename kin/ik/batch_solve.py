@@ -296,10 +296,30 @@ def _first_one_by_one(
     skipped: np.ndarray,
     candidates: np.ndarray,
 ) -> None:
-    """Each target's branch from its seed into ``candidates`` (the compiled twin per target)."""
+    """Each target's branch from its seed into ``candidates``.
+
+    The compiled twin's ``first_many`` in one call for the seeds far from their targets (the scan
+    steps in turn) and one for the near ones (no scan); else ``first`` target by target.
+    """
     out = np.empty(candidates.shape[1])
     compiled = bool(getattr(solver, "compiled", False))
     steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
+    first_many = getattr(closed, "first_many", None) if compiled else None
+    if first_many is not None:
+        for rows, row_steps in ((~near_rows & ~skipped, steps), (near_rows & ~skipped, (0.0,))):
+            index = np.flatnonzero(rows)
+            if index.size:
+                found = first_many(
+                    points[index],
+                    None if frames is None else frames[index],
+                    seeds[index],
+                    row_steps,
+                )
+                if found is None:
+                    break
+                candidates[index] = found
+        else:
+            return
     prepare, first = closed.prepare, closed.first
     for i in range(len(points)):
         if skipped[i]:

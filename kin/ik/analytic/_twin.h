@@ -2,7 +2,8 @@
  * What the compiled twins of the seven-joint closed forms share (_closed7.c, _shoulder7.c): the
  * parameter block declared once per twin from an X-macro list, its export as LAYOUT, the two
  * formulas both use (seven_r/subproblems.py: harmonic_roots, rotation_pair), the float64 buffer
- * check and the module set-up. Angles in radians, lengths in meters.
+ * check, the argument handling of the batched first_many and the module set-up. Angles in
+ * radians, lengths in meters.
  */
 #ifndef KIN_IK_ANALYTIC_TWIN_H
 #define KIN_IK_ANALYTIC_TWIN_H
@@ -137,6 +138,62 @@ static inline PyObject *first_result(int n, Py_buffer *views, const char *error,
     }
     return PyLong_FromLong(found);
 }
+
+/* The loop of a twin's first_many over n targets (rows of the mode's width), each from its own
+   start row, trying the scan steps in turn; writes the rows found to out, returns their count. */
+typedef Py_ssize_t (*FirstRows)(const void *params, int mode, const double *targets,
+                                const double *starts, Py_ssize_t n, const double *steps,
+                                Py_ssize_t n_steps, double *out);
+
+/* A twin's first_many(params, [mode,] targets, starts, out, steps) -> count: the arguments
+   checked (targets float64[N, 12] for a pose, mode 0, or [N, 3] for a position, mode 1; starts
+   and out float64[N, 7]; steps float64[m]), then rows() without the GIL. */
+static inline PyObject *first_many_call(PyObject *args, int with_mode, Py_ssize_t count,
+                                        FirstRows rows)
+{
+    PyObject *objs[5];
+    static const char *const names[5] = {"params", "targets", "starts", "out", "steps"};
+    static const int writable[5] = {0, 0, 0, 1, 0};
+    Py_buffer views[5];
+    int mode = 0;
+    int parsed = with_mode ? PyArg_ParseTuple(args, "OiOOOO", &objs[0], &mode, &objs[1], &objs[2],
+                                              &objs[3], &objs[4])
+                           : PyArg_ParseTuple(args, "OOOOO", &objs[0], &objs[1], &objs[2],
+                                              &objs[3], &objs[4]);
+    if (!parsed) return NULL;
+    if (!get_buffers(5, objs, views, writable, names)) return NULL;
+    Py_buffer *params = &views[0], *targets = &views[1], *starts = &views[2], *out = &views[3],
+              *steps = &views[4];
+    const char *error = NULL;
+    Py_ssize_t width = mode == 1 ? 3 : 12, n = 0, found = 0;
+    if (mode != 0 && mode != 1) error = "mode must be 0 (pose) or 1 (position)";
+    else if (params->len != count * (Py_ssize_t)sizeof(double)) error = "params: wrong size";
+    else if (targets->ndim != 2 || targets->shape[1] != width) error = "targets: not N x width float64";
+    else if (starts->ndim != 2 || starts->shape[1] != 7 || starts->shape[0] != targets->shape[0])
+        error = "starts: not N x 7 float64";
+    else if (out->ndim != 2 || out->shape[1] != 7 || out->shape[0] != targets->shape[0])
+        error = "out: not N x 7 float64";
+    else if (steps->ndim != 1) error = "steps: not a float64 vector";
+    if (error == NULL) {
+        n = targets->shape[0];
+        Py_BEGIN_ALLOW_THREADS
+        found = rows(params->buf, mode, targets->buf, starts->buf, n, steps->buf, steps->shape[0],
+                     out->buf);
+        Py_END_ALLOW_THREADS
+    }
+    release_buffers(5, views);
+    if (error != NULL) {
+        PyErr_SetString(PyExc_ValueError, error);
+        return NULL;
+    }
+    return PyLong_FromSsize_t(found);
+}
+
+/* The docstring of first_many in the method tables. */
+#define FIRST_MANY_DOC                                                                             \
+    "first_many(params, [mode,] targets, starts, out, steps) -> how many targets got a branch: "   \
+    "first() of each target row from its own start row, the scan steps in turn; out[i] receives " \
+    "the rows found."
 
 /* A start row q clipped into [lo, hi] joint by joint (7 values) into v; 0 when a value of q is
    not finite (the start is skipped). */

@@ -170,6 +170,61 @@ static void elbow_vector(const Params *P, double q5, double q6, double q7, doubl
     u[2] = P->d[3] + S[3] * y + C[3] * z;
 }
 
+/* The first of the k starts Q (rows of 7) with a branch inside the limits for the target T (mode
+   0: a pose, 12 values; 1: a position, 3): its branch nearest it into result, and its index; -1
+   when none (result untouched). */
+static long first_start(const Params *P, int mode, const double *T, const double *Q, Py_ssize_t k,
+                        double step, double *result)
+{
+    double W[3], X7[3], Z7[3];
+    if (mode == 0) {
+        const double *R = T + 3, *w7 = P->w7, *ax = P->ax7;
+        for (int i = 0; i < 3; i++) {
+            const double *row = R + 3 * i;
+            W[i] = T[i] + row[0] * w7[0] + row[1] * w7[1] + row[2] * w7[2];
+            X7[i] = row[0];
+            Z7[i] = row[1] * ax[1] + row[2] * ax[2];
+        }
+    }
+    for (Py_ssize_t r = 0; r < k; r++) {
+        double v[7], sol[8][7];
+        int n = 0;
+        /* a start with a NaN or an infinity has no joint 1 to keep */
+        if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
+        double u[3];
+        if (mode == 1) elbow_vector(P, v[4], v[5], v[6], u);
+        for (long j = 0; n == 0; j++) {
+            int inside_limits = 0;
+            for (int sign = 1; sign >= -1 && n == 0; sign -= 2) {
+                if (j == 0 && sign < 0) break;
+                double q1 = v[0] + sign * (double)j * step;
+                if (q1 < P->lo[0] || q1 > P->hi[0]) continue;
+                inside_limits = 1;
+                if (mode == 0) {
+                    n = pose(P, q1, W, X7, Z7, sol);
+                } else {
+                    Arm arms[4];
+                    n = arm(P, q1, T, u, arms);
+                    for (int b = 0; b < n; b++) {
+                        sol[b][0] = q1;
+                        sol[b][1] = arms[b].q2;
+                        sol[b][2] = arms[b].q3;
+                        sol[b][3] = arms[b].q4;
+                        sol[b][4] = v[4];
+                        sol[b][5] = v[5];
+                        sol[b][6] = v[6];
+                    }
+                }
+            }
+            if (!inside_limits || !(step > 0.0)) break;
+        }
+        if (n == 0) continue;
+        nearest((const double (*)[7])sol, n, v, result);
+        return (long)r;
+    }
+    return -1;
+}
+
 static PyObject *first(PyObject *self, PyObject *args)
 {
     PyObject *objs[4];
@@ -178,76 +233,53 @@ static PyObject *first(PyObject *self, PyObject *args)
     Py_buffer views[4];
     int mode;
     double step;
+    (void)self;
     if (!PyArg_ParseTuple(args, "OiOOOd", &objs[0], &mode, &objs[1], &objs[2], &objs[3], &step))
         return NULL;
     if (!get_buffers(4, objs, views, writable, names)) return NULL;
     Py_buffer params = views[0], target = views[1], starts = views[2], out = views[3];
     long found = -1;
-    const char *error = NULL;
     Py_ssize_t need = mode == 0 ? 12 : 3;
-    error = check_arrays(&params, PARAM_COUNT, &starts, &out);
+    const char *error = check_arrays(&params, PARAM_COUNT, &starts, &out);
     if (error == NULL && mode != 0 && mode != 1) error = "mode must be 0 (pose) or 1 (position)";
     else if (error == NULL && target.len != need * (Py_ssize_t)sizeof(double))
         error = "target: wrong size";
-    if (error == NULL) {
-        const Params *P = params.buf;
-        const double *T = target.buf, *Q = starts.buf;
-        double *result = out.buf;
-        Py_ssize_t k = starts.len / (7 * sizeof(double));
-        double W[3], X7[3], Z7[3];
-        if (mode == 0) {
-            const double *R = T + 3, *w7 = P->w7, *ax = P->ax7;
-            for (int i = 0; i < 3; i++) {
-                const double *row = R + 3 * i;
-                W[i] = T[i] + row[0] * w7[0] + row[1] * w7[1] + row[2] * w7[2];
-                X7[i] = row[0];
-                Z7[i] = row[1] * ax[1] + row[2] * ax[2];
+    if (error == NULL)
+        found = first_start(params.buf, mode, target.buf, starts.buf,
+                            starts.len / (Py_ssize_t)(7 * sizeof(double)), step, out.buf);
+    return first_result(4, views, error, found);
+}
+
+/* first_many's loop: first_start of each target from its own start, the steps in turn; how many
+   targets got a branch. */
+static Py_ssize_t first_rows(const void *params, int mode, const double *targets,
+                             const double *starts, Py_ssize_t n, const double *steps,
+                             Py_ssize_t n_steps, double *out)
+{
+    Py_ssize_t count = 0, width = mode == 0 ? 12 : 3;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        for (Py_ssize_t s = 0; s < n_steps; s++) {
+            if (first_start(params, mode, targets + width * i, starts + 7 * i, 1, steps[s],
+                            out + 7 * i) == 0) {
+                count++;
+                break;
             }
-        }
-        for (Py_ssize_t r = 0; r < k && found < 0; r++) {
-            double v[7], sol[8][7];
-            int n = 0;
-            /* a start with a NaN or an infinity has no joint 1 to keep */
-            if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
-            double u[3];
-            if (mode == 1) elbow_vector(P, v[4], v[5], v[6], u);
-            for (long j = 0; n == 0; j++) {
-                int inside_limits = 0;
-                for (int sign = 1; sign >= -1 && n == 0; sign -= 2) {
-                    if (j == 0 && sign < 0) break;
-                    double q1 = v[0] + sign * (double)j * step;
-                    if (q1 < P->lo[0] || q1 > P->hi[0]) continue;
-                    inside_limits = 1;
-                    if (mode == 0) {
-                        n = pose(P, q1, W, X7, Z7, sol);
-                    } else {
-                        Arm arms[4];
-                        n = arm(P, q1, T, u, arms);
-                        for (int b = 0; b < n; b++) {
-                            sol[b][0] = q1;
-                            sol[b][1] = arms[b].q2;
-                            sol[b][2] = arms[b].q3;
-                            sol[b][3] = arms[b].q4;
-                            sol[b][4] = v[4];
-                            sol[b][5] = v[5];
-                            sol[b][6] = v[6];
-                        }
-                    }
-                }
-                if (!inside_limits || !(step > 0.0)) break;
-            }
-            if (n == 0) continue;
-            nearest((const double (*)[7])sol, n, v, result);
-            found = (long)r;
         }
     }
-    return first_result(4, views, error, found);
+    return count;
+}
+
+static PyObject *first_many(PyObject *self, PyObject *args)
+{
+    (void)self;
+    return first_many_call(args, 1, PARAM_COUNT, first_rows);
 }
 
 static PyMethodDef methods[] = {
     {"first", first, METH_VARARGS,
      "first(params, mode, target, starts, out, step) -> index of the first start with a branch inside "
      "the limits (written to out), or -1. See kin/ik/analytic/seven_dof.py."},
+    {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",

@@ -17,6 +17,11 @@
  *           there outward, q7 +- step, q7 +- 2 step, ... inside its limits [rad].
  *   Returns the index of the first start with a branch inside the limits (the branch nearest the
  *   start, at the joint-7 value nearest the start's, is written to out), or -1.
+ *
+ * first_many(params, targets, starts, out, steps) -> int: first() of N targets at once, each from
+ *   its own start (targets float64[N, 12], starts float64[N, 7]), trying the scan steps
+ *   (float64[m]) in turn until one gives a branch; out float64[N, 7] receives the rows found
+ *   (others untouched). Returns how many were found (first_many_call in ../_twin.h).
  */
 #include "../_twin.h"
 
@@ -195,6 +200,43 @@ static int try_q7(const Params *P, const double *T, const double *reach, double 
     return branches(P, T, q7, v, sol);
 }
 
+/* The first of the k starts Q (rows of 7) with a branch inside the limits for the prepared target
+   T: its branch nearest it into result, and its index; -1 when none (result untouched). */
+static long first_start(const Params *P, const double *T, const double *Q, Py_ssize_t k,
+                        double step, double *result)
+{
+    /* |S - W|^2 at t7 is |e|^2 + |c7|^2 - 2 c7 . Rz(t7) e = base2 - cx cos t7 - cy sin t7. */
+    double ex = T[9], ey = T[10], ez = T[11];
+    double wx = P->c7[0], wy = P->c7[1], wz = P->c7[2];
+    double reach[3] = {
+        ex * ex + ey * ey + ez * ez + wx * wx + wy * wy + wz * wz - 2.0 * wz * ez,
+        2.0 * (wx * ex + wy * ey),
+        2.0 * (wy * ex - wx * ey),
+    };
+    double low7 = P->lo[6], high7 = P->hi[6];
+    for (Py_ssize_t r = 0; r < k; r++) {
+        double v[7], sol[BRANCHES][7];
+        int n = 0;
+        if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
+        /* subproblems.scan: v7, then v7 + j step and v7 - j step inside the limits. */
+        double value = v[6];
+        n = try_q7(P, T, reach, value, v, sol);
+        if (n == 0 && step > 0.0) {
+            for (double j = 1.0; n == 0; j += 1.0) {
+                double up = value + j * step, down = value - j * step;
+                if (up > high7 && down < low7) break;
+                if (low7 <= up && up <= high7) n = try_q7(P, T, reach, up, v, sol);
+                if (n == 0 && low7 <= down && down <= high7)
+                    n = try_q7(P, T, reach, down, v, sol);
+            }
+        }
+        if (n == 0) continue;
+        nearest((const double (*)[7])sol, n, v, result);
+        return (long)r;
+    }
+    return -1;
+}
+
 static PyObject *first(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -209,50 +251,42 @@ static PyObject *first(PyObject *self, PyObject *args)
     if (!get_buffers(3, objs, views, writable, names)) return NULL;
     Py_buffer params = views[0], starts = views[1], out = views[2];
     long found = -1;
-    const char *error = NULL;
-    error = check_arrays(&params, PARAM_COUNT, &starts, &out);
-    if (error == NULL) {
-        const Params *P = params.buf;
-        const double *Q = starts.buf;
-        double *result = out.buf;
-        Py_ssize_t k = starts.shape[0];
-        /* |S - W|^2 at t7 is |e|^2 + |c7|^2 - 2 c7 . Rz(t7) e = base2 - cx cos t7 - cy sin t7. */
-        double ex = T[9], ey = T[10], ez = T[11];
-        double wx = P->c7[0], wy = P->c7[1], wz = P->c7[2];
-        double reach[3] = {
-            ex * ex + ey * ey + ez * ez + wx * wx + wy * wy + wz * wz - 2.0 * wz * ez,
-            2.0 * (wx * ex + wy * ey),
-            2.0 * (wy * ex - wx * ey),
-        };
-        double low7 = P->lo[6], high7 = P->hi[6];
-        for (Py_ssize_t r = 0; r < k && found < 0; r++) {
-            double v[7], sol[BRANCHES][7];
-            int n = 0;
-            if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
-            /* subproblems.scan: v7, then v7 + j step and v7 - j step inside the limits. */
-            double value = v[6];
-            n = try_q7(P, T, reach, value, v, sol);
-            if (n == 0 && step > 0.0) {
-                for (double j = 1.0; n == 0; j += 1.0) {
-                    double up = value + j * step, down = value - j * step;
-                    if (up > high7 && down < low7) break;
-                    if (low7 <= up && up <= high7) n = try_q7(P, T, reach, up, v, sol);
-                    if (n == 0 && low7 <= down && down <= high7)
-                        n = try_q7(P, T, reach, down, v, sol);
-                }
+    const char *error = check_arrays(&params, PARAM_COUNT, &starts, &out);
+    if (error == NULL)
+        found = first_start(params.buf, T, starts.buf, starts.shape[0], step, out.buf);
+    return first_result(3, views, error, found);
+}
+
+/* first_many's loop: first_start of each target from its own start, the steps in turn; how many
+   targets got a branch (mode unused: full poses only). */
+static Py_ssize_t first_rows(const void *params, int mode, const double *targets,
+                             const double *starts, Py_ssize_t n, const double *steps,
+                             Py_ssize_t n_steps, double *out)
+{
+    (void)mode;
+    Py_ssize_t count = 0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        for (Py_ssize_t s = 0; s < n_steps; s++) {
+            if (first_start(params, targets + 12 * i, starts + 7 * i, 1, steps[s], out + 7 * i) == 0) {
+                count++;
+                break;
             }
-            if (n == 0) continue;
-            nearest((const double (*)[7])sol, n, v, result);
-            found = (long)r;
         }
     }
-    return first_result(3, views, error, found);
+    return count;
+}
+
+static PyObject *first_many(PyObject *self, PyObject *args)
+{
+    (void)self;
+    return first_many_call(args, 0, PARAM_COUNT, first_rows);
 }
 
 static PyMethodDef methods[] = {
     {"first", first, METH_VARARGS,
      "first(params, target, starts, out, step) -> index of the first start with a branch inside "
      "the limits (written to out), or -1. See kin/ik/analytic/spherical_shoulder7.py."},
+    {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {

@@ -134,6 +134,48 @@ class SevenDofIK:
             p0 = self._base_r.T @ (position - self._base_t) - r0 @ self._tool_t
         return 0, np.concatenate((p0, r0.ravel()), dtype=float)
 
+    def first_many(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        starts: np.ndarray,
+        steps: tuple[float, ...],
+    ) -> np.ndarray | None:
+        """:meth:`first` of N targets, each from its own start, the scan steps in turn.
+
+        The compiled twin in one call (its loop without the GIL); None when it is not built (the
+        caller asks :meth:`first` target by target).
+
+        Args:
+            positions: Tool positions in the world frame [m], (N, 3).
+            rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None for positions.
+            starts: Start joint vectors [rad], (N, 7).
+            steps: Joint-1 scan steps [rad] tried in turn (``0.0``: the start's joint 1 only).
+
+        Returns:
+            (N, 7) the branch of each target nearest its start [rad], NaN rows where none.
+        """
+        if _closed7 is None:
+            return None
+        n = positions.shape[0]
+        out = np.full((n, 7), np.nan)
+        if n == 0:
+            return out
+        if self._plain:
+            points, frames = positions, rotations
+        else:  # DH frame 0 and frame 7 (as prepare)
+            points = (positions - self._base_t) @ self._base_r
+            frames = None if rotations is None else self._base_r.T @ rotations @ self._tool_r.T
+        mode, targets = 1, np.ascontiguousarray(points, dtype=float)
+        if frames is not None:  # the frame-7 origin and R_0_7
+            mode, targets = (
+                0,
+                np.concatenate((points - frames @ self._tool_t, frames.reshape(n, 9)), 1),
+            )
+        starts = np.ascontiguousarray(starts, dtype=float)
+        _closed7.first_many(self.c_params, mode, targets, starts, out, np.asarray(steps, float))
+        return out
+
     def first(
         self,
         target: tuple[int, np.ndarray],

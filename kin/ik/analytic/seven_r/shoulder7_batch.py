@@ -17,6 +17,11 @@ from ..six_r._six_r import wrap_array
 from .shoulder7_structure import SphericalShoulder7R, Vec
 from .subproblems import harmonic_roots_array, rotation_pair_array
 
+try:
+    from . import _shoulder7  # type: ignore[attr-defined]
+except ImportError:  # pragma: no cover - the extension is optional
+    _shoulder7 = None
+
 #: Branches per joint-7 value: 2 elbows x 2 wrists x 2 shoulders.
 BRANCHES = 8
 
@@ -39,6 +44,11 @@ class Shoulder7Batch:
     _p4: float
     _q4: float
     _k4: float
+
+    @property
+    def c_params(self) -> np.ndarray:  # pragma: no cover - the structure's own
+        """The compiled twin's parameters (:attr:`SphericalShoulder7RIK.c_params`)."""
+        raise NotImplementedError
 
     def solve_batch(
         self, positions: npt.ArrayLike, rotations: npt.ArrayLike, q7: npt.ArrayLike
@@ -68,10 +78,7 @@ class Shoulder7Batch:
         if q7.shape != (n,):
             raise TargetError(f"q7 must be ({n},), got {q7.shape}")
         s, c, off = self._sin, self._cos, self._offsets
-        # R_K_J7 and S seen from J_7 (as prepare).
-        rk = self._k_rot.T @ r @ self._tool_rot.T
-        pk = (p - self._k_pos) @ self._k_rot - rk @ self._tool_pos
-        e = np.einsum("nji,nj->ni", rk, np.asarray(self.structure.shoulder) - pk)
+        rk, e = self._prepare_array(p, r)
         t7 = q7 + off[6]
         c7, s7 = np.cos(t7), np.sin(t7)
         rv = np.stack((c7 * e[:, 0] - s7 * e[:, 1], s7 * e[:, 0] + c7 * e[:, 1], e[:, 2]), 1)
@@ -117,6 +124,45 @@ class Shoulder7Batch:
                         out[:, slot, j] = wrap_array(t - off[j])
         missing = np.isnan(out[:, :, :6]).any(axis=2)
         out[missing] = np.nan
+        return out
+
+    def _prepare_array(self, p: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`prepare` of N poses: ``R_K_J7`` (N, 3, 3) and ``S`` seen from ``J_7`` (N, 3) [m]."""
+        rk = self._k_rot.T @ r @ self._tool_rot.T
+        pk = (p - self._k_pos) @ self._k_rot - rk @ self._tool_pos
+        return rk, np.einsum("nji,nj->ni", rk, np.asarray(self.structure.shoulder) - pk)
+
+    def first_many(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        starts: np.ndarray,
+        steps: tuple[float, ...],
+    ) -> np.ndarray | None:
+        """:meth:`first` of N targets, each from its own start, the scan steps in turn.
+
+        The compiled twin in one call (its loop without the GIL); None when it is not built (the
+        caller asks :meth:`first` target by target).
+
+        Args:
+            positions: Tool positions in the world frame [m], (N, 3).
+            rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None (positions: no answer).
+            starts: Start joint vectors [rad], (N, 7).
+            steps: Joint-7 scan steps [rad] tried in turn (``0.0``: the start's joint 7 only).
+
+        Returns:
+            (N, 7) the branch of each target nearest its start [rad], NaN rows where none.
+        """
+        if _shoulder7 is None:
+            return None
+        n = positions.shape[0]
+        out = np.full((n, 7), np.nan)
+        if rotations is None or n == 0:
+            return out
+        rk, e = self._prepare_array(positions, rotations)
+        targets = np.concatenate((rk.reshape(n, 9), e), axis=1)
+        starts = np.ascontiguousarray(starts, dtype=float)
+        _shoulder7.first_many(self.c_params, targets, starts, out, np.asarray(steps, dtype=float))
         return out
 
 
