@@ -38,7 +38,7 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standar
      quartic in ``x = tan((t3 - tau) / 2)``. The shift ``tau`` (a multiple of 45 deg) makes
      ``|E(tau + pi)|``, the leading coefficient, the largest of eight, so no root runs off to
      infinity. The real roots of its companion matrix, polished by Newton steps on ``E`` itself
-     (not on the expanded polynomial), are kept when ``|E|`` is below :data:`REACH_TOL`; they
+     (not on the expanded polynomial), are kept when ``|E|`` is below :data:`~.pieper_quartic.REACH_TOL`; they
      are ordered by ``q3`` (``arm 1 .. 4``). Then ``(cos t2, sin t2) ~ (g1 u + g2 w, g1 w - g2 u)``.
 
    Then ``t2 = atan2(h2, h1) - atan2(g2, g1)`` and
@@ -52,9 +52,8 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standar
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -73,17 +72,8 @@ from ._six_r import (
     TargetFrame,
     wrap,
 )
-from ._trig_quartic import (
-    EPS,
-    candidates,
-    polish,
-)
 from .pieper_batch import PieperBatch
 
-#: A general-family root is kept when, after polishing, ``|E(t3)| <= 2 sqrt(g1^2 + g2^2)
-#: REACH_TOL`` (plus the rounding of ``E``): the arm then reaches the wrist centre within about
-#: ``REACH_TOL`` [m] (``E / (2 sqrt(g1^2 + g2^2))`` is the error of ``|(h1, h2)|``).
-REACH_TOL = 1e-10
 _ARM_LABELS = {
     "intersecting": tuple(
         f"shoulder {s}, elbow {e}" for s in ("right", "left") for e in ("up", "down")
@@ -355,58 +345,6 @@ class Pieper6R(PieperBatch):
                 t1 = heading - math.atan2(ca1 * h2 - sa1 * g3, a1 + h1)
                 out[2 * side + elbow] = (t1, t2, t3)
         return out
-
-    def _general_t3(self, rt: float, z: float) -> list[float]:
-        """The real roots ``t3`` [rad] of ``E(t3) = 0`` (general family), in ascending ``q3``."""
-        roots = []
-        for start in candidates(*self._harmonics(rt, z)):
-            t3 = self._polish(start, rt, z)
-            if t3 is not None:
-                roots.append(t3)
-        o3 = self.offsets[2]
-        return sorted(roots, key=lambda t: wrap(t - o3))
-
-    def _harmonics(self, rt: float, z: float) -> tuple[float, float, float, float, float]:
-        """``E(t3) = h0 + hc cos + hs sin + hc2 cos 2t3 + hs2 sin 2t3`` for a wrist centre."""
-        uc, us, wc, ws, e0, pc, ps, hc2, hs2 = self._e
-        _, _, sa1, ca1, g0, _, _ = self._k
-        u0 = (rt - g0) / (2.0 * self.a1)
-        w0 = (z - ca1 * self._g[2][0]) / sa1
-        h0 = u0 * u0 + w0 * w0 + e0
-        hc = 2.0 * (u0 * uc + w0 * wc) - pc
-        hs = 2.0 * (u0 * us + w0 * ws) - ps
-        return h0, hc, hs, hc2, hs2
-
-    def _residual(
-        self, t3: Any, rt: Any, z: Any, cos: Callable[[Any], Any], sin: Callable[[Any], Any]
-    ) -> tuple[Any, Any, Any]:
-        """``E(t3)`` [m^2], ``dE/dt3`` [m^2] and the bound on ``|E|`` of a kept root [m^2].
-
-        Floats with ``math.cos``, ``math.sin`` or arrays with ``np.cos``, ``np.sin``;
-        ``rt = R - a1^2`` [m^2], ``z = Wz - d1`` [m].
-        """
-        a1, _, sa1, ca1, _, _, _ = self._k
-        (g10, g1c, g1s), (g20, g2c, g2s), (g30, g3c, g3s) = self._g
-        c3, s3 = cos(t3), sin(t3)
-        g1, g2, g3 = g10 + g1c * c3 + g1s * s3, g20 + g2c * c3 + g2s * s3, g30 + g3c * c3 + g3s * s3
-        p_sq = g1 * g1 + g2 * g2
-        g_sq = p_sq + g3 * g3
-        u = (rt - g_sq) / (2.0 * a1)
-        w = (z - ca1 * g3) / sa1
-        e = u * u + w * w - p_sq
-        d1, d2, d3 = g1s * c3 - g1c * s3, g2s * c3 - g2c * s3, g3s * c3 - g3c * s3
-        dp = 2.0 * (g1 * d1 + g2 * d2)
-        du = -(dp + 2.0 * g3 * d3) / (2.0 * a1)
-        dw = -ca1 * d3 / sa1
-        de = 2.0 * (u * du + w * dw) - dp
-        rounding = abs(u) * (abs(rt) + g_sq) / abs(a1) + abs(w) * (abs(z) + abs(g3)) / abs(sa1)
-        bound = 2.0 * REACH_TOL * p_sq**0.5 + 16.0 * EPS * (rounding + p_sq)
-        return e, de, bound
-
-    def _polish(self, t3: float, rt: float, z: float) -> float | None:
-        """:func:`~._trig_quartic.polish` on ``E(t3)``; None when ``|E|`` stays above its bound."""
-        root = polish(lambda t: self._residual(t, rt, z, math.cos, math.sin), t3)
-        return None if root is None else root[0]
 
     def _wrist_scalar(
         self, arm: tuple[float, float, float], r: list[list[float]], free: float

@@ -9,18 +9,17 @@ hold them to it). Angles in [rad], lengths in [m].
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from ...exceptions import TargetError
 from ._six_r import SINGULAR, SLACK, TargetFrame, clip_cosines, in_blocks, wrap_array
-from ._trig_quartic import candidates_batch, polish_batch
+from .pieper_quartic import PieperQuartic
 
 
-class PieperBatch:
+class PieperBatch(PieperQuartic):
     """:meth:`solve_batch` of a :class:`~.pieper.Pieper6R` (mixed into it: reads its fields)."""
 
     name: ClassVar[str]
@@ -34,7 +33,6 @@ class PieperBatch:
     _e: tuple[float, ...]
     _wrist: tuple[float, ...]
     _classic: bool
-    _residual: Callable[..., Any]
 
     def solve_batch(
         self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None, free: float = 0.0
@@ -115,31 +113,6 @@ class PieperBatch:
             out[:, 2 * side : 2 * side + 2, 1] = np.arctan2(h2, h1) - base
             out[:, 2 * side : 2 * side + 2, 2] = t3
         return out
-
-    def _general_t3_batch(self, rt: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """:meth:`_general_t3` of N wrist centres: (N, 4) [rad], real roots first, then NaN."""
-        t3 = candidates_batch(*self._harmonics_batch(rt, z))
-        t3 = self._polish_batch(t3, rt[:, None], z[:, None])
-        key = np.where(np.isnan(t3), np.inf, wrap_array(t3 - self.offsets[2]))
-        return np.take_along_axis(t3, np.argsort(key, axis=1), axis=1)
-
-    def _harmonics_batch(
-        self, rt: np.ndarray, z: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
-        """:meth:`_harmonics` of N wrist centres."""
-        uc, us, wc, ws, e0, pc, ps, hc2, hs2 = self._e
-        _, _, sa1, ca1, g0, _, _ = self._k
-        u0 = (rt - g0) / (2.0 * self.a1)
-        w0 = (z - ca1 * self._g[2][0]) / sa1
-        h0 = u0 * u0 + w0 * w0 + e0
-        hc = 2.0 * (u0 * uc + w0 * wc) - pc
-        hs = 2.0 * (u0 * us + w0 * ws) - ps
-        return h0, hc, hs, hc2, hs2
-
-    def _polish_batch(self, t3: np.ndarray, rt: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """:meth:`_polish` of (N, 4) starts; NaN where no root."""
-        t3, _, ok = polish_batch(lambda t: self._residual(t, rt, z, np.cos, np.sin), t3)
-        return np.where(ok, t3, np.nan)
 
     def _wrist_batch(self, t: np.ndarray, r: np.ndarray, free: float) -> np.ndarray:
         """The 8 rows of N targets from their arm slots ``t`` (N, 4, 3): ``q`` (N, 8, 6) [rad]."""
