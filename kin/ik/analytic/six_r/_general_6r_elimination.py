@@ -88,14 +88,20 @@ def inverse(T: np.ndarray) -> np.ndarray:
 
 def equations(axis: np.ndarray, p: np.ndarray) -> np.ndarray:
     """The 14 Raghavan-Roth quantities (..., 14) of axes ``l`` and points ``p`` (..., 3) [m]."""
-    pp = np.einsum("...i,...i->...", p, p)[..., None]
-    pl = np.einsum("...i,...i->...", p, axis)[..., None]
-    return np.concatenate((axis, p, pp, pl, _cross(p, axis), pp * axis - 2.0 * pl * p), axis=-1)
+    out = np.empty(p.shape[:-1] + (14,))
+    pp = np.einsum("...i,...i->...", p, p, out=out[..., 6])[..., None]
+    pl = np.einsum("...i,...i->...", p, axis, out=out[..., 7])[..., None]
+    out[..., :3] = axis
+    out[..., 3:6] = p
+    _cross(p, axis, out[..., 8:11])
+    out[..., 11:] = pp * axis - 2.0 * pl * p
+    return out
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross products of (..., 3) vectors (faster than ``np.cross`` on small stacks)."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+def _cross(a: np.ndarray, b: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """Cross products of (..., 3) vectors (faster than ``np.cross`` on small stacks), into ``out``."""
+    if out is None:
+        out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
     out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
@@ -126,6 +132,8 @@ class Formulation:
     signs: tuple[float, ...] = field(init=False)
     _C: list[np.ndarray | None] = field(init=False, repr=False)
     _C_inv: list[np.ndarray] = field(init=False, repr=False)
+    _C_one: list[np.ndarray] = field(init=False, repr=False)
+    _C_inv_one: list[np.ndarray] = field(init=False, repr=False)
     _h0: np.ndarray = field(init=False, repr=False)
     _P: np.ndarray = field(init=False, repr=False)
 
@@ -143,6 +151,8 @@ class Formulation:
         setattr_(self, "signs", signs)
         setattr_(self, "_C", C)
         setattr_(self, "_C_inv", [inverse(c) for c in C[:5] if c is not None])
+        setattr_(self, "_C_one", [c[None] for c in C[:5] if c is not None])
+        setattr_(self, "_C_inv_one", [c[None] for c in self._C_inv])
         a = self.start
         # Left side at the 27 grid points (u_a, u_a+1, u_a+2), fitted on {1, s, c}^3.
         g = np.stack(np.meshgrid(_GRID, _GRID, _GRID, indexing="ij"), axis=-1).reshape(27, 3)
@@ -162,14 +172,13 @@ class Formulation:
     def _loop_constants(self, K: np.ndarray) -> tuple[list[np.ndarray], list[np.ndarray]]:
         """``C1 .. C6`` of N poses and their inverses, (N, 4, 4) each (see the module).
 
-        The fixed ones broadcast; ``C6`` is ``K^-1`` read forwards, ``K`` backwards.
+        The fixed ones are (1, 4, 4) (they broadcast: a stack of N views of one matrix made
+        NumPy's matmul about five times slower); ``C6`` is ``K^-1`` read forwards, ``K``
+        backwards.
         """
-        n = K.shape[0]
         K_inv = inverse(K)
         G, G_inv = (K, K_inv) if self.reverse else (K_inv, K)
-        fixed = [np.broadcast_to(c, (n, 4, 4)) for c in self._C[:5]]  # type: ignore[arg-type]
-        fixed_inv = [np.broadcast_to(c, (n, 4, 4)) for c in self._C_inv]
-        return fixed + [G], fixed_inv + [G_inv]
+        return self._C_one + [G], self._C_inv_one + [G_inv]
 
     def candidates(self, K: np.ndarray, careful: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Joint vectors ``q`` [rad] of the real eigenvalues of N poses.
@@ -202,24 +211,25 @@ class Formulation:
         M = np.zeros((n, 3, 12, 12))
         M[:, :, :6, :9] = S
         M[:, :, 6:, 3:] = S
-        values, flip, vectors = _quadratic_eig(M)  # (N, 24), (N,), (N, 24, 12)
+        values, flip, vectors = _quadratic_eig(M)  # (N, 24), (N,), (N, 24, 24)
         imag = np.abs(values.imag) / (1.0 + np.abs(values))
+        # Only the (near-)real roots go on: each pose's first, as many columns as the most real.
+        real = imag <= IMAG_TOL
+        b = max(int(real.sum(axis=1).max(initial=0)), 1)
+        order = np.argsort(~real, axis=1, kind="stable")[:, :b]
+        rows = np.arange(n)[:, None]
+        values, imag = values[rows, order], imag[rows, order]
+        vectors = _half(vectors[rows, order])  # (N, B, 12)
         # x = tan((u_a - tau) / 2) is the eigenvalue, or its inverse when flipped.
         num = np.where(flip[:, None], 1.0, values.real)
         den = np.where(flip[:, None], values.real, 1.0)
         theta = TAU[0] + 2.0 * np.arctan2(num, den)
-        V = _real_vectors(vectors).reshape(n, 24, 4, 3)
+        V = _real_vectors(vectors).reshape(n, b, 4, 3)
         phi = TAU[1] + 2.0 * _ratio_angle(V, axis=2)
         psi = TAU[2] + 2.0 * _ratio_angle(V, axis=3)
         if careful:
             theta, phi, psi, imag = _multiple_roots(M, values, flip, theta, phi, psi, imag)
-        # Only the real roots go on: each pose's first, as many columns as the most real.
-        real = imag <= IMAG_TOL
-        b = max(int(real.sum(axis=1).max(initial=0)), 1)
-        order = np.argsort(~real, axis=1, kind="stable")[:, :b]
-        theta, phi, psi, imag = (
-            np.take_along_axis(x, order, axis=1) for x in (theta, phi, psi, imag)
-        )
+            b = theta.shape[1]
         # Right-side joints from the monomials: Q' m' = f_L - Q0.
         u = np.full((n, b, 6), np.nan)
         u[:, :, a], u[:, :, (a + 1) % 6], u[:, :, (a + 2) % 6] = theta, phi, psi
@@ -321,22 +331,22 @@ def _quadratic_eig(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     Per pose the companion matrix is built on ``M2`` (eigenvalues ``x``) or, when ``M0`` is
     better conditioned (``flip``), on ``M0`` (eigenvalues ``1/x``). Returns the 24 complex
-    eigenvalues (N, 24), ``flip`` (N,) and the vectors ``v`` (N, 24, 12).
+    eigenvalues (N, 24), ``flip`` (N,) and the companion matrix's eigenvectors ``(v, x v)``
+    (N, 24, 24) (:func:`_half` reads ``v``).
     """
     n = M.shape[0]
     M0, M1, M2 = M[:, 0], M[:, 1], M[:, 2]
     # |det| over the product of the row norms (Hadamard's ratio, 1 for orthogonal rows): the
     # leading matrix farther from singular of the two.
-    ratio = []
-    for lead in (M2, M0):
-        sign, logdet = np.linalg.slogdet(lead)
-        norms = np.log(np.maximum(np.linalg.norm(lead, axis=2), 1e-300)).sum(axis=1)
-        ratio.append(np.where(sign != 0.0, logdet - norms, -np.inf))
-    flip = ratio[1] > ratio[0]
+    leads = M[:, ::-2]  # M2, M0
+    sign, logdet = np.linalg.slogdet(leads)
+    norms = np.log(np.maximum(np.linalg.norm(leads, axis=3), 1e-300)).sum(axis=2)
+    ratio = np.where(sign != 0.0, logdet - norms, -np.inf)  # (N, 2)
+    flip = ratio[:, 1] > ratio[:, 0]
     lead = np.where(flip[:, None, None], M0, M2)
     tail = np.where(flip[:, None, None], M2, M0)
     A = np.zeros((n, 24, 24))
-    A[:, :12, 12:] = np.eye(12)
+    A[:, :12, 12:] = _EYE12
     rhs = np.concatenate((tail, M1), axis=2)
     try:
         A[:, 12:, :] = -np.linalg.solve(lead, rhs)
@@ -352,18 +362,25 @@ def _quadratic_eig(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         vectors = np.full((n, 24, 24), np.nan, dtype=complex)
         if finite.any():
             values[finite], vectors[finite] = np.linalg.eig(A[finite])
-    vectors = np.swapaxes(vectors, 1, 2)
+    return values, flip, np.swapaxes(vectors, 1, 2)
+
+
+def _half(vectors: np.ndarray) -> np.ndarray:
+    """``v`` (..., 12) of companion eigenvectors ``(v, x v)`` (..., 24): the larger half."""
     top, bottom = vectors[..., :12], vectors[..., 12:]
     use_top = np.linalg.norm(top, axis=-1) >= np.linalg.norm(bottom, axis=-1)
-    return values, flip, np.where(use_top[..., None], top, bottom)
+    return np.where(use_top[..., None], top, bottom)
+
+
+_EYE12 = np.eye(12)
 
 
 def _real_vectors(v: np.ndarray) -> np.ndarray:
     """Complex vectors (..., 12) rotated so their largest entry is real, real part kept."""
-    k = np.argmax(np.abs(v), axis=-1)
-    big = np.take_along_axis(v, k[..., None], axis=-1)
+    flat = v.reshape(-1, v.shape[-1])
+    big = flat[np.arange(flat.shape[0]), np.argmax(np.abs(flat), axis=-1)].reshape(v.shape[:-1])
     phase = np.conj(big) / np.maximum(np.abs(big), 1e-300)
-    return (v * phase).real
+    return (v * phase[..., None]).real
 
 
 def _ratio_angle(V: np.ndarray, axis: int) -> np.ndarray:
@@ -377,8 +394,6 @@ def _ratio_angle(V: np.ndarray, axis: int) -> np.ndarray:
     else:
         this, nxt = V[:, :, :, :-1], V[:, :, :, 1:]
     n, b = V.shape[:2]
-    this, nxt = this.reshape(n, b, -1), nxt.reshape(n, b, -1)
-    k = np.argmax(this * this + nxt * nxt, axis=-1)[..., None]
-    return np.arctan2(
-        np.take_along_axis(nxt, k, axis=-1)[..., 0], np.take_along_axis(this, k, axis=-1)[..., 0]
-    )
+    this, nxt = this.reshape(n * b, -1), nxt.reshape(n * b, -1)
+    rows, k = np.arange(n * b), np.argmax(this * this + nxt * nxt, axis=-1)
+    return np.arctan2(nxt[rows, k], this[rows, k]).reshape(n, b)

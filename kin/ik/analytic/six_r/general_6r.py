@@ -99,14 +99,15 @@ def forward(F: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
 
     ``u`` (..., 6) [rad] are the DH joint variables (``s_i q_i``).
     """
-    T = np.broadcast_to(F[0], u.shape[:-1] + (4, 4))
-    axes, origins = [], []
+    axes = np.empty(u.shape[:-1] + (6, 3))
+    origins = np.empty(u.shape[:-1] + (6, 3))
     R = rot_z(u)
+    T = F[0]  # (4, 4): broadcast by the products (a stack of views of it would be slower)
     for i in range(6):
-        axes.append(T[..., :3, 2])
-        origins.append(T[..., :3, 3])
+        axes[..., i, :] = T[..., :3, 2]
+        origins[..., i, :] = T[..., :3, 3]
         T = T @ R[..., i, :, :] @ F[i + 1]
-    return T, np.stack(axes, axis=-2), np.stack(origins, axis=-2)
+    return T, axes, origins
 
 
 def _errors(T: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -115,12 +116,13 @@ def _errors(T: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     Position [m] and small-angle rotation [rad]; the largest is ``inf`` when the rotation is
     more than 90 deg off.
     """
-    dp = target[:, :3, 3] - T[:, :3, 3]
     E = target[:, :3, :3] @ np.swapaxes(T[:, :3, :3], 1, 2)
-    dr = 0.5 * np.stack(
-        (E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]), axis=1
-    )
-    e = np.concatenate((dp, dr), axis=1)
+    e = np.empty((T.shape[0], 6))
+    np.subtract(target[:, :3, 3], T[:, :3, 3], out=e[:, :3])
+    np.subtract(E[:, 2, 1], E[:, 1, 2], out=e[:, 3])
+    np.subtract(E[:, 0, 2], E[:, 2, 0], out=e[:, 4])
+    np.subtract(E[:, 1, 0], E[:, 0, 1], out=e[:, 5])
+    e[:, 3:] *= 0.5
     size = np.abs(e).max(axis=1)
     trace = E[:, 0, 0] + E[:, 1, 1] + E[:, 2, 2]
     return e, np.where(trace > 1.0, size, np.inf)
@@ -136,6 +138,10 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         ),
         axis=-1,
     )
+
+
+#: The damping of the polish's normal equations (keeps an exact singularity solvable).
+_DAMPING = 1e-14 * np.eye(6)
 
 
 def polish(F: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -159,7 +165,7 @@ def polish(F: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray
         J = np.empty((rows.size, 6, 6))
         J[:, :3, :] = np.swapaxes(_cross(axes, T[:, None, :3, 3] - origins), 1, 2)
         J[:, 3:, :] = np.swapaxes(axes, 1, 2)
-        JJt = J @ np.swapaxes(J, 1, 2) + 1e-14 * np.eye(6)
+        JJt = J @ np.swapaxes(J, 1, 2) + _DAMPING
         delta = (np.swapaxes(J, 1, 2) @ np.linalg.solve(JJt, e[..., None]))[..., 0]
         u[rows] += np.clip(delta, -0.5, 0.5)
     return np.remainder(u + math.pi, 2.0 * math.pi) - math.pi, error
