@@ -28,6 +28,7 @@ import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
 from kin.ik import PoseTarget, get_solver
 from kin.ik.analytic import registry
+from kin.ik.analytic.six_r import general_6r
 from kin.ik.analytic.six_r.general_6r import BRANCHES, General6R
 from kin.ik.exceptions import StructureError
 
@@ -274,13 +275,17 @@ def test_the_documented_call_returns_every_branch():
         assert min(wrapped_gap(np.array([s.q for s in result.solutions]), start)) < JOINT_TOL
 
 
-def test_batch_gives_the_same_numbers_as_solve():
-    """solve_batch equals solve row by row (NaN alike), reachable and unreachable targets."""
+@pytest.mark.parametrize("chunk", [general_6r.CHUNK, 7])
+def test_batch_gives_the_same_numbers_as_solve(chunk, monkeypatch):
+    """solve_batch equals solve row by row (NaN alike), reachable and unreachable targets; also
+    when it takes the poses in chunks (of 7 here: 60 poses, the last chunk short)."""
+    monkeypatch.setattr(general_6r, "CHUNK", chunk)
     table, reference = random_arm(3, "modified")
     structure = General6R.recognise(table)
     poses = reference_tool(reference, np.random.default_rng(4).uniform(-PI, PI, (60, 6)))
     poses[:10, :3, 3] *= 10.0  # out of reach
     batch = structure.solve_batch(poses[:, :3, 3], poses[:, :3, :3])
+    assert batch.shape == (60, BRANCHES, 6)
     scalar = np.array([structure.solve(T[:3, 3], T[:3, :3]) for T in poses])
     assert np.isnan(batch[:10]).all()
     np.testing.assert_array_equal(np.isnan(batch), np.isnan(scalar))

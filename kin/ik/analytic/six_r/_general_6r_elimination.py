@@ -76,6 +76,52 @@ def rot_z(angle: npt.ArrayLike) -> np.ndarray:
     return out
 
 
+#: Stacks of at most this many transforms are multiplied by NumPy's matmul, larger ones by
+#: column or row arithmetic (:func:`times_rz`, :func:`rz_times`).
+SMALL_STACK = 64
+
+
+def times_rz(X: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """``X Rz(angle)`` (angle.shape + (4, 4)) of transforms ``X`` broadcast to them [rad].
+
+    Column arithmetic (``Rz`` mixes columns 0 and 1 only) on stacks of more than
+    :data:`SMALL_STACK`: faster there than NumPy's matmul, which loops matrix by matrix; on
+    smaller ones (a single pose's roots) the matmul's fewer calls are faster.
+    """
+    if angle.size <= SMALL_STACK:
+        return X @ rot_z(angle)
+    c, s = np.cos(angle)[..., None], np.sin(angle)[..., None]
+    out = np.empty(angle.shape + (4, 4))
+    out[...] = X
+    x0, x1 = X[..., :, 0], X[..., :, 1]
+    out[..., :, 0] = x0 * c + x1 * s
+    out[..., :, 1] = x1 * c - x0 * s
+    return out
+
+
+def rz_times(angle: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """``Rz(angle) X`` (angle.shape + (4, 4)) of transforms ``X`` broadcast to them (row arithmetic).
+
+    As :func:`times_rz`, a matmul on stacks of at most :data:`SMALL_STACK`.
+    """
+    if angle.size <= SMALL_STACK:
+        return rot_z(angle) @ X
+    c, s = np.cos(angle)[..., None], np.sin(angle)[..., None]
+    out = np.empty(angle.shape + (4, 4))
+    out[...] = X
+    x0, x1 = X[..., 0, :], X[..., 1, :]
+    out[..., 0, :] = x0 * c - x1 * s
+    out[..., 1, :] = x0 * s + x1 * c
+    return out
+
+
+def times(X: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """``X C`` of a stack of 4x4 transforms ``X`` (..., 4, 4) and one ``C`` (4, 4): one BLAS call."""
+    if C.ndim == 2 and X.flags.c_contiguous:
+        return (X.reshape(-1, 4) @ C).reshape(X.shape)
+    return X @ C
+
+
 def inverse(T: np.ndarray) -> np.ndarray:
     """Inverse of rigid transforms (..., 4, 4) [m]."""
     out = np.zeros_like(T)
@@ -132,6 +178,7 @@ class Formulation:
     signs: tuple[float, ...] = field(init=False)
     _C: list[np.ndarray | None] = field(init=False, repr=False)
     _C_inv: list[np.ndarray] = field(init=False, repr=False)
+    _C_fixed: list[np.ndarray] = field(init=False, repr=False)
     _C_one: list[np.ndarray] = field(init=False, repr=False)
     _C_inv_one: list[np.ndarray] = field(init=False, repr=False)
     _h0: np.ndarray = field(init=False, repr=False)
@@ -151,7 +198,8 @@ class Formulation:
         setattr_(self, "signs", signs)
         setattr_(self, "_C", C)
         setattr_(self, "_C_inv", [inverse(c) for c in C[:5] if c is not None])
-        setattr_(self, "_C_one", [c[None] for c in C[:5] if c is not None])
+        setattr_(self, "_C_fixed", [c for c in C[:5] if c is not None])
+        setattr_(self, "_C_one", [c[None] for c in self._C_fixed])
         setattr_(self, "_C_inv_one", [c[None] for c in self._C_inv])
         a = self.start
         # Left side at the 27 grid points (u_a, u_a+1, u_a+2), fitted on {1, s, c}^3.
@@ -233,13 +281,10 @@ class Formulation:
         # Right-side joints from the monomials: Q' m' = f_L - Q0.
         u = np.full((n, b, 6), np.nan)
         u[:, :, a], u[:, :, (a + 1) % 6], u[:, :, (a + 2) % 6] = theta, phi, psi
-        L = (
-            rot_z(theta)
-            @ C[a][:, None]
-            @ rot_z(phi)
-            @ C[a + 1][:, None]
-            @ rot_z(psi)
-            @ C[a + 2][:, None]
+        fixed = self._C_fixed
+        L = times(
+            times_rz(times(times_rz(rz_times(theta, fixed[a]), phi), fixed[a + 1]), psi),
+            fixed[a + 2],
         )  # (N, B, 4, 4)
         f = equations(L[..., :3, 2], L[..., :3, 3]) - q0[:, None]  # (N, 24, 14)
         inv_s = np.where(sv > sv[:, :1] * 1e-12, 1.0 / np.where(sv > 0, sv, 1.0), 0.0)
@@ -247,13 +292,8 @@ class Formulation:
         m = np.einsum("nij,nbj->nbi", pinv, f)  # (N, 24, 8): (i4, i5) index - 1
         u[:, :, i5] = np.arctan2(m[..., 0], m[..., 1])
         u[:, :, i4] = np.arctan2(m[..., 2], m[..., 5])
-        R = (
-            C[i3][:, None]
-            @ rot_z(u[:, :, i4])
-            @ C[i4][:, None]
-            @ rot_z(u[:, :, i5])
-            @ C[i5][:, None]
-        )
+        R = times_rz(C[i3][:, None], u[:, :, i4]) @ C[i4][:, None]
+        R = times_rz(R, u[:, :, i5]) @ C[i5][:, None]
         Rz3 = np.swapaxes(L[..., :3, :3], -1, -2) @ np.swapaxes(R[..., :3, :3], -1, -2)
         u[:, :, i3] = np.arctan2(Rz3[..., 1, 0] - Rz3[..., 0, 1], Rz3[..., 0, 0] + Rz3[..., 1, 1])
         q = np.empty_like(u)
