@@ -35,7 +35,11 @@ def _numpy_solve_spd(matrix: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, i
 
 
 def _numpy_syrk(alpha: float, a: np.ndarray, beta: float, c: np.ndarray) -> np.ndarray:
-    return alpha * (a @ a.T) + beta * c
+    product = np.dot(a, a.T)
+    if alpha != 1.0:
+        product *= alpha
+    product += beta * c
+    return product
 
 
 #: ``(syrk, posv)``: LAPACK through SciPy (about 6 us faster per step than ``np.linalg.solve``),
