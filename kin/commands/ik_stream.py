@@ -187,17 +187,22 @@ class StreamSolver:
         failed = False
         for lines in line_batches(source):
             records = self._records(lines, number)
+            pending: list[str] = []  # written FLUSH_EVERY answers at a time, in one write
             for count, record in enumerate(records, start=1):
-                if isinstance(record, str):  # a verified answer of the batch stage, encoded
-                    write(record)
+                if record.__class__ is str:  # a verified answer of the batch stage, encoded
+                    pending.append(record)  # type: ignore[arg-type]
                 else:
+                    assert isinstance(record, dict)
                     if "error" in record or ("success" in record and not record["success"]):
                         failed = True
                     if "success" in record:
                         record["q_units"] = q_units
-                    write(dumps(record) + "\n")
+                    pending.append(dumps(record) + "\n")
                 if count % FLUSH_EVERY == 0:
+                    write("".join(pending))
+                    pending.clear()
                     flush()
+            write("".join(pending))
             number += len(lines)
             flush()
             if getattr(out, "broken", False):  # the reader is gone (| head): stop reading
