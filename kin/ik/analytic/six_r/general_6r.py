@@ -39,15 +39,8 @@ from dh2urdf import DHTable
 from ...exceptions import StructureError, TargetError
 from ...target import PoseTarget
 from ..structure import Checker
-from ._general_6r_elimination import (
-    IMAG_TOL,
-    SMALL_STACK,
-    Formulation,
-    inverse,
-    rot_z,
-    times,
-    times_rz,
-)
+from ._general_6r_elimination import IMAG_TOL, Formulation
+from ._stacked_transforms import SMALL_STACK, inverse, rot_z, times, times_rz
 
 #: Number of branches (columns of :meth:`General6R.solve`): a 6R arm has at most 16.
 BRANCHES = 16
