@@ -21,7 +21,10 @@ from hypothesis.extra.numpy import arrays
 from kin.ik import PoseTarget, TargetError
 from kin.ik import target as target_module
 
-_exact_pose = target_module._exact_pose
+try:
+    from kin.ik._pose_check import exact_pose as _exact_pose
+except ImportError:  # not built: the tests of the twin skip
+    _exact_pose = None
 TOL = target_module._ROTATION_EXACT
 
 needs_twin = pytest.mark.skipif(_exact_pose is None, reason="kin/ik/_pose_check not built")
@@ -122,11 +125,11 @@ def test_twin_declines_other_arrays(position, rotation):
 @settings(max_examples=300, deadline=None)
 def test_short_and_long_way_build_the_same_target(position, rotation):
     """From hostile arrays: the same target (or the same TargetError) with or without the twin."""
-    saved = target_module._exact_pose
+    saved = target_module._exact_copies
     try:
         results = []
         for twin in (saved, None):
-            target_module._exact_pose = twin
+            target_module._exact_copies = twin
             try:
                 built = PoseTarget(position, rotation)
                 results.append((built.position.tolist(), built.rotation.tolist()))
@@ -136,8 +139,48 @@ def test_short_and_long_way_build_the_same_target(position, rotation):
             except TargetError as err:
                 results.append(str(err))
     finally:
-        target_module._exact_pose = saved
+        target_module._exact_copies = saved
     assert results[0] == results[1]
+
+
+@needs_twin
+@given(
+    arrays(np.float64, 3, elements=st.floats(allow_nan=True, allow_infinity=True)),
+    arrays(np.float64, (3, 3), elements=st.floats(allow_nan=True, allow_infinity=True)),
+    st.sampled_from(["C", "F"]),
+)
+@settings(max_examples=300, deadline=None)
+def test_exact_copies_are_read_only_checked_copies(position, rotation, order):
+    """``exact_copies``: read-only copies equal to the arrays (C order) exactly when
+    ``exact_pose`` passes them, else None; the caller's arrays untouched and writeable."""
+    rotation = np.asarray(rotation, order=order)
+    before = (position.copy(), rotation.copy())
+    copies = target_module._exact_copies(position, rotation, TOL)
+    verdict = _exact_pose(np.ascontiguousarray(position), np.ascontiguousarray(rotation), TOL)
+    assert (copies is not None) == verdict
+    if copies is not None:
+        p, r = copies
+        assert p is not position and r is not rotation
+        assert not (p.flags.writeable or r.flags.writeable) and r.flags.c_contiguous
+        np.testing.assert_array_equal(p, position)
+        np.testing.assert_array_equal(r, rotation)
+    assert position.flags.writeable and rotation.flags.writeable
+    np.testing.assert_array_equal(position, before[0])
+    np.testing.assert_array_equal(rotation, before[1])
+
+
+@needs_twin
+def test_exact_copies_declines_what_is_not_an_ndarray():
+    """Lists, subclasses, other dtypes and shapes: None (the long way), never an error."""
+    short = target_module._exact_copies
+    assert short([0.0, 0.0, 0.0], np.eye(3), TOL) is None
+    assert short(np.zeros(3), np.eye(3).tolist(), TOL) is None
+    assert short(np.zeros(3).view(np.recarray), np.eye(3), TOL) is None
+    assert short(np.zeros(3, dtype=np.float32), np.eye(3), TOL) is None
+    assert short(np.zeros(4), np.eye(3), TOL) is None
+    assert short(np.zeros(3), np.eye(3), TOL) is not None
+    with pytest.raises(TypeError):
+        short(np.zeros(3), np.eye(3))
 
 
 def test_target_is_a_checked_copy():

@@ -20,9 +20,9 @@ import numpy.typing as npt
 from .exceptions import TargetError
 
 try:  # the compiled twin of the pose check on the short way (optional: same verdict, faster)
-    from ._pose_check import exact_pose as _exact_pose
+    from ._pose_check import exact_copies as _exact_copies
 except ImportError:  # pragma: no cover - built wherever a C compiler is
-    _exact_pose = None
+    _exact_copies = None
 
 #: Largest ``max |R^T R - I|`` of a target rotation replaced by its nearest rotation matrix; a
 #: farther matrix is refused.
@@ -117,25 +117,6 @@ def _rotation(values: npt.ArrayLike) -> np.ndarray:
     )
 
 
-def _exact_copies(position: object, rotation: object) -> tuple[np.ndarray, np.ndarray] | None:
-    """Read-only copies of a float64 (3,) position and (3, 3) rotation that need no snap, or None.
-
-    The short way of a solve loop's arrays, checked by the compiled twin (``_pose_check``): all
-    finite, ``max |R^T R - I| <=`` :data:`_ROTATION_EXACT` and ``det R > 0`` (about 1.5 us less
-    than :func:`_vector` and :func:`_rotation`). None, for any other input, sends it the long
-    way, which says what is wrong.
-    """
-    if _exact_pose is None or type(position) is not np.ndarray or type(rotation) is not np.ndarray:
-        return None
-    # Checked after the copy (C order; dtypes and shapes checked there): what is kept is checked.
-    p, r = position.copy(), rotation.copy()
-    if not _exact_pose(p, r, _ROTATION_EXACT):
-        return None
-    p.setflags(write=False)
-    r.setflags(write=False)
-    return p, r
-
-
 _EYE = np.eye(3)
 
 
@@ -214,7 +195,12 @@ class PoseTarget:
         self, position: npt.ArrayLike, rotation: npt.ArrayLike, mask: object | None = None
     ):
         fields = self.__dict__  # frozen: set once here (cheaper than object.__setattr__)
-        exact = _exact_copies(position, rotation)
+        # The short way of a solve loop's float64 arrays: read-only copies made and checked by
+        # the compiled twin (all finite, max |R^T R - I| <= _ROTATION_EXACT, det R > 0; about
+        # 1.5 us less than _vector and _rotation); None sends anything else the long way, which
+        # says what is wrong.
+        short = _exact_copies
+        exact = None if short is None else short(position, rotation, _ROTATION_EXACT)
         if exact is None:
             fields["position"] = _vector(position, 3, "position")
             fields["rotation"] = _rotation(rotation)
