@@ -139,17 +139,18 @@ static inline PyObject *first_result(int n, Py_buffer *views, const char *error,
     return PyLong_FromLong(found);
 }
 
-/* The loop of a twin's first_many over n targets (rows of the mode's width), each from its own
-   start row, trying the scan steps in turn; writes the rows found to out, returns their count. */
-typedef Py_ssize_t (*FirstRows)(const void *params, int mode, const double *targets,
-                                const double *starts, Py_ssize_t n, const double *steps,
-                                Py_ssize_t n_steps, double *out);
+/* A twin's first(): of the k starts Q (rows of 7), the first with a branch inside the limits for
+   the prepared target T (mode 0: a pose, 12 values; 1: a position, 3), scanning by step; its
+   branch into result and its index, or -1 (result untouched). */
+typedef long (*FirstStart)(const void *params, int mode, const double *T, const double *Q,
+                           Py_ssize_t k, double step, double *result);
 
 /* A twin's first_many(params, [mode,] targets, starts, out, steps) -> count: the arguments
    checked (targets float64[N, 12] for a pose, mode 0, or [N, 3] for a position, mode 1; starts
-   and out float64[N, 7]; steps float64[m]), then rows() without the GIL. */
+   and out float64[N, 7]; steps float64[m]), then, without the GIL, first() of each target from
+   its own start row, the steps in turn until one gives a branch: returns how many did. */
 static inline PyObject *first_many_call(PyObject *args, int with_mode, Py_ssize_t count,
-                                        FirstRows rows)
+                                        FirstStart first)
 {
     PyObject *objs[5];
     static const char *const names[5] = {"params", "targets", "starts", "out", "steps"};
@@ -176,9 +177,18 @@ static inline PyObject *first_many_call(PyObject *args, int with_mode, Py_ssize_
     else if (steps->ndim != 1) error = "steps: not a float64 vector";
     if (error == NULL) {
         n = targets->shape[0];
+        const double *T = targets->buf, *Q = starts->buf, *step = steps->buf;
+        double *result = out->buf;
+        Py_ssize_t n_steps = steps->shape[0];
         Py_BEGIN_ALLOW_THREADS
-        found = rows(params->buf, mode, targets->buf, starts->buf, n, steps->buf, steps->shape[0],
-                     out->buf);
+        for (Py_ssize_t i = 0; i < n; i++) {
+            for (Py_ssize_t s = 0; s < n_steps; s++) {
+                if (first(params->buf, mode, T + width * i, Q + 7 * i, 1, step[s], result + 7 * i) == 0) {
+                    found++;
+                    break;
+                }
+            }
+        }
         Py_END_ALLOW_THREADS
     }
     release_buffers(5, views);

@@ -173,9 +173,10 @@ static void elbow_vector(const Params *P, double q5, double q6, double q7, doubl
 /* The first of the k starts Q (rows of 7) with a branch inside the limits for the target T (mode
    0: a pose, 12 values; 1: a position, 3): its branch nearest it into result, and its index; -1
    when none (result untouched). */
-static long first_start(const Params *P, int mode, const double *T, const double *Q, Py_ssize_t k,
-                        double step, double *result)
+static long first_start(const void *params, int mode, const double *T, const double *Q,
+                        Py_ssize_t k, double step, double *result)
 {
+    const Params *P = params;
     double W[3], X7[3], Z7[3];
     if (mode == 0) {
         const double *R = T + 3, *w7 = P->w7, *ax = P->ax7;
@@ -250,29 +251,10 @@ static PyObject *first(PyObject *self, PyObject *args)
     return first_result(4, views, error, found);
 }
 
-/* first_many's loop: first_start of each target from its own start, the steps in turn; how many
-   targets got a branch. */
-static Py_ssize_t first_rows(const void *params, int mode, const double *targets,
-                             const double *starts, Py_ssize_t n, const double *steps,
-                             Py_ssize_t n_steps, double *out)
-{
-    Py_ssize_t count = 0, width = mode == 0 ? 12 : 3;
-    for (Py_ssize_t i = 0; i < n; i++) {
-        for (Py_ssize_t s = 0; s < n_steps; s++) {
-            if (first_start(params, mode, targets + width * i, starts + 7 * i, 1, steps[s],
-                            out + 7 * i) == 0) {
-                count++;
-                break;
-            }
-        }
-    }
-    return count;
-}
-
 static PyObject *first_many(PyObject *self, PyObject *args)
 {
     (void)self;
-    return first_many_call(args, 1, PARAM_COUNT, first_rows);
+    return first_many_call(args, 1, PARAM_COUNT, first_start);
 }
 
 static PyMethodDef methods[] = {

@@ -202,9 +202,11 @@ static int try_q7(const Params *P, const double *T, const double *reach, double 
 
 /* The first of the k starts Q (rows of 7) with a branch inside the limits for the prepared target
    T: its branch nearest it into result, and its index; -1 when none (result untouched). */
-static long first_start(const Params *P, const double *T, const double *Q, Py_ssize_t k,
-                        double step, double *result)
+static long first_start(const void *params, int mode, const double *T, const double *Q,
+                        Py_ssize_t k, double step, double *result)
 {
+    const Params *P = params;
+    (void)mode; /* full poses only */
     /* |S - W|^2 at t7 is |e|^2 + |c7|^2 - 2 c7 . Rz(t7) e = base2 - cx cos t7 - cy sin t7. */
     double ex = T[9], ey = T[10], ez = T[11];
     double wx = P->c7[0], wy = P->c7[1], wz = P->c7[2];
@@ -253,33 +255,14 @@ static PyObject *first(PyObject *self, PyObject *args)
     long found = -1;
     const char *error = check_arrays(&params, PARAM_COUNT, &starts, &out);
     if (error == NULL)
-        found = first_start(params.buf, T, starts.buf, starts.shape[0], step, out.buf);
+        found = first_start(params.buf, 0, T, starts.buf, starts.shape[0], step, out.buf);
     return first_result(3, views, error, found);
-}
-
-/* first_many's loop: first_start of each target from its own start, the steps in turn; how many
-   targets got a branch (mode unused: full poses only). */
-static Py_ssize_t first_rows(const void *params, int mode, const double *targets,
-                             const double *starts, Py_ssize_t n, const double *steps,
-                             Py_ssize_t n_steps, double *out)
-{
-    (void)mode;
-    Py_ssize_t count = 0;
-    for (Py_ssize_t i = 0; i < n; i++) {
-        for (Py_ssize_t s = 0; s < n_steps; s++) {
-            if (first_start(params, targets + 12 * i, starts + 7 * i, 1, steps[s], out + 7 * i) == 0) {
-                count++;
-                break;
-            }
-        }
-    }
-    return count;
 }
 
 static PyObject *first_many(PyObject *self, PyObject *args)
 {
     (void)self;
-    return first_many_call(args, 0, PARAM_COUNT, first_rows);
+    return first_many_call(args, 0, PARAM_COUNT, first_start);
 }
 
 static PyMethodDef methods[] = {

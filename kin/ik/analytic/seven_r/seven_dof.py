@@ -29,7 +29,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..structure import SevenDof
-from .subproblems import harmonic_roots, pack_params, rotation_pair, scan
+from .subproblems import call_first_many, harmonic_roots, pack_params, rotation_pair, scan
 
 try:
     from . import _closed7  # type: ignore[attr-defined]
@@ -157,24 +157,19 @@ class SevenDofIK:
         """
         if _closed7 is None:
             return None
-        n = positions.shape[0]
-        out = np.full((n, 7), np.nan)
-        if n == 0:
-            return out
         if self._plain:
             points, frames = positions, rotations
         else:  # DH frame 0 and frame 7 (as prepare)
             points = (positions - self._base_t) @ self._base_r
             frames = None if rotations is None else self._base_r.T @ rotations @ self._tool_r.T
-        mode, targets = 1, np.ascontiguousarray(points, dtype=float)
+        mode, targets = 1, points
         if frames is not None:  # the frame-7 origin and R_0_7
+            n = positions.shape[0]
             mode, targets = (
                 0,
                 np.concatenate((points - frames @ self._tool_t, frames.reshape(n, 9)), 1),
             )
-        starts = np.ascontiguousarray(starts, dtype=float)
-        _closed7.first_many(self.c_params, mode, targets, starts, out, np.asarray(steps, float))
-        return out
+        return call_first_many(_closed7.first_many, (self.c_params, mode), targets, starts, steps)
 
     def first(
         self,

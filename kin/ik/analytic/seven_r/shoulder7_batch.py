@@ -15,7 +15,7 @@ import numpy.typing as npt
 from ...exceptions import TargetError
 from ..six_r._six_r import wrap_array
 from .shoulder7_structure import SphericalShoulder7R, Vec
-from .subproblems import harmonic_roots_array, rotation_pair_array
+from .subproblems import call_first_many, harmonic_roots_array, rotation_pair_array
 
 try:
     from . import _shoulder7  # type: ignore[attr-defined]
@@ -155,15 +155,11 @@ class Shoulder7Batch:
         """
         if _shoulder7 is None:
             return None
-        n = positions.shape[0]
-        out = np.full((n, 7), np.nan)
-        if rotations is None or n == 0:
-            return out
-        rk, e = self._prepare_array(positions, rotations)
-        targets = np.concatenate((rk.reshape(n, 9), e), axis=1)
-        starts = np.ascontiguousarray(starts, dtype=float)
-        _shoulder7.first_many(self.c_params, targets, starts, out, np.asarray(steps, dtype=float))
-        return out
+        targets = None
+        if rotations is not None:
+            rk, e = self._prepare_array(positions, rotations)
+            targets = np.concatenate((rk.reshape(-1, 9), e), axis=1)
+        return call_first_many(_shoulder7.first_many, (self.c_params,), targets, starts, steps)
 
 
 def _back_array(

@@ -9,7 +9,7 @@ parameters for its compiled twin (:func:`pack_params`). Angles in radians, lengt
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -99,6 +99,29 @@ def pack_params(
     if extra:
         raise ValueError(f"Python parameters not in the compiled layout: {extra}")
     return np.array(values, dtype=float)
+
+
+def call_first_many(
+    call: Callable[..., int],
+    head: tuple,
+    targets: np.ndarray | None,
+    starts: np.ndarray,
+    steps: Sequence[float],
+) -> np.ndarray:
+    """A compiled twin's ``first_many`` of N prepared targets: (N, 7) branches [rad], NaN rows.
+
+    ``call(*head, targets, starts, out, steps)``: ``head`` its leading arguments (the packed
+    parameters, and the mode where the twin takes one); ``targets`` (N, width) or None (no target
+    this form takes: every row NaN); ``starts`` (N, 7) [rad]; ``steps`` the scan steps [rad].
+    """
+    n = starts.shape[0]
+    out = np.full((n, 7), np.nan)
+    if targets is not None and n:
+        starts = np.ascontiguousarray(starts, dtype=float)
+        call(
+            *head, np.ascontiguousarray(targets, dtype=float), starts, out, np.asarray(steps, float)
+        )
+    return out
 
 
 def harmonic_roots_array(p: np.ndarray, q: np.ndarray, k: np.ndarray) -> np.ndarray:
