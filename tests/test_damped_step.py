@@ -72,8 +72,9 @@ def test_step_declines_what_it_cannot_take_and_leaves_out_alone():
 
 
 @needs_twin
+@pytest.mark.parametrize("posture", [False, True])
 @pytest.mark.parametrize("name", ["humanoid7", "panda", "ur5"])
-def test_damped_newton_with_and_without_the_twin(name):
+def test_damped_newton_with_and_without_the_twin(name, posture):
     robot = load_robot(name)
     model = robot.model
     data = model.createData()
@@ -86,8 +87,11 @@ def test_damped_newton_with_and_without_the_twin(name):
         pose = data.oMf[frame]
         position, rotation = pose.translation.copy(), pose.rotation.copy()
         start = np.clip(q + rng.normal(scale=0.3, size=robot.nq), robot.lower, robot.upper)
+        preferred = rng.uniform(robot.lower, robot.upper) if posture else None
         runs = [
-            dn.damped_newton(model, data, frame, start, position, rotation, compiled=twin)
+            dn.damped_newton(
+                model, data, frame, start, position, rotation, posture=preferred, compiled=twin
+            )
             for twin in (True, False)
         ]
         assert runs[0].converged == runs[1].converged

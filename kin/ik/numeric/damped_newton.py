@@ -266,7 +266,7 @@ def damped_newton(
                     dq = _step(jacobian, e, lam, identity, None)
         else:
             z = posture_gain * (posture - q)
-            dq = _step(jacobian, e, lam, identity, z)
+            dq = _step(jacobian, e, lam, identity, z, twin)
         if squared > 1e-4:  # far from the target: bound the step (inlined ``_bound``)
             values = dq.tolist()
             scale = max(max(values), -min(values))
@@ -286,7 +286,7 @@ def damped_newton(
                     dq = dot(x, jacobian) if info == 0 else _step(jacobian, e, lam, identity, None)
             else:
                 z[blocked] = 0.0
-                dq = _step(jacobian, e, lam, identity, z)
+                dq = _step(jacobian, e, lam, identity, z, twin)
             _bound(dq, max_step)
             stepped = np.minimum(np.maximum(q + dq, lower), upper)
         q = stepped
@@ -334,10 +334,19 @@ def _bound(dq: np.ndarray, max_step: float) -> None:
 
 
 def _step(
-    jacobian: np.ndarray, e: np.ndarray, lam: float, identity: np.ndarray, z: np.ndarray | None
+    jacobian: np.ndarray,
+    e: np.ndarray,
+    lam: float,
+    identity: np.ndarray,
+    z: np.ndarray | None,
+    twin: object = None,
 ) -> np.ndarray:
-    """``z + J^T (J J^T + lam I)^-1 (e - J z)`` through a Cholesky solve."""
+    """``z + J^T (J J^T + lam I)^-1 (e - J z)`` through a Cholesky solve (``twin``'s if given)."""
     rhs = e if z is None else e - jacobian @ z
+    if twin is not None:
+        dq = np.empty(jacobian.shape[1])
+        if twin(jacobian, rhs, lam, dq) == 0:  # type: ignore[operator]
+            return dq if z is None else dq + z
     normal = jacobian @ jacobian.T + lam * identity
     x, info = (_LINALG or NUMPY_LINALG)[1](normal, rhs)
     if info != 0:  # not positive definite (no damping at an exact singularity)
