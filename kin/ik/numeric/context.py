@@ -49,6 +49,7 @@ class NumericContext(Protocol):
     closed_form: Any
     idealised: Any
     compiled: bool
+    compiled_step: bool
     closed_form_starts: int
     closed_form_steps: tuple[float, ...]
     near_seed: bool

@@ -19,7 +19,6 @@ import numpy as np
 
 from ..reach import REACH_COST, known_reach
 from ..result import IKResult, IKSolution
-from .damped_newton import COMPILED as COMPILED_STEP
 from .damped_newton import LINALG_COST, NewtonOutcome, damped_newton, linalg_within
 from .numeric_target import NumericTarget
 
@@ -143,7 +142,7 @@ class Search:
         """Damped Newton from ``q0`` (``patience``, ``leash``: see :func:`damped_newton`), counted."""
         ik, target = self.ik, self.target
         if self.linalg is None:  # SciPy's import pays off only for steps the twin does not take
-            twin = ik.compiled and COMPILED_STEP and target.rotation is not None
+            twin = ik.compiled_step and target.rotation is not None
             self.linalg = linalg_within(not twin and self.affords(LINALG_COST))
         outcome = damped_newton(
             ik.search_model,
@@ -159,7 +158,7 @@ class Search:
             patience=patience,
             leash=leash,
             linalg=self.linalg,
-            compiled=ik.compiled,
+            compiled=ik.compiled_step,
         )
         self.iterations += outcome.iterations
         self.attempts += 1

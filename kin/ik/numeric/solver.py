@@ -46,6 +46,7 @@ from ..reach import Reach, arm_reach, reach_bound
 from ..result import IKResult
 from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
 from . import seed_cache
+from .damped_newton import COMPILED as COMPILED_STEP
 from .damped_newton import load_linalg
 from .differential_ik import DifferentialIK
 from .free_joint import METHOD as FREE_JOINT
@@ -139,7 +140,9 @@ class NumericIK:
             outward from there, on the coarse grid first.
         compiled: Run the free-joint closed form's compiled twin (``_closed7`` for humanoid7's
             structure, ``_shoulder7`` for the spherical shoulder) when it is built (False: the
-            Python module). Both return the same joint vectors; the twin is faster.
+            Python module). Both return the same joint vectors; the twin is faster. Damped
+            Newton's steps take their compiled twin too (``_damped_step``; False: NumPy's, the
+            same joint vectors to rounding).
         prepare: Build (or load) the seed table now (False: on the first solve that can afford
             it within its time budget, see :meth:`solve`).
     """
@@ -245,6 +248,8 @@ class NumericIK:
         self.closed_form_steps = tuple(closed_form_steps)
         #: Whether the closed form runs its compiled twin (asked for and built).
         self.compiled = compiled and self.closed_form is not None and self.closed_form.compiled_twin
+        #: Whether damped Newton's steps run their compiled twin (asked for and built).
+        self.compiled_step = compiled and COMPILED_STEP
         # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
         # that share a solver get the answers one thread would).
         self._lock = threading.Lock()
@@ -253,10 +258,11 @@ class NumericIK:
         # The seed table (tens of milliseconds to build, a few to load) and, for an arm without
         # a free-joint closed form (whose targets all go to damped Newton), SciPy's LAPACK for
         # the steps (imported once per process) come with the solver, not inside a solve's
-        # budget. A solve that finds SciPy not loaded and cannot afford it uses NumPy's.
+        # budget. A solve that finds SciPy not loaded and cannot afford it uses NumPy's; with
+        # the steps' compiled twin (COMPILED_STEP) SciPy is not needed at all.
         if prepare:
             _ = self.table
-            if self.closed_form is None:
+            if self.closed_form is None and not self.compiled_step:
                 load_linalg()
 
     @property
