@@ -1,0 +1,220 @@
+"""The compiled reader of ``kin ik --stdin``'s plainest lines (kin/commands/_plain_lines.c).
+
+The json module is the reference: a line the reader takes (kind 1 or 2) must be one the json
+module reads as ``{"target": [...]}`` or ``{"target": [...], "rpy": [...]}``, with the same
+float64 values bit for bit (``np.array(..., dtype=float)`` of what it gives, as the stream's
+Python path makes them); every other line is left to it (kind 0).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from kin.commands import ik_stream
+
+needs_twin = pytest.mark.skipif(ik_stream._read_plain is None, reason="_plain_lines not built")
+
+
+def read(lines: list[bytes]) -> tuple[np.ndarray, np.ndarray]:
+    kinds, values = ik_stream._read_plain(lines)
+    return np.frombuffer(kinds, dtype=np.uint8), np.frombuffer(values).reshape(-1, 6)
+
+
+def expected(line: bytes) -> tuple[int, np.ndarray]:
+    """What the json module makes of a line: (kind, six float64 values, NaN where absent)."""
+    values = np.full(6, np.nan)
+    try:
+        request = json.loads(line)
+    except (ValueError, RecursionError):
+        return 0, values
+    if request.__class__ is not dict or "target" not in request:
+        return 0, values
+    if set(request) == {"target"}:
+        kind = 1
+    elif set(request) == {"target", "rpy"} and list(request) == ["target", "rpy"]:
+        kind = 2
+    else:
+        return 0, values
+    try:
+        with np.errstate(all="ignore"):
+            values[:3] = np.array(request["target"], dtype=float)
+            if kind == 2:
+                values[3:] = np.array(request["rpy"], dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        return 0, values
+    return kind, values
+
+
+def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
+    """Equal as float64 bit patterns (NaN equal to NaN, -0.0 not equal to 0.0)."""
+    return bool(np.all((a.view(np.int64) == b.view(np.int64)) | (np.isnan(a) & np.isnan(b))))
+
+
+numbers = st.one_of(
+    st.floats(allow_nan=False, allow_infinity=False),
+    st.floats(min_value=-10.0, max_value=10.0),
+    st.integers(min_value=-(10**30), max_value=10**30),
+    st.sampled_from([0, -0.0, 0.0, 5e-324, 1.7976931348623157e308, 1e-300, 0.1, 1e22]),
+)
+texts = st.one_of(
+    st.sampled_from(
+        [
+            "-0",
+            "-0.0",
+            "1e400",
+            "-1e400",
+            "1E+2",
+            "1e-2",
+            "0.5e-3",
+            "123456789012345678901234567890",
+        ]
+    ),
+    numbers.map(json.dumps),
+)
+
+
+@needs_twin
+@settings(max_examples=400, deadline=None)
+@given(st.lists(texts, min_size=6, max_size=6), st.booleans())
+def test_canonical_lines_read_as_json_reads_them(tokens, with_rpy):
+    """A line as json.dumps writes it (and any JSON number spelling): the json module's floats."""
+    line = '{"target": [' + ", ".join(tokens[:3]) + "]"
+    line += (', "rpy": [' + ", ".join(tokens[3:]) + "]}") if with_rpy else "}"
+    kind, values = read([line.encode()])
+    want_kind, want = expected(line.encode())
+    assert kind[0] == want_kind == (2 if with_rpy else 1)
+    assert same_bits(values[0], want), (line, values[0], want)
+
+
+canonical = b'{"target": [0.25, -1, 3e-2], "rpy": [0.0, -0.5, 1.5]}'
+mutations = st.one_of(
+    st.binary(max_size=80),
+    st.tuples(st.integers(0, len(canonical)), st.binary(max_size=3)).map(
+        lambda c: canonical[: c[0]] + c[1] + canonical[c[0] :]
+    ),
+    st.tuples(st.integers(0, len(canonical)), st.integers(1, 4)).map(
+        lambda c: canonical[: c[0]] + canonical[c[0] + c[1] :]
+    ),
+    st.sampled_from(
+        [
+            b"",
+            b" ",
+            b'{"target": [1, 2, 3]} ',
+            b'{"target": [1, 2, 3]}\r',
+            b'{"target":[1,2,3]}',
+            b'{"target": [01, 2, 3]}',
+            b'{"target": [+1, 2, 3]}',
+            b'{"target": [.5, 2, 3]}',
+            b'{"target": [5., 2, 3]}',
+            b'{"target": [NaN, 2, 3]}',
+            b'{"target": [Infinity, 2, 3]}',
+            b'{"target": [1_0, 2, 3]}',
+            b'{"target": [1, 2]}',
+            b'{"target": [1, 2, 3, 4]}',
+            b'{"target": [1, 2, 3], "rpy": [1, 2, 3], "seed_q": [0]}',
+            b'{"rpy": [1, 2, 3], "target": [1, 2, 3]}',
+            b'{"target": [1, 2, 3], "rpy": [true, 2, 3]}',
+            b'{"target": [1, 2, 3]}{"target": [1, 2, 3]}',
+            b'{"target": [1, 2, 3], "target": [4, 5, 6]}',
+            b'{"target": [' + b"1" * 60 + b", 2, 3]}",
+            b'{"target": [1e, 2, 3]}',
+            b'{"target": [1e+, 2, 3]}',
+            b'{"target": [-, 2, 3]}',
+            b'{"target": [1, 2, 3\xff]}',
+        ]
+    ),
+)
+
+
+@needs_twin
+@settings(max_examples=600, deadline=None)
+@given(st.lists(mutations, min_size=1, max_size=5))
+def test_any_line_is_read_as_json_reads_it_or_left_to_it(lines):
+    """Hostile lines: the reader never takes a line the json module reads otherwise or rejects."""
+    kinds, values = read(lines)
+    assert len(kinds) == len(lines)
+    for line, kind, row in zip(lines, kinds, values):
+        if kind == 0:
+            assert np.isnan(row).all()
+            continue
+        want_kind, want = expected(line)
+        assert kind == want_kind, line
+        assert same_bits(row, want), (line, row, want)
+
+
+@needs_twin
+def test_reader_takes_any_sequence_and_refuses_the_rest():
+    kinds, _ = read([b'{"target": [1, 2, 3]}', '{"target": [1, 2, 3]}', None, 3])
+    assert kinds.tolist() == [1, 0, 0, 0]  # str and other objects: the json module's
+    assert read([])[0].size == 0
+    with pytest.raises(TypeError):
+        ik_stream._read_plain(5)
+
+
+@needs_twin
+def test_stream_with_and_without_the_reader_gives_the_same_lines():
+    """Through a pipe (bytes, so the reader runs) and with it switched off: the same answers.
+
+    Reachable poses (the tool poses of random q), so that no answer depends on a time budget.
+    """
+    from kin import load_robot
+    from kin.batch_fk import batch_forward_kinematics
+
+    robot = load_robot("humanoid7")
+    rng = np.random.default_rng(3)
+    poses = batch_forward_kinematics(robot.table, rng.uniform(robot.lower, robot.upper, (120, 7)))
+    lines = []
+    for k, pose in enumerate(poses):
+        x, y, z = pose[:3, 3].tolist()
+        m = pose[:3, :3]
+        r = math.atan2(m[2, 1], m[2, 2])
+        p = math.asin(-max(-1.0, min(1.0, m[2, 0])))
+        w = math.atan2(m[1, 0], m[0, 0])
+        form = k % 6
+        if form == 0:
+            lines.append(json.dumps({"target": [x, y, z]}))
+        elif form == 1:
+            lines.append(f'{{"target": [{x!r}, {y!r}, {z!r}], "rpy": [-0, 0, 1e400]}}')  # error
+        elif form == 2:
+            lines.append(f'{{"target":[{x!r},{y!r},{z!r}],"rpy":[{r!r},{p!r},{w!r}]}}')
+        else:
+            lines.append(json.dumps({"target": [x, y, z], "rpy": [r, p, w]}))
+    text = "\n".join(lines) + "\n"
+    code = (
+        "import sys\n"
+        "from kin.commands import ik_stream, main\n"
+        "if sys.argv[1] == 'off':\n"
+        "    ik_stream._read_plain = None\n"
+        "else:  # count the lines the reader takes\n"
+        "    reader, taken = ik_stream._read_plain, []\n"
+        "    def counted(lines):\n"
+        "        kinds, values = reader(lines)\n"
+        "        taken.append(sum(k > 0 for k in kinds))\n"
+        "        return kinds, values\n"
+        "    ik_stream._read_plain = counted\n"
+        "code = main(['ik', '--robot', 'humanoid7', '--stdin'])\n"
+        "if sys.argv[1] == 'on':\n"
+        "    print(sum(taken), file=sys.stderr)\n"
+        "raise SystemExit(code)\n"
+    )
+    outputs = []
+    for switch in ("on", "off"):
+        done = subprocess.run(
+            [sys.executable, "-c", code, switch], input=text.encode(), capture_output=True
+        )
+        if switch == "on":  # forms 0, 1, 3, 4 and 5 (not the compact 2): 100 lines taken
+            assert int(done.stderr.decode().split()[-1]) == 100
+        answers = [json.loads(line) for line in done.stdout.decode().splitlines()]
+        for answer in answers:
+            answer.pop("time_s", None)
+        outputs.append(answers)
+    assert len(outputs[0]) == len(lines)
+    assert outputs[0] == outputs[1]
