@@ -43,6 +43,7 @@ import pinocchio as pin
 
 from kin import KinError, RobotModel, as_joint_vector
 
+from .analytic.branch_verification import wrap
 from .exceptions import StructureError, TargetError
 from .judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
 from .reach import reach_bound
@@ -332,25 +333,15 @@ class PartialPoseIK:
         return float(e @ e)
 
     def _wrapped(self, q: np.ndarray, seed: np.ndarray) -> tuple[np.ndarray, bool]:
-        """``q`` with each revolute angle moved by 2 pi into the limits, nearest the seed."""
+        """``q`` with each revolute angle moved by 2 pi into the limits, nearest the seed.
+
+        The closed forms' choice of copy (:func:`~.analytic.branch_verification.wrap`); whether
+        every joint is inside its limits is then judged without their slack.
+        """
         out = q.copy()
-        inside = True
-        for i in range(self.nq):
-            lower, upper = self.lower[i], self.upper[i]
-            if self.revolute[i]:
-                turns = math.floor((seed[i] - out[i]) / (2.0 * math.pi) + 0.5)
-                value = out[i] + 2.0 * math.pi * turns
-                if not lower <= value <= upper:
-                    candidates = [
-                        value + 2.0 * math.pi * k
-                        for k in (-2, -1, 1, 2)
-                        if lower <= value + 2.0 * math.pi * k <= upper
-                    ]
-                    if candidates:
-                        value = min(candidates, key=lambda v: abs(v - seed[i]))
-                out[i] = value
-            if not lower <= out[i] <= upper:
-                inside = False
+        for i in np.flatnonzero(self.revolute).tolist():
+            out[i] = wrap(float(out[i]), float(seed[i]), self.lower[i], self.upper[i])[0]
+        inside = bool(np.all(out >= self.lower) and np.all(out <= self.upper))
         return out, inside
 
     def _judged(
