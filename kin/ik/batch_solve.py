@@ -260,7 +260,7 @@ def free_joint_answers(
         candidates = first_each(targets, seeds)
         candidates[skipped] = np.nan
     else:
-        _first_one_by_one(closed, solver, points, frames, seeds, near_rows, skipped, candidates)
+        _branches_from_seeds(closed, solver, points, frames, seeds, near_rows, skipped, candidates)
     if near_rows.any():  # kept only within seed_near of the seed (else the call's damped Newton)
         moved = np.abs(candidates - seeds).max(axis=1)
         candidates[near_rows & ~(moved <= getattr(solver, "seed_near", 0.0))] = np.nan
@@ -286,7 +286,7 @@ def free_joint_answers(
     return candidates, position_error, rotation_error
 
 
-def _first_one_by_one(
+def _branches_from_seeds(
     closed: Any,
     solver: object,
     points: np.ndarray,
