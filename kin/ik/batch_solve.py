@@ -352,7 +352,10 @@ def _near_seeds(
     if not getattr(solver, "near_seed", False):
         return near, near
     reach = max(solver.seed_reach, solver.seed_radius)  # type: ignore[attr-defined]
-    tools = batch_forward_kinematics(robot.table, seeds)
+    if n > 1 and seeds.strides[0] == 0:  # one seed for all (a broadcast view): one FK
+        tools = np.broadcast_to(batch_forward_kinematics(robot.table, seeds[:1]), (n, 4, 4))
+    else:
+        tools = batch_forward_kinematics(robot.table, seeds)
     with np.errstate(all="ignore"):  # a target 1e200 m away is far (inf), no warning
         offset = tools[:, :3, 3] - points
         near = np.hypot(np.hypot(offset[:, 0], offset[:, 1]), offset[:, 2]) <= reach
