@@ -171,10 +171,10 @@ def damped_newton(
             near ``q0``, if any, is not where the steps go. None: no leash.
         linalg: ``(syrk, posv)`` of the steps (:func:`linalg_within`), or None: SciPy's,
             imported now if it is not yet.
-        compiled: Solve a full pose's steps with the compiled twin when it is built
-            (:data:`COMPILED`; the same Cholesky solve in one call, about 6 us less per step);
-            ``linalg`` then serves only where the twin declines (a matrix that is not positive
-            definite) and for the posture pull.
+        compiled: Solve a full pose's steps (the posture pull's too) with the compiled twin
+            when it is built (:data:`COMPILED`; the same Cholesky solve in one call, about 6 us
+            less per step); ``linalg`` then serves only where the twin declines (a normal matrix
+            that is not positive definite).
     """
     # The loop runs a few microseconds per step: names are bound once, buffers are reused,
     # scalar work is done on Python floats (a NumPy call costs about a microsecond).
