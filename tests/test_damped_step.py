@@ -1,8 +1,11 @@
 """The compiled twin of damped Newton's step (kin/ik/numeric/_damped_step.c) against NumPy.
 
-The twin solves ``J^T (J J^T + lam I)^-1 e`` by Cholesky in one call; NumPy's LU solve of the
-same normal equations is the independent reference. A whole damped Newton run with and without
-the twin reaches the same joint vector (to rounding) in the same number of steps.
+The twin solves ``J^T (J J^T + lam I)^-1 e`` by Cholesky in one call (NumPy's LU solve of the
+same normal equations is the reference), measures the pose error with its own rotation vector
+(Pinocchio's ``log3`` and the exact rotation vector ``exp3`` was given are the references) and
+takes the bounded step (the Python arithmetic it replaces is the reference). A whole damped
+Newton run with and without the twin reaches the same joint vector (to rounding) in the same
+number of steps.
 """
 
 from __future__ import annotations
@@ -72,6 +75,55 @@ def test_step_declines_what_it_cannot_take_and_leaves_out_alone():
 
 
 @needs_twin
+@pytest.mark.parametrize("angle", [0.0, 1e-12, 1e-6, 0.3, 2.0, 2.7, 3.0, np.pi - 1e-6, np.pi])
+def test_pose_error_is_the_rotation_vector(angle):
+    from kin.ik.numeric._damped_step import pose_error
+
+    rng = np.random.default_rng(int(angle * 1000))
+    for _ in range(200):
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        orientation = pin.SE3.Random().rotation  # Pinocchio's view: column-major, any strides
+        rotation = pin.exp3(axis * angle) @ orientation
+        position, translation = rng.normal(size=3), rng.normal(size=3)
+        e = np.full(6, np.nan)
+        squared = pose_error(position, translation, rotation, orientation, e)
+        np.testing.assert_array_equal(e[:3], position - translation)
+        exact = axis * angle
+        if angle > np.pi - 1e-5 and e[3:] @ exact < 0:  # a half turn: either direction
+            exact = -exact
+        np.testing.assert_allclose(e[3:], exact, rtol=0, atol=1e-14)
+        reference = pin.log3(rotation @ orientation.T)
+        assert abs(np.linalg.norm(e[3:]) - np.linalg.norm(reference)) < 1e-12
+        assert squared[0] == pytest.approx(e[:3] @ e[:3], rel=1e-15, abs=0.0)
+        assert squared[1] == pytest.approx(e[3:] @ e[3:], rel=1e-15, abs=0.0)
+    assert pose_error(np.zeros(2), np.zeros(3), np.eye(3), np.eye(3), np.empty(6)) is None
+    assert pose_error(np.zeros(3), np.zeros(3), np.eye(3), np.eye(3), np.empty(5)) is None
+
+
+@needs_twin
+def test_advance_is_the_python_arithmetic():
+    from kin.ik.numeric._damped_step import advance
+
+    rng = np.random.default_rng(5)
+    lower, upper = -np.ones(7), np.ones(7)
+    for _ in range(500):
+        q = rng.uniform(-1.0, 1.0, 7)
+        dq = rng.normal(scale=rng.choice([0.01, 0.3, 2.0]), size=7)
+        bound = float(rng.choice([0.0, 0.5]))
+        expected = dq.copy()
+        if bound and np.abs(expected).max() > bound:
+            expected *= bound / np.abs(expected).max()
+        stepped = np.full(7, np.nan)
+        inside = advance(dq, bound, q, lower, upper, stepped)
+        np.testing.assert_array_equal(dq, expected)
+        np.testing.assert_array_equal(stepped, q + expected)
+        assert inside == int(np.all((q + expected >= lower) & (q + expected <= upper)))
+    assert advance(np.zeros(6), 0.0, np.zeros(7), lower, upper, np.zeros(7)) == -1
+    assert advance(np.zeros(7, np.float32), 0.0, np.zeros(7), lower, upper, np.zeros(7)) == -1
+
+
+@needs_twin
 @pytest.mark.parametrize("posture", [False, True])
 @pytest.mark.parametrize("name", ["humanoid7", "panda", "ur5"])
 def test_damped_newton_with_and_without_the_twin(name, posture):
@@ -94,6 +146,12 @@ def test_damped_newton_with_and_without_the_twin(name, posture):
             )
             for twin in (True, False)
         ]
+        alone = [  # a position target: the same steps with and without the twin, bit for bit
+            dn.damped_newton(model, data, frame, start, position, None, compiled=twin)
+            for twin in (True, False)
+        ]
+        np.testing.assert_array_equal(alone[0].q, alone[1].q)
+        assert alone[0].iterations == alone[1].iterations
         assert runs[0].converged == runs[1].converged
         assert runs[0].iterations == runs[1].iterations
         np.testing.assert_allclose(runs[0].q, runs[1].q, rtol=0, atol=1e-9)
