@@ -70,20 +70,38 @@ static inline int harmonic_roots(double p, double q, double k, double *t)
     return 2;
 }
 
-/* seven_r/subproblems.rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d (|v| = |d|),
-   sa, ca = sin alpha, cos alpha. Returns how many pairs (0 to 2). */
-static inline int rotation_pair(double sa, double ca, const double *v, const double *d,
-                                double *ta, double *tb)
+/* Whether some angle + 2 pi k [rad] lies within [lo, hi] widened by 1e-9 rad (always when the
+   range spans a turn, or a limit is not finite): a test that never fails for an angle that a
+   limit check (plain, or moving it by whole turns) would keep. */
+static inline int may_fit(double angle, double lo, double hi)
 {
-    int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], tb);
+    double half = 0.5 * (hi - lo);
+    if (!(half < 0.5 * TWO_PI)) return 1;
+    return fabs(remainder(angle - 0.5 * (lo + hi), TWO_PI)) <= half + 1e-9;
+}
+
+/* seven_r/subproblems.rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d
+   (|v| = |d|), sa, ca = sin alpha, cos alpha, without the pairs whose tb - off_b fits no joint
+   value in [lo_b, hi_b] (may_fit: the caller's limit check would drop them; their ta is not
+   computed). The pairs kept are the Python function's, in its order, with the same arithmetic.
+   Returns how many (0 to 2). */
+static inline int rotation_pair_fit(double sa, double ca, const double *v, const double *d,
+                                    double *ta, double *tb, double off_b, double lo_b,
+                                    double hi_b)
+{
+    double roots[2];
+    int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], roots), kept = 0;
+    for (int i = 0; i < n; i++)
+        if (may_fit(roots[i] - off_b, lo_b, hi_b)) tb[kept++] = roots[i];
+    if (kept == 0) return 0;
     double heading = atan2(d[1], d[0]);
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < kept; i++) {
         double cb = cos(tb[i]), sb = sin(tb[i]);
         double mx = v[0] * cb - v[1] * sb;
         double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
         ta[i] = heading - atan2(my, mx);
     }
-    return n;
+    return kept;
 }
 
 /* A C-contiguous float64 buffer of obj in view; 0 and a Python error otherwise. */

@@ -1,8 +1,9 @@
 /*
  * Compiled twin of kin/ik/analytic/seven_dof.py (SevenDofIK.pose / SevenDofIK.position and the choice of the
- * branch nearest a start): the same arithmetic, operation for operation, for speed. The Python
- * module is the reference and the fallback when this extension is not built; the tests compare the
- * two. Angles in radians, lengths in meters.
+ * branch nearest a start): the same arithmetic, operation for operation, for speed, except that
+ * the angle pairs a limit check drops are dropped before their second angle is computed
+ * (rotation_pair_fit in ../_twin.h). The Python module is the reference and the fallback when
+ * this extension is not built; the tests compare the two. Angles in radians, lengths in meters.
  *
  * first(params, mode, target, starts, out, step) -> int
  *   params: float64[PARAM_COUNT], SevenDofIK.c_params (CLOSED7_PARAMS below, exported as LAYOUT);
@@ -75,7 +76,7 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, Ar
         double vy0 = ux * s4 + uy * c4 - sy, vz0 = uz - sz;
         double v[3] = {ux * c4 - uy * s4 - sx, c3 * vy0 - s3 * vz0, s3 * vy0 + c3 * vz0};
         double t2s[2], t3s[2];
-        int n3 = rotation_pair(S[1], C[1], v, dv, t2s, t3s);
+        int n3 = rotation_pair_fit(S[1], C[1], v, dv, t2s, t3s, off[2], P->lo[2], P->hi[2]);
         for (int j = 0; j < n3; j++) {
             double t2 = t2s[j], t3 = t3s[j];
             double q3 = remainder(t3 - off[2], TWO_PI);
@@ -118,7 +119,7 @@ static int pose(const Params *P, double q1, const double *W, const double *X7, c
         /* Rz(t5) Rx(alpha5) Rz(t6) g = z4. */
         double s5 = S[4], c5 = C[4], s6 = S[5], c6 = C[5];
         double z4[3] = {zx, zy, zz}, t5s[2], t6s[2];
-        int n6 = rotation_pair(s5, c5, g, z4, t5s, t6s);
+        int n6 = rotation_pair_fit(s5, c5, g, z4, t5s, t6s, off[5], P->lo[5], P->hi[5]);
         for (int j = 0; j < n6; j++) {
             double t5 = t5s[j], t6 = t6s[j];
             double q5 = remainder(t5 - off[4], TWO_PI);

@@ -1,9 +1,10 @@
 /*
  * Compiled twin of kin/ik/analytic/spherical_shoulder7.py (SphericalShoulder7RIK.first with its
  * branches, the joint-7 scan and the branch nearest a start): the same arithmetic, operation for
- * operation, for speed. The Python module is the reference and the fallback when this extension
- * is not built; tests/test_shoulder7_parity.py compares the two. Angles in radians, lengths in
- * meters.
+ * operation, for speed, except that the angle pairs a limit check drops are dropped before their
+ * second angle is computed (rotation_pair_fit in ../_twin.h). The Python module is the reference
+ * and the fallback when this extension is not built; tests/test_shoulder7_parity.py compares the
+ * two. Angles in radians, lengths in meters.
  *
  * first(params, target, starts, out, step) -> int
  *   params: float64[PARAM_COUNT], SphericalShoulder7RIK.c_params (SHOULDER7_PARAMS below,
@@ -131,7 +132,7 @@ static int branches(const Params *P, const double *T, double q7, const double *n
         double z4[3] = {s4 * s[4], c[5] * zy + s[5] * zz, c[5] * zz - s[5] * zy};
         double x4[3] = {c4, -c[5] * s4, s[5] * s4};
         double t5s[2], t6s[2];
-        int n6 = rotation_pair(s[6], c[6], v6, d, t5s, t6s);
+        int n6 = rotation_pair_fit(s[6], c[6], v6, d, t5s, t6s, off[5], P->lo[5], P->hi[5]);
         for (int w = 0; w < n6; w++) {
             double t5 = t5s[w], t6 = t6s[w];
             if (!into_limits(P, 4, t5 - off[4], near, &q[4])) continue;
@@ -141,7 +142,7 @@ static int branches(const Params *P, const double *T, double q7, const double *n
             back(k6, turn, z4[0], z4[1], z4[2], z);
             back(k6, turn, x4[0], x4[1], x4[2], x);
             double t1s[2], t2s[2];
-            int n2 = rotation_pair(s[2], c[2], v3, z, t1s, t2s);
+            int n2 = rotation_pair_fit(s[2], c[2], v3, z, t1s, t2s, off[1], P->lo[1], P->hi[1]);
             for (int h = 0; h < n2; h++) {
                 double t1 = t1s[h], t2 = t2s[h];
                 if (!into_limits(P, 0, t1 - off[0], near, &q[0])) continue;
