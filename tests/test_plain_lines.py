@@ -218,3 +218,42 @@ def test_stream_with_and_without_the_reader_gives_the_same_lines():
         outputs.append(answers)
     assert len(outputs[0]) == len(lines)
     assert outputs[0] == outputs[1]
+
+
+def test_an_encoded_answer_is_the_records_json():
+    """A plain line's answer, written by the stream's own encoder, is what ``json.dumps`` writes for
+    the same answer through the records path (a line with a ``seed_q`` equal to the default
+    seed): the same keys in the same order, the same values; positions and poses."""
+    from kin import load_robot
+    from kin.batch_fk import batch_forward_kinematics
+
+    robot = load_robot("humanoid7")
+    rng = np.random.default_rng(8)
+    poses = batch_forward_kinematics(robot.table, rng.uniform(robot.lower, robot.upper, (40, 7)))
+    lines = []
+    for k, pose in enumerate(poses):
+        x, y, z = pose[:3, 3].tolist()
+        m = pose[:3, :3]
+        rpy = [
+            math.atan2(m[2, 1], m[2, 2]),
+            math.asin(-max(-1.0, min(1.0, m[2, 0]))),
+            math.atan2(m[1, 0], m[0, 0]),
+        ]
+        plain = {"target": [x, y, z]} if k % 2 else {"target": [x, y, z], "rpy": rpy}
+        lines.append(json.dumps(plain))
+        lines.append(json.dumps({**plain, "seed_q": [0.0] * 7}))
+    done = subprocess.run(
+        [sys.executable, "-m", "kin", "ik", "--robot", "humanoid7", "--stdin"],
+        input=("\n".join(lines) + "\n").encode(),
+        capture_output=True,
+    )
+    answers = [json.loads(line) for line in done.stdout.decode().splitlines()]
+    assert len(answers) == len(lines)
+    for encoded, record in zip(answers[::2], answers[1::2]):
+        assert encoded["success"] and record["success"]
+        assert encoded["line"] + 1 == record["line"]
+        for answer in (encoded, record):
+            answer.pop("time_s")
+            answer.pop("line")
+        assert list(encoded) == list(record)
+        assert encoded == record

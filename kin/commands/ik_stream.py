@@ -375,24 +375,33 @@ class StreamSolver:
         units = json.dumps(list(self.units.si_labels))
         answers: dict[int, str] = {}
         found = ~np.isnan(q).any(axis=1)
-        # Lists once (a NumPy scalar per value costs more than the value's repr); a row by one
-        # %-format of reprs (about 1.5 us a line less than repr(list) or ", ".join(map(repr))).
-        row_format = ", ".join(["%r"] * q.shape[1])
-        solved = zip(
-            rows[found].tolist(),
-            q[found].tolist(),
-            position_error[found].tolist(),
-            rotation_error[found].tolist() if poses else [None] * int(found.sum()),
-        )
         tried.update(indices[row] for row in rows[~found].tolist())
-        for row, values, position, rotation in solved:
-            index = indices[row]
-            answers[index] = (
-                f'{head}{row_format % tuple(values)}], "branch": "", '
-                f'"within_limits": true, "position_error_m": {position!r}, '
-                f'"rotation_error_rad": {"null" if rotation is None else repr(rotation)}}}], '
-                f'{tail}{before + index + 1}, "q_units": {units}}}\n'
+        # A line by one %-format of the values' reprs (the json module's for a finite float),
+        # from lists made once (a NumPy scalar per value costs more than the value's repr).
+        line_format = "".join(
+            (
+                head.replace("%", "%%"),
+                ", ".join(["%r"] * q.shape[1]),
+                '], "branch": "", "within_limits": true, "position_error_m": %r, ',
+                '"rotation_error_rad": %r}], ' if poses else '"rotation_error_rad": null}], ',
+                tail.replace("%", "%%"),
+                '%d, "q_units": ',
+                units.replace("%", "%%"),
+                "}\n",
             )
+        )
+        first = before + 1  # the number of line index 0
+        chosen = [indices[row] for row in rows[found].tolist()]
+        values = q[found].tolist()
+        if poses:
+            solved = zip(
+                chosen, values, position_error[found].tolist(), rotation_error[found].tolist()
+            )
+            for index, row, position, rotation in solved:
+                answers[index] = line_format % (*row, position, rotation, first + index)
+        else:
+            for index, row, position in zip(chosen, values, position_error[found].tolist()):
+                answers[index] = line_format % (*row, position, first + index)
         return answers
 
     def _batched(self, target: Target) -> bool:
