@@ -99,3 +99,51 @@ def test_rounded_seven_joint_arm_gets_its_closed_form_polished():
         assert result.method == "closed_form_free_joint"
         reached = pin.SE3(reference.pose(result.solutions[0].q))
         assert np.linalg.norm(reached.translation - pose.translation) < 1e-12
+
+
+def test_polish_with_and_without_the_twin_and_its_fallback(monkeypatch):
+    """The polish of xArm7's idealised answers: damped Newton's twin (minimum-norm Cholesky steps,
+    its own rotation vector) and NumPy's least squares reach the same joint vector on the true
+    chain; a twin whose steps go nowhere hands over to NumPy's, which still reaches it."""
+    from kin.ik.analytic import idealised
+    from kin.ik.numeric import damped_newton
+
+    if not damped_newton.COMPILED:
+        pytest.skip("kin/ik/numeric/_damped_step not built")
+    relative, base, tip = ARMS["xarm7"]
+    robot = load_robot(erd(relative), base, tip)
+    ideal = idealised.idealise(robot.table)
+    assert ideal is not None
+    model, data = robot.model, robot.model.createData()
+    frame = model.getFrameId(robot.tool_frame)
+    rng = np.random.default_rng(5)
+    starts, targets = [], []
+    for q in rng.uniform(robot.lower, robot.upper, size=(60, robot.nq)):
+        pin.forwardKinematics(model, data, q)
+        pose = pin.updateFramePlacement(model, data, frame)
+        targets.append((pose.translation.copy(), pose.rotation.copy()))
+        starts.append(q + rng.normal(scale=1e-5, size=robot.nq))  # an idealised answer's offset
+
+    def polished(compiled: bool) -> list[np.ndarray]:
+        return [
+            idealised.polish(model, data, frame, q, p, r, compiled)
+            for q, (p, r) in zip(starts, targets)
+        ]
+
+    def miss(q: np.ndarray, p: np.ndarray, r: np.ndarray) -> float:
+        pin.forwardKinematics(model, data, q)
+        pose = pin.updateFramePlacement(model, data, frame)
+        return max(np.abs(pose.translation - p).max(), np.abs(pin.log3(r @ pose.rotation.T)).max())
+
+    twin, plain = polished(True), polished(False)
+    for a, b, (p, r) in zip(twin, plain, targets):
+        assert miss(a, p, r) < 1e-12 and miss(b, p, r) < 1e-12
+        assert np.abs(a - b).max() < 1e-9
+
+    def nowhere(jacobian, error, lam, out):  # noqa: ANN001, ANN202
+        out[:] = 0.0
+        return 0
+
+    monkeypatch.setattr(idealised, "_damped_step", nowhere)
+    for a, b in zip(polished(True), plain):
+        np.testing.assert_array_equal(a, b)  # NumPy's steps from the start again

@@ -91,29 +91,66 @@ def polish(
     q: np.ndarray,
     position: np.ndarray,
     rotation: np.ndarray | None,
+    compiled: bool = True,
 ) -> np.ndarray:
     """``q`` moved onto the target on the true chain by Gauss-Newton steps (no limits).
 
+    A full pose's steps are measured and solved by damped Newton's compiled twin when it is built
+    and ``compiled`` (:mod:`kin.ik.numeric._damped_step`: the rotation vector, the minimum-norm
+    step ``J^T (J J^T)^-1 e`` by Cholesky); when that does not reach :data:`POLISH_TOLERANCE` (a
+    Jacobian too near a singularity for the normal equations), the least-squares steps of NumPy
+    (SVD) run from ``q`` again.
+
     Returns the best joint vector found (``q`` itself when no step helps).
     """
+    if compiled and _pose_error is not None and rotation is not None:
+        best, best_error = _gauss_newton(model, data, frame_id, q, position, rotation, True)
+        if best_error < POLISH_TOLERANCE:
+            return best
+    return _gauss_newton(model, data, frame_id, q, position, rotation, False)[0]
+
+
+def _gauss_newton(
+    model: pin.Model,
+    data: pin.Data,
+    frame_id: int,
+    q: np.ndarray,
+    position: np.ndarray,
+    rotation: np.ndarray | None,
+    twin: bool,
+) -> tuple[np.ndarray, float]:
+    """:func:`polish`'s steps, by the twin or by NumPy: the best joint vector and its error."""
     best, best_error = q, math.inf
     current = np.array(q, dtype=float)
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    error = np.empty(6)
+    step = np.empty(current.shape[0])
     for _ in range(POLISH_STEPS):
         jacobian = pin.computeFrameJacobian(model, data, current, frame_id, world)
         pose = data.oMf[frame_id]
-        if rotation is None:
-            error = position - pose.translation
-            jacobian = jacobian[:3]
+        if twin and _pose_error(position, pose.translation, rotation, pose.rotation, error):
+            size = max(map(abs, error.tolist()))
         else:
-            error = np.concatenate(
-                (position - pose.translation, pin.log3(rotation @ pose.rotation.T))
-            )
-        size = float(np.abs(error).max())
+            if rotation is None:
+                error = position - pose.translation
+                jacobian = jacobian[:3]
+            else:
+                error = np.concatenate(
+                    (position - pose.translation, pin.log3(rotation @ pose.rotation.T))
+                )
+            size = float(np.abs(error).max())
         if size < best_error:
             best, best_error = current.copy(), size
         if size < POLISH_TOLERANCE:
             break
-        step = np.linalg.lstsq(jacobian, error, rcond=None)[0]
+        if not (twin and _damped_step(jacobian, error, 0.0, step) == 0):
+            step = np.linalg.lstsq(jacobian, error, rcond=None)[0]
         current = current + step
-    return best
+    return best, best_error
+
+
+try:  # damped Newton's compiled twin (kin/ik/numeric/_damped_step.c), built with a compiler
+    from ..numeric._damped_step import damped_step as _damped_step
+    from ..numeric._damped_step import pose_error as _pose_error
+except ImportError:  # pragma: no cover - NumPy's least squares and Pinocchio's log3 alone
+    _damped_step = _pose_error = None

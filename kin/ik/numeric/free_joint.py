@@ -247,7 +247,15 @@ def _verified(
     if ik.idealised is not None:
         judge = ik.judge
         target = search.target
-        q[:] = polish(judge.model, judge.data, judge.frame_id, q, target.position, target.rotation)
+        q[:] = polish(
+            judge.model,
+            judge.data,
+            judge.frame_id,
+            q,
+            target.position,
+            target.rotation,
+            ik.compiled_step,
+        )
         values = q.tolist()
         if not (all(map(le, ik.lows, values)) and all(map(le, values, ik.highs))):
             return None
