@@ -240,3 +240,81 @@ def test_table_of_either_convention_gives_the_same_check():
     best = int(np.argmin([row[3] for row in info]))
     assert found == 8 and info[best][0] == 1
     np.testing.assert_allclose(q[best], q0, atol=1e-9)
+
+
+def _flipped_ur5():
+    """UR5 with joints 1 and 4 written reversed (``direction = -1``) and joint 1 limited."""
+    table = load_table(get_robot("ur5").table_path)
+    rows = list(table.rows)
+    rows[0] = dataclasses.replace(rows[0], direction=-1, lower=-1.0, upper=2.5)
+    rows[3] = dataclasses.replace(rows[3], direction=-1)
+    return dataclasses.replace(table, rows=tuple(rows), name="ur5_flipped")
+
+
+@pytest.mark.parametrize("form", ["array", "list", "int", "row", "none"])
+def test_compiled_solver_with_reversed_joints_equals_python_solver(form):
+    """The twin's whole answer (directions mapped in C) equals the Python path, any seed form."""
+    table = _flipped_ur5()
+    robot = kin.robot_from_table(table)
+    compiled, python = ClosedFormSolver(robot), ClosedFormSolver(robot, compiled=False)
+    assert compiled._solutions is not None and compiled._directions is not None
+    rng = np.random.default_rng(5)
+    for k, T in enumerate(targets(table, 60, 11)):
+        target = PoseTarget(T[:3, 3], T[:3, :3])
+        values = rng.uniform(-PI, PI, 6)
+        seed = {
+            "array": values,
+            "list": values.tolist(),
+            "int": np.rint(values).astype(int),
+            "row": values[None, :],
+            "none": None,
+        }[form]
+        ours, theirs = compiled.solve(target, seed), python.solve(target, seed)
+        assert_same_result(ours, theirs, f"{form=} {k=}")
+        for solution in (*ours.solutions, *ours.rejected):
+            assert not solution.q.flags.writeable, f"{form=} {k=}"
+
+
+def test_solutions_refuses_malformed_arguments():
+    """Wrong blocks, targets or classes: a Python error (never a crash); odd seeds: -2."""
+    table = load_table(get_robot("ur5").table_path)
+    solver = ClosedFormSolver(kin.robot_from_table(table))
+    bound = solver._solutions
+    twin, (params, check, flips, solution, labels) = bound.func, bound.args
+    p, r = np.array([0.4, 0.1, 0.3]), np.diag([1.0, -1.0, -1.0])
+    assert isinstance(bound(p, r, None), tuple)
+    for seed in ([0.0] * 6, np.zeros(5), np.zeros(6, dtype=np.float32), np.full(6, np.nan)):
+        assert bound(p, r, seed) == -2, seed
+    assert bound(np.array([np.inf, 0, 0]), r, None) == -1
+    assert bound(np.array([50.0, 0, 0]), r, None) == 0
+    with pytest.raises(TypeError, match="position, rotation"):
+        bound(p.astype(np.float32), r, None)
+    with pytest.raises(TypeError, match="position, rotation"):
+        bound(p, np.asfortranarray(r[:, ::-1]), None)
+    with pytest.raises(TypeError, match="solutions"):
+        twin(params, check)
+    for args in (
+        (params[:-8], check, flips, solution, labels),
+        (params, check + b"\0" * 8, flips, solution, labels),
+        (params, check, b"\0" * 8, solution, labels),
+        (params, check, flips, "IKSolution", labels),
+        (params, check, flips, solution, labels[:7]),
+    ):
+        with pytest.raises(ValueError, match="bytes of the blocks"):
+            twin(*args, p, r, None)
+
+
+def test_off_target_branches_are_logged_and_dropped(caplog):
+    """A check block of another arm: every branch is off target, none returned, each logged."""
+    table, structure = case("ur", UR_ARMS[0])
+    other = dataclasses.replace(table, T_last_tool=random_pose(np.random.default_rng(3)))
+    twin = structure.compiled_twin
+    verifier = TwinVerifier(
+        twin, structure.c_params, check_params(twin, other, [-2 * PI] * 6, [2 * PI] * 6, 1e-9, 1e-9)
+    )
+    bound = verifier.solutions(None, structure.branch_labels)
+    T = kin.batch_forward_kinematics(table, np.array([[0.3, -1.2, 1.4, -0.8, 1.1, 0.4]]))[0]
+    valid, rejected, off = bound(T[:3, 3].copy(), T[:3, :3].copy(), np.zeros(6))
+    assert valid == () and rejected == () and len(off) == 8
+    assert {label for label, _, _ in off} == set(structure.branch_labels)
+    assert all(position > 1e-6 for _, position, _ in off)

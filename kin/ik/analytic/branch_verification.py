@@ -34,7 +34,6 @@ from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target
 from .branches import Branches, BranchStatus
 from .closed_form_structure import ClosedFormStructure, PitchStructure
-from .six_r.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, VALID
 
 logger = logging.getLogger("kin.ik.analytic.closed_form")
 
@@ -118,8 +117,8 @@ class BranchVerification:
     _directions: np.ndarray | None
     _zero_seed: list[float]
     _joints_zero_seed: tuple[tuple[float, ...], tuple[float, ...]]
-    _zero_seed_array: np.ndarray
     _twin: Any
+    _solutions: Any
     _seed_list: Callable[[npt.ArrayLike | None], list[float]]
     _failure: Callable[..., IKResult]
 
@@ -178,50 +177,45 @@ class BranchVerification:
         """:meth:`solve` of a pose by the structure's compiled twin (same steps, one call).
 
         Branches moved into the limits as :func:`wrap` does, measured by the table's DH
-        product in C (:mod:`.six_r_twin`) instead of Pinocchio; the tests compare the two paths.
+        product in C (:mod:`.six_r_twin`) instead of Pinocchio, and their solutions made there
+        (:meth:`.six_r_twin.TwinVerifier.solutions`); the tests compare the two paths.
         """
-        if seed is None:
-            seed_array = self._zero_seed_array
-        elif (
-            seed.__class__ is np.ndarray
-            and seed.dtype == np.float64  # type: ignore[union-attr]
-            and seed.shape == self._zero_seed_array.shape  # type: ignore[union-attr]
-            and math.isfinite(sum(seed.tolist()))  # type: ignore[union-attr]
-        ):
-            seed_array = seed  # type: ignore[assignment]  # already valid: no copy
-        else:
-            seed_array = np.array(self._seed_list(seed))
-        found, q, info = self._twin(  # type: ignore[misc]
-            target.position, target.rotation, seed_array
-        )
-        if self._directions is not None:  # the twin measured q' on the forward table
-            q = q * self._directions
-        if found < 0:
-            return self._failure("invalid_target", "the target has a NaN or infinite value", start)
-        if found == 0:
-            return self._failure(
-                "out_of_reach",
-                f"no {self.structure.name} branch reaches the target",
-                start,
-                target=target,
-            )
-        labels = self.structure.branch_labels
-        valid: list[tuple[float, IKSolution]] = []
-        rejected: list[IKSolution] = []
-        for b, (status, position_error, angle, distance) in enumerate(info):
-            if status == VALID:
-                valid.append((distance, IKSolution(q[b], labels[b], True, position_error, angle)))
-            elif status == OUTSIDE_LIMITS:
-                rejected.append(IKSolution(q[b], labels[b], False, position_error, angle))
-            elif status == OFF_TARGET:
+        answer = self._solutions(target.position, target.rotation, seed)
+        if answer.__class__ is int and answer == -2:  # checked here: a TargetError names it
+            checked = np.array(self._seed_list(seed), dtype=float)
+            answer = self._solutions(target.position, target.rotation, checked)
+        if answer.__class__ is tuple:
+            valid, rejected, off = answer
+            for label, position_error, angle in off:
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
                     self.robot.name,
-                    labels[b],
+                    label,
                     position_error,
                     angle,
                 )
-        return self._result(valid, rejected, "ok", "", start)
+            if valid:
+                return IKResult(
+                    True,
+                    self.name,
+                    "ok",
+                    f"{len(valid)} valid solution(s)",
+                    valid,
+                    rejected,
+                    None,
+                    0,
+                    time.perf_counter() - start,
+                    "closed_form",
+                )
+            return self._result([], list(rejected), "ok", "", start)
+        if answer < 0:
+            return self._failure("invalid_target", "the target has a NaN or infinite value", start)
+        return self._failure(
+            "out_of_reach",
+            f"no {self.structure.name} branch reaches the target",
+            start,
+            target=target,
+        )
 
     def _verify(
         self,

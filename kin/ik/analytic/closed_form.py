@@ -135,7 +135,13 @@ class ClosedFormSolver(BranchVerification):
             if verifier is None or not compiled
             else verifier(table, self._lower, self._upper, tolerance_position, tolerance_rotation)
         )
-        self._zero_seed_array = np.zeros(len(self._lower))
+        #: The twin's whole answer of a pose (:meth:`.six_r_twin.TwinVerifier.solutions`), or
+        #: None: no twin.
+        self._solutions = (
+            None
+            if self._twin is None
+            else self._twin.solutions(self._directions, self.structure.branch_labels)
+        )
 
     @property
     def closed_form_kinds(self) -> tuple[type, ...]:
@@ -235,6 +241,10 @@ class ClosedFormSolver(BranchVerification):
             TargetError: The target kind does not fit the arm, or the seed has the wrong size.
         """
         start = time.perf_counter()
+        if target.__class__ is PoseTarget and self._solutions is not None:
+            if target.mask is None:  # type: ignore[attr-defined]
+                # No lock: the twin shares no state between calls.
+                return self._solve_twin(target, seed, start)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
             if is_partial(target, self._partial_below):
                 return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
@@ -249,8 +259,6 @@ class ClosedFormSolver(BranchVerification):
         """:meth:`solve` of a target the closed form takes (under the solver's lock)."""
         if self._directions is not None and seed is not None:
             seed = self._forward_seed(seed)
-        if self._twin is not None and target.__class__ is PoseTarget:
-            return self._solve_twin(target, seed, start)  # type: ignore[arg-type]
         seed_list = self._seed_list(seed)
         if not target.finite:
             return self._failure("invalid_target", "the target has a NaN or infinite value", start)

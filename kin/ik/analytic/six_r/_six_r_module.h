@@ -97,7 +97,172 @@ static PyObject *verify(PyObject *self, PyObject *args)
     return PyLong_FromLong(found);
 }
 
+/* What solutions() makes its answers with, set by six_r_module: numpy.empty, the shapes (k, 6)
+   for k = 0 .. BRANCHES, the name of ndarray.setflags, IKSolution's field names (in the order of
+   its constructor), and an empty tuple (object.__new__'s arguments). */
+static PyObject *np_empty, *row_shapes[BRANCHES + 1], *setflags_name, *solution_fields[5],
+    *no_args;
+
+/* The values of a C-contiguous float64 buffer of n values copied into out: 1, else 0 (no error). */
+static int copy_doubles(PyObject *obj, Py_ssize_t n, double *out)
+{
+    Py_buffer view;
+    if (PyObject_GetBuffer(obj, &view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) != 0) {
+        PyErr_Clear();
+        return 0;
+    }
+    int ok = view.len == n * (Py_ssize_t)sizeof(double) && view.itemsize == sizeof(double) &&
+             view.format != NULL && strcmp(view.format, "d") == 0;
+    if (ok) memcpy(out, view.buf, (size_t)n * sizeof(double));
+    PyBuffer_Release(&view);
+    return ok;
+}
+
+/* An instance of cls (kin.ik.result.IKSolution) with its five fields set as its __init__ sets
+   them; q is stolen. */
+static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
+                               double position_error, double rotation_error)
+{
+    PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
+                           PyFloat_FromDouble(rotation_error)};
+    Py_INCREF(label);
+    PyObject *obj = NULL;
+    if (q != NULL && values[3] != NULL && values[4] != NULL)
+        obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
+    for (int i = 0; i < 5 && obj != NULL; i++)
+        if (PyObject_GenericSetAttr(obj, solution_fields[i], values[i]) < 0) Py_CLEAR(obj);
+    for (int i = 0; i < 5; i++) Py_XDECREF(values[i]);
+    return obj;
+}
+
+/*
+ * solutions(params, check, directions, solution, labels, position, rotation, seed): verify()'s
+ * work, then the answer as ClosedFormSolver returns it: (valid, rejected, off), valid the
+ * IKSolution of each branch inside the limits and on target, nearest the seed first (a stable
+ * order), rejected those on target outside the limits (branch order), off (label, position
+ * error [m], rotation error [rad]) of those off target; the joint vectors are rows of one
+ * read-only (k, 6) array. params, check: bytes of the two blocks; directions: bytes of 6 float64
+ * (the arm's q = direction * q', seed and answers mapped) or None; solution: the IKSolution
+ * class; labels: the 8 branch labels. Returns an int instead when there is no such answer: -1 a
+ * target value that is not finite, 0 no branch, -2 a seed that is not 6 finite float64 (the
+ * caller checks it and names what is wrong).
+ */
+static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != 8) {
+        PyErr_SetString(PyExc_TypeError, "solutions(params, check, directions, solution, labels, "
+                                         "position, rotation, seed)");
+        return NULL;
+    }
+    PyObject *directions = args[2], *cls = args[3], *labels = args[4];
+    if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof(Params) ||
+        !PyBytes_Check(args[1]) || PyBytes_GET_SIZE(args[1]) != sizeof(Check) ||
+        (directions != Py_None &&
+         (!PyBytes_Check(directions) || PyBytes_GET_SIZE(directions) != JOINTS * sizeof(double))) ||
+        !PyType_Check(cls) || !PyTuple_Check(labels) || PyTuple_GET_SIZE(labels) != BRANCHES) {
+        PyErr_SetString(PyExc_ValueError,
+                        "params, check, directions: bytes of the blocks (directions None or 6 "
+                        "float64); solution: a class; labels: 8 labels");
+        return NULL;
+    }
+    Params P;
+    Check C;
+    double dir[JOINTS], pw[3], rw[9], seed[JOINTS] = {0.0};
+    memcpy(&P, PyBytes_AS_STRING(args[0]), sizeof P);
+    memcpy(&C, PyBytes_AS_STRING(args[1]), sizeof C);
+    for (int i = 0; i < JOINTS; i++) dir[i] = 1.0;
+    if (directions != Py_None) memcpy(dir, PyBytes_AS_STRING(directions), sizeof dir);
+    if (!copy_doubles(args[5], 3, pw) || !copy_doubles(args[6], 9, rw)) {
+        PyErr_SetString(PyExc_TypeError, "position, rotation: C-contiguous float64 (3,), (3, 3)");
+        return NULL;
+    }
+    if (args[7] != Py_None) {
+        if (!copy_doubles(args[7], JOINTS, seed)) return PyLong_FromLong(-2);
+        for (int i = 0; i < JOINTS; i++) {
+            if (!isfinite(seed[i])) return PyLong_FromLong(-2);
+            seed[i] *= dir[i]; /* the forward table's q' */
+        }
+    }
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(pw[i])) return PyLong_FromLong(-1);
+    for (int i = 0; i < 9; i++)
+        if (!isfinite(rw[i])) return PyLong_FromLong(-1);
+    double q[BRANCHES][JOINTS], info[BRANCHES][4];
+    int valid[BRANCHES], rejected[BRANCHES], off[BRANCHES], n_valid = 0, n_rejected = 0,
+                                                             n_off = 0, found = 0;
+    solve_world(&P, pw, rw, 0.0, q);
+    for (int b = 0; b < BRANCHES; b++) {
+        if (isnan(q[b][0])) continue;
+        found++;
+        check_branch(&C, pw, rw, seed, q[b], info[b]);
+        if (info[b][0] == 1.0) { /* stable insertion by distance to the seed */
+            int at = n_valid++;
+            while (at > 0 && info[valid[at - 1]][3] > info[b][3]) {
+                valid[at] = valid[at - 1];
+                at--;
+            }
+            valid[at] = b;
+        } else if (info[b][0] == 2.0) {
+            rejected[n_rejected++] = b;
+        } else {
+            off[n_off++] = b;
+        }
+    }
+    if (found == 0) return PyLong_FromLong(0);
+    int kept = n_valid + n_rejected, order[BRANCHES];
+    memcpy(order, valid, (size_t)n_valid * sizeof(int));
+    memcpy(order + n_valid, rejected, (size_t)n_rejected * sizeof(int));
+    PyObject *rows = PyObject_CallOneArg(np_empty, row_shapes[kept]);
+    if (rows == NULL) return NULL;
+    Py_buffer view;
+    if (PyObject_GetBuffer(rows, &view, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE) < 0) {
+        Py_DECREF(rows);
+        return NULL;
+    }
+    double(*out)[JOINTS] = view.buf;
+    for (int k = 0; k < kept; k++)
+        for (int i = 0; i < JOINTS; i++) out[k][i] = q[order[k]][i] * dir[i];
+    PyBuffer_Release(&view);
+    PyObject *call[2] = {rows, Py_False};
+    PyObject *done = PyObject_VectorcallMethod(setflags_name, call,
+                                               2 | PY_VECTORCALL_ARGUMENTS_OFFSET, NULL);
+    PyObject *answer = NULL, *valid_t = PyTuple_New(n_valid), *rejected_t = PyTuple_New(n_rejected),
+             *off_t = PyTuple_New(n_off);
+    if (done == NULL || valid_t == NULL || rejected_t == NULL || off_t == NULL) goto end;
+    for (int k = 0; k < kept; k++) {
+        int b = order[k];
+        PyObject *solution =
+            make_solution((PyTypeObject *)cls, PySequence_GetItem(rows, k),
+                          PyTuple_GET_ITEM(labels, b), k < n_valid, info[b][1], info[b][2]);
+        if (solution == NULL) goto end;
+        if (k < n_valid)
+            PyTuple_SET_ITEM(valid_t, k, solution);
+        else
+            PyTuple_SET_ITEM(rejected_t, k - n_valid, solution);
+    }
+    for (int k = 0; k < n_off; k++) {
+        int b = off[k];
+        PyObject *entry = Py_BuildValue("(Odd)", PyTuple_GET_ITEM(labels, b), info[b][1],
+                                        info[b][2]);
+        if (entry == NULL) goto end;
+        PyTuple_SET_ITEM(off_t, k, entry);
+    }
+    answer = PyTuple_Pack(3, valid_t, rejected_t, off_t);
+end:
+    Py_XDECREF(done);
+    Py_DECREF(rows);
+    Py_XDECREF(valid_t);
+    Py_XDECREF(rejected_t);
+    Py_XDECREF(off_t);
+    return answer;
+}
+
 static PyMethodDef methods[] = {
+    {"solutions", (PyCFunction)(void (*)(void))solutions, METH_FASTCALL,
+     "solutions(params, check, directions, solution, labels, position, rotation, seed) -> "
+     "(valid, rejected, off), or -1 (a target value not finite), 0 (no branch), -2 (a seed that "
+     "is not 6 finite float64). See kin/ik/analytic/six_r/_six_r_module.h."},
     {"solve", solve, METH_VARARGS,
      "solve(params, positions, rotations, free, out): the 8 branches of N targets into out "
      "(N x 8 x 6). See kin/ik/analytic/_six_r_twin.h."},
@@ -109,6 +274,19 @@ static PyMethodDef methods[] = {
 /* The module: LAYOUT, PARAM_COUNT (the twin's), CHECK_LAYOUT, CHECK_COUNT. */
 static inline PyObject *six_r_module(PyModuleDef *def)
 {
+    PyObject *numpy = PyImport_ImportModule("numpy");
+    if (numpy == NULL) return NULL;
+    np_empty = PyObject_GetAttrString(numpy, "empty");
+    Py_DECREF(numpy);
+    if (np_empty == NULL) return NULL;
+    for (int k = 0; k <= BRANCHES; k++)
+        if ((row_shapes[k] = Py_BuildValue("(ii)", k, JOINTS)) == NULL) return NULL;
+    static const char *const fields[5] = {"q", "branch", "within_limits", "position_error",
+                                          "rotation_error"};
+    for (int i = 0; i < 5; i++)
+        if ((solution_fields[i] = PyUnicode_InternFromString(fields[i])) == NULL) return NULL;
+    if ((setflags_name = PyUnicode_InternFromString("setflags")) == NULL) return NULL;
+    if ((no_args = PyTuple_New(0)) == NULL) return NULL;
     PyObject *m = twin_module(def, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
     if (m == NULL) return NULL;
     size_t n = sizeof CHECK_FIELDS / sizeof CHECK_FIELDS[0];

@@ -133,21 +133,30 @@ static inline void compose(double *A, const double *B)
     memcpy(A, out, sizeof out);
 }
 
-/* The tool pose (3x4) at joint vector q [rad]: the plain product of the table's rows. */
+/* The tool pose (3x4) at joint vector q [rad]: the plain product of the table's rows, each row
+   of the running product T times the row's transform written out (its zeros and ones skipped). */
 static inline void table_fk(const Check *C, const double *q, double *T)
 {
     memcpy(T, C->base, 12 * sizeof(double));
-    for (int i = 0; i < JOINTS; i++) {
-        double t = q[i] + C->theta[i], ct = cos(t), st = sin(t);
-        double ca = C->cos_alpha[i], sa = C->sin_alpha[i], a = C->a[i], d = C->d[i];
-        if (C->modified[0] != 0.0) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
-            double A[12] = {ct, -st, 0.0, a, st * ca, ct * ca, -sa, -sa * d,
-                            st * sa, ct * sa, ca, ca * d};
-            compose(T, A);
-        } else { /* Rz(t) Tz(d) Tx(a) Rx(alpha) */
-            double A[12] = {ct, -st * ca, st * sa, a * ct, st, ct * ca, -ct * sa, a * st,
-                            0.0, sa, ca, d};
-            compose(T, A);
+    const int modified = C->modified[0] != 0.0;
+    for (int j = 0; j < JOINTS; j++) {
+        double t = q[j] + C->theta[j], ct = cos(t), st = sin(t);
+        double ca = C->cos_alpha[j], sa = C->sin_alpha[j], a = C->a[j], d = C->d[j];
+        for (int i = 0; i < 3; i++) {
+            double *row = T + 4 * i, r0 = row[0], r1 = row[1], r2 = row[2];
+            if (modified) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
+                double u1 = ca * r1 + sa * r2, u2 = -sa * r1 + ca * r2;
+                row[0] = ct * r0 + st * u1;
+                row[1] = -st * r0 + ct * u1;
+                row[2] = u2;
+                row[3] += a * r0 + d * u2;
+            } else { /* Rz(t) Tz(d) Tx(a) Rx(alpha) */
+                double c0 = ct * r0 + st * r1, c1 = -st * r0 + ct * r1;
+                row[0] = c0;
+                row[1] = ca * c1 + sa * r2;
+                row[2] = -sa * c1 + ca * r2;
+                row[3] += d * r2 + a * c0;
+            }
         }
     }
     compose(T, C->tool);

@@ -16,9 +16,10 @@ the tolerances as a second one (``CHECK_LAYOUT``, :func:`check_params`).
 
 from __future__ import annotations
 
+import functools
 import importlib
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from types import ModuleType
 from typing import ClassVar
 
@@ -119,9 +120,39 @@ class TwinVerifier:
     """
 
     def __init__(self, twin: ModuleType, params: np.ndarray, check: np.ndarray):
+        self._twin = twin
         self._verify = twin.verify
         self._params = params
         self._check = check
+
+    def solutions(
+        self, directions: np.ndarray | None, labels: Sequence[str]
+    ) -> Callable[[np.ndarray, np.ndarray, npt.ArrayLike | None], tuple | int]:
+        """The twin's ``solutions`` of this arm: ``(position, rotation, seed)`` -> its answer.
+
+        The work of :meth:`__call__`, then the answer as the closed-form solver returns it:
+        ``(valid, rejected, off)``, the :class:`~kin.ik.result.IKSolution` of each branch inside
+        the limits and on target, nearest the seed first; of each on target outside the limits;
+        and ``(label, position error [m], rotation error [rad])`` of each off target. An int
+        instead when there is no such answer: -1 a target value that is not finite, 0 no branch,
+        -2 a seed that is not 6 finite float64 values (for the caller to check and name).
+
+        Args:
+            directions: Per joint 1 or -1 (the arm's ``q = direction * q'`` of the table the
+                twin solves: seeds mapped in, answers out), or None.
+            labels: The 8 branch labels, in the twin's branch order.
+        """
+        from ...result import IKSolution
+
+        flips = None if directions is None else np.asarray(directions, dtype=float).tobytes()
+        return functools.partial(
+            self._twin.solutions,
+            self._params.tobytes(),
+            self._check.tobytes(),
+            flips,
+            IKSolution,
+            tuple(labels),
+        )
 
     def __call__(
         self, position: np.ndarray, rotation: np.ndarray, seed: np.ndarray, free: float = 0.0
