@@ -7,7 +7,7 @@ ours is ``kin.ik.get_solver(kin.load_robot(urdf, base, tip)).solve(PoseTarget(p,
 (the solver built once, outside the loop, like each peer's). Every-branch arms (a closed form):
 our time for all branches beside ssik's and EAIK's all-branch call; redundant arms: one verified
 answer near the seed (q = 0 moved into the limits) beside TRAC-IK's. The table prints the median of single calls and
-the success rate; peers not installed (``pip install ".[bench]"``) or refusing an arm are named.
+the success rate; the solvers take turns over several passes (:func:`measure`); peers not installed (``pip install ".[bench]"``) or refusing an arm are named.
 
     python scripts/bench_ik_urdf.py                  # every arm, 200 poses each
     python scripts/bench_ik_urdf.py --arms ur5 panda --poses 1000
@@ -208,17 +208,41 @@ def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
     return f"EAIK {family}", solve
 
 
-def measure(solve: Solve, targets, seeds, judge: Judge, lower, upper) -> tuple[float, float, float]:  # noqa: ANN001
-    """(success [%], median single-call time [us], valid answers per pose)."""
-    times, hits, counts = [], 0, []
-    for target, seed in zip(targets, seeds, strict=True):
-        start = time.perf_counter()
-        answers = solve(target, seed)
-        times.append(time.perf_counter() - start)
-        valid = [q for q in answers if judge.on_target(q, target, lower, upper)]
-        hits += bool(valid)
-        counts.append(len(valid))
-    return 100.0 * hits / len(targets), statistics.median(times) * 1e6, float(np.mean(counts))
+def measure(
+    solvers: dict[str, Solve], targets, seeds, judge: Judge, lower, upper, passes: int  # noqa: ANN001
+) -> dict[str, tuple[float, float, float]]:
+    """Per solver: (success [%], median single-call time [us], valid answers per pose).
+
+    The solvers take turns, ``passes`` times: in each pass each solver solves every target (a
+    warm loop, as a user's loop of calls is), in an order rotated from pass to pass, so that a
+    machine that speeds up or slows down during the run weighs on every solver alike. The
+    median is over all single calls; success and answers are judged on the first pass.
+    """
+    times: dict[str, list[float]] = {key: [] for key in solvers}
+    hits = dict.fromkeys(solvers, 0)
+    counts: dict[str, list[int]] = {key: [] for key in solvers}
+    clock = time.perf_counter
+    keys = list(solvers)
+    for rep in range(passes):
+        turn = rep % len(keys) if keys else 0
+        for key in keys[turn:] + keys[:turn]:
+            solve, spent = solvers[key], times[key]
+            for target, seed in zip(targets, seeds, strict=True):
+                start = clock()
+                answers = solve(target, seed)
+                spent.append(clock() - start)
+                if rep == 0:
+                    valid = [q for q in answers if judge.on_target(q, target, lower, upper)]
+                    hits[key] += bool(valid)
+                    counts[key].append(len(valid))
+    return {
+        key: (
+            100.0 * hits[key] / len(targets),
+            statistics.median(times[key]) * 1e6,
+            float(np.mean(counts[key])),
+        )
+        for key in solvers
+    }
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -226,6 +250,9 @@ def get_argument_parser() -> ArgumentParser:
     parser = ArgumentParser(prog="bench_ik_urdf.py", description=__doc__)
     parser.add_argument("--arms", nargs="+", choices=tuple(ARMS), default=list(ARMS))
     parser.add_argument("--poses", type=positive_int, default=200, help="poses per arm (200)")
+    parser.add_argument(
+        "--passes", type=positive_int, default=4, help="timing passes over the poses, the solvers in turn (4)"
+    )
     return parser
 
 
@@ -255,17 +282,23 @@ def main(argv: list[str] | None = None) -> int:
         rows += [("trac", tracik(urdf, chain.base, chain.tip))]
         rows += [("ssik", ssik_solver(urdf, chain.base, chain.tip))]
         rows += [("eaik", eaik_solver(urdf, chain.base, chain.tip))]
+        solvers: dict[str, Solve] = {}
+        labels: dict[str, str] = {}
         for key, entry in rows:
             if isinstance(entry, str):
                 print(f"{arm:<12} {key + ': ' + entry:<40}")
                 continue
-            label, fn = entry
+            labels[key], solvers[key] = entry
+        for key, solve in list(solvers.items()):  # a peer failing on a pose is reported
             try:
-                success, median, answers = measure(fn, targets, seeds, judge, lower, upper)
-            except Exception as err:  # noqa: BLE001 - a peer failing mid-run is reported
-                print(f"{arm:<12} {label:<40} failed: {' '.join(str(err).split())[:50]}")
-                continue
-            print(f"{arm:<12} {label:<40} {success:>7.1f}% {median:>8.1f}us {answers:>8.2f}")
+                for target, seed in zip(targets, seeds, strict=True):
+                    solve(target, seed)
+            except Exception as err:  # noqa: BLE001
+                print(f"{arm:<12} {labels[key]:<40} failed: {' '.join(str(err).split())[:50]}")
+                del solvers[key]
+        figures = measure(solvers, targets, seeds, judge, lower, upper, args.passes)
+        for key, (success, median, answers) in figures.items():
+            print(f"{arm:<12} {labels[key]:<40} {success:>7.1f}% {median:>8.1f}us {answers:>8.2f}")
     return 0
 
 

@@ -31,6 +31,7 @@ from test_ik_ur_wrist import arm_table as ur_table
 import kin
 from dh2urdf import get_robot, load_table
 from kin.ik import ClosedFormSolver, PoseTarget
+from kin.ik.result import IKResult, IKSolution
 from kin.ik.analytic.six_r.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, TwinVerifier, check_params
 from kin.ik.analytic.six_r.spherical_wrist import SphericalWrist6R
 from kin.ik.analytic.six_r.ur_wrist import URWrist6R
@@ -280,28 +281,58 @@ def test_solutions_refuses_malformed_arguments():
     table = load_table(get_robot("ur5").table_path)
     solver = ClosedFormSolver(kin.robot_from_table(table))
     bound = solver._solutions
-    twin, (params, check, flips, solution, labels) = bound.func, bound.args
+    twin, fixed = bound.func, bound.args
     p, r = np.array([0.4, 0.1, 0.3]), np.diag([1.0, -1.0, -1.0])
-    assert isinstance(bound(p, r, None), tuple)
+    result = bound(p, r, None, 0.0)
+    assert isinstance(result, IKResult) and result.success and result.time > 0.0
+    assert [f.name for f in dataclasses.fields(IKResult)] == list(vars(result))
     for seed in ([0.0] * 6, np.zeros(5), np.zeros(6, dtype=np.float32), np.full(6, np.nan)):
-        assert bound(p, r, seed) == -2, seed
-    assert bound(np.array([np.inf, 0, 0]), r, None) == -1
-    assert bound(np.array([50.0, 0, 0]), r, None) == 0
+        assert bound(p, r, seed, 0.0) == -2, seed
+    assert bound(np.array([np.inf, 0, 0]), r, None, 0.0) == -1
+    assert bound(np.array([50.0, 0, 0]), r, None, 0.0) == 0
     with pytest.raises(TypeError, match="position, rotation"):
-        bound(p.astype(np.float32), r, None)
+        bound(p.astype(np.float32), r, None, 0.0)
     with pytest.raises(TypeError, match="position, rotation"):
-        bound(p, np.asfortranarray(r[:, ::-1]), None)
+        bound(p, np.asfortranarray(r[:, ::-1]), None, 0.0)
+    with pytest.raises(TypeError, match="must be real number"):
+        bound(p, r, None, "now")
     with pytest.raises(TypeError, match="solutions"):
-        twin(params, check)
-    for args in (
-        (params[:-8], check, flips, solution, labels),
-        (params, check + b"\0" * 8, flips, solution, labels),
-        (params, check, b"\0" * 8, solution, labels),
-        (params, check, flips, "IKSolution", labels),
-        (params, check, flips, solution, labels[:7]),
-    ):
+        twin(*fixed[:2])
+    changes = {
+        0: fixed[0][:-8],
+        1: fixed[1] + b"\0" * 8,
+        2: b"\0" * 8,
+        3: "IKSolution",
+        4: fixed[4][:7],
+        5: None,
+        7: fixed[7][:3],
+        8: "perf_counter",
+    }
+    for index, value in changes.items():
+        args = list(fixed)
+        args[index] = value
         with pytest.raises(ValueError, match="bytes of the blocks"):
-            twin(*args, p, r, None)
+            twin(*args, p, r, None, 0.0)
+
+
+def test_result_made_in_c_equals_the_python_result_field_by_field():
+    """The IKResult the twin makes: every field as the Python path gives it (time aside)."""
+    table = load_table(get_robot("ur5").table_path)
+    robot = kin.robot_from_table(table)
+    compiled, python = ClosedFormSolver(robot), ClosedFormSolver(robot, compiled=False)
+    for k, T in enumerate(targets(table, 40, 3)[4:]):
+        target = PoseTarget(T[:3, 3], T[:3, :3])
+        ours, theirs = compiled.solve(target), python.solve(target)
+        assert ours.success, k
+        mine, other = vars(ours), vars(theirs)
+        assert list(mine) == list(other), k
+        for key in ("success", "solver", "status", "message", "distance_to_workspace",
+                    "iterations", "method", "free"):  # fmt: skip
+            assert mine[key] == other[key] and type(mine[key]) is type(other[key]), (k, key)
+        assert type(ours.solutions) is tuple and type(ours.rejected) is tuple
+        assert all(type(s) is IKSolution for s in (*ours.solutions, *ours.rejected))
+        assert all(list(vars(s)) == list(vars(o)) for s, o in zip(ours.solutions, theirs.solutions))
+        assert 0.0 < ours.time < 1.0
 
 
 def test_off_target_branches_are_logged_and_dropped(caplog):
@@ -312,9 +343,9 @@ def test_off_target_branches_are_logged_and_dropped(caplog):
     verifier = TwinVerifier(
         twin, structure.c_params, check_params(twin, other, [-2 * PI] * 6, [2 * PI] * 6, 1e-9, 1e-9)
     )
-    bound = verifier.solutions(None, structure.branch_labels)
+    bound = verifier.solutions(None, structure.branch_labels, "ur_wrist")
     T = kin.batch_forward_kinematics(table, np.array([[0.3, -1.2, 1.4, -0.8, 1.1, 0.4]]))[0]
-    valid, rejected, off = bound(T[:3, 3].copy(), T[:3, :3].copy(), np.zeros(6))
+    valid, rejected, off = bound(T[:3, 3].copy(), T[:3, :3].copy(), np.zeros(6), 0.0)
     assert valid == () and rejected == () and len(off) == 8
     assert {label for label, _, _ in off} == set(structure.branch_labels)
     assert all(position > 1e-6 for _, position, _ in off)

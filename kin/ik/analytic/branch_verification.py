@@ -180,10 +180,14 @@ class BranchVerification:
         product in C (:mod:`.six_r_twin`) instead of Pinocchio, and their solutions made there
         (:meth:`.six_r_twin.TwinVerifier.solutions`); the tests compare the two paths.
         """
-        answer = self._solutions(target.position, target.rotation, seed)
+        answer = self._solutions(target.position, target.rotation, seed, start)
+        if answer.__class__ is IKResult:  # a valid branch, none off target
+            return answer
         if answer.__class__ is int and answer == -2:  # checked here: a TargetError names it
             checked = np.array(self._seed_list(seed), dtype=float)
-            answer = self._solutions(target.position, target.rotation, checked)
+            answer = self._solutions(target.position, target.rotation, checked, start)
+            if answer.__class__ is IKResult:
+                return answer
         if answer.__class__ is tuple:
             valid, rejected, off = answer
             for label, position_error, angle in off:

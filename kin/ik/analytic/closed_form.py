@@ -140,7 +140,9 @@ class ClosedFormSolver(BranchVerification):
         self._solutions = (
             None
             if self._twin is None
-            else self._twin.solutions(self._directions, self.structure.branch_labels)
+            else self._twin.solutions(
+                self._directions, self.structure.branch_labels, self.name
+            )
         )
 
     @property

@@ -98,10 +98,12 @@ static PyObject *verify(PyObject *self, PyObject *args)
 }
 
 /* What solutions() makes its answers with, set by six_r_module: numpy.empty, the shapes (k, 6)
-   for k = 0 .. BRANCHES, the name of ndarray.setflags, IKSolution's field names (in the order of
-   its constructor), and an empty tuple (object.__new__'s arguments). */
+   for k = 0 .. BRANCHES, the name of ndarray.setflags, the field names of IKSolution and
+   IKResult (in the order of their constructors), an empty tuple (object.__new__'s arguments and
+   IKResult.free) and the strings "ok" and "closed_form". */
+#define RESULT_FIELDS 11
 static PyObject *np_empty, *row_shapes[BRANCHES + 1], *setflags_name, *solution_fields[5],
-    *no_args;
+    *result_fields[RESULT_FIELDS], *no_args, *status_ok, *method_closed_form;
 
 /* The values of a C-contiguous float64 buffer of n values copied into out: 1, else 0 (no error). */
 static int copy_doubles(PyObject *obj, Py_ssize_t n, double *out)
@@ -118,26 +120,39 @@ static int copy_doubles(PyObject *obj, Py_ssize_t n, double *out)
     return ok;
 }
 
-/* An instance of cls (kin.ik.result.IKSolution) with its five fields set as its __init__ sets
-   them; q is stolen. */
-static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
-                               double position_error, double rotation_error)
+/* An instance of cls (a frozen dataclass of kin.ik.result) with its n fields names[i] set to
+   values[i], as its __init__ sets them (into the instance's dict, past the frozen __setattr__);
+   the values are stolen (NULL ones make it fail: NULL, with their error set). */
+static PyObject *make_instance(PyTypeObject *cls, PyObject *const *names, PyObject **values,
+                               int n)
 {
-    PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
-                           PyFloat_FromDouble(rotation_error)};
-    Py_INCREF(label);
     PyObject *obj = NULL;
-    if (q != NULL && values[3] != NULL && values[4] != NULL)
-        obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
-    for (int i = 0; i < 5 && obj != NULL; i++)
-        if (PyObject_GenericSetAttr(obj, solution_fields[i], values[i]) < 0) Py_CLEAR(obj);
-    for (int i = 0; i < 5; i++) Py_XDECREF(values[i]);
+    int complete = 1;
+    for (int i = 0; i < n; i++) complete = complete && values[i] != NULL;
+    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
+    for (int i = 0; i < n && obj != NULL; i++)
+        if (PyObject_GenericSetAttr(obj, names[i], values[i]) < 0) Py_CLEAR(obj);
+    for (int i = 0; i < n; i++) Py_XDECREF(values[i]);
     return obj;
 }
 
+/* An IKSolution (cls) of its fields; q is stolen. */
+static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
+                               double position_error, double rotation_error)
+{
+    Py_INCREF(label);
+    PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
+                           PyFloat_FromDouble(rotation_error)};
+    return make_instance(cls, solution_fields, values, 5);
+}
+
 /*
- * solutions(params, check, directions, solution, labels, position, rotation, seed): verify()'s
- * work, then the answer as ClosedFormSolver returns it: (valid, rejected, off), valid the
+ * solutions(params, check, directions, solution, labels, result, name, messages, clock, position,
+ * rotation, seed, start): verify()'s work, then the answer as ClosedFormSolver returns it. When
+ * a branch is valid and none is off target, the IKResult itself (class result: success, solver
+ * name, status "ok", message messages[n - 1] for n valid, the two tuples below, no distance, 0
+ * iterations, time clock() - start [s], method "closed_form", nothing free); else
+ * (valid, rejected, off), valid the
  * IKSolution of each branch inside the limits and on target, nearest the seed first (a stable
  * order), rejected those on target outside the limits (branch order), off (label, position
  * error [m], rotation error [rad]) of those off target; the joint vectors are rows of one
@@ -150,20 +165,27 @@ static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, 
 static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
-    if (nargs != 8) {
+    if (nargs != 13) {
         PyErr_SetString(PyExc_TypeError, "solutions(params, check, directions, solution, labels, "
-                                         "position, rotation, seed)");
+                                         "result, name, messages, clock, position, rotation, "
+                                         "seed, start)");
         return NULL;
     }
-    PyObject *directions = args[2], *cls = args[3], *labels = args[4];
+    PyObject *directions = args[2], *cls = args[3], *labels = args[4], *result = args[5],
+             *name = args[6], *messages = args[7], *clock = args[8];
+    double start = PyFloat_AsDouble(args[12]);
+    if (start == -1.0 && PyErr_Occurred()) return NULL;
     if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof(Params) ||
         !PyBytes_Check(args[1]) || PyBytes_GET_SIZE(args[1]) != sizeof(Check) ||
         (directions != Py_None &&
          (!PyBytes_Check(directions) || PyBytes_GET_SIZE(directions) != JOINTS * sizeof(double))) ||
-        !PyType_Check(cls) || !PyTuple_Check(labels) || PyTuple_GET_SIZE(labels) != BRANCHES) {
+        !PyType_Check(cls) || !PyTuple_Check(labels) || PyTuple_GET_SIZE(labels) != BRANCHES ||
+        !PyType_Check(result) || !PyTuple_Check(messages) ||
+        PyTuple_GET_SIZE(messages) != BRANCHES || !PyCallable_Check(clock)) {
         PyErr_SetString(PyExc_ValueError,
                         "params, check, directions: bytes of the blocks (directions None or 6 "
-                        "float64); solution: a class; labels: 8 labels");
+                        "float64); solution, result: classes; labels, messages: 8 strings; "
+                        "clock: a callable");
         return NULL;
     }
     Params P;
@@ -173,12 +195,12 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
     memcpy(&C, PyBytes_AS_STRING(args[1]), sizeof C);
     for (int i = 0; i < JOINTS; i++) dir[i] = 1.0;
     if (directions != Py_None) memcpy(dir, PyBytes_AS_STRING(directions), sizeof dir);
-    if (!copy_doubles(args[5], 3, pw) || !copy_doubles(args[6], 9, rw)) {
+    if (!copy_doubles(args[9], 3, pw) || !copy_doubles(args[10], 9, rw)) {
         PyErr_SetString(PyExc_TypeError, "position, rotation: C-contiguous float64 (3,), (3, 3)");
         return NULL;
     }
-    if (args[7] != Py_None) {
-        if (!copy_doubles(args[7], JOINTS, seed)) return PyLong_FromLong(-2);
+    if (args[11] != Py_None) {
+        if (!copy_doubles(args[11], JOINTS, seed)) return PyLong_FromLong(-2);
         for (int i = 0; i < JOINTS; i++) {
             if (!isfinite(seed[i])) return PyLong_FromLong(-2);
             seed[i] *= dir[i]; /* the forward table's q' */
@@ -248,7 +270,21 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
         if (entry == NULL) goto end;
         PyTuple_SET_ITEM(off_t, k, entry);
     }
-    answer = PyTuple_Pack(3, valid_t, rejected_t, off_t);
+    if (n_valid > 0 && n_off == 0) {
+        PyObject *now = PyObject_CallNoArgs(clock);
+        double elapsed = now == NULL ? -1.0 : PyFloat_AsDouble(now) - start;
+        Py_XDECREF(now);
+        if (PyErr_Occurred()) goto end;
+        PyObject *message = PyTuple_GET_ITEM(messages, n_valid - 1);
+        PyObject *values[RESULT_FIELDS] = {Py_True, name, status_ok, message, valid_t, rejected_t,
+                                           Py_None, NULL, NULL, method_closed_form, no_args};
+        for (int i = 0; i < RESULT_FIELDS; i++) Py_XINCREF(values[i]);
+        values[7] = PyLong_FromLong(0);
+        values[8] = PyFloat_FromDouble(elapsed);
+        answer = make_instance((PyTypeObject *)result, result_fields, values, RESULT_FIELDS);
+    } else {
+        answer = PyTuple_Pack(3, valid_t, rejected_t, off_t);
+    }
 end:
     Py_XDECREF(done);
     Py_DECREF(rows);
@@ -260,8 +296,8 @@ end:
 
 static PyMethodDef methods[] = {
     {"solutions", (PyCFunction)(void (*)(void))solutions, METH_FASTCALL,
-     "solutions(params, check, directions, solution, labels, position, rotation, seed) -> "
-     "(valid, rejected, off), or -1 (a target value not finite), 0 (no branch), -2 (a seed that "
+     "solutions(params, check, directions, solution, labels, result, name, messages, clock, "
+     "position, rotation, seed, start) -> the IKResult, or (valid, rejected, off), or -1 (a target value not finite), 0 (no branch), -2 (a seed that "
      "is not 6 finite float64). See kin/ik/analytic/six_r/_six_r_module.h."},
     {"solve", solve, METH_VARARGS,
      "solve(params, positions, rotations, free, out): the 8 branches of N targets into out "
@@ -286,7 +322,14 @@ static inline PyObject *six_r_module(PyModuleDef *def)
     for (int i = 0; i < 5; i++)
         if ((solution_fields[i] = PyUnicode_InternFromString(fields[i])) == NULL) return NULL;
     if ((setflags_name = PyUnicode_InternFromString("setflags")) == NULL) return NULL;
+    static const char *const results[RESULT_FIELDS] = {
+        "success", "solver",     "status", "message", "solutions", "rejected",
+        "distance_to_workspace", "iterations", "time", "method", "free"};
+    for (int i = 0; i < RESULT_FIELDS; i++)
+        if ((result_fields[i] = PyUnicode_InternFromString(results[i])) == NULL) return NULL;
     if ((no_args = PyTuple_New(0)) == NULL) return NULL;
+    if ((status_ok = PyUnicode_InternFromString("ok")) == NULL) return NULL;
+    if ((method_closed_form = PyUnicode_InternFromString("closed_form")) == NULL) return NULL;
     PyObject *m = twin_module(def, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
     if (m == NULL) return NULL;
     size_t n = sizeof CHECK_FIELDS / sizeof CHECK_FIELDS[0];

@@ -19,9 +19,10 @@ from __future__ import annotations
 import functools
 import importlib
 import math
+import time
 from collections.abc import Callable, Sequence
 from types import ModuleType
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -126,23 +127,26 @@ class TwinVerifier:
         self._check = check
 
     def solutions(
-        self, directions: np.ndarray | None, labels: Sequence[str]
-    ) -> Callable[[np.ndarray, np.ndarray, npt.ArrayLike | None], tuple | int]:
-        """The twin's ``solutions`` of this arm: ``(position, rotation, seed)`` -> its answer.
+        self, directions: np.ndarray | None, labels: Sequence[str], name: str
+    ) -> Callable[[np.ndarray, np.ndarray, npt.ArrayLike | None, float], Any]:
+        """The twin's ``solutions`` of this arm: ``(position, rotation, seed, start)`` -> answer.
 
-        The work of :meth:`__call__`, then the answer as the closed-form solver returns it:
-        ``(valid, rejected, off)``, the :class:`~kin.ik.result.IKSolution` of each branch inside
-        the limits and on target, nearest the seed first; of each on target outside the limits;
-        and ``(label, position error [m], rotation error [rad])`` of each off target. An int
-        instead when there is no such answer: -1 a target value that is not finite, 0 no branch,
-        -2 a seed that is not 6 finite float64 values (for the caller to check and name).
+        The work of :meth:`__call__`, then the answer as the closed-form solver returns it. When
+        a branch is valid and none is off target, the :class:`~kin.ik.result.IKResult` itself
+        (``time`` from ``start``, a ``time.perf_counter()`` [s]). Else ``(valid, rejected,
+        off)``: the :class:`~kin.ik.result.IKSolution` of each branch inside the limits and on
+        target, nearest the seed first; of each on target outside the limits; and ``(label,
+        position error [m], rotation error [rad])`` of each off target. An int instead when
+        there is no branch to return: -1 a target value that is not finite, 0 no branch, -2 a
+        seed that is not 6 finite float64 values (for the caller to check and name).
 
         Args:
             directions: Per joint 1 or -1 (the arm's ``q = direction * q'`` of the table the
                 twin solves: seeds mapped in, answers out), or None.
             labels: The 8 branch labels, in the twin's branch order.
+            name: The solver's name (:attr:`IKResult.solver`).
         """
-        from ...result import IKSolution
+        from ...result import IKResult, IKSolution
 
         flips = None if directions is None else np.asarray(directions, dtype=float).tobytes()
         return functools.partial(
@@ -152,6 +156,10 @@ class TwinVerifier:
             flips,
             IKSolution,
             tuple(labels),
+            IKResult,
+            name,
+            tuple(f"{n} valid solution(s)" for n in range(1, 9)),
+            time.perf_counter,
         )
 
     def __call__(
