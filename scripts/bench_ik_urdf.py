@@ -209,7 +209,13 @@ def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
 
 
 def measure(
-    solvers: dict[str, Solve], targets, seeds, judge: Judge, lower, upper, passes: int  # noqa: ANN001
+    solvers: dict[str, Solve],
+    targets,
+    seeds,
+    judge: Judge,
+    lower,
+    upper,
+    passes: int,  # noqa: ANN001
 ) -> dict[str, tuple[float, float, float]]:
     """Per solver: (success [%], median single-call time [us], valid answers per pose).
 
@@ -251,7 +257,10 @@ def get_argument_parser() -> ArgumentParser:
     parser.add_argument("--arms", nargs="+", choices=tuple(ARMS), default=list(ARMS))
     parser.add_argument("--poses", type=positive_int, default=200, help="poses per arm (200)")
     parser.add_argument(
-        "--passes", type=positive_int, default=4, help="timing passes over the poses, the solvers in turn (4)"
+        "--passes",
+        type=positive_int,
+        default=4,
+        help="timing passes over the poses, the solvers in turn (4)",
     )
     return parser
 

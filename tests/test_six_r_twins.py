@@ -31,10 +31,10 @@ from test_ik_ur_wrist import arm_table as ur_table
 import kin
 from dh2urdf import get_robot, load_table
 from kin.ik import ClosedFormSolver, PoseTarget
-from kin.ik.result import IKResult, IKSolution
 from kin.ik.analytic.six_r.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, TwinVerifier, check_params
 from kin.ik.analytic.six_r.spherical_wrist import SphericalWrist6R
 from kin.ik.analytic.six_r.ur_wrist import URWrist6R
+from kin.ik.result import IKResult, IKSolution
 
 PI = math.pi
 BUILT = URWrist6R.compiled_twin is not None and SphericalWrist6R.compiled_twin is not None

@@ -140,9 +140,7 @@ class ClosedFormSolver(BranchVerification):
         self._solutions = (
             None
             if self._twin is None
-            else self._twin.solutions(
-                self._directions, self.structure.branch_labels, self.name
-            )
+            else self._twin.solutions(self._directions, self.structure.branch_labels, self.name)
         )
 
     @property
