@@ -11,8 +11,10 @@ For each branch of :class:`~.closed_form.ClosedFormSolver` (mixed into it: reads
    (off target: never returned, logged).
 
 A structure with a compiled twin that verifies (the 6R closed forms, :mod:`.six_r.six_r_twin`)
-does the three steps for a pose in one C call (:meth:`BranchVerification._solve_twin`). Valid
-solutions are ordered by Euclidean distance to the seed (:meth:`BranchVerification._result`).
+does the three steps for a pose in one C call, which also makes the solutions and, when one
+is valid and none off target, the result (:meth:`.six_r.six_r_twin.TwinVerifier.solutions`;
+else :meth:`BranchVerification._twin_answer`). Valid solutions are ordered by Euclidean distance
+to the seed (:meth:`BranchVerification._result`).
 """
 
 from __future__ import annotations
@@ -173,21 +175,21 @@ class BranchVerification:
             method=method if solutions else "",
         )
 
-    def _solve_twin(self, target: PoseTarget, seed: npt.ArrayLike | None, start: float) -> IKResult:
-        """:meth:`solve` of a pose by the structure's compiled twin (same steps, one call).
+    def _twin_answer(
+        self, answer: Any, target: PoseTarget, seed: npt.ArrayLike | None, start: float
+    ) -> IKResult:
+        """The result of a pose from the compiled twin's answer when it is not the result itself.
 
-        Branches moved into the limits as :func:`wrap` does, measured by the table's DH
-        product in C (:mod:`.six_r_twin`) instead of Pinocchio, and their solutions made there
-        (:meth:`.six_r_twin.TwinVerifier.solutions`); the tests compare the two paths.
+        ``answer`` is what :meth:`.six_r_twin.TwinVerifier.solutions` returned: the branches
+        (moved into the limits as :func:`wrap` does, measured by the table's DH product in C
+        instead of Pinocchio; the tests compare the two paths) when some are off target or none
+        is valid, else a code: no branch, a target that is not finite, a seed to check here.
         """
-        answer = self._solutions(target.position, target.rotation, seed, start)
-        if answer.__class__ is IKResult:  # a valid branch, none off target
-            return answer
         if answer.__class__ is int and answer == -2:  # checked here: a TargetError names it
             checked = np.array(self._seed_list(seed), dtype=float)
             answer = self._solutions(target.position, target.rotation, checked, start)
             if answer.__class__ is IKResult:
-                return answer
+                return answer  # type: ignore[no-any-return]
         if answer.__class__ is tuple:
             valid, rejected, off = answer
             for label, position_error, angle in off:

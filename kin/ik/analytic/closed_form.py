@@ -243,8 +243,12 @@ class ClosedFormSolver(BranchVerification):
         start = time.perf_counter()
         if target.__class__ is PoseTarget and self._solutions is not None:
             if target.mask is None:  # type: ignore[attr-defined]
-                # No lock: the twin shares no state between calls.
-                return self._solve_twin(target, seed, start)  # type: ignore[arg-type]
+                # One C call (no lock: the twin shares no state between calls), which makes the
+                # result when a branch is valid and none is off target.
+                answer = self._solutions(target.position, target.rotation, seed, start)  # type: ignore[attr-defined]
+                if answer.__class__ is IKResult:
+                    return answer  # type: ignore[no-any-return]
+                return self._twin_answer(answer, target, seed, start)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
             if is_partial(target, self._partial_below):
                 return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]

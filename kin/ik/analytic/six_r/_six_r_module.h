@@ -97,12 +97,12 @@ static PyObject *verify(PyObject *self, PyObject *args)
     return PyLong_FromLong(found);
 }
 
-/* What solutions() makes its answers with, set by six_r_module: numpy.empty, the shapes (k, 6)
-   for k = 0 .. BRANCHES, the name of ndarray.setflags, the field names of IKSolution and
+/* What solutions() makes its answers with, set by six_r_module: numpy.ndarray, the float64
+   dtype, the shapes (k, 6) for k = 0 .. BRANCHES, the field names of IKSolution and
    IKResult (in the order of their constructors), an empty tuple (object.__new__'s arguments and
    IKResult.free) and the strings "ok" and "closed_form". */
 #define RESULT_FIELDS 11
-static PyObject *np_empty, *row_shapes[BRANCHES + 1], *setflags_name, *solution_fields[5],
+static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *solution_fields[5],
     *result_fields[RESULT_FIELDS], *no_args, *status_ok, *method_closed_form;
 
 /* The values of a C-contiguous float64 buffer of n values copied into out: 1, else 0 (no error). */
@@ -235,23 +235,19 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
     int kept = n_valid + n_rejected, order[BRANCHES];
     memcpy(order, valid, (size_t)n_valid * sizeof(int));
     memcpy(order + n_valid, rejected, (size_t)n_rejected * sizeof(int));
-    PyObject *rows = PyObject_CallOneArg(np_empty, row_shapes[kept]);
-    if (rows == NULL) return NULL;
-    Py_buffer view;
-    if (PyObject_GetBuffer(rows, &view, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE) < 0) {
-        Py_DECREF(rows);
-        return NULL;
-    }
-    double(*out)[JOINTS] = view.buf;
+    /* The rows, written into a bytes object: the array on it is read-only (its buffer is). */
+    PyObject *data = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)(kept * JOINTS * sizeof(double)));
+    if (data == NULL) return NULL;
+    double(*out)[JOINTS] = (double(*)[JOINTS])PyBytes_AS_STRING(data);
     for (int k = 0; k < kept; k++)
         for (int i = 0; i < JOINTS; i++) out[k][i] = q[order[k]][i] * dir[i];
-    PyBuffer_Release(&view);
-    PyObject *call[2] = {rows, Py_False};
-    PyObject *done = PyObject_VectorcallMethod(setflags_name, call,
-                                               2 | PY_VECTORCALL_ARGUMENTS_OFFSET, NULL);
+    PyObject *call[3] = {row_shapes[kept], np_float64, data};
+    PyObject *rows = PyObject_Vectorcall(np_ndarray, call, 3, NULL);
+    Py_DECREF(data);
+    if (rows == NULL) return NULL;
     PyObject *answer = NULL, *valid_t = PyTuple_New(n_valid), *rejected_t = PyTuple_New(n_rejected),
              *off_t = PyTuple_New(n_off);
-    if (done == NULL || valid_t == NULL || rejected_t == NULL || off_t == NULL) goto end;
+    if (valid_t == NULL || rejected_t == NULL || off_t == NULL) goto end;
     for (int k = 0; k < kept; k++) {
         int b = order[k];
         PyObject *solution =
@@ -286,7 +282,6 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
         answer = PyTuple_Pack(3, valid_t, rejected_t, off_t);
     }
 end:
-    Py_XDECREF(done);
     Py_DECREF(rows);
     Py_XDECREF(valid_t);
     Py_XDECREF(rejected_t);
@@ -312,16 +307,16 @@ static inline PyObject *six_r_module(PyModuleDef *def)
 {
     PyObject *numpy = PyImport_ImportModule("numpy");
     if (numpy == NULL) return NULL;
-    np_empty = PyObject_GetAttrString(numpy, "empty");
+    np_ndarray = PyObject_GetAttrString(numpy, "ndarray");
+    np_float64 = np_ndarray == NULL ? NULL : PyObject_GetAttrString(numpy, "float64");
     Py_DECREF(numpy);
-    if (np_empty == NULL) return NULL;
+    if (np_float64 == NULL) return NULL;
     for (int k = 0; k <= BRANCHES; k++)
         if ((row_shapes[k] = Py_BuildValue("(ii)", k, JOINTS)) == NULL) return NULL;
     static const char *const fields[5] = {"q", "branch", "within_limits", "position_error",
                                           "rotation_error"};
     for (int i = 0; i < 5; i++)
         if ((solution_fields[i] = PyUnicode_InternFromString(fields[i])) == NULL) return NULL;
-    if ((setflags_name = PyUnicode_InternFromString("setflags")) == NULL) return NULL;
     static const char *const results[RESULT_FIELDS] = {
         "success", "solver",     "status", "message", "solutions", "rejected",
         "distance_to_workspace", "iterations", "time", "method", "free"};
