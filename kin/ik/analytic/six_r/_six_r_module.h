@@ -79,14 +79,8 @@ static PyObject *verify(PyObject *self, PyObject *args)
         for (int i = 0; i < 9; i++) found = isfinite(rw[i]) ? found : -1;
         if (found == 0) {
             solve_world(P, pw, rw, free, q);
-            for (int b = 0; b < BRANCHES; b++) {
-                if (isnan(q[b][0])) {
-                    memset(info[b], 0, sizeof info[b]);
-                    continue;
-                }
-                found++;
-                check_branch(C, pw, rw, seed, q[b], info[b]);
-            }
+            for (int b = 0; b < BRANCHES; b++) found += !isnan(q[b][0]);
+            check_branches(C, pw, rw, seed, q, info);
         }
     }
     release_buffers(7, views);
@@ -214,10 +208,10 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
     int valid[BRANCHES], rejected[BRANCHES], off[BRANCHES], n_valid = 0, n_rejected = 0,
                                                              n_off = 0, found = 0;
     solve_world(&P, pw, rw, 0.0, q);
+    check_branches(&C, pw, rw, seed, q, info);
     for (int b = 0; b < BRANCHES; b++) {
         if (isnan(q[b][0])) continue;
         found++;
-        check_branch(&C, pw, rw, seed, q[b], info[b]);
         if (info[b][0] == 1.0) { /* stable insertion by distance to the seed */
             int at = n_valid++;
             while (at > 0 && info[valid[at - 1]][3] > info[b][3]) {

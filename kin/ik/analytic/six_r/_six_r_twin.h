@@ -133,33 +133,29 @@ static inline void compose(double *A, const double *B)
     memcpy(A, out, sizeof out);
 }
 
-/* The tool pose (3x4) at joint vector q [rad]: the plain product of the table's rows, each row
-   of the running product T times the row's transform written out (its zeros and ones skipped). */
-static inline void table_fk(const Check *C, const double *q, double *T)
+/* T = T A_j(q_j) for row j of the table: each row of the running product T (3x4, row-major)
+   times the row's transform written out (its zeros and ones skipped). */
+static inline void joint_step(const Check *C, int j, double q_j, double *T)
 {
-    memcpy(T, C->base, 12 * sizeof(double));
+    double t = q_j + C->theta[j], ct = cos(t), st = sin(t);
+    double ca = C->cos_alpha[j], sa = C->sin_alpha[j], a = C->a[j], d = C->d[j];
     const int modified = C->modified[0] != 0.0;
-    for (int j = 0; j < JOINTS; j++) {
-        double t = q[j] + C->theta[j], ct = cos(t), st = sin(t);
-        double ca = C->cos_alpha[j], sa = C->sin_alpha[j], a = C->a[j], d = C->d[j];
-        for (int i = 0; i < 3; i++) {
-            double *row = T + 4 * i, r0 = row[0], r1 = row[1], r2 = row[2];
-            if (modified) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
-                double u1 = ca * r1 + sa * r2, u2 = -sa * r1 + ca * r2;
-                row[0] = ct * r0 + st * u1;
-                row[1] = -st * r0 + ct * u1;
-                row[2] = u2;
-                row[3] += a * r0 + d * u2;
-            } else { /* Rz(t) Tz(d) Tx(a) Rx(alpha) */
-                double c0 = ct * r0 + st * r1, c1 = -st * r0 + ct * r1;
-                row[0] = c0;
-                row[1] = ca * c1 + sa * r2;
-                row[2] = -sa * c1 + ca * r2;
-                row[3] += d * r2 + a * c0;
-            }
+    for (int i = 0; i < 3; i++) {
+        double *row = T + 4 * i, r0 = row[0], r1 = row[1], r2 = row[2];
+        if (modified) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
+            double u1 = ca * r1 + sa * r2, u2 = -sa * r1 + ca * r2;
+            row[0] = ct * r0 + st * u1;
+            row[1] = -st * r0 + ct * u1;
+            row[2] = u2;
+            row[3] += a * r0 + d * u2;
+        } else { /* Rz(t) Tz(d) Tx(a) Rx(alpha) */
+            double c0 = ct * r0 + st * r1, c1 = -st * r0 + ct * r1;
+            row[0] = c0;
+            row[1] = ca * c1 + sa * r2;
+            row[2] = -sa * c1 + ca * r2;
+            row[3] += d * r2 + a * c0;
         }
     }
-    compose(T, C->tool);
 }
 
 /* closed_form._nearest_copy: the value + 2 pi k inside the limits nearest the seed, else the
@@ -220,41 +216,76 @@ static inline double wrap_into(double value, double seed, double lower, double u
     return base;
 }
 
-/* Status, errors and distance of one branch q (moved into the limits in place). */
-static inline void check_branch(const Check *C, const double *p, const double *r,
-                                const double *seed, double *q, double *info)
+/* Each branch q[b] that exists (q[b][0] not NaN) moved into the limits in place, then its
+   status, errors and distance to the seed into info[b] (a missing branch: zeros). The tool pose
+   of each is the plain product of the table's rows; a branch whose first joints equal (bit for
+   bit) those of an earlier one starts from that one's product after them (the same operations
+   on the same values: the same pose), so that the wrist branches of one arm pose share it. */
+static inline void check_branches(const Check *C, const double *p, const double *r,
+                                  const double *seed, double q[BRANCHES][JOINTS],
+                                  double info[BRANCHES][4])
 {
-    int inside = 1;
-    double distance2 = 0.0, T[12];
-    for (int i = 0; i < JOINTS; i++) {
-        double value = C->has_offsets[0] != 0.0 ? (q[i] + C->theta[i]) - C->theta[i] : q[i];
-        double s = seed[i], low = NAN, high = NAN;
-        if (fabs(s) < FAST_SEED) {
-            low = fmax(C->lower[i], s - FAST_COPY);
-            high = fmin(C->upper[i], s + FAST_COPY);
+    double after[BRANCHES][JOINTS][12]; /* after[b][j]: the product through row j */
+    int present[BRANCHES], n = 0;
+    for (int b = 0; b < BRANCHES; b++) {
+        if (isnan(q[b][0])) {
+            memset(info[b], 0, sizeof info[b]);
+            continue;
         }
-        if (!(low < value && value < high)) {
-            int ok;
-            value = wrap_into(value, s, C->lower[i], C->upper[i], &ok);
-            inside = inside && ok;
+        int inside = 1;
+        double distance2 = 0.0;
+        for (int i = 0; i < JOINTS; i++) {
+            double value = C->has_offsets[0] != 0.0 ? (q[b][i] + C->theta[i]) - C->theta[i]
+                                                    : q[b][i];
+            double s = seed[i], low = NAN, high = NAN;
+            if (fabs(s) < FAST_SEED) {
+                low = fmax(C->lower[i], s - FAST_COPY);
+                high = fmin(C->upper[i], s + FAST_COPY);
+            }
+            if (!(low < value && value < high)) {
+                int ok;
+                value = wrap_into(value, s, C->lower[i], C->upper[i], &ok);
+                inside = inside && ok;
+            }
+            q[b][i] = value;
+            distance2 += (value - s) * (value - s);
         }
-        q[i] = value;
-        distance2 += (value - s) * (value - s);
+        int shared = 0, from = -1; /* the longest run of first joints equal to an earlier one's */
+        for (int k = 0; k < n; k++) {
+            int e = present[k], run = 0;
+            while (run < JOINTS - 1 && q[e][run] == q[b][run]) run++;
+            if (run > shared) {
+                shared = run;
+                from = e;
+            }
+        }
+        double T[12];
+        if (shared > 0) {
+            memcpy(after[b], after[from], (size_t)shared * sizeof after[b][0]);
+            memcpy(T, after[from][shared - 1], sizeof T);
+        } else {
+            memcpy(T, C->base, sizeof T);
+        }
+        for (int j = shared; j < JOINTS; j++) {
+            joint_step(C, j, q[b][j], T);
+            memcpy(after[b][j], T, sizeof T);
+        }
+        present[n++] = b;
+        compose(T, C->tool);
+        double dx = T[3] - p[0], dy = T[7] - p[1], dz = T[11] - p[2], rotation2 = 0.0;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double e = T[4 * i + j] - r[3 * i + j];
+                rotation2 += e * e;
+            }
+        double position_error = sqrt(dx * dx + dy * dy + dz * dz);
+        double rotation_error = 2.0 * asin(fmin(1.0, sqrt(rotation2) / sqrt(8.0)));
+        int on_target = position_error <= C->tolerance[0] && rotation_error <= C->tolerance[1];
+        info[b][0] = !on_target ? 3.0 : (inside ? 1.0 : 2.0);
+        info[b][1] = position_error;
+        info[b][2] = rotation_error;
+        info[b][3] = sqrt(distance2);
     }
-    table_fk(C, q, T);
-    double dx = T[3] - p[0], dy = T[7] - p[1], dz = T[11] - p[2], rotation2 = 0.0;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double e = T[4 * i + j] - r[3 * i + j];
-            rotation2 += e * e;
-        }
-    double position_error = sqrt(dx * dx + dy * dy + dz * dz);
-    double rotation_error = 2.0 * asin(fmin(1.0, sqrt(rotation2) / sqrt(8.0)));
-    int on_target = position_error <= C->tolerance[0] && rotation_error <= C->tolerance[1];
-    info[0] = !on_target ? 3.0 : (inside ? 1.0 : 2.0);
-    info[1] = position_error;
-    info[2] = rotation_error;
-    info[3] = sqrt(distance2);
 }
 
 #endif
