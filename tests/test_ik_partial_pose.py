@@ -219,3 +219,43 @@ def test_hostile_partial_targets_never_crash(name, position, axis, mask):
             if all(mask[:3]) or isinstance(target, AxisTarget):
                 assert np.linalg.norm(reached[:3, 3] - np.asarray(position)) < 1e-5
             assert _inside(robot, solution.q)
+
+
+@pytest.mark.parametrize("name", ["planar2", "pickplace3"])
+def test_full_pose_on_a_position_closed_form_equals_the_partial_solver(name, caplog):
+    """A full pose on an arm whose closed form solves positions (2R, 3R): its position's branches
+    measured on the whole pose, the same joint vectors as the partial-pose solver's (its tilted
+    twin: unreachable, handed over without a warning)."""
+    from kin.ik.analytic.closed_form import ClosedFormSolver
+
+    reference, source = _reference(name)
+    robot = load_robot(source)
+    solver = get_solver(robot)
+    assert isinstance(solver, ClosedFormSolver) and solver._pose_by_position, solver.name
+    rng = np.random.default_rng(3)
+    fast = 0
+    for q in _configurations(robot, 30, 11):
+        pose = _tool(reference, q)
+        target = PoseTarget(pose[:3, 3], pose[:3, :3])
+        seed = q + rng.normal(scale=0.1, size=q.shape)
+        ours, partial = solver.solve(target, seed), solver.partial.solve(target, seed)
+        assert ours.success == partial.success, name
+        if ours.method == "closed_form":
+            fast += 1
+            mine = sorted(tuple(np.round(s.q, 9)) for s in ours.solutions)
+            theirs = sorted(tuple(np.round(s.q, 9)) for s in partial.solutions)
+            assert mine == theirs, (name, q.tolist())
+            for solution in ours.solutions:  # the reference DH product agrees
+                reached = _tool(reference, solution.q)
+                assert np.linalg.norm(reached[:3, 3] - pose[:3, 3]) < 1e-9
+                angle = np.linalg.norm(pin.log3(reached[:3, :3].T @ pose[:3, :3]))
+                assert angle < 1e-9 and _inside(robot, solution.q)
+            assert np.linalg.norm(ours.solutions[0].q - seed) <= min(
+                np.linalg.norm(s.q - seed) for s in ours.solutions
+            )
+        tilted = pose[:3, :3] @ pin.exp3(np.array([0.3, 0.2, 0.1]))  # off the arm's rotations
+        caplog.clear()
+        result = solver.solve(PoseTarget(pose[:3, 3], tilted), seed)
+        assert result.method != "closed_form" and not result.success, name
+        assert "misses the target" not in caplog.text
+    assert fast >= 25, f"{name}: {fast}/30 answered by the closed form"

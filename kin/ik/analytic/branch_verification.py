@@ -230,8 +230,13 @@ class BranchVerification:
         seed: list[float],
         p: list[float],
         r: list[list[float]] | None,
+        quiet: bool = False,
     ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
-        """Per branch: the joint vector, the judge's errors, and where it goes (valid, rejected, dropped)."""
+        """Per branch: the joint vector, the judge's errors, and where it goes (valid, rejected, dropped).
+
+        ``quiet``: a branch off target is dropped without a warning (the caller asks another
+        solver then).
+        """
         tool, tool_position = self._judge.tool, self._judge.tool_position
         lows, highs = self._joints_zero_seed if seed is self._zero_seed else self._joints(seed)
         offsets, lower, upper = self._offsets, self._lower, self._upper
@@ -283,6 +288,8 @@ class BranchVerification:
                     )
                     angle = axis_error(u, approach)
             if position_error > tol_p or (angle is not None and angle > tol_r):
+                if quiet:
+                    continue
                 logger.warning(
                     "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
                     self.robot.name,

@@ -125,6 +125,10 @@ class ClosedFormSolver(BranchVerification):
         # So does one whose closed form projects the pose on what the arm reaches (a SCARA's).
         whole = PoseTarget in self._kinds and not getattr(self.structure, "projects", False)
         self._partial_below = 6 if whole else len(self._lower)
+        #: A full pose on an arm whose closed form solves positions only (a planar 2R, a 3R
+        #: arm): the position's branches are its only candidates, measured on the whole pose
+        #: (:meth:`_pose_from_positions`) before the partial-pose solver is asked.
+        self._pose_by_position = PositionTarget in self._kinds and PoseTarget not in self._kinds
         self._zero_seed = [0.0] * len(self._lower)
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # A structure with a compiled twin that also verifies (the 6R closed forms): pose targets
@@ -251,6 +255,15 @@ class ClosedFormSolver(BranchVerification):
                 return self._twin_answer(answer, target, seed, start)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
             if is_partial(target, self._partial_below):
+                if (
+                    self._pose_by_position
+                    and isinstance(target, PoseTarget)
+                    and target.mask is None
+                ):
+                    with self._lock:
+                        done = self._pose_from_positions(target, seed, start)
+                    if done is not None:
+                        return done
                 return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds):
             if isinstance(target, self.target_kinds):
@@ -277,6 +290,34 @@ class ClosedFormSolver(BranchVerification):
             method = "closed_form_polished"
         valid, rejected = self._verify(target, branches, seed_list, p, r)
         return self._result(valid, rejected, branches.status, branches.message, start, method)
+
+    def _pose_from_positions(
+        self, target: PoseTarget, seed: npt.ArrayLike | None, start: float
+    ) -> IKResult | None:
+        """A full pose by the closed form of its position: the branches on the whole pose.
+
+        The closed form's branches of the position are every joint vector that reaches it: those
+        that also reach the rotation (the judge, at the solver's tolerances) are the answer. None
+        when none does (no warning): the partial-pose solver then gives the nearest pose, or the
+        answer at its looser tolerances.
+        """
+        if self._directions is not None and seed is not None:
+            seed = self._forward_seed(seed)
+        seed_list = self._seed_list(seed)
+        if not target.finite or self.idealised is not None:
+            return None
+        if self._detailed:
+            branches = self.structure.branches(target, seed_list)  # type: ignore[attr-defined]
+        else:
+            candidates = self.structure.solve(target.position, None)
+            branches = candidate_branches(self.structure, candidates, self._offsets)
+        if branches.status == "out_of_reach":
+            return None
+        p, r = target.position.tolist(), target.rotation.tolist()
+        valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
+        if not valid:
+            return None
+        return self._result(valid, rejected, branches.status, branches.message, start)
 
     def _polished(self, branches: Branches, target: Target) -> Branches:
         """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`)."""
