@@ -35,6 +35,7 @@ from __future__ import annotations
 import math
 import threading
 import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -143,11 +144,23 @@ class PartialPoseIK:
             looked up (the idealised table's when the true one misses a structure by
             rounding), none if no structure fits.
         name: The pipeline reported in :attr:`IKResult.solver`.
+        samples: ``samples(position, rotation, end)``: joint vectors of sampled poses nearest a
+            full pose (the numeric solver's seed table, loaded only when that ends before the
+            ``time.perf_counter()`` value ``end``), tried after the seed and before random
+            starts; or None. A five-joint arm's poses are a thin set: a start in the right
+            basin matters more there than many random ones.
     """
 
-    def __init__(self, robot: RobotModel, structure: Any = None, name: str = "numeric"):
+    def __init__(
+        self,
+        robot: RobotModel,
+        structure: Any = None,
+        name: str = "numeric",
+        samples: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
+    ):
         self.robot = robot
         self.name = name
+        self.samples = samples
         self.model = robot.model
         self.data = robot.model.createData()
         self.frame_id = robot.model.getFrameId(robot.tool_frame)
@@ -272,10 +285,18 @@ class PartialPoseIK:
                 return self._unreached(task, inside[0], outside, start, 0)
             starts = [q for _, q in attempts]
             starts.append(seed)
+            target = task.target
+            # The samples nearest a full pose, after the seed: looked up only when it is needed.
+            sampled = not (
+                self.samples is not None and isinstance(target, PoseTarget) and target.mask is None
+            )
             rng = np.random.default_rng(random_seed)
             best: tuple[float, np.ndarray] | None = None
             tried = 0
             while True:
+                if not starts and not sampled:
+                    sampled = True
+                    starts.extend(self.samples(target.position, target.rotation, deadline))  # type: ignore[misc, union-attr]
                 if starts:
                     q0 = starts.pop(0)
                 else:

@@ -291,8 +291,25 @@ class NumericIK:
     def partial(self) -> PartialPoseIK:
         """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use."""
         if self._partial is None:
-            self._partial = PartialPoseIK(self.robot, None, PIPELINE)
+            self._partial = PartialPoseIK(self.robot, None, PIPELINE, self.nearest_samples)
         return self._partial
+
+    def nearest_samples(
+        self, position: np.ndarray, rotation: np.ndarray | None, end: float
+    ) -> np.ndarray:
+        """The joint vectors of the :attr:`nearest` seed-table samples nearest a pose, (k, nq).
+
+        Nearest in the table's pose embedding (position [m], rotation weighed); none when the
+        table cannot be had before ``end`` (a ``time.perf_counter()`` value: built or loaded in
+        the background then, :meth:`_affordable_table`) or the target's cell is empty.
+        """
+        table = self._affordable_table(end)
+        found = None if table is None else table.ranked(position, rotation)
+        if table is None or found is None or not found[0].size:
+            return np.empty((0, self.nq))
+        candidates, distances = found
+        order = np.argsort(distances, kind="stable")[: self.nearest]
+        return table.q[candidates[order]]
 
     @property
     def differential(self) -> DifferentialIK:
