@@ -150,9 +150,10 @@ def test_polish_with_and_without_the_twin_and_its_fallback(monkeypatch):
 
 
 def test_five_joint_arm_without_closed_form_reaches_full_poses_from_samples():
-    """SO-101 (5 joints, no closed form) given whole poses of its own: the partial-pose solver
-    starts from the seed-table samples nearest the pose after the seed (without them 95 of
-    these 100 poses were solved); every answer judged on the original URDF."""
+    """SO-101 (5 joints, no closed form) given whole poses of its own: damped Newton from the
+    seed, then from the seed-table samples nearest the pose, before the least-squares starts
+    (95 of these 100 poses were solved by those alone); every answer judged on the original
+    URDF."""
     relative, base, tip = ARMS["so101"]
     robot = load_robot(erd(relative), base, tip)
     solver = get_solver(robot)
@@ -161,16 +162,41 @@ def test_five_joint_arm_without_closed_form_reaches_full_poses_from_samples():
     lower, upper = robot.lower, robot.upper
     rng = np.random.default_rng(7)
     seed = np.clip(np.zeros(robot.nq), lower, upper)
-    solved = 0
+    solved = newton = 0
     for q in rng.uniform(np.maximum(lower, -np.pi), np.minimum(upper, np.pi), (100, robot.nq)):
         pose = pin.SE3(reference.pose(q))
         result = solver.solve(PoseTarget(pose.translation, pose.rotation), seed, timeout=0.05)
         solved += result.success
+        newton += result.method == "damped_newton"
         for solution in result.solutions:
             reached = pin.SE3(reference.pose(solution.q))
             assert np.linalg.norm(reached.translation - pose.translation) < 1e-5
             assert np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) < 1e-4
             assert np.all(solution.q >= lower) and np.all(solution.q <= upper)
-    assert solved >= 99, f"{solved=}"
+    assert solved >= 99 and newton >= 90, f"{solved=} {newton=}"
     samples = solver.nearest_samples(pose.translation, pose.rotation, np.inf)
     assert samples.shape == (solver.nearest, robot.nq)
+
+
+def test_tool_on_the_last_axis_full_poses_by_the_closed_form():
+    """The double pendulum's tool sits on its second joint's axis (no second link in the plane):
+    the parallel-axes closed form takes the first angle from the position, the second from the
+    yaw; every pose of its own answered so (one branch), judged on the original URDF."""
+    relative, base, tip = ARMS["double_pendulum"]
+    robot = load_robot(erd(relative), base, tip)
+    solver = get_solver(robot)
+    assert solver.name == "closed_form:parallel_axes"
+    reference = original("double_pendulum")
+    rng = np.random.default_rng(11)
+    for q in rng.uniform(robot.lower, robot.upper, size=(100, robot.nq)):
+        pose = pin.SE3(reference.pose(q))
+        result = solver.solve(PoseTarget(pose.translation, pose.rotation), np.zeros(robot.nq))
+        assert result.method == "closed_form" and len(result.solutions) == 1, result.message
+        got = result.solutions[0].q
+        assert np.abs(np.remainder(got - q + np.pi, 2 * np.pi) - np.pi).max() < 1e-9
+        reached = pin.SE3(reference.pose(got))
+        assert np.linalg.norm(reached.translation - pose.translation) < 1e-9
+        assert np.linalg.norm(pin.log3(reached.rotation.T @ pose.rotation)) < 1e-9
+    tilted = pose.rotation @ pin.exp3(np.array([0.2, 0.3, 0.4]))  # off the arm's rotations
+    result = solver.solve(PoseTarget(pose.translation, tilted))
+    assert not result.success and result.method == ""

@@ -125,10 +125,13 @@ class ClosedFormSolver(BranchVerification):
         # So does one whose closed form projects the pose on what the arm reaches (a SCARA's).
         whole = PoseTarget in self._kinds and not getattr(self.structure, "projects", False)
         self._partial_below = 6 if whole else len(self._lower)
-        #: A full pose on an arm whose closed form solves positions only (a planar 2R, a 3R
-        #: arm): the position's branches are its only candidates, measured on the whole pose
+        #: A full pose on an arm of fewer than six joints whose closed form solves positions only
+        #: (a planar 2R, a 3R arm) or projects poses on the arm's (a SCARA, any arm of parallel
+        #: axes): the closed form's branches are its only candidates, measured on the whole pose
         #: (:meth:`_pose_from_positions`) before the partial-pose solver is asked.
-        self._pose_by_position = PositionTarget in self._kinds and PoseTarget not in self._kinds
+        self._pose_by_position = (
+            PositionTarget in self._kinds and PoseTarget not in self._kinds
+        ) or bool(getattr(self.structure, "projects", False))
         self._zero_seed = [0.0] * len(self._lower)
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # A structure with a compiled twin that also verifies (the 6R closed forms): pose targets
@@ -294,19 +297,21 @@ class ClosedFormSolver(BranchVerification):
     def _pose_from_positions(
         self, target: PoseTarget, seed: npt.ArrayLike | None, start: float
     ) -> IKResult | None:
-        """A full pose by the closed form of its position: the branches on the whole pose.
+        """A full pose by its closed form's branches, measured on the whole pose.
 
-        The closed form's branches of the position are every joint vector that reaches it: those
-        that also reach the rotation (the judge, at the solver's tolerances) are the answer. None
-        when none does (no warning): the partial-pose solver then gives the nearest pose, or the
-        answer at its looser tolerances.
+        The branches of its position (or of its projection on the arm's poses). The closed form's branches are every joint vector that can reach the pose: those that do
+        (the judge, at the solver's tolerances) are the answer. None when none does (no
+        warning): the partial-pose solver then gives the nearest pose, or the answer at its
+        looser tolerances.
         """
         if self._directions is not None and seed is not None:
             seed = self._forward_seed(seed)
         seed_list = self._seed_list(seed)
         if not target.finite or self.idealised is not None:
             return None
-        if self._detailed:
+        if PoseTarget in self._kinds:  # the projection of the pose on the arm's poses
+            branches = self._branches(target, seed_list)
+        elif self._detailed:  # it reads the target's position
             branches = self.structure.branches(target, seed_list)  # type: ignore[attr-defined]
         else:
             candidates = self.structure.solve(target.position, None)

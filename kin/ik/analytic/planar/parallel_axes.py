@@ -177,27 +177,43 @@ class ParallelAxes:
         b = float(l1[1] * l2[0] - l1[0] * l2[1])
         rho = math.hypot(a, b)
         if rho < 1e-15:
-            return out
-        cosine = (float(w @ w) - float(l1 @ l1) - float(l2 @ l2)) / (2.0 * rho)
-        if abs(cosine) > 1.0 + 1e-12:
-            return out
-        spread = math.acos(max(-1.0, min(1.0, cosine)))
-        centre = math.atan2(b, a)
-        for k, beta in enumerate((centre + spread, centre - spread)):
-            cb, sb = math.cos(beta), math.sin(beta)
-            v = l1 + np.array([cb * l2[0] - sb * l2[1], sb * l2[0] + cb * l2[1]])
-            phi1 = math.atan2(w[1], w[0]) - math.atan2(v[1], v[0])
-            phis = [phi1, phi1 + beta] + ([psi] if three else [])
-            previous = 0.0
-            for j, (i, sign) in enumerate(zip(self.revolute, self.signs)):
-                out[k, i] = sign * (phis[j] - previous)
-                previous = phis[j]
-            if self.prismatic:
-                along = float((np.asarray(position) - self.base_point) @ self.n)
-                out[k, self.prismatic[0]] = self.prismatic_sign * (along - self.height)
+            # The tool on the last joint's axis (no second link in the plane): the position
+            # fixes the first link's angle (its projection on the circle the tool goes round),
+            # the yaw the last one's; one branch, of a full pose only.
+            if three or rotation is None or not (float(l2 @ l2) < 1e-24 < float(l1 @ l1)):
+                return out
+            if float(w @ w) < 1e-24:  # on the first axis: the first angle is free
+                return out
+            phi1 = math.atan2(w[1], w[0]) - math.atan2(l1[1], l1[0])
+            self._fill(out[0], [phi1, self.yaw(np.asarray(rotation, dtype=float))], position)
+        else:
+            cosine = (float(w @ w) - float(l1 @ l1) - float(l2 @ l2)) / (2.0 * rho)
+            if abs(cosine) > 1.0 + 1e-12:
+                return out
+            spread = math.acos(max(-1.0, min(1.0, cosine)))
+            centre = math.atan2(b, a)
+            for k, beta in enumerate((centre + spread, centre - spread)):
+                cb, sb = math.cos(beta), math.sin(beta)
+                v = l1 + np.array([cb * l2[0] - sb * l2[1], sb * l2[0] + cb * l2[1]])
+                phi1 = math.atan2(w[1], w[0]) - math.atan2(v[1], v[0])
+                self._fill(out[k], [phi1, phi1 + beta] + ([psi] if three else []), position)
         for i in self.revolute:
             out[:, i] = np.remainder(out[:, i] + math.pi, 2.0 * math.pi) - math.pi
         return out
+
+    def _fill(self, row: np.ndarray, phis: list[float], position: np.ndarray) -> None:
+        """One branch ``q`` into ``row`` from the links' absolute angles ``phis`` [rad].
+
+        Each joint angle is the change from the previous link's angle about ``n``, times its
+        axis' sign; the slide [m] puts the tool at the position's height along ``n``.
+        """
+        previous = 0.0
+        for j, (i, sign) in enumerate(zip(self.revolute, self.signs)):
+            row[i] = sign * (phis[j] - previous)
+            previous = phis[j]
+        if self.prismatic:
+            along = float((np.asarray(position) - self.base_point) @ self.n)
+            row[self.prismatic[0]] = self.prismatic_sign * (along - self.height)
 
     def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
         """:meth:`solve` of N targets: (N, 2, dof)."""
