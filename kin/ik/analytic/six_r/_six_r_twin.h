@@ -158,6 +158,11 @@ static inline void joint_step(const Check *C, int j, double q_j, double *T)
     }
 }
 
+/* The larger, the smaller of two numbers that are not NaN (fmax and fmin are library calls unless
+   NaN may be ignored; here the joint values, seeds and limits are never NaN). */
+static inline double larger(double a, double b) { return a > b ? a : b; }
+static inline double smaller(double a, double b) { return a < b ? a : b; }
+
 /* closed_form._nearest_copy: the value + 2 pi k inside the limits nearest the seed, else the
    least outside; *inside tells which. */
 static inline double nearest_copy(double value, double seed, double lower, double upper,
@@ -169,7 +174,7 @@ static inline double nearest_copy(double value, double seed, double lower, doubl
     double best = base, best_violation = INFINITY, best_distance = INFINITY;
     for (int i = 0; i < 5; i++) {
         double c = candidates[i];
-        double violation = fmax(fmax(lower - LIMIT_TOL - c, c - upper - LIMIT_TOL), 0.0);
+        double violation = larger(larger(lower - LIMIT_TOL - c, c - upper - LIMIT_TOL), 0.0);
         double distance = fabs(c - seed);
         if (violation < best_violation ||
             (violation == best_violation && distance < best_distance)) {
@@ -239,8 +244,8 @@ static inline void check_branches(const Check *C, const double *p, const double 
                                                     : q[b][i];
             double s = seed[i], low = NAN, high = NAN;
             if (fabs(s) < FAST_SEED) {
-                low = fmax(C->lower[i], s - FAST_COPY);
-                high = fmin(C->upper[i], s + FAST_COPY);
+                low = larger(C->lower[i], s - FAST_COPY);
+                high = smaller(C->upper[i], s + FAST_COPY);
             }
             if (!(low < value && value < high)) {
                 int ok;
@@ -279,7 +284,7 @@ static inline void check_branches(const Check *C, const double *p, const double 
                 rotation2 += e * e;
             }
         double position_error = sqrt(dx * dx + dy * dy + dz * dz);
-        double rotation_error = 2.0 * asin(fmin(1.0, sqrt(rotation2) / sqrt(8.0)));
+        double rotation_error = 2.0 * asin(smaller(1.0, sqrt(rotation2) / sqrt(8.0)));
         int on_target = position_error <= C->tolerance[0] && rotation_error <= C->tolerance[1];
         info[b][0] = !on_target ? 3.0 : (inside ? 1.0 : 2.0);
         info[b][1] = position_error;
