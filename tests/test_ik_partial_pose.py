@@ -231,7 +231,7 @@ def test_full_pose_on_a_position_closed_form_equals_the_partial_solver(name, cap
     reference, source = _reference(name)
     robot = load_robot(source)
     solver = get_solver(robot)
-    assert isinstance(solver, ClosedFormSolver) and solver._pose_by_position, solver.name
+    assert isinstance(solver, ClosedFormSolver) and solver._pose_by_branches, solver.name
     rng = np.random.default_rng(3)
     fast = 0
     for q in _configurations(robot, 30, 11):

@@ -128,8 +128,8 @@ class ClosedFormSolver(BranchVerification):
         #: A full pose on an arm of fewer than six joints whose closed form solves positions only
         #: (a planar 2R, a 3R arm) or projects poses on the arm's (a SCARA, any arm of parallel
         #: axes): the closed form's branches are its only candidates, measured on the whole pose
-        #: (:meth:`_pose_from_positions`) before the partial-pose solver is asked.
-        self._pose_by_position = (
+        #: (:meth:`_pose_from_branches`) before the partial-pose solver is asked.
+        self._pose_by_branches = (
             PositionTarget in self._kinds and PoseTarget not in self._kinds
         ) or bool(getattr(self.structure, "projects", False))
         self._zero_seed = [0.0] * len(self._lower)
@@ -259,12 +259,12 @@ class ClosedFormSolver(BranchVerification):
         if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
             if is_partial(target, self._partial_below):
                 if (
-                    self._pose_by_position
+                    self._pose_by_branches
                     and isinstance(target, PoseTarget)
                     and target.mask is None
                 ):
                     with self._lock:
-                        done = self._pose_from_positions(target, seed, start)
+                        done = self._pose_from_branches(target, seed, start)
                     if done is not None:
                         return done
                 return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
@@ -294,15 +294,15 @@ class ClosedFormSolver(BranchVerification):
         valid, rejected = self._verify(target, branches, seed_list, p, r)
         return self._result(valid, rejected, branches.status, branches.message, start, method)
 
-    def _pose_from_positions(
+    def _pose_from_branches(
         self, target: PoseTarget, seed: npt.ArrayLike | None, start: float
     ) -> IKResult | None:
         """A full pose by its closed form's branches, measured on the whole pose.
 
-        The branches of its position (or of its projection on the arm's poses). The closed form's branches are every joint vector that can reach the pose: those that do
-        (the judge, at the solver's tolerances) are the answer. None when none does (no
-        warning): the partial-pose solver then gives the nearest pose, or the answer at its
-        looser tolerances.
+        The branches of its position (or of its projection on the arm's poses) are every joint
+        vector that can reach the pose: those that do (the judge, at the solver's tolerances)
+        are the answer. None when none does (no warning): the partial-pose solver then gives
+        the nearest pose, or the answer at its looser tolerances.
         """
         if self._directions is not None and seed is not None:
             seed = self._forward_seed(seed)
