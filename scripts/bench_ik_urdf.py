@@ -25,6 +25,7 @@ import statistics  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
@@ -107,19 +108,28 @@ class Judge:
         return bool(position < POSITION_TOL and angle < ROTATION_TOL)
 
 
-Solve = Callable[[pin.SE3, np.ndarray], list[np.ndarray]]
+#: A solver's timed call: its own form of the target (:data:`Prepare`), the seed -> answers.
+Solve = Callable[[Any, np.ndarray], list[np.ndarray]]
+#: A target pose in the form the solver's API takes (NumPy arrays in its frames): made outside
+#: the timing, as a user holds targets in the form their solver takes.
+Prepare = Callable[[pin.SE3], Any]
 
 
-def ours(urdf: Path, base: str | None, tip: str | None) -> tuple[str, Solve]:
-    """Our documented call on the robot loaded from the URDF."""
+def _arrays(target: pin.SE3) -> tuple[np.ndarray, np.ndarray]:
+    """Position [m] and rotation of a pose as NumPy arrays."""
+    return np.array(target.translation), np.array(target.rotation)
+
+
+def ours(urdf: Path, base: str | None, tip: str | None) -> tuple[str, Prepare, Solve]:
+    """Our documented call on the robot loaded from the URDF (the PoseTarget built in the call)."""
     robot = load_robot(urdf, base, tip)
     solver = get_solver(robot)
 
-    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
-        result = solver.solve(PoseTarget(target.translation, target.rotation), seed)
+    def solve(target: tuple[np.ndarray, np.ndarray], seed: np.ndarray) -> list[np.ndarray]:
+        result = solver.solve(PoseTarget(*target), seed)
         return [s.q for s in result.solutions]
 
-    return solver.name, solve
+    return solver.name, _arrays, solve
 
 
 def _kdl_friendly(urdf: Path) -> Path:
@@ -140,7 +150,7 @@ def _kdl_friendly(urdf: Path) -> Path:
     return Path(name)
 
 
-def tracik(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
+def tracik(urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] | str:
     """TRAC-IK (pytracik): 5 ms, epsilon 1e-6, Speed; or why it is not measured."""
     try:
         from trac_ik import TracIK
@@ -159,14 +169,14 @@ def tracik(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
     except Exception as err:  # noqa: BLE001 - a peer's refusal is a row of the table
         return f"refuses: {' '.join(str(err).split())[:60]}"
 
-    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
-        q = solver.ik(target.translation, target.rotation, seed_jnt_values=seed)
+    def solve(target: tuple[np.ndarray, np.ndarray], seed: np.ndarray) -> list[np.ndarray]:
+        q = solver.ik(*target, seed_jnt_values=seed)
         return [] if q is None else [np.asarray(q)]
 
-    return "TRAC-IK (5 ms, Speed)", solve
+    return "TRAC-IK (5 ms, Speed)", _arrays, solve
 
 
-def ssik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
+def ssik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] | str:
     """The every-branch solve of ssik from the URDF; or why it is not measured."""
     try:
         import ssik
@@ -178,14 +188,14 @@ def ssik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
     except Exception as err:  # noqa: BLE001
         return f"refuses: {' '.join(str(err).split())[:60]}"
 
-    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
-        return [np.asarray(s.q) for s in arm.solve(target.homogeneous)]
+    def solve(target: np.ndarray, seed: np.ndarray) -> list[np.ndarray]:
+        return [np.asarray(s.q) for s in arm.solve(target)]
 
-    return name, solve
+    return name, lambda target: np.array(target.homogeneous), solve
 
 
-def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
-    """EAIK's every-branch solve from the URDF (its frames related to ours); or why not."""
+def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] | str:
+    """EAIK's every-branch solve from the URDF (targets in its frames); or why not."""
     try:
         from eaik.IK_URDF import UrdfRobot
     except ImportError as err:
@@ -199,7 +209,8 @@ def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
         return f"refuses: {family}"
 
     # EAIK reads the whole URDF with frames of its own: relate them to base -> tip once
-    # (T_urdf(q) = A T_eaik(q) B, fitted over sampled q) and hand it targets in its frames.
+    # (T_urdf(q) = A T_eaik(q) B, fitted over sampled q) and hand it targets in its frames,
+    # converted outside the timing.
     from kin.audit.se3_fit import fit_base_tool_many
 
     chain = read_chain(urdf, base, tip)
@@ -218,15 +229,18 @@ def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Solve] | str:
         return f"refuses: its chain is not {chain.base} -> {chain.tip}"
     a_inv, b_inv = np.linalg.inv(fit.T_ref_base), np.linalg.inv(fit.T_tool_ref)
 
-    def solve(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
-        answer = robot.IK(a_inv @ target.homogeneous @ b_inv)
-        return [np.asarray(q) for q, least in zip(answer.Q, answer.is_LS) if not least]
+    def prepare(target: pin.SE3) -> np.ndarray:
+        return a_inv @ target.homogeneous @ b_inv
 
-    return f"EAIK {family}", solve
+    def solve(target: np.ndarray, seed: np.ndarray) -> list[np.ndarray]:
+        answer = robot.IK(target)
+        return [q for q, least in zip(answer.Q, answer.is_LS) if not least]
+
+    return f"EAIK {family}", prepare, solve
 
 
 def measure(
-    solvers: dict[str, Solve],
+    solvers: dict[str, tuple[Prepare, Solve]],
     targets,  # noqa: ANN001
     seeds,  # noqa: ANN001
     judge: Judge,
@@ -241,7 +255,8 @@ def measure(
     machine that speeds up or slows down during the run weighs on every solver alike. The
     median is over all single calls; success and answers are judged on the first pass. A solver
     whose first pass took over :data:`SLOW_PASS` seconds runs no further pass; one that raises
-    is reported by its error (a string instead of the figures).
+    is reported by its error (a string instead of the figures). Each solver's targets are
+    made in its own form first (its ``Prepare``), outside the timing.
     """
     times: dict[str, list[float]] = {key: [] for key in solvers}
     hits = dict.fromkeys(solvers, 0)
@@ -251,16 +266,22 @@ def measure(
     failed: dict[str, str] = {}
     clock = time.perf_counter
     keys = list(solvers)
+    inputs: dict[str, list[Any]] = {}
+    for key in keys:
+        try:
+            inputs[key] = [solvers[key][0](target) for target in targets]
+        except Exception as err:  # noqa: BLE001 - a peer failing on a pose is a row
+            failed[key] = f"failed: {' '.join(str(err).split())[:50]}"
     for rep in range(passes):
         turn = rep % len(keys) if keys else 0
         for key in keys[turn:] + keys[:turn]:
             if key in failed or (rep > 0 and first_pass[key] > SLOW_PASS):
                 continue
-            solve, spent = solvers[key], times[key]
+            solve, spent = solvers[key][1], times[key]
             try:
-                for target, seed in zip(targets, seeds, strict=True):
+                for target, given, seed in zip(targets, inputs[key], seeds, strict=True):
                     start = clock()
-                    answers = solve(target, seed)
+                    answers = solve(given, seed)
                     spent.append(clock() - start)
                     if rep == 0:
                         valid = [q for q in answers if judge.on_target(q, target, lower, upper)]
@@ -320,18 +341,21 @@ def main(argv: list[str] | None = None) -> int:
         )
         targets = [judge.pose(q) for q in qs]
         seeds = [np.clip(np.zeros(len(joints)), lower, upper)] * len(targets)  # q = 0, in limits
-        name, solve = ours(urdf, base, tip)
-        rows: list[tuple[str, tuple[str, Solve] | str]] = [("ours", (f"ours: {name}", solve))]
+        name, prepare, solve = ours(urdf, base, tip)
+        rows: list[tuple[str, tuple[str, Prepare, Solve] | str]] = [
+            ("ours", (f"ours: {name}", prepare, solve))
+        ]
         rows += [("trac", tracik(urdf, chain.base, chain.tip))]
         rows += [("ssik", ssik_solver(urdf, chain.base, chain.tip))]
         rows += [("eaik", eaik_solver(urdf, chain.base, chain.tip))]
-        solvers: dict[str, Solve] = {}
+        solvers: dict[str, tuple[Prepare, Solve]] = {}
         labels: dict[str, str] = {}
         for key, entry in rows:
             if isinstance(entry, str):
                 print(f"{arm:<12} {key + ': ' + entry:<40}")
                 continue
-            labels[key], solvers[key] = entry
+            labels[key], *pair = entry
+            solvers[key] = (pair[0], pair[1])
         figures = measure(solvers, targets, seeds, judge, lower, upper, args.passes)
         for key, figure in figures.items():
             if isinstance(figure, str):
