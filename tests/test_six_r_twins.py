@@ -331,7 +331,11 @@ def test_result_made_in_c_equals_the_python_result_field_by_field():
             assert mine[key] == other[key] and type(mine[key]) is type(other[key]), (k, key)
         assert type(ours.solutions) is tuple and type(ours.rejected) is tuple
         assert all(type(s) is IKSolution for s in (*ours.solutions, *ours.rejected))
-        assert all(list(vars(s)) == list(vars(o)) for s, o in zip(ours.solutions, theirs.solutions))
+        names = [field.name for field in dataclasses.fields(IKSolution)]
+        for s, o in zip(ours.solutions, theirs.solutions, strict=True):
+            for name in names:  # every slot filled, with the Python path's types
+                assert type(getattr(s, name)) is type(getattr(o, name)), (k, name)
+            assert s.branch == o.branch and np.allclose(s.q, o.q, atol=1e-12), k
         assert 0.0 < ours.time < 1.0
 
 
@@ -349,3 +353,20 @@ def test_off_target_branches_are_logged_and_dropped(caplog):
     assert valid == () and rejected == () and len(off) == 8
     assert {label for label, _, _ in off} == set(structure.branch_labels)
     assert all(position > 1e-6 for _, position, _ in off)
+
+
+def test_solutions_made_in_c_pickle_copy_and_stay_frozen():
+    """The twin's IKSolution (slots written in C) behaves as one made in Python."""
+    import copy
+    import pickle
+
+    table = load_table(get_robot("ur5").table_path)
+    solver = ClosedFormSolver(kin.robot_from_table(table))
+    T = targets(table, 1, 5)[0]
+    solution = solver.solve(PoseTarget(T[:3, 3], T[:3, :3])).solutions[0]
+    for twin in (pickle.loads(pickle.dumps(solution)), copy.copy(solution), copy.deepcopy(solution)):
+        assert type(twin) is IKSolution and twin.branch == solution.branch
+        assert np.array_equal(twin.q, solution.q)
+        assert twin.rotation_error == solution.rotation_error
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        solution.q = np.zeros(6)  # type: ignore[misc]

@@ -17,7 +17,7 @@ Status = Literal[
 ]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, slots=True)
 class IKSolution:
     """One joint vector that the solver returns, verified by forward kinematics.
 
@@ -47,14 +47,14 @@ class IKSolution:
         position_error: float,
         rotation_error: float | None,
     ):
-        # The generated frozen __init__ sets each field through object.__setattr__ (about 1 us in
-        # all): too slow for the closed-form solvers' per-call budget. Same fields, still frozen.
-        fields = self.__dict__
-        fields["q"] = q
-        fields["branch"] = branch
-        fields["within_limits"] = within_limits
-        fields["position_error"] = position_error
-        fields["rotation_error"] = rotation_error
+        # Slots, set through their descriptors (the generated frozen __init__ looks each one up
+        # through object.__setattr__). The closed forms' compiled twins fill the same slots
+        # directly (kin/ik/analytic/six_r/_six_r_module.h), a few of them per call.
+        _SET_Q(self, q)
+        _SET_BRANCH(self, branch)
+        _SET_WITHIN_LIMITS(self, within_limits)
+        _SET_POSITION_ERROR(self, position_error)
+        _SET_ROTATION_ERROR(self, rotation_error)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict, SI: ``q`` in rad (revolute) / m (prismatic), errors in m and rad."""
@@ -68,6 +68,14 @@ class IKSolution:
                 None if self.rotation_error is None else float(self.rotation_error)
             ),
         }
+
+
+# The slot descriptors' setters of IKSolution (past its frozen __setattr__, as dataclasses do).
+_SET_Q = IKSolution.__dict__["q"].__set__
+_SET_BRANCH = IKSolution.__dict__["branch"].__set__
+_SET_WITHIN_LIMITS = IKSolution.__dict__["within_limits"].__set__
+_SET_POSITION_ERROR = IKSolution.__dict__["position_error"].__set__
+_SET_ROTATION_ERROR = IKSolution.__dict__["rotation_error"].__set__
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,7 +130,7 @@ class IKResult:
         free: tuple[str, ...] = (),
     ):
         # Same fields and defaults as the generated frozen __init__, without its per-field
-        # object.__setattr__ calls (see IKSolution).
+        # object.__setattr__ calls (about 1 us in all): a numeric solve makes one per call.
         fields = self.__dict__
         fields["success"] = success
         fields["solver"] = solver

@@ -7,6 +7,8 @@
 
 #include "_six_r_twin.h"
 
+#include <structmember.h> /* READONLY, T_OBJECT_EX before Python 3.12 */
+
 /* p_0_6, R_0_6 of a world target, then its branches. */
 static inline void solve_world(const Params *P, const double *pw, const double *rw, double free,
                                double out[BRANCHES][JOINTS])
@@ -130,14 +132,54 @@ static PyObject *make_instance(PyTypeObject *cls, PyObject *const *names, PyObje
     return obj;
 }
 
-/* An IKSolution (cls) of its fields; q is stolen. */
+#ifndef Py_T_OBJECT_EX /* before Python 3.12 */
+#define Py_T_OBJECT_EX T_OBJECT_EX
+#endif
+
+/* The class whose slot offsets slot_offsets holds (a new reference), or NULL. */
+static PyTypeObject *slot_class;
+static Py_ssize_t slot_offsets[5];
+
+/* Whether cls stores the 5 fields of IKSolution in slots of its own (a dataclass with
+   slots=True): then slot_offsets holds their offsets in the instance. Else 0 (no error): the
+   fields are set by name. */
+static int solution_slots(PyTypeObject *cls)
+{
+    if (cls == slot_class) return 1;
+    for (int i = 0; i < 5; i++) {
+        PyObject *descr = PyDict_GetItemWithError(cls->tp_dict, solution_fields[i]);
+        if (descr == NULL || !Py_IS_TYPE(descr, &PyMemberDescr_Type)) {
+            PyErr_Clear();
+            return 0;
+        }
+        PyMemberDef *member = ((PyMemberDescrObject *)descr)->d_member;
+        if (member->type != Py_T_OBJECT_EX || (member->flags & READONLY)) return 0;
+        slot_offsets[i] = member->offset;
+    }
+    Py_INCREF(cls);
+    Py_XSETREF(slot_class, cls);
+    return 1;
+}
+
+/* An IKSolution (cls) of its fields; q is stolen. Written straight into its slots when it has
+   them (solution_slots), else set by name as its __init__ would. */
 static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
                                double position_error, double rotation_error)
 {
     Py_INCREF(label);
     PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
                            PyFloat_FromDouble(rotation_error)};
-    return make_instance(cls, solution_fields, values, 5);
+    if (!solution_slots(cls)) return make_instance(cls, solution_fields, values, 5);
+    PyObject *obj = NULL;
+    int complete = 1;
+    for (int i = 0; i < 5; i++) complete = complete && values[i] != NULL;
+    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
+    if (obj == NULL) {
+        for (int i = 0; i < 5; i++) Py_XDECREF(values[i]);
+        return NULL;
+    }
+    for (int i = 0; i < 5; i++) *(PyObject **)((char *)obj + slot_offsets[i]) = values[i];
+    return obj;
 }
 
 /*

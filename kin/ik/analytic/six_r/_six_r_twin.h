@@ -120,40 +120,41 @@ enum { CHECK_COUNT = 0 CHECK_PARAMS(TWIN_SIZE) };
 typedef char check_has_no_padding[sizeof(Check) == CHECK_COUNT * sizeof(double) ? 1 : -1];
 static const TwinField CHECK_FIELDS[] = {CHECK_PARAMS(CHECK_ENTRY)};
 
-/* A = A B for 3x4 homogeneous matrices (the last row 0 0 0 1 implied), row-major. */
-static inline void compose(double *A, const double *B)
+/* out = A B for 3x4 homogeneous matrices (the last row 0 0 0 1 implied), row-major. */
+static inline void compose(const double *A, const double *B, double *out)
 {
-    double out[12];
     for (int i = 0; i < 3; i++) {
         const double *row = A + 4 * i;
         for (int j = 0; j < 4; j++)
             out[4 * i + j] = row[0] * B[j] + row[1] * B[4 + j] + row[2] * B[8 + j];
         out[4 * i + 3] += row[3];
     }
-    memcpy(A, out, sizeof out);
 }
 
-/* T = T A_j(q_j) for row j of the table: each row of the running product T (3x4, row-major)
-   times the row's transform written out (its zeros and ones skipped). */
-static inline void joint_step(const Check *C, int j, double q_j, double *T)
+/* out = T A_j(q_j) for row j of the table: each row of the running product T (3x4, row-major)
+   times the row's transform written out (its zeros and ones skipped). Products are written
+   straight to where they are kept (no copy of a matrix just written: reading it back whole
+   before its stores are done stalls). */
+static inline void joint_step(const Check *C, int j, double q_j, const double *T, double *out)
 {
     double t = q_j + C->theta[j], ct = cos(t), st = sin(t);
     double ca = C->cos_alpha[j], sa = C->sin_alpha[j], a = C->a[j], d = C->d[j];
     const int modified = C->modified[0] != 0.0;
     for (int i = 0; i < 3; i++) {
-        double *row = T + 4 * i, r0 = row[0], r1 = row[1], r2 = row[2];
+        const double *row = T + 4 * i;
+        double r0 = row[0], r1 = row[1], r2 = row[2], r3 = row[3], *o = out + 4 * i;
         if (modified) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
             double u1 = ca * r1 + sa * r2, u2 = -sa * r1 + ca * r2;
-            row[0] = ct * r0 + st * u1;
-            row[1] = -st * r0 + ct * u1;
-            row[2] = u2;
-            row[3] += a * r0 + d * u2;
+            o[0] = ct * r0 + st * u1;
+            o[1] = -st * r0 + ct * u1;
+            o[2] = u2;
+            o[3] = r3 + (a * r0 + d * u2);
         } else { /* Rz(t) Tz(d) Tx(a) Rx(alpha) */
             double c0 = ct * r0 + st * r1, c1 = -st * r0 + ct * r1;
-            row[0] = c0;
-            row[1] = ca * c1 + sa * r2;
-            row[2] = -sa * c1 + ca * r2;
-            row[3] += d * r2 + a * c0;
+            o[0] = c0;
+            o[1] = ca * c1 + sa * r2;
+            o[2] = -sa * c1 + ca * r2;
+            o[3] = r3 + (d * r2 + a * c0);
         }
     }
 }
@@ -230,7 +231,9 @@ static inline void check_branches(const Check *C, const double *p, const double 
                                   const double *seed, double q[BRANCHES][JOINTS],
                                   double info[BRANCHES][4])
 {
-    double after[BRANCHES][JOINTS][12]; /* after[b][j]: the product through row j */
+    double after[BRANCHES][JOINTS][12]; /* the products through each row, of each branch */
+    const double *through[BRANCHES][JOINTS]; /* branch b's product through row j (its own or
+                                                 that of the branch it shares row j with) */
     int present[BRANCHES], n = 0;
     for (int b = 0; b < BRANCHES; b++) {
         if (isnan(q[b][0])) {
@@ -264,19 +267,15 @@ static inline void check_branches(const Check *C, const double *p, const double 
                 from = e;
             }
         }
-        double T[12];
-        if (shared > 0) {
-            memcpy(after[b], after[from], (size_t)shared * sizeof after[b][0]);
-            memcpy(T, after[from][shared - 1], sizeof T);
-        } else {
-            memcpy(T, C->base, sizeof T);
-        }
+        const double *previous = C->base;
+        for (int j = 0; j < shared; j++) previous = through[b][j] = through[from][j];
         for (int j = shared; j < JOINTS; j++) {
-            joint_step(C, j, q[b][j], T);
-            memcpy(after[b][j], T, sizeof T);
+            joint_step(C, j, q[b][j], previous, after[b][j]);
+            previous = through[b][j] = after[b][j];
         }
         present[n++] = b;
-        compose(T, C->tool);
+        double T[12];
+        compose(previous, C->tool, T);
         double dx = T[3] - p[0], dy = T[7] - p[1], dz = T[11] - p[2], rotation2 = 0.0;
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++) {
