@@ -70,6 +70,14 @@ static inline int harmonic_roots(double p, double q, double k, double *t)
     return 2;
 }
 
+/* remainder(angle, TWO_PI), without the call where it returns angle itself: for |angle| <= pi
+   the exact quotient is at most 1/2 in size, which rounds (to even) to 0. Bit for bit the same
+   value (a NaN or an infinity goes to the call). */
+static inline double turn_remainder(double angle)
+{
+    return fabs(angle) <= 0.5 * TWO_PI ? angle : remainder(angle, TWO_PI);
+}
+
 /* Whether some angle + 2 pi k [rad] lies within [lo, hi] widened by 1e-9 rad (always when the
    range spans a turn, or a limit is not finite): a test that never fails for an angle that a
    limit check (plain, or moving it by whole turns) would keep. */
@@ -77,17 +85,18 @@ static inline int may_fit(double angle, double lo, double hi)
 {
     double half = 0.5 * (hi - lo);
     if (!(half < 0.5 * TWO_PI)) return 1;
-    return fabs(remainder(angle - 0.5 * (lo + hi), TWO_PI)) <= half + 1e-9;
+    return fabs(turn_remainder(angle - 0.5 * (lo + hi))) <= half + 1e-9;
 }
 
 /* seven_r/subproblems.rotation_pair: (ta[i], tb[i]) with Rz(ta) Rx(alpha) Rz(tb) v = d
    (|v| = |d|), sa, ca = sin alpha, cos alpha, without the pairs whose tb - off_b fits no joint
    value in [lo_b, hi_b] (may_fit: the caller's limit check would drop them; their ta is not
    computed). The pairs kept are the Python function's, in its order, with the same arithmetic.
+   cos tb[i], sin tb[i] go to cb[i], sb[i] (for a caller that needs them: the same values).
    Returns how many (0 to 2). */
 static inline int rotation_pair_fit(double sa, double ca, const double *v, const double *d,
-                                    double *ta, double *tb, double off_b, double lo_b,
-                                    double hi_b)
+                                    double *ta, double *tb, double *cb_out, double *sb_out,
+                                    double off_b, double lo_b, double hi_b)
 {
     double roots[2];
     int n = harmonic_roots(sa * v[1], sa * v[0], d[2] - ca * v[2], roots), kept = 0;
@@ -97,6 +106,8 @@ static inline int rotation_pair_fit(double sa, double ca, const double *v, const
     double heading = atan2(d[1], d[0]);
     for (int i = 0; i < kept; i++) {
         double cb = cos(tb[i]), sb = sin(tb[i]);
+        cb_out[i] = cb;
+        sb_out[i] = sb;
         double mx = v[0] * cb - v[1] * sb;
         double my = ca * (v[0] * sb + v[1] * cb) - sa * v[2];
         ta[i] = heading - atan2(my, mx);

@@ -43,8 +43,10 @@
 
 TWIN_PARAMS(CLOSED7_PARAMS)
 
+/* One arm branch: its joint values, angles t = q + offset and the cosines and sines of the
+   angles that arm() computed anyway (the same values pose() would compute again). */
 typedef struct {
-    double t1, q2, q3, q4, t2, t3, t4;
+    double t1, q2, q3, q4, t2, t3, t4, c1, s1, c3, s3, c4, s4;
 } Arm;
 
 static int inside(const Params *P, int i, double q)
@@ -70,20 +72,21 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, Ar
     int n4 = harmonic_roots(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz, t4s), count = 0;
     for (int i = 0; i < n4; i++) {
         double t4 = t4s[i];
-        double q4 = remainder(t4 - off[3], TWO_PI);
+        double q4 = turn_remainder(t4 - off[3]);
         if (!inside(P, 3, q4)) continue;
         double c4 = cos(t4), s4 = sin(t4);
         double vy0 = ux * s4 + uy * c4 - sy, vz0 = uz - sz;
         double v[3] = {ux * c4 - uy * s4 - sx, c3 * vy0 - s3 * vz0, s3 * vy0 + c3 * vz0};
-        double t2s[2], t3s[2];
-        int n3 = rotation_pair_fit(S[1], C[1], v, dv, t2s, t3s, off[2], P->lo[2], P->hi[2]);
+        double t2s[2], t3s[2], c3s[2], s3s[2];
+        int n3 = rotation_pair_fit(S[1], C[1], v, dv, t2s, t3s, c3s, s3s, off[2], P->lo[2],
+                                   P->hi[2]);
         for (int j = 0; j < n3; j++) {
             double t2 = t2s[j], t3 = t3s[j];
-            double q3 = remainder(t3 - off[2], TWO_PI);
+            double q3 = turn_remainder(t3 - off[2]);
             if (!inside(P, 2, q3)) continue;
-            double q2 = remainder(t2 - off[1], TWO_PI);
+            double q2 = turn_remainder(t2 - off[1]);
             if (!inside(P, 1, q2)) continue;
-            Arm a = {t1, q2, q3, q4, t2, t3, t4};
+            Arm a = {t1, q2, q3, q4, t2, t3, t4, c1, s1, c3s[j], s3s[j], c4, s4};
             out[count++] = a;
         }
     }
@@ -100,9 +103,9 @@ static int pose(const Params *P, double q1, const double *W, const double *X7, c
     for (int b = 0; b < n; b++) {
         const Arm *a = &arms[b];
         double xx = X7[0], xy = X7[1], xz = X7[2], zx = Z7[0], zy = Z7[1], zz = Z7[2];
-        double ts[4] = {a->t1, a->t2, a->t3, a->t4};
+        double cs[4] = {a->c1, cos(a->t2), a->c3, a->c4}, ss[4] = {a->s1, sin(a->t2), a->s3, a->s4};
         for (int i = 0; i < 4; i++) {
-            double ct = cos(ts[i]), st = sin(ts[i]), sa = S[i], ca = C[i], tmp;
+            double ct = cs[i], st = ss[i], sa = S[i], ca = C[i], tmp;
             tmp = ct * xx + st * xy;
             xy = ct * xy - st * xx;
             xx = tmp;
@@ -118,25 +121,25 @@ static int pose(const Params *P, double q1, const double *W, const double *X7, c
         }
         /* Rz(t5) Rx(alpha5) Rz(t6) g = z4. */
         double s5 = S[4], c5 = C[4], s6 = S[5], c6 = C[5];
-        double z4[3] = {zx, zy, zz}, t5s[2], t6s[2];
-        int n6 = rotation_pair_fit(s5, c5, g, z4, t5s, t6s, off[5], P->lo[5], P->hi[5]);
+        double z4[3] = {zx, zy, zz}, t5s[2], t6s[2], c6s[2], s6s[2];
+        int n6 = rotation_pair_fit(s5, c5, g, z4, t5s, t6s, c6s, s6s, off[5], P->lo[5], P->hi[5]);
         for (int j = 0; j < n6; j++) {
             double t5 = t5s[j], t6 = t6s[j];
-            double q5 = remainder(t5 - off[4], TWO_PI);
-            double q6 = remainder(t6 - off[5], TWO_PI);
+            double q5 = turn_remainder(t5 - off[4]);
+            double q6 = turn_remainder(t6 - off[5]);
             if (!(inside(P, 4, q5) && inside(P, 5, q6))) continue;
             double ct = cos(t5), st = sin(t5), tmp;
             double nx = ct * xx + st * xy, ny = ct * xy - st * xx, nz;
             tmp = c5 * ny + s5 * xz;
             nz = c5 * xz - s5 * ny;
             ny = tmp;
-            ct = cos(t6);
-            st = sin(t6);
+            ct = c6s[j];
+            st = s6s[j];
             tmp = ct * nx + st * ny;
             ny = ct * ny - st * nx;
             nx = tmp;
             ny = c6 * ny + s6 * nz;
-            double q7 = remainder(atan2(ny, nx) - off[6], TWO_PI);
+            double q7 = turn_remainder(atan2(ny, nx) - off[6]);
             if (!inside(P, 6, q7)) continue;
             double *s = sol[count++];
             s[0] = q1;

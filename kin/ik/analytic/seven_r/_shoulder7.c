@@ -51,7 +51,7 @@ TWIN_PARAMS(SHOULDER7_PARAMS)
 static int into_limits(const Params *P, int j, double q, const double *near, double *out)
 {
     double low = P->lo[j], high = P->hi[j], n = near[j];
-    q = n + remainder(q - n, TWO_PI);
+    q = n + turn_remainder(q - n);
     if (low <= q && q <= high) {
         *out = q;
         return 1;
@@ -131,18 +131,20 @@ static int branches(const Params *P, const double *T, double q7, const double *n
         double zy = c4 * s[4], zz = c[4];
         double z4[3] = {s4 * s[4], c[5] * zy + s[5] * zz, c[5] * zz - s[5] * zy};
         double x4[3] = {c4, -c[5] * s4, s[5] * s4};
-        double t5s[2], t6s[2];
-        int n6 = rotation_pair_fit(s[6], c[6], v6, d, t5s, t6s, off[5], P->lo[5], P->hi[5]);
+        double t5s[2], t6s[2], c6s[2], s6s[2]; /* c6s, s6s: cos, sin of t6s */
+        int n6 = rotation_pair_fit(s[6], c[6], v6, d, t5s, t6s, c6s, s6s, off[5], P->lo[5],
+                                   P->hi[5]);
         for (int w = 0; w < n6; w++) {
             double t5 = t5s[w], t6 = t6s[w];
             if (!into_limits(P, 4, t5 - off[4], near, &q[4])) continue;
             if (!into_limits(P, 5, t6 - off[5], near, &q[5])) continue;
-            double turn[6] = {cos(t5), sin(t5), s[6], c[6], cos(t6), sin(t6)};
+            double turn[6] = {cos(t5), sin(t5), s[6], c[6], c6s[w], s6s[w]};
             double z[3], x[3];
             back(k6, turn, z4[0], z4[1], z4[2], z);
             back(k6, turn, x4[0], x4[1], x4[2], x);
-            double t1s[2], t2s[2];
-            int n2 = rotation_pair_fit(s[2], c[2], v3, z, t1s, t2s, off[1], P->lo[1], P->hi[1]);
+            double t1s[2], t2s[2], c2s[2], s2s[2]; /* c2s, s2s: cos, sin of t2s */
+            int n2 = rotation_pair_fit(s[2], c[2], v3, z, t1s, t2s, c2s, s2s, off[1], P->lo[1],
+                                       P->hi[1]);
             for (int h = 0; h < n2; h++) {
                 double t1 = t1s[h], t2 = t2s[h];
                 if (!into_limits(P, 0, t1 - off[0], near, &q[0])) continue;
@@ -153,8 +155,8 @@ static int branches(const Params *P, const double *T, double q7, const double *n
                 tmp = c[2] * ny + s[2] * nz;
                 nz = c[2] * nz - s[2] * ny;
                 ny = tmp;
-                ct = cos(t2);
-                st = sin(t2);
+                ct = c2s[h];
+                st = s2s[h];
                 tmp = ct * nx + st * ny;
                 ny = ct * ny - st * nx;
                 nx = tmp;
