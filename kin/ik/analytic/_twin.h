@@ -115,6 +115,81 @@ static inline int rotation_pair_fit(double sa, double ca, const double *v, const
     return kept;
 }
 
+/* The values of a C-contiguous float64 buffer of n values copied into out: 1, else 0 (no error). */
+static inline int copy_doubles(PyObject *obj, Py_ssize_t n, double *out)
+{
+    Py_buffer view;
+    if (PyObject_GetBuffer(obj, &view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) != 0) {
+        PyErr_Clear();
+        return 0;
+    }
+    int ok = view.len == n * (Py_ssize_t)sizeof(double) && view.itemsize == sizeof(double) &&
+             view.format != NULL && strcmp(view.format, "d") == 0;
+    if (ok) memcpy(out, view.buf, (size_t)n * sizeof(double));
+    PyBuffer_Release(&view);
+    return ok;
+}
+
+/*
+ * A DH table's forward kinematics as written (the compiled checks' FK: a plain product of the
+ * rows, independent of the closed forms' algebra; tests compare it with Pinocchio's). Poses are
+ * 3x4 row-major (the last row 0 0 0 1 implied), lengths in meters, angles in radians.
+ */
+
+/* out = T A(t) for one row (a, cos alpha, sin alpha, d) at angle t = q + theta: each row of T
+   times the row's transform written out (its zeros and ones skipped); modified: Craig's
+   Rx(alpha) Tx(a) Rz(t) Tz(d), else Rz(t) Tz(d) Tx(a) Rx(alpha). Written straight to where it is
+   kept (no copy of a matrix just written: reading it back whole before its stores land stalls). */
+static inline void chain_step(int modified, double a, double ca, double sa, double d, double t,
+                              const double *T, double *out)
+{
+    double ct = cos(t), st = sin(t);
+    for (int i = 0; i < 3; i++) {
+        const double *row = T + 4 * i;
+        double r0 = row[0], r1 = row[1], r2 = row[2], r3 = row[3], *o = out + 4 * i;
+        if (modified) {
+            double u1 = ca * r1 + sa * r2, u2 = -sa * r1 + ca * r2;
+            o[0] = ct * r0 + st * u1;
+            o[1] = -st * r0 + ct * u1;
+            o[2] = u2;
+            o[3] = r3 + (a * r0 + d * u2);
+        } else {
+            double c0 = ct * r0 + st * r1, c1 = -st * r0 + ct * r1;
+            o[0] = c0;
+            o[1] = ca * c1 + sa * r2;
+            o[2] = -sa * c1 + ca * r2;
+            o[3] = r3 + (d * r2 + a * c0);
+        }
+    }
+}
+
+/* out = A B for 3x4 poses. */
+static inline void chain_compose(const double *A, const double *B, double *out)
+{
+    for (int i = 0; i < 3; i++) {
+        const double *row = A + 4 * i;
+        for (int j = 0; j < 4; j++)
+            out[4 * i + j] = row[0] * B[j] + row[1] * B[4 + j] + row[2] * B[8 + j];
+        out[4 * i + 3] += row[3];
+    }
+}
+
+/* The judge's errors of a 3x4 pose T against the target p [m], r (row-major): |p_T - p| [m] and
+   the angle of R_T^T r from |R_T - r|_F = 2 sqrt(2) sin(angle / 2) [rad] (kin/ik/judge.py). */
+static inline void pose_errors(const double *T, const double *p, const double *r,
+                               double *position_error, double *rotation_error)
+{
+    double dx = T[3] - p[0], dy = T[7] - p[1], dz = T[11] - p[2], rotation2 = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double e = T[4 * i + j] - r[3 * i + j];
+            rotation2 += e * e;
+        }
+    *position_error = sqrt(dx * dx + dy * dy + dz * dz);
+    double half = sqrt(rotation2) / sqrt(8.0);
+    *rotation_error = 2.0 * asin(1.0 < half ? 1.0 : half); /* NaN stays NaN */
+}
+
 /* A C-contiguous float64 buffer of obj in view; 0 and a Python error otherwise. */
 static inline int get_doubles(PyObject *obj, Py_buffer *view, int writable, const char *name)
 {
@@ -263,28 +338,33 @@ static inline void nearest(const double (*sol)[7], int n, const double *v, doubl
     memcpy(result, sol[best], 7 * sizeof(double));
 }
 
+/* A layout (((field, offset, size), ...) of fields) added to module m as name: 0, else -1. */
+static inline int add_layout(PyObject *m, const char *name, const TwinField *fields, size_t n)
+{
+    PyObject *layout = PyTuple_New((Py_ssize_t)n);
+    if (layout == NULL) return -1;
+    for (size_t i = 0; i < n; i++) {
+        PyObject *entry = Py_BuildValue("(snn)", fields[i].name, fields[i].offset, fields[i].size);
+        if (entry == NULL) {
+            Py_DECREF(layout);
+            return -1;
+        }
+        PyTuple_SET_ITEM(layout, (Py_ssize_t)i, entry);
+    }
+    if (PyModule_AddObject(m, name, layout) < 0) {
+        Py_DECREF(layout);
+        return -1;
+    }
+    return 0;
+}
+
 /* The module of def with LAYOUT (((field, offset, size), ...) of fields) and PARAM_COUNT. */
 static inline PyObject *twin_module(PyModuleDef *def, const TwinField *fields, size_t n,
                                     long count)
 {
     PyObject *m = PyModule_Create(def);
     if (m == NULL) return NULL;
-    PyObject *layout = PyTuple_New((Py_ssize_t)n);
-    if (layout == NULL) {
-        Py_DECREF(m);
-        return NULL;
-    }
-    for (size_t i = 0; i < n; i++) {
-        PyObject *entry = Py_BuildValue("(snn)", fields[i].name, fields[i].offset, fields[i].size);
-        if (entry == NULL) {
-            Py_DECREF(layout);
-            Py_DECREF(m);
-            return NULL;
-        }
-        PyTuple_SET_ITEM(layout, (Py_ssize_t)i, entry);
-    }
-    if (PyModule_AddObject(m, "LAYOUT", layout) < 0) {
-        Py_DECREF(layout);
+    if (add_layout(m, "LAYOUT", fields, n) < 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -101,21 +101,6 @@ static PyObject *verify(PyObject *self, PyObject *args)
 static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *solution_fields[5],
     *result_fields[RESULT_FIELDS], *no_args, *status_ok, *method_closed_form;
 
-/* The values of a C-contiguous float64 buffer of n values copied into out: 1, else 0 (no error). */
-static int copy_doubles(PyObject *obj, Py_ssize_t n, double *out)
-{
-    Py_buffer view;
-    if (PyObject_GetBuffer(obj, &view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) != 0) {
-        PyErr_Clear();
-        return 0;
-    }
-    int ok = view.len == n * (Py_ssize_t)sizeof(double) && view.itemsize == sizeof(double) &&
-             view.format != NULL && strcmp(view.format, "d") == 0;
-    if (ok) memcpy(out, view.buf, (size_t)n * sizeof(double));
-    PyBuffer_Release(&view);
-    return ok;
-}
-
 /* An instance of cls (a frozen dataclass of kin.ik.result) with its n fields names[i] set to
    values[i], as its __init__ sets them (into the instance's dict, past the frozen __setattr__);
    the values are stolen (NULL ones make it fail: NULL, with their error set). */
@@ -363,22 +348,8 @@ static inline PyObject *six_r_module(PyModuleDef *def)
     if ((method_closed_form = PyUnicode_InternFromString("closed_form")) == NULL) return NULL;
     PyObject *m = twin_module(def, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
     if (m == NULL) return NULL;
-    size_t n = sizeof CHECK_FIELDS / sizeof CHECK_FIELDS[0];
-    PyObject *layout = PyTuple_New((Py_ssize_t)n);
-    if (layout == NULL) goto fail;
-    for (size_t i = 0; i < n; i++) {
-        PyObject *entry = Py_BuildValue("(snn)", CHECK_FIELDS[i].name, CHECK_FIELDS[i].offset,
-                                        CHECK_FIELDS[i].size);
-        if (entry == NULL) {
-            Py_DECREF(layout);
-            goto fail;
-        }
-        PyTuple_SET_ITEM(layout, (Py_ssize_t)i, entry);
-    }
-    if (PyModule_AddObject(m, "CHECK_LAYOUT", layout) < 0) {
-        Py_DECREF(layout);
+    if (add_layout(m, "CHECK_LAYOUT", CHECK_FIELDS, sizeof CHECK_FIELDS / sizeof CHECK_FIELDS[0]) < 0)
         goto fail;
-    }
     if (PyModule_AddIntConstant(m, "CHECK_COUNT", CHECK_COUNT) < 0) goto fail;
     return m;
 fail:

@@ -120,45 +120,6 @@ enum { CHECK_COUNT = 0 CHECK_PARAMS(TWIN_SIZE) };
 typedef char check_has_no_padding[sizeof(Check) == CHECK_COUNT * sizeof(double) ? 1 : -1];
 static const TwinField CHECK_FIELDS[] = {CHECK_PARAMS(CHECK_ENTRY)};
 
-/* out = A B for 3x4 homogeneous matrices (the last row 0 0 0 1 implied), row-major. */
-static inline void compose(const double *A, const double *B, double *out)
-{
-    for (int i = 0; i < 3; i++) {
-        const double *row = A + 4 * i;
-        for (int j = 0; j < 4; j++)
-            out[4 * i + j] = row[0] * B[j] + row[1] * B[4 + j] + row[2] * B[8 + j];
-        out[4 * i + 3] += row[3];
-    }
-}
-
-/* out = T A_j(q_j) for row j of the table: each row of the running product T (3x4, row-major)
-   times the row's transform written out (its zeros and ones skipped). Products are written
-   straight to where they are kept (no copy of a matrix just written: reading it back whole
-   before its stores are done stalls). */
-static inline void joint_step(const Check *C, int j, double q_j, const double *T, double *out)
-{
-    double t = q_j + C->theta[j], ct = cos(t), st = sin(t);
-    double ca = C->cos_alpha[j], sa = C->sin_alpha[j], a = C->a[j], d = C->d[j];
-    const int modified = C->modified[0] != 0.0;
-    for (int i = 0; i < 3; i++) {
-        const double *row = T + 4 * i;
-        double r0 = row[0], r1 = row[1], r2 = row[2], r3 = row[3], *o = out + 4 * i;
-        if (modified) { /* Rx(alpha) Tx(a) Rz(t) Tz(d) */
-            double u1 = ca * r1 + sa * r2, u2 = -sa * r1 + ca * r2;
-            o[0] = ct * r0 + st * u1;
-            o[1] = -st * r0 + ct * u1;
-            o[2] = u2;
-            o[3] = r3 + (a * r0 + d * u2);
-        } else { /* Rz(t) Tz(d) Tx(a) Rx(alpha) */
-            double c0 = ct * r0 + st * r1, c1 = -st * r0 + ct * r1;
-            o[0] = c0;
-            o[1] = ca * c1 + sa * r2;
-            o[2] = -sa * c1 + ca * r2;
-            o[3] = r3 + (d * r2 + a * c0);
-        }
-    }
-}
-
 /* The larger, the smaller of two numbers that are not NaN (fmax and fmin are library calls unless
    NaN may be ignored; here the joint values, seeds and limits are never NaN). */
 static inline double larger(double a, double b) { return a > b ? a : b; }
@@ -235,6 +196,7 @@ static inline void check_branches(const Check *C, const double *p, const double 
     const double *through[BRANCHES][JOINTS]; /* branch b's product through row j (its own or
                                                  that of the branch it shares row j with) */
     int present[BRANCHES], n = 0;
+    const int modified = C->modified[0] != 0.0;
     for (int b = 0; b < BRANCHES; b++) {
         if (isnan(q[b][0])) {
             memset(info[b], 0, sizeof info[b]);
@@ -270,20 +232,14 @@ static inline void check_branches(const Check *C, const double *p, const double 
         const double *previous = C->base;
         for (int j = 0; j < shared; j++) previous = through[b][j] = through[from][j];
         for (int j = shared; j < JOINTS; j++) {
-            joint_step(C, j, q[b][j], previous, after[b][j]);
+            chain_step(modified, C->a[j], C->cos_alpha[j], C->sin_alpha[j], C->d[j],
+                       q[b][j] + C->theta[j], previous, after[b][j]);
             previous = through[b][j] = after[b][j];
         }
         present[n++] = b;
-        double T[12];
-        compose(previous, C->tool, T);
-        double dx = T[3] - p[0], dy = T[7] - p[1], dz = T[11] - p[2], rotation2 = 0.0;
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double e = T[4 * i + j] - r[3 * i + j];
-                rotation2 += e * e;
-            }
-        double position_error = sqrt(dx * dx + dy * dy + dz * dz);
-        double rotation_error = 2.0 * asin(smaller(1.0, sqrt(rotation2) / sqrt(8.0)));
+        double T[12], position_error, rotation_error;
+        chain_compose(previous, C->tool, T);
+        pose_errors(T, p, r, &position_error, &rotation_error);
         int on_target = position_error <= C->tolerance[0] && rotation_error <= C->tolerance[1];
         info[b][0] = !on_target ? 3.0 : (inside ? 1.0 : 2.0);
         info[b][1] = position_error;
