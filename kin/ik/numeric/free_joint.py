@@ -23,8 +23,9 @@ runs from the seed first, moving every joint, and the nearer verified answer is 
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from operator import le, sub
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol, cast
 
@@ -38,6 +39,7 @@ from ..analytic.seven_r.general_7r import General7RIK
 from ..analytic.seven_r.seven_dof import SevenDofIK
 from ..analytic.seven_r.shoulder7_structure import spherical_shoulder7
 from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK
+from ..analytic.seven_r.subproblems import chain_fields, pack_params
 from ..analytic.structure import seven_dof
 from ..exceptions import StructureError
 from ..result import IKResult, IKSolution
@@ -138,6 +140,51 @@ class _ReversedJoints:
         return index
 
 
+def compiled_seeded(
+    closed: FreeJointClosedForm | None,
+    table: DHTable,
+    base_origin: Sequence[float],
+    reach: float,
+    steps: Sequence[float],
+) -> Callable[..., Any] | None:
+    """This stage from the caller's seed in one compiled call, or None where it does not apply.
+
+    The twin's ``seeded`` (``kin/ik/analytic/seven_r/_seeded7.h``) does what
+    :func:`solve_free_joint` does with the seed: the target brought to the structure's frames,
+    the closed form from the seed for each scan step in turn, each answer measured by the
+    table's DH product (not Pinocchio's FK: the same chain, compared with it in the tests), the
+    first within the tolerances taken. Bound to the arm's blocks, it is called as
+    ``(position, rotation or None, seed, position_tol, rotation_tol, out)`` and returns the
+    answer's errors (``out`` holds it), False (none: go on from the samples,
+    :attr:`.search.Search.seed_scanned`) or None (not taken: the pipeline from its start).
+
+    Applies to the two special 7R forms with their twin built (humanoid7's, the spherical
+    shoulder's) on a table of forward-turning revolute rows; not to an idealised table (its
+    answers need a polish), a table with reversed joints or the general 7R form.
+
+    Args:
+        closed: The arm's free-joint closed form (on ``table`` itself), or None.
+        table: The arm's DH table.
+        base_origin: The table's base origin in the world [m]: with ``reach``, a target farther
+            than ``reach`` [m] from it is not taken.
+        reach: Bound of the tool's distance from the base origin [m].
+        steps: The free joint's scan steps [rad], coarse to fine.
+    """
+    if not isinstance(closed, (SevenDofIK, SphericalShoulder7RIK)) or closed.twin is None:
+        return None
+    rows = table.rows
+    if len(rows) != 7 or any(r.joint_type != "revolute" or r.direction != 1 for r in rows):
+        return None
+    fields = {
+        **chain_fields(table),
+        **closed.seed_frames(),
+        "reach": (*(float(v) for v in base_origin), float(reach)),
+    }
+    block = pack_params(fields, closed.twin.SEED_LAYOUT).tobytes()
+    steps = tuple(float(step) for step in steps)
+    return functools.partial(closed.twin.seeded, closed.c_params.tobytes(), block, steps)
+
+
 def solve_free_joint(ik: NumericContext, search: Search) -> IKResult | None:
     """The closed form from the caller's seed, then from seed-table samples; None if none verifies.
 
@@ -156,7 +203,7 @@ def solve_free_joint(ik: NumericContext, search: Search) -> IKResult | None:
     rotation = None if target.rotation is None else target.rotation.ravel().tolist()
     out = np.empty(7)
     seed = search.seed
-    if seed is not None:
+    if seed is not None and not search.seed_scanned:
         leash = seed_leash(ik, search, seed) if ik.near_seed else None
         if leash is not None:
             done = _near_seed(ik, search, closed, prepared, seed, leash, out, position, rotation)

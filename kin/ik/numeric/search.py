@@ -80,6 +80,7 @@ class Search:
         "seed_distance",
         "seed_bound",
         "seed_tried",
+        "seed_scanned",
         "allowance",
         "table",
         "linalg",
@@ -131,6 +132,10 @@ class Search:
         self.seed_bound: float | None = None
         #: Whether damped Newton already ran from the caller's seed (a stage skips it then).
         self.seed_tried = False
+        #: Whether the free-joint closed form already ran from the caller's seed, every scan step
+        #: (its compiled path, :func:`.free_joint.compiled_seeded`): stage 0 goes on from the
+        #: seed-table samples.
+        self.seed_scanned = False
 
     def expired(self) -> bool:
         """Whether the time budget is spent."""

@@ -230,6 +230,26 @@ static long first_start(const void *params, int mode, const double *T, const dou
     return -1;
 }
 
+#define SEEDED_POINTS 1 /* first_start takes points too */
+#include "_seeded7.h"
+
+/* SevenDofIK.prepare in C: mode 0, frame-7 origin and R_0_7 of a world pose; mode 1, a world point
+   in frame 0 (K, k: T_world_base of the structure; M, m: its T_last_tool). */
+static void prepare_seeded(const Seed *S, int mode, const double *p, const double *r, double *T)
+{
+    double x[3];
+    frame_point(S, p, x);
+    if (mode == 1) {
+        memcpy(T, x, sizeof x);
+        return;
+    }
+    double *r0 = T + 3;
+    frame_rotation(S, r, r0);
+    const double *m = S->end_t;
+    for (int i = 0; i < 3; i++)
+        T[i] = x[i] - (r0[3 * i] * m[0] + r0[3 * i + 1] * m[1] + r0[3 * i + 2] * m[2]);
+}
+
 static PyObject *first(PyObject *self, PyObject *args)
 {
     PyObject *objs[4];
@@ -266,6 +286,7 @@ static PyMethodDef methods[] = {
      "first(params, mode, target, starts, out, step) -> index of the first start with a branch inside "
      "the limits (written to out), or -1. See kin/ik/analytic/seven_dof.py."},
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
+    {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",
@@ -274,5 +295,8 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",
 
 PyMODINIT_FUNC PyInit__closed7(void)
 {
-    return twin_module(&module, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
+    PyObject *m = twin_module(&module, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
+    if (m != NULL && add_layout(m, "SEED_LAYOUT", SEED_FIELDS, sizeof SEED_FIELDS / sizeof SEED_FIELDS[0]) < 0)
+        Py_CLEAR(m);
+    return m;
 }

@@ -242,6 +242,23 @@ static long first_start(const void *params, int mode, const double *T, const dou
     return -1;
 }
 
+#define SEEDED_POINTS 0 /* first_start takes full poses only */
+#include "_seeded7.h"
+
+/* SphericalShoulder7RIK.prepare in C (full poses): R_K_J7 = K^T R M^T (9) and S seen from J_7,
+   R_K_J7^T (S - K^T (p - k)) + m (3), S the shoulder point (K, k: the structure's base frame;
+   M, m: its tool). */
+static void prepare_seeded(const Seed *S, int mode, const double *p, const double *r, double *T)
+{
+    (void)mode; /* full poses only: the caller never asks a point */
+    double x[3], g[3];
+    frame_rotation(S, r, T);
+    frame_point(S, p, x);
+    for (int i = 0; i < 3; i++) g[i] = S->point[i] - x[i];
+    for (int j = 0; j < 3; j++)
+        T[9 + j] = T[j] * g[0] + T[3 + j] * g[1] + T[6 + j] * g[2] + S->end_t[j];
+}
+
 static PyObject *first(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -273,6 +290,7 @@ static PyMethodDef methods[] = {
      "first(params, target, starts, out, step) -> index of the first start with a branch inside "
      "the limits (written to out), or -1. See kin/ik/analytic/spherical_shoulder7.py."},
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
+    {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {
@@ -282,5 +300,8 @@ static struct PyModuleDef module = {
 
 PyMODINIT_FUNC PyInit__shoulder7(void)
 {
-    return twin_module(&module, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
+    PyObject *m = twin_module(&module, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
+    if (m != NULL && add_layout(m, "SEED_LAYOUT", SEED_FIELDS, sizeof SEED_FIELDS / sizeof SEED_FIELDS[0]) < 0)
+        Py_CLEAR(m);
+    return m;
 }

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -111,6 +111,25 @@ class SevenDofIK:
                 )
             self._c_params = pack_params(self.c_fields(), _closed7.LAYOUT)
         return self._c_params
+
+    @property
+    def twin(self) -> Any:
+        """The compiled twin module (``_closed7``), or None when it is not built."""
+        return _closed7
+
+    def seed_frames(self) -> dict[str, tuple[float, ...]]:
+        """The frames :meth:`prepare` goes through, as the twin's ``seeded`` reads them.
+
+        ``frame_r``, ``frame_t``: ``T_world_base`` of the structure (rotation row-major, origin
+        [m]); ``end_r``, ``end_t``: its ``T_last_tool``; ``point``: unused here (zeros).
+        """
+        return {
+            "frame_r": tuple(self._base_r.ravel().tolist()),
+            "frame_t": tuple(self._base_t.tolist()),
+            "end_r": tuple(self._tool_r.ravel().tolist()),
+            "end_t": tuple(self._tool_t.tolist()),
+            "point": (0.0, 0.0, 0.0),
+        }
 
     def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> tuple[int, np.ndarray]:
         """A target for :meth:`first`: ``(mode, values)`` in DH frame 0.

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -155,6 +155,26 @@ class SphericalShoulder7RIK(Shoulder7Batch):
                 values.append(value)
         slack = 1e-9 * (1.0 + abs(k) + rho)
         return 2.0 * (k - max(values)) - slack, 2.0 * (k - min(values)) + slack
+
+    @property
+    def twin(self) -> Any:
+        """The compiled twin module (``_shoulder7``), or None when it is not built."""
+        return _shoulder7
+
+    def seed_frames(self) -> dict[str, tuple[float, ...]]:
+        """The frames :meth:`prepare` goes through, as the twin's ``seeded`` reads them.
+
+        ``frame_r``, ``frame_t``: the base frame ``K`` (rotation row-major, origin [m]);
+        ``end_r``, ``end_t``: the tool ``M_8`` in joint 7's frame; ``point``: the shoulder point
+        ``S`` in ``K`` [m].
+        """
+        return {
+            "frame_r": self._k_flat,
+            "frame_t": self._k_t,
+            "end_r": self._tool_flat,
+            "end_t": self._tool_t,
+            "point": (0.0, 0.0, float(self._shoulder_z)),
+        }
 
     def prepare(
         self, position: np.ndarray, rotation: np.ndarray | None

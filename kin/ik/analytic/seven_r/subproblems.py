@@ -13,6 +13,8 @@ from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
+from dh2urdf import DHTable
+
 #: Slack on ``|cos| <= 1`` of the elbow and pair angles (rounding at the edge of the workspace).
 COS_SLACK = 1e-12
 
@@ -99,6 +101,27 @@ def pack_params(
     if extra:
         raise ValueError(f"Python parameters not in the compiled layout: {extra}")
     return np.array(values, dtype=float)
+
+
+def chain_fields(table: DHTable) -> dict[str, tuple[float, ...]]:
+    """A table's DH chain as the compiled checks read it (``chain_step`` in ``_twin.h``).
+
+    ``modified`` (1 for Craig's convention), per row ``a`` [m], ``cos_alpha``, ``sin_alpha``,
+    ``d`` [m] and ``theta`` offsets [rad], then ``base`` and ``tool``: rows 0-2 of
+    ``T_world_base`` and ``T_last_tool``, row-major [m]. For revolute rows turning forward (the
+    callers check it).
+    """
+    rows = table.rows
+    return {
+        "modified": (float(table.convention == "modified"),),
+        "a": tuple(float(row.a) for row in rows),
+        "cos_alpha": tuple(math.cos(row.alpha) for row in rows),
+        "sin_alpha": tuple(math.sin(row.alpha) for row in rows),
+        "d": tuple(float(row.d) for row in rows),
+        "theta": tuple(float(row.theta) for row in rows),
+        "base": tuple(np.asarray(table.T_world_base, dtype=float)[:3].ravel().tolist()),
+        "tool": tuple(np.asarray(table.T_last_tool, dtype=float)[:3].ravel().tolist()),
+    }
 
 
 def call_first_many(

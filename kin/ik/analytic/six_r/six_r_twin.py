@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import functools
 import importlib
-import math
 import time
 from collections.abc import Callable, Sequence
 from types import ModuleType
@@ -29,7 +28,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..seven_r.subproblems import pack_params
+from ..seven_r.subproblems import chain_fields, pack_params
 from ._six_r import target_arrays
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
@@ -74,21 +73,13 @@ def check_params(
         tolerance_position: Largest position error of a valid solution [m].
         tolerance_rotation: Largest rotation error of a valid solution [rad].
     """
-    rows = table.rows
-    offsets = tuple(float(row.theta) for row in rows)
+    chain = chain_fields(table)
     fields = {
-        "modified": (float(table.convention == "modified"),),
-        "a": tuple(float(row.a) for row in rows),
-        "cos_alpha": tuple(math.cos(row.alpha) for row in rows),
-        "sin_alpha": tuple(math.sin(row.alpha) for row in rows),
-        "d": tuple(float(row.d) for row in rows),
-        "theta": offsets,
-        "base": tuple(np.asarray(table.T_world_base, dtype=float)[:3].ravel().tolist()),
-        "tool": tuple(np.asarray(table.T_last_tool, dtype=float)[:3].ravel().tolist()),
+        **chain,
         "lower": tuple(float(v) for v in lower),
         "upper": tuple(float(v) for v in upper),
         "tolerance": (float(tolerance_position), float(tolerance_rotation)),
-        "has_offsets": (float(any(offsets)),),
+        "has_offsets": (float(any(chain["theta"])),),
     }
     return pack_params(fields, twin.CHECK_LAYOUT)
 

@@ -1,0 +1,168 @@
+/*
+ * The seeded solve of a 7R free-joint closed form in one call (kin/ik/numeric/free_joint.py's
+ * stage 0 from the caller's seed, the numeric pipeline's usual answer): the world target brought
+ * to the structure's frames, first() from the seed for each scan step in turn, each branch found
+ * measured by the table's DH product (chain_step in ../_twin.h, an FK independent of the closed
+ * form's algebra; tests compare it with Pinocchio's). Included by _closed7.c and _shoulder7.c
+ * after their Params, first_start and
+ *   static void prepare_seeded(const Seed *S, int mode, const double *p, const double *r,
+ *                              double *T);
+ * which writes first_start's target T of a world pose (mode 0: p [m], r row-major) or point
+ * (mode 1) through the frames of the Seed block, and SEEDED_POINTS (1 when first_start takes a
+ * point, else 0: a position target is not taken).
+ *
+ * seeded(params, seed_block, steps, position, rotation, seed, position_tol, rotation_tol, out)
+ *   params:     bytes of the structure's Params (its c_params);
+ *   seed_block: bytes of a Seed (SEED_LAYOUT, kin.ik.numeric.free_joint.seed_block);
+ *   steps:      tuple of the scan steps [rad], tried in turn (0.0: the seed's free joint only);
+ *   position:   float64[3], the tool position in the world [m];
+ *   rotation:   float64[3, 3] R_world_tool, or None for a position (mode 1);
+ *   seed:       float64[7] [rad];
+ *   out:        float64[7] receives the answer [rad].
+ *   Returns (position error [m], rotation error [rad] or None) of the answer written to out: the
+ *   first step whose branch is within both tolerances (strictly below, as the judge); False when
+ *   none is (the seed was tried: the pipeline goes on from the seed-table samples); None when the
+ *   call does not take the target (a value that is not finite, a seed that is not 7 finite
+ *   float64, a point beyond the reach bound): the pipeline from its start.
+ */
+#ifndef KIN_IK_ANALYTIC_SEVEN_R_SEEDED7_H
+#define KIN_IK_ANALYTIC_SEVEN_R_SEEDED7_H
+
+#include "../_twin.h"
+
+/* X(field, size, description) */
+#define SEED_PARAMS(X)                                                                  \
+    X(modified, 1, "1 for a modified (Craig) table, 0 for a standard one")              \
+    X(a, 7, "a of the table's rows [m]")                                                \
+    X(cos_alpha, 7, "cos of the twists alpha")                                          \
+    X(sin_alpha, 7, "sin of the twists alpha")                                          \
+    X(d, 7, "d of the table's rows [m]")                                                \
+    X(theta, 7, "theta offsets [rad]")                                                  \
+    X(base, 12, "T_world_base, rows 0-2 of the 4x4, row-major [m]")                     \
+    X(tool, 12, "T_last_tool, rows 0-2 of the 4x4, row-major [m]")                      \
+    X(frame_r, 9, "K: rotation of the structure's base frame in the world, row-major")  \
+    X(frame_t, 3, "k: its origin in the world [m]")                                     \
+    X(end_r, 9, "M: rotation of the tool in the structure's last frame, row-major")     \
+    X(end_t, 3, "m: its origin there [m]")                                              \
+    X(point, 3, "a point of the structure's base frame its target needs [m]")           \
+    X(reach, 4, "the table's base origin in the world [m], then the reach bound [m]")
+
+#define SEED_FIELD(name, size, doc) double name[size];
+#define SEED_ENTRY(name, size, doc) \
+    {#name, (Py_ssize_t)(offsetof(Seed, name) / sizeof(double)), (Py_ssize_t)(size)},
+typedef struct {
+    SEED_PARAMS(SEED_FIELD)
+} Seed;
+enum { SEED_COUNT = 0 SEED_PARAMS(TWIN_SIZE) };
+typedef char seed_has_no_padding[sizeof(Seed) == SEED_COUNT * sizeof(double) ? 1 : -1];
+static const TwinField SEED_FIELDS[] = {SEED_PARAMS(SEED_ENTRY)};
+
+/* r = K^T R M^T (row-major) of a world rotation R. */
+static inline void frame_rotation(const Seed *S, const double *R, double *r)
+{
+    const double *K = S->frame_r, *M = S->end_r;
+    double a[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            a[3 * i + j] = K[i] * R[j] + K[3 + i] * R[3 + j] + K[6 + i] * R[6 + j];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r[3 * i + j] = a[3 * i] * M[3 * j] + a[3 * i + 1] * M[3 * j + 1] +
+                           a[3 * i + 2] * M[3 * j + 2];
+}
+
+/* x = K^T (p - k) of a world point p [m]. */
+static inline void frame_point(const Seed *S, const double *p, double *x)
+{
+    const double *K = S->frame_r, *k = S->frame_t;
+    double v[3] = {p[0] - k[0], p[1] - k[1], p[2] - k[2]};
+    for (int i = 0; i < 3; i++) x[i] = K[i] * v[0] + K[3 + i] * v[1] + K[6 + i] * v[2];
+}
+
+static void prepare_seeded(const Seed *S, int mode, const double *p, const double *r, double *T);
+
+/* The tool pose of the table at q (7 joints) [rad], 3x4. */
+static inline void chain_pose7(const Seed *S, const double *q, double *T)
+{
+    double a[12], b[12];
+    const double *previous = S->base;
+    const int modified = S->modified[0] != 0.0;
+    for (int j = 0; j < 7; j++) {
+        double *next = j % 2 ? b : a;
+        chain_step(modified, S->a[j], S->cos_alpha[j], S->sin_alpha[j], S->d[j],
+                   q[j] + S->theta[j], previous, next);
+        previous = next;
+    }
+    chain_compose(previous, S->tool, T);
+}
+
+static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != 9) {
+        PyErr_SetString(PyExc_TypeError, "seeded(params, seed_block, steps, position, rotation, "
+                                         "seed, position_tol, rotation_tol, out)");
+        return NULL;
+    }
+    PyObject *steps = args[2], *rotation = args[4];
+    if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof(Params) ||
+        !PyBytes_Check(args[1]) || PyBytes_GET_SIZE(args[1]) != sizeof(Seed) ||
+        !PyTuple_Check(steps)) {
+        PyErr_SetString(PyExc_ValueError, "params, seed_block: bytes of the blocks; steps: a tuple");
+        return NULL;
+    }
+    double position_tol = PyFloat_AsDouble(args[6]), rotation_tol = PyFloat_AsDouble(args[7]);
+    if (PyErr_Occurred()) return NULL;
+    Params P;
+    Seed S;
+    memcpy(&P, PyBytes_AS_STRING(args[0]), sizeof P);
+    memcpy(&S, PyBytes_AS_STRING(args[1]), sizeof S);
+    int mode = rotation == Py_None ? 1 : 0;
+    if (mode == 1 && !SEEDED_POINTS) Py_RETURN_NONE;
+    double p[3], r[9] = {0.0}, seed[7], T[12], q[7];
+    if (!copy_doubles(args[3], 3, p) || (mode == 0 && !copy_doubles(rotation, 9, r)) ||
+        !copy_doubles(args[5], 7, seed))
+        Py_RETURN_NONE;
+    int finite = 1;
+    for (int i = 0; i < 3; i++) finite = finite && isfinite(p[i]);
+    for (int i = 0; i < 9; i++) finite = finite && isfinite(r[i]);
+    for (int i = 0; i < 7; i++) finite = finite && isfinite(seed[i]);
+    if (!finite) Py_RETURN_NONE;
+    double bx = p[0] - S.reach[0], by = p[1] - S.reach[1], bz = p[2] - S.reach[2];
+    if (!(sqrt(bx * bx + by * by + bz * bz) <= S.reach[3])) Py_RETURN_NONE;
+    prepare_seeded(&S, mode, p, r, T);
+    for (Py_ssize_t k = 0; k < PyTuple_GET_SIZE(steps); k++) {
+        double step = PyFloat_AsDouble(PyTuple_GET_ITEM(steps, k));
+        if (step == -1.0 && PyErr_Occurred()) return NULL;
+        if (first_start(&P, mode, T, seed, 1, step, q) != 0) continue;
+        double pose[12], position_error, rotation_error;
+        chain_pose7(&S, q, pose);
+        pose_errors(pose, p, r, &position_error, &rotation_error);
+        if (!(position_error < position_tol) || (mode == 0 && !(rotation_error < rotation_tol)))
+            continue;
+        Py_buffer view;
+        if (PyObject_GetBuffer(args[8], &view, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) <
+            0)
+            return NULL;
+        int fits = view.len == 7 * (Py_ssize_t)sizeof(double) && view.format != NULL &&
+                   strcmp(view.format, "d") == 0;
+        if (fits) memcpy(view.buf, q, sizeof q);
+        PyBuffer_Release(&view);
+        if (!fits) {
+            PyErr_SetString(PyExc_ValueError, "out: not 7 float64");
+            return NULL;
+        }
+        if (mode == 1) return Py_BuildValue("(dO)", position_error, Py_None);
+        return Py_BuildValue("(dd)", position_error, rotation_error);
+    }
+    Py_RETURN_FALSE;
+}
+
+/* The docstring of seeded in the method tables. */
+#define SEEDED_DOC                                                                                \
+    "seeded(params, seed_block, steps, position, rotation, seed, position_tol, rotation_tol, out) " \
+    "-> (position error, rotation error) of the answer from the seed written to out, False (none " \
+    "within the tolerances), or None (a target or seed the call does not take). See "             \
+    "kin/ik/analytic/seven_r/_seeded7.h."
+
+#endif
