@@ -39,7 +39,8 @@
     X(g, 3, "Rx(alpha6) e_z")                                        \
     X(tool, 3, "tool origin in frame 7 [m]")                         \
     X(w7, 3, "wrist centre in frame 7 [m]")                          \
-    X(ax7, 3, "(0, sin alpha7, cos alpha7)")
+    X(ax7, 3, "(0, sin alpha7, cos alpha7)")                          \
+    X(edge4, 5, "cos, sin of t4 at joint 4's lower, upper limit; 1 if they span a turn")
 
 TWIN_PARAMS(CLOSED7_PARAMS)
 
@@ -91,6 +92,68 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, Ar
         }
     }
     return count;
+}
+
+/*
+ * Where joint 1 can be, given the elbow (a skip, not in the Python module: the same answers).
+ * arm() finds a branch only when its elbow equation p cos t4 + q sin t4 = m has a root t4 inside
+ * joint 4's limits, that is m in [m_low, m_high] (the range of the left side over those limits),
+ * and m = c - (Bc cos t1 + Bs sin t1) / 2 depends on t1 = q1 + offset through a sinusoid:
+ * |d|^2 = K0 + Bc cos t1 + Bs sin t1 (d the point seen from the shoulder, as arm() computes it).
+ * So the t1 with a branch lie where cos(t1 - psi) is in [L, H] / R: |remainder(t1 - psi)| within
+ * [inner, outer]. The window is widened (by 1e-9 m^2 in m, then 1e-9 rad) so that rounding never
+ * skips a joint-1 value arm() would give a branch: a scan skips, without trigonometry, the values
+ * (most of them) where the elbow cannot reach.
+ */
+typedef struct {
+    int active;               /* 0: every t1 may have a branch (no skip) */
+    double psi, inner, outer; /* [rad] */
+} ElbowWindow;
+
+static void elbow_window(const Params *P, const double *pt, const double *u, ElbowWindow *w)
+{
+    const double *S = P->sin, *C = P->cos, *e = P->edge4;
+    double ux = u[0], uy = u[1], uz = u[2], sx = P->s3[0], sy = P->s3[1], sz = P->s3[2];
+    double p = sx * ux + sy * uy, q = sy * ux - sx * uy, rho = hypot(p, q);
+    /* m_low, m_high: p cos t4 + q sin t4 over joint 4's limits (the ends, and a peak inside) */
+    double m_low = -rho, m_high = rho;
+    if (e[4] == 0.0) {
+        double at_low = p * e[0] + q * e[1], at_high = p * e[2] + q * e[3];
+        m_low = at_low < at_high ? at_low : at_high;
+        m_high = at_low < at_high ? at_high : at_low;
+        double phi = atan2(q, p), low = atan2(e[1], e[0]), span = atan2(e[3], e[2]) - low;
+        if (span < 0.0) span += TWO_PI;
+        for (int k = 0; k < 2; k++) { /* the peak +rho at phi, -rho at phi + pi */
+            double from_low = (k == 0 ? phi : phi + 0.5 * TWO_PI) - low;
+            from_low -= TWO_PI * floor(from_low / TWO_PI);
+            if (from_low <= span) {
+                if (k == 0) m_high = rho;
+                else m_low = -rho;
+            }
+        }
+    }
+    double x0 = pt[0], y0 = pt[1], z = pt[2] - P->d[0], a1 = P->a[0], d2 = P->d[1];
+    double k0 = x0 * x0 + y0 * y0 + a1 * a1 + z * z + d2 * d2 - 2.0 * d2 * C[0] * z;
+    double bc = -2.0 * a1 * x0 + 2.0 * d2 * S[0] * y0, bs = -2.0 * a1 * y0 - 2.0 * d2 * S[0] * x0;
+    double c = 0.5 * (ux * ux + uy * uy + uz * uz + P->s3_2[0] - k0) - sz * uz;
+    double r = hypot(bc, bs), slack = 1e-9 * (1.0 + fabs(c) + rho + r + k0);
+    w->active = 0;
+    if (!(r > 1e-9) || !isfinite(c)) return; /* t1 barely matters: no skip */
+    double low = 2.0 * (c - m_high - slack) / r, high = 2.0 * (c - m_low + slack) / r;
+    w->active = 1;
+    w->psi = atan2(bs, bc);
+    w->inner = high >= 1.0 ? 0.0 : (high <= -1.0 ? INFINITY : acos(high));
+    w->outer = low <= -1.0 ? INFINITY : (low >= 1.0 ? -INFINITY : acos(low));
+    w->inner -= 1e-9;
+    w->outer += 1e-9;
+}
+
+/* Whether t1 [rad] is inside the window (or the window is off). */
+static inline int elbow_admits(const ElbowWindow *w, double t1)
+{
+    if (!w->active) return 1;
+    double delta = fabs(turn_remainder(t1 - w->psi));
+    return w->inner <= delta && delta <= w->outer;
 }
 
 /* SevenDofIK.pose: joint vectors inside the limits (up to 8) for joint 1 at q1. */
@@ -198,6 +261,8 @@ static long first_start(const void *params, int mode, const double *T, const dou
         if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
         double u[3];
         if (mode == 1) elbow_vector(P, v[4], v[5], v[6], u);
+        ElbowWindow window;
+        elbow_window(P, mode == 0 ? W : T, mode == 0 ? P->wu : u, &window);
         for (long j = 0; n == 0; j++) {
             int inside_limits = 0;
             for (int sign = 1; sign >= -1 && n == 0; sign -= 2) {
@@ -205,6 +270,7 @@ static long first_start(const void *params, int mode, const double *T, const dou
                 double q1 = v[0] + sign * (double)j * step;
                 if (q1 < P->lo[0] || q1 > P->hi[0]) continue;
                 inside_limits = 1;
+                if (!elbow_admits(&window, q1 + P->off[0])) continue; /* no elbow: no branch */
                 if (mode == 0) {
                     n = pose(P, q1, W, X7, Z7, sol);
                 } else {

@@ -99,7 +99,20 @@ class SevenDofIK:
             "tool": tuple(self._tool_t.tolist()),
             "w7": self._wrist7,
             "ax7": self._axis7,
+            "edge4": self._edge4(),
         }
+
+    def _edge4(self) -> tuple[float, ...]:
+        """Joint 4's limits as the twin's elbow window reads them (``edge4`` in ``_closed7.c``).
+
+        ``cos t4, sin t4`` at the lower and at the upper limit (``t4 = q4 + offset``), then 1 when
+        the limits span a whole turn (every ``t4``), else 0. The Python module does not use it: the
+        twin skips, without solving, the joint-1 values whose elbow has no root in these limits.
+        """
+        low = self.lower[3] + self._offsets[3]
+        high = self.upper[3] + self._offsets[3]
+        turn = float(not high - low < _TWO_PI)
+        return (math.cos(low), math.sin(low), math.cos(high), math.sin(high), turn)
 
     @property
     def c_params(self) -> np.ndarray:
