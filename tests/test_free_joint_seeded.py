@@ -115,4 +115,4 @@ def test_what_the_compiled_call_does_not_take_goes_the_long_way(pair):
     kwargs = {"position_tol": 1e-30, "timeout": 0.005, "max_attempts": 2}
     a, b = (s.solve(PoseTarget(p, R), np.zeros(7), **kwargs) for s in pair)
     assert a.method != "closed_form_free_joint"
-    assert (a.success, a.status, a.method, a.message) == (b.success, b.status, b.method, b.message)
+    assert (a.success, a.status, a.method) == (b.success, b.status, b.method)

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import functools
 import math
+import time
 from collections.abc import Callable, Iterator, Sequence
 from operator import le, sub
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol, cast
@@ -146,6 +147,7 @@ def compiled_seeded(
     base_origin: Sequence[float],
     reach: float,
     steps: Sequence[float],
+    name: str,
 ) -> Callable[..., Any] | None:
     """This stage from the caller's seed in one compiled call, or None where it does not apply.
 
@@ -154,9 +156,11 @@ def compiled_seeded(
     the closed form from the seed for each scan step in turn, each answer measured by the
     table's DH product (not Pinocchio's FK: the same chain, compared with it in the tests), the
     first within the tolerances taken. Bound to the arm's blocks, it is called as
-    ``(position, rotation or None, seed, position_tol, rotation_tol, out)`` and returns the
-    answer's errors (``out`` holds it), False (none: go on from the samples,
-    :attr:`.search.Search.seed_scanned`) or None (not taken: the pipeline from its start).
+    ``(position, rotation or None, seed, position_tol, rotation_tol, start, out)`` and returns
+    the :class:`~kin.ik.result.IKResult` this stage would (its solution's ``q`` is ``out``, a
+    float64 (7,); ``time`` from ``start``, a ``time.perf_counter()`` [s]), False (none: go on
+    from the samples, :attr:`.search.Search.seed_scanned`) or None (not taken: the pipeline
+    from its start).
 
     Applies to the two special 7R forms with their twin built (humanoid7's, the spherical
     shoulder's) on a table of forward-turning revolute rows; not to an idealised table (its
@@ -169,6 +173,7 @@ def compiled_seeded(
             than ``reach`` [m] from it is not taken.
         reach: Bound of the tool's distance from the base origin [m].
         steps: The free joint's scan steps [rad], coarse to fine.
+        name: The pipeline's name (:attr:`IKResult.solver`).
     """
     if not isinstance(closed, (SevenDofIK, SphericalShoulder7RIK)) or closed.twin is None:
         return None
@@ -182,7 +187,18 @@ def compiled_seeded(
     }
     block = pack_params(fields, closed.twin.SEED_LAYOUT).tobytes()
     steps = tuple(float(step) for step in steps)
-    return functools.partial(closed.twin.seeded, closed.c_params.tobytes(), block, steps)
+    return functools.partial(
+        closed.twin.seeded,
+        closed.c_params.tobytes(),
+        block,
+        steps,
+        IKSolution,
+        IKResult,
+        name,
+        FROM_SEED,
+        METHOD,
+        time.perf_counter,
+    )
 
 
 def solve_free_joint(ik: NumericContext, search: Search) -> IKResult | None:

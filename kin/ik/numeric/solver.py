@@ -43,20 +43,19 @@ from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
 from ..partial_pose import PartialPoseIK
 from ..reach import Reach, arm_reach, reach_bound
-from ..result import IKResult, IKSolution
+from ..result import IKResult
 from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
 from . import seed_cache
 from .damped_newton import COMPILED as COMPILED_STEP
 from .damped_newton import load_linalg
 from .differential_ik import DifferentialIK
+from .free_joint import METHOD as FREE_JOINT
 from .free_joint import (
-    FROM_SEED,
     FreeJointClosedForm,
     compiled_seeded,
     free_joint_closed_form,
     solve_free_joint,
 )
-from .free_joint import METHOD as FREE_JOINT
 from .numeric_target import NumericTarget
 from .restarts import MINK_QP, RANDOM_RESTART, polish_best, solve_with_restarts
 from .search import PIPELINE, Search, Stage, allowance, run_stages
@@ -261,7 +260,12 @@ class NumericIK:
         self._seeded = None
         if self.compiled and self.idealised is None and self.stages is STAGES:
             self._seeded = compiled_seeded(
-                self.closed_form, robot.table, self._base_origin, self.reach, self.closed_form_steps
+                self.closed_form,
+                robot.table,
+                self._base_origin,
+                self.reach,
+                self.closed_form_steps,
+                PIPELINE,
             )
         # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
         # that share a solver get the answers one thread would).
@@ -433,19 +437,18 @@ class NumericIK:
             and not self.near_seed
             and (timeout is None or timeout >= 0.0)
         ):  # stage 0 from the seed, compiled: the usual answer, without the stages' set-up
-            out = np.empty(7)
-            errors = seeded(target.position, target.rotation, seed, position_tol, rotation_tol, out)
-            if errors.__class__ is tuple:
-                return IKResult(
-                    True,
-                    PIPELINE,
-                    "ok",
-                    FROM_SEED,
-                    (IKSolution(out, "", True, *errors),),
-                    time=time.perf_counter() - start,
-                    method=FREE_JOINT,
-                )
-            scanned = errors is False  # tried from the seed: stage 0 goes on from the samples
+            answer = seeded(
+                target.position,
+                target.rotation,
+                seed,
+                position_tol,
+                rotation_tol,
+                start,
+                np.empty(7),
+            )
+            if answer.__class__ is IKResult:
+                return answer  # type: ignore[no-any-return]
+            scanned = answer is False  # tried from the seed: stage 0 goes on from the samples
         if posture is not None and posture.shape != self._shape:
             raise TargetError(
                 f"posture of '{self.robot.name}' must have {self.nq} values, got {posture.size}"

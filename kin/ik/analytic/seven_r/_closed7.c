@@ -361,6 +361,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",
 
 PyMODINIT_FUNC PyInit__closed7(void)
 {
+    if (results_init() < 0) return NULL;
     PyObject *m = twin_module(&module, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
     if (m != NULL && add_layout(m, "SEED_LAYOUT", SEED_FIELDS, sizeof SEED_FIELDS / sizeof SEED_FIELDS[0]) < 0)
         Py_CLEAR(m);

@@ -11,24 +11,29 @@
  * (mode 1) through the frames of the Seed block, and SEEDED_POINTS (1 when first_start takes a
  * point, else 0: a position target is not taken).
  *
- * seeded(params, seed_block, steps, position, rotation, seed, position_tol, rotation_tol, out)
+ * seeded(params, seed_block, steps, solution, result, name, message, method, clock, position,
+ *        rotation, seed, position_tol, rotation_tol, start, out)
  *   params:     bytes of the structure's Params (its c_params);
- *   seed_block: bytes of a Seed (SEED_LAYOUT, kin.ik.numeric.free_joint.seed_block);
+ *   seed_block: bytes of a Seed (SEED_LAYOUT, kin.ik.numeric.free_joint.compiled_seeded);
  *   steps:      tuple of the scan steps [rad], tried in turn (0.0: the seed's free joint only);
+ *   solution, result: the classes IKSolution and IKResult; name, message, method: the answer's
+ *               solver, message and method (strings); clock: time.perf_counter;
  *   position:   float64[3], the tool position in the world [m];
  *   rotation:   float64[3, 3] R_world_tool, or None for a position (mode 1);
  *   seed:       float64[7] [rad];
- *   out:        float64[7] receives the answer [rad].
- *   Returns (position error [m], rotation error [rad] or None) of the answer written to out: the
- *   first step whose branch is within both tolerances (strictly below, as the judge); False when
- *   none is (the seed was tried: the pipeline goes on from the seed-table samples); None when the
- *   call does not take the target (a value that is not finite, a seed that is not 7 finite
- *   float64, a point beyond the reach bound): the pipeline from its start.
+ *   start:      clock() at the call's start [s];
+ *   out:        float64[7] receives the answer [rad] (the solution's q).
+ *   Returns the IKResult of the answer (success, status "ok", one solution on out with its
+ *   errors, 0 iterations, the time since start): the first step whose branch is within both
+ *   tolerances (strictly below, as the judge); False when none is (the seed was tried: the
+ *   pipeline goes on from the seed-table samples); None when the call does not take the target
+ *   (a value that is not finite, a seed that is not 7 finite float64, a point beyond the reach
+ *   bound): the pipeline from its start.
  */
 #ifndef KIN_IK_ANALYTIC_SEVEN_R_SEEDED7_H
 #define KIN_IK_ANALYTIC_SEVEN_R_SEEDED7_H
 
-#include "../_twin.h"
+#include "../_results.h"
 
 /* X(field, size, description) */
 #define SEED_PARAMS(X)                                                                  \
@@ -96,22 +101,69 @@ static inline void chain_pose7(const Seed *S, const double *q, double *T)
     chain_compose(previous, S->tool, T);
 }
 
+/* The IKResult of seeded()'s answer q with its errors (rotation NaN: a position target), q
+   written to out (args as seeded's). */
+static PyObject *seeded_result(PyObject *const *args, const double *q, double position_error,
+                               double rotation_error, double start)
+{
+    PyObject *out = args[15];
+    Py_buffer view;
+    if (PyObject_GetBuffer(out, &view, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
+        return NULL;
+    int fits = view.len == 7 * (Py_ssize_t)sizeof(double) && view.format != NULL &&
+               strcmp(view.format, "d") == 0;
+    if (fits) memcpy(view.buf, q, 7 * sizeof(double));
+    PyBuffer_Release(&view);
+    if (!fits) {
+        PyErr_SetString(PyExc_ValueError, "out: not 7 float64");
+        return NULL;
+    }
+    static PyObject *empty_label;
+    if (empty_label == NULL && (empty_label = PyUnicode_InternFromString("")) == NULL) return NULL;
+    Py_INCREF(out);
+    PyObject *one = make_solution((PyTypeObject *)args[3], out, empty_label, 1, position_error,
+                                  rotation_error);
+    if (one == NULL) return NULL;
+    PyObject *solutions = PyTuple_Pack(1, one);
+    Py_DECREF(one);
+    if (solutions == NULL) return NULL;
+    PyObject *now = PyObject_CallNoArgs(args[8]);
+    double elapsed = now == NULL ? -1.0 : PyFloat_AsDouble(now) - start;
+    Py_XDECREF(now);
+    PyObject *answer = NULL;
+    if (!PyErr_Occurred()) {
+        static PyObject *status_ok;
+        if (status_ok == NULL) status_ok = PyUnicode_InternFromString("ok");
+        if (status_ok != NULL)
+            answer = make_success((PyTypeObject *)args[4], args[5], status_ok, args[6], solutions,
+                                  no_args, 0, elapsed, args[7]);
+    }
+    Py_DECREF(solutions);
+    return answer;
+}
+
 static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
-    if (nargs != 9) {
-        PyErr_SetString(PyExc_TypeError, "seeded(params, seed_block, steps, position, rotation, "
-                                         "seed, position_tol, rotation_tol, out)");
+    if (nargs != 16) {
+        PyErr_SetString(PyExc_TypeError,
+                        "seeded(params, seed_block, steps, solution, result, name, message, "
+                        "method, clock, position, rotation, seed, position_tol, rotation_tol, "
+                        "start, out)");
         return NULL;
     }
-    PyObject *steps = args[2], *rotation = args[4];
+    PyObject *steps = args[2], *solution = args[3], *result = args[4], *clock = args[8],
+             *rotation = args[10];
     if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof(Params) ||
         !PyBytes_Check(args[1]) || PyBytes_GET_SIZE(args[1]) != sizeof(Seed) ||
-        !PyTuple_Check(steps)) {
-        PyErr_SetString(PyExc_ValueError, "params, seed_block: bytes of the blocks; steps: a tuple");
+        !PyTuple_Check(steps) || !PyType_Check(solution) || !PyType_Check(result) ||
+        !PyCallable_Check(clock)) {
+        PyErr_SetString(PyExc_ValueError, "params, seed_block: bytes of the blocks; steps: a "
+                                          "tuple; solution, result: classes; clock: a callable");
         return NULL;
     }
-    double position_tol = PyFloat_AsDouble(args[6]), rotation_tol = PyFloat_AsDouble(args[7]);
+    double position_tol = PyFloat_AsDouble(args[12]), rotation_tol = PyFloat_AsDouble(args[13]);
+    double start = PyFloat_AsDouble(args[14]);
     if (PyErr_Occurred()) return NULL;
     Params P;
     Seed S;
@@ -120,8 +172,8 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     int mode = rotation == Py_None ? 1 : 0;
     if (mode == 1 && !SEEDED_POINTS) Py_RETURN_NONE;
     double p[3], r[9] = {0.0}, seed[7], T[12], q[7];
-    if (!copy_doubles(args[3], 3, p) || (mode == 0 && !copy_doubles(rotation, 9, r)) ||
-        !copy_doubles(args[5], 7, seed))
+    if (!copy_doubles(args[9], 3, p) || (mode == 0 && !copy_doubles(rotation, 9, r)) ||
+        !copy_doubles(args[11], 7, seed))
         Py_RETURN_NONE;
     int finite = 1;
     for (int i = 0; i < 3; i++) finite = finite && isfinite(p[i]);
@@ -140,29 +192,16 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
         pose_errors(pose, p, r, &position_error, &rotation_error);
         if (!(position_error < position_tol) || (mode == 0 && !(rotation_error < rotation_tol)))
             continue;
-        Py_buffer view;
-        if (PyObject_GetBuffer(args[8], &view, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) <
-            0)
-            return NULL;
-        int fits = view.len == 7 * (Py_ssize_t)sizeof(double) && view.format != NULL &&
-                   strcmp(view.format, "d") == 0;
-        if (fits) memcpy(view.buf, q, sizeof q);
-        PyBuffer_Release(&view);
-        if (!fits) {
-            PyErr_SetString(PyExc_ValueError, "out: not 7 float64");
-            return NULL;
-        }
-        if (mode == 1) return Py_BuildValue("(dO)", position_error, Py_None);
-        return Py_BuildValue("(dd)", position_error, rotation_error);
+        return seeded_result(args, q, position_error, mode == 1 ? NAN : rotation_error, start);
     }
     Py_RETURN_FALSE;
 }
 
 /* The docstring of seeded in the method tables. */
-#define SEEDED_DOC                                                                                \
-    "seeded(params, seed_block, steps, position, rotation, seed, position_tol, rotation_tol, out) " \
-    "-> (position error, rotation error) of the answer from the seed written to out, False (none " \
-    "within the tolerances), or None (a target or seed the call does not take). See "             \
-    "kin/ik/analytic/seven_r/_seeded7.h."
+#define SEEDED_DOC                                                                           \
+    "seeded(params, seed_block, steps, solution, result, name, message, method, clock, "     \
+    "position, rotation, seed, position_tol, rotation_tol, start, out) -> the IKResult of "  \
+    "the answer from the seed, False (none within the tolerances), or None (a target or seed " \
+    "the call does not take). See kin/ik/analytic/seven_r/_seeded7.h."
 
 #endif

@@ -7,7 +7,7 @@
 
 #include "_six_r_twin.h"
 
-#include <structmember.h> /* READONLY, T_OBJECT_EX before Python 3.12 */
+#include "../_results.h"
 
 /* p_0_6, R_0_6 of a world target, then its branches. */
 static inline void solve_world(const Params *P, const double *pw, const double *rw, double free,
@@ -93,79 +93,10 @@ static PyObject *verify(PyObject *self, PyObject *args)
     return PyLong_FromLong(found);
 }
 
-/* What solutions() makes its answers with, set by six_r_module: numpy.ndarray, the float64
-   dtype, the shapes (k, 6) for k = 0 .. BRANCHES, the field names of IKSolution and
-   IKResult (in the order of their constructors), an empty tuple (object.__new__'s arguments and
-   IKResult.free) and the strings "ok" and "closed_form". */
-#define RESULT_FIELDS 11
-static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *solution_fields[5],
-    *result_fields[RESULT_FIELDS], *no_args, *status_ok, *method_closed_form;
-
-/* An instance of cls (a frozen dataclass of kin.ik.result) with its n fields names[i] set to
-   values[i], as its __init__ sets them (into the instance's dict, past the frozen __setattr__);
-   the values are stolen (NULL ones make it fail: NULL, with their error set). */
-static PyObject *make_instance(PyTypeObject *cls, PyObject *const *names, PyObject **values,
-                               int n)
-{
-    PyObject *obj = NULL;
-    int complete = 1;
-    for (int i = 0; i < n; i++) complete = complete && values[i] != NULL;
-    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
-    for (int i = 0; i < n && obj != NULL; i++)
-        if (PyObject_GenericSetAttr(obj, names[i], values[i]) < 0) Py_CLEAR(obj);
-    for (int i = 0; i < n; i++) Py_XDECREF(values[i]);
-    return obj;
-}
-
-#ifndef Py_T_OBJECT_EX /* before Python 3.12 */
-#define Py_T_OBJECT_EX T_OBJECT_EX
-#endif
-
-/* The class whose slot offsets slot_offsets holds (a new reference), or NULL. */
-static PyTypeObject *slot_class;
-static Py_ssize_t slot_offsets[5];
-
-/* Whether cls stores the 5 fields of IKSolution in slots of its own (a dataclass with
-   slots=True): then slot_offsets holds their offsets in the instance. Else 0 (no error): the
-   fields are set by name. */
-static int solution_slots(PyTypeObject *cls)
-{
-    if (cls == slot_class) return 1;
-    for (int i = 0; i < 5; i++) {
-        PyObject *descr = PyDict_GetItemWithError(cls->tp_dict, solution_fields[i]);
-        if (descr == NULL || !Py_IS_TYPE(descr, &PyMemberDescr_Type)) {
-            PyErr_Clear();
-            return 0;
-        }
-        PyMemberDef *member = ((PyMemberDescrObject *)descr)->d_member;
-        if (member->type != Py_T_OBJECT_EX || (member->flags & READONLY)) return 0;
-        slot_offsets[i] = member->offset;
-    }
-    Py_INCREF(cls);
-    Py_XSETREF(slot_class, cls);
-    return 1;
-}
-
-/* An IKSolution (cls) of its fields; q is stolen. Written straight into its slots when it has
-   them (solution_slots), else set by name as its __init__ would. */
-static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
-                               double position_error, double rotation_error)
-{
-    Py_INCREF(label);
-    PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
-                           PyFloat_FromDouble(rotation_error)};
-    if (!solution_slots(cls)) return make_instance(cls, solution_fields, values, 5);
-    PyObject *obj = NULL;
-    int complete = 1;
-    for (int i = 0; i < 5; i++) complete = complete && values[i] != NULL;
-    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
-    if (obj == NULL) {
-        for (int i = 0; i < 5; i++) Py_XDECREF(values[i]);
-        return NULL;
-    }
-    for (int i = 0; i < 5; i++) *(PyObject **)((char *)obj + slot_offsets[i]) = values[i];
-    return obj;
-}
+/* What solutions() makes its arrays with, set by six_r_module: numpy.ndarray, the float64
+   dtype, the shapes (k, 6) for k = 0 .. BRANCHES, and the strings "ok" and "closed_form". */
+static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *status_ok,
+    *method_closed_form;
 
 /*
  * solutions(params, check, directions, solution, labels, result, name, messages, clock, position,
@@ -293,12 +224,8 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
         Py_XDECREF(now);
         if (PyErr_Occurred()) goto end;
         PyObject *message = PyTuple_GET_ITEM(messages, n_valid - 1);
-        PyObject *values[RESULT_FIELDS] = {Py_True, name, status_ok, message, valid_t, rejected_t,
-                                           Py_None, NULL, NULL, method_closed_form, no_args};
-        for (int i = 0; i < RESULT_FIELDS; i++) Py_XINCREF(values[i]);
-        values[7] = PyLong_FromLong(0);
-        values[8] = PyFloat_FromDouble(elapsed);
-        answer = make_instance((PyTypeObject *)result, result_fields, values, RESULT_FIELDS);
+        answer = make_success((PyTypeObject *)result, name, status_ok, message, valid_t,
+                              rejected_t, 0, elapsed, method_closed_form);
     } else {
         answer = PyTuple_Pack(3, valid_t, rejected_t, off_t);
     }
@@ -334,16 +261,7 @@ static inline PyObject *six_r_module(PyModuleDef *def)
     if (np_float64 == NULL) return NULL;
     for (int k = 0; k <= BRANCHES; k++)
         if ((row_shapes[k] = Py_BuildValue("(ii)", k, JOINTS)) == NULL) return NULL;
-    static const char *const fields[5] = {"q", "branch", "within_limits", "position_error",
-                                          "rotation_error"};
-    for (int i = 0; i < 5; i++)
-        if ((solution_fields[i] = PyUnicode_InternFromString(fields[i])) == NULL) return NULL;
-    static const char *const results[RESULT_FIELDS] = {
-        "success", "solver",     "status", "message", "solutions", "rejected",
-        "distance_to_workspace", "iterations", "time", "method", "free"};
-    for (int i = 0; i < RESULT_FIELDS; i++)
-        if ((result_fields[i] = PyUnicode_InternFromString(results[i])) == NULL) return NULL;
-    if ((no_args = PyTuple_New(0)) == NULL) return NULL;
+    if (results_init() < 0) return NULL;
     if ((status_ok = PyUnicode_InternFromString("ok")) == NULL) return NULL;
     if ((method_closed_form = PyUnicode_InternFromString("closed_form")) == NULL) return NULL;
     PyObject *m = twin_module(def, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);

@@ -1,0 +1,121 @@
+/*
+ * The IK results made in C (kin/ik/result.py's IKSolution and IKResult, as their __init__ makes
+ * them) by the compiled twins that answer a whole call: the 6R closed forms' solutions()
+ * (six_r/_six_r_module.h) and the 7R free-joint forms' seeded() (seven_r/_seeded7.h). A module
+ * calls results_init() when it is imported.
+ */
+#ifndef KIN_IK_ANALYTIC_RESULTS_H
+#define KIN_IK_ANALYTIC_RESULTS_H
+
+#include "_twin.h"
+
+#include <structmember.h> /* READONLY, T_OBJECT_EX before Python 3.12 */
+
+/* The field names of IKSolution and IKResult (in the order of their constructors) and an empty
+   tuple (object.__new__'s arguments and IKResult.free), set by results_init. */
+#define RESULT_FIELDS 11
+static PyObject *solution_fields[5], *result_fields[RESULT_FIELDS], *no_args;
+
+/* The names above, made once when the module is imported: 0, else -1 and an error. */
+static int results_init(void)
+{
+    static const char *const fields[5] = {"q", "branch", "within_limits", "position_error",
+                                          "rotation_error"};
+    for (int i = 0; i < 5; i++)
+        if ((solution_fields[i] = PyUnicode_InternFromString(fields[i])) == NULL) return -1;
+    static const char *const results[RESULT_FIELDS] = {
+        "success", "solver",     "status", "message", "solutions", "rejected",
+        "distance_to_workspace", "iterations", "time", "method", "free"};
+    for (int i = 0; i < RESULT_FIELDS; i++)
+        if ((result_fields[i] = PyUnicode_InternFromString(results[i])) == NULL) return -1;
+    return (no_args = PyTuple_New(0)) == NULL ? -1 : 0;
+}
+
+/* An instance of cls (a frozen dataclass of kin.ik.result) with its n fields names[i] set to
+   values[i], as its __init__ sets them (into the instance's dict, past the frozen __setattr__);
+   the values are stolen (NULL ones make it fail: NULL, with their error set). */
+static PyObject *make_instance(PyTypeObject *cls, PyObject *const *names, PyObject **values,
+                               int n)
+{
+    PyObject *obj = NULL;
+    int complete = 1;
+    for (int i = 0; i < n; i++) complete = complete && values[i] != NULL;
+    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
+    for (int i = 0; i < n && obj != NULL; i++)
+        if (PyObject_GenericSetAttr(obj, names[i], values[i]) < 0) Py_CLEAR(obj);
+    for (int i = 0; i < n; i++) Py_XDECREF(values[i]);
+    return obj;
+}
+
+#ifndef Py_T_OBJECT_EX /* before Python 3.12 */
+#define Py_T_OBJECT_EX T_OBJECT_EX
+#endif
+
+/* The class whose slot offsets slot_offsets holds (a new reference), or NULL. */
+static PyTypeObject *slot_class;
+static Py_ssize_t slot_offsets[5];
+
+/* Whether cls stores the 5 fields of IKSolution in slots of its own (a dataclass with
+   slots=True): then slot_offsets holds their offsets in the instance. Else 0 (no error): the
+   fields are set by name. */
+static int solution_slots(PyTypeObject *cls)
+{
+    if (cls == slot_class) return 1;
+    for (int i = 0; i < 5; i++) {
+        PyObject *descr = PyDict_GetItemWithError(cls->tp_dict, solution_fields[i]);
+        if (descr == NULL || !Py_IS_TYPE(descr, &PyMemberDescr_Type)) {
+            PyErr_Clear();
+            return 0;
+        }
+        PyMemberDef *member = ((PyMemberDescrObject *)descr)->d_member;
+        if (member->type != Py_T_OBJECT_EX || (member->flags & READONLY)) return 0;
+        slot_offsets[i] = member->offset;
+    }
+    Py_INCREF(cls);
+    Py_XSETREF(slot_class, cls);
+    return 1;
+}
+
+/* An IKSolution (cls) of its fields; q is stolen; rotation_error NaN stands for None (a position
+   target). Written straight into its slots when it has
+   them (solution_slots), else set by name as its __init__ would. */
+static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
+                               double position_error, double rotation_error)
+{
+    Py_INCREF(label);
+    PyObject *rotation = Py_None;
+    if (isnan(rotation_error))
+        Py_INCREF(rotation);
+    else
+        rotation = PyFloat_FromDouble(rotation_error);
+    PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
+                           rotation};
+    if (!solution_slots(cls)) return make_instance(cls, solution_fields, values, 5);
+    PyObject *obj = NULL;
+    int complete = 1;
+    for (int i = 0; i < 5; i++) complete = complete && values[i] != NULL;
+    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
+    if (obj == NULL) {
+        for (int i = 0; i < 5; i++) Py_XDECREF(values[i]);
+        return NULL;
+    }
+    for (int i = 0; i < 5; i++) *(PyObject **)((char *)obj + slot_offsets[i]) = values[i];
+    return obj;
+}
+
+/* A successful IKResult (cls) of one pipeline (name), status "ok", with its message, valid
+   solutions and rejected ones (tuples), iterations, time [s] and method; nothing free. The
+   arguments are borrowed; NULL and an error on failure. */
+static PyObject *make_success(PyTypeObject *cls, PyObject *name, PyObject *status,
+                              PyObject *message, PyObject *solutions, PyObject *rejected,
+                              long iterations, double time, PyObject *method)
+{
+    PyObject *values[RESULT_FIELDS] = {Py_True, name,    status, message, solutions, rejected,
+                                       Py_None, NULL,    NULL,   method,  no_args};
+    for (int i = 0; i < RESULT_FIELDS; i++) Py_XINCREF(values[i]);
+    values[7] = PyLong_FromLong(iterations);
+    values[8] = PyFloat_FromDouble(time);
+    return make_instance(cls, result_fields, values, RESULT_FIELDS);
+}
+
+#endif
