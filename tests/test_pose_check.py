@@ -125,21 +125,22 @@ def test_twin_declines_other_arrays(position, rotation):
 @settings(max_examples=300, deadline=None)
 def test_short_and_long_way_build_the_same_target(position, rotation):
     """From hostile arrays: the same target (or the same TargetError) with or without the twin."""
-    saved = target_module._exact_copies
+    saved = target_module._exact_pack
     try:
         results = []
         for twin in (saved, None):
-            target_module._exact_copies = twin
+            target_module._exact_pack = twin
             try:
                 built = PoseTarget(position, rotation)
                 results.append((built.position.tolist(), built.rotation.tolist()))
                 assert not built.position.flags.writeable
                 assert not built.rotation.flags.writeable
                 assert built.position is not position and built.rotation is not rotation
+                assert built.finite
             except TargetError as err:
                 results.append(str(err))
     finally:
-        target_module._exact_copies = saved
+        target_module._exact_pack = saved
     assert results[0] == results[1]
 
 
@@ -147,32 +148,35 @@ def test_short_and_long_way_build_the_same_target(position, rotation):
 @given(
     arrays(np.float64, 3, elements=st.floats(allow_nan=True, allow_infinity=True)),
     arrays(np.float64, (3, 3), elements=st.floats(allow_nan=True, allow_infinity=True)),
-    st.sampled_from(["C", "F"]),
+    st.sampled_from(["C", "F", "strided"]),
 )
 @settings(max_examples=300, deadline=None)
-def test_exact_copies_are_read_only_checked_copies(position, rotation, order):
-    """``exact_copies``: read-only copies equal to the arrays (C order) exactly when
-    ``exact_pose`` passes them, else None; the caller's arrays untouched and writeable."""
-    rotation = np.asarray(rotation, order=order)
+def test_exact_pack_holds_the_checked_values(position, rotation, order):
+    """``exact_pack``: the 12 values (position, rotation row-major) exactly when ``exact_pose``
+    passes them, else None, whatever the strides; the caller's arrays untouched and writeable."""
+    if order == "strided":  # views of a larger array, as T[:3, 3] and T[:3, :3] are
+        pose = np.zeros((4, 4))
+        pose[:3, :3], pose[:3, 3] = rotation, position
+        position, rotation = pose[:3, 3], pose[:3, :3]
+    else:
+        rotation = np.asarray(rotation, order=order)
     before = (position.copy(), rotation.copy())
-    copies = target_module._exact_copies(position, rotation, TOL)
+    packed = target_module._exact_pack(position, rotation, TOL)
     verdict = _exact_pose(np.ascontiguousarray(position), np.ascontiguousarray(rotation), TOL)
-    assert (copies is not None) == verdict
-    if copies is not None:
-        p, r = copies
-        assert p is not position and r is not rotation
-        assert not (p.flags.writeable or r.flags.writeable) and r.flags.c_contiguous
-        np.testing.assert_array_equal(p, position)
-        np.testing.assert_array_equal(r, rotation)
+    assert (packed is not None) == verdict
+    if packed is not None:
+        values = np.frombuffer(packed)
+        np.testing.assert_array_equal(values[:3], position)
+        np.testing.assert_array_equal(values[3:].reshape(3, 3), rotation)
     assert position.flags.writeable and rotation.flags.writeable
     np.testing.assert_array_equal(position, before[0])
     np.testing.assert_array_equal(rotation, before[1])
 
 
 @needs_twin
-def test_exact_copies_declines_what_is_not_an_ndarray():
+def test_exact_pack_declines_what_is_not_an_ndarray():
     """Lists, subclasses, other dtypes and shapes: None (the long way), never an error."""
-    short = target_module._exact_copies
+    short = target_module._exact_pack
     assert short([0.0, 0.0, 0.0], np.eye(3), TOL) is None
     assert short(np.zeros(3), np.eye(3).tolist(), TOL) is None
     assert short(np.zeros(3).view(np.recarray), np.eye(3), TOL) is None
@@ -181,6 +185,26 @@ def test_exact_copies_declines_what_is_not_an_ndarray():
     assert short(np.zeros(3), np.eye(3), TOL) is not None
     with pytest.raises(TypeError):
         short(np.zeros(3), np.eye(3))
+
+
+@needs_twin
+def test_packed_target_arrays_are_read_only_for_good_and_pickle():
+    """A packed target's arrays are views of immutable bytes (no flag makes them writeable); a
+    pickled or copied target is the same target."""
+    import copy
+    import pickle
+
+    target = PoseTarget(np.array([0.1, 0.2, 0.3]), np.eye(3))
+    assert target._packed is not None and target.finite
+    with pytest.raises(ValueError):
+        target.position.flags.writeable = True
+    with pytest.raises(ValueError):
+        target.rotation[0, 0] = 2.0
+    for twin in (pickle.loads(pickle.dumps(target)), copy.copy(target), copy.deepcopy(target)):
+        assert twin._packed == target._packed and twin.finite
+        np.testing.assert_array_equal(twin.position, target.position)
+        np.testing.assert_array_equal(twin.rotation, target.rotation)
+        assert not twin.position.flags.writeable
 
 
 def test_target_is_a_checked_copy():

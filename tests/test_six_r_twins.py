@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -276,6 +277,11 @@ def test_compiled_solver_with_reversed_joints_equals_python_solver(form):
             assert not solution.q.flags.writeable, f"{form=} {k=}"
 
 
+def arrays(position: np.ndarray, rotation: np.ndarray) -> SimpleNamespace:
+    """A target of two arrays as they are (unchecked, unpacked): what the twin reads of one."""
+    return SimpleNamespace(position=position, rotation=rotation, _packed=None)
+
+
 def test_solutions_refuses_malformed_arguments():
     """Wrong blocks, targets or classes: a Python error (never a crash); odd seeds: -2."""
     table = load_table(get_robot("ur5").table_path)
@@ -283,19 +289,20 @@ def test_solutions_refuses_malformed_arguments():
     bound = solver._solutions
     twin, fixed = bound.func, bound.args
     p, r = np.array([0.4, 0.1, 0.3]), np.diag([1.0, -1.0, -1.0])
-    result = bound(p, r, None, 0.0)
+    result = bound(PoseTarget(p, r), None, 0.0)
+    assert bound(arrays(p, r), None, 0.0).solutions[0].branch == result.solutions[0].branch
     assert isinstance(result, IKResult) and result.success and result.time > 0.0
     assert [f.name for f in dataclasses.fields(IKResult)] == list(vars(result))
     for seed in ([0.0] * 6, np.zeros(5), np.zeros(6, dtype=np.float32), np.full(6, np.nan)):
-        assert bound(p, r, seed, 0.0) == -2, seed
-    assert bound(np.array([np.inf, 0, 0]), r, None, 0.0) == -1
-    assert bound(np.array([50.0, 0, 0]), r, None, 0.0) == 0
+        assert bound(arrays(p, r), seed, 0.0) == -2, seed
+    assert bound(arrays(np.array([np.inf, 0, 0]), r), None, 0.0) == -1
+    assert bound(arrays(np.array([50.0, 0, 0]), r), None, 0.0) == 0
     with pytest.raises(TypeError, match="position, rotation"):
-        bound(p.astype(np.float32), r, None, 0.0)
+        bound(arrays(p.astype(np.float32), r), None, 0.0)
     with pytest.raises(TypeError, match="position, rotation"):
-        bound(p, np.asfortranarray(r[:, ::-1]), None, 0.0)
+        bound(arrays(p, np.asfortranarray(r[:, ::-1])), None, 0.0)
     with pytest.raises(TypeError, match="must be real number"):
-        bound(p, r, None, "now")
+        bound(arrays(p, r), None, "now")
     with pytest.raises(TypeError, match="solutions"):
         twin(*fixed[:2])
     changes = {
@@ -312,7 +319,7 @@ def test_solutions_refuses_malformed_arguments():
         args = list(fixed)
         args[index] = value
         with pytest.raises(ValueError, match="bytes of the blocks"):
-            twin(*args, p, r, None, 0.0)
+            twin(*args, arrays(p, r), None, 0.0)
 
 
 def test_result_made_in_c_equals_the_python_result_field_by_field():
@@ -349,7 +356,7 @@ def test_off_target_branches_are_logged_and_dropped(caplog):
     )
     bound = verifier.solutions(None, structure.branch_labels, "ur_wrist")
     T = kin.batch_forward_kinematics(table, np.array([[0.3, -1.2, 1.4, -0.8, 1.1, 0.4]]))[0]
-    valid, rejected, off = bound(T[:3, 3].copy(), T[:3, :3].copy(), np.zeros(6), 0.0)
+    valid, rejected, off = bound(arrays(T[:3, 3].copy(), T[:3, :3].copy()), np.zeros(6), 0.0)
     assert valid == () and rejected == () and len(off) == 8
     assert {label for label, _, _ in off} == set(structure.branch_labels)
     assert all(position > 1e-6 for _, position, _ in off)
@@ -364,7 +371,11 @@ def test_solutions_made_in_c_pickle_copy_and_stay_frozen():
     solver = ClosedFormSolver(kin.robot_from_table(table))
     T = targets(table, 1, 5)[0]
     solution = solver.solve(PoseTarget(T[:3, 3], T[:3, :3])).solutions[0]
-    for twin in (pickle.loads(pickle.dumps(solution)), copy.copy(solution), copy.deepcopy(solution)):
+    for twin in (
+        pickle.loads(pickle.dumps(solution)),
+        copy.copy(solution),
+        copy.deepcopy(solution),
+    ):
         assert type(twin) is IKSolution and twin.branch == solution.branch
         assert np.array_equal(twin.q, solution.q)
         assert twin.rotation_error == solution.rotation_error

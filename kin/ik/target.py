@@ -20,9 +20,9 @@ import numpy.typing as npt
 from .exceptions import TargetError
 
 try:  # the compiled twin of the pose check on the short way (optional: same verdict, faster)
-    from ._pose_check import exact_copies as _exact_copies
+    from ._pose_check import exact_pack as _exact_pack
 except ImportError:  # pragma: no cover - built wherever a C compiler is
-    _exact_copies = None
+    _exact_pack = None
 
 #: Largest ``max |R^T R - I|`` of a target rotation replaced by its nearest rotation matrix; a
 #: farther matrix is refused.
@@ -133,6 +133,8 @@ class PositionTarget:
     rotation = None
     posture = None
     position_only = True
+    #: No packed values: the compiled solvers read ``position`` (see :class:`PoseTarget`).
+    _packed = None
 
     def __init__(self, position: npt.ArrayLike):
         self.__dict__["position"] = _vector(position, 3, "position")  # frozen: set once here
@@ -195,18 +197,26 @@ class PoseTarget:
         self, position: npt.ArrayLike, rotation: npt.ArrayLike, mask: object | None = None
     ):
         fields = self.__dict__  # frozen: set once here (cheaper than object.__setattr__)
-        # The short way of a solve loop's float64 arrays: read-only copies made and checked by
-        # the compiled twin (all finite, max |R^T R - I| <= _ROTATION_EXACT, det R > 0; about
-        # 1.5 us less than _vector and _rotation); None sends anything else the long way, which
-        # says what is wrong.
-        short = _exact_copies
-        exact = None if short is None else short(position, rotation, _ROTATION_EXACT)
-        if exact is None:
+        # The short way of a solve loop's float64 arrays: the 12 values checked by the compiled
+        # twin (all finite, max |R^T R - I| <= _ROTATION_EXACT, det R > 0) and kept packed in
+        # bytes, which the compiled solvers read as they are; ``position`` and ``rotation`` are
+        # views of them made on first read (_PackedArray). None sends anything else the long
+        # way, which says what is wrong and keeps read-only copies.
+        short = _exact_pack
+        packed = None if short is None else short(position, rotation, _ROTATION_EXACT)
+        if packed is None:
             fields["position"] = _vector(position, 3, "position")
             fields["rotation"] = _rotation(rotation)
-        else:
-            fields["position"], fields["rotation"] = exact
+        fields["_packed"] = packed
         fields["mask"] = None if mask is None else _mask(mask)
+
+    def __getstate__(self) -> dict[str, object]:
+        """The fields to pickle or copy: the packed values, not the views made of them."""
+        state = dict(self.__dict__)
+        if state["_packed"] is not None:
+            state.pop("position", None)
+            state.pop("rotation", None)
+        return state
 
     @property
     def free(self) -> tuple[str, ...]:
@@ -234,6 +244,8 @@ class PoseTarget:
     @property
     def finite(self) -> bool:
         """Whether every value is finite (always, unless an array was made writeable again)."""
+        if self.__dict__["_packed"] is not None:  # immutable: as checked
+            return True
         position, rotation = self.position, self.rotation
         if not (position.flags.writeable or rotation.flags.writeable):
             return True
@@ -241,6 +253,38 @@ class PoseTarget:
         return all(map(isfinite, position.tolist())) and all(
             map(isfinite, rotation.ravel().tolist())
         )
+
+
+class _PackedArray:
+    """A :class:`PoseTarget` array read from its packed values, made on first read and kept.
+
+    A view of the bytes the compiled check packed (immutable, so the array is read-only for
+    good), stored in the instance's dict, which shadows this descriptor from then on: later
+    reads cost what an attribute costs. A target built the long way has its arrays in its dict
+    from the start.
+    """
+
+    def __init__(self, offset: int, shape: tuple[int, ...]):
+        self._offset = offset  # [bytes]
+        self._shape = shape
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self._name = name
+
+    def __get__(self, target: object, owner: type | None = None) -> np.ndarray:
+        if target is None:  # the class attribute (dataclasses look it up)
+            return self  # type: ignore[return-value]
+        fields = target.__dict__
+        array = np.ndarray(self._shape, _FLOAT64, fields["_packed"], self._offset)
+        fields[self._name] = array
+        return array
+
+
+# After the dataclass is made (its fields have no defaults): views of the packed values.
+PoseTarget.position = _PackedArray(0, (3,))  # type: ignore[assignment]
+PoseTarget.position.__set_name__(PoseTarget, "position")  # type: ignore[attr-defined]
+PoseTarget.rotation = _PackedArray(24, (3, 3))  # type: ignore[assignment]
+PoseTarget.rotation.__set_name__(PoseTarget, "rotation")  # type: ignore[attr-defined]
 
 
 def rpy_matrix(rpy: npt.ArrayLike) -> list[list[float]]:

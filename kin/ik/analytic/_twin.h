@@ -130,6 +130,43 @@ static inline int copy_doubles(PyObject *obj, Py_ssize_t n, double *out)
     return ok;
 }
 
+/* A target's position [m] into p and rotation (row-major) into r: from its packed values (a
+   PoseTarget's _packed: bytes of the 12 float64) when it has them, else from its position and
+   rotation (C-contiguous float64 arrays). Returns 0 for a pose, 1 for a position (rotation None),
+   -1 when they cannot be read so (no error set: the caller takes the long way). */
+static inline int target_values(PyObject *target, double *p, double *r)
+{
+    static PyObject *packed_name, *position_name, *rotation_name;
+    if (packed_name == NULL) {
+        packed_name = PyUnicode_InternFromString("_packed");
+        position_name = PyUnicode_InternFromString("position");
+        rotation_name = PyUnicode_InternFromString("rotation");
+        if (rotation_name == NULL) {
+            PyErr_Clear();
+            return -1;
+        }
+    }
+    PyObject *packed = PyObject_GetAttr(target, packed_name);
+    if (packed == NULL) PyErr_Clear();
+    if (packed != NULL && PyBytes_Check(packed) && PyBytes_GET_SIZE(packed) == 12 * sizeof(double)) {
+        memcpy(p, PyBytes_AS_STRING(packed), 3 * sizeof(double));
+        memcpy(r, PyBytes_AS_STRING(packed) + 3 * sizeof(double), 9 * sizeof(double));
+        Py_DECREF(packed);
+        return 0;
+    }
+    Py_XDECREF(packed);
+    PyObject *position = PyObject_GetAttr(target, position_name);
+    PyObject *rotation = position == NULL ? NULL : PyObject_GetAttr(target, rotation_name);
+    int mode = -1;
+    if (rotation == NULL)
+        PyErr_Clear();
+    else if (copy_doubles(position, 3, p))
+        mode = rotation == Py_None ? 1 : (copy_doubles(rotation, 9, r) ? 0 : -1);
+    Py_XDECREF(position);
+    Py_XDECREF(rotation);
+    return mode;
+}
+
 /*
  * A DH table's forward kinematics as written (the compiled checks' FK: a plain product of the
  * rows, independent of the closed forms' algebra; tests compare it with Pinocchio's). Poses are

@@ -187,7 +187,7 @@ class BranchVerification:
         """
         if answer.__class__ is int and answer == -2:  # checked here: a TargetError names it
             checked = np.array(self._seed_list(seed), dtype=float)
-            answer = self._solutions(target.position, target.rotation, checked, start)
+            answer = self._solutions(target, checked, start)
             if answer.__class__ is IKResult:
                 return answer  # type: ignore[no-any-return]
         if answer.__class__ is tuple:

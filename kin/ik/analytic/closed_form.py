@@ -252,7 +252,7 @@ class ClosedFormSolver(BranchVerification):
             if target.mask is None:  # type: ignore[attr-defined]
                 # One C call (no lock: the twin shares no state between calls), which makes the
                 # result when a branch is valid and none is off target.
-                answer = self._solutions(target.position, target.rotation, seed, start)  # type: ignore[attr-defined]
+                answer = self._solutions(target, seed, start)
                 if answer.__class__ is IKResult:
                     return answer  # type: ignore[no-any-return]
                 return self._twin_answer(answer, target, seed, start)  # type: ignore[arg-type]

@@ -156,7 +156,8 @@ def compiled_seeded(
     the closed form from the seed for each scan step in turn, each answer measured by the
     table's DH product (not Pinocchio's FK: the same chain, compared with it in the tests), the
     first within the tolerances taken. Bound to the arm's blocks, it is called as
-    ``(position, rotation or None, seed, position_tol, rotation_tol, start, out)`` and returns
+    ``(target, seed, position_tol, rotation_tol, start, out)`` (the target's packed values, or
+    its ``position`` and ``rotation``: None for a position) and returns
     the :class:`~kin.ik.result.IKResult` this stage would (its solution's ``q`` is ``out``, a
     float64 (7,); ``time`` from ``start``, a ``time.perf_counter()`` [s]), False (none: go on
     from the samples, :attr:`.search.Search.seed_scanned`) or None (not taken: the pipeline

@@ -8,6 +8,7 @@ tolerances) decides ``success``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -39,6 +40,8 @@ class NumericTarget:
     position: np.ndarray
     rotation: np.ndarray | None = None
     posture: np.ndarray | None = None
+    #: No packed values: the compiled solvers read the arrays (see :class:`~kin.ik.PoseTarget`).
+    _packed: ClassVar[None] = None
 
     @property
     def position_only(self) -> bool:

@@ -437,15 +437,7 @@ class NumericIK:
             and not self.near_seed
             and (timeout is None or timeout >= 0.0)
         ):  # stage 0 from the seed, compiled: the usual answer, without the stages' set-up
-            answer = seeded(
-                target.position,
-                target.rotation,
-                seed,
-                position_tol,
-                rotation_tol,
-                start,
-                np.empty(7),
-            )
+            answer = seeded(target, seed, position_tol, rotation_tol, start, np.empty(7))
             if answer.__class__ is IKResult:
                 return answer  # type: ignore[no-any-return]
             scanned = answer is False  # tried from the seed: stage 0 goes on from the samples

@@ -11,15 +11,15 @@
  * (mode 1) through the frames of the Seed block, and SEEDED_POINTS (1 when first_start takes a
  * point, else 0: a position target is not taken).
  *
- * seeded(params, seed_block, steps, solution, result, name, message, method, clock, position,
- *        rotation, seed, position_tol, rotation_tol, start, out)
+ * seeded(params, seed_block, steps, solution, result, name, message, method, clock, target,
+ *        seed, position_tol, rotation_tol, start, out)
  *   params:     bytes of the structure's Params (its c_params);
  *   seed_block: bytes of a Seed (SEED_LAYOUT, kin.ik.numeric.free_joint.compiled_seeded);
  *   steps:      tuple of the scan steps [rad], tried in turn (0.0: the seed's free joint only);
  *   solution, result: the classes IKSolution and IKResult; name, message, method: the answer's
  *               solver, message and method (strings); clock: time.perf_counter;
- *   position:   float64[3], the tool position in the world [m];
- *   rotation:   float64[3, 3] R_world_tool, or None for a position (mode 1);
+ *   target:     its position [m] and R_world_tool in the world (or None: a position, mode 1),
+ *               read by target_values (../_twin.h);
  *   seed:       float64[7] [rad];
  *   start:      clock() at the call's start [s];
  *   out:        float64[7] receives the answer [rad] (the solution's q).
@@ -106,7 +106,7 @@ static inline void chain_pose7(const Seed *S, const double *q, double *T)
 static PyObject *seeded_result(PyObject *const *args, const double *q, double position_error,
                                double rotation_error, double start)
 {
-    PyObject *out = args[15];
+    PyObject *out = args[14];
     Py_buffer view;
     if (PyObject_GetBuffer(out, &view, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
         return NULL;
@@ -145,15 +145,13 @@ static PyObject *seeded_result(PyObject *const *args, const double *q, double po
 static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
-    if (nargs != 16) {
+    if (nargs != 15) {
         PyErr_SetString(PyExc_TypeError,
                         "seeded(params, seed_block, steps, solution, result, name, message, "
-                        "method, clock, position, rotation, seed, position_tol, rotation_tol, "
-                        "start, out)");
+                        "method, clock, target, seed, position_tol, rotation_tol, start, out)");
         return NULL;
     }
-    PyObject *steps = args[2], *solution = args[3], *result = args[4], *clock = args[8],
-             *rotation = args[10];
+    PyObject *steps = args[2], *solution = args[3], *result = args[4], *clock = args[8];
     if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof(Params) ||
         !PyBytes_Check(args[1]) || PyBytes_GET_SIZE(args[1]) != sizeof(Seed) ||
         !PyTuple_Check(steps) || !PyType_Check(solution) || !PyType_Check(result) ||
@@ -162,18 +160,16 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
                                           "tuple; solution, result: classes; clock: a callable");
         return NULL;
     }
-    double position_tol = PyFloat_AsDouble(args[12]), rotation_tol = PyFloat_AsDouble(args[13]);
-    double start = PyFloat_AsDouble(args[14]);
+    double position_tol = PyFloat_AsDouble(args[11]), rotation_tol = PyFloat_AsDouble(args[12]);
+    double start = PyFloat_AsDouble(args[13]);
     if (PyErr_Occurred()) return NULL;
     Params P;
     Seed S;
     memcpy(&P, PyBytes_AS_STRING(args[0]), sizeof P);
     memcpy(&S, PyBytes_AS_STRING(args[1]), sizeof S);
-    int mode = rotation == Py_None ? 1 : 0;
-    if (mode == 1 && !SEEDED_POINTS) Py_RETURN_NONE;
     double p[3], r[9] = {0.0}, seed[7], T[12], q[7];
-    if (!copy_doubles(args[9], 3, p) || (mode == 0 && !copy_doubles(rotation, 9, r)) ||
-        !copy_doubles(args[11], 7, seed))
+    int mode = target_values(args[9], p, r);
+    if (mode < 0 || (mode == 1 && !SEEDED_POINTS) || !copy_doubles(args[10], 7, seed))
         Py_RETURN_NONE;
     int finite = 1;
     for (int i = 0; i < 3; i++) finite = finite && isfinite(p[i]);
@@ -200,7 +196,7 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 /* The docstring of seeded in the method tables. */
 #define SEEDED_DOC                                                                           \
     "seeded(params, seed_block, steps, solution, result, name, message, method, clock, "     \
-    "position, rotation, seed, position_tol, rotation_tol, start, out) -> the IKResult of "  \
+    "target, seed, position_tol, rotation_tol, start, out) -> the IKResult of "              \
     "the answer from the seed, False (none within the tolerances), or None (a target or seed " \
     "the call does not take). See kin/ik/analytic/seven_r/_seeded7.h."
 

@@ -99,8 +99,9 @@ static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *status_ok,
     *method_closed_form;
 
 /*
- * solutions(params, check, directions, solution, labels, result, name, messages, clock, position,
- * rotation, seed, start): verify()'s work, then the answer as ClosedFormSolver returns it. When
+ * solutions(params, check, directions, solution, labels, result, name, messages, clock, target,
+ * seed, start): verify()'s work on the target's position and rotation (target_values in
+ * ../_twin.h: a PoseTarget's packed values, or its arrays), then the answer as ClosedFormSolver returns it. When
  * a branch is valid and none is off target, the IKResult itself (class result: success, solver
  * name, status "ok", message messages[n - 1] for n valid, the two tuples below, no distance, 0
  * iterations, time clock() - start [s], method "closed_form", nothing free); else
@@ -117,15 +118,14 @@ static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *status_ok,
 static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
-    if (nargs != 13) {
+    if (nargs != 12) {
         PyErr_SetString(PyExc_TypeError, "solutions(params, check, directions, solution, labels, "
-                                         "result, name, messages, clock, position, rotation, "
-                                         "seed, start)");
+                                         "result, name, messages, clock, target, seed, start)");
         return NULL;
     }
     PyObject *directions = args[2], *cls = args[3], *labels = args[4], *result = args[5],
              *name = args[6], *messages = args[7], *clock = args[8];
-    double start = PyFloat_AsDouble(args[12]);
+    double start = PyFloat_AsDouble(args[11]);
     if (start == -1.0 && PyErr_Occurred()) return NULL;
     if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof(Params) ||
         !PyBytes_Check(args[1]) || PyBytes_GET_SIZE(args[1]) != sizeof(Check) ||
@@ -147,12 +147,13 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
     memcpy(&C, PyBytes_AS_STRING(args[1]), sizeof C);
     for (int i = 0; i < JOINTS; i++) dir[i] = 1.0;
     if (directions != Py_None) memcpy(dir, PyBytes_AS_STRING(directions), sizeof dir);
-    if (!copy_doubles(args[9], 3, pw) || !copy_doubles(args[10], 9, rw)) {
-        PyErr_SetString(PyExc_TypeError, "position, rotation: C-contiguous float64 (3,), (3, 3)");
+    if (target_values(args[9], pw, rw) != 0) {
+        PyErr_SetString(PyExc_TypeError, "target: position, rotation: C-contiguous float64 (3,), "
+                                         "(3, 3)");
         return NULL;
     }
-    if (args[11] != Py_None) {
-        if (!copy_doubles(args[11], JOINTS, seed)) return PyLong_FromLong(-2);
+    if (args[10] != Py_None) {
+        if (!copy_doubles(args[10], JOINTS, seed)) return PyLong_FromLong(-2);
         for (int i = 0; i < JOINTS; i++) {
             if (!isfinite(seed[i])) return PyLong_FromLong(-2);
             seed[i] *= dir[i]; /* the forward table's q' */
@@ -240,7 +241,7 @@ end:
 static PyMethodDef methods[] = {
     {"solutions", (PyCFunction)(void (*)(void))solutions, METH_FASTCALL,
      "solutions(params, check, directions, solution, labels, result, name, messages, clock, "
-     "position, rotation, seed, start) -> the IKResult, or (valid, rejected, off), or -1 (a target value not finite), 0 (no branch), -2 (a seed that "
+     "target, seed, start) -> the IKResult, or (valid, rejected, off), or -1 (a target value not finite), 0 (no branch), -2 (a seed that "
      "is not 6 finite float64). See kin/ik/analytic/six_r/_six_r_module.h."},
     {"solve", solve, METH_VARARGS,
      "solve(params, positions, rotations, free, out): the 8 branches of N targets into out "

@@ -119,8 +119,11 @@ class TwinVerifier:
 
     def solutions(
         self, directions: np.ndarray | None, labels: Sequence[str], name: str
-    ) -> Callable[[np.ndarray, np.ndarray, npt.ArrayLike | None, float], Any]:
-        """The twin's ``solutions`` of this arm: ``(position, rotation, seed, start)`` -> answer.
+    ) -> Callable[[Any, npt.ArrayLike | None, float], Any]:
+        """The twin's ``solutions`` of this arm: ``(target, seed, start)`` -> answer.
+
+        The target: a :class:`~kin.ik.PoseTarget` (its packed values, or its ``position`` and
+        ``rotation`` arrays, float64 C-contiguous).
 
         The work of :meth:`__call__`, then the answer as the closed-form solver returns it. When
         a branch is valid and none is off target, the :class:`~kin.ik.result.IKResult` itself
