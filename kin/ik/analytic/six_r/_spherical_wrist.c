@@ -85,6 +85,7 @@ static void solve_one(const Params *P, const double *p, const double *r, double 
             }
             double q1 = wrap(t1 - o[0]), q2 = wrap(t2 - o[1]), q3 = wrap(t3 - o[2]);
             int index = 4 * shoulder + 2 * elbow;
+            double heading4 = atan2(wvy, wvx); /* the same for both flips (computed once) */
             for (int flip = 0; flip < 2; flip++) {
                 double st5 = flip == 0 ? sin5 : -sin5;
                 double t5 = atan2(st5, cos5), t4;
@@ -92,7 +93,7 @@ static void solve_one(const Params *P, const double *p, const double *r, double 
                 if (hypot(mx, my) <= 1e-12) /* _six_r.SINGULAR */
                     t4 = free + o[3];
                 else
-                    t4 = atan2(wvy, wvx) - atan2(my, mx);
+                    t4 = heading4 - atan2(my, mx);
                 double ct4 = cos(t4), st4 = sin(t4);
                 double ex = ct4 * vx + st4 * vy, ey = -st4 * vx + ct4 * vy;
                 double ez = -s4 * ey + c4 * vz;
