@@ -99,6 +99,11 @@ def solve_batch(
 ) -> BatchIKResult:
     """Solve N targets: tool positions (N, 3) [m], with rotations (N, 3, 3) for full poses.
 
+    A vectorized closed form answers every target at once; a 7R arm's free-joint closed form
+    scans each target's free joint from its seed in compiled code, 256 targets or more cut into
+    one block per processor solved in threads (:func:`.analytic.seven_r.subproblems.call_first_many`);
+    the targets left go to the numeric solver one by one.
+
     Args:
         robot: The robot.
         positions: Tool points in the world frame (N, 3) [m].

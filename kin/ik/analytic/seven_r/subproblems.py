@@ -9,7 +9,9 @@ parameters for its compiled twin (:func:`pack_params`). Angles in radians, lengt
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -136,15 +138,51 @@ def call_first_many(
     ``call(*head, targets, starts, out, steps)``: ``head`` its leading arguments (the packed
     parameters, and the mode where the twin takes one); ``targets`` (N, width) or None (no target
     this form takes: every row NaN); ``starts`` (N, 7) [rad]; ``steps`` the scan steps [rad].
+    The twin's loop runs without the interpreter lock: N of :data:`PARALLEL_ROWS` or more are
+    cut into one block per processor (:func:`batch_threads`), solved at once in threads (each
+    row's answer is the same either way).
     """
     n = starts.shape[0]
     out = np.full((n, 7), np.nan)
-    if targets is not None and n:
-        starts = np.ascontiguousarray(starts, dtype=float)
-        call(
-            *head, np.ascontiguousarray(targets, dtype=float), starts, out, np.asarray(steps, float)
-        )
+    if targets is None or not n:
+        return out
+    starts = np.ascontiguousarray(starts, dtype=float)
+    targets = np.ascontiguousarray(targets, dtype=float)
+    scan_steps = np.asarray(steps, float)
+    threads = batch_threads()
+    if n < PARALLEL_ROWS or threads < 2:
+        call(*head, targets, starts, out, scan_steps)
+        return out
+    bounds = np.linspace(0, n, threads + 1).astype(int)
+    blocks = [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+    views = [(targets[a:b], starts[a:b], np.full((b - a, 7), np.nan)) for a, b in blocks]
+    list(_pool(threads).map(lambda v: call(*head, v[0], v[1], v[2], scan_steps), views))
+    for (a, b), (_, _, block) in zip(blocks, views):
+        out[a:b] = block
     return out
+
+
+#: Rows from which :func:`call_first_many` cuts the work into one block per processor.
+PARALLEL_ROWS = 256
+
+_POOL: ThreadPoolExecutor | None = None
+
+
+def batch_threads() -> int:
+    """Threads of the batched closed forms: the processors this process may use (at most 8)."""
+    try:
+        count = len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not on Linux
+        count = os.cpu_count() or 1
+    return max(1, min(count, 8))
+
+
+def _pool(threads: int) -> ThreadPoolExecutor:
+    """The process's thread pool of the batched closed forms (made on first use)."""
+    global _POOL
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="kin-batch")
+    return _POOL
 
 
 def harmonic_roots_array(p: np.ndarray, q: np.ndarray, k: np.ndarray) -> np.ndarray:
