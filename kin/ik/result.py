@@ -21,8 +21,9 @@ Status = Literal[
 class IKSolution:
     """One joint vector that the solver returns, verified by forward kinematics.
 
-    The FK is Pinocchio's, except for the 6R closed forms' compiled path, which measures with the
-    table's DH product in C (:mod:`kin.ik.analytic.six_r.six_r_twin`).
+    The FK is Pinocchio's, except on the compiled paths, which measure with the table's DH product
+    in C: the 6R closed forms' (:mod:`kin.ik.analytic.six_r.six_r_twin`) and the 7R free-joint
+    forms' answer from the caller's seed (:func:`kin.ik.numeric.free_joint.compiled_seeded`).
 
     Attributes:
         q: Joint vector [rad] (or [m] for prismatic joints).

@@ -18,7 +18,11 @@ The stages, in order, until one returns a verified solution or the time budget r
 :class:`~.search.Search` carries the target, the budget and the best attempt between stages.
 Pinocchio is the judge: a configuration is a solution only when Pinocchio's forward kinematics at
 it finds it within ``1e-5 m`` and ``1e-4 rad`` of the target and inside the limits. Otherwise the
-result says so (``success=False``) and carries the best configuration found and its errors.
+result says so (``success=False``) and carries the best configuration found and its errors. One
+exception to the judge: stage 0 from the caller's seed of a :class:`~kin.ik.PoseTarget` or
+:class:`~kin.ik.PositionTarget` runs in one compiled call where the arm's closed form has a twin
+(:func:`.free_joint.compiled_seeded`), which measures its answer with the table's DH product in C
+(the chain Pinocchio's model is built from; the tests compare the two to 1e-12).
 :attr:`IKResult.method` names the stage that answered: ``"closed_form_free_joint"``,
 ``"seed_table"``, ``"damped_newton"`` (from the caller's seed), ``"random_restart"``,
 ``"mink_qp"``.
