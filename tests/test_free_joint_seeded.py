@@ -14,6 +14,8 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, TargetError
@@ -116,3 +118,40 @@ def test_what_the_compiled_call_does_not_take_goes_the_long_way(pair):
     a, b = (s.solve(PoseTarget(p, R), np.zeros(7), **kwargs) for s in pair)
     assert a.method != "closed_form_free_joint"
     assert (a.success, a.status, a.method) == (b.success, b.status, b.method)
+
+
+@given(
+    q=st.lists(st.floats(-3.0, 3.0), min_size=7, max_size=7),
+    seed=st.one_of(
+        st.lists(st.floats(allow_nan=True, allow_infinity=True, width=64), min_size=7, max_size=7),
+        st.lists(st.floats(-1e308, 1e308), min_size=7, max_size=7),
+    ),
+    scale=st.sampled_from([1.0, 1.5, 3.0]),
+)
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+def test_hostile_seeds_and_far_targets_answer_as_the_stages_do(pair, q, seed, scale):
+    """Any seed (NaN, infinite, 1e308) and targets out to three times as far: the compiled call
+    and the stages give the same result or the same error, never a traceback of their own."""
+    fast, slow = pair
+    robot = fast.robot
+    model, data = robot.model, robot.model.createData()
+    pin.forwardKinematics(model, data, np.clip(np.array(q), robot.lower, robot.upper))
+    pose = pin.updateFramePlacement(model, data, model.getFrameId(robot.tool_frame))
+    target = PoseTarget(pose.translation * scale, pose.rotation)
+    outcomes = []
+    for solver in pair:
+        try:
+            result = solver.solve(target, np.array(seed), timeout=1.0, max_attempts=3)
+        except TargetError as err:
+            outcomes.append(("error", str(err)))
+            continue
+        best = result.solutions[0].q if result.success else None
+        outcomes.append((result.success, result.status, result.method, best))
+    (a, b) = outcomes
+    assert a[:3] == b[:3], (a, b)
+    if a[0] == "error":
+        assert a == b
+    elif a[0] and a[2] == "closed_form_free_joint":
+        assert np.abs(a[3] - b[3]).max() < 1e-9
