@@ -264,12 +264,10 @@ class _PackedArray:
     from the start.
     """
 
-    def __init__(self, offset: int, shape: tuple[int, ...]):
+    def __init__(self, name: str, offset: int, shape: tuple[int, ...]):
+        self._name = name
         self._offset = offset  # [bytes]
         self._shape = shape
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self._name = name
 
     def __get__(self, target: object, owner: type | None = None) -> np.ndarray:
         if target is None:  # the class attribute (dataclasses look it up)
@@ -281,10 +279,8 @@ class _PackedArray:
 
 
 # After the dataclass is made (its fields have no defaults): views of the packed values.
-PoseTarget.position = _PackedArray(0, (3,))  # type: ignore[assignment]
-PoseTarget.position.__set_name__(PoseTarget, "position")  # type: ignore[attr-defined]
-PoseTarget.rotation = _PackedArray(24, (3, 3))  # type: ignore[assignment]
-PoseTarget.rotation.__set_name__(PoseTarget, "rotation")  # type: ignore[attr-defined]
+PoseTarget.position = _PackedArray("position", 0, (3,))  # type: ignore[assignment]
+PoseTarget.rotation = _PackedArray("rotation", 24, (3, 3))  # type: ignore[assignment]
 
 
 def rpy_matrix(rpy: npt.ArrayLike) -> list[list[float]]:
