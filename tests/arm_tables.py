@@ -36,6 +36,20 @@ def make_table(
                    eye if base is None else base, eye if tool is None else tool)  # fmt: skip
 
 
+def tool_poses(robot: kin.RobotModel, n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Tool poses ``(position [m], R_world_tool)`` of ``n`` seeded random joint vectors inside the
+    limits, by Pinocchio's forward kinematics."""
+    rng = np.random.default_rng(seed)
+    model, data = robot.model, robot.model.createData()
+    frame = model.getFrameId(robot.tool_frame)
+    out = []
+    for q in rng.uniform(robot.lower, robot.upper, size=(n, robot.nq)):
+        pin.forwardKinematics(model, data, q)
+        pose = pin.updateFramePlacement(model, data, frame)
+        out.append((pose.translation.copy(), pose.rotation.copy()))
+    return out
+
+
 def random_pose(rng: np.random.Generator) -> np.ndarray:
     """A random rigid transform (4x4): rotation from a normal rotation vector, offset +-0.3 m."""
     return pin.SE3(pin.exp3(rng.normal(size=3)), rng.uniform(-0.3, 0.3, 3)).homogeneous

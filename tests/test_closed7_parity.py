@@ -9,9 +9,8 @@ joint vectors over 1,000 humanoid7 targets, full pose and position.
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 import pytest
-from arm_tables import assert_layout_matches
+from arm_tables import assert_layout_matches, tool_poses
 
 from kin import load_robot
 from kin.ik.analytic.seven_r.seven_dof import COMPILED
@@ -65,26 +64,13 @@ def test_layout_mismatch_is_an_error(solvers):
             pack_params(fields, layout)
 
 
-def targets(robot, n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Tool poses ``(position [m], R_world_tool)`` of random joint vectors inside the limits."""
-    rng = np.random.default_rng(seed)
-    model, data = robot.model, robot.model.createData()
-    frame = model.getFrameId(robot.tool_frame)
-    out = []
-    for q in rng.uniform(robot.lower, robot.upper, size=(n, robot.nq)):
-        pin.forwardKinematics(model, data, q)
-        pose = pin.updateFramePlacement(model, data, frame)
-        out.append((pose.translation.copy(), pose.rotation.copy()))
-    return out
-
-
 @needs_twin
 @pytest.mark.parametrize("kind", ["pose", "position"])
 def test_same_joint_vectors_with_and_without_the_twin(solvers, kind):
     """1,000 targets: the same success, method and joint vector (1e-9 rad) from both solvers."""
     fast, plain = solvers
     closed_form = 0
-    for i, (position, rotation) in enumerate(targets(fast.robot, TARGETS, seed=120)):
+    for i, (position, rotation) in enumerate(tool_poses(fast.robot, TARGETS, seed=120)):
         target = NumericTarget.from_arrays(position, rotation if kind == "pose" else None)
         a = fast.solve(target, timeout=TIMEOUT, max_attempts=40)
         b = plain.solve(target, timeout=TIMEOUT, max_attempts=40)

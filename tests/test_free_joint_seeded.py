@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from arm_tables import tool_poses
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -36,17 +37,13 @@ def pair(request) -> tuple[NumericIK, NumericIK]:
 
 
 def poses(robot, n: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """``(position [m], R_world_tool, seed q)`` of random joint vectors inside the limits."""
-    rng = np.random.default_rng(seed)
-    model, data = robot.model, robot.model.createData()
-    frame = model.getFrameId(robot.tool_frame)
-    out = []
-    for q in rng.uniform(robot.lower, robot.upper, size=(n, robot.nq)):
-        pin.forwardKinematics(model, data, q)
-        pose = pin.updateFramePlacement(model, data, frame)
-        start = rng.uniform(robot.lower, robot.upper) if len(out) % 2 else np.zeros(robot.nq)
-        out.append((pose.translation.copy(), pose.rotation.copy(), start))
-    return out
+    """``(position [m], R_world_tool, seed q)``: tool poses of random joint vectors inside the
+    limits, seeds q = 0 and random ones in turn."""
+    rng = np.random.default_rng(seed + 1)
+    starts = [
+        rng.uniform(robot.lower, robot.upper) if i % 2 else np.zeros(robot.nq) for i in range(n)
+    ]
+    return [(p, r, q) for (p, r), q in zip(tool_poses(robot, n, seed), starts, strict=True)]
 
 
 def pinocchio_errors(robot, q: np.ndarray, position, rotation) -> tuple[float, float | None]:

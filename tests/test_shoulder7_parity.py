@@ -13,9 +13,8 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-import pinocchio as pin
 import pytest
-from arm_tables import assert_layout_matches
+from arm_tables import assert_layout_matches, tool_poses
 
 from kin import load_robot
 from kin.ik.analytic.seven_r.spherical_shoulder7 import COMPILED, SphericalShoulder7RIK
@@ -54,16 +53,7 @@ def home(name: str) -> np.ndarray:
 @functools.cache
 def targets(name: str, n: int, seed: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
     """Tool poses ``(position [m], R_world_tool)`` of random joint vectors inside the limits."""
-    robot = load_robot(name)
-    rng = np.random.default_rng(seed)
-    model, data = robot.model, robot.model.createData()
-    frame = model.getFrameId(robot.tool_frame)
-    out = []
-    for q in rng.uniform(robot.lower, robot.upper, size=(n, robot.nq)):
-        pin.forwardKinematics(model, data, q)
-        pose = pin.updateFramePlacement(model, data, frame)
-        out.append((pose.translation.copy(), pose.rotation.copy()))
-    return tuple(out)
+    return tuple(tool_poses(load_robot(name), n, seed))
 
 
 @pytest.mark.parametrize("name", ROBOTS)

@@ -52,11 +52,10 @@
     X(point, 3, "a point of the structure's base frame its target needs [m]")           \
     X(reach, 4, "the table's base origin in the world [m], then the reach bound [m]")
 
-#define SEED_FIELD(name, size, doc) double name[size];
 #define SEED_ENTRY(name, size, doc) \
     {#name, (Py_ssize_t)(offsetof(Seed, name) / sizeof(double)), (Py_ssize_t)(size)},
 typedef struct {
-    SEED_PARAMS(SEED_FIELD)
+    SEED_PARAMS(TWIN_FIELD)
 } Seed;
 enum { SEED_COUNT = 0 SEED_PARAMS(TWIN_SIZE) };
 typedef char seed_has_no_padding[sizeof(Seed) == SEED_COUNT * sizeof(double) ? 1 : -1];
