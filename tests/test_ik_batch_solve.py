@@ -116,3 +116,17 @@ def test_threaded_scan_gives_the_single_thread_answers(name, monkeypatch):
     single = closed.first_many(points, frames, seeds, (0.05, 0.01))
     assert threaded is not None and np.isfinite(threaded).all(axis=1).mean() > 0.95
     np.testing.assert_array_equal(threaded, single)
+
+
+def test_a_forked_child_solves_batches_with_its_own_threads():
+    """A process forked after the parent's threaded batch makes its own pool (the parent's
+    threads do not exist in the child) and gives the parent's answers."""
+    import multiprocessing
+
+    robot, points, frames = _poses("humanoid7", 300, 13)
+    parent = solve_batch(robot, points, frames)
+    context = multiprocessing.get_context("fork")
+    with context.Pool(1) as pool:
+        child = pool.apply_async(solve_batch, (robot, points, frames)).get(timeout=120)
+    np.testing.assert_array_equal(child.q, parent.q)
+    assert child.success.all()

@@ -165,7 +165,9 @@ def call_first_many(
 #: Rows from which :func:`call_first_many` cuts the work into one block per processor.
 PARALLEL_ROWS = 256
 
-_POOL: ThreadPoolExecutor | None = None
+#: The thread pool and the process that made it (a forked child makes its own: the parent's
+#: threads do not exist there).
+_POOL: tuple[int, ThreadPoolExecutor] | None = None
 
 
 def batch_threads() -> int:
@@ -178,11 +180,12 @@ def batch_threads() -> int:
 
 
 def _pool(threads: int) -> ThreadPoolExecutor:
-    """The process's thread pool of the batched closed forms (made on first use)."""
+    """This process's thread pool of the batched closed forms (made on first use)."""
     global _POOL
-    if _POOL is None:
-        _POOL = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="kin-batch")
-    return _POOL
+    pid = os.getpid()
+    if _POOL is None or _POOL[0] != pid:
+        _POOL = (pid, ThreadPoolExecutor(max_workers=threads, thread_name_prefix="kin-batch"))
+    return _POOL[1]
 
 
 def harmonic_roots_array(p: np.ndarray, q: np.ndarray, k: np.ndarray) -> np.ndarray:
