@@ -11,10 +11,12 @@
 
 #include <structmember.h> /* READONLY, T_OBJECT_EX before Python 3.12 */
 
-/* The field names of IKSolution and IKResult (in the order of their constructors) and an empty
-   tuple (object.__new__'s arguments and IKResult.free), set by results_init. */
+/* The field names of IKSolution and IKResult (in the order of their constructors), an empty
+   tuple (object.__new__'s arguments and IKResult.free), the status "ok" and the empty branch
+   label, set by results_init. */
 #define RESULT_FIELDS 11
-static PyObject *solution_fields[5], *result_fields[RESULT_FIELDS], *no_args;
+static PyObject *solution_fields[5], *result_fields[RESULT_FIELDS], *no_args, *status_ok,
+    *empty_label;
 
 /* The names above, made once when the module is imported: 0, else -1 and an error. */
 static int results_init(void)
@@ -28,7 +30,22 @@ static int results_init(void)
         "distance_to_workspace", "iterations", "time", "method", "free"};
     for (int i = 0; i < RESULT_FIELDS; i++)
         if ((result_fields[i] = PyUnicode_InternFromString(results[i])) == NULL) return -1;
+    if ((status_ok = PyUnicode_InternFromString("ok")) == NULL) return -1;
+    if ((empty_label = PyUnicode_InternFromString("")) == NULL) return -1;
     return (no_args = PyTuple_New(0)) == NULL ? -1 : 0;
+}
+
+/* A new instance of cls (object.__new__, no __init__) when none of the n values is NULL, else
+   NULL; on failure the values are released (their errors set). */
+static PyObject *new_instance(PyTypeObject *cls, PyObject **values, int n)
+{
+    PyObject *obj = NULL;
+    int complete = 1;
+    for (int i = 0; i < n; i++) complete = complete && values[i] != NULL;
+    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
+    if (obj == NULL)
+        for (int i = 0; i < n; i++) Py_XDECREF(values[i]);
+    return obj;
 }
 
 /* An instance of cls (a frozen dataclass of kin.ik.result) with its n fields names[i] set to
@@ -37,13 +54,11 @@ static int results_init(void)
 static PyObject *make_instance(PyTypeObject *cls, PyObject *const *names, PyObject **values,
                                int n)
 {
-    PyObject *obj = NULL;
-    int complete = 1;
-    for (int i = 0; i < n; i++) complete = complete && values[i] != NULL;
-    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
+    PyObject *obj = new_instance(cls, values, n);
+    if (obj == NULL) return NULL;
     for (int i = 0; i < n && obj != NULL; i++)
         if (PyObject_GenericSetAttr(obj, names[i], values[i]) < 0) Py_CLEAR(obj);
-    for (int i = 0; i < n; i++) Py_XDECREF(values[i]);
+    for (int i = 0; i < n; i++) Py_DECREF(values[i]);
     return obj;
 }
 
@@ -91,14 +106,8 @@ static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, 
     PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
                            rotation};
     if (!solution_slots(cls)) return make_instance(cls, solution_fields, values, 5);
-    PyObject *obj = NULL;
-    int complete = 1;
-    for (int i = 0; i < 5; i++) complete = complete && values[i] != NULL;
-    if (complete) obj = PyBaseObject_Type.tp_new(cls, no_args, NULL);
-    if (obj == NULL) {
-        for (int i = 0; i < 5; i++) Py_XDECREF(values[i]);
-        return NULL;
-    }
+    PyObject *obj = new_instance(cls, values, 5);
+    if (obj == NULL) return NULL;
     for (int i = 0; i < 5; i++) *(PyObject **)((char *)obj + slot_offsets[i]) = values[i];
     return obj;
 }

@@ -117,8 +117,6 @@ static PyObject *seeded_result(PyObject *const *args, const double *q, double po
         PyErr_SetString(PyExc_ValueError, "out: not 7 float64");
         return NULL;
     }
-    static PyObject *empty_label;
-    if (empty_label == NULL && (empty_label = PyUnicode_InternFromString("")) == NULL) return NULL;
     Py_INCREF(out);
     PyObject *one = make_solution((PyTypeObject *)args[3], out, empty_label, 1, position_error,
                                   rotation_error);
@@ -130,13 +128,9 @@ static PyObject *seeded_result(PyObject *const *args, const double *q, double po
     double elapsed = now == NULL ? -1.0 : PyFloat_AsDouble(now) - start;
     Py_XDECREF(now);
     PyObject *answer = NULL;
-    if (!PyErr_Occurred()) {
-        static PyObject *status_ok;
-        if (status_ok == NULL) status_ok = PyUnicode_InternFromString("ok");
-        if (status_ok != NULL)
-            answer = make_success((PyTypeObject *)args[4], args[5], status_ok, args[6], solutions,
-                                  no_args, 0, elapsed, args[7]);
-    }
+    if (!PyErr_Occurred())
+        answer = make_success((PyTypeObject *)args[4], args[5], status_ok, args[6], solutions,
+                              no_args, 0, elapsed, args[7]);
     Py_DECREF(solutions);
     return answer;
 }

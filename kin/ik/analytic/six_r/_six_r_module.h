@@ -94,9 +94,8 @@ static PyObject *verify(PyObject *self, PyObject *args)
 }
 
 /* What solutions() makes its arrays with, set by six_r_module: numpy.ndarray, the float64
-   dtype, the shapes (k, 6) for k = 0 .. BRANCHES, and the strings "ok" and "closed_form". */
-static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *status_ok,
-    *method_closed_form;
+   dtype, the shapes (k, 6) for k = 0 .. BRANCHES, and the string "closed_form". */
+static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *method_closed_form;
 
 /*
  * solutions(params, check, directions, solution, labels, result, name, messages, clock, target,
@@ -263,7 +262,6 @@ static inline PyObject *six_r_module(PyModuleDef *def)
     for (int k = 0; k <= BRANCHES; k++)
         if ((row_shapes[k] = Py_BuildValue("(ii)", k, JOINTS)) == NULL) return NULL;
     if (results_init() < 0) return NULL;
-    if ((status_ok = PyUnicode_InternFromString("ok")) == NULL) return NULL;
     if ((method_closed_form = PyUnicode_InternFromString("closed_form")) == NULL) return NULL;
     PyObject *m = twin_module(def, FIELDS, sizeof FIELDS / sizeof FIELDS[0], PARAM_COUNT);
     if (m == NULL) return NULL;
