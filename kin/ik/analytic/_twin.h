@@ -24,21 +24,26 @@ typedef struct {
 } TwinField;
 
 /*
- * TWIN_PARAMS(LIST) declares, from LIST(X) with X(field, size, description): the struct Params
- * (all doubles: no padding, so a float64[PARAM_COUNT] buffer is a Params, checked at compile
- * time), PARAM_COUNT, and FIELDS, the layout exported as LAYOUT.
+ * TWIN_BLOCK(Type, LIST, Count, Fields) declares a parameter block from LIST(X) with
+ * X(field, size, description): the struct Type (all doubles: no padding, so a float64[Count]
+ * buffer is a Type, checked at compile time), the constant Count, and Fields, its layout
+ * (exported by the modules). It needs Type##_ENTRY(field, size, description): TWIN_ENTRY_OF
+ * for that type. TWIN_PARAMS(LIST) is the twin's own block: Params, PARAM_COUNT, FIELDS
+ * (exported as LAYOUT).
  */
 #define TWIN_FIELD(name, size, doc) double name[size];
 #define TWIN_SIZE(name, size, doc) +(size)
-#define TWIN_ENTRY(name, size, doc) \
-    {#name, (Py_ssize_t)(offsetof(Params, name) / sizeof(double)), (Py_ssize_t)(size)},
-#define TWIN_PARAMS(LIST)                                                                         \
-    typedef struct {                                                                              \
-        LIST(TWIN_FIELD)                                                                          \
-    } Params;                                                                                     \
-    enum { PARAM_COUNT = 0 LIST(TWIN_SIZE) };                                                     \
-    typedef char params_have_no_padding[sizeof(Params) == PARAM_COUNT * sizeof(double) ? 1 : -1]; \
-    static const TwinField FIELDS[] = {LIST(TWIN_ENTRY)};
+#define TWIN_ENTRY_OF(Type, name, size) \
+    {#name, (Py_ssize_t)(offsetof(Type, name) / sizeof(double)), (Py_ssize_t)(size)},
+#define TWIN_BLOCK(Type, LIST, Count, Fields)                                                  \
+    typedef struct {                                                                           \
+        LIST(TWIN_FIELD)                                                                       \
+    } Type;                                                                                    \
+    enum { Count = 0 LIST(TWIN_SIZE) };                                                        \
+    typedef char Type##_has_no_padding[sizeof(Type) == Count * sizeof(double) ? 1 : -1];      \
+    static const TwinField Fields[] = {LIST(Type##_ENTRY)};
+#define Params_ENTRY(name, size, doc) TWIN_ENTRY_OF(Params, name, size)
+#define TWIN_PARAMS(LIST) TWIN_BLOCK(Params, LIST, PARAM_COUNT, FIELDS)
 
 /* c into [-1, 1] when within COS_SLACK of it; 0 when further out (no angle). */
 static inline int clamp_cos(double *c)

@@ -259,7 +259,7 @@ static long first_start(const void *params, int mode, const double *T, const dou
         int n = 0;
         /* a start with a NaN or an infinity has no joint 1 to keep */
         if (!clip_start(Q + 7 * r, P->lo, P->hi, v)) continue;
-        double u[3];
+        double u[3] = {0.0, 0.0, 0.0}; /* the elbow vector of a position target (mode 1) */
         if (mode == 1) elbow_vector(P, v[4], v[5], v[6], u);
         ElbowWindow window;
         elbow_window(P, mode == 0 ? W : T, mode == 0 ? P->wu : u, &window);

@@ -52,14 +52,8 @@
     X(point, 3, "a point of the structure's base frame its target needs [m]")           \
     X(reach, 4, "the table's base origin in the world [m], then the reach bound [m]")
 
-#define SEED_ENTRY(name, size, doc) \
-    {#name, (Py_ssize_t)(offsetof(Seed, name) / sizeof(double)), (Py_ssize_t)(size)},
-typedef struct {
-    SEED_PARAMS(TWIN_FIELD)
-} Seed;
-enum { SEED_COUNT = 0 SEED_PARAMS(TWIN_SIZE) };
-typedef char seed_has_no_padding[sizeof(Seed) == SEED_COUNT * sizeof(double) ? 1 : -1];
-static const TwinField SEED_FIELDS[] = {SEED_PARAMS(SEED_ENTRY)};
+#define Seed_ENTRY(name, size, doc) TWIN_ENTRY_OF(Seed, name, size)
+TWIN_BLOCK(Seed, SEED_PARAMS, SEED_COUNT, SEED_FIELDS)
 
 /* r = K^T R M^T (row-major) of a world rotation R. */
 static inline void frame_rotation(const Seed *S, const double *R, double *r)

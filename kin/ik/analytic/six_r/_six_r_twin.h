@@ -111,14 +111,8 @@ static inline void to_frame6(const double *base_r, const double *base_t, const d
     X(tolerance, 2, "largest position [m] and rotation [rad] error of a solution") \
     X(has_offsets, 1, "1 when an offset is not 0 (q goes through q + theta - theta)")
 
-#define CHECK_ENTRY(name, size, doc) \
-    {#name, (Py_ssize_t)(offsetof(Check, name) / sizeof(double)), (Py_ssize_t)(size)},
-typedef struct {
-    CHECK_PARAMS(TWIN_FIELD)
-} Check;
-enum { CHECK_COUNT = 0 CHECK_PARAMS(TWIN_SIZE) };
-typedef char check_has_no_padding[sizeof(Check) == CHECK_COUNT * sizeof(double) ? 1 : -1];
-static const TwinField CHECK_FIELDS[] = {CHECK_PARAMS(CHECK_ENTRY)};
+#define Check_ENTRY(name, size, doc) TWIN_ENTRY_OF(Check, name, size)
+TWIN_BLOCK(Check, CHECK_PARAMS, CHECK_COUNT, CHECK_FIELDS)
 
 /* The larger, the smaller of two numbers that are not NaN (fmax and fmin are library calls unless
    NaN may be ignored; here the joint values, seeds and limits are never NaN). */
