@@ -17,11 +17,23 @@
  *
  * The values are in the units the user gave (the caller scales them); no value is checked here
  * beyond the JSON grammar.
+ *
+ * And the answers' writing, the twin of the %-format of _plain_group:
+ *
+ *   write(pieces, values, numbers) -> list of str, one answer line each
+ *
+ *   pieces:  a tuple of k + 2 ASCII strings: a line is pieces[0], value 0, pieces[1], ...,
+ *            value k - 1, pieces[k], its number, pieces[k + 1];
+ *   values:  a C-contiguous buffer of N * k float64, k per line, each written as the shortest
+ *            text that reads back as the same float64 (_float_text.h; repr's layout);
+ *   numbers: a C-contiguous buffer of N int64, the line numbers.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
 #include <string.h>
+
+#include "_float_text.h"
 
 /* The longest number read here, in characters (json.dumps writes at most 24 for a float). */
 #define LONGEST 40
@@ -142,15 +154,89 @@ static PyObject *read_lines(PyObject *self, PyObject *lines)
     return Py_BuildValue("(NN)", kinds, values);
 }
 
+/* The text of a long long at out (no terminating zero); returns its end. */
+static char *integer_text(long long value, char *out)
+{
+    char reversed[24];
+    int n = 0;
+    unsigned long long magnitude = value < 0 ? 0ull - (unsigned long long)value
+                                             : (unsigned long long)value;
+    do {
+        reversed[n++] = (char)('0' + magnitude % 10);
+        magnitude /= 10;
+    } while (magnitude);
+    if (value < 0) *out++ = '-';
+    while (n) *out++ = reversed[--n];
+    return out;
+}
+
+static PyObject *write_lines(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *pieces, *out = NULL;
+    Py_buffer values, numbers;
+    if (!PyArg_ParseTuple(args, "O!y*y*", &PyTuple_Type, &pieces, &values, &numbers)) return NULL;
+    Py_ssize_t parts = PyTuple_GET_SIZE(pieces), k = parts - 2, fixed = 0;
+    Py_ssize_t n = numbers.len / (Py_ssize_t)sizeof(long long);
+    const char *error = NULL;
+    if (k < 0)
+        error = "pieces: at least 2 strings";
+    else if (numbers.len != n * (Py_ssize_t)sizeof(long long) ||
+             values.len != n * k * (Py_ssize_t)sizeof(double))
+        error = "values, numbers: N * k float64 and N int64 (k = len(pieces) - 2)";
+    for (Py_ssize_t i = 0; i < parts && error == NULL; i++) {
+        PyObject *piece = PyTuple_GET_ITEM(pieces, i);
+        if (!PyUnicode_Check(piece) || !PyUnicode_IS_ASCII(piece))
+            error = "pieces: ASCII strings";
+        else
+            fixed += PyUnicode_GET_LENGTH(piece);
+    }
+    char *line = NULL;
+    if (error == NULL) {
+        line = PyMem_Malloc((size_t)(fixed + k * FLOAT_TEXT_MAX + 24));
+        out = line == NULL ? PyErr_NoMemory() : PyList_New(n);
+    }
+    const double *value = values.buf;
+    const long long *number = numbers.buf;
+    for (Py_ssize_t row = 0; out != NULL && row < n; row++) {
+        char *at = line;
+        for (Py_ssize_t i = 0; i < parts; i++) {
+            PyObject *piece = PyTuple_GET_ITEM(pieces, i);
+            Py_ssize_t size = PyUnicode_GET_LENGTH(piece);
+            memcpy(at, PyUnicode_DATA(piece), (size_t)size);
+            at += size;
+            if (i < k)
+                at = float_text(value[row * k + i], at);
+            else if (i == k)
+                at = integer_text(number[row], at);
+        }
+        PyObject *text = PyUnicode_New(at - line, 127);
+        if (text == NULL) {
+            Py_CLEAR(out);
+            break;
+        }
+        memcpy(PyUnicode_DATA(text), line, (size_t)(at - line));
+        PyList_SET_ITEM(out, row, text);
+    }
+    PyMem_Free(line);
+    PyBuffer_Release(&values);
+    PyBuffer_Release(&numbers);
+    if (error != NULL) PyErr_SetString(PyExc_ValueError, error);
+    return out;
+}
+
 static PyMethodDef methods[] = {
     {"read", read_lines, METH_O,
      "read(lines) -> (kinds, values): the plainest stream lines read into float64 values (6 per "
      "line); kind 0 for a line to read with the json module. See kin/commands/ik_stream.py."},
+    {"write", write_lines, METH_VARARGS,
+     "write(pieces, values, numbers) -> list of str: the answer lines of the plainest lines, "
+     "each float64 as its shortest text. See kin/commands/ik_stream.py."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_plain_lines",
                                     "Compiled twin of kin ik --stdin's reading of its plainest "
-                                    "lines (optional speed-up).",
+                                    "lines and writing of their answers (optional speed-up).",
                                     -1, methods};
 
 PyMODINIT_FUNC PyInit__plain_lines(void) { return PyModule_Create(&module); }

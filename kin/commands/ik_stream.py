@@ -62,10 +62,11 @@ KEYS = (
     "seed_q",
 )
 _KEYS = frozenset(KEYS)
-try:  # the plainest lines read in C (kin/commands/_plain_lines.c), built with a compiler
+try:  # the plainest lines read and answered in C (kin/commands/_plain_lines.c), if built
     from ._plain_lines import read as _read_plain
-except ImportError:  # pragma: no cover - the json module reads them all
-    _read_plain = None
+    from ._plain_lines import write as _write_plain
+except ImportError:  # pragma: no cover - the json module reads them all, %-format writes
+    _read_plain = _write_plain = None
 _decoder = json.JSONDecoder()
 _decode = _decoder.decode
 #: The decoder's scanner: ``(value, end)`` of the JSON value at an index of a string.
@@ -376,29 +377,46 @@ class StreamSolver:
         answers: dict[int, str] = {}
         found = ~np.isnan(q).any(axis=1)
         tried.update(indices[row] for row in rows[~found].tolist())
+        first = before + 1  # the number of line index 0
+        chosen = [indices[row] for row in rows[found].tolist()]
+        after = ', "position_error_m": '
+        rotation = ', "rotation_error_rad": '
+        if _write_plain is not None:  # the compiled writer: the values' texts read back the same
+            columns = [q[found], position_error[found, None]]
+            if poses:
+                columns.append(rotation_error[found, None])
+            pieces = (
+                head,
+                *[", "] * (q.shape[1] - 1),
+                '], "branch": "", "within_limits": true' + after,
+                *([rotation] if poses else []),
+                ("}], " if poses else rotation + "null}], ") + tail,
+                ', "q_units": ' + units + "}\n",
+            )
+            numbers = np.add(chosen, first, dtype=np.int64)
+            lines_out = _write_plain(pieces, np.hstack(columns), numbers)
+            return dict(zip(chosen, lines_out))
         # A line by one %-format of the values' reprs (the json module's for a finite float),
         # from lists made once (a NumPy scalar per value costs more than the value's repr).
         line_format = "".join(
             (
                 head.replace("%", "%%"),
                 ", ".join(["%r"] * q.shape[1]),
-                '], "branch": "", "within_limits": true, "position_error_m": %r, ',
-                '"rotation_error_rad": %r}], ' if poses else '"rotation_error_rad": null}], ',
+                '], "branch": "", "within_limits": true' + after + "%r",
+                rotation + ("%r}], " if poses else "null}], "),
                 tail.replace("%", "%%"),
                 '%d, "q_units": ',
                 units.replace("%", "%%"),
                 "}\n",
             )
         )
-        first = before + 1  # the number of line index 0
-        chosen = [indices[row] for row in rows[found].tolist()]
         values = q[found].tolist()
         if poses:
             solved = zip(
                 chosen, values, position_error[found].tolist(), rotation_error[found].tolist()
             )
-            for index, row, position, rotation in solved:
-                answers[index] = line_format % (*row, position, rotation, first + index)
+            for index, row, position, rotation_value in solved:
+                answers[index] = line_format % (*row, position, rotation_value, first + index)
         else:
             for index, row, position in zip(chosen, values, position_error[found].tolist()):
                 answers[index] = line_format % (*row, position, first + index)
