@@ -223,7 +223,9 @@ class StreamSolver:
         unanswered, one by one.
         """
         records: list[dict[str, Any] | str | None] = [None] * len(lines)
-        tried: set[int] = set()  # lines the batch stage read and left: one by one at once
+        # Lines the batch stage read and left, with their targets: one by one at once (not read
+        # again: the same target as request() makes of them, no warning, the default seed).
+        tried: dict[int, Target] = {}
         if self.batch is not None and not self.all_solutions:
             for index, encoded in self._plain(lines, before, tried).items():
                 records[index] = encoded
@@ -233,6 +235,10 @@ class StreamSolver:
             if records[index] is not None:
                 continue
             number = before + index + 1
+            known = tried.get(index)
+            if known is not None:
+                records[index] = self._solved(number, known, self.seed)
+                continue
             if not line or line.isspace():
                 records[index] = {"skipped": "blank line"}
                 continue
@@ -244,7 +250,7 @@ class StreamSolver:
             except Exception as err:  # noqa: BLE001 - one line fails, never the stream
                 records[index] = _error_record(number, err)
                 continue
-            if self._batched(target) and index not in tried:
+            if self._batched(target):
                 together.append((index, target, seed))
             else:
                 records[index] = self._solved(number, target, seed)
@@ -268,7 +274,9 @@ class StreamSolver:
             out.append(record)
         return out
 
-    def _plain(self, lines: Sequence[str | bytes], before: int, tried: set[int]) -> dict[int, str]:
+    def _plain(
+        self, lines: Sequence[str | bytes], before: int, tried: dict[int, Target]
+    ) -> dict[int, str]:
         """The encoded answers of the plainest lines, read and solved together, by line index.
 
         A line ``{"target": [x, y, z]}`` or ``{"target": [x, y, z], "rpy": [r, p, y]}`` of finite
@@ -277,7 +285,8 @@ class StreamSolver:
         all) and answered by :attr:`batch`; what it answers is encoded here (the record of
         :func:`result_record`, the same keys in the same order). Every other line is left to
         the line-by-line path; those the batch read and did not answer are added to ``tried``
-        (they go to the solver one by one, not to the batch again).
+        with their targets (they go to the solver one by one, not to the batch again, and are
+        not read again: the targets :meth:`request` would make, the same float64 values).
 
         The lines spelled as ``json.dumps`` writes those two forms are read by the compiled
         twin (:data:`_read_plain`, ``kin/commands/_plain_lines.c``: the same values as the json
@@ -323,7 +332,7 @@ class StreamSolver:
         targets: Any,
         rpys: Any,
         before: int,
-        tried: set[int],
+        tried: dict[int, Target],
     ) -> dict[int, str]:
         """:meth:`_plain` of the lines of one kind: their indices, targets and rpy (or None).
 
@@ -376,7 +385,12 @@ class StreamSolver:
         units = json.dumps(list(self.units.si_labels))
         answers: dict[int, str] = {}
         found = ~np.isnan(q).any(axis=1)
-        tried.update(indices[row] for row in rows[~found].tolist())
+        for row in rows[~found].tolist():  # as build_target makes them from the line's numbers
+            if angles is None:
+                tried[indices[row]] = PositionTarget(points[row])
+            else:
+                rpy = (angles[row] * self.angle).tolist()
+                tried[indices[row]] = PoseTarget.from_rpy(points[row].tolist(), rpy)
         first = before + 1  # the number of line index 0
         chosen = [indices[row] for row in rows[found].tolist()]
         after = ', "position_error_m": '
@@ -393,7 +407,7 @@ class StreamSolver:
                 ("}], " if poses else rotation + "null}], ") + tail,
                 ', "q_units": ' + units + "}\n",
             )
-            numbers = np.add(chosen, first, dtype=np.int64)
+            numbers = np.array(chosen, dtype=np.int64) + first
             lines_out = _write_plain(pieces, np.hstack(columns), numbers)
             return dict(zip(chosen, lines_out))
         # A line by one %-format of the values' reprs (the json module's for a finite float),
