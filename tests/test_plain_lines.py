@@ -321,16 +321,15 @@ def test_write_refuses_malformed_arguments(args, error):
         ik_stream._write_plain(*args)
 
 
-def test_an_encoded_answer_is_the_records_json():
-    """A plain line's answer, written by the stream's own encoder, is what ``json.dumps`` writes for
-    the same answer through the records path (a line with a ``seed_q`` equal to the default
-    seed): the same keys in the same order, the same values; positions and poses."""
+def paired_answers(q: np.ndarray, positions_every: int) -> list[tuple[dict, dict]]:
+    """humanoid7's ``--stdin`` answers of the tool poses of ``q``, each line plain and again with
+    ``"seed_q"`` equal to the default seed (read by the json module, the target made by
+    ``request``): the pairs, their times and line numbers taken off. Every
+    ``positions_every``-th line is a position, the others poses (rpy)."""
     from kin import load_robot
     from kin.batch_fk import batch_forward_kinematics
 
-    robot = load_robot("humanoid7")
-    rng = np.random.default_rng(8)
-    poses = batch_forward_kinematics(robot.table, rng.uniform(robot.lower, robot.upper, (40, 7)))
+    poses = batch_forward_kinematics(load_robot("humanoid7").table, q)
     lines = []
     for k, pose in enumerate(poses):
         x, y, z = pose[:3, 3].tolist()
@@ -340,7 +339,9 @@ def test_an_encoded_answer_is_the_records_json():
             math.asin(-max(-1.0, min(1.0, m[2, 0]))),
             math.atan2(m[1, 0], m[0, 0]),
         ]
-        plain = {"target": [x, y, z]} if k % 2 else {"target": [x, y, z], "rpy": rpy}
+        plain = {"target": [x, y, z]}
+        if k % positions_every:
+            plain["rpy"] = rpy
         lines.append(json.dumps(plain))
         lines.append(json.dumps({**plain, "seed_q": [0.0] * 7}))
     done = subprocess.run(
@@ -350,12 +351,21 @@ def test_an_encoded_answer_is_the_records_json():
     )
     answers = [json.loads(line) for line in done.stdout.decode().splitlines()]
     assert len(answers) == len(lines)
-    for encoded, record in zip(answers[::2], answers[1::2]):
+    assert [a["line"] for a in answers] == list(range(1, len(lines) + 1))
+    for answer in answers:
+        answer.pop("time_s")
+        answer.pop("line")
+    return list(zip(answers[::2], answers[1::2]))
+
+
+def test_an_encoded_answer_is_the_records_json():
+    """A plain line's answer, written by the stream's own encoder, is what ``json.dumps`` writes for
+    the same answer through the records path (a line with a ``seed_q`` equal to the default
+    seed): the same keys in the same order, the same values; positions and poses."""
+    rng = np.random.default_rng(8)
+    robot_q = rng.uniform(*_humanoid7_limits(), (40, 7))
+    for encoded, record in paired_answers(robot_q, 2):
         assert encoded["success"] and record["success"]
-        assert encoded["line"] + 1 == record["line"]
-        for answer in (encoded, record):
-            answer.pop("time_s")
-            answer.pop("line")
         assert list(encoded) == list(record)
         assert encoded == record
 
@@ -365,36 +375,16 @@ def test_lines_the_batch_leaves_are_answered_as_read_alone():
     batch leaves them and the solver answers them one by one from the targets the batch read
     (not read again). The answers equal those of the same lines with an explicit ``seed_q``
     (read by the json module, their targets made by ``request``): the same targets."""
-    from kin import load_robot
-    from kin.batch_fk import batch_forward_kinematics
-
-    robot = load_robot("humanoid7")
     rng = np.random.default_rng(21)
-    poses = batch_forward_kinematics(robot.table, rng.uniform(-0.7, 0.7, (60, 7)))
-    lines = []
-    for k, pose in enumerate(poses):
-        x, y, z = pose[:3, 3].tolist()
-        m = pose[:3, :3]
-        rpy = [
-            math.atan2(m[2, 1], m[2, 2]),
-            math.asin(-max(-1.0, min(1.0, m[2, 0]))),
-            math.atan2(m[1, 0], m[0, 0]),
-        ]
-        plain = {"target": [x, y, z]} if k % 3 == 0 else {"target": [x, y, z], "rpy": rpy}
-        lines.append(json.dumps(plain))
-        lines.append(json.dumps({**plain, "seed_q": [0.0] * 7}))
-    done = subprocess.run(
-        [sys.executable, "-m", "kin", "ik", "--robot", "humanoid7", "--stdin"],
-        input=("\n".join(lines) + "\n").encode(),
-        capture_output=True,
-    )
-    answers = [json.loads(line) for line in done.stdout.decode().splitlines()]
-    assert len(answers) == len(lines)
     one_by_one = 0
-    for plain, seeded in zip(answers[::2], answers[1::2]):
+    for plain, seeded in paired_answers(rng.uniform(-0.7, 0.7, (60, 7)), 3):
         one_by_one += "damped Newton" in plain.get("message", "") or plain["iterations"] > 0
-        for answer in (plain, seeded):
-            answer.pop("time_s")
-            answer.pop("line")
         assert plain == seeded
     assert one_by_one >= 3, one_by_one  # the lines this test is about were there
+
+
+def _humanoid7_limits() -> tuple[np.ndarray, np.ndarray]:
+    from kin import load_robot
+
+    robot = load_robot("humanoid7")
+    return robot.lower, robot.upper

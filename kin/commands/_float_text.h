@@ -94,26 +94,14 @@ static inline Fp cached_power(int e, int *k)
     return cached_powers[index];
 }
 
-static const uint64_t powers_of_ten[20] = {1u,
-                                           10u,
-                                           100u,
-                                           1000u,
-                                           10000u,
-                                           100000u,
-                                           1000000u,
-                                           10000000u,
-                                           100000000u,
-                                           1000000000u,
-                                           10000000000u,
-                                           100000000000u,
-                                           1000000000000u,
-                                           10000000000000u,
-                                           100000000000000u,
-                                           1000000000000000u,
-                                           10000000000000000u,
-                                           100000000000000000u,
-                                           1000000000000000000u,
-                                           10000000000000000000u};
+/* 10^0 .. 10^19. */
+static const uint64_t powers_of_ten[20] = {
+    1u, 10u, 100u, 1000u,
+    10000u, 100000u, 1000000u, 10000000u,
+    100000000u, 1000000000u, 10000000000u, 100000000000u,
+    1000000000000u, 10000000000000u, 100000000000000u, 1000000000000000u,
+    10000000000000000u, 100000000000000000u, 1000000000000000000u, 10000000000000000000u,
+};
 
 /* The last digit moved down while the number stays in the interval and gets nearer the value
    (rest: what is left below the digits, ten_kappa: one unit of the last digit, wp_w: the upper
