@@ -79,7 +79,7 @@ _SET_POSITION_ERROR = IKSolution.__dict__["position_error"].__set__
 _SET_ROTATION_ERROR = IKSolution.__dict__["rotation_error"].__set__
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, slots=True)
 class IKResult:
     """Outcome of one IK solve.
 
@@ -130,20 +130,20 @@ class IKResult:
         method: str = "",
         free: tuple[str, ...] = (),
     ):
-        # Same fields and defaults as the generated frozen __init__, without its per-field
-        # object.__setattr__ calls (about 1 us in all): a numeric solve makes one per call.
-        fields = self.__dict__
-        fields["success"] = success
-        fields["solver"] = solver
-        fields["status"] = status
-        fields["message"] = message
-        fields["solutions"] = solutions
-        fields["rejected"] = rejected
-        fields["distance_to_workspace"] = distance_to_workspace
-        fields["iterations"] = iterations
-        fields["time"] = time
-        fields["method"] = method
-        fields["free"] = free
+        # Same fields and defaults as the generated frozen __init__, set through the slots'
+        # descriptors (past the frozen __setattr__, as IKSolution's): a numeric solve makes one
+        # per call. The compiled twins fill the same slots directly (kin/ik/analytic/_results.h).
+        _SET_SUCCESS(self, success)
+        _SET_SOLVER(self, solver)
+        _SET_STATUS(self, status)
+        _SET_MESSAGE(self, message)
+        _SET_SOLUTIONS(self, solutions)
+        _SET_REJECTED(self, rejected)
+        _SET_DISTANCE(self, distance_to_workspace)
+        _SET_ITERATIONS(self, iterations)
+        _SET_TIME(self, time)
+        _SET_METHOD(self, method)
+        _SET_FREE(self, free)
 
     @property
     def best(self) -> IKSolution | None:
@@ -173,3 +173,17 @@ class IKResult:
             "time_s": float(self.time),
             "free": list(self.free),
         }
+
+
+# The slot descriptors' setters of IKResult (as IKSolution's above).
+_SET_SUCCESS = IKResult.__dict__["success"].__set__
+_SET_SOLVER = IKResult.__dict__["solver"].__set__
+_SET_STATUS = IKResult.__dict__["status"].__set__
+_SET_MESSAGE = IKResult.__dict__["message"].__set__
+_SET_SOLUTIONS = IKResult.__dict__["solutions"].__set__
+_SET_REJECTED = IKResult.__dict__["rejected"].__set__
+_SET_DISTANCE = IKResult.__dict__["distance_to_workspace"].__set__
+_SET_ITERATIONS = IKResult.__dict__["iterations"].__set__
+_SET_TIME = IKResult.__dict__["time"].__set__
+_SET_METHOD = IKResult.__dict__["method"].__set__
+_SET_FREE = IKResult.__dict__["free"].__set__

@@ -49,7 +49,7 @@ static PyObject *new_instance(PyTypeObject *cls, PyObject **values, int n)
 }
 
 /* An instance of cls (a frozen dataclass of kin.ik.result) with its n fields names[i] set to
-   values[i], as its __init__ sets them (into the instance's dict, past the frozen __setattr__);
+   values[i], as its __init__ sets them (by the generic setattr, past the frozen __setattr__);
    the values are stolen (NULL ones make it fail: NULL, with their error set). */
 static PyObject *make_instance(PyTypeObject *cls, PyObject *const *names, PyObject **values,
                                int n)
@@ -66,34 +66,51 @@ static PyObject *make_instance(PyTypeObject *cls, PyObject *const *names, PyObje
 #define Py_T_OBJECT_EX T_OBJECT_EX
 #endif
 
-/* The class whose slot offsets slot_offsets holds (a new reference), or NULL. */
-static PyTypeObject *slot_class;
-static Py_ssize_t slot_offsets[5];
+/* The slots of a class: the class whose offsets are held (a new reference), or NULL. */
+typedef struct {
+    PyTypeObject *cls;
+    Py_ssize_t offsets[RESULT_FIELDS];
+} Slots;
 
-/* Whether cls stores the 5 fields of IKSolution in slots of its own (a dataclass with
-   slots=True): then slot_offsets holds their offsets in the instance. Else 0 (no error): the
-   fields are set by name. */
-static int solution_slots(PyTypeObject *cls)
+static Slots solution_slots_of, result_slots_of;
+
+/* Whether cls stores the n fields names[i] in slots of its own (a dataclass with slots=True):
+   then slots->offsets holds their offsets in the instance (kept for the next call with cls).
+   Else 0 (no error): the fields are set by name. */
+static int has_slots(PyTypeObject *cls, PyObject *const *names, int n, Slots *slots)
 {
-    if (cls == slot_class) return 1;
-    for (int i = 0; i < 5; i++) {
-        PyObject *descr = PyDict_GetItemWithError(cls->tp_dict, solution_fields[i]);
+    if (cls == slots->cls) return 1;
+    for (int i = 0; i < n; i++) {
+        PyObject *descr = PyDict_GetItemWithError(cls->tp_dict, names[i]);
         if (descr == NULL || !Py_IS_TYPE(descr, &PyMemberDescr_Type)) {
             PyErr_Clear();
             return 0;
         }
         PyMemberDef *member = ((PyMemberDescrObject *)descr)->d_member;
         if (member->type != Py_T_OBJECT_EX || (member->flags & READONLY)) return 0;
-        slot_offsets[i] = member->offset;
+        slots->offsets[i] = member->offset;
     }
     Py_INCREF(cls);
-    Py_XSETREF(slot_class, cls);
+    Py_XSETREF(slots->cls, cls);
     return 1;
 }
 
+/* An instance of cls with its n fields names[i] set to values[i] (stolen; NULL ones make it
+   fail: NULL, with their error set): straight into its slots when it has them (has_slots),
+   else by name (make_instance). */
+static PyObject *make_fields(PyTypeObject *cls, PyObject *const *names, PyObject **values, int n,
+                             Slots *slots)
+{
+    if (!has_slots(cls, names, n, slots)) return make_instance(cls, names, values, n);
+    PyObject *obj = new_instance(cls, values, n);
+    if (obj == NULL) return NULL;
+    for (int i = 0; i < n; i++) *(PyObject **)((char *)obj + slots->offsets[i]) = values[i];
+    return obj;
+}
+
 /* An IKSolution (cls) of its fields; q is stolen; rotation_error NaN stands for None (a position
-   target). Written straight into its slots when it has
-   them (solution_slots), else set by name as its __init__ would. */
+   target). Written straight into its slots when it has them, else set by name as its __init__
+   would (make_fields). */
 static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
                                double position_error, double rotation_error)
 {
@@ -105,11 +122,7 @@ static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, 
         rotation = PyFloat_FromDouble(rotation_error);
     PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
                            rotation};
-    if (!solution_slots(cls)) return make_instance(cls, solution_fields, values, 5);
-    PyObject *obj = new_instance(cls, values, 5);
-    if (obj == NULL) return NULL;
-    for (int i = 0; i < 5; i++) *(PyObject **)((char *)obj + slot_offsets[i]) = values[i];
-    return obj;
+    return make_fields(cls, solution_fields, values, 5, &solution_slots_of);
 }
 
 /* A successful IKResult (cls) of one pipeline (name), status "ok", with its message, valid
@@ -124,7 +137,7 @@ static PyObject *make_success(PyTypeObject *cls, PyObject *name, PyObject *statu
     for (int i = 0; i < RESULT_FIELDS; i++) Py_XINCREF(values[i]);
     values[7] = PyLong_FromLong(iterations);
     values[8] = PyFloat_FromDouble(time);
-    return make_instance(cls, result_fields, values, RESULT_FIELDS);
+    return make_fields(cls, result_fields, values, RESULT_FIELDS, &result_slots_of);
 }
 
 #endif
