@@ -8,7 +8,7 @@ vectors inside the limits), it prints:
   target built inside the timing (from the arrays ``p``, ``R`` the caller holds); ``core``: ``NumericIK.solve(NumericTarget(p, R), seed)``, the
   internal call with a prepared target (what the documented one should cost within 10 %);
 - ``batch``: ``kin.ik.solve_batch(robot, positions, rotations, seeds)`` over all N (per pose);
-- ``stdin``: ``kin ik --robot R --stdin`` on 20,000 lines ``{"target": ..., "rpy": ...}`` (the
+- ``stdin``: ``kin ik --robot R --stdin`` on 100,000 lines ``{"target": ..., "rpy": ...}`` (the
   poses repeated; a subprocess, its start-up, measured on one line, taken off), with ``--stream``;
 - ``TRAC-IK``: pytracik's per call (Speed, 20 ms), where installed.
 
@@ -49,8 +49,9 @@ from kin.ik import NumericIK, NumericTarget, PoseTarget, get_solver, solve_batch
 from kin.ik.analytic.seven_r.subproblems import batch_threads
 from kin.robot_model import RobotModel, load_robot
 
-#: Lines of the ``--stream`` run (the poses repeated): enough that start-up does not dominate.
-STREAM_LINES = 20000
+#: Lines of the ``--stream`` run (the poses repeated): several seconds, so that the start-up
+#: taken off (and its spread from run to run, about 0.1 s here) weighs little.
+STREAM_LINES = 100_000
 
 
 def get_argument_parser() -> ArgumentParser:

@@ -388,3 +388,29 @@ def _humanoid7_limits() -> tuple[np.ndarray, np.ndarray]:
 
     robot = load_robot("humanoid7")
     return robot.lower, robot.upper
+
+
+@needs_twin
+def test_numbers_in_every_spelling_are_floats_reading():
+    """Numbers in every spelling a writer uses (repr, %.15g to %.17g, exponents, integers, the
+    edges of exact float64 digits: 2^53, 1e22, 22 fraction digits): bit for bit ``float(text)``."""
+    rng = np.random.default_rng(5)
+    values = np.concatenate(
+        [
+            rng.uniform(-7.0, 7.0, 20_000),
+            rng.normal(0.0, 1e-16, 5_000),
+            10.0 ** rng.uniform(-30, 30, 5_000),
+        ]
+    ).tolist()
+    texts = []
+    for k, value in enumerate(values):
+        texts.append(("%r", "%.15g", "%.16g", "%.17g", "%.3e", "%.22f")[k % 6] % value)
+    texts += ["9007199254740992", "9007199254740993", "9007199254740993.0", "1e22", "1e23",
+              "0.0000000000000000000001", "123456789012345678", "-0.0", "0.1e-22", "4.5e15",
+              "1.7976931348623157e308", "5e-324", "2.2250738585072014e-308", "12345678901234567890"]  # fmt: skip
+    lines = [f'{{"target": [{t}, {t}, {t}]}}'.encode() for t in texts]
+    kinds, read_values = read(lines)
+    taken = kinds == 1  # a number over 40 characters is left to the json module
+    assert all(len(t) > 40 for t, ok in zip(texts, taken) if not ok) and taken.mean() > 0.9
+    want = np.array([float(t) for t in texts])
+    assert same_bits(read_values[taken, 0], want[taken])
