@@ -118,6 +118,32 @@ def test_threaded_scan_gives_the_single_thread_answers(name, monkeypatch):
     np.testing.assert_array_equal(threaded, single)
 
 
+@pytest.mark.parametrize("name", ["humanoid7", "panda"])
+@pytest.mark.parametrize("rows", [40, 700])
+def test_a_scan_started_for_later_gives_the_answers_of_one_call(name, rows):
+    """``later``: the scan runs in the threads (one block below PARALLEL_ROWS) while the caller
+    goes on; its result, and the batch stage started the same way, are bit for bit the answers
+    of the call that waits (kin ik --stdin reads its next lines meanwhile)."""
+    from kin.ik.analytic.seven_r.subproblems import ScanJob
+    from kin.ik.batch_solve import free_joint_answers, start_free_joint_answers
+    from kin.ik.numeric.solver import NumericIK
+
+    robot, points, frames = _poses(name, rows, 17)
+    solver = NumericIK(robot, prepare=False, near_seed=True)
+    seeds = np.random.default_rng(18).uniform(robot.lower, robot.upper, (rows, robot.nq))
+    seeds[::5] = 0.0  # some near their targets' tools (the scan without steps)
+    job = solver.closed_form.first_many(points, frames, seeds, (0.05, 0.01), later=True)
+    assert isinstance(job, ScanJob)
+    now = solver.closed_form.first_many(points, frames, seeds, (0.05, 0.01))
+    np.testing.assert_array_equal(job.result(), now)
+    started = start_free_joint_answers(solver, robot, points, frames, seeds)
+    waited = free_joint_answers(solver, robot, points, frames, seeds)
+    assert started is not None and waited is not None
+    for a, b in zip(started.result(), waited, strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert np.isfinite(waited[0]).all(axis=1).mean() > 0.8
+
+
 def test_a_forked_child_solves_batches_with_its_own_threads():
     """A process forked after the parent's threaded batch makes its own pool (the parent's
     threads do not exist in the child) and gives the parent's answers."""

@@ -163,7 +163,8 @@ def test_reader_takes_any_sequence_and_refuses_the_rest():
 
 @needs_twin
 def test_stream_with_and_without_the_reader_gives_the_same_lines():
-    """Through a pipe (bytes, so the reader runs) and with it switched off: the same answers.
+    """Through a pipe (bytes, so the reader runs) and with it switched off, with the compiled
+    writer and without, reading ahead and not: the same answers.
 
     Reachable poses (the tool poses of random q), so that no answer depends on a time budget.
     """
@@ -189,7 +190,7 @@ def test_stream_with_and_without_the_reader_gives_the_same_lines():
             lines.append(f'{{"target":[{x!r},{y!r},{z!r}],"rpy":[{r!r},{p!r},{w!r}]}}')
         else:
             lines.append(json.dumps({"target": [x, y, z], "rpy": [r, p, w]}))
-    text = "\n".join(lines) + "\n"
+    text = "\n".join(lines * 5) + "\n"  # over 64 KiB: several reads (one read ahead)
     code = (
         "import sys\n"
         "from kin.commands import ik_stream, main\n"
@@ -202,24 +203,28 @@ def test_stream_with_and_without_the_reader_gives_the_same_lines():
         "        taken.append(sum(k > 0 for k in kinds))\n"
         "        return kinds, values\n"
         "    ik_stream._read_plain = counted\n"
+        "if sys.argv[1] == 'nowriter':  # the %-format writes the answers\n"
+        "    ik_stream._write_plain = None\n"
+        "if sys.argv[1] == 'noahead':  # no batch read before the last one is answered\n"
+        "    ik_stream._input_waiting = lambda source: False\n"
         "code = main(['ik', '--robot', 'humanoid7', '--stdin'])\n"
         "if sys.argv[1] == 'on':\n"
         "    print(sum(taken), file=sys.stderr)\n"
         "raise SystemExit(code)\n"
     )
     outputs = []
-    for switch in ("on", "off", "nowriter"):
+    for switch in ("on", "off", "nowriter", "noahead"):
         done = subprocess.run(
             [sys.executable, "-c", code, switch], input=text.encode(), capture_output=True
         )
-        if switch == "on":  # forms 0, 1, 3, 4 and 5 (not the compact 2): 100 lines taken
-            assert int(done.stderr.decode().split()[-1]) == 100
+        if switch == "on":  # forms 0, 1, 3, 4 and 5 (not the compact 2): 100 lines taken, 5 times
+            assert int(done.stderr.decode().split()[-1]) == 500
         answers = [json.loads(line) for line in done.stdout.decode().splitlines()]
         for answer in answers:
             answer.pop("time_s", None)
         outputs.append(answers)
-    assert len(outputs[0]) == len(lines)
-    assert outputs[0] == outputs[1] == outputs[2]
+    assert len(outputs[0]) == 5 * len(lines)
+    assert outputs[0] == outputs[1] == outputs[2] == outputs[3]
 
 
 def write_values(values: list[float]) -> list[str]:

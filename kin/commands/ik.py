@@ -211,22 +211,24 @@ def _run(args: argparse.Namespace) -> int:
     return 0 if result.success else EXIT_NO_SOLUTION
 
 
-def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., tuple] | None:
-    """``batch(points, rotations, seeds)`` of the solver's free-joint closed form, or None.
+def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., Callable[[], Any]] | None:
+    """``batch(points, rotations, seeds) -> finish`` of the solver's free-joint closed form, or None.
 
     The lines of a read batch are answered together by it
-    (:func:`kin.ik.batch_solve.free_joint_answers`) when the solver is the numeric one with a
-    free-joint closed form (humanoid7, Panda, xArm7): the answers its calls would give first.
+    (:func:`kin.ik.batch_solve.start_free_joint_answers`: its scans started in threads, ``finish()``
+    waits for them and gives ``(q, position errors, rotation errors)``) when the solver is the
+    numeric one with a free-joint closed form (humanoid7, Panda, xArm7): the answers its calls
+    would give first.
     """
-    from ..ik.batch_solve import free_joint_answers
+    from ..ik.batch_solve import start_free_joint_answers
 
     if getattr(solver, "closed_form", None) is None or getattr(solver, "idealised", None):
         return None
 
-    def batch(points: Any, rotations: Any, seeds: Any) -> tuple:
-        answers = free_joint_answers(solver, robot, points, rotations, seeds)
-        assert answers is not None  # the solver has a free-joint closed form (checked above)
-        return answers
+    def batch(points: Any, rotations: Any, seeds: Any) -> Callable[[], Any]:
+        started = start_free_joint_answers(solver, robot, points, rotations, seeds)
+        assert started is not None  # the solver has a free-joint closed form (checked above)
+        return started.result
 
     return batch
 

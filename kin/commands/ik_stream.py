@@ -25,10 +25,12 @@ from __future__ import annotations
 import json
 import logging
 import os
+import select
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, TextIO
 
 import numpy as np
@@ -103,10 +105,11 @@ class StreamSolver:
         length: Meters per ``--unit``.
         angle: Radians per input angle unit.
         all_solutions: Answers keep the rejected solutions (``--all``).
-        batch: ``batch(points (N, 3), rotations (N, 3, 3) or None, seeds (N, nq)) -> (q, position
-            errors, rotation errors)`` answering the lines of a read batch together where the
-            solver's first stage can (:func:`kin.ik.batch_solve.free_joint_answers`, NaN rows
-            where it gives none: those lines are solved one by one), or None.
+        batch: ``batch(points (N, 3), rotations (N, 3, 3) or None, seeds (N, nq))``, which
+            starts answering the lines of a read batch together where the solver's first stage
+            can and returns what finishes it: ``() -> (q, position errors, rotation errors)``
+            (:func:`kin.ik.batch_solve.start_free_joint_answers`, NaN rows where it gives none:
+            those lines are solved one by one), or None.
         pipeline: The solver's name, as the answers of ``batch`` report it.
     """
 
@@ -119,7 +122,7 @@ class StreamSolver:
     length: float
     angle: float
     all_solutions: bool = False
-    batch: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
+    batch: Callable[..., Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]]] | None = None
     pipeline: str = "numeric"
 
     def answer(self, line: str | bytes) -> dict[str, Any]:
@@ -179,7 +182,9 @@ class StreamSolver:
         """Answer every line of ``source`` on ``out``, one JSON line each.
 
         Every answer is flushed before the stream waits for more input (see
-        :func:`line_batches`): a client that writes a line and waits gets its answer.
+        :func:`line_batches`): a client that writes a line and waits gets its answer. When more
+        input is already there, the next batch is read first and its batch stage started (its
+        compiled scans run in threads while this batch's answers are made and written).
 
         Returns:
             1 when any line had an error or no valid solution, else 0.
@@ -188,10 +193,24 @@ class StreamSolver:
         # the records are fresh trees of dicts and lists: no need to look for cycles
         dumps = json.JSONEncoder(check_circular=False).encode
         write, flush = out.write, out.flush
-        number = 0
+        batches = line_batches(source)
+        number = 0  # lines read so far
         failed = False
-        for lines in line_batches(source):
-            records = self._records(lines, number)
+        started: _Started | None = None
+        while True:
+            if started is None:  # wait for input
+                lines = next(batches, None)
+                if lines is None:
+                    break
+                started = self._start(lines, number)
+                number += len(lines)
+            ahead = None
+            if _input_waiting(source):  # read it now: its scans run while these are answered
+                lines = next(batches, None)
+                if lines is not None:
+                    ahead = self._start(lines, number)
+                    number += len(lines)
+            records = self._records(started)
             pending: list[str] = []  # written FLUSH_EVERY answers at a time, in one write
             for count, record in enumerate(records, start=1):
                 if record.__class__ is str:  # a verified answer of the batch stage, encoded
@@ -208,26 +227,39 @@ class StreamSolver:
                     pending.clear()
                     flush()
             write("".join(pending))
-            number += len(lines)
             flush()
             if getattr(out, "broken", False):  # the reader is gone (| head): stop reading
                 break
+            started = ahead
         return 1 if failed else 0
 
-    def _records(self, lines: Sequence[str | bytes], before: int) -> list[dict[str, Any] | str]:
-        """The answers of a batch of input lines (the first is line ``before + 1``), in order.
+    def _start(self, lines: Sequence[str | bytes], before: int) -> _Started:
+        """A batch of input lines (the first is line ``before + 1``) with its batch stage started.
+
+        The plainest lines (:meth:`_plain`) are read and their compiled scans started; the
+        answers are made by :meth:`_records`.
+        """
+        tried: dict[int, Target] = {}
+        finish: list[Callable[[], dict[int, str]]] = []
+        if self.batch is not None and not self.all_solutions:
+            finish = self._plain(lines, before, tried)
+        return _Started(lines, before, tried, finish)
+
+    def _records(self, started: _Started) -> list[dict[str, Any] | str]:
+        """The answers of a batch of input lines (:meth:`_start`), in order.
 
         Lines the batch stage takes (:attr:`batch`: full poses or positions, without --all) are
         solved together (those of the plainest form, ``{"target": [...], "rpy": [...]}`` or a
         target alone, read together too: :meth:`_plain`); the others, and those it leaves
         unanswered, one by one.
         """
+        lines, before = started.lines, started.before
         records: list[dict[str, Any] | str | None] = [None] * len(lines)
         # Lines the batch stage read and left, with their targets: one by one at once (not read
         # again: the same target as request() makes of them, no warning, the default seed).
-        tried: dict[int, Target] = {}
-        if self.batch is not None and not self.all_solutions:
-            for index, encoded in self._plain(lines, before, tried).items():
+        tried = started.tried
+        for finish in started.finish:
+            for index, encoded in finish().items():
                 records[index] = encoded
         notes: list[list[str]] = [[] for _ in lines]
         together: list[tuple[int, Target, np.ndarray | None]] = []
@@ -276,8 +308,10 @@ class StreamSolver:
 
     def _plain(
         self, lines: Sequence[str | bytes], before: int, tried: dict[int, Target]
-    ) -> dict[int, str]:
-        """The encoded answers of the plainest lines, read and solved together, by line index.
+    ) -> list[Callable[[], dict[int, str]]]:
+        """The plainest lines, read and their batch stage started: what gives their answers.
+
+        Each callable returned gives the encoded answers of one group of lines, by line index.
 
         A line ``{"target": [x, y, z]}`` or ``{"target": [x, y, z], "rpy": [r, p, y]}`` of finite
         numbers (no ``true``/``false`` anywhere, no angle beyond a turn without --deg: those
@@ -285,15 +319,16 @@ class StreamSolver:
         all) and answered by :attr:`batch`; what it answers is encoded here (the record of
         :func:`result_record`, the same keys in the same order). Every other line is left to
         the line-by-line path; those the batch read and did not answer are added to ``tried``
-        with their targets (they go to the solver one by one, not to the batch again, and are
-        not read again: the targets :meth:`request` would make, the same float64 values).
+        (when the callable runs) with their targets (they go to the solver one by one, not to
+        the batch again, and are not read again: the targets :meth:`request` would make, the
+        same float64 values).
 
         The lines spelled as ``json.dumps`` writes those two forms are read by the compiled
         twin (:data:`_read_plain`, ``kin/commands/_plain_lines.c``: the same values as the json
         module's, about 4 us a line less); the others, and all without the twin, by
         :func:`_decoded`.
         """
-        answers: dict[int, str] = {}
+        answers: list[Callable[[], dict[int, str]]] = []
         rest: Sequence[int] = range(len(lines))  # the lines for the json module, by index
         if _read_plain is not None:
             kinds, values = _read_plain(lines)
@@ -303,8 +338,9 @@ class StreamSolver:
                 rows = np.flatnonzero(kind == code)
                 if rows.size:
                     rpys = read[rows, 3:] if poses else None
-                    found = self._plain_group(rows.tolist(), read[rows, :3], rpys, before, tried)
-                    answers.update(found)
+                    answers.append(
+                        self._plain_group(rows.tolist(), read[rows, :3], rpys, before, tried)
+                    )
             rest = np.flatnonzero(kind == 0).tolist()
             if not rest:
                 return answers
@@ -323,7 +359,7 @@ class StreamSolver:
                 indices = [item[0] for item in group]
                 points = [item[1] for item in group]
                 angles = [item[2] for item in group] if poses else None
-                answers.update(self._plain_group(indices, points, angles, before, tried))
+                answers.append(self._plain_group(indices, points, angles, before, tried))
         return answers
 
     def _plain_group(
@@ -333,11 +369,12 @@ class StreamSolver:
         rpys: Any,
         before: int,
         tried: dict[int, Target],
-    ) -> dict[int, str]:
+    ) -> Callable[[], dict[int, str]]:
         """:meth:`_plain` of the lines of one kind: their indices, targets and rpy (or None).
 
         ``targets`` and ``rpys`` as read (arrays, or the lists the json module gave), in the
-        user's units.
+        user's units. The batch stage is started here; the callable returned makes the answers
+        (:meth:`_plain_answers`).
         """
         from dh2urdf.table_file import RADIAN_SUSPECT
 
@@ -347,11 +384,11 @@ class StreamSolver:
                 points = np.array(targets, dtype=float) * self.length
                 angles = np.array(rpys, dtype=float) if poses else None
         except (TypeError, ValueError, OverflowError):
-            return {}
+            return _no_answers
         if points.shape != (len(indices), 3) or (
             angles is not None and angles.shape != (len(indices), 3)
         ):
-            return {}
+            return _no_answers
         keep = np.isfinite(points).all(axis=1)
         rotations = None
         if angles is not None:
@@ -361,19 +398,46 @@ class StreamSolver:
             rotations = rpy_matrices(np.where(keep[:, None], angles, 0.0) * self.angle)
         rows = np.flatnonzero(keep)
         if not rows.size:
-            return {}
+            return _no_answers
         start = time.perf_counter()
         default = np.zeros(self.nq) if self.seed is None else self.seed
         seeds = np.broadcast_to(default, (rows.size, self.nq))
         assert self.batch is not None
         try:
-            q, position_error, rotation_error = self.batch(
-                points[rows], None if rotations is None else rotations[rows], seeds
-            )
+            result = self.batch(points[rows], None if rotations is None else rotations[rows], seeds)
+        except Exception:  # noqa: BLE001 - the lines go the line-by-line way instead
+            logger.debug("batch stage failed", exc_info=True)
+            return _no_answers
+        launch = time.perf_counter() - start
+        return partial(
+            self._plain_answers, indices, points, angles, rows, result, launch, before, tried
+        )
+
+    def _plain_answers(
+        self,
+        indices: list[int],
+        points: np.ndarray,
+        angles: np.ndarray | None,
+        rows: np.ndarray,
+        result: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]],
+        launch: float,
+        before: int,
+        tried: dict[int, Target],
+    ) -> dict[int, str]:
+        """The encoded answers of :meth:`_plain_group`'s lines, by line index.
+
+        ``rows`` of them went to the batch stage: ``result`` gives its answer; ``launch`` [s]
+        it took to start. ``time_s`` of an answer: the time spent starting and finishing the batch stage, per line
+        (not the time other lines took in between).
+        """
+        start = time.perf_counter()
+        try:
+            q, position_error, rotation_error = result()
         except Exception:  # noqa: BLE001 - the lines go the line-by-line way instead
             logger.debug("batch stage failed", exc_info=True)
             return {}
-        each = repr((time.perf_counter() - start) / rows.size)
+        poses = angles is not None
+        each = repr((launch + time.perf_counter() - start) / rows.size)
         head = (
             f'{{"success": true, "solver": {json.dumps(self.pipeline)}, "status": "ok", '
             f'"message": {json.dumps(FROM_SEED)}, "solutions": [{{"q": ['
@@ -470,7 +534,7 @@ class StreamSolver:
             default = np.zeros(self.nq) if self.seed is None else self.seed
             seeds = np.array([default if seed is None else seed for _, _, seed in group])
             try:
-                q, position_error, rotation_error = self.batch(points, rotations, seeds)
+                q, position_error, rotation_error = self.batch(points, rotations, seeds)()
             except Exception:  # noqa: BLE001 - the lines go one by one instead
                 logger.debug("batch stage failed", exc_info=True)
                 q = np.full((len(group), self.nq), np.nan)
@@ -501,6 +565,38 @@ class StreamSolver:
                     "free": [],
                 }
         return records
+
+
+def _no_answers() -> dict[int, str]:
+    """The answers of a group of plain lines the batch stage did not take: none."""
+    return {}
+
+
+@dataclass(frozen=True)
+class _Started:
+    """A batch of input lines (the first is line ``before + 1``), its batch stage started.
+
+    ``tried``: the lines it read and left, with their targets (filled as ``finish`` runs);
+    ``finish``: what gives the encoded answers of the others (:meth:`StreamSolver._plain`).
+    """
+
+    lines: Sequence[str | bytes]
+    before: int
+    tried: dict[int, Target]
+    finish: list[Callable[[], dict[int, str]]]
+
+
+def _input_waiting(source: object) -> bool:
+    """Whether ``source`` (a file descriptor's stream) has input to read now, without waiting.
+
+    False for a source without a descriptor, or where ``select`` does not take it (Windows
+    pipes): the stream then never reads ahead.
+    """
+    try:
+        fd = source.fileno()  # type: ignore[attr-defined]
+        return bool(select.select([fd], [], [], 0)[0])
+    except (AttributeError, OSError, ValueError):
+        return False
 
 
 def _decoded(lines: Sequence[str | bytes]) -> list[tuple[int, Any]]:

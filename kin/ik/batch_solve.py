@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -26,6 +26,9 @@ from .dispatch import get_solver
 from .exceptions import StructureError, TargetError
 from .judge import batch_pose_errors
 from .target import ROTATION_SNAP, PoseTarget, PositionTarget
+
+if TYPE_CHECKING:
+    from .analytic.seven_r.subproblems import ScanJob
 
 __all__ = ["FREE_JOINT_STAGE", "BatchIKResult", "free_joint_answers", "solve_batch"]
 
@@ -248,6 +251,23 @@ def free_joint_answers(
         ``(q, position_error, rotation_error)``: (N, nq) with NaN rows where the closed form
         gave no verified answer, and the errors (N,) [m], [rad] (NaN there, and for positions).
     """
+    started = start_free_joint_answers(solver, robot, points, frames, seeds)
+    return None if started is None else started.result()
+
+
+def start_free_joint_answers(
+    solver: object,
+    robot: RobotModel,
+    points: np.ndarray,
+    frames: np.ndarray | None,
+    seeds: np.ndarray,
+) -> FreeJointAnswers | None:
+    """:func:`free_joint_answers` started, or None when the solver has no such closed form.
+
+    Its compiled scans run in threads while the caller goes on (``kin ik --stdin`` answers the
+    lines it read before meanwhile); :meth:`FreeJointAnswers.result` waits for them and judges
+    the candidates.
+    """
     closed = getattr(solver, "closed_form", None)
     if closed is None or getattr(solver, "idealised", None) is not None:
         return None
@@ -256,6 +276,7 @@ def free_joint_answers(
     n, nq = points.shape[0], robot.nq
     near_rows, skipped = _near_seeds(solver, robot, points, frames, seeds)
     candidates = np.full((n, nq), np.nan)
+    jobs: list[tuple[np.ndarray, ScanJob]] = []
     first_each = getattr(closed, "first_each", None)
     if first_each is not None and frames is not None:
         # A form whose solve is batched itself (General7RIK): one solve of every target at its
@@ -265,30 +286,60 @@ def free_joint_answers(
         candidates = first_each(targets, seeds)
         candidates[skipped] = np.nan
     else:
-        _branches_from_seeds(closed, solver, points, frames, seeds, near_rows, skipped, candidates)
-    if near_rows.any():  # kept only within seed_near of the seed (else the call's damped Newton)
-        moved = np.abs(candidates - seeds).max(axis=1)
-        candidates[near_rows & ~(moved <= getattr(solver, "seed_near", 0.0))] = np.nan
-    found = ~np.isnan(candidates).any(axis=1)
-    position_error = np.full(n, np.nan)
-    rotation_error = np.full(n, np.nan)
-    if found.any():
-        rows = np.flatnonzero(found)
-        chosen = candidates[rows]
-        poses = batch_forward_kinematics(robot.table, chosen)
-        with np.errstate(all="ignore"):  # a target far away is just off target
-            p_err, r_err = batch_pose_errors(
-                poses, points[rows], None if frames is None else frames[rows]
-            )
-        ok = p_err < _CLOSED_TOLERANCE
-        if r_err is not None:
-            ok &= r_err < _CLOSED_TOLERANCE
-        ok &= np.all((chosen >= robot.lower) & (chosen <= robot.upper), axis=1)
-        candidates[rows[~ok]] = np.nan
-        position_error[rows[ok]] = p_err[ok]
-        if r_err is not None:
-            rotation_error[rows[ok]] = r_err[ok]
-    return candidates, position_error, rotation_error
+        jobs = _branches_from_seeds(
+            closed, solver, points, frames, seeds, near_rows, skipped, candidates
+        )
+    return FreeJointAnswers(solver, robot, points, frames, seeds, near_rows, candidates, jobs)
+
+
+@dataclass(frozen=True)
+class FreeJointAnswers:
+    """:func:`start_free_joint_answers` under way.
+
+    Attributes: the solver, robot, targets and seeds it was given; ``near_rows`` as
+    :func:`_near_seeds` says; ``candidates`` (N, nq) so far; ``jobs`` the scans still running
+    (the rows each fills).
+    """
+
+    solver: object
+    robot: RobotModel
+    points: np.ndarray
+    frames: np.ndarray | None
+    seeds: np.ndarray
+    near_rows: np.ndarray
+    candidates: np.ndarray
+    jobs: list[tuple[np.ndarray, ScanJob]]
+
+    def result(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:func:`free_joint_answers`' answer, once the scans are done (call it once)."""
+        robot, points, frames, candidates = self.robot, self.points, self.frames, self.candidates
+        for index, job in self.jobs:
+            candidates[index] = job.result()
+        n = points.shape[0]
+        if self.near_rows.any():  # kept only within seed_near of the seed (else damped Newton)
+            moved = np.abs(candidates - self.seeds).max(axis=1)
+            limit = getattr(self.solver, "seed_near", 0.0)
+            candidates[self.near_rows & ~(moved <= limit)] = np.nan
+        found = ~np.isnan(candidates).any(axis=1)
+        position_error = np.full(n, np.nan)
+        rotation_error = np.full(n, np.nan)
+        if found.any():
+            rows = np.flatnonzero(found)
+            chosen = candidates[rows]
+            poses = batch_forward_kinematics(robot.table, chosen)
+            with np.errstate(all="ignore"):  # a target far away is just off target
+                p_err, r_err = batch_pose_errors(
+                    poses, points[rows], None if frames is None else frames[rows]
+                )
+            ok = p_err < _CLOSED_TOLERANCE
+            if r_err is not None:
+                ok &= r_err < _CLOSED_TOLERANCE
+            ok &= np.all((chosen >= robot.lower) & (chosen <= robot.upper), axis=1)
+            candidates[rows[~ok]] = np.nan
+            position_error[rows[ok]] = p_err[ok]
+            if r_err is not None:
+                rotation_error[rows[ok]] = r_err[ok]
+        return candidates, position_error, rotation_error
 
 
 def _branches_from_seeds(
@@ -300,31 +351,31 @@ def _branches_from_seeds(
     near_rows: np.ndarray,
     skipped: np.ndarray,
     candidates: np.ndarray,
-) -> None:
-    """Each target's branch from its seed into ``candidates``.
+) -> list[tuple[np.ndarray, ScanJob]]:
+    """Each target's branch from its seed into ``candidates``, or the scans that will give them.
 
-    The compiled twin's ``first_many`` in one call for the seeds far from their targets (the scan
-    steps in turn) and one for the near ones (no scan); else ``first`` target by target.
+    The compiled twin's ``first_many`` started in threads (``later``), one call for the seeds far
+    from their targets (the scan steps in turn) and one for the near ones (no scan): the rows
+    each fills and its job. Else ``first`` target by target, at once (no job).
     """
     out = np.empty(candidates.shape[1])
     compiled = bool(getattr(solver, "compiled", False))
     steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
     first_many = getattr(closed, "first_many", None) if compiled else None
     if first_many is not None:
+        jobs = []
         for rows, row_steps in ((~near_rows & ~skipped, steps), (near_rows & ~skipped, (0.0,))):
             index = np.flatnonzero(rows)
             if index.size:
-                found = first_many(
-                    points[index],
-                    None if frames is None else frames[index],
-                    seeds[index],
-                    row_steps,
-                )
-                if found is None:
+                frame_rows = None if frames is None else frames[index]
+                job = first_many(points[index], frame_rows, seeds[index], row_steps, later=True)
+                if job is None:
                     break
-                candidates[index] = found
+                jobs.append((index, job))
         else:
-            return
+            return jobs
+        for _, job in jobs:  # none started after all (not built): no half-done scan left
+            job.result()
     prepare, first = closed.prepare, closed.first
     for i in range(len(points)):
         if skipped[i]:
@@ -337,6 +388,7 @@ def _branches_from_seeds(
             if first(prepared, start, out, step, compiled) == 0:
                 candidates[i] = out
                 break
+    return []
 
 
 def _near_seeds(

@@ -29,7 +29,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..structure import SevenDof
-from .subproblems import call_first_many, harmonic_roots, pack_params, rotation_pair, scan
+from .subproblems import ScanJob, call_first_many, harmonic_roots, pack_params, rotation_pair, scan
 
 try:
     from . import _closed7  # type: ignore[attr-defined]
@@ -172,7 +172,8 @@ class SevenDofIK:
         rotations: np.ndarray | None,
         starts: np.ndarray,
         steps: tuple[float, ...],
-    ) -> np.ndarray | None:
+        later: bool = False,
+    ) -> np.ndarray | ScanJob | None:
         """:meth:`first` of N targets, each from its own start, the scan steps in turn.
 
         The compiled twin in one call (its loop without the GIL); None when it is not built (the
@@ -183,9 +184,12 @@ class SevenDofIK:
             rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None for positions.
             starts: Start joint vectors [rad], (N, 7).
             steps: Joint-1 scan steps [rad] tried in turn (``0.0``: the start's joint 1 only).
+            later: Start the scan and return at once.
 
         Returns:
-            (N, 7) the branch of each target nearest its start [rad], NaN rows where none.
+            (N, 7) the branch of each target nearest its start [rad], NaN rows where none; with
+            ``later``, a :class:`~.subproblems.ScanJob` whose ``result()`` gives them (the scan
+            runs in threads meanwhile: :func:`~.subproblems.call_first_many`).
         """
         if _closed7 is None:
             return None
@@ -201,7 +205,9 @@ class SevenDofIK:
                 0,
                 np.concatenate((points - frames @ self._tool_t, frames.reshape(n, 9)), 1),
             )
-        return call_first_many(_closed7.first_many, (self.c_params, mode), targets, starts, steps)
+        return call_first_many(
+            _closed7.first_many, (self.c_params, mode), targets, starts, steps, later
+        )
 
     def first(
         self,

@@ -15,7 +15,7 @@ import numpy.typing as npt
 from ...exceptions import TargetError
 from ..six_r._six_r import wrap_array
 from .shoulder7_structure import SphericalShoulder7R, Vec
-from .subproblems import call_first_many, harmonic_roots_array, rotation_pair_array
+from .subproblems import ScanJob, call_first_many, harmonic_roots_array, rotation_pair_array
 
 try:
     from . import _shoulder7  # type: ignore[attr-defined]
@@ -138,7 +138,8 @@ class Shoulder7Batch:
         rotations: np.ndarray | None,
         starts: np.ndarray,
         steps: tuple[float, ...],
-    ) -> np.ndarray | None:
+        later: bool = False,
+    ) -> np.ndarray | ScanJob | None:
         """:meth:`first` of N targets, each from its own start, the scan steps in turn.
 
         The compiled twin in one call (its loop without the GIL); None when it is not built (the
@@ -149,9 +150,12 @@ class Shoulder7Batch:
             rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None (positions: no answer).
             starts: Start joint vectors [rad], (N, 7).
             steps: Joint-7 scan steps [rad] tried in turn (``0.0``: the start's joint 7 only).
+            later: Start the scan and return at once.
 
         Returns:
-            (N, 7) the branch of each target nearest its start [rad], NaN rows where none.
+            (N, 7) the branch of each target nearest its start [rad], NaN rows where none; with
+            ``later``, a :class:`~.subproblems.ScanJob` whose ``result()`` gives them (the scan
+            runs in threads meanwhile: :func:`~.subproblems.call_first_many`).
         """
         if _shoulder7 is None:
             return None
@@ -159,7 +163,9 @@ class Shoulder7Batch:
         if rotations is not None:
             rk, e = self._prepare_array(positions, rotations)
             targets = np.concatenate((rk.reshape(-1, 9), e), axis=1)
-        return call_first_many(_shoulder7.first_many, (self.c_params,), targets, starts, steps)
+        return call_first_many(
+            _shoulder7.first_many, (self.c_params,), targets, starts, steps, later
+        )
 
 
 def _back_array(

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 
 import numpy as np
 
@@ -132,7 +132,8 @@ def call_first_many(
     targets: np.ndarray | None,
     starts: np.ndarray,
     steps: Sequence[float],
-) -> np.ndarray:
+    later: bool = False,
+) -> np.ndarray | ScanJob:
     """A compiled twin's ``first_many`` of N prepared targets: (N, 7) branches [rad], NaN rows.
 
     ``call(*head, targets, starts, out, steps)``: ``head`` its leading arguments (the packed
@@ -140,26 +141,51 @@ def call_first_many(
     this form takes: every row NaN); ``starts`` (N, 7) [rad]; ``steps`` the scan steps [rad].
     The twin's loop runs without the interpreter lock: N of :data:`PARALLEL_ROWS` or more are
     cut into one block per processor (:func:`batch_threads`), solved at once in threads (each
-    row's answer is the same either way).
+    row's answer is the same either way). With ``later``, the blocks (one at least) are started
+    in the threads and a :class:`ScanJob` returned at once: the caller does other work (its
+    Python runs while they do) and takes the answers from :meth:`ScanJob.result`.
     """
     n = starts.shape[0]
     out = np.full((n, 7), np.nan)
     if targets is None or not n:
-        return out
+        return ScanJob(out, []) if later else out
     starts = np.ascontiguousarray(starts, dtype=float)
     targets = np.ascontiguousarray(targets, dtype=float)
     scan_steps = np.asarray(steps, float)
     threads = batch_threads()
     if n < PARALLEL_ROWS or threads < 2:
-        call(*head, targets, starts, out, scan_steps)
-        return out
+        if not later:
+            call(*head, targets, starts, out, scan_steps)
+            return out
+        threads = 1
     bounds = np.linspace(0, n, threads + 1).astype(int)
-    blocks = [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
-    views = [(targets[a:b], starts[a:b], np.full((b - a, 7), np.nan)) for a, b in blocks]
-    list(_pool(threads).map(lambda v: call(*head, v[0], v[1], v[2], scan_steps), views))
-    for (a, b), (_, _, block) in zip(blocks, views):
-        out[a:b] = block
-    return out
+    pool = _pool(batch_threads())
+    parts = []
+    for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist()):
+        if b > a:
+            block = np.full((b - a, 7), np.nan)
+            job = pool.submit(call, *head, targets[a:b], starts[a:b], block, scan_steps)
+            parts.append((a, b, block, job))
+    scan = ScanJob(out, parts)
+    return scan if later else scan.result()
+
+
+class ScanJob:
+    """A :func:`call_first_many` running in the pool's threads (``later``)."""
+
+    __slots__ = ("_out", "_parts")
+
+    def __init__(self, out: np.ndarray, parts: list[tuple[int, int, np.ndarray, Future]]):
+        self._out = out
+        self._parts = parts
+
+    def result(self) -> np.ndarray:
+        """The (N, 7) branches [rad], NaN rows, once every block is done (its error raised)."""
+        for a, b, block, job in self._parts:
+            job.result()
+            self._out[a:b] = block
+        self._parts = []
+        return self._out
 
 
 #: Rows from which :func:`call_first_many` cuts the work into one block per processor.
