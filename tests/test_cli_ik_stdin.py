@@ -222,17 +222,50 @@ def test_each_answer_comes_before_the_next_line_is_written():
     np.testing.assert_allclose(reached.translation, [0.3, -0.05, 0.25], atol=1e-9)
 
 
-def test_line_batches_of_a_pipe_keep_every_line(tmp_path):
-    """Lines read in batches from a file descriptor: all there, in order, the last one unended."""
+@pytest.mark.parametrize("read, chunk", [(1 << 16, 1 << 20), (1 << 12, 1 << 14), (7, 50)])
+def test_line_batches_of_a_pipe_keep_every_line(tmp_path, monkeypatch, read, chunk):
+    """Lines read in batches from a file descriptor (reads of ``read`` bytes, batches of up to
+    ``chunk`` while more is there, lines cut across reads): all there, in order, the last one
+    unended."""
+    from kin.commands import ik_stream
+
+    monkeypatch.setattr(ik_stream, "_READ", read)
+    monkeypatch.setattr(ik_stream, "_CHUNK", chunk)
+    path = tmp_path / "lines.txt"
+    path.write_bytes(b"".join(b'{"target": [%d, 0, 0]}\n' % i for i in range(60000)) + b"tail")
+    with path.open("rb") as source:
+        batches = list(ik_stream.line_batches(source))
+    lines = [line for batch in batches for line in batch]
+    assert len(batches) > 1 and len(lines) == 60001 and lines[-1] == b"tail"
+    assert [json.loads(line)["target"][0] for line in lines[:-1]] == list(range(60000))
+    assert max(sum(map(len, batch)) for batch in batches) <= chunk + read  # a batch: <= chunk
+
+
+def test_a_batch_ends_where_the_input_waits():
+    """Through a pipe whose writer pauses: the lines written before the pause are one batch,
+    yielded without waiting for more (the caller answers them first)."""
+    import os
+    import threading
+
     from kin.commands.ik_stream import line_batches
 
-    path = tmp_path / "lines.txt"
-    path.write_bytes(b"".join(b'{"target": [%d, 0, 0]}\n' % i for i in range(20000)) + b"tail")
-    with path.open("rb") as source:
-        batches = list(line_batches(source))
-    lines = [line for batch in batches for line in batch]
-    assert len(batches) > 1 and len(lines) == 20001 and lines[-1] == b"tail"
-    assert [json.loads(line)["target"][0] for line in lines[:-1]] == list(range(20000))
+    read_end, write_end = os.pipe()
+    gate = threading.Event()
+
+    def writer() -> None:
+        os.write(write_end, b"a\nb\n")
+        gate.wait(10)
+        os.write(write_end, b"c\n")
+        os.close(write_end)
+
+    thread = threading.Thread(target=writer)
+    thread.start()
+    with os.fdopen(read_end, "rb") as source:
+        batches = line_batches(source)
+        assert next(batches) == [b"a", b"b"]  # before c is written
+        gate.set()
+        assert [line for batch in batches for line in batch] == [b"c"]
+    thread.join(10)
 
 
 def test_an_unexpected_exception_in_one_line_is_that_lines_error(monkeypatch, capsys):

@@ -47,8 +47,11 @@ logger = logging.getLogger(__name__)
 
 #: Most answers written between two flushes while input lines are already there.
 FLUSH_EVERY = 32
-#: Bytes per read of the input [B].
-_CHUNK = 1 << 16
+#: Bytes per read of the input [B] (a pipe holds 64 KiB).
+_READ = 1 << 16
+#: Most bytes read into one batch while more input is already there [B]: each batch has costs
+#: of its own (arrays, thread hand-offs), so batches of a few thousand lines run faster.
+_CHUNK = 1 << 20
 
 #: Keys an input line may have.
 KEYS = (
@@ -594,8 +597,16 @@ def _input_waiting(source: object) -> bool:
     """
     try:
         fd = source.fileno()  # type: ignore[attr-defined]
-        return bool(select.select([fd], [], [], 0)[0])
     except (AttributeError, OSError, ValueError):
+        return False
+    return _fd_waiting(fd)
+
+
+def _fd_waiting(fd: int) -> bool:
+    """Whether ``fd`` can be read now without waiting; False where ``select`` does not take it."""
+    try:
+        return bool(select.select([fd], [], [], 0)[0])
+    except (OSError, ValueError):
         return False
 
 
@@ -665,10 +676,12 @@ def _error_record(number: int, err: Exception) -> dict[str, Any]:
 def line_batches(source: TextIO | Iterable[str]) -> Iterator[Sequence[str | bytes]]:
     """The input lines, in batches of those already there (read without waiting).
 
-    From a file descriptor (pipe, terminal, file): one ``os.read`` per batch, its complete lines
-    (a line typed or written alone is a batch of one). From anything else (e.g. ``StringIO``):
-    one line per batch. The caller flushes its answers after each batch, so it never sits on
-    an answer while waiting for input, and a fast producer does not cost a write per line.
+    From a file descriptor (pipe, terminal, file): a batch is what one ``os.read`` gives, and
+    what further reads give while more input is already there (``select``), up to
+    :data:`_CHUNK` bytes; its complete lines (a line typed or written alone is a batch of one).
+    From anything else (e.g. ``StringIO``): one line per batch. The caller flushes its answers
+    after each batch, so it never sits on an answer while waiting for input, and a fast
+    producer does not cost a write per line.
     """
     try:
         fd = source.fileno()  # type: ignore[union-attr]
@@ -677,13 +690,22 @@ def line_batches(source: TextIO | Iterable[str]) -> Iterator[Sequence[str | byte
             yield [line]
         return
     pending = b""
-    while True:
-        chunk = os.read(fd, _CHUNK)
+    ended = False
+    while not ended:
+        chunk = os.read(fd, _READ)  # waits for input
         if not chunk:
-            if pending:
-                yield [pending]
-            return
-        lines = (pending + chunk).split(b"\n")
+            break
+        parts, size = [pending, chunk], len(pending) + len(chunk)
+        while size < _CHUNK and _fd_waiting(fd):
+            more = os.read(fd, _READ)
+            if not more:
+                ended = True
+                break
+            parts.append(more)
+            size += len(more)
+        lines = b"".join(parts).split(b"\n")
         pending = lines.pop()
         if lines:
             yield lines
+    if pending:
+        yield [pending]
