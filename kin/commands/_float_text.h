@@ -28,7 +28,8 @@ typedef struct {
     int e;
 } Fp;
 
-/* 10^k for k = -348, -340, ..., 340: the 64-bit f (rounded to nearest, top bit set) and e. */
+/* 10^k for k = -348, -340, ..., 340: the 64-bit f (rounded to nearest, top bit set) and e,
+   made with exact integers: e such that 2^63 <= 10^k / 2^e < 2^64, f = round(10^k / 2^e). */
 static const Fp cached_powers[87] = {
     {0xfa8fd5a0081c0288u, -1220}, {0xbaaee17fa23ebf76u, -1193}, {0x8b16fb203055ac76u, -1166},
     {0xcf42894a5dce35eau, -1140}, {0x9a6bb0aa55653b2du, -1113}, {0xe61acf033d1a45dfu, -1087},
