@@ -384,7 +384,8 @@ class StreamSolver:
         poses = rpys is not None
         try:
             with np.errstate(all="ignore"):
-                points = np.array(targets, dtype=float) * self.length
+                given = np.array(targets, dtype=float)  # in --unit
+                points = given * self.length
                 angles = np.array(rpys, dtype=float) if poses else None
         except (TypeError, ValueError, OverflowError):
             return _no_answers
@@ -413,13 +414,13 @@ class StreamSolver:
             return _no_answers
         launch = time.perf_counter() - start
         return partial(
-            self._plain_answers, indices, points, angles, rows, result, launch, before, tried
+            self._plain_answers, indices, given, angles, rows, result, launch, before, tried
         )
 
     def _plain_answers(
         self,
         indices: list[int],
-        points: np.ndarray,
+        given: np.ndarray,
         angles: np.ndarray | None,
         rows: np.ndarray,
         result: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]],
@@ -429,9 +430,10 @@ class StreamSolver:
     ) -> dict[int, str]:
         """The encoded answers of :meth:`_plain_group`'s lines, by line index.
 
+        ``given``, ``angles``: their targets and rpy as read (in --unit, and radians or degrees);
         ``rows`` of them went to the batch stage: ``result`` gives its answer; ``launch`` [s]
-        it took to start. ``time_s`` of an answer: the time spent starting and finishing the batch stage, per line
-        (not the time other lines took in between).
+        it took to start. ``time_s`` of an answer: the time spent starting and finishing the
+        batch stage, per line (not the time other lines took in between).
         """
         start = time.perf_counter()
         try:
@@ -452,12 +454,15 @@ class StreamSolver:
         units = json.dumps(list(self.units.si_labels))
         answers: dict[int, str] = {}
         found = ~np.isnan(q).any(axis=1)
-        for row in rows[~found].tolist():  # as build_target makes them from the line's numbers
-            if angles is None:
-                tried[indices[row]] = PositionTarget(points[row])
-            else:
-                rpy = (angles[row] * self.angle).tolist()
-                tried[indices[row]] = PoseTarget.from_rpy(points[row].tolist(), rpy)
+        for row in rows[~found].tolist():  # made as request() makes them, from the same numbers
+            rpy = None if angles is None else angles[row].tolist()
+            try:
+                target, _ = build_target(
+                    given[row].tolist(), rpy=rpy, length=self.length, angle=self.angle
+                )
+            except (KinError, ValueError):  # request() says what is wrong with the line
+                continue
+            tried[indices[row]] = target
         first = before + 1  # the number of line index 0
         chosen = [indices[row] for row in rows[found].tolist()]
         after = ', "position_error_m": '

@@ -152,14 +152,15 @@ def call_first_many(
     starts = np.ascontiguousarray(starts, dtype=float)
     targets = np.ascontiguousarray(targets, dtype=float)
     scan_steps = np.asarray(steps, float)
-    threads = batch_threads()
-    if n < PARALLEL_ROWS or threads < 2:
+    workers = batch_threads()
+    blocks = workers
+    if n < PARALLEL_ROWS or workers < 2:
         if not later:
             call(*head, targets, starts, out, scan_steps)
             return out
-        threads = 1
-    bounds = np.linspace(0, n, threads + 1).astype(int)
-    pool = _pool(batch_threads())
+        blocks = 1
+    bounds = np.linspace(0, n, blocks + 1).astype(int)
+    pool = _pool(workers)
     parts = []
     for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist()):
         if b > a:
