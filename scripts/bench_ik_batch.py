@@ -13,14 +13,18 @@ vectors inside the limits), it prints:
 - ``TRAC-IK``: pytracik's per call (Speed, 20 ms), where installed.
 
 Each time is also given in Pinocchio FK calls: the median time of one
-``forwardKinematics`` + ``updateFramePlacement`` of the tool on the same robot, timed interleaved
-with the IK calls in the same loop (so both see the same CPU state); for the batch, in a loop of
-its own right before each of its passes (a loop of FK calls alone runs with warm caches, as the
-batch does: faster than FK calls between IK calls, so the batch's ratio is the stricter one; the
-row also gives it against the interleaved FK); for the stream, right before and after it. The batch runs the 7R scans in
-one block per processor (its row says how many threads). Per-call figures are the
-median of single calls (and the best of ``--passes`` passes per target beside it); batch
-figures the best of ``--passes`` runs. Success is judged by Pinocchio (1e-5 m, 1e-4 rad, inside
+``forwardKinematics`` + ``updateFramePlacement`` of the tool on the same robot, at the targets'
+own joint vectors (configurations across the workspace; not at the seeds, which may be q = 0,
+where sin and cos are cheapest). For the per-call rows it is timed interleaved with the IK calls
+in the same loop (so both see the same CPU state). For the batch, in a loop of its own right
+before and right after each pass: each pass is divided by the FK call of its own moment (the
+machine's speed drifts from minute to minute), and the row gives the median of those ratios (a
+loop of FK calls alone runs with warm caches, as the batch does: faster than FK calls between IK
+calls, so this ratio is the stricter one; the row also gives the batch's best time against the
+interleaved FK). For the stream, right before and after it. The batch runs the 7R scans in one
+block per processor (its row says how many threads). Per-call figures are the median of single
+calls (and the best of ``--passes`` passes per target beside it); batch figures the best and the
+median of ``--passes`` runs. Success is judged by Pinocchio (1e-5 m, 1e-4 rad, inside
 the limits); a false success is an answer marked successful that misses.
 """
 
@@ -60,7 +64,7 @@ def get_argument_parser() -> ArgumentParser:
     parser.add_argument("--robots", nargs="+", default=["humanoid7", "panda"])
     parser.add_argument("--poses", type=positive_int, default=2000, help="targets (default 2000)")
     parser.add_argument("--calls", type=positive_int, default=500, help="targets timed per call")
-    parser.add_argument("--passes", type=positive_int, default=3, help="timing passes")
+    parser.add_argument("--passes", type=positive_int, default=5, help="timing passes")
     parser.add_argument("--stream", action="store_true", help="time kin ik --stdin too")
     return parser
 
@@ -89,8 +93,15 @@ def _judge(robot: RobotModel, q: np.ndarray, pose: np.ndarray) -> bool:
     return inside and position < 1e-5 and rotation < 1e-4
 
 
-def per_call(robot: RobotModel, poses: np.ndarray, seeds: np.ndarray, passes: int) -> dict:
-    """Median single-call times [s] of the documented and the core call, and of the FK call."""
+def per_call(
+    robot: RobotModel, poses: np.ndarray, seeds: np.ndarray, passes: int, joints: np.ndarray
+) -> dict:
+    """Median single-call times [s] of the documented and the core call, and of the FK call.
+
+    The FK call is timed at ``joints`` (the targets' own joint vectors, one per target: a
+    configuration of the workspace, not the seed, which may be q = 0 where sin and cos are
+    cheap).
+    """
     solver = get_solver(robot)
     core = NumericIK(robot)
     fk = _fk_timer(robot)
@@ -107,7 +118,7 @@ def per_call(robot: RobotModel, poses: np.ndarray, seeds: np.ndarray, passes: in
         for turn in range(passes):
             for i, pose in enumerate(poses):
                 seed = seeds[i]
-                fks[turn, i] = fk(seed)
+                fks[turn, i] = fk(joints[i])
                 # Which call goes first alternates: the second finds the caches the first warmed.
                 if (i + turn) % 2:
                     begin = time.perf_counter()
@@ -149,27 +160,42 @@ def batch(
     seeds: np.ndarray,
     passes: int,
     fk,  # noqa: ANN001
+    joints: np.ndarray,
 ) -> dict:
-    """Best batch time [s] over ``passes``, its success and false successes.
+    """Best and median batch time [s] over ``passes``, in FK calls, success, false successes.
 
-    ``fk``: the FK timer, run on 1000 seeds right before each pass; ``"fk"`` in the answer is the
-    median of those runs (the batch's FK call, timed beside it rather than minutes before).
+    ``fk``: the FK timer, run at 1000 of ``joints`` (the targets' joint vectors) right before and
+    right after each pass; ``"calls"`` in the answer is the median over the passes of the pass's
+    time over the mean of its two FK medians (the machine's speed drifts: each pass is measured
+    against the FK call of its own moment), ``"fk"`` the median of all FK medians.
     """
-    best = math.inf
-    result = None
+    times = []
+    ratios = []
     fks = []
+    result = None
     for _ in range(passes):
-        fks.append(fk_median(fk, seeds[:1000]))
+        before = fk_median(fk, joints[:1000])
         begin = time.perf_counter()
         result = solve_batch(robot, poses[:, :3, 3], poses[:, :3, :3], seeds)
-        best = min(best, time.perf_counter() - begin)
+        elapsed = time.perf_counter() - begin
+        after = fk_median(fk, joints[:1000])
+        times.append(elapsed)
+        fks += [before, after]
+        ratios.append(elapsed / len(poses) / (0.5 * (before + after)))
     assert result is not None
     ok = false = 0
     for i in np.flatnonzero(result.success):
         good = _judge(robot, result.q[i], poses[i])
         ok += good
         false += not good
-    return {"time": best, "success": ok / len(poses), "false": false, "fk": float(np.median(fks))}
+    return {
+        "time": min(times),
+        "median": float(np.median(times)),
+        "calls": float(np.median(ratios)),
+        "success": ok / len(poses),
+        "false": false,
+        "fk": float(np.median(fks)),
+    }
 
 
 def stream(robot: RobotModel, poses: np.ndarray, lines: int = STREAM_LINES) -> dict:
@@ -246,9 +272,9 @@ def main(argv: list[str] | None = None) -> int:
         poses = batch_forward_kinematics(robot.table, q)
         random_seeds = rng.uniform(robot.lower, robot.upper, (args.poses, robot.nq))
         fk = _fk_timer(robot)
-        fk_time = float(np.median([fk(s) for s in random_seeds[:2000]]))
+        fk_time = float(np.median([fk(s) for s in q[:2000]]))
         for label, seeds in (("zero", np.zeros_like(q)), ("random", random_seeds)):
-            calls = per_call(robot, poses[: args.calls], seeds[: args.calls], args.passes)
+            calls = per_call(robot, poses[: args.calls], seeds[: args.calls], args.passes, q)
             fk_time = calls["fk"]
             for key, title in (("public", "per call (documented)"), ("core", "core (internal)")):
                 print(
@@ -256,18 +282,19 @@ def main(argv: list[str] | None = None) -> int:
                     f"(best of {args.passes}: {calls[key + '_best'] * 1e6:.1f} us) | "
                     f"{calls[key] / fk_time:.1f} | {calls['success']:.2%} | {calls['false']} |"
                 )
-            done = batch(robot, poses, seeds, args.passes, fk)
+            done = batch(robot, poses, seeds, args.passes, fk, q)
             each = done["time"] / args.poses
+            middle = done["median"] / args.poses
             print(
                 f"| {name} | {label} | batch of {args.poses} ({batch_threads()} threads) | "
-                f"{each * 1e6:.2f} us ({1.0 / each:,.0f} poses/s; {each / fk_time:.1f} FK calls "
-                f"timed interleaved with the calls above) | {each / done['fk']:.1f} | "
-                f"{done['success']:.2%} | {done['false']} |"
+                f"{each * 1e6:.2f} us, median {middle * 1e6:.2f} us ({1.0 / each:,.0f} poses/s; "
+                f"{each / fk_time:.1f} FK calls timed interleaved with the calls above) | "
+                f"{done['calls']:.1f} | {done['success']:.2%} | {done['false']} |"
             )
         if args.stream:
-            before = fk_median(fk, random_seeds[:1000])
+            before = fk_median(fk, q[:1000])
             streamed = stream(robot, poses)
-            fk_time = 0.5 * (before + fk_median(fk, random_seeds[:1000]))  # timed around it
+            fk_time = 0.5 * (before + fk_median(fk, q[:1000]))  # timed around it
             per_line = 1.0 / streamed["lines_per_s"]
             print(
                 f"| {name} | zero | kin ik --stdin ({streamed['lines']} lines) | "

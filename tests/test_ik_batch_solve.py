@@ -156,3 +156,57 @@ def test_a_forked_child_solves_batches_with_its_own_threads():
         child = pool.apply_async(solve_batch, (robot, points, frames)).get(timeout=120)
     np.testing.assert_array_equal(child.q, parent.q)
     assert child.success.all()
+
+
+def test_rotation_check_agrees_with_numpy_gram_and_det():
+    """The batch's rotation check (elementwise |R^T R - I| and det) takes and refuses what
+    einsum's Gram matrix and numpy.linalg.det say, and snaps what is near a rotation."""
+    from kin.ik import batch_solve
+    from kin.ik.target import ROTATION_SNAP
+
+    robot, points, frames = _poses("humanoid7", 200, 21)
+    rng = np.random.default_rng(22)
+    scale = rng.choice([0.0, 0.3 * ROTATION_SNAP, 3.0 * ROTATION_SNAP, 0.1], 200)
+    noisy = frames + scale[:, None, None] * rng.standard_normal((200, 3, 3))
+    noisy[5] = -noisy[5]  # a reflection
+    gram = np.einsum("nji,njk->nik", noisy, noisy) - np.eye(3)
+    expected = (np.abs(gram).reshape(200, 9).max(axis=1) <= ROTATION_SNAP) & (
+        np.linalg.det(noisy) > 0.0
+    )
+    for i in range(200):
+        if expected[i]:
+            snapped = batch_solve._rotations(noisy[i : i + 1], 1)[0]
+            np.testing.assert_allclose(snapped.T @ snapped, np.eye(3), atol=1e-12)
+            assert np.linalg.det(snapped) > 0.0
+        else:
+            with pytest.raises(TargetError, match=r"rotations\[0\] is not a rotation matrix"):
+                batch_solve._rotations(noisy[i : i + 1], 1)
+    assert 20 < expected.sum() < 180
+    if expected.all():
+        return
+    first_bad = int(np.flatnonzero(~expected)[0])
+    with pytest.raises(TargetError, match=rf"rotations\[{first_bad}\]"):
+        solve_batch(robot, points, noisy)
+
+
+def test_a_robot_keeps_its_batch_solver_until_its_limits_change():
+    """The solver solve_batch builds for a robot is built once; new joint limits rebuild it (and
+    the answers keep to them)."""
+    from kin.ik import batch_solve
+
+    robot, points, frames = _poses("panda", 50, 23)
+    solve_batch(robot, points, frames)
+    first = batch_solve._SOLVERS[robot][2]
+    solve_batch(robot, points, frames)
+    assert batch_solve._SOLVERS[robot][2] is first
+    model = robot.model
+    saved = model.upperPositionLimit.copy()
+    try:
+        upper = saved.copy()
+        upper[3] = -1.5
+        model.upperPositionLimit = upper
+        narrowed = solve_batch(robot, points, frames)
+        assert batch_solve._SOLVERS[robot][2] is not first
+        assert np.all(narrowed.q[narrowed.success, 3] <= -1.5)
+    finally:
+        model.upperPositionLimit = saved

@@ -3,9 +3,11 @@
 For an arm whose table fits a closed-form structure that takes the targets (poses, or positions),
 every pose is solved at once in NumPy (:class:`~kin.ik.analytic.batch.BatchSolver`: every branch,
 wrapped into the limits, each measured by the table's NumPy DH product); the answer of a pose is
-its valid branch nearest its seed. For the others (a numeric arm, a position on a six-joint arm,
-a rounded table solved on its idealised geometry), the robot's own solver answers pose by pose,
-Pinocchio judging each answer. Either way every success is on target (1e-9 m and rad for the
+its valid branch nearest its seed. A 7R arm with a free-joint closed form (humanoid7, Panda,
+xArm7) has its stage 0 batched: every target's scan from its seed, in compiled code and in threads
+(:func:`free_joint_answers`). For the others, and the targets that stage leaves (a numeric arm, a
+position on a six-joint arm, a rounded table solved on its idealised geometry), the robot's own
+solver answers pose by pose, Pinocchio judging each answer. Either way every success is on target (1e-9 m and rad for the
 closed forms, 1e-5 m and 1e-4 rad for the numeric stages) and inside the limits, and the stage
 that answered is named per pose.
 """
@@ -13,6 +15,7 @@ that answered is named per pose.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -73,10 +76,19 @@ def _array(values: npt.ArrayLike, shape: tuple[int, ...], what: str) -> np.ndarr
 def _rotations(values: npt.ArrayLike, n: int) -> np.ndarray:
     """N rotation matrices, each within :data:`ROTATION_SNAP` of one (snapped), else refused."""
     rotations = _array(values, (n, 3, 3), "rotations")
+    r = rotations.reshape(n, 9).T  # (9, N): row-major entries, each over the N matrices
+    columns = (r[0::3], r[1::3], r[2::3])
+    deviation = np.zeros(n)
     with np.errstate(all="ignore"):
-        gram = np.einsum("nji,njk->nik", rotations, rotations) - np.eye(3)
-        deviation = np.abs(gram).reshape(n, 9).max(axis=1)
-        determinant = np.linalg.det(rotations)
+        # max |R^T R - I| from the six distinct dot products of the columns, and det R as
+        # the expansion along the first row (elementwise: a tenth of einsum's and det's time)
+        for i in range(3):
+            for j in range(i, 3):
+                a, b = columns[i], columns[j]
+                gram = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] - (1.0 if i == j else 0.0)
+                np.maximum(deviation, np.abs(gram), out=deviation)
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = r
+        determinant = r0 * (r4 * r8 - r5 * r7) - r1 * (r3 * r8 - r5 * r6) + r2 * (r3 * r7 - r4 * r6)
     bad = ~((deviation <= ROTATION_SNAP) & (determinant > 0.0))
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
@@ -188,7 +200,7 @@ def _free_joint_first(
     answers; the others go through the robot's solver one by one (:func:`_one_by_one`), every
     stage of it.
     """
-    solver = get_solver(robot)
+    solver = _solver(robot)
     answers = free_joint_answers(solver, robot, points, frames, seeds) if len(points) else None
     if answers is None:
         return _one_by_one(robot, points, frames, seeds, timeout, solver)
@@ -214,6 +226,26 @@ def _free_joint_first(
     return BatchIKResult(q, success, position_error, rotation_error, tuple(stage))
 
 
+#: The solver of each robot :func:`solve_batch` was given (building one takes about 0.7 ms),
+#: with the joint limits [rad, m] it was built with.
+_SOLVERS: weakref.WeakKeyDictionary[RobotModel, tuple[np.ndarray, np.ndarray, Any]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def _solver(robot: RobotModel) -> Any:
+    """``get_solver(robot)``, built on the robot's first batch and kept while the robot lives.
+
+    Rebuilt when the model's joint limits are no longer those it was built with. A solver
+    serializes its solves (a lock), so threads that share a robot share it safely.
+    """
+    kept = _SOLVERS.get(robot)
+    lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
+    if kept is None or not (np.array_equal(kept[0], lower) and np.array_equal(kept[1], upper)):
+        kept = _SOLVERS[robot] = (lower.copy(), upper.copy(), get_solver(robot))
+    return kept[2]
+
+
 #: :attr:`BatchIKResult.stage` of an answer of the free-joint closed form (as the per-call
 #: solver's :attr:`~kin.ik.IKResult.method`).
 FREE_JOINT_STAGE = "closed_form_free_joint"
@@ -231,9 +263,13 @@ def free_joint_answers(
     For an arm with a free-joint closed form (:mod:`.numeric.free_joint`: humanoid7's, Panda's,
     xArm7's; not on an idealised table), each target's branch with its seed's free joint
     (scanned outward, coarse to fine, when that gives none inside the limits), as the first step
-    of a call of the solver from that seed: the compiled twin in one call per target. The
-    candidates are measured together by the batched judge (:func:`~kin.ik.judge.batch_pose_errors`
-    on the table's DH product): kept within 1e-9 m and rad and inside the limits.
+    of a call of the solver from that seed, each candidate measured by the table's DH product
+    and kept within 1e-9 m and rad and inside the limits. Where the solver has ``seeded_many``
+    (:func:`.numeric.free_joint.compiled_seeded_many`: the two special 7R forms with their twin
+    built), all of it is compiled and runs in threads, blocks of rows at a time; else the
+    twin's ``first_many`` (or ``first`` per target) gives the candidates and the batched judge
+    (:func:`kin.batch_forward_kinematics`, :func:`~kin.ik.judge.batch_pose_errors`) measures them
+    in NumPy.
 
     A solver with ``near_seed`` (the ``kin`` commands') answers a target whose seed's tool is
     near it (:func:`_near_seeds`) with the branch of the seed's own free joint (no scan), and
@@ -278,7 +314,21 @@ def start_free_joint_answers(
     candidates = np.full((n, nq), np.nan)
     jobs: list[tuple[np.ndarray, ScanJob]] = []
     first_each = getattr(closed, "first_each", None)
-    if first_each is not None and frames is not None:
+    many = getattr(solver, "seeded_many", None)
+    if many is not None:
+        # Compiled end to end: each row's scan and its judge (the table's DH product, the
+        # limits) in the threads; the answer rows carry their errors.
+        steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
+        for rows, row_steps in ((~near_rows & ~skipped, steps), (near_rows & ~skipped, (0.0,))):
+            index = np.flatnonzero(rows)
+            if index.size:
+                frame_rows = None if frames is None else frames[index]
+                job = many.start(
+                    points[index], frame_rows, seeds[index], row_steps, _CLOSED_TOLERANCE
+                )
+                jobs.append((index, job))
+        judged = True
+    elif first_each is not None and frames is not None:
         # A form whose solve is batched itself (General7RIK): one solve of every target at its
         # seed's free joint, no scan (the targets it leaves go to the solver one by one).
         targets = np.zeros((n, 4, 4))
@@ -289,7 +339,11 @@ def start_free_joint_answers(
         jobs = _branches_from_seeds(
             closed, solver, points, frames, seeds, near_rows, skipped, candidates
         )
-    return FreeJointAnswers(solver, robot, points, frames, seeds, near_rows, candidates, jobs)
+    if many is None:
+        judged = False
+    return FreeJointAnswers(
+        solver, robot, points, frames, seeds, near_rows, candidates, jobs, judged
+    )
 
 
 @dataclass(frozen=True)
@@ -298,7 +352,8 @@ class FreeJointAnswers:
 
     Attributes: the solver, robot, targets and seeds it was given; ``near_rows`` as
     :func:`_near_seeds` says; ``candidates`` (N, nq) so far; ``jobs`` the scans still running
-    (the rows each fills).
+    (the rows each fills); ``judged``: the jobs' rows are the solver's ``seeded_many`` answers,
+    q and errors, judged in compiled code already (else ``result`` judges the candidates).
     """
 
     solver: object
@@ -309,20 +364,27 @@ class FreeJointAnswers:
     near_rows: np.ndarray
     candidates: np.ndarray
     jobs: list[tuple[np.ndarray, ScanJob]]
+    judged: bool = False
 
     def result(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:func:`free_joint_answers`' answer, once the scans are done (call it once)."""
         robot, points, frames, candidates = self.robot, self.points, self.frames, self.candidates
-        for index, job in self.jobs:
-            candidates[index] = job.result()
         n = points.shape[0]
+        position_error = np.full(n, np.nan)
+        rotation_error = np.full(n, np.nan)
+        for index, job in self.jobs:
+            rows = job.result()
+            candidates[index] = rows[:, :7]
+            if self.judged:
+                position_error[index], rotation_error[index] = rows[:, 7], rows[:, 8]
         if self.near_rows.any():  # kept only within seed_near of the seed (else damped Newton)
             moved = np.abs(candidates - self.seeds).max(axis=1)
             limit = getattr(self.solver, "seed_near", 0.0)
-            candidates[self.near_rows & ~(moved <= limit)] = np.nan
+            far = self.near_rows & ~(moved <= limit)
+            candidates[far] = position_error[far] = rotation_error[far] = np.nan
+        if self.judged:
+            return candidates, position_error, rotation_error
         found = ~np.isnan(candidates).any(axis=1)
-        position_error = np.full(n, np.nan)
-        rotation_error = np.full(n, np.nan)
         if found.any():
             rows = np.flatnonzero(found)
             chosen = candidates[rows]

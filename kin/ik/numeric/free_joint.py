@@ -40,7 +40,7 @@ from ..analytic.seven_r.general_7r import General7RIK
 from ..analytic.seven_r.seven_dof import SevenDofIK
 from ..analytic.seven_r.shoulder7_structure import spherical_shoulder7
 from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK
-from ..analytic.seven_r.subproblems import chain_fields, pack_params
+from ..analytic.seven_r.subproblems import ScanJob, call_first_many, chain_fields, pack_params
 from ..analytic.structure import seven_dof
 from ..exceptions import StructureError
 from ..result import IKResult, IKSolution
@@ -176,17 +176,10 @@ def compiled_seeded(
         steps: The free joint's scan steps [rad], coarse to fine.
         name: The pipeline's name (:attr:`IKResult.solver`).
     """
-    if not isinstance(closed, (SevenDofIK, SphericalShoulder7RIK)) or closed.twin is None:
+    block = _seed_block(closed, table, base_origin, reach)
+    if block is None:
         return None
-    rows = table.rows
-    if len(rows) != 7 or any(r.joint_type != "revolute" or r.direction != 1 for r in rows):
-        return None
-    fields = {
-        **chain_fields(table),
-        **closed.seed_frames(),
-        "reach": (*(float(v) for v in base_origin), float(reach)),
-    }
-    block = pack_params(fields, closed.twin.SEED_LAYOUT).tobytes()
+    closed = cast("SevenDofIK | SphericalShoulder7RIK", closed)
     steps = tuple(float(step) for step in steps)
     return functools.partial(
         closed.twin.seeded,
@@ -200,6 +193,89 @@ def compiled_seeded(
         METHOD,
         time.perf_counter,
     )
+
+
+def _seed_block(
+    closed: FreeJointClosedForm | None,
+    table: DHTable,
+    base_origin: Sequence[float],
+    reach: float,
+) -> bytes | None:
+    """The twin's Seed block (``SEED_LAYOUT``) of ``closed`` on ``table``, or None.
+
+    None where the compiled seeded calls do not apply (see :func:`compiled_seeded`).
+    """
+    if not isinstance(closed, (SevenDofIK, SphericalShoulder7RIK)) or closed.twin is None:
+        return None
+    rows = table.rows
+    if len(rows) != 7 or any(r.joint_type != "revolute" or r.direction != 1 for r in rows):
+        return None
+    fields = {
+        **chain_fields(table),
+        **closed.seed_frames(),
+        "reach": (*(float(v) for v in base_origin), float(reach)),
+    }
+    return pack_params(fields, closed.twin.SEED_LAYOUT).tobytes()
+
+
+class SeededMany:
+    """The batch's closed-form stage in compiled code: N world targets, each from its own start.
+
+    The twin's ``seeded_many`` (``kin/ik/analytic/seven_r/_seeded7.h``) brings each target to
+    the structure's frames, takes the first scan step whose closed form from the start gives a
+    branch, measures it with the table's DH product (as :func:`compiled_seeded`) and keeps it
+    when within the tolerances and inside the limits; in threads, without the interpreter lock
+    (:func:`~kin.ik.analytic.seven_r.subproblems.call_first_many`). Built by
+    :func:`compiled_seeded_many`.
+    """
+
+    def __init__(
+        self, twin: Any, params: bytes, block: bytes, lower: np.ndarray, upper: np.ndarray
+    ):
+        self._call = twin.seeded_many
+        self._head = (params, block, np.concatenate((lower, upper)).astype(float))
+
+    def start(
+        self,
+        positions: np.ndarray,
+        rotations: np.ndarray | None,
+        starts: np.ndarray,
+        steps: Sequence[float],
+        tolerance: float,
+    ) -> ScanJob:
+        """Start the stage on targets (N, 3) [m] with rotations (N, 3, 3) or None (points).
+
+        Returns:
+            The job; its ``result()`` is (N, 9): per row q (7) [rad], the position error [m]
+            and the rotation error [rad] (NaN for a point), or NaN where no branch was kept
+            (none, off by ``tolerance`` [m] / [rad] or more, or outside the limits).
+        """
+        n = positions.shape[0]
+        mode, targets = 1, positions
+        if rotations is not None:
+            mode, targets = 0, np.concatenate((positions, rotations.reshape(n, 9)), 1)
+        head = (*self._head, mode, np.array([tolerance, tolerance]))
+        job = call_first_many(self._call, head, targets, starts, steps, later=True, width=9)
+        return cast("ScanJob", job)
+
+
+def compiled_seeded_many(
+    closed: FreeJointClosedForm | None,
+    table: DHTable,
+    lower: np.ndarray,
+    upper: np.ndarray,
+) -> SeededMany | None:
+    """The batch's closed-form stage in compiled code (:class:`SeededMany`), or None.
+
+    None where it does not apply (as :func:`compiled_seeded`). The joint limits ``lower``,
+    ``upper`` [rad] are the judge's.
+    """
+    block = _seed_block(closed, table, (0.0, 0.0, 0.0), math.inf)
+    twin = getattr(closed, "twin", None)
+    if block is None or not hasattr(twin, "seeded_many"):
+        return None
+    params = cast("SevenDofIK | SphericalShoulder7RIK", closed).c_params.tobytes()
+    return SeededMany(twin, params, block, lower, upper)
 
 
 def solve_free_joint(ik: NumericContext, search: Search) -> IKResult | None:

@@ -56,7 +56,9 @@ from .differential_ik import DifferentialIK
 from .free_joint import METHOD as FREE_JOINT
 from .free_joint import (
     FreeJointClosedForm,
+    SeededMany,
     compiled_seeded,
+    compiled_seeded_many,
     free_joint_closed_form,
     solve_free_joint,
 )
@@ -270,6 +272,13 @@ class NumericIK:
                 self.reach,
                 self.closed_form_steps,
                 PIPELINE,
+            )
+        #: The batch's closed-form stage in compiled code (:func:`.free_joint.compiled_seeded_many`:
+        #: :func:`kin.ik.solve_batch`, ``kin ik --stdin``), or None where ``_seeded`` is.
+        self.seeded_many: SeededMany | None = None
+        if self._seeded is not None:
+            self.seeded_many = compiled_seeded_many(
+                self.closed_form, robot.table, self.lower, self.upper
             )
         # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
         # that share a solver get the answers one thread would).

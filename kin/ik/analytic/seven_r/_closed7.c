@@ -40,7 +40,8 @@
     X(tool, 3, "tool origin in frame 7 [m]")                         \
     X(w7, 3, "wrist centre in frame 7 [m]")                          \
     X(ax7, 3, "(0, sin alpha7, cos alpha7)")                          \
-    X(edge4, 5, "cos, sin of t4 at joint 4's lower, upper limit; 1 if they span a turn")
+    X(edge4, 5, "cos, sin of t4 at joint 4's lower, upper limit; 1 if they span a turn")  \
+    X(arc, 12, "joints 2-4: cos, sin of t at the limits' middle, cos of half their span; 1 if wide")
 
 TWIN_PARAMS(CLOSED7_PARAMS)
 
@@ -53,6 +54,68 @@ typedef struct {
 static int inside(const Params *P, int i, double q)
 {
     return P->lo[i] <= q && q <= P->hi[i];
+}
+
+/*
+ * A test before arm()'s angles (not in the Python module: the same answers). Most joint-1 values
+ * a scan visits inside the elbow window (below) still give no branch: joint 3 (or 4) lands
+ * outside its limits. arm_may_fit() finds the roots of the elbow and shoulder equations as
+ * directions (cos, sin: a square root instead of atan2, acos, sin and cos) and the joint ranges
+ * as arcs, and says 0 only when no root direction lies inside its arc, widened by ARC_SLACK.
+ * Directions near a double root, or of an equation too weak to place them, are not trusted (the
+ * test then says 1): the directions and the angles arm() computes then differ by far less than
+ * ARC_SLACK, so that a branch arm() would keep is never skipped.
+ */
+#define ARC_SLACK 1e-6
+#define ROOT_RHO_MIN 1e-3 /* [m] or [m^2]: weaker equations are not tested */
+#define ROOT_EDGE 1e-4    /* |k / rho| beyond 1 - ROOT_EDGE: roots too near each other */
+
+/* cos, sin of the roots t of p cos t + q sin t = k (phi + delta, then phi - delta, as
+   harmonic_roots orders them) into c, s: how many (0 or 2), or -1 when they are not to be
+   trusted (or may be missing: within the slack of having roots). */
+static inline int root_directions(double p, double q, double k, double *c, double *s)
+{
+    double rho = hypot(p, q);
+    if (!(rho >= ROOT_RHO_MIN)) return -1;
+    double x = k / rho;
+    if (fabs(x) > 1.0 + ARC_SLACK) return 0;
+    if (!(fabs(x) <= 1.0 - ROOT_EDGE)) return -1;
+    double sd = sqrt((1.0 - x) * (1.0 + x)), cp = p / rho, sp = q / rho;
+    c[0] = cp * x - sp * sd;
+    s[0] = sp * x + cp * sd;
+    c[1] = cp * x + sp * sd;
+    s[1] = sp * x - cp * sd;
+    return 2;
+}
+
+/* Whether the angle with direction (c, s) may be a joint value inside the arc (P->arc + 4 * j:
+   cos, sin of the middle, cos of half the span, 1 when the span is a turn or more). */
+static inline int arc_admits(const double *arc, double c, double s)
+{
+    return arc[3] != 0.0 || c * arc[0] + s * arc[1] >= arc[2] - ARC_SLACK;
+}
+
+/* 0 when arm() surely finds no branch for the point d (seen from the shoulder, as arm() computes
+   it) with the elbow equation pe cos t4 + qe sin t4 = ke; else 1. */
+static int arm_may_fit(const Params *P, const double *dv, double pe, double qe, double ke,
+                       const double *u)
+{
+    double c4s[2], s4s[2], c3s[2], s3s[2];
+    int n4 = root_directions(pe, qe, ke, c4s, s4s);
+    if (n4 < 0) return 1;
+    const double *S = P->sin, *C = P->cos, *s3v = P->s3;
+    for (int i = 0; i < n4; i++) {
+        double c4 = c4s[i], s4 = s4s[i];
+        if (!arc_admits(P->arc + 8, c4, s4)) continue;
+        double vy0 = u[0] * s4 + u[1] * c4 - s3v[1], vz0 = u[2] - s3v[2];
+        double v0 = u[0] * c4 - u[1] * s4 - s3v[0];
+        double v1 = C[2] * vy0 - S[2] * vz0, v2 = S[2] * vy0 + C[2] * vz0;
+        int n3 = root_directions(S[1] * v1, S[1] * v0, dv[2] - C[1] * v2, c3s, s3s);
+        if (n3 < 0) return 1;
+        for (int j = 0; j < n3; j++)
+            if (arc_admits(P->arc + 4, c3s[j], s3s[j])) return 1;
+    }
+    return 0;
 }
 
 /* SevenDofIK._arm: branches putting Rz(t4) u (frame 3) on the point pt (frame 0). */
@@ -70,7 +133,9 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, Ar
     double sx = s3v[0], sy = s3v[1], sz = s3v[2];
     double k = 0.5 * (ux * ux + uy * uy + uz * uz + P->s3_2[0] - dx * dx - dy * dy - dz * dz);
     double s3 = S[2], c3 = C[2], t4s[2];
-    int n4 = harmonic_roots(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz, t4s), count = 0;
+    double pe = sx * ux + sy * uy, qe = sy * ux - sx * uy, ke = k - sz * uz;
+    if (!arm_may_fit(P, dv, pe, qe, ke, u)) return 0;
+    int n4 = harmonic_roots(pe, qe, ke, t4s), count = 0;
     for (int i = 0; i < n4; i++) {
         double t4 = t4s[i];
         double q4 = turn_remainder(t4 - off[3]);
@@ -353,6 +418,7 @@ static PyMethodDef methods[] = {
      "the limits (written to out), or -1. See kin/ik/analytic/seven_dof.py."},
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
+    {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",

@@ -180,6 +180,104 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     Py_RETURN_FALSE;
 }
 
+/*
+ * seeded_many(params, seed_block, limits, mode, tolerances, targets, starts, out, steps) -> int
+ *   The batch's closed-form stage (kin/ik/batch_solve.py): for each of N world targets, the first
+ *   scan step whose first() from its own start gives a branch, that branch measured by the
+ *   table's DH product and kept when both errors are strictly below the tolerances and every
+ *   joint is inside the limits. All of it without the GIL (threads share the work by rows).
+ *   params, seed_block: bytes of the structure's Params and of its Seed block (as seeded's);
+ *   limits:     float64[14], the arm's lower then upper joint limits [rad] (the judge's);
+ *   mode:       0 = poses, targets float64[N, 12]: position [m] then R_world_tool row-major;
+ *               1 = points, targets float64[N, 3] [m] (no answer where first() takes no point);
+ *   tolerances: float64[2], position [m] and rotation [rad];
+ *   starts:     float64[N, 7] [rad];
+ *   out:        float64[N, 9] receives per row q (7) [rad], the position error [m] and the
+ *               rotation error [rad] (NaN for a point), or nine NaN where no branch is kept;
+ *   steps:      float64[m], the scan steps [rad] (0.0: the start's free joint only).
+ *   Returns how many rows got an answer.
+ */
+static PyObject *seeded_many(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *params_obj, *seed_obj, *objs[6];
+    static const char *const names[6] = {"limits", "tolerances", "targets", "starts", "out",
+                                         "steps"};
+    static const int writable[6] = {0, 0, 0, 0, 1, 0};
+    int mode;
+    if (!PyArg_ParseTuple(args, "SSOiOOOOO", &params_obj, &seed_obj, &objs[0], &mode, &objs[1],
+                          &objs[2], &objs[3], &objs[4], &objs[5]))
+        return NULL;
+    if (PyBytes_GET_SIZE(params_obj) != sizeof(Params) || PyBytes_GET_SIZE(seed_obj) != sizeof(Seed)) {
+        PyErr_SetString(PyExc_ValueError, "params, seed_block: bytes of the blocks");
+        return NULL;
+    }
+    Py_buffer views[6];
+    if (!get_buffers(6, objs, views, writable, names)) return NULL;
+    Py_buffer *limits = &views[0], *tolerances = &views[1], *targets = &views[2],
+              *starts = &views[3], *out = &views[4], *steps = &views[5];
+    Py_ssize_t width = mode == 1 ? 3 : 12, n = 0, found = 0;
+    const char *error = NULL;
+    if (mode != 0 && mode != 1) error = "mode must be 0 (pose) or 1 (position)";
+    else if (limits->len != 14 * (Py_ssize_t)sizeof(double)) error = "limits: not 14 float64";
+    else if (tolerances->len != 2 * (Py_ssize_t)sizeof(double)) error = "tolerances: not 2 float64";
+    else if (targets->ndim != 2 || targets->shape[1] != width) error = "targets: not N x width float64";
+    else if (starts->ndim != 2 || starts->shape[1] != 7 || starts->shape[0] != targets->shape[0])
+        error = "starts: not N x 7 float64";
+    else if (out->ndim != 2 || out->shape[1] != 9 || out->shape[0] != targets->shape[0])
+        error = "out: not N x 9 float64";
+    else if (steps->ndim != 1) error = "steps: not a float64 vector";
+    if (error == NULL) {
+        Params P;
+        Seed S;
+        memcpy(&P, PyBytes_AS_STRING(params_obj), sizeof P);
+        memcpy(&S, PyBytes_AS_STRING(seed_obj), sizeof S);
+        const double *lo = limits->buf, *hi = lo + 7, *tol = tolerances->buf, *step = steps->buf;
+        const double *all = targets->buf, *Q = starts->buf;
+        double *rows = out->buf;
+        Py_ssize_t n_steps = steps->shape[0];
+        n = targets->shape[0];
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < n; i++) {
+            double *row = rows + 9 * i, p[3], r[9] = {0.0}, T[12], q[7];
+            const double *t = all + width * i;
+            for (int k = 0; k < 9; k++) row[k] = NAN;
+            if (mode == 1 && !SEEDED_POINTS) continue;
+            memcpy(p, t, sizeof p);
+            if (mode == 0) memcpy(r, t + 3, sizeof r);
+            prepare_seeded(&S, mode, p, r, T);
+            for (Py_ssize_t k = 0; k < n_steps; k++) {
+                if (first_start(&P, mode, T, Q + 7 * i, 1, step[k], q) != 0) continue;
+                double pose[12], position_error, rotation_error;
+                chain_pose7(&S, q, pose);
+                pose_errors(pose, p, r, &position_error, &rotation_error);
+                int keep = position_error < tol[0] && (mode == 1 || rotation_error < tol[1]);
+                for (int j = 0; j < 7; j++) keep = keep && lo[j] <= q[j] && q[j] <= hi[j];
+                if (keep) {
+                    memcpy(row, q, sizeof q);
+                    row[7] = position_error;
+                    row[8] = mode == 1 ? NAN : rotation_error;
+                    found++;
+                }
+                break; /* the first step with a branch decides */
+            }
+        }
+        Py_END_ALLOW_THREADS
+    }
+    release_buffers(6, views);
+    if (error != NULL) {
+        PyErr_SetString(PyExc_ValueError, error);
+        return NULL;
+    }
+    return PyLong_FromSsize_t(found);
+}
+
+/* The docstring of seeded_many in the method tables. */
+#define SEEDED_MANY_DOC                                                                        \
+    "seeded_many(params, seed_block, limits, mode, tolerances, targets, starts, out, steps) -> " \
+    "how many of the N world targets got a verified branch (q and its errors in out's rows). " \
+    "See kin/ik/analytic/seven_r/_seeded7.h."
+
 /* The docstring of seeded in the method tables. */
 #define SEEDED_DOC                                                                           \
     "seeded(params, seed_block, steps, solution, result, name, message, method, clock, "     \

@@ -291,6 +291,7 @@ static PyMethodDef methods[] = {
      "the limits (written to out), or -1. See kin/ik/analytic/spherical_shoulder7.py."},
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
+    {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {

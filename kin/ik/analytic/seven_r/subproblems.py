@@ -133,6 +133,7 @@ def call_first_many(
     starts: np.ndarray,
     steps: Sequence[float],
     later: bool = False,
+    width: int = 7,
 ) -> np.ndarray | ScanJob:
     """A compiled twin's ``first_many`` of N prepared targets: (N, 7) branches [rad], NaN rows.
 
@@ -143,17 +144,18 @@ def call_first_many(
     cut into one block per processor (:func:`batch_threads`), solved at once in threads (each
     row's answer is the same either way). With ``later``, the blocks (one at least) are started
     in the threads and a :class:`ScanJob` returned at once: the caller does other work (its
-    Python runs while they do) and takes the answers from :meth:`ScanJob.result`.
+    Python runs while they do) and takes the answers from :meth:`ScanJob.result`. ``width``:
+    the columns of each answer row (7; 9 for ``seeded_many``'s q and errors).
     """
     n = starts.shape[0]
-    out = np.full((n, 7), np.nan)
+    out = np.full((n, width), np.nan)
     if targets is None or not n:
         return ScanJob(out, []) if later else out
     starts = np.ascontiguousarray(starts, dtype=float)
     targets = np.ascontiguousarray(targets, dtype=float)
     scan_steps = np.asarray(steps, float)
     workers = batch_threads()
-    blocks = workers
+    blocks = workers * _BLOCKS_PER_THREAD
     if n < PARALLEL_ROWS or workers < 2:
         if not later:
             call(*head, targets, starts, out, scan_steps)
@@ -164,7 +166,7 @@ def call_first_many(
     parts = []
     for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist()):
         if b > a:
-            block = np.full((b - a, 7), np.nan)
+            block = np.full((b - a, width), np.nan)
             job = pool.submit(call, *head, targets[a:b], starts[a:b], block, scan_steps)
             parts.append((a, b, block, job))
     scan = ScanJob(out, parts)
@@ -181,7 +183,10 @@ class ScanJob:
         self._parts = parts
 
     def result(self) -> np.ndarray:
-        """The (N, 7) branches [rad], NaN rows, once every block is done (its error raised)."""
+        """The (N, width) answer rows (branches [rad]), NaN rows, once every block is done.
+
+        A block's error is raised here.
+        """
         for a, b, block, job in self._parts:
             job.result()
             self._out[a:b] = block
@@ -189,8 +194,12 @@ class ScanJob:
         return self._out
 
 
-#: Rows from which :func:`call_first_many` cuts the work into one block per processor.
+#: Rows from which :func:`call_first_many` cuts the work into blocks for the processors.
 PARALLEL_ROWS = 256
+
+#: Blocks per thread: the threads take them in turn, so that one that drew the costlier rows
+#: (a target's scan costs from one to dozens of closed-form solves) is helped by the others.
+_BLOCKS_PER_THREAD = 4
 
 #: The thread pool and the process that made it (a forked child makes its own: the parent's
 #: threads do not exist there).
