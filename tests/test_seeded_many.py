@@ -8,9 +8,9 @@ seeds, judged by :func:`kin.batch_forward_kinematics` and :func:`kin.ik.judge.ba
 in NumPy. The frame change rounds differently in C and NumPy: joint vectors agree to 1e-9 rad,
 errors to 1e-12, found and not found exactly.
 
-The twins also skip, without their angles, the joint-1 values where no root of the elbow and
-shoulder equations fits joints 3 and 4 (``arm_may_fit`` in ``_closed7.c``): targets whose own
-joints 3 and 4 sit on their limits check that no answer the Python module finds is skipped.
+humanoid7's twin also skips, without its angles, the joint-1 values where no branch followed as
+directions fits every joint's limits (``q1_may_fit`` in ``_closed7.c``): targets whose own joints
+sit on their limits check that no answer the Python module finds is skipped.
 """
 
 from __future__ import annotations
@@ -186,37 +186,42 @@ def test_a_batch_answers_as_before_the_stage_was_compiled():
 
 
 def _edge_robot(name: str, seed: int):  # noqa: ANN202
-    """The robot with joints 2-4 limited to random arcs narrower than a half turn."""
+    """The robot with joints 2-7 limited to random arcs narrower than a half turn."""
     robot = load_robot(name)
     rng = np.random.default_rng(seed)
     middle = rng.uniform(robot.lower * 0.5, robot.upper * 0.5)
     half = rng.uniform(0.15, 0.8, robot.nq)
     rows = tuple(
-        dataclasses.replace(row, lower=float(m - h), upper=float(m + h)) if j in (1, 2, 3) else row
+        dataclasses.replace(row, lower=float(m - h), upper=float(m + h)) if j else row
         for j, (row, m, h) in enumerate(zip(robot.table.rows, middle, half))
     )
     return robot_from_table(dataclasses.replace(robot.table, rows=rows))
 
 
 @pytest.mark.skipif(not CLOSED7, reason="the compiled twin of humanoid7's closed form is not built")
-@pytest.mark.parametrize("seed", [41, 42])
-def test_the_arm_test_skips_no_branch_on_the_limits(seed):
-    """Targets whose own joints 3 and 4 sit on their limits (to 1e-9 rad), or joint 4 at the
-    elbow's stretch, with seeds elsewhere: the twin's scan (with ``arm_may_fit``) finds what the
-    Python module's scan finds, joint vectors within 1e-9 rad."""
+@pytest.mark.parametrize("seed", [41, 42, 43])
+def test_the_twin_skips_no_branch_on_the_limits(seed):
+    """Targets whose own joints 2-7 sit on their limits (each with probability one half, to 1e-9
+    rad), some with joint 4 at the elbow's stretch or joint 6 at the wrist's singularity, seeds
+    elsewhere: the twin's scan (which skips, as directions, the joint-1 values where no branch
+    fits: ``q1_may_fit``) finds what the Python module's scan finds, within 1e-9 rad."""
     robot = _edge_robot("humanoid7", seed)
     ik = NumericIK(robot, prepare=False).closed_form
     rng = np.random.default_rng(seed)
     n = 300
     q = rng.uniform(robot.lower, robot.upper, (n, 7))
-    jitter = rng.choice([-1e-9, 0.0, 1e-9], (n, 2))
-    q[:, 2] = np.where(rng.random(n) < 0.5, robot.lower[2], robot.upper[2]) + jitter[:, 0]
-    q[:, 3] = np.where(rng.random(n) < 0.5, robot.lower[3], robot.upper[3]) + jitter[:, 1]
-    q[::3, 3] = np.clip(0.0, robot.lower[3], robot.upper[3])
+    edge = np.where(rng.random((n, 7)) < 0.5, robot.lower, robot.upper)
+    edge += rng.choice([-1e-9, 0.0, 1e-9], (n, 7))
+    on_edge = rng.random((n, 7)) < 0.5
+    on_edge[:, 0] = False
+    q = np.where(on_edge, edge, q)
+    q[::5, 3] = 0.0  # the elbow stretched (where joint 4 allows it)
+    q[1::5, 5] = 0.0  # the wrist singular (where joint 6 allows it)
     q = np.clip(q, robot.lower, robot.upper)
     poses = batch_forward_kinematics(robot.table, q)
     points, frames = poses[:, :3, 3].copy(), poses[:, :3, :3].copy()
     seeds = rng.uniform(robot.lower, robot.upper, (n, 7))
+    seeds[::2, 0] = q[::2, 0]  # the target's own joint 1: its branch, joints on their limits
     rates = []
     for steps in (DEFAULT_CLOSED_FORM_STEPS, (0.0,)):
         batched = ik.first_many(points, frames, seeds, steps)
@@ -233,5 +238,6 @@ def test_the_arm_test_skips_no_branch_on_the_limits(seed):
         if found.any():
             assert np.abs(batched[found] - single[found]).max() <= TOL
         rates.append(found.mean())
-    # the scan found answers (joints 3, 4 on their limits leave joint 1 narrow windows, or a point)
-    assert rates[0] > 0.3
+    # There were answers to compare. Many targets are not reached (by either): a joint set
+    # exactly on its limit comes back from the closed form an ulp outside it.
+    assert rates[1] > 0.05 and rates[0] > 0.2

@@ -2,8 +2,11 @@
  * Compiled twin of kin/ik/analytic/seven_dof.py (SevenDofIK.pose / SevenDofIK.position and the choice of the
  * branch nearest a start): the same arithmetic, operation for operation, for speed, except that
  * the angle pairs a limit check drops are dropped before their second angle is computed
- * (rotation_pair_fit in ../_twin.h). The Python module is the reference and the fallback when
- * this extension is not built; the tests compare the two. Angles in radians, lengths in meters.
+ * (rotation_pair_fit in ../_twin.h), and a scan skips the joint-1 values where the elbow has no
+ * root (elbow_window) or where no branch, followed as directions, fits the limits (q1_may_fit):
+ * skips that never drop a branch the Python module keeps. The Python module is the reference
+ * and the fallback when this extension is not built; the tests compare the two. Angles in
+ * radians, lengths in meters.
  *
  * first(params, mode, target, starts, out, step) -> int
  *   params: float64[PARAM_COUNT], SevenDofIK.c_params (CLOSED7_PARAMS below, exported as LAYOUT);
@@ -41,7 +44,7 @@
     X(w7, 3, "wrist centre in frame 7 [m]")                          \
     X(ax7, 3, "(0, sin alpha7, cos alpha7)")                          \
     X(edge4, 5, "cos, sin of t4 at joint 4's lower, upper limit; 1 if they span a turn")  \
-    X(arc, 12, "joints 2-4: cos, sin of t at the limits' middle, cos of half their span; 1 if wide")
+    X(arc, 24, "joints 2-7: cos, sin of t at the limits' middle, cos of half their span; 1 if wide")
 
 TWIN_PARAMS(CLOSED7_PARAMS)
 
@@ -58,17 +61,23 @@ static int inside(const Params *P, int i, double q)
 
 /*
  * A test before arm()'s angles (not in the Python module: the same answers). Most joint-1 values
- * a scan visits inside the elbow window (below) still give no branch: joint 3 (or 4) lands
- * outside its limits. arm_may_fit() finds the roots of the elbow and shoulder equations as
- * directions (cos, sin: a square root instead of atan2, acos, sin and cos) and the joint ranges
- * as arcs, and says 0 only when no root direction lies inside its arc, widened by ARC_SLACK.
- * Directions near a double root, or of an equation too weak to place them, are not trusted (the
- * test then says 1): the directions and the angles arm() computes then differ by far less than
- * ARC_SLACK, so that a branch arm() would keep is never skipped.
+ * a scan visits inside the elbow window (below) give no branch: joint 3 or 4 lands outside its
+ * limits, or (for a pose) joint 5 or 7. q1_may_fit() follows the branches as directions (cos,
+ * sin: square roots and products instead of atan2, acos, sin and cos) and the joint ranges as
+ * arcs, and says 0 only when every branch has a joint outside its arc, widened by a slack.
+ * Where a direction could not be trusted to well within that slack (the roots of an equation
+ * near each other, an equation too weak, a vector too short to normalise), it says 1: the exact
+ * path decides. Worst cases under these guards: joints 3 and 4 off by 5e-9 rad, 2 and 5-7 by
+ * 4e-4 rad (errors of 1e-12 are usual); hence ARC_SLACK and WRIST_SLACK. A branch arm() and
+ * pose() would keep is never skipped; the tests compare the twin with the Python module at
+ * the limits' edges.
  */
-#define ARC_SLACK 1e-6
-#define ROOT_RHO_MIN 1e-3 /* [m] or [m^2]: weaker equations are not tested */
-#define ROOT_EDGE 1e-4    /* |k / rho| beyond 1 - ROOT_EDGE: roots too near each other */
+#define ARC_SLACK 1e-6   /* joints 3, 4 */
+#define WRIST_SLACK 1e-3 /* joints 2, 5, 6, 7 */
+#define ROOT_RHO_MIN 1e-2 /* [m] or [m^2]: weaker equations are not tested */
+#define ROOT_EDGE 1e-3    /* |k / rho| beyond 1 - ROOT_EDGE: roots too near each other */
+#define SHORT_XY 1e-2     /* [m]: a shorter xy part of a frame-1 vector is not normalised */
+#define SHORT_UNIT 5e-2   /* the same for a unit vector's */
 
 /* cos, sin of the roots t of p cos t + q sin t = k (phi + delta, then phi - delta, as
    harmonic_roots orders them) into c, s: how many (0 or 2), or -1 when they are not to be
@@ -88,17 +97,71 @@ static inline int root_directions(double p, double q, double k, double *c, doubl
     return 2;
 }
 
-/* Whether the angle with direction (c, s) may be a joint value inside the arc (P->arc + 4 * j:
-   cos, sin of the middle, cos of half the span, 1 when the span is a turn or more). */
-static inline int arc_admits(const double *arc, double c, double s)
+/* Whether the angle with direction (c, s) may be joint j's value (j = 1..6) within slack: its
+   arc (P->arc + 4 (j - 1): cos, sin of the middle, cos of half the span, 1 when the span is a
+   turn or more). */
+static inline int arc_admits(const Params *P, int j, double c, double s, double slack)
 {
-    return arc[3] != 0.0 || c * arc[0] + s * arc[1] >= arc[2] - ARC_SLACK;
+    const double *arc = P->arc + 4 * (j - 1);
+    return arc[3] != 0.0 || c * arc[0] + s * arc[1] >= arc[2] - slack;
 }
 
-/* 0 when arm() surely finds no branch for the point d (seen from the shoulder, as arm() computes
-   it) with the elbow equation pe cos t4 + qe sin t4 = ke; else 1. */
-static int arm_may_fit(const Params *P, const double *dv, double pe, double qe, double ke,
-                       const double *u)
+/* The direction of atan2(y0, x0) - atan2(y1, x1) into (c, s), or 0 when a vector is shorter
+   than its guard. */
+static inline int angle_difference(double x0, double y0, double short0, double x1, double y1,
+                                   double short1, double *c, double *s)
+{
+    double n0 = hypot(x0, y0), n1 = hypot(x1, y1);
+    if (!(n0 >= short0 && n1 >= short1)) return 0;
+    x0 /= n0, y0 /= n0, x1 /= n1, y1 /= n1;
+    *c = x0 * x1 + y0 * y1;
+    *s = y0 * x1 - x0 * y1;
+    return 1;
+}
+
+/* x <- (Rz(t) Rx(alpha))^T x for the direction (ct, st) of t and sa, ca of alpha. */
+static inline void turn_back(double ct, double st, double sa, double ca, double *x)
+{
+    double a = ct * x[0] + st * x[1], b = ct * x[1] - st * x[0];
+    x[0] = a;
+    x[1] = ca * b + sa * x[2];
+    x[2] = ca * x[2] - sa * b;
+}
+
+/* Whether some wrist of the arm directions (joints 1-4: c[i], s[i]) may fit joints 5-7 for the
+   pose's X7, Z7 (as pose() solves it). */
+static int wrist_may_fit(const Params *P, const double *c, const double *s, const double *X7,
+                         const double *Z7)
+{
+    const double *S = P->sin, *C = P->cos, *g = P->g;
+    double x[3] = {X7[0], X7[1], X7[2]}, z[3] = {Z7[0], Z7[1], Z7[2]};
+    for (int i = 0; i < 4; i++) {
+        turn_back(c[i], s[i], S[i], C[i], x);
+        turn_back(c[i], s[i], S[i], C[i], z);
+    }
+    double c6s[2], s6s[2];
+    int n6 = root_directions(S[4] * g[1], S[4] * g[0], z[2] - C[4] * g[2], c6s, s6s);
+    if (n6 < 0) return 1;
+    for (int k = 0; k < n6; k++) {
+        double c6 = c6s[k], s6 = s6s[k], c5, s5, c7, s7;
+        if (!arc_admits(P, 5, c6, s6, WRIST_SLACK)) continue;
+        double mx = g[0] * c6 - g[1] * s6, my = C[4] * (g[0] * s6 + g[1] * c6) - S[4] * g[2];
+        if (!angle_difference(z[0], z[1], SHORT_UNIT, mx, my, SHORT_UNIT, &c5, &s5)) return 1;
+        if (!arc_admits(P, 4, c5, s5, WRIST_SLACK)) continue;
+        double n[3] = {x[0], x[1], x[2]};
+        turn_back(c5, s5, S[4], C[4], n);
+        double nx = c6 * n[0] + s6 * n[1], ny = C[5] * (c6 * n[1] - s6 * n[0]) + S[5] * n[2];
+        if (!angle_difference(nx, ny, SHORT_UNIT, 1.0, 0.0, 0.0, &c7, &s7)) return 1;
+        if (arc_admits(P, 6, c7, s7, WRIST_SLACK)) return 1;
+    }
+    return 0;
+}
+
+/* 0 when arm() (and, with X7 and Z7 of a pose, pose()) surely finds no branch at the joint-1
+   direction (c1, s1), for the point d seen from the shoulder (as arm() computes it) and the
+   elbow equation pe cos t4 + qe sin t4 = ke; else 1. */
+static int q1_may_fit(const Params *P, double c1, double s1, const double *dv, double pe,
+                      double qe, double ke, const double *u, const double *X7, const double *Z7)
 {
     double c4s[2], s4s[2], c3s[2], s3s[2];
     int n4 = root_directions(pe, qe, ke, c4s, s4s);
@@ -106,20 +169,30 @@ static int arm_may_fit(const Params *P, const double *dv, double pe, double qe, 
     const double *S = P->sin, *C = P->cos, *s3v = P->s3;
     for (int i = 0; i < n4; i++) {
         double c4 = c4s[i], s4 = s4s[i];
-        if (!arc_admits(P->arc + 8, c4, s4)) continue;
+        if (!arc_admits(P, 3, c4, s4, ARC_SLACK)) continue;
         double vy0 = u[0] * s4 + u[1] * c4 - s3v[1], vz0 = u[2] - s3v[2];
         double v0 = u[0] * c4 - u[1] * s4 - s3v[0];
         double v1 = C[2] * vy0 - S[2] * vz0, v2 = S[2] * vy0 + C[2] * vz0;
         int n3 = root_directions(S[1] * v1, S[1] * v0, dv[2] - C[1] * v2, c3s, s3s);
         if (n3 < 0) return 1;
-        for (int j = 0; j < n3; j++)
-            if (arc_admits(P->arc + 4, c3s[j], s3s[j])) return 1;
+        for (int j = 0; j < n3; j++) {
+            double c3 = c3s[j], s3 = s3s[j];
+            if (!arc_admits(P, 2, c3, s3, ARC_SLACK)) continue;
+            if (X7 == NULL) return 1; /* a position: joints 5-7 are the start's */
+            /* t2 = atan2(d_y, d_x) - atan2(m_y, m_x) (rotation_pair) */
+            double mx = v0 * c3 - v1 * s3, my = C[1] * (v0 * s3 + v1 * c3) - S[1] * v2, c2, s2;
+            if (!angle_difference(dv[0], dv[1], SHORT_XY, mx, my, SHORT_XY, &c2, &s2)) return 1;
+            if (!arc_admits(P, 1, c2, s2, WRIST_SLACK)) continue;
+            double cs[4] = {c1, c2, c3, c4}, ss[4] = {s1, s2, s3, s4};
+            if (wrist_may_fit(P, cs, ss, X7, Z7)) return 1;
+        }
     }
     return 0;
 }
 
 /* SevenDofIK._arm: branches putting Rz(t4) u (frame 3) on the point pt (frame 0). */
-static int arm(const Params *P, double q1, const double *pt, const double *u, Arm *out)
+static int arm(const Params *P, double q1, const double *pt, const double *u, const double *X7,
+               const double *Z7, Arm *out)
 {
     const double *S = P->sin, *C = P->cos, *off = P->off, *s3v = P->s3;
     double t1 = q1 + off[0];
@@ -134,7 +207,7 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, Ar
     double k = 0.5 * (ux * ux + uy * uy + uz * uz + P->s3_2[0] - dx * dx - dy * dy - dz * dz);
     double s3 = S[2], c3 = C[2], t4s[2];
     double pe = sx * ux + sy * uy, qe = sy * ux - sx * uy, ke = k - sz * uz;
-    if (!arm_may_fit(P, dv, pe, qe, ke, u)) return 0;
+    if (!q1_may_fit(P, c1, s1, dv, pe, qe, ke, u, X7, Z7)) return 0;
     int n4 = harmonic_roots(pe, qe, ke, t4s), count = 0;
     for (int i = 0; i < n4; i++) {
         double t4 = t4s[i];
@@ -226,7 +299,7 @@ static int pose(const Params *P, double q1, const double *W, const double *X7, c
                 double (*sol)[7])
 {
     Arm arms[4];
-    int n = arm(P, q1, W, P->wu, arms), count = 0;
+    int n = arm(P, q1, W, P->wu, X7, Z7, arms), count = 0;
     const double *S = P->sin, *C = P->cos, *off = P->off, *g = P->g;
     for (int b = 0; b < n; b++) {
         const Arm *a = &arms[b];
@@ -340,7 +413,7 @@ static long first_start(const void *params, int mode, const double *T, const dou
                     n = pose(P, q1, W, X7, Z7, sol);
                 } else {
                     Arm arms[4];
-                    n = arm(P, q1, T, u, arms);
+                    n = arm(P, q1, T, u, NULL, NULL, arms);
                     for (int b = 0; b < n; b++) {
                         sol[b][0] = q1;
                         sol[b][1] = arms[b].q2;

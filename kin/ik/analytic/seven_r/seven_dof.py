@@ -104,15 +104,15 @@ class SevenDofIK:
         }
 
     def _arcs(self) -> tuple[float, ...]:
-        """Joints 2-4's limits as arcs of their angle ``t = q + offset`` (``arc`` in ``_closed7.c``).
+        """Joints 2-7's limits as arcs of their angle ``t = q + offset`` (``arc`` in ``_closed7.c``).
 
         Per joint: ``cos, sin`` of the middle of the limits, ``cos`` of half their span, then 1
         when the span is a whole turn or more (or not finite: every ``t``), else 0. The Python
         module does not use them: the twin skips, without solving, the joint-1 values where no
-        root of the elbow and shoulder equations lies in these arcs (``arm_may_fit``).
+        branch, followed as directions, has every joint in its arc (``q1_may_fit``).
         """
         values: list[float] = []
-        for j in (1, 2, 3):
+        for j in range(1, 7):
             low, high = self.lower[j], self.upper[j]
             middle, half = 0.5 * (low + high) + self._offsets[j], 0.5 * (high - low)
             if not half < math.pi:
