@@ -8,9 +8,10 @@ seeds, judged by :func:`kin.batch_forward_kinematics` and :func:`kin.ik.judge.ba
 in NumPy. The frame change rounds differently in C and NumPy: joint vectors agree to 1e-9 rad,
 errors to 1e-12, found and not found exactly.
 
-humanoid7's twin also skips, without its angles, the joint-1 values where no branch followed as
-directions fits every joint's limits (``q1_may_fit`` in ``_closed7.c``): targets whose own joints
-sit on their limits check that no answer the Python module finds is skipped.
+The twins also skip, without their angles, the free-joint values where no branch followed as
+directions fits every joint's limits (``q1_may_fit`` in ``_closed7.c``, ``branches_may_fit`` in
+``_shoulder7.c``): targets whose own joints sit on their limits check that no answer the Python
+module finds is skipped.
 """
 
 from __future__ import annotations
@@ -186,34 +187,43 @@ def test_a_batch_answers_as_before_the_stage_was_compiled():
 
 
 def _edge_robot(name: str, seed: int):  # noqa: ANN202
-    """The robot with joints 2-7 limited to random arcs narrower than a half turn."""
+    """The robot with every joint limited to a random arc narrower than a half turn."""
     robot = load_robot(name)
     rng = np.random.default_rng(seed)
     middle = rng.uniform(robot.lower * 0.5, robot.upper * 0.5)
     half = rng.uniform(0.15, 0.8, robot.nq)
     rows = tuple(
-        dataclasses.replace(row, lower=float(m - h), upper=float(m + h)) if j else row
-        for j, (row, m, h) in enumerate(zip(robot.table.rows, middle, half))
+        dataclasses.replace(row, lower=float(m - h), upper=float(m + h))
+        for row, m, h in zip(robot.table.rows, middle, half)
     )
     return robot_from_table(dataclasses.replace(robot.table, rows=rows))
 
 
-@pytest.mark.skipif(not CLOSED7, reason="the compiled twin of humanoid7's closed form is not built")
+#: The free joint of each arm's closed form (humanoid7's joint 1; the spherical shoulder's 7).
+FREE = {"humanoid7": 0, "panda": 6, "xarm7": 6}
+
+
 @pytest.mark.parametrize("seed", [41, 42, 43])
-def test_the_twin_skips_no_branch_on_the_limits(seed):
-    """Targets whose own joints 2-7 sit on their limits (each with probability one half, to 1e-9
-    rad), some with joint 4 at the elbow's stretch or joint 6 at the wrist's singularity, seeds
-    elsewhere: the twin's scan (which skips, as directions, the joint-1 values where no branch
-    fits: ``q1_may_fit``) finds what the Python module's scan finds, within 1e-9 rad."""
-    robot = _edge_robot("humanoid7", seed)
+@pytest.mark.parametrize("name", sorted(ROBOTS))
+def test_the_skips_change_no_answer_on_the_limits(name, seed):
+    """Targets whose own joints sit on their limits (each but the free joint with probability one
+    half, exactly or 1e-9 rad in or out), some with joint 4 at the elbow's stretch or joint 6 at
+    the wrist's singularity (as near as the limits allow), seeds elsewhere or with the target's
+    own free joint: the twin's scan with its skips (the free-joint values where no branch,
+    followed as directions, fits the limits: ``q1_may_fit``, ``branches_may_fit``) gives, bit for
+    bit, the answers of its scan without them."""
+    if not ROBOTS[name]:
+        pytest.skip(f"the compiled twin of {name}'s closed form is not built")
+    robot = _edge_robot(name, seed)
     ik = NumericIK(robot, prepare=False).closed_form
+    free = FREE[name]
     rng = np.random.default_rng(seed)
-    n = 300
+    n = 400
     q = rng.uniform(robot.lower, robot.upper, (n, 7))
     edge = np.where(rng.random((n, 7)) < 0.5, robot.lower, robot.upper)
     edge += rng.choice([-1e-9, 0.0, 1e-9], (n, 7))
     on_edge = rng.random((n, 7)) < 0.5
-    on_edge[:, 0] = False
+    on_edge[:, free] = False
     q = np.where(on_edge, edge, q)
     q[::5, 3] = 0.0  # the elbow stretched (where joint 4 allows it)
     q[1::5, 5] = 0.0  # the wrist singular (where joint 6 allows it)
@@ -221,23 +231,20 @@ def test_the_twin_skips_no_branch_on_the_limits(seed):
     poses = batch_forward_kinematics(robot.table, q)
     points, frames = poses[:, :3, 3].copy(), poses[:, :3, :3].copy()
     seeds = rng.uniform(robot.lower, robot.upper, (n, 7))
-    seeds[::2, 0] = q[::2, 0]  # the target's own joint 1: its branch, joints on their limits
+    seeds[::2, free] = q[::2, free]  # the target's own free joint: its branch, on the limits
+    twin = ik.twin
     rates = []
-    for steps in (DEFAULT_CLOSED_FORM_STEPS, (0.0,)):
-        batched = ik.first_many(points, frames, seeds, steps)
-        single = np.full((n, 7), np.nan)
-        row = np.empty(7)
-        for i in range(n):
-            prepared = ik.prepare(points[i], frames[i])
-            for step in steps:
-                if ik.first(prepared, seeds[i : i + 1], row, step, False) == 0:
-                    single[i] = row
-                    break
-        found = ~np.isnan(single).any(axis=1)
-        np.testing.assert_array_equal(~np.isnan(batched).any(axis=1), found)
-        if found.any():
-            assert np.abs(batched[found] - single[found]).max() <= TOL
-        rates.append(found.mean())
-    # There were answers to compare. Many targets are not reached (by either): a joint set
-    # exactly on its limit comes back from the closed form an ulp outside it.
+    try:
+        for steps in (DEFAULT_CLOSED_FORM_STEPS, (0.0,)):
+            assert twin.skips(True)
+            skipping = ik.first_many(points, frames, seeds, steps)
+            twin.skips(False)
+            solving = ik.first_many(points, frames, seeds, steps)
+            twin.skips(True)
+            np.testing.assert_array_equal(skipping, solving)
+            rates.append(np.isfinite(solving).all(axis=1).mean())
+    finally:
+        twin.skips(True)
+    # There were answers to compare. Many targets are not reached: a joint set exactly on its
+    # limit comes back from the closed form an ulp outside it.
     assert rates[1] > 0.05 and rates[0] > 0.2

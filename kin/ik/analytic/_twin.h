@@ -120,6 +120,82 @@ static inline int rotation_pair_fit(double sa, double ca, const double *v, const
     return kept;
 }
 
+/*
+ * Branches followed as directions (cos, sin) instead of angles: the scans' tests of whether a
+ * free-joint value may have a branch inside the limits (q1_may_fit in seven_r/_closed7.c,
+ * branches_may_fit in seven_r/_shoulder7.c). A test says "no" only beyond a slack that covers,
+ * with a margin, the worst difference between a direction and the angle the exact path
+ * computes, under these guards (an equation too weak, roots too near each other, a vector too
+ * short to normalise: then the test says "maybe").
+ */
+#define ARC_SLACK 1e-6    /* joints solved by the first two equations of a branch */
+#define CHAIN_SLACK 1e-3  /* the joints after them (through normalisations) */
+#define ROOT_RHO_MIN 1e-2 /* [m] or [m^2]: weaker equations are not tested */
+#define ROOT_EDGE 1e-3    /* |k / rho| beyond 1 - ROOT_EDGE: roots too near each other */
+#define CHAIN_RHO_MIN 0.1 /* an arm whose later (constant) equation is weaker: not tested there */
+#define SHORT_XY 1e-2     /* [m]: a shorter xy part of a vector is not normalised */
+#define SHORT_UNIT 5e-2   /* the same for a unit vector's */
+#define SHORT_MAX 1e100   /* nor a longer one (its square may overflow) */
+
+/* cos, sin of the roots t of p cos t + q sin t = k (phi + delta, then phi - delta, as
+   harmonic_roots orders them) into c, s: how many (0 or 2), or -1 when they are not to be
+   trusted (or may be missing: within the slack of having roots). */
+static inline int root_directions(double p, double q, double k, double *c, double *s)
+{
+    double rho = sqrt(p * p + q * q); /* not hypot: an overflow is refused below */
+    if (!(rho >= ROOT_RHO_MIN && rho <= SHORT_MAX)) return -1;
+    double inv = 1.0 / rho, x = k * inv;
+    if (fabs(x) > 1.0 + ARC_SLACK) return 0;
+    if (!(fabs(x) <= 1.0 - ROOT_EDGE)) return -1;
+    double sd = sqrt((1.0 - x) * (1.0 + x)), cp = p * inv, sp = q * inv;
+    c[0] = cp * x - sp * sd;
+    s[0] = sp * x + cp * sd;
+    c[1] = cp * x + sp * sd;
+    s[1] = sp * x - cp * sd;
+    return 2;
+}
+
+/* Whether the scans run these tests (1, as they do; 0 only to compare, in the tests, the answers
+   with and without them: skips() below). Per module. */
+static int directions_on = 1;
+
+/* skips(on) -> the previous setting: whether the module's scans skip by directions. */
+static inline PyObject *set_skips(PyObject *self, PyObject *arg)
+{
+    (void)self;
+    int on = PyObject_IsTrue(arg);
+    if (on < 0) return NULL;
+    int previous = directions_on;
+    directions_on = on;
+    return PyBool_FromLong(previous);
+}
+
+#define SKIPS_DOC                                                                               \
+    "skips(on) -> bool: whether scans skip the free-joint values where no branch, followed as " \
+    "directions, fits the limits (the previous setting is returned). Only for comparing answers " \
+    "with and without the skip; the answers are the same."
+
+/* Whether the angle with direction (c, s) may be a joint's value within slack: its arc (cos, sin
+   of the middle of its limits, as an angle t = q + offset; cos of half their span; 1 when the
+   span is a turn or more, else 0: subproblems.limit_arcs). */
+static inline int arc_admits(const double *arc, double c, double s, double slack)
+{
+    return arc[3] != 0.0 || c * arc[0] + s * arc[1] >= arc[2] - slack;
+}
+
+/* The direction of atan2(y0, x0) - atan2(y1, x1) into (c, s), or 0 when a vector is shorter
+   than its guard. */
+static inline int angle_difference(double x0, double y0, double short0, double x1, double y1,
+                                   double short1, double *c, double *s)
+{
+    double n0 = sqrt(x0 * x0 + y0 * y0), n1 = sqrt(x1 * x1 + y1 * y1);
+    if (!(n0 >= short0 && n1 >= short1 && n0 <= SHORT_MAX && n1 <= SHORT_MAX)) return 0;
+    double inv = 1.0 / (n0 * n1);
+    *c = (x0 * x1 + y0 * y1) * inv;
+    *s = (y0 * x1 - x0 * y1) * inv;
+    return 1;
+}
+
 /* The values of a C-contiguous float64 buffer of n values copied into out: 1, else 0 (no error). */
 static inline int copy_doubles(PyObject *obj, Py_ssize_t n, double *out)
 {

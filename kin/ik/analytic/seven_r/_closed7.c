@@ -66,58 +66,15 @@ static int inside(const Params *P, int i, double q)
  * sin: square roots and products instead of atan2, acos, sin and cos) and the joint ranges as
  * arcs, and says 0 only when every branch has a joint outside its arc, widened by a slack.
  * Where a direction could not be trusted to well within that slack (the roots of an equation
- * near each other, an equation too weak, a vector too short to normalise), it says 1: the exact
- * path decides. Worst cases under these guards: joints 3 and 4 off by 5e-9 rad, 2 and 5-7 by
- * 4e-4 rad (errors of 1e-12 are usual); hence ARC_SLACK and WRIST_SLACK. A branch arm() and
- * pose() would keep is never skipped; the tests compare the twin with the Python module at
- * the limits' edges.
+ * near each other, an equation too weak, a vector too short to normalise: the guards in
+ * ../_twin.h), it says 1: the exact path decides. Worst cases under these guards: joints 3 and 4
+ * off by 5e-10 rad, joint 2 by 2e-8, joints 5-7 by 3e-5 / rho6 rad (rho6 = |sin alpha5| |g_xy|,
+ * 1 for humanoid7; the wrist is not tested below CHAIN_RHO_MIN); errors of 1e-12 are usual.
+ * Hence ARC_SLACK and CHAIN_SLACK. A branch arm() and pose() would keep is never skipped; the
+ * tests compare the twin with the Python module at the limits' edges.
  */
-#define ARC_SLACK 1e-6   /* joints 3, 4 */
-#define WRIST_SLACK 1e-3 /* joints 2, 5, 6, 7 */
-#define ROOT_RHO_MIN 1e-2 /* [m] or [m^2]: weaker equations are not tested */
-#define ROOT_EDGE 1e-3    /* |k / rho| beyond 1 - ROOT_EDGE: roots too near each other */
-#define SHORT_XY 1e-2     /* [m]: a shorter xy part of a frame-1 vector is not normalised */
-#define SHORT_UNIT 5e-2   /* the same for a unit vector's */
-
-/* cos, sin of the roots t of p cos t + q sin t = k (phi + delta, then phi - delta, as
-   harmonic_roots orders them) into c, s: how many (0 or 2), or -1 when they are not to be
-   trusted (or may be missing: within the slack of having roots). */
-static inline int root_directions(double p, double q, double k, double *c, double *s)
-{
-    double rho = hypot(p, q);
-    if (!(rho >= ROOT_RHO_MIN)) return -1;
-    double x = k / rho;
-    if (fabs(x) > 1.0 + ARC_SLACK) return 0;
-    if (!(fabs(x) <= 1.0 - ROOT_EDGE)) return -1;
-    double sd = sqrt((1.0 - x) * (1.0 + x)), cp = p / rho, sp = q / rho;
-    c[0] = cp * x - sp * sd;
-    s[0] = sp * x + cp * sd;
-    c[1] = cp * x + sp * sd;
-    s[1] = sp * x - cp * sd;
-    return 2;
-}
-
-/* Whether the angle with direction (c, s) may be joint j's value (j = 1..6) within slack: its
-   arc (P->arc + 4 (j - 1): cos, sin of the middle, cos of half the span, 1 when the span is a
-   turn or more). */
-static inline int arc_admits(const Params *P, int j, double c, double s, double slack)
-{
-    const double *arc = P->arc + 4 * (j - 1);
-    return arc[3] != 0.0 || c * arc[0] + s * arc[1] >= arc[2] - slack;
-}
-
-/* The direction of atan2(y0, x0) - atan2(y1, x1) into (c, s), or 0 when a vector is shorter
-   than its guard. */
-static inline int angle_difference(double x0, double y0, double short0, double x1, double y1,
-                                   double short1, double *c, double *s)
-{
-    double n0 = hypot(x0, y0), n1 = hypot(x1, y1);
-    if (!(n0 >= short0 && n1 >= short1)) return 0;
-    x0 /= n0, y0 /= n0, x1 /= n1, y1 /= n1;
-    *c = x0 * x1 + y0 * y1;
-    *s = y0 * x1 - x0 * y1;
-    return 1;
-}
+/* joint j's arc (j = 1..6: joints 2-7) */
+#define ARC(j) (P->arc + 4 * ((j) - 1))
 
 /* x <- (Rz(t) Rx(alpha))^T x for the direction (ct, st) of t and sa, ca of alpha. */
 static inline void turn_back(double ct, double st, double sa, double ca, double *x)
@@ -134,6 +91,7 @@ static int wrist_may_fit(const Params *P, const double *c, const double *s, cons
                          const double *Z7)
 {
     const double *S = P->sin, *C = P->cos, *g = P->g;
+    if (!(fabs(S[4]) * hypot(g[0], g[1]) >= CHAIN_RHO_MIN)) return 1; /* joint 6's equation */
     double x[3] = {X7[0], X7[1], X7[2]}, z[3] = {Z7[0], Z7[1], Z7[2]};
     for (int i = 0; i < 4; i++) {
         turn_back(c[i], s[i], S[i], C[i], x);
@@ -144,15 +102,15 @@ static int wrist_may_fit(const Params *P, const double *c, const double *s, cons
     if (n6 < 0) return 1;
     for (int k = 0; k < n6; k++) {
         double c6 = c6s[k], s6 = s6s[k], c5, s5, c7, s7;
-        if (!arc_admits(P, 5, c6, s6, WRIST_SLACK)) continue;
+        if (!arc_admits(ARC(5), c6, s6, CHAIN_SLACK)) continue;
         double mx = g[0] * c6 - g[1] * s6, my = C[4] * (g[0] * s6 + g[1] * c6) - S[4] * g[2];
         if (!angle_difference(z[0], z[1], SHORT_UNIT, mx, my, SHORT_UNIT, &c5, &s5)) return 1;
-        if (!arc_admits(P, 4, c5, s5, WRIST_SLACK)) continue;
+        if (!arc_admits(ARC(4), c5, s5, CHAIN_SLACK)) continue;
         double n[3] = {x[0], x[1], x[2]};
         turn_back(c5, s5, S[4], C[4], n);
         double nx = c6 * n[0] + s6 * n[1], ny = C[5] * (c6 * n[1] - s6 * n[0]) + S[5] * n[2];
         if (!angle_difference(nx, ny, SHORT_UNIT, 1.0, 0.0, 0.0, &c7, &s7)) return 1;
-        if (arc_admits(P, 6, c7, s7, WRIST_SLACK)) return 1;
+        if (arc_admits(ARC(6), c7, s7, CHAIN_SLACK)) return 1;
     }
     return 0;
 }
@@ -169,7 +127,7 @@ static int q1_may_fit(const Params *P, double c1, double s1, const double *dv, d
     const double *S = P->sin, *C = P->cos, *s3v = P->s3;
     for (int i = 0; i < n4; i++) {
         double c4 = c4s[i], s4 = s4s[i];
-        if (!arc_admits(P, 3, c4, s4, ARC_SLACK)) continue;
+        if (!arc_admits(ARC(3), c4, s4, ARC_SLACK)) continue;
         double vy0 = u[0] * s4 + u[1] * c4 - s3v[1], vz0 = u[2] - s3v[2];
         double v0 = u[0] * c4 - u[1] * s4 - s3v[0];
         double v1 = C[2] * vy0 - S[2] * vz0, v2 = S[2] * vy0 + C[2] * vz0;
@@ -177,12 +135,12 @@ static int q1_may_fit(const Params *P, double c1, double s1, const double *dv, d
         if (n3 < 0) return 1;
         for (int j = 0; j < n3; j++) {
             double c3 = c3s[j], s3 = s3s[j];
-            if (!arc_admits(P, 2, c3, s3, ARC_SLACK)) continue;
+            if (!arc_admits(ARC(2), c3, s3, ARC_SLACK)) continue;
             if (X7 == NULL) return 1; /* a position: joints 5-7 are the start's */
             /* t2 = atan2(d_y, d_x) - atan2(m_y, m_x) (rotation_pair) */
             double mx = v0 * c3 - v1 * s3, my = C[1] * (v0 * s3 + v1 * c3) - S[1] * v2, c2, s2;
             if (!angle_difference(dv[0], dv[1], SHORT_XY, mx, my, SHORT_XY, &c2, &s2)) return 1;
-            if (!arc_admits(P, 1, c2, s2, WRIST_SLACK)) continue;
+            if (!arc_admits(ARC(1), c2, s2, CHAIN_SLACK)) continue;
             double cs[4] = {c1, c2, c3, c4}, ss[4] = {s1, s2, s3, s4};
             if (wrist_may_fit(P, cs, ss, X7, Z7)) return 1;
         }
@@ -207,7 +165,7 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, co
     double k = 0.5 * (ux * ux + uy * uy + uz * uz + P->s3_2[0] - dx * dx - dy * dy - dz * dz);
     double s3 = S[2], c3 = C[2], t4s[2];
     double pe = sx * ux + sy * uy, qe = sy * ux - sx * uy, ke = k - sz * uz;
-    if (!q1_may_fit(P, c1, s1, dv, pe, qe, ke, u, X7, Z7)) return 0;
+    if (directions_on && !q1_may_fit(P, c1, s1, dv, pe, qe, ke, u, X7, Z7)) return 0;
     int n4 = harmonic_roots(pe, qe, ke, t4s), count = 0;
     for (int i = 0; i < n4; i++) {
         double t4 = t4s[i];
@@ -492,6 +450,7 @@ static PyMethodDef methods[] = {
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
+    {"skips", set_skips, METH_O, SKIPS_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_closed7",

@@ -42,7 +42,8 @@
     X(w4, 3, "wrist point W in J_4 [m]")                                         \
     X(elbow, 3, "p, q, k of the elbow equation p cos t4 + q sin t4 = k - |S-W|^2/2") \
     X(reach2, 2, "|S - W|^2 over joint 4's limits, min and max [m^2]")           \
-    X(m7, 9, "rotation of M_7, row-major")
+    X(m7, 9, "rotation of M_7, row-major")                                      \
+    X(arc, 24, "joints 1-6: cos, sin of t at the limits' middle, cos of half their span; 1 if wide")
 
 TWIN_PARAMS(SHOULDER7_PARAMS)
 #define BRANCHES 8
@@ -87,25 +88,92 @@ static void back(const double *k6, const double *turn, double x, double y, doubl
     for (int i = 0; i < 3; i++) r[i] = k6[3 * i] * x + k6[3 * i + 1] * y + k6[3 * i + 2] * z;
 }
 
+/* joint j's arc (j = 0..5: joints 1-6) */
+#define ARC(j) (P->arc + 4 * (j))
+
+/*
+ * A test before branches()'s angles (not in the Python module: the same answers). Most joint-7
+ * values a scan visits inside joint 4's reach give no branch: a joint lands outside its limits.
+ * branches_may_fit() follows the branches as directions (cos, sin: square roots and products
+ * instead of atan2, acos, sin and cos; the helpers in ../_twin.h) and the joint ranges as arcs,
+ * and says 0 only when every branch has a joint outside its arc, widened by a slack; where a
+ * direction could not be trusted to well within it (the guards), it says 1 and the exact path
+ * decides. Worst cases under the guards: joints 4 and 6 off by 5e-10 rad, joint 5 by 2e-8,
+ * joints 1-3 by 3e-5 / rho2 rad (rho2 = |sin alpha3' sin alpha4'|, 1 for Panda and xArm7; the
+ * shoulder is not tested below CHAIN_RHO_MIN); errors of 1e-12 are usual. The tests compare the
+ * twin with the Python module at the limits' edges.
+ */
+static int branches_may_fit(const Params *P, double ke, const double *v6, const double *k6)
+{
+    const double *s = P->sin, *c = P->cos, *u = P->u, *w4 = P->w4;
+    double c4s[2], s4s[2], c6s[2], s6s[2], c2s[2], s2s[2];
+    int n4 = root_directions(P->elbow[0], P->elbow[1], ke, c4s, s4s);
+    if (n4 < 0) return 1;
+    int shoulder = fabs(s[2] * s[3]) >= CHAIN_RHO_MIN; /* joint 2's equation: test joints 1-3 */
+    for (int e = 0; e < n4; e++) {
+        double c4 = c4s[e], s4 = s4s[e];
+        if (!arc_admits(ARC(3), c4, s4, ARC_SLACK)) continue;
+        double vx = c4 * u[0] + s4 * u[1] - w4[0], vy = c4 * u[1] - s4 * u[0] - w4[1];
+        double vz = u[2] - w4[2];
+        double d[3] = {vx, c[5] * vy + s[5] * vz, c[5] * vz - s[5] * vy};
+        int n6 = root_directions(s[6] * v6[1], s[6] * v6[0], d[2] - c[6] * v6[2], c6s, s6s);
+        if (n6 < 0) return 1;
+        double zy = c4 * s[4], zz = c[4];
+        double z4[3] = {s4 * s[4], c[5] * zy + s[5] * zz, c[5] * zz - s[5] * zy};
+        double x4[3] = {c4, -c[5] * s4, s[5] * s4};
+        for (int w = 0; w < n6; w++) {
+            double c6 = c6s[w], s6 = s6s[w], c5, s5;
+            if (!arc_admits(ARC(5), c6, s6, ARC_SLACK)) continue;
+            double mx = v6[0] * c6 - v6[1] * s6;
+            double my = c[6] * (v6[0] * s6 + v6[1] * c6) - s[6] * v6[2];
+            if (!angle_difference(d[0], d[1], SHORT_XY, mx, my, SHORT_XY, &c5, &s5)) return 1;
+            if (!arc_admits(ARC(4), c5, s5, CHAIN_SLACK)) continue;
+            if (!shoulder) return 1;
+            double turn[6] = {c5, s5, s[6], c[6], c6, s6}, z[3], x[3];
+            back(k6, turn, z4[0], z4[1], z4[2], z);
+            back(k6, turn, x4[0], x4[1], x4[2], x);
+            double v3[3] = {0.0, -s[3], c[3]};
+            int n2 = root_directions(s[2] * v3[1], s[2] * v3[0], z[2] - c[2] * v3[2], c2s, s2s);
+            if (n2 < 0) return 1;
+            for (int h = 0; h < n2; h++) {
+                double c2 = c2s[h], s2 = s2s[h], c1, s1, c3, s3;
+                if (!arc_admits(ARC(1), c2, s2, CHAIN_SLACK)) continue;
+                double ax = v3[0] * c2 - v3[1] * s2;
+                double ay = c[2] * (v3[0] * s2 + v3[1] * c2) - s[2] * v3[2];
+                if (!angle_difference(z[0], z[1], SHORT_UNIT, ax, ay, SHORT_UNIT, &c1, &s1))
+                    return 1;
+                if (!arc_admits(ARC(0), c1, s1, CHAIN_SLACK)) continue;
+                double nx = c1 * x[0] + s1 * x[1], ny = c1 * x[1] - s1 * x[0], nz = x[2], tmp;
+                tmp = c[2] * ny + s[2] * nz;
+                nz = c[2] * nz - s[2] * ny;
+                ny = tmp;
+                tmp = c2 * nx + s2 * ny;
+                ny = c2 * ny - s2 * nx;
+                nx = tmp;
+                ny = c[3] * ny + s[3] * nz;
+                if (!angle_difference(nx, ny, SHORT_UNIT, 1.0, 0.0, 0.0, &c3, &s3)) return 1;
+                if (arc_admits(ARC(2), c3, s3, CHAIN_SLACK)) return 1;
+            }
+        }
+    }
+    return 0;
+}
+
 /* SphericalShoulder7RIK.branches with the fit of first (each joint into its limits, nearest the
-   start `near`): joint vectors inside the limits (up to 8) for joint 7 at q7, in slot order. */
-static int branches(const Params *P, const double *T, double q7, const double *near,
-                    double (*sol)[7])
+   start `near`): joint vectors inside the limits (up to 8) for joint 7 at q7, in slot order;
+   c7, s7: cos, sin of t7 = q7 + offset (try_q7 has them). */
+static int branches(const Params *P, const double *T, double q7, double c7, double s7,
+                    const double *near, double (*sol)[7])
 {
     const double *s = P->sin, *c = P->cos, *off = P->off, *a = P->m7;
     double r00 = T[0], r01 = T[1], r02 = T[2], r10 = T[3], r11 = T[4], r12 = T[5];
     double r20 = T[6], r21 = T[7], r22 = T[8], ex = T[9], ey = T[10], ez = T[11];
-    double t7 = q7 + off[6];
-    double c7 = cos(t7), s7 = sin(t7);
     double wx = P->c7[0], wy = P->c7[1], wz = P->c7[2];
     /* S - W before Rz(t7): Rz(t7) e - c7; in J_6: M_7's rotation of it. */
     double rx = c7 * ex - s7 * ey - wx, ry = s7 * ex + c7 * ey - wy, rz = ez - wz;
     double ux = P->u[0], uy = P->u[1], uz = P->u[2];
     double w4x = P->w4[0], w4y = P->w4[1], w4z = P->w4[2];
     double distance2 = rx * rx + ry * ry + rz * rz;
-    double elbows[2];
-    int n4 = harmonic_roots(P->elbow[0], P->elbow[1], P->elbow[2] - 0.5 * distance2, elbows);
-    if (n4 == 0) return 0;
     double v6[3] = {a[0] * rx + a[1] * ry + a[2] * rz, a[3] * rx + a[4] * ry + a[5] * rz,
                     a[6] * rx + a[7] * ry + a[8] * rz};
     /* R_K_J6 = R_K_J7 Rz(-t7) M_7^T (rows). */
@@ -119,6 +187,10 @@ static int branches(const Params *P, const double *T, double q7, const double *n
         b20 * a[0] + b21 * a[1] + r22 * a[2], b20 * a[3] + b21 * a[4] + r22 * a[5],
         b20 * a[6] + b21 * a[7] + r22 * a[8],
     };
+    if (directions_on && !branches_may_fit(P, P->elbow[2] - 0.5 * distance2, v6, k6)) return 0;
+    double elbows[2];
+    int n4 = harmonic_roots(P->elbow[0], P->elbow[1], P->elbow[2] - 0.5 * distance2, elbows);
+    if (n4 == 0) return 0;
     double v3[3] = {0.0, -s[3], c[3]};
     int count = 0;
     for (int e = 0; e < n4; e++) {
@@ -198,9 +270,10 @@ static int try_q7(const Params *P, const double *T, const double *reach, double 
                   const double *v, double (*sol)[7])
 {
     double t7 = q7 + P->off[6];
-    double distance2 = reach[0] - reach[1] * cos(t7) - reach[2] * sin(t7);
+    double c7 = cos(t7), s7 = sin(t7); /* branches() takes them (the same values) */
+    double distance2 = reach[0] - reach[1] * c7 - reach[2] * s7;
     if (!(P->reach2[0] <= distance2 && distance2 <= P->reach2[1])) return 0;
-    return branches(P, T, q7, v, sol);
+    return branches(P, T, q7, c7, s7, v, sol);
 }
 
 /* The first of the k starts Q (rows of 7) with a branch inside the limits for the prepared target
@@ -292,6 +365,7 @@ static PyMethodDef methods[] = {
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
+    {"skips", set_skips, METH_O, SKIPS_DOC},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {

@@ -29,7 +29,15 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..structure import SevenDof
-from .subproblems import ScanJob, call_first_many, harmonic_roots, pack_params, rotation_pair, scan
+from .subproblems import (
+    ScanJob,
+    call_first_many,
+    harmonic_roots,
+    limit_arcs,
+    pack_params,
+    rotation_pair,
+    scan,
+)
 
 try:
     from . import _closed7  # type: ignore[attr-defined]
@@ -100,26 +108,8 @@ class SevenDofIK:
             "w7": self._wrist7,
             "ax7": self._axis7,
             "edge4": self._edge4(),
-            "arc": self._arcs(),
+            "arc": limit_arcs(self.lower, self.upper, self._offsets, range(1, 7)),
         }
-
-    def _arcs(self) -> tuple[float, ...]:
-        """Joints 2-7's limits as arcs of their angle ``t = q + offset`` (``arc`` in ``_closed7.c``).
-
-        Per joint: ``cos, sin`` of the middle of the limits, ``cos`` of half their span, then 1
-        when the span is a whole turn or more (or not finite: every ``t``), else 0. The Python
-        module does not use them: the twin skips, without solving, the joint-1 values where no
-        branch, followed as directions, has every joint in its arc (``q1_may_fit``).
-        """
-        values: list[float] = []
-        for j in range(1, 7):
-            low, high = self.lower[j], self.upper[j]
-            middle, half = 0.5 * (low + high) + self._offsets[j], 0.5 * (high - low)
-            if not half < math.pi:
-                values += (1.0, 0.0, -1.0, 1.0)
-            else:
-                values += (math.cos(middle), math.sin(middle), math.cos(half), 0.0)
-        return tuple(values)
 
     def _edge4(self) -> tuple[float, ...]:
         """Joint 4's limits as the twin's elbow window reads them (``edge4`` in ``_closed7.c``).

@@ -39,6 +39,7 @@ from .shoulder7_batch import BRANCHES, Shoulder7Batch
 from .shoulder7_structure import SphericalShoulder7R, inverse_point
 from .subproblems import (
     harmonic_roots,
+    limit_arcs,
     pack_params,
     rotation_pair,
     scan,
@@ -126,6 +127,7 @@ class SphericalShoulder7RIK(Shoulder7Batch):
             "elbow": (self._p4, self._q4, self._k4),
             "reach2": self._reach2,
             "m7": tuple(v for row in self._m7_rot for v in row),
+            "arc": limit_arcs(self.lower, self.upper, self._offsets, range(6)),
         }
 
     @property

@@ -81,6 +81,28 @@ def scan(value: float, step: float, low: float, high: float) -> Iterator[float]:
         j += 1
 
 
+def limit_arcs(
+    lower: Sequence[float], upper: Sequence[float], offsets: Sequence[float], joints: Sequence[int]
+) -> tuple[float, ...]:
+    """The joints' limits as arcs of their angle ``t = q + offset``, as the twins read them.
+
+    Per joint: ``cos, sin`` of the middle of the limits, ``cos`` of half their span, then 1
+    when the span is a whole turn or more (or not finite: every ``t``), else 0 (``arc`` in
+    ``_closed7.c`` and ``_shoulder7.c``). The Python modules do not use them: the twins skip,
+    without solving, the free-joint values where no branch, followed as directions, has every
+    joint in its arc (``arc_admits`` in ``_twin.h``).
+    """
+    values: list[float] = []
+    for j in joints:
+        middle = 0.5 * (lower[j] + upper[j]) + offsets[j]
+        half = 0.5 * (upper[j] - lower[j])
+        if not half < math.pi:
+            values += (1.0, 0.0, -1.0, 1.0)
+        else:
+            values += (math.cos(middle), math.sin(middle), math.cos(half), 0.0)
+    return tuple(values)
+
+
 def pack_params(
     fields: dict[str, tuple[float, ...]], layout: Sequence[tuple[str, int, int]]
 ) -> np.ndarray:
