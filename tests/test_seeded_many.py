@@ -248,3 +248,24 @@ def test_the_skips_change_no_answer_on_the_limits(name, seed):
     # There were answers to compare. Many targets are not reached: a joint set exactly on its
     # limit comes back from the closed form an ulp outside it.
     assert rates[1] > 0.05 and rates[0] > 0.2
+
+
+@pytest.mark.parametrize("name", sorted(ROBOTS))
+def test_targets_beyond_reach_get_no_answer_and_no_scan(name):
+    """Targets beyond the arm's reach bound (and one at 1e200 m): no row, and the batch says
+    no success for them (the solver answers ``out_of_reach``), the others as before."""
+    if not ROBOTS[name]:
+        pytest.skip(f"the compiled twin of {name}'s closed form is not built")
+    ik = solver(name)
+    robot = ik.robot
+    points, frames, seeds = targets(robot, 60, seed=34)
+    far = np.arange(60) % 3 == 0
+    points[far] *= 1.0 + (ik.reach + 1.0) / np.linalg.norm(points[far], axis=1)[:, None]
+    points[0] = 1e200
+    rows = ik.seeded_many.start(points, frames, seeds, DEFAULT_CLOSED_FORM_STEPS, TOL).result()
+    assert np.isnan(rows[far]).all()
+    assert np.isfinite(rows[~far]).all(axis=1).mean() > 0.8
+    seeds[3] = 0.0  # solve_batch refuses a seed that is not finite
+    result = solve_batch(robot, points, frames, seeds)
+    assert not result.success[far].any()
+    assert all(result.stage[i] == "" for i in np.flatnonzero(far))

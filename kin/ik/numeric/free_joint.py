@@ -264,13 +264,16 @@ def compiled_seeded_many(
     table: DHTable,
     lower: np.ndarray,
     upper: np.ndarray,
+    base_origin: Sequence[float] = (0.0, 0.0, 0.0),
+    reach: float = math.inf,
 ) -> SeededMany | None:
     """The batch's closed-form stage in compiled code (:class:`SeededMany`), or None.
 
     None where it does not apply (as :func:`compiled_seeded`). The joint limits ``lower``,
-    ``upper`` [rad] are the judge's.
+    ``upper`` [rad] are the judge's; a target farther than ``reach`` [m] from ``base_origin``
+    (the world frame) gets no answer there, without a scan.
     """
-    block = _seed_block(closed, table, (0.0, 0.0, 0.0), math.inf)
+    block = _seed_block(closed, table, base_origin, reach)
     twin = getattr(closed, "twin", None)
     if block is None or not hasattr(twin, "seeded_many"):
         return None

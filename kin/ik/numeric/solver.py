@@ -278,7 +278,12 @@ class NumericIK:
         self.seeded_many: SeededMany | None = None
         if self._seeded is not None:
             self.seeded_many = compiled_seeded_many(
-                self.closed_form, robot.table, self.lower, self.upper
+                self.closed_form,
+                robot.table,
+                self.lower,
+                self.upper,
+                self._base_origin,
+                self.reach,
             )
         # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
         # that share a solver get the answers one thread would).

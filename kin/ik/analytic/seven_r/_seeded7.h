@@ -185,7 +185,8 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
  *   The batch's closed-form stage (kin/ik/batch_solve.py): for each of N world targets, the first
  *   scan step whose first() from its own start gives a branch, that branch measured by the
  *   table's DH product and kept when both errors are strictly below the tolerances and every
- *   joint is inside the limits. All of it without the GIL (threads share the work by rows).
+ *   joint is inside the limits. A target beyond the Seed block's reach bound (or not finite)
+ *   gets no answer, without a scan. All of it without the GIL (threads share the work by rows).
  *   params, seed_block: bytes of the structure's Params and of its Seed block (as seeded's);
  *   limits:     float64[14], the arm's lower then upper joint limits [rad] (the judge's);
  *   mode:       0 = poses, targets float64[N, 12]: position [m] then R_world_tool row-major;
@@ -245,6 +246,8 @@ static PyObject *seeded_many(PyObject *self, PyObject *args)
             if (mode == 1 && !SEEDED_POINTS) continue;
             memcpy(p, t, sizeof p);
             if (mode == 0) memcpy(r, t + 3, sizeof r);
+            double bx = p[0] - S.reach[0], by = p[1] - S.reach[1], bz = p[2] - S.reach[2];
+            if (!(sqrt(bx * bx + by * by + bz * bz) <= S.reach[3])) continue; /* beyond reach */
             prepare_seeded(&S, mode, p, r, T);
             for (Py_ssize_t k = 0; k < n_steps; k++) {
                 if (first_start(&P, mode, T, Q + 7 * i, 1, step[k], q) != 0) continue;
