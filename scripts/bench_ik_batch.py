@@ -21,8 +21,8 @@ before and right after each pass: each pass is divided by the FK call of its own
 machine's speed drifts from minute to minute), and the row gives the median of those ratios (a
 loop of FK calls alone runs with warm caches, as the batch does: faster than FK calls between IK
 calls, so this ratio is the stricter one; the row also gives the batch's best time against the
-interleaved FK). For the stream, right before and after it. The batch runs the 7R scans in one
-block per processor (its row says how many threads). Per-call figures are the median of single
+interleaved FK). For the stream, right before and after it. The batch runs the 7R scans in
+blocks shared by one thread per processor (its row says how many threads). Per-call figures are the median of single
 calls (and the best of ``--passes`` passes per target beside it); batch figures the best and the
 median of ``--passes`` runs. Success is judged by Pinocchio (1e-5 m, 1e-4 rad, inside
 the limits); a false success is an answer marked successful that misses.

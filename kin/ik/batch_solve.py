@@ -4,12 +4,12 @@ For an arm whose table fits a closed-form structure that takes the targets (pose
 every pose is solved at once in NumPy (:class:`~kin.ik.analytic.batch.BatchSolver`: every branch,
 wrapped into the limits, each measured by the table's NumPy DH product); the answer of a pose is
 its valid branch nearest its seed. A 7R arm with a free-joint closed form (humanoid7, Panda,
-xArm7) has its stage 0 batched: every target's scan from its seed, in compiled code and in threads
-(:func:`free_joint_answers`). For the others, and the targets that stage leaves (a numeric arm, a
-position on a six-joint arm, a rounded table solved on its idealised geometry), the robot's own
-solver answers pose by pose, Pinocchio judging each answer. Either way every success is on target (1e-9 m and rad for the
-closed forms, 1e-5 m and 1e-4 rad for the numeric stages) and inside the limits, and the stage
-that answered is named per pose.
+xArm7) has its stage 0 batched: every target's scan from its seed, in compiled code and in
+threads (:func:`free_joint_answers`). For the others, and the targets that stage leaves (a
+numeric arm, a position on a six-joint arm, a rounded table solved on its idealised geometry),
+the robot's own solver answers pose by pose, Pinocchio judging each answer. Either way every
+success is on target (1e-9 m and rad for the closed forms, 1e-5 m and 1e-4 rad for the numeric
+stages) and inside the limits, and the stage that answered is named per pose.
 """
 
 from __future__ import annotations
@@ -115,9 +115,10 @@ def solve_batch(
     """Solve N targets: tool positions (N, 3) [m], with rotations (N, 3, 3) for full poses.
 
     A vectorized closed form answers every target at once; a 7R arm's free-joint closed form
-    scans each target's free joint from its seed in compiled code, 256 targets or more cut into
-    one block per processor solved in threads (:func:`.analytic.seven_r.subproblems.call_first_many`);
-    the targets left go to the numeric solver one by one.
+    scans each target's free joint from its seed and judges its branch in compiled code, 256
+    targets or more cut into blocks that one thread per processor takes in turn
+    (:func:`.analytic.seven_r.subproblems.call_first_many`); the targets left go to the
+    numeric solver one by one.
 
     Args:
         robot: The robot.
@@ -327,7 +328,6 @@ def start_free_joint_answers(
                     points[index], frame_rows, seeds[index], row_steps, _CLOSED_TOLERANCE
                 )
                 jobs.append((index, job))
-        judged = True
     elif first_each is not None and frames is not None:
         # A form whose solve is batched itself (General7RIK): one solve of every target at its
         # seed's free joint, no scan (the targets it leaves go to the solver one by one).
@@ -339,8 +339,7 @@ def start_free_joint_answers(
         jobs = _branches_from_seeds(
             closed, solver, points, frames, seeds, near_rows, skipped, candidates
         )
-    if many is None:
-        judged = False
+    judged = many is not None
     return FreeJointAnswers(
         solver, robot, points, frames, seeds, near_rows, candidates, jobs, judged
     )

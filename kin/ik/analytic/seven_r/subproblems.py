@@ -163,8 +163,8 @@ def call_first_many(
     parameters, and the mode where the twin takes one); ``targets`` (N, width) or None (no target
     this form takes: every row NaN); ``starts`` (N, 7) [rad]; ``steps`` the scan steps [rad].
     The twin's loop runs without the interpreter lock: N of :data:`PARALLEL_ROWS` or more are
-    cut into one block per processor (:func:`batch_threads`), solved at once in threads (each
-    row's answer is the same either way). With ``later``, the blocks (one at least) are started
+    cut into :data:`_BLOCKS_PER_THREAD` blocks per processor (:func:`batch_threads`), which its
+    threads take in turn (each row's answer is the same either way). With ``later``, the blocks (one at least) are started
     in the threads and a :class:`ScanJob` returned at once: the caller does other work (its
     Python runs while they do) and takes the answers from :meth:`ScanJob.result`. ``width``:
     the columns of each answer row (7; 9 for ``seeded_many``'s q and errors).
