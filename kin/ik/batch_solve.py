@@ -319,15 +319,10 @@ def start_free_joint_answers(
     if many is not None:
         # Compiled end to end: each row's scan and its judge (the table's DH product, the
         # limits) in the threads; the answer rows carry their errors.
-        steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
-        for rows, row_steps in ((~near_rows & ~skipped, steps), (near_rows & ~skipped, (0.0,))):
-            index = np.flatnonzero(rows)
-            if index.size:
-                frame_rows = None if frames is None else frames[index]
-                job = many.start(
-                    points[index], frame_rows, seeds[index], row_steps, _CLOSED_TOLERANCE
-                )
-                jobs.append((index, job))
+        for index, row_steps in _row_groups(solver, near_rows, skipped):
+            frame_rows = None if frames is None else frames[index]
+            job = many.start(points[index], frame_rows, seeds[index], row_steps, _CLOSED_TOLERANCE)
+            jobs.append((index, job))
     elif first_each is not None and frames is not None:
         # A form whose solve is batched itself (General7RIK): one solve of every target at its
         # seed's free joint, no scan (the targets it leaves go to the solver one by one).
@@ -421,18 +416,16 @@ def _branches_from_seeds(
     """
     out = np.empty(candidates.shape[1])
     compiled = bool(getattr(solver, "compiled", False))
-    steps = tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
+    steps = _steps(solver)
     first_many = getattr(closed, "first_many", None) if compiled else None
     if first_many is not None:
         jobs = []
-        for rows, row_steps in ((~near_rows & ~skipped, steps), (near_rows & ~skipped, (0.0,))):
-            index = np.flatnonzero(rows)
-            if index.size:
-                frame_rows = None if frames is None else frames[index]
-                job = first_many(points[index], frame_rows, seeds[index], row_steps, later=True)
-                if job is None:
-                    break
-                jobs.append((index, job))
+        for index, row_steps in _row_groups(solver, near_rows, skipped):
+            frame_rows = None if frames is None else frames[index]
+            job = first_many(points[index], frame_rows, seeds[index], row_steps, later=True)
+            if job is None:
+                break
+            jobs.append((index, job))
         else:
             return jobs
         for _, job in jobs:  # none started after all (not built): no half-done scan left
@@ -450,6 +443,23 @@ def _branches_from_seeds(
                 candidates[i] = out
                 break
     return []
+
+
+def _steps(solver: object) -> tuple[float, ...]:
+    """The solver's scan steps of the free joint [rad], coarse to fine."""
+    return tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
+
+
+def _row_groups(
+    solver: object, near_rows: np.ndarray, skipped: np.ndarray
+) -> list[tuple[np.ndarray, tuple[float, ...]]]:
+    """The rows to scan and their steps [rad], no group empty and no skipped row in any.
+
+    The rows far from their seeds take the solver's steps; the near ones their seed's free
+    joint only (``0.0``).
+    """
+    groups = ((~near_rows & ~skipped, _steps(solver)), (near_rows & ~skipped, (0.0,)))
+    return [(np.flatnonzero(rows), steps) for rows, steps in groups if rows.any()]
 
 
 def _near_seeds(

@@ -91,7 +91,7 @@ static int wrist_may_fit(const Params *P, const double *c, const double *s, cons
                          const double *Z7)
 {
     const double *S = P->sin, *C = P->cos, *g = P->g;
-    if (!(fabs(S[4]) * hypot(g[0], g[1]) >= CHAIN_RHO_MIN)) return 1; /* joint 6's equation */
+    if (!(fabs(S[4]) * sqrt(g[0] * g[0] + g[1] * g[1]) >= CHAIN_RHO_MIN)) return 1; /* joint 6's */
     double x[3] = {X7[0], X7[1], X7[2]}, z[3] = {Z7[0], Z7[1], Z7[2]};
     for (int i = 0; i < 4; i++) {
         turn_back(c[i], s[i], S[i], C[i], x);
