@@ -54,3 +54,15 @@ class UnitWarning(UserWarning):
 
     The commands print it as one line on stderr; the value is used as given.
     """
+
+
+class UrdfChainError(Dh2UrdfError, ValueError):
+    """A URDF cannot give the serial chain asked for (not a URDF, unknown link, no path...).
+
+    Attributes:
+        path: The URDF file.
+    """
+
+    def __init__(self, path: str, message: str):
+        self.path = path
+        super().__init__(f"{path}: {message}")

@@ -24,21 +24,10 @@ from typing import Any
 
 import numpy as np
 
-from .exceptions import Dh2UrdfError
+from .exceptions import UrdfChainError
+from .urdf_parse import build_pinocchio_model, parse_urdf_xml
 
 __all__ = ["ChainJoint", "UrdfChain", "UrdfChainError", "read_chain", "urdf_text"]
-
-
-class UrdfChainError(Dh2UrdfError, ValueError):
-    """A URDF cannot give the serial chain asked for (not a URDF, unknown link, no path...).
-
-    Attributes:
-        path: The URDF file.
-    """
-
-    def __init__(self, path: str, message: str):
-        self.path = path
-        super().__init__(f"{path}: {message}")
 
 
 @dataclass(frozen=True)
@@ -147,20 +136,12 @@ def read_chain(path: str | Path, base: str | None = None, tip: str | None = None
 
     where = str(path)
     text = urdf_text(path)
-    try:
-        root = ElementTree.fromstring(text)
-    except ElementTree.ParseError as err:
-        raise UrdfChainError(where, f"not XML: {err}") from None
-    if root.tag != "robot":
-        raise UrdfChainError(where, f"not a URDF: the root element is <{root.tag}>, not <robot>")
+    root, text = parse_urdf_xml(text, where)
     xml_joints = {joint.get("name", ""): joint for joint in root.iter("joint")}
     links = [link.get("name", "") for link in root.iter("link")]
     if not links:
         raise UrdfChainError(where, "not a URDF: no <link>")
-    try:
-        model = pin.buildModelFromXML(text)
-    except (RuntimeError, ValueError) as err:
-        raise UrdfChainError(where, f"Pinocchio cannot load the URDF: {_one_line(err)}") from err
+    model = build_pinocchio_model(text, where)
     parent_links = {element.get("link") for element in root.iter("parent")}
     child_links = {element.get("link") for element in root.iter("child")}
     roots = [link for link in links if link not in child_links]
@@ -264,7 +245,11 @@ def _chain_joint(
             raise UrdfChainError(where, f"joint {name!r}: axis xyz {text!r} is no direction")
     frame = np.array((base_world * data.oMi[joint_id]).homogeneous)  # type: ignore[attr-defined, operator]
     # The joint's column of its Jacobian in its own frame: (linear, angular) of a unit motion.
-    column = pin.getJointJacobian(model, data, joint_id, pin.ReferenceFrame.LOCAL)[:, joint.idx_v]
+    # (6, nv), which eigenpy hands back as (6,) when nv = 1: reshape.
+    jacobian = np.reshape(
+        pin.getJointJacobian(model, data, joint_id, pin.ReferenceFrame.LOCAL), (6, -1)
+    )
+    column = jacobian[:, joint.idx_v]
     linear, angular = column[:3], column[3:]
     prismatic = not np.linalg.norm(angular) > 0.5
     local_axis = linear if prismatic else angular

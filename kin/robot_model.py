@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from dh2urdf import DHTable, get_robot, load_table
+from dh2urdf import ROBOTS, DHTable, get_robot, load_table
 
 from .exceptions import ModelLoadError
 
@@ -77,10 +77,13 @@ def _load_by_name(name: str) -> RobotModel:
 
 
 def _build(name: str, table: DHTable, text: str, where: str) -> RobotModel:
+    from dh2urdf.exceptions import UrdfChainError
+    from dh2urdf.urdf_parse import build_pinocchio_model
+
     try:
-        model = pin.buildModelFromXML(text)
-    except (RuntimeError, ValueError) as err:
-        raise ModelLoadError(f"{where}: Pinocchio cannot load the URDF: {err}") from err
+        model = build_pinocchio_model(text, where)
+    except UrdfChainError as err:
+        raise ModelLoadError(str(err)) from err
     model.name = name
     return RobotModel(name=name, table=table, model=model, urdf=text)
 
@@ -99,7 +102,8 @@ def robot_from_table(table: DHTable) -> RobotModel:
 def load_robot(robot: str | Path, base: str | None = None, tip: str | None = None) -> RobotModel:
     """Load a shipped robot by name, a DH table file, or the chain of a URDF file.
 
-    A URDF (``.urdf``, or ``.xacro`` with the optional ``xacrodoc``) is read as a DH table
+    A URDF (``.urdf``, or ``.xacro`` with the optional ``xacrodoc``; any other file whose root
+    element is ``<robot>``, whatever its suffix) is read as a DH table
     (:func:`dh2urdf.urdf_to_dh.table_from_urdf`: the chain from ``base`` to ``tip``), and the
     model is built from that table like any other: every solver sees one DH table.
 
@@ -111,11 +115,14 @@ def load_robot(robot: str | Path, base: str | None = None, tip: str | None = Non
     Raises:
         dh2urdf.UnknownRobotError: Not a known name (the message lists them) nor a path.
         dh2urdf.TableError: The table file is malformed.
-        dh2urdf.urdf_chain.UrdfChainError: The URDF gives no serial chain from base to tip.
+        dh2urdf.urdf_chain.UrdfChainError: The URDF gives no serial chain from base to tip, or
+            the file is another kind of XML (an MJCF ``<mujoco>``...).
         ModelLoadError: The URDF cannot be read or loaded; base or tip given for a table.
     """
+    from dh2urdf.urdf_parse import is_urdf_file
+
     text = str(robot)
-    if text.endswith((".urdf", ".xacro", ".URDF")):
+    if text not in ROBOTS and is_urdf_file(text):
         from dh2urdf.urdf_chain import read_chain
         from dh2urdf.urdf_to_dh import check_table, table_from_chain
 

@@ -13,7 +13,10 @@ import argparse
 from ..robot_model import RobotModel
 
 #: The help of ``--robot``.
-ROBOT_HELP = "shipped robot name, a DH table file (.toml) or a URDF (.urdf; .xacro with xacrodoc)"
+ROBOT_HELP = (
+    "shipped robot name, a DH table file (.toml) or a URDF (.urdf, or any file whose root element "
+    "is <robot>; .xacro with xacrodoc)"
+)
 
 
 def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
