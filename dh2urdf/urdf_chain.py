@@ -3,7 +3,10 @@
 Pinocchio parses the URDF (fixed joints merged into their parents' frames, side branches kept
 as other subtrees); this module keeps the moving joints on the path from ``base`` to ``tip`` and
 gives, for each, its frame at q = 0, its axis and its limits. A light read of the XML
-(:mod:`xml.etree`) checks what Pinocchio does not say: mimic joints and zero axes on the chain.
+(:mod:`xml.etree`) checks what Pinocchio does not say: zero axes on the chain, and reads mimic
+joints: a joint ``<mimic joint="L" multiplier="m" offset="c"/>`` on the chain follows its leader
+``L`` (``q = m q_L + c``), which must be on the chain too; :meth:`UrdfChain.expand` gives every
+joint's value from the independent ones.
 
 Defaults: ``base`` is the URDF's root link; ``tip`` is the end of the chain when exactly one leaf
 link lies below the last moving joint of the tree (cameras or grippers hanging elsewhere make
@@ -27,7 +30,22 @@ import numpy as np
 from .exceptions import UrdfChainError
 from .urdf_parse import build_pinocchio_model, parse_urdf_xml
 
-__all__ = ["ChainJoint", "UrdfChain", "UrdfChainError", "read_chain", "urdf_text"]
+__all__ = ["ChainJoint", "MimicJoint", "UrdfChain", "UrdfChainError", "read_chain", "urdf_text"]
+
+
+@dataclass(frozen=True)
+class MimicJoint:
+    """The coupling of a URDF mimic joint: ``q = multiplier * q_leader + offset``.
+
+    Attributes:
+        leader: Name of the joint it follows (on the same chain).
+        multiplier: Factor on the leader's value [1] (URDF default 1).
+        offset: Added value [rad] or [m] (URDF default 0).
+    """
+
+    leader: str
+    multiplier: float = 1.0
+    offset: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -46,6 +64,7 @@ class ChainJoint:
         upper: Upper limit [rad] or [m] (``pi`` for a continuous joint).
         velocity: Velocity limit [rad/s] or [m/s] (0 when the URDF gives none).
         effort: Effort limit [N m] or [N] (0 when the URDF gives none).
+        mimic: The coupling of a mimic joint (its value follows its leader), else None.
     """
 
     name: str
@@ -58,6 +77,7 @@ class ChainJoint:
     upper: float
     velocity: float
     effort: float
+    mimic: MimicJoint | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,6 +101,32 @@ class UrdfChain:
     joints: tuple[ChainJoint, ...]
     tip_frame: np.ndarray
     text: str
+
+    @property
+    def independent(self) -> tuple[ChainJoint, ...]:
+        """The joints the user moves: every joint of the chain but the mimic ones."""
+        return tuple(joint for joint in self.joints if joint.mimic is None)
+
+    def expand(self, q: np.ndarray) -> np.ndarray:
+        """Every joint's value, base to tip, from the independent joints' values ``q``.
+
+        Args:
+            q: Values of :attr:`independent` [rad] or [m], shape (..., n).
+
+        Returns:
+            Values of :attr:`joints`, shape (..., len(joints)): a mimic joint's is
+            ``multiplier * q_leader + offset``.
+        """
+        q = np.asarray(q, dtype=float)
+        index = {joint.name: i for i, joint in enumerate(self.independent)}
+        columns = []
+        for joint in self.joints:
+            if joint.mimic is None:
+                columns.append(q[..., index[joint.name]])
+            else:
+                leader = q[..., index[joint.mimic.leader]]
+                columns.append(joint.mimic.multiplier * leader + joint.mimic.offset)
+        return np.stack(columns, axis=-1)
 
 
 def urdf_text(path: str | Path) -> str:
@@ -129,8 +175,9 @@ def read_chain(path: str | Path, base: str | None = None, tip: str | None = None
 
     Raises:
         UrdfChainError: Not XML, not a URDF, unknown base or tip (the message lists the links),
-            no path from base to tip, a floating, planar or mimic joint or a zero axis on the
-            chain, no moving joint between base and tip.
+            no path from base to tip, a floating or planar joint or a zero axis on the chain, a
+            mimic joint whose leader is not on the chain (or is itself a mimic joint), no moving
+            joint between base and tip.
     """
     import pinocchio as pin
 
@@ -177,6 +224,7 @@ def read_chain(path: str | Path, base: str | None = None, tip: str | None = None
     joints = tuple(
         _chain_joint(where, model, data, base_world, joint_id, xml_joints) for joint_id in chain_ids
     )
+    _check_mimics(where, joints)
     return UrdfChain(
         path=where,
         name=root.get("name", Path(where).stem),
@@ -223,12 +271,7 @@ def _chain_joint(
     joint = model.joints[joint_id]  # type: ignore[attr-defined]
     element = xml_joints.get(name)
     kind = element.get("type", "") if element is not None else ""
-    if element is not None and element.find("mimic") is not None:
-        raise UrdfChainError(
-            where,
-            f"joint {name!r} on the chain is a mimic joint: not a serial chain "
-            "(choose a --tip before it)",
-        )
+    mimic = _mimic(where, name, element)
     if kind in ("floating", "planar") or joint.nv != 1:
         raise UrdfChainError(
             where,
@@ -273,4 +316,50 @@ def _chain_joint(
         upper=upper,
         velocity=velocity if math.isfinite(velocity) and velocity > 0 else 0.0,
         effort=effort if math.isfinite(effort) and effort > 0 else 0.0,
+        mimic=mimic,
     )
+
+
+def _mimic(where: str, name: str, element: ElementTree.Element | None) -> MimicJoint | None:
+    """The ``<mimic>`` of joint ``name``, its numbers checked, else None."""
+    mimic = element.find("mimic") if element is not None else None
+    if mimic is None:
+        return None
+    values = []
+    for field, default in (("multiplier", 1.0), ("offset", 0.0)):
+        text = mimic.get(field)
+        try:
+            value = default if text is None else float(text)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            raise UrdfChainError(where, f"joint {name!r}: mimic {field} {text!r} is no number")
+        values.append(value)
+    return MimicJoint(mimic.get("joint", ""), values[0], values[1])
+
+
+def _check_mimics(where: str, joints: tuple[ChainJoint, ...]) -> None:
+    """Every mimic joint of the chain follows a joint of the chain that is no mimic itself."""
+    by_name = {joint.name: joint for joint in joints}
+    for joint in joints:
+        if joint.mimic is None:
+            continue
+        leader = by_name.get(joint.mimic.leader)
+        if leader is None:
+            raise UrdfChainError(
+                where,
+                f"joint {joint.name!r} on the chain mimics {joint.mimic.leader!r}, which is not "
+                "on the chain: choose a --tip before it, or a --base above its leader",
+            )
+        if leader.mimic is not None:
+            raise UrdfChainError(
+                where,
+                f"joint {joint.name!r} mimics {leader.name!r}, itself a mimic joint: make it "
+                f"mimic {leader.mimic.leader!r}",
+            )
+        if leader.joint_type != joint.joint_type:
+            raise UrdfChainError(
+                where,
+                f"joint {joint.name!r} ({joint.joint_type}) mimics {leader.name!r} "
+                f"({leader.joint_type}): a mimic joint follows a joint of its own type",
+            )

@@ -61,9 +61,18 @@ def table_from_urdf(
         convention: ``"standard"`` or ``"modified"`` DH.
 
     Raises:
-        UrdfChainError: The URDF cannot give a serial chain (see :func:`read_chain`).
+        UrdfChainError: The URDF cannot give a serial chain (see :func:`read_chain`), or a
+            mimic joint on it follows another (a table's rows move independently).
     """
     chain = read_chain(path, base, tip)
+    for joint in chain.joints:
+        if joint.mimic is not None:
+            raise UrdfChainError(
+                chain.path,
+                f"joint {joint.name!r} follows {joint.mimic.leader!r} (mimic): a DH table has "
+                "one independent joint per row; choose a --tip before it "
+                "(kin.mimic_arm reads the coupled chain)",
+            )
     table = table_from_chain(chain, convention)
     check_table(chain, table)
     return table
@@ -278,7 +287,11 @@ def _modified_row(frames: list[np.ndarray], i: int) -> tuple[float, float, float
 def check_table(
     chain: UrdfChain, table: DHTable, samples: int = 20, tolerance: float = 1e-9
 ) -> None:
-    """The table's DH product equals Pinocchio's FK of the URDF chain, else an error."""
+    """The table's DH product equals Pinocchio's FK of the URDF chain, else an error.
+
+    The table has a row per joint of the chain, mimic ones included: the joint vectors sampled
+    are the independent joints' (within their limits), expanded by :meth:`UrdfChain.expand`.
+    """
     import pinocchio as pin
 
     from .dh_table import dh_link_transform
@@ -289,9 +302,10 @@ def check_table(
     base = model.getFrameId(chain.base, pin.FrameType.BODY)
     ids = [model.getJointId(joint.name) for joint in chain.joints]
     rng = np.random.default_rng(7)
-    lower, upper = table.lower, table.upper
+    lower = np.array([joint.lower for joint in chain.independent])
+    upper = np.array([joint.upper for joint in chain.independent])
     for _ in range(samples):
-        q = rng.uniform(np.maximum(lower, -math.pi), np.minimum(upper, math.pi))
+        q = chain.expand(rng.uniform(np.maximum(lower, -math.pi), np.minimum(upper, math.pi)))
         full = pin.neutral(model)
         for value, joint_id in zip(q, ids, strict=True):
             joint = model.joints[joint_id]

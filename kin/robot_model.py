@@ -127,6 +127,13 @@ def load_robot(robot: str | Path, base: str | None = None, tip: str | None = Non
         from dh2urdf.urdf_to_dh import check_table, table_from_chain
 
         chain = read_chain(text, base, tip)
+        for joint in chain.joints:
+            if joint.mimic is not None:
+                raise ModelLoadError(
+                    f"{text}: joint {joint.name!r} follows {joint.mimic.leader!r} (mimic): the "
+                    "kin commands take one independent joint per DH row; choose a --tip before "
+                    "it, or use kin.mimic_arm.load_mimic_arm in Python (FK and IK)"
+                )
         table = table_from_chain(chain)
         check_table(chain, table)
         model = robot_from_table(table)
