@@ -68,3 +68,132 @@ def test_kill_int_stops_a_run_started_with_sigint_ignored():
     finally:
         if process.poll() is None:
             process.kill()
+
+
+
+def test_a_sigint_while_held_waits_for_the_release():
+    """The stream's gate: between hold and release a first SIGINT is only noted and release
+    raises it; a second one raises at once; outside, one raises at once; the handler restored."""
+    from kin.commands.interrupt_gate import interrupt_gate
+
+    with interrupt_gate() as gate:
+        assert gate.installed
+        gate.hold()
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.05)  # the handler runs here (and notes it)
+        with pytest.raises(KeyboardInterrupt):
+            gate.release()
+        gate.release()  # nothing noted any more
+        gate.hold()
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)
+        gate.release()  # the second raised: nothing left to raise
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+#: An eight-joint arm (no closed form: every line goes to the numeric solver, about 5000 lines/s).
+SNAKE8_TOML = """
+name = "snake8"
+description = "8R test arm for the stream's Ctrl-C"
+source = "tests/test_interrupts.py: invented"
+convention = "standard"
+length_unit = "m"
+angle_unit = "deg"
+""" + "".join(
+    f'\n[[joints]]\nname = "j{k}"\ntype = "revolute"\na = {a}\nalpha = {alpha}\nd = {d}\n'
+    "theta = 0.0\nlimits = [-170.0, 170.0]\n"
+    for k, (a, alpha, d) in enumerate(
+        [(0.0, 90, 0.3), (0.25, 0, 0), (0.0, 90, 0), (0.0, -90, 0.25)]
+        + [(0.0, 90, 0), (0.0, -90, 0.2), (0.1, 90, 0), (0.0, 0, 0.1)],
+        start=1,
+    )
+)
+
+
+def _pose_file(robot_argument: str, path, count: int) -> None:
+    """``count`` lines {"target", "rpy"}: 2000 poses of random q within the limits, repeated."""
+    import json
+
+    import numpy as np
+    import pinocchio as pin
+
+    from kin import Configuration, load_robot
+
+    robot = load_robot(robot_argument)
+    configuration = Configuration(robot)
+    q_all = np.random.default_rng(3).uniform(robot.lower, robot.upper, (2000, robot.nq))
+    lines = []
+    for q in q_all:
+        pose = configuration.fk(q)
+        rpy = pin.rpy.matrixToRpy(pose.rotation).tolist()
+        lines.append(json.dumps({"target": pose.translation.tolist(), "rpy": rpy}) + "\n")
+    path.write_text("".join(lines[k % len(lines)] for k in range(count)))
+
+
+def _answers(text: str) -> list[dict]:
+    """The answers of a stream's output, without their times (the rest is deterministic)."""
+    import json
+
+    answers = [json.loads(line) for line in text.splitlines()]
+    for answer in answers:
+        answer.pop("time_s", None)
+    return answers
+
+
+@pytest.mark.parametrize(
+    ("case", "options", "count", "after"),
+    [
+        ("humanoid7", [], 150_000, 0.5),  # the batch stage, answers encoded in C
+        ("humanoid7", ["--all"], 30_000, 1.0),  # line by line, answers as dicts
+        ("snake8", [], 20_000, 1.0),  # the numeric solver, line by line, ~1 s per read batch
+    ],
+)
+def test_ctrl_c_on_the_stream_keeps_the_answers_solved(case, options, count, after, tmp_path):
+    """SIGINT while `kin ik --stdin` answers a file: exit 130, the answers written are whole
+    lines and exactly those of an uninterrupted run on the same first lines, at least one."""
+    robot = case
+    if case == "snake8":
+        robot = str(tmp_path / "snake8.toml")
+        (tmp_path / "snake8.toml").write_text(SNAKE8_TOML)
+    source = tmp_path / "in.jsonl"
+    _pose_file(robot, source, count)
+    command = [*kin_command(), "ik", "--robot", robot, "--stdin", *options]
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"))
+    env.pop("DH_KINEMATICS_NO_CACHE", None)
+    first = tmp_path / "first.jsonl"
+    first.write_text(source.read_text().split("\n", 1)[0] + "\n")
+    begin = time.monotonic()  # start-up and one line, the seed table cached for the run below
+    subprocess.run(command, stdin=first.open("rb"), capture_output=True, env=env, check=True)
+    startup = time.monotonic() - begin
+    out = tmp_path / "out.jsonl"
+    with source.open("rb") as stdin, out.open("wb") as stdout:
+        process = subprocess.Popen(
+            command, stdin=stdin, stdout=stdout, stderr=subprocess.PIPE, env=env
+        )
+        try:
+            time.sleep(startup + after)  # answering, in the middle of a read batch
+            process.send_signal(signal.SIGINT)
+            _, err = process.communicate(timeout=60)
+        finally:
+            if process.poll() is None:
+                process.kill()
+    assert process.returncode == 130, err
+    assert err.decode().strip().splitlines()[-1] == "kin ik: interrupted"
+    text = out.read_text()
+    written = text.count("\n")
+    assert 0 < written < count, f"{case=} {written=}: SIGINT came too late or nothing was kept"
+    assert text.endswith("\n"), f"{case=}: the last line is cut: {text[-80:]!r}"
+    head = tmp_path / "head.jsonl"
+    head.write_text("".join(source.read_text().splitlines(keepends=True)[:written]))
+    full = subprocess.run(command, stdin=head.open("rb"), capture_output=True, env=env)
+    assert full.returncode in (0, 1), full.stderr
+    expected = _answers(full.stdout.decode())
+    got = _answers(text)
+    assert len(got) == len(expected) == written
+    for number, (answer, reference) in enumerate(zip(got, expected), start=1):
+        assert answer == reference, f"{case=} line {number}"

@@ -17,7 +17,9 @@ code is 1 when any line had an error or no valid solution, else 0.
 
 Answers are flushed before the command waits for more input, and at least every
 :data:`FLUSH_EVERY` answers: a client that writes one line and waits gets its answer at once,
-while a producer that queues thousands of lines does not pay one write per line.
+while a producer that queues thousands of lines does not pay one write per line. Ctrl-C writes
+the answers of the lines solved so far (whole lines, in order: the answer of a prefix of the
+input) and stops with ``KeyboardInterrupt`` (exit 130); one during a write waits for its end.
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from ..ik.batch_solve import FREE_JOINT_STAGE
 from ..ik.numeric.free_joint import FROM_SEED
 from ..ik.result import IKResult
 from ..ik.target import PoseTarget, PositionTarget, Target
+from .interrupt_gate import InterruptGate, interrupt_gate
 from .joint_units import JointUnits
 from .targets import build_target, check_kind
 
@@ -195,45 +198,34 @@ class StreamSolver:
         q_units = list(self.units.si_labels)
         # the records are fresh trees of dicts and lists: no need to look for cycles
         dumps = json.JSONEncoder(check_circular=False).encode
-        write, flush = out.write, out.flush
         batches = line_batches(source)
         number = 0  # lines read so far
         failed = False
         started: _Started | None = None
-        while True:
-            if started is None:  # wait for input
-                lines = next(batches, None)
-                if lines is None:
-                    break
-                started = self._start(lines, number)
-                number += len(lines)
-            ahead = None
-            if _input_waiting(source):  # read it now: its scans run while these are answered
-                lines = next(batches, None)
-                if lines is not None:
-                    ahead = self._start(lines, number)
+        with interrupt_gate() as gate:
+            while True:
+                if started is None:  # wait for input
+                    lines = next(batches, None)
+                    if lines is None:
+                        break
+                    started = self._start(lines, number)
                     number += len(lines)
-            records = self._records(started)
-            pending: list[str] = []  # written FLUSH_EVERY answers at a time, in one write
-            for count, record in enumerate(records, start=1):
-                if record.__class__ is str:  # a verified answer of the batch stage, encoded
-                    pending.append(record)  # type: ignore[arg-type]
-                else:
-                    assert isinstance(record, dict)
-                    if "error" in record or ("success" in record and not record["success"]):
-                        failed = True
-                    if "success" in record:
-                        record["q_units"] = q_units
-                    pending.append(dumps(record) + "\n")
-                if count % FLUSH_EVERY == 0:
-                    write("".join(pending))
-                    pending.clear()
-                    flush()
-            write("".join(pending))
-            flush()
-            if getattr(out, "broken", False):  # the reader is gone (| head): stop reading
-                break
-            started = ahead
+                ahead = None
+                if _input_waiting(source):  # read it now: its scans run while these are answered
+                    lines = next(batches, None)
+                    if lines is not None:
+                        ahead = self._start(lines, number)
+                        number += len(lines)
+                try:
+                    records = self._records(started, gate)
+                except _Interrupted as stop:  # Ctrl-C: the answers made so far, whole, then 130
+                    _write_records(stop.records, out, dumps, q_units)
+                    raise
+                failed |= _write_records(records, out, dumps, q_units)
+                gate.release()  # a Ctrl-C during the write stops the stream now
+                if getattr(out, "broken", False):  # the reader is gone (| head): stop reading
+                    break
+                started = ahead
         return 1 if failed else 0
 
     def _start(self, lines: Sequence[str | bytes], before: int) -> _Started:
@@ -248,23 +240,47 @@ class StreamSolver:
             finish = self._plain(lines, before, tried)
         return _Started(lines, before, tried, finish)
 
-    def _records(self, started: _Started) -> list[dict[str, Any] | str]:
-        """The answers of a batch of input lines (:meth:`_start`), in order.
+    def _records(self, started: _Started, gate: InterruptGate) -> list[dict[str, Any] | str]:
+        """The answers of a batch of input lines (:meth:`_start`), in order; ``gate`` held after.
 
         Lines the batch stage takes (:attr:`batch`: full poses or positions, without --all) are
         solved together (those of the plainest form, ``{"target": [...], "rpy": [...]}`` or a
         target alone, read together too: :meth:`_plain`); the others, and those it leaves
         unanswered, one by one.
+
+        Raises:
+            _Interrupted: Ctrl-C while solving, with the answers of the lines before the first
+                one not solved (``gate`` held).
         """
         lines, before = started.lines, started.before
         records: list[dict[str, Any] | str | None] = [None] * len(lines)
+        notes: list[list[str]] = [[] for _ in lines]
+        try:
+            self._solve_batch(started, records, notes)
+            gate.hold()  # answered: a Ctrl-C from now on waits until they are written
+        except KeyboardInterrupt:
+            gate.hold()
+            solved = records.index(None) if None in records else len(records)
+            raise _Interrupted(_numbered(records[:solved], notes, before)) from None
+        return _numbered(records, notes, before)
+
+    def _solve_batch(
+        self,
+        started: _Started,
+        records: list[dict[str, Any] | str | None],
+        notes: list[list[str]],
+    ) -> None:
+        """Fill ``records`` and ``notes`` (each line's answer and warnings, by line index).
+
+        In line order, but for the lines the batch stage solves together at the end.
+        """
+        lines, before = started.lines, started.before
         # Lines the batch stage read and left, with their targets: one by one at once (not read
         # again: the same target as request() makes of them, no warning, the default seed).
         tried = started.tried
         for finish in started.finish:
             for index, encoded in finish().items():
                 records[index] = encoded
-        notes: list[list[str]] = [[] for _ in lines]
         together: list[tuple[int, Target, np.ndarray | None]] = []
         for index, line in enumerate(lines):
             if records[index] is not None:
@@ -292,22 +308,6 @@ class StreamSolver:
         if together:
             for index, solved in self._solved_together(together, before).items():
                 records[index] = solved
-        out: list[dict[str, Any] | str] = []
-        for index, answer in enumerate(records):
-            assert answer is not None
-            if isinstance(answer, str):
-                out.append(answer)
-                continue
-            record = answer
-            number = before + index + 1
-            if "error" in record or "skipped" in record:
-                out.append({"line": number, **record})
-                continue
-            if notes[index]:
-                record["warnings"] = notes[index]
-            record["line"] = number
-            out.append(record)
-        return out
 
     def _plain(
         self, lines: Sequence[str | bytes], before: int, tried: dict[int, Target]
@@ -573,6 +573,75 @@ class StreamSolver:
                     "free": [],
                 }
         return records
+
+
+def _numbered(
+    records: Sequence[dict[str, Any] | str | None], notes: list[list[str]], before: int
+) -> list[dict[str, Any] | str]:
+    """The answers of a batch's first lines with their line numbers and warnings.
+
+    Args:
+        records: Each line's answer (solved: none is None), encoded or a record.
+        notes: Each line's warnings.
+        before: The lines read before the batch.
+    """
+    out: list[dict[str, Any] | str] = []
+    for index, answer in enumerate(records):
+        assert answer is not None
+        if isinstance(answer, str):
+            out.append(answer)
+            continue
+        record = answer
+        number = before + index + 1
+        if "error" in record or "skipped" in record:
+            out.append({"line": number, **record})
+            continue
+        if notes[index]:
+            record["warnings"] = notes[index]
+        record["line"] = number
+        out.append(record)
+    return out
+
+
+def _write_records(
+    records: list[dict[str, Any] | str],
+    out: TextIO,
+    dumps: Callable[[Any], str],
+    q_units: list[str],
+) -> bool:
+    """Write answers on ``out``, :data:`FLUSH_EVERY` lines per write, and flush.
+
+    Returns:
+        Whether any line had an error or no valid solution.
+    """
+    write, flush = out.write, out.flush
+    failed = False
+    pending: list[str] = []  # written FLUSH_EVERY answers at a time, in one write
+    for count, record in enumerate(records, start=1):
+        if record.__class__ is str:  # a verified answer of the batch stage, encoded
+            pending.append(record)  # type: ignore[arg-type]
+        else:
+            assert isinstance(record, dict)
+            if "error" in record or ("success" in record and not record["success"]):
+                failed = True
+            if "success" in record:
+                record["q_units"] = q_units
+            pending.append(dumps(record) + "\n")
+        if count % FLUSH_EVERY == 0:
+            write("".join(pending))
+            pending.clear()
+            flush()
+    write("".join(pending))
+    flush()
+    return failed
+
+
+class _Interrupted(KeyboardInterrupt):
+    """Ctrl-C while a batch was solved: the answers of its lines before the first unsolved."""
+
+    def __init__(self, records: list[dict[str, Any] | str]) -> None:
+        super().__init__()
+        self.records = records
 
 
 def _no_answers() -> dict[int, str]:
