@@ -17,8 +17,11 @@ some of them singular. :meth:`General6R.recognise` solves sampled poses of the a
 keeps the one (or two, their answers merged) that recovers them all, the next ones as fallbacks.
 A pose whose distinct branches are fewer than the real roots (solutions sharing the eliminated
 joint's angle: a multiple root, common at symmetric poses) is solved again reading every
-solution of a multiple root from its null space, then by the fallbacks, the answers merged.
-Poses whose solutions are not isolated (singular ones) give some of them.
+solution of a multiple root from its null space, then by the fallbacks, the answers merged;
+such a pose is also solved at six nearby poses (:data:`NUDGES`, 1e-5 to 1e-3 away) by every cut,
+where its roots are simple, each candidate polished back onto the pose: which eigenvalues of a
+multiple root come out real depends on the LAPACK build (OpenBLAS picks its kernels by CPU), the
+branches must not. Poses whose solutions are not isolated (singular ones) give some of them.
 
 Every candidate is polished by Newton steps on the true chain (to about 1e-13 [m], [rad]),
 kept only when on target to :data:`KEEP_TOL`, and duplicates are merged; the solvers' judge
@@ -62,6 +65,33 @@ FALLBACKS = 2
 #: Sampled poses per formulation when an arm is recognised, and the seed of their joints.
 PROBES = 24
 PROBE_SEED = 6
+
+
+def _nudge(
+    size: float, axis: tuple[float, float, float], shift: tuple[float, float, float]
+) -> np.ndarray:
+    """A rigid motion (4, 4) of ``size`` [rad] about ``axis`` and ``size`` [m] along ``shift``."""
+    k = np.array(axis) / np.linalg.norm(axis)
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    out = np.eye(4)
+    out[:3, :3] += math.sin(size) * K + (1.0 - math.cos(size)) * K @ K
+    out[:3, 3] = size * np.array(shift) / np.linalg.norm(shift)
+    return out
+
+
+#: Tool-frame motions to nearby poses (fixed, generic directions; 1e-5 to 1e-3 [m], [rad]): the
+#: roots of a pose the elimination did not solve cleanly (a multiple root, a degenerate cut, a
+#: cluster of close solutions) are also taken from these poses, where they are simple, and
+#: polished back, so that no branch depends on the LAPACK build. Several sizes: a small nudge
+#: leaves a multiple root ill-conditioned, a large one can carry Newton to a close neighbour.
+NUDGES = tuple(
+    _nudge(size, axis, shift)
+    for size in (1e-5, 1e-4, 1e-3)
+    for axis, shift in (
+        ((0.31, -0.72, 0.62), (0.53, 0.27, -0.80)),
+        ((-0.66, 0.14, 0.74), (-0.35, 0.88, 0.31)),
+    )
+)
 
 
 def _rot_x(angle: float) -> np.ndarray:
@@ -241,10 +271,18 @@ class General6R:
     fallbacks: tuple[Formulation, ...] = ()
     _F0_inv: np.ndarray = field(init=False, repr=False)
     _F6_inv: np.ndarray = field(init=False, repr=False)
+    _cuts: tuple[Formulation, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_F0_inv", inverse(self.F[0]))
         object.__setattr__(self, "_F6_inv", inverse(self.F[6]))
+        known = {(f.reverse, f.start): f for f in self.formulations + self.fallbacks}
+        cuts = tuple(
+            known.get((reverse, start)) or Formulation(reverse, start, self.F)
+            for reverse in (False, True)
+            for start in range(3)
+        )
+        object.__setattr__(self, "_cuts", cuts)
 
     @classmethod
     def recognise(cls, table: DHTable) -> General6R:
@@ -333,9 +371,12 @@ class General6R:
         pose, u, roots = _candidates(self.F, self.formulations, T, *inverses)
         pose, u = pose[finite[pose]], u[finite[pose]]
         out = distinct(n, pose, u)
+        doubtful = None  # the poses the first elimination did not solve cleanly
         for extra in self.formulations[:1] + self.fallbacks:
             found = (~np.isnan(out[..., 0])).sum(axis=1)
             again = np.nonzero(((found < roots) | (found % 2 == 1)) & finite)[0]
+            if doubtful is None:
+                doubtful = again
             if not again.size:
                 break
             more_pose, more_u, more_roots = _candidates(
@@ -345,6 +386,19 @@ class General6R:
             u = np.concatenate((u, more_u))
             roots = np.zeros_like(roots)
             roots[again] = more_roots  # a pose asks the next elimination if this one failed too
+            out = distinct(n, pose, u)
+        if doubtful is not None and doubtful.size:
+            # Near a multiple root, or where this cut of the loop degenerates, the eigenvalues
+            # (and which of them LAPACK's build returns as real) are ill-conditioned: solve
+            # nearby poses by every cut, and polish each candidate onto the pose itself (Newton
+            # from about NUDGE away). The branches no longer depend on the LAPACK build.
+            for nudge in NUDGES:
+                with np.errstate(all="ignore"):  # a degenerate cut gives NaN rows (dropped)
+                    more_pose, more_u, _ = _candidates(
+                        self.F, self._cuts, T[doubtful], *inverses, solve_at=T[doubtful] @ nudge
+                    )
+                pose = np.concatenate((pose, doubtful[more_pose]))
+                u = np.concatenate((u, more_u))
             out = distinct(n, pose, u)
         return out * self.signs
 
@@ -356,6 +410,7 @@ def _candidates(
     F0_inv: np.ndarray | None = None,
     F6_inv: np.ndarray | None = None,
     careful: bool = False,
+    solve_at: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pose index (M,) and polished DH joint variables on target (M, 6) [rad] of poses ``T``.
 
@@ -363,10 +418,12 @@ def _candidates(
     The third array (N,) counts the real roots per pose (divided by the formulations): a pose
     with fewer distinct branches, or an odd number, lost one (ask another formulation).
     ``careful``: read every solution of a multiple root too (:meth:`Formulation.candidates`).
+    ``solve_at``: poses (N, 4, 4) [m] whose roots are taken instead (nearby poses), each polished
+    onto its pose of ``T``.
     """
     F0_inv = inverse(F[0]) if F0_inv is None else F0_inv
     F6_inv = inverse(F[6]) if F6_inv is None else F6_inv
-    K = F0_inv @ T @ F6_inv
+    K = F0_inv @ (T if solve_at is None else solve_at) @ F6_inv
     n = T.shape[0]
     poses, rows = [], []
     roots = np.zeros(n)
