@@ -21,6 +21,7 @@ import numpy as np
 
 from .drive_section import JointDrive
 from .exceptions import TableError
+from .joint_cap import MAX_JOINTS
 from .transforms import rot_x, rot_z, translation
 
 Convention = Literal["standard", "modified"]
@@ -123,6 +124,13 @@ class DHTable:
     drives: tuple[JointDrive, ...] = ()
 
     def __post_init__(self) -> None:
+        if len(self.rows) > MAX_JOINTS:
+            raise TableError(
+                self.path or self.name,
+                f"{len(self.rows)} joints; at most {MAX_JOINTS} are supported",
+                None,
+                "joints",
+            )
         object.__setattr__(self, "T_world_base", _readonly(self.T_world_base))
         object.__setattr__(self, "T_last_tool", _readonly(self.T_last_tool))
 

@@ -53,7 +53,9 @@ import numpy as np
 from .dh_table import DHRow, DHTable, dh_link_transform
 from .drive_section import parse_drives
 from .exceptions import TableError, UnitWarning
-from .table_values import MAX_LENGTH, MAX_MASS
+from .joint_cap import MAX_JOINTS
+from .quoted_input import quoted
+from .table_values import MAX_ANGLE, MAX_LENGTH, MAX_MASS
 from .table_values import length as _length
 from .table_values import number as _number
 from .table_values import positive as _positive
@@ -116,10 +118,10 @@ def _string(
         raise TableError(path, f"missing required field{hint}", None, key)
     value = data[key]
     if not isinstance(value, str):
-        raise TableError(path, f"expected a string, got {value!r}", None, key)
+        raise TableError(path, f"expected a string, got {quoted(value)}", None, key)
     if choices is not None and value not in choices:
         raise TableError(
-            path, f"unknown value {value!r}; choose one of: {', '.join(choices)}", None, key
+            path, f"unknown value {quoted(value)}; choose one of: {', '.join(choices)}", None, key
         )
     return value
 
@@ -133,7 +135,7 @@ def _check_keys(
             path,
             f"unknown field in {what}; allowed fields: {', '.join(sorted(allowed))}",
             row,
-            unknown[0],
+            quoted(unknown[0])[1:-1],
         )
 
 
@@ -152,7 +154,7 @@ def _fixed_transform(
         for sub, vec, scale in (("xyz", xyz, meters), ("rpy", rpy, radians)):
             if not isinstance(vec, list) or len(vec) != 3:
                 raise TableError(
-                    path, f"expected a list of 3 numbers, got {vec!r}", None, f"{key}.{sub}"
+                    path, f"expected a list of 3 numbers, got {quoted(vec)}", None, f"{key}.{sub}"
                 )
             if sub == "xyz":
                 x, y, z = (_length(path, v, None, f"{key}.xyz", meters) for v in vec)
@@ -189,7 +191,7 @@ def _xyz_quaternion(path: str, data: dict[str, Any], key: str, meters: float) ->
     for sub, vec, size in (("xyz", xyz, 3), ("quat_wxyz", quat, 4)):
         if not isinstance(vec, list) or len(vec) != size:
             raise TableError(
-                path, f"expected a list of {size} numbers, got {vec!r}", None, f"{key}.{sub}"
+                path, f"expected a list of {size} numbers, got {quoted(vec)}", None, f"{key}.{sub}"
             )
     x, y, z = (_length(path, v, None, f"{key}.xyz", meters) for v in xyz)
     w, qx, qy, qz = (_number(path, v, None, f"{key}.quat_wxyz") for v in quat)
@@ -223,31 +225,33 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     if joint_type not in _JOINT_TYPES:
         raise TableError(
             path,
-            f"unknown joint type {joint_type!r}; choose one of: {', '.join(_JOINT_TYPES)}",
+            f"unknown joint type {quoted(joint_type)}; choose one of: {', '.join(_JOINT_TYPES)}",
             index,
             "type",
         )
     name = data.get("name", f"joint{index}")
     if not isinstance(name, str) or not name.strip():
-        raise TableError(path, f"expected a non-empty string, got {name!r}", index, "name")
+        raise TableError(path, f"expected a non-empty string, got {quoted(name)}", index, "name")
     _xml_text(path, name, index, "name")
     continuous = data.get("continuous", False)
     if continuous is not True and continuous is not False:
-        raise TableError(path, f"expected true or false, got {continuous!r}", index, "continuous")
+        raise TableError(
+            path, f"expected true or false, got {quoted(continuous)}", index, "continuous"
+        )
     if continuous and joint_type != "revolute":
         raise TableError(path, "only a revolute joint can be continuous", index, "continuous")
     direction = data.get("direction", 1)
     if isinstance(direction, bool) or not isinstance(direction, int) or direction not in (1, -1):
         raise TableError(
             path,
-            f"expected 1 or -1, got {direction!r}: write direction = -1 for a joint that moves "
+            f"expected 1 or -1, got {quoted(direction)}: write direction = -1 for a joint that moves "
             "the other way (DH angle theta - q, length d - q), else leave the field out",
             index,
             "direction",
         )
     limits = data["limits"]
     if not isinstance(limits, list) or len(limits) != 2:
-        raise TableError(path, f"expected [lower, upper], got {limits!r}", index, "limits")
+        raise TableError(path, f"expected [lower, upper], got {quoted(limits)}", index, "limits")
     q_scale = radians if joint_type == "revolute" else meters
     if joint_type == "prismatic":
         lower = _length(path, limits[0], index, "limits", meters)
@@ -255,23 +259,37 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
     else:
         lower = _number(path, limits[0], index, "limits") * q_scale
         upper = _number(path, limits[1], index, "limits") * q_scale
+        if max(abs(lower), abs(upper)) > MAX_ANGLE:
+            raise TableError(
+                path,
+                f"a revolute limit beyond {MAX_ANGLE:g} rad, got {quoted(limits)}: for a joint "
+                "without limits write continuous = true",
+                index,
+                "limits",
+            )
     if lower > upper:
         raise TableError(
-            path, f"lower limit {limits[0]} is above upper limit {limits[1]}", index, "limits"
+            path,
+            f"lower limit {quoted(limits[0])} is above upper limit {quoted(limits[1])}",
+            index,
+            "limits",
         )
     velocity = DEFAULT_VELOCITY[joint_type]
     if "velocity" in data:
         velocity = _number(path, data["velocity"], index, "velocity") * q_scale
         if velocity <= 0:
             raise TableError(
-                path, f"expected a positive velocity, got {data['velocity']}", index, "velocity"
+                path,
+                f"expected a positive velocity, got {quoted(data['velocity'])}",
+                index,
+                "velocity",
             )
     effort = DEFAULT_EFFORT[joint_type]
     if "effort" in data:
         effort = _number(path, data["effort"], index, "effort")
         if effort <= 0:
             raise TableError(
-                path, f"expected a positive effort, got {data['effort']}", index, "effort"
+                path, f"expected a positive effort, got {quoted(data['effort'])}", index, "effort"
             )
     acceleration = None
     if "acceleration" in data:
@@ -279,7 +297,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         if acceleration <= 0:
             raise TableError(
                 path,
-                f"expected a positive acceleration, got {data['acceleration']}",
+                f"expected a positive acceleration, got {quoted(data['acceleration'])}",
                 index,
                 "acceleration",
             )
@@ -309,6 +327,9 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
 
 #: An angle above this in a table said to be in radians is probably in degrees [rad].
 RADIAN_SUSPECT = 2 * math.pi + 1e-9
+#: A revolute limit above this (four turns) in a radian table is probably in degrees [rad]:
+#: real multi-turn joints stop within two turns (ABB and FANUC joint 6: +-400 to 450 deg).
+LIMIT_SUSPECT = 8 * math.pi + 1e-9
 #: An arm longer than this (its lengths laid end to end) is probably not in meters [m].
 LENGTH_SUSPECT = 20.0
 
@@ -367,22 +388,27 @@ def _warn_units(
 ) -> None:
     """One :class:`UnitWarning` per suspicious unit: degrees in a radian table, a giant arm.
 
-    Angles: alpha, theta and revolute limits of every row, the rpy or alpha/theta of ``[base]``
-    and ``[tool]`` (prismatic limits are lengths). Length: every ``|a| + |d|``, the largest
+    Angles beyond a turn: alpha and theta of every row, the rpy or alpha/theta of ``[base]``
+    and ``[tool]``; beyond four turns: revolute limits (multi-turn joints are real; prismatic
+    limits are lengths). Length: every ``|a| + |d|``, the largest
     prismatic travel and the base and tool offsets, laid end to end.
     """
     if data["angle_unit"] == "rad":
-        angles: list[tuple[str, float]] = []
+        angles: list[tuple[str, float, float, str]] = []
+        turn, turns = (RADIAN_SUSPECT, "a turn"), (LIMIT_SUSPECT, "four turns")
         for row in rows:
             where = f"{path}, joint row {row.index}, field"
-            angles += [(f"{where} 'alpha'", row.alpha), (f"{where} 'theta'", row.theta)]
+            angles += [
+                (f"{where} 'alpha'", row.alpha, *turn),
+                (f"{where} 'theta'", row.theta, *turn),
+            ]
             if row.joint_type == "revolute":
-                angles += [(f"{where} 'limits'", row.lower), (f"{where} 'limits'", row.upper)]
-        angles += [(f"{path}, field '{field}'", value) for field, value in _fixed_angles(data)]
-        for where, value in angles:
-            if abs(value) > RADIAN_SUSPECT:
+                angles += [(f"{where} 'limits'", v, *turns) for v in (row.lower, row.upper)]
+        angles += [(f"{path}, field '{key}'", v, *turn) for key, v in _fixed_angles(data)]
+        for where, value, bound, words in angles:
+            if abs(value) > bound:
                 warnings.warn(
-                    f"{where}: {value:g} rad is more than a turn: are the angles in degrees? "
+                    f"{where}: {value:g} rad is more than {words}: are the angles in degrees? "
                     'then write angle_unit = "deg"',
                     UnitWarning,
                     stacklevel=3,
@@ -427,20 +453,29 @@ def parse_table(
     for key in ("name", "description", "source"):
         value = data.get(key, default_name if key == "name" else "")
         if not isinstance(value, str):
-            raise TableError(path, f"expected a string, got {value!r}", None, key)
+            raise TableError(path, f"expected a string, got {quoted(value)}", None, key)
         if key == "name" and not value.strip():
-            raise TableError(path, f"expected a non-empty robot name, got {value!r}", None, key)
+            raise TableError(
+                path, f"expected a non-empty robot name, got {quoted(value)}", None, key
+            )
         texts[key] = _xml_text(path, value, None, key)
     joints = data.get("joints")
     if not isinstance(joints, list) or not joints:
         raise TableError(path, "expected at least one [[joints]] row", None, "joints")
+    if len(joints) > MAX_JOINTS:
+        raise TableError(
+            path,
+            f"{len(joints)} [[joints]] rows; at most {MAX_JOINTS} are supported",
+            None,
+            "joints",
+        )
     rows = tuple(_row(path, i, row, meters, radians) for i, row in enumerate(joints, start=1))
     seen: dict[str, int] = {}
     for row in rows:
         if row.name in seen:
             raise TableError(
                 path,
-                f"joint name {row.name!r} is already used by row {seen[row.name]}",
+                f"joint name {quoted(row.name)} is already used by row {seen[row.name]}",
                 row.index,
                 "name",
             )
@@ -519,4 +554,8 @@ def load_table(path: str | Path) -> DHTable:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise TableError(str(path), f"not valid TOML: {_toml_error(raw, text, err)}") from err
+    except RecursionError:  # tomllib recurses once per nested array or inline table
+        raise TableError(
+            str(path), "not a DH table: arrays or inline tables nested too deep for TOML's reader"
+        ) from None
     return parse_table(data, str(path), default_name=path.stem)

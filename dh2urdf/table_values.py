@@ -12,12 +12,16 @@ import re
 from typing import Any
 
 from .exceptions import TableError
+from .quoted_input import quoted
 
 #: Largest length a table may give, after unit scaling [m] (a, d, base/tool xyz, radius,
 #: prismatic limits). Anything longer is a typo and would overflow the link transforms.
 MAX_LENGTH = 1e6
 #: Largest mass of a link [kg].
 MAX_MASS = 1e6
+#: Largest revolute limit a table may give [rad] (160,000 turns): sampling inside the limits
+#: stays finite (1e308 overflows it); a joint without limits is ``continuous = true``.
+MAX_ANGLE = 1e6
 
 
 def length(path: str, value: Any, row: int | None, key: str, meters: float) -> float:
@@ -26,7 +30,7 @@ def length(path: str, value: Any, row: int | None, key: str, meters: float) -> f
     if not math.isfinite(scaled) or abs(scaled) > MAX_LENGTH:
         raise TableError(
             path,
-            f"must be a finite length below {MAX_LENGTH:g} m in magnitude, got {value!r} "
+            f"must be a finite length below {MAX_LENGTH:g} m in magnitude, got {quoted(value)} "
             "(check the value and the table's length_unit)",
             row,
             key,
@@ -38,16 +42,18 @@ def positive(path: str, value: Any, row: int, key: str, scale: float, bound: flo
     """A positive, finite value scaled by ``scale``, at most ``bound``."""
     scaled = number(path, value, row, key) * scale
     if not (0.0 < scaled <= bound):
-        raise TableError(path, f"must be positive and at most {bound:g}, got {value!r}", row, key)
+        raise TableError(
+            path, f"must be positive and at most {bound:g}, got {quoted(value)}", row, key
+        )
     return scaled
 
 
 def number(path: str, value: Any, row: int | None, key: str) -> float:
     """``value`` as a float, or a TableError if it is not a finite number (bools are not)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise TableError(path, f"expected a number, got {value!r}", row, key)
+        raise TableError(path, f"expected a number, got {quoted(value)}", row, key)
     if not math.isfinite(value):
-        raise TableError(path, f"expected a finite number, got {value!r}", row, key)
+        raise TableError(path, f"expected a finite number, got {quoted(value)}", row, key)
     return float(value)
 
 

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from .exceptions import UrdfChainError
+from .joint_cap import urdf_joint_count_problem
 from .urdf_parse import build_pinocchio_model, parse_urdf_xml
 
 __all__ = ["ChainJoint", "MimicJoint", "UrdfChain", "UrdfChainError", "read_chain", "urdf_text"]
@@ -184,6 +185,8 @@ def read_chain(path: str | Path, base: str | None = None, tip: str | None = None
     where = str(path)
     text = urdf_text(path)
     root, text = parse_urdf_xml(text, where)
+    if (too_many := urdf_joint_count_problem(root, base, tip)) is not None:
+        raise UrdfChainError(where, too_many)  # before Pinocchio: its Data grows as joints^3
     xml_joints = {joint.get("name", ""): joint for joint in root.iter("joint")}
     links = [link.get("name", "") for link in root.iter("link")]
     if not links:

@@ -32,8 +32,9 @@ from pathlib import Path
 import numpy as np
 
 from .dh_table import Convention, DHRow, DHTable
-from .table_file import DEFAULT_EFFORT, DEFAULT_VELOCITY
-from .urdf_chain import UrdfChain, UrdfChainError, read_chain
+from .table_file import DEFAULT_EFFORT, DEFAULT_VELOCITY, LIMIT_SUSPECT
+from .table_values import MAX_LENGTH
+from .urdf_chain import ChainJoint, UrdfChain, UrdfChainError, read_chain
 
 __all__ = ["check_table", "table_from_chain", "table_from_urdf"]
 
@@ -95,6 +96,7 @@ def table_from_chain(chain: UrdfChain, convention: Convention = "standard") -> D
     rows = []
     for i, joint in enumerate(chain.joints, start=1):
         a, alpha, d, theta = rows_of(frames, i)
+        lower, upper, continuous = _limits(chain.path, joint)
         rows.append(
             DHRow(
                 index=i,
@@ -104,11 +106,11 @@ def table_from_chain(chain: UrdfChain, convention: Convention = "standard") -> D
                 alpha=_clean(alpha),
                 d=_clean(d),
                 theta=_clean(theta),
-                lower=joint.lower,
-                upper=joint.upper,
+                lower=lower,
+                upper=upper,
                 velocity=joint.velocity or DEFAULT_VELOCITY[joint.joint_type],
                 effort=joint.effort or DEFAULT_EFFORT[joint.joint_type],
-                continuous=joint.continuous,
+                continuous=continuous,
             )
         )
     base_frame = frames[0]
@@ -123,6 +125,33 @@ def table_from_chain(chain: UrdfChain, convention: Convention = "standard") -> D
         T_last_tool=_clean_matrix(tool),
         path=chain.path,
     )
+
+
+def _limits(path: str, joint: ChainJoint) -> tuple[float, float, bool]:
+    """``(lower, upper, continuous)`` of a chain joint as a table row carries them.
+
+    A revolute joint whose limits reach beyond :data:`~dh2urdf.table_file.LIMIT_SUSPECT` (four
+    turns; URDFs write 1e16 or 1e308 for "no limits") is read as continuous: limits [-pi, pi],
+    every angle having a copy there.
+
+    Raises:
+        UrdfChainError: Lower above upper, or a prismatic limit beyond ``MAX_LENGTH`` (1e6 m).
+    """
+    lower, upper = joint.lower, joint.upper
+    if not lower <= upper:
+        raise UrdfChainError(
+            path, f"joint {joint.name!r}: limit lower {lower:g} is above upper {upper:g}; swap them"
+        )
+    largest = max(abs(lower), abs(upper))
+    if joint.joint_type == "revolute" and largest > LIMIT_SUSPECT:
+        return -math.pi, math.pi, True
+    if joint.joint_type == "prismatic" and largest > MAX_LENGTH:
+        raise UrdfChainError(
+            path,
+            f"joint {joint.name!r}: limit {largest:g} m is beyond {MAX_LENGTH:g} m, the longest "
+            "travel a table may give; write the joint's real travel",
+        )
+    return lower, upper, joint.continuous
 
 
 def _name(chain: UrdfChain) -> str:

@@ -148,3 +148,65 @@ def test_nearly_parallel_axes_are_no_unit_slip(tmp_path):
         warnings.simplefilter("error", UnitWarning)
         load_table(path)
     assert _unit_warnings(_document(tool={"xyz": [0, 0, 12.0]}))  # a long arm still warns
+
+
+def _six_r_urdf(wrist_limit: str) -> str:
+    """A 6R arm (an ABB-like offset wrist) whose joint 6 turns +-``wrist_limit`` rad."""
+    joints = []
+    origins = ["0 0 0.29", "0 0 0", "0 0.27 0", "0.07 0.3 0", "0 0 0", "0 0.07 0"]
+    axes = ["0 0 1", "0 1 0", "0 1 0", "1 0 0", "0 1 0", "1 0 0"]
+    for i, (origin, axis) in enumerate(zip(origins, axes), start=1):
+        limit = wrist_limit if i == 6 else "2.9"
+        joints.append(
+            f'<joint name="j{i}" type="revolute"><parent link="l{i - 1}"/><child link="l{i}"/>'
+            f'<origin xyz="{origin}"/><axis xyz="{axis}"/>'
+            f'<limit lower="-{limit}" upper="{limit}" effort="10" velocity="4"/></joint>'
+        )
+    links = "".join(f'<link name="l{i}"/>' for i in range(7))
+    return f'<robot name="wrist450">{links}{"".join(joints)}</robot>'
+
+
+def test_multi_turn_wrist_from_urdf_then_load_warns_nothing(tmp_path, capsys):
+    """Joint 6 at +-450 deg (7.854 rad): from-urdf writes the limits, the loader does not warn,
+    and kin fk at 400 deg given in rad (6.98) warns nothing: it is inside the arm's limits."""
+    from dh2urdf import from_urdf_command
+
+    urdf = tmp_path / "wrist450.urdf"
+    urdf.write_text(_six_r_urdf("7.853981633974483"), encoding="utf-8")
+    table = tmp_path / "wrist450.toml"
+    assert from_urdf_command.main([str(urdf), "-o", str(table)]) == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitWarning)
+        loaded = load_table(table)
+    assert loaded.rows[5].upper == pytest.approx(7.853981633974483, abs=1e-12)
+    capsys.readouterr()
+    assert fk.main(["--robot", str(table), "--q", "0", "0", "0", "0", "0", "6.98"]) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert fk.main(["--robot", str(urdf), "--q", "0", "0", "0", "0", "0", "-6.98"]) == 0
+    assert "warning" not in capsys.readouterr().err
+
+
+def test_degrees_outside_the_limits_warn_with_the_joint(capsys):
+    """ur5 (+-360 deg): --q 90 rad is outside, 90 deg inside: one warning naming the joint."""
+    assert fk.main(["--robot", "ur5", "--q", "0", "90", "0", "0", "0", "0"]) == 0
+    _one_warning(capsys.readouterr().err, "--q value 90 rad", "shoulder_lift_joint", "--deg")
+
+
+def test_beyond_the_limits_even_as_degrees_is_no_unit_slip(capsys):
+    """ur5's elbow (+-180 deg): --q 500 is outside as rad and as deg: the limit line only."""
+    assert fk.main(["--robot", "ur5", "--q", "0", "0", "500", "0", "0", "0"]) == 0
+    err = capsys.readouterr().err
+    assert "degrees?" not in err and "outside its limits" in err
+
+
+@pytest.mark.parametrize(
+    ("limit", "warned"), [(7.854, False), (25.1, False), (25.2, True), (170.0, True)]
+)
+def test_revolute_limits_warn_beyond_four_turns(limit, warned):
+    """Limits up to four turns (8 pi = 25.13 rad) are multi-turn joints; beyond, degrees."""
+    joints = _document()["joints"]
+    joints[0]["limits"] = [-limit, limit]
+    messages = _unit_warnings(_document(joints=joints))
+    assert bool(messages) == warned, messages
+    if warned:
+        assert "more than four turns" in messages[0] and "field 'limits'" in messages[0]

@@ -37,6 +37,8 @@ from typing import Any, TextIO
 
 import numpy as np
 
+from dh2urdf.quoted_input import quoted
+
 from ..exceptions import KinError
 from ..ik.batch_solve import FREE_JOINT_STAGE
 from ..ik.numeric.free_joint import FROM_SEED
@@ -149,18 +151,18 @@ class StreamSolver:
         try:
             text = line.decode() if isinstance(line, bytes) else line
             request = _decode(text)
-        except ValueError as err:
+        except (ValueError, RecursionError) as err:  # RecursionError: nested too deep
             raise ValueError(f"not JSON: {err}") from None
         if not isinstance(request, dict):
             raise ValueError(f"a line must be a JSON object, got {type(request).__name__}")
         if not request.keys() <= _KEYS:
             unknown = sorted(request.keys() - _KEYS)
-            raise ValueError(f"unknown key(s) {unknown}; known: {', '.join(KEYS)}")
+            raise ValueError(f"unknown key(s) {quoted(unknown)}; known: {', '.join(KEYS)}")
         if "target" not in request:
             raise ValueError('missing "target": [x, y, z]')
         position_only = request.get("position_only", False)
         if position_only is not True and position_only is not False:
-            raise ValueError(f'"position_only" must be true or false, got {position_only!r}')
+            raise ValueError(f'"position_only" must be true or false, got {quoted(position_only)}')
         target, given = build_target(
             request["target"],
             rpy=request.get("rpy"),
@@ -180,7 +182,7 @@ class StreamSolver:
         seed_q = request.get("seed_q")
         if seed_q is not None:
             if not isinstance(seed_q, list):
-                raise ValueError(f'"seed_q" must be a list of numbers, got {seed_q!r}')
+                raise ValueError(f'"seed_q" must be a list of numbers, got {quoted(seed_q)}')
             seed = self.units.to_si(seed_q, '"seed_q"')
         return target, seed
 

@@ -7,6 +7,7 @@ and radians. JSON output stays SI and says so per joint (``"q_units": ["rad", "m
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -15,6 +16,9 @@ import numpy as np
 
 from dh2urdf import DHTable
 from dh2urdf.command_line import angle_scale, length_scale
+from dh2urdf.exceptions import UnitWarning
+from dh2urdf.quoted_input import quoted
+from dh2urdf.table_file import RADIAN_SUSPECT
 from dh2urdf.table_values import MAX_LENGTH
 
 from ..exceptions import JointVectorError
@@ -42,6 +46,8 @@ class JointUnits:
         scales: SI value per command-line unit, per joint ([rad]/[deg or rad], [m]/[--unit]).
         labels: Command-line unit per joint (``"deg"``, ``"rad"``, ``"mm"``, ...).
         si_labels: SI unit per joint (``"rad"`` or ``"m"``).
+        lower: Lower limit per joint [rad] or [m], or None (then no limit-aware unit warning).
+        upper: Upper limit per joint [rad] or [m], or None.
     """
 
     robot: str
@@ -49,6 +55,8 @@ class JointUnits:
     scales: np.ndarray
     labels: tuple[str, ...]
     si_labels: tuple[str, ...]
+    lower: np.ndarray | None = None
+    upper: np.ndarray | None = None
 
     @classmethod
     def of(cls, name: str, table: DHTable, unit: str = "m", degrees: bool = False) -> JointUnits:
@@ -64,6 +72,8 @@ class JointUnits:
             scales=scales,
             labels=tuple(angle_label if r else unit for r in revolute),
             si_labels=tuple("rad" if r else "m" for r in revolute),
+            lower=table.lower,
+            upper=table.upper,
         )
 
     def describe(self) -> str:
@@ -73,7 +83,8 @@ class JointUnits:
     def to_si(self, values: Sequence[float], option: str = "--q") -> np.ndarray:
         """Joint values given in command-line units, in SI ([rad] or [m]).
 
-        Revolute values may be any finite number (a warning above a turn without ``--deg``);
+        Revolute values may be any finite number (a warning when, without ``--deg``, one is
+        more than a turn, outside its joint's limits and inside them read as degrees);
         prismatic ones at most ``MAX_LENGTH`` (1e6 m) in magnitude, the bound of a table's lengths,
         so that forward kinematics stays finite.
 
@@ -86,7 +97,7 @@ class JointUnits:
             array = np.array(values, dtype=float).reshape(-1)
         except (TypeError, ValueError) as err:
             raise JointVectorError(
-                f"{option} must be numbers for '{self.robot}', got {values!r}", nq, -1
+                f"{option} must be numbers for '{self.robot}', got {quoted(values)}", nq, -1
             ) from err
         if array.size != nq:
             raise JointVectorError(
@@ -97,12 +108,10 @@ class JointUnits:
             )
         if not np.isfinite(array).all():
             raise JointVectorError(
-                f"{option} values must be finite, got {array.tolist()}", nq, array.size
+                f"{option} values must be finite, got {quoted(array.tolist())}", nq, array.size
             )
         if self.labels and "rad" in self.labels:
-            warn_radians(
-                option, [v for v, label in zip(array.tolist(), self.labels) if label == "rad"]
-            )
+            self._warn_degrees(option, array)
         si = array * self.scales
         for name, value, given, unit, si_unit in zip(
             self.joint_names, si.tolist(), array.tolist(), self.labels, self.si_labels
@@ -117,6 +126,31 @@ class JointUnits:
                 )
         return si
 
+    def _warn_degrees(self, option: str, values: np.ndarray) -> None:
+        """A :class:`~dh2urdf.exceptions.UnitWarning` for the first radian value like degrees.
+
+        Like degrees: more than a turn, outside its joint's limits, inside them read as degrees.
+        A value inside the limits is what the arm does (ABB and FANUC joint 6 turn +-400 to
+        450 deg): no warning. Without limits (``lower`` None), more than a turn is enough.
+        """
+        if self.lower is None or self.upper is None:
+            warn_radians(option, [v for v, u in zip(values.tolist(), self.labels) if u == "rad"])
+            return
+        for value, unit, name, low, high in zip(
+            values.tolist(), self.labels, self.joint_names, self.lower, self.upper
+        ):
+            if unit != "rad" or abs(value) <= RADIAN_SUSPECT or low <= value <= high:
+                continue
+            if low <= math.radians(value) <= high:
+                warnings.warn(
+                    f"{option} value {value:g} rad of joint '{name}' is outside its range "
+                    f"[{low:.6g}, {high:.6g}] rad, inside it as {value:g} deg: degrees? then "
+                    "add --deg",
+                    UnitWarning,
+                    stacklevel=4,
+                )
+                return
+
     def from_si(self, q: np.ndarray) -> np.ndarray:
         """SI joint values ([rad] or [m]) in command-line units."""
         return np.asarray(q, dtype=float) / self.scales
@@ -124,9 +158,6 @@ class JointUnits:
 
 def warn_radians(option: str, values: Sequence[float]) -> None:
     """A :class:`~dh2urdf.exceptions.UnitWarning` when a value in radians exceeds a turn."""
-    from dh2urdf.exceptions import UnitWarning
-    from dh2urdf.table_file import RADIAN_SUSPECT
-
     for value in values:
         if abs(value) > RADIAN_SUSPECT:
             warnings.warn(

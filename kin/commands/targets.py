@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+from dh2urdf.quoted_input import quoted
+
 from ..ik.exceptions import TargetError
 from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
 from .joint_units import warn_radians
@@ -30,14 +32,14 @@ def _finite(values: object, size: int, what: str) -> list[float]:
     """``values`` as ``size`` finite floats (JSON numbers or argparse floats; no booleans)."""
     items = [values] if size == 1 and not isinstance(values, (list, tuple)) else values
     if not isinstance(items, (list, tuple)) or len(items) != size:
-        raise TargetError(f"{what} must be {size} number(s), got {values!r}")
+        raise TargetError(f"{what} must be {size} number(s), got {quoted(values)}")
     for value in items:
         if value.__class__ is not float and (
             isinstance(value, bool) or not isinstance(value, (int, float))
         ):
-            raise TargetError(f"{what} must be numbers, got {values!r}")
+            raise TargetError(f"{what} must be numbers, got {quoted(values)}")
     if not all(map(math.isfinite, items)):
-        raise TargetError(f"{what} must be finite, got {values!r}")
+        raise TargetError(f"{what} must be finite, got {quoted(values)}")
     return [float(v) for v in items]  # type: ignore[arg-type]  # checked above
 
 
@@ -65,7 +67,7 @@ def _mask_flags(values: object) -> list[int]:
         isinstance(v, bool) or not isinstance(v, (int, float)) or v not in (0, 1) for v in items
     ):
         raise TargetError(
-            f"--mask must be 6 flags 0 or 1 (x y z rx ry rz; 1 = constrained), got {values!r}"
+            f"--mask must be 6 flags 0 or 1 (x y z rx ry rz; 1 = constrained), got {quoted(values)}"
         )
     return [int(v) for v in items]  # type: ignore[call-overload, arg-type]
 
@@ -130,7 +132,7 @@ def build_target(
         mask = _mask_flags(mask)
     if axis is not None:
         if tool_axis is not None and tool_axis not in ("x", "y", "z"):
-            raise TargetError(f"--tool-axis must be x, y or z, got {tool_axis!r}")
+            raise TargetError(f"--tool-axis must be x, y or z, got {quoted(tool_axis)}")
         return AxisTarget(p, _finite(axis, 3, "--axis"), tool_axis or "z"), "--axis"
     if quat is not None:
         rotation = quaternion_matrix(*_finite(quat, 4, "--quat"))
