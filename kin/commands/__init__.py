@@ -18,6 +18,7 @@ __all__ = ["COMMANDS", "get_argument_parser", "main"]
 
 #: Subcommand -> one-line summary (the module is ``kin.commands.<name>``).
 COMMANDS: dict[str, str] = {
+    "cache": "the numeric solver's seed-table cache: folder, files, size; --clear empties it",
     "drives": "stepper pulses of a joint vector, the angles reached and the tool error",
     "fk": "pose of a robot frame at a joint vector",
     "ik": "inverse kinematics of a tool target (or JSON targets on stdin)",
