@@ -75,15 +75,13 @@ def output_format(output: str, chosen: str | None) -> str:
 
 def _export(args: argparse.Namespace) -> int:
     """Load the table, render it and write it (atomically) or print it."""
-    table = get_robot(args.robot).load_table() if args.robot else load_table(args.table)
     output: str = args.output
-    kind = output_format(output, args.format)
     if output != "-":
-        folder = Path(output).parent
-        if not folder.is_dir():
-            raise OSError(f"{output}: folder '{folder}' does not exist")
-        if Path(output).is_dir():
-            raise OSError(f"{output}: is a folder; give a file name such as {output}/arm.urdf")
+        from .output_file import checked_output
+
+        checked_output(output, "-o")  # a regular file or a new path, before any work
+    table = get_robot(args.robot).load_table() if args.robot else load_table(args.table)
+    kind = output_format(output, args.format)
     if kind == "mjcf":
         from .mjcf_writer import mjcf_string as render
     else:

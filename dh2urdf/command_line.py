@@ -2,13 +2,16 @@
 
 Commands exit with code 2 and print exactly one line on stderr for bad input (argparse errors and
 the project's exceptions alike), never a traceback; a closed output pipe (``kin fk ... | head``)
-is ignored quietly and the command keeps its own exit code (1 stays 1 under ``set -o
-pipefail``); Ctrl-C prints one line and exits 130.
+or a closed stdout (``>&-``) is ignored quietly and the command keeps its own exit code (1 stays 1
+under ``set -o pipefail``); stdout on a full device (``> /dev/full``, ENOSPC, EIO...) and an output
+file that cannot be written to the end are one line and exit 1; Ctrl-C prints one line and exits
+130.
 """
 
 from __future__ import annotations
 
 import argparse
+import errno
 import math
 import os
 import re
@@ -17,7 +20,7 @@ import warnings
 from collections.abc import Callable
 from typing import Any, NoReturn, TextIO
 
-from .exceptions import Dh2UrdfError
+from .exceptions import Dh2UrdfError, OutputWriteError
 from .units import ANGLE_UNITS, LENGTH_UNITS
 
 #: Exit code for bad input.
@@ -25,6 +28,14 @@ EXIT_BAD_INPUT = 2
 
 #: Exit code after Ctrl-C (128 + SIGINT).
 EXIT_INTERRUPTED = 130
+
+#: Exit code of a run that failed part-way for a reason outside its input (a full disk).
+EXIT_FAULT = 1
+
+#: Errors of a standard output that takes no more output: the reader left (quiet, the command's
+#: own exit code) or the device is full or failing (one line, :data:`EXIT_FAULT`).
+_STDOUT_GONE = (errno.EPIPE, errno.EBADF)
+_STDOUT_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO)
 
 # argparse takes "-1.2e-16" for an option because its own pattern knows no exponent; "-inf" and
 # "-nan" are values too (refused by the converters with a clear line, not "expected 3 arguments").
@@ -95,6 +106,14 @@ def report_error(prog: str, err: BaseException) -> int:
     return EXIT_BAD_INPUT
 
 
+def _say(line: str) -> None:
+    """Print ``line`` on stderr, unless stderr itself is gone (``2>/dev/full``)."""
+    try:
+        print(line, file=sys.stderr)
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
 def _silence_stdout() -> None:
     """Point stdout at /dev/null so that the interpreter's final flush does not fail again."""
     devnull = os.open(os.devnull, os.O_WRONLY)
@@ -121,17 +140,21 @@ def _listen_to_ctrl_c() -> None:
 
 
 class PipeGuard:
-    """Standard output that survives its reader going away (``| head``).
+    """Standard output that survives its reader going away (``| head``) or a full device.
 
-    The first write or flush that meets a closed pipe points the file descriptor at
-    ``/dev/null`` and sets :attr:`broken`; later output is dropped. The command goes on and
-    returns its own exit code; a stream (``kin ik --stdin``) stops reading when it sees
-    :attr:`broken`.
+    The first write or flush that meets a closed pipe (or a full device: :attr:`fault`) points
+    the file descriptor at ``/dev/null`` and sets :attr:`broken`; later output is dropped. The
+    command goes on; a stream (``kin ik --stdin``) stops reading when it sees :attr:`broken`. A
+    stdout closed at start (``>&-``, ``None``) is ``/dev/null`` from the start, broken.
     """
 
-    def __init__(self, target: TextIO):
-        self.target = target
-        self.broken = False
+    def __init__(self, target: TextIO | None):
+        self.broken = target is None
+        if target is None:  # also keeps fd 1 from being reused by the next file opened
+            target = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115
+        self.target: TextIO = target
+        #: What the operating system said when stdout was full or failing, else None.
+        self.fault: str | None = None
         #: Warning lines not shown yet (see :func:`run_guarded`).
         self.pending: list[str] = []
 
@@ -148,8 +171,8 @@ class PipeGuard:
         if not self.broken:
             try:
                 return self.target.write(text)
-            except BrokenPipeError:
-                self._break()
+            except OSError as err:
+                self._break(err)
         return len(text)
 
     def flush(self) -> None:
@@ -157,10 +180,15 @@ class PipeGuard:
         if not self.broken:
             try:
                 self.target.flush()
-            except BrokenPipeError:
-                self._break()
+            except OSError as err:
+                self._break(err)
 
-    def _break(self) -> None:
+    def _break(self, err: OSError) -> None:
+        """Drop later output after a closed pipe or a full device; re-raise any other error."""
+        if err.errno not in _STDOUT_GONE + _STDOUT_FULL:
+            raise err
+        if err.errno in _STDOUT_FULL:
+            self.fault = err.strerror or str(err)
         self.broken = True
         _silence_stdout()
 
@@ -176,8 +204,9 @@ def run_guarded(
     """Run ``body`` and turn ``errors`` into a one-line exit 2.
 
     Standard output is a :class:`PipeGuard` meanwhile: a closed output pipe is ignored without a
-    word and ``body``'s own exit code is returned. Ctrl-C prints ``prog: interrupted`` and
-    returns 130.
+    word and ``body``'s own exit code is returned; a full stdout (``> /dev/full``) and an
+    :class:`~dh2urdf.exceptions.OutputWriteError` are one line and :data:`EXIT_FAULT`. Ctrl-C
+    prints ``prog: interrupted`` and returns 130.
     """
     _listen_to_ctrl_c()
     previous = sys.stdout
@@ -195,10 +224,16 @@ def run_guarded(
         code = body()
         guard.show_warnings()
         guard.flush()
+        if guard.fault is not None:
+            _say(f"{prog}: error: cannot write to standard output: {guard.fault}")
+            return EXIT_FAULT
         return code
     except BrokenPipeError:  # output written around the guard
         _silence_stdout()
         return 0
+    except OutputWriteError as err:  # a full disk under -o: a fault, not bad input
+        report_error(prog, err)
+        return EXIT_FAULT
     except errors as err:
         return report_error(prog, err)
     except KeyboardInterrupt:

@@ -66,3 +66,38 @@ class UrdfChainError(Dh2UrdfError, ValueError):
     def __init__(self, path: str, message: str):
         self.path = path
         super().__init__(f"{path}: {message}")
+
+
+class OutputFileError(Dh2UrdfError, ValueError):
+    """An output path cannot take a command's output (a device, FIFO, folder, missing folder...).
+
+    Found before any work is done; commands exit 2.
+
+    Attributes:
+        path: The file asked for.
+        option: The command-line option (or argument) that named it.
+    """
+
+    def __init__(self, path: str, option: str, reason: str):
+        self.path = path
+        self.option = option
+        super().__init__(f"{option} {path}: {reason}")
+
+
+class OutputWriteError(Dh2UrdfError):
+    """An output file could not be written to the end (full disk, quota, I/O error); exit 1.
+
+    Nothing was left behind: the temporary file is removed and a previous file is unchanged.
+
+    Attributes:
+        path: The file being written.
+        reason: What the operating system said.
+    """
+
+    def __init__(self, path: str, reason: str):
+        self.path = path
+        self.reason = reason
+        super().__init__(path, reason)
+
+    def __str__(self) -> str:
+        return f"cannot write '{self.path}': {self.reason}; nothing was written"

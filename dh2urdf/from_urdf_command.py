@@ -55,13 +55,9 @@ def _run(args: argparse.Namespace) -> int:
 
     output: str = args.output
     if output != "-":
-        target = Path(output)
-        if target.is_dir():
-            raise OSError(f"-o {output}: is a folder; give a file name such as {output}/arm.toml")
-        if target.suffix.lower() != ".toml":
-            raise OSError(f"-o {output}: a table file ends in .toml")
-        if not (target.parent if str(target.parent) else Path(".")).is_dir():
-            raise OSError(f"-o {output}: folder '{target.parent}' does not exist")
+        from .output_file import checked_output
+
+        checked_output(output, "-o", (".toml",))  # a regular file or a new path, before any work
     table = table_from_urdf(args.urdf, args.base, args.tip, args.convention)
     header = (
         f"Read from {Path(args.urdf).name} by dh2urdf from-urdf ({table.convention} DH): the chain\n"

@@ -140,18 +140,12 @@ def table_text(table: DHTable, header: str = "") -> str:
 
 
 def write_table(table: DHTable, path: str | Path, header: str = "") -> None:
-    """Write ``table`` to ``path`` (a temporary file moved into place: never half a file)."""
-    import os
-    import tempfile
+    """Write ``table`` to ``path`` whole or not at all (:func:`dh2urdf.output_file.write_atomic`).
 
-    path = Path(path)
-    text = table_text(table, header)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent or ".")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as file:
-            file.write(text)
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
+    Raises:
+        OutputFileError: ``path`` is a device, FIFO, socket or folder, or its folder is missing.
+        OutputWriteError: The disk filled up (or another I/O error) part-way; nothing was written.
+    """
+    from .output_file import write_text_atomic
+
+    write_text_atomic(path, table_text(table, header))

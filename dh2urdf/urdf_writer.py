@@ -30,8 +30,6 @@ formatting, so building a model from a table imports neither yourdfpy nor trimes
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -296,20 +294,15 @@ def urdf_string(table: DHTable) -> str:
 
 
 def write_text_atomic(text: str, path: str | Path) -> Path:
-    """Write ``text`` to ``path`` through a temporary file and ``os.replace`` (never half-way)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(fd, 0o666 & ~umask)  # mkstemp makes the file private (0600)
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Write ``text`` to ``path`` whole or not at all (see :func:`dh2urdf.output_file.write_atomic`).
+
+    Raises:
+        OutputFileError: ``path`` is a device, FIFO, socket or folder, or its folder is missing.
+        OutputWriteError: The disk filled up (or another I/O error) part-way; nothing was written.
+    """
+    from .output_file import write_text_atomic as write
+
+    return write(path, text)
 
 
 def write_urdf(table: DHTable, path: str | Path) -> Path:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dh2urdf.exceptions import OutputWriteError as _Dh2UrdfOutputWriteError
+
 
 class KinError(Exception):
     """Base class of every error raised by ``kin``."""
@@ -77,3 +79,14 @@ class OutputFileError(KinError, ValueError):
         self.path = path
         self.option = option
         super().__init__(f"{option} {path}: {reason}")
+
+
+class OutputWriteError(KinError, _Dh2UrdfOutputWriteError):
+    """An output file could not be written to the end (full disk, quota, I/O error); exit 1.
+
+    The temporary file is removed and a previous file is unchanged.
+
+    Attributes:
+        path: The file being written.
+        reason: What the operating system said.
+    """

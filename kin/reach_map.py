@@ -30,8 +30,6 @@ from __future__ import annotations
 
 import logging
 import math
-import os
-import tempfile
 import time
 from collections.abc import Callable, Generator, Iterator
 from contextlib import closing, contextmanager
@@ -332,24 +330,28 @@ def reachability_map(
     )
 
 
-@contextmanager
-def _atomic(path: Path) -> Iterator[Any]:
-    """A binary handle on a temporary file next to ``path``, renamed to it on success only."""
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".part")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            yield handle
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+def _write_whole(path: Path, write: Callable[[Any], object]) -> None:
+    """Put what ``write`` writes on a binary handle at ``path``, whole or not at all.
+
+    Raises:
+        OutputFileError: ``path`` is not a regular file or a new path in a writable folder.
+        OutputWriteError: The disk filled up part-way; the old file is unchanged.
+    """
+    from dh2urdf.output_file import write_atomic
+
+    from .exceptions import OutputFileError, OutputWriteError
+
+    write_atomic(path, write, OutputFileError, OutputWriteError)
 
 
 def save_reach_map(reach_map: ReachMap, path: str | Path) -> Path:
     """Write ``reach_map`` to ``path`` as ``.npz``, never half-written (a temporary file, renamed).
 
     The arrays: those of :meth:`ReachMap.to_dict`, and ``rotations`` (K, 3, 3).
+
+    Raises:
+        OutputFileError: ``path`` is a device, FIFO, socket or folder, or its folder is missing.
+        OutputWriteError: The disk filled up part-way; a previous file is unchanged.
     """
     path = Path(path)
     arrays: dict[str, Any] = {
@@ -362,8 +364,7 @@ def save_reach_map(reach_map: ReachMap, path: str | Path) -> Path:
         "max_reach_m": np.array(reach_map.max_reach_m),
         "time_s": np.array(reach_map.time_s),
     }
-    with _atomic(path) as handle:
-        np.savez_compressed(handle, **arrays)
+    _write_whole(path, lambda handle: np.savez_compressed(handle, **arrays))
     return path
 
 
@@ -457,6 +458,5 @@ def plot_reach_map(
         f"{v:.3g} {unit} voxels)"
     )
     kind = path.suffix.lower().lstrip(".") or "png"
-    with _atomic(path) as handle:
-        figure.savefig(handle, format=kind)
+    _write_whole(path, lambda handle: figure.savefig(handle, format=kind))
     return path

@@ -6,8 +6,6 @@ no global backend switch), so ``import kin`` stays light and nothing needs a dis
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -103,19 +101,19 @@ def plot_workspace(work: WorkspaceMap, path: str | Path, unit: str = "m") -> Pat
 
     Raises:
         KinError: matplotlib is missing.
+        OutputFileError: ``path`` is a device, FIFO, socket or folder, or its folder is missing.
+        OutputWriteError: The disk filled up part-way; a previous file is unchanged.
     """
     path = Path(path)
     kind = path.suffix.lower().lstrip(".") or "png"
     if kind not in ("png", "svg", "pdf"):
         raise KinError(f"{path}: unknown figure type '.{kind}'; use .png, .svg or .pdf")
     figure = _figure(work, unit)
-    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", prefix=f".{path.name}.", suffix=f".{kind}")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            figure.savefig(handle, format=kind)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    from dh2urdf.output_file import write_atomic
+
+    from .exceptions import OutputFileError, OutputWriteError
+
+    write_atomic(
+        path, lambda handle: figure.savefig(handle, format=kind), OutputFileError, OutputWriteError
+    )
     return path

@@ -1,16 +1,22 @@
-"""Output files checked before any work: the folder exists and is writable, the suffix is known.
+"""Output files checked before any work: a regular file or a new path, a writable folder, a known suffix.
 
 A command that computes for minutes must not end in a traceback because ``-o nodir/ws.png``
-names a missing folder, nor write PNG bytes into ``ws.jpg``: :func:`checked_output` runs first,
-and the writers write through a temporary file and a rename (nothing half-written).
+names a missing folder, write PNG bytes into ``ws.jpg``, or rename its result over ``/dev/full``:
+:func:`checked_output` runs first and refuses a folder, a device (``/dev/null`` too), a FIFO or a
+socket at the path. The writers write through a temporary file and a rename, whole or not at all;
+a full disk is one :class:`~kin.exceptions.OutputWriteError` (exit 1), the old file unchanged. A
+symbolic link to a regular file is written through (the link stays). The rules live in
+:mod:`dh2urdf.output_file`; this module raises kin's exceptions.
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import BinaryIO
 
-from ..exceptions import OutputFileError
+from ..exceptions import OutputFileError, OutputWriteError
 
 #: Figure formats that matplotlib writes as such, by suffix.
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
@@ -25,35 +31,30 @@ def checked_output(path: str, option: str, suffixes: tuple[str, ...] | None = No
         suffixes: Allowed suffixes (lower case, with the dot), or None for any.
 
     Raises:
-        OutputFileError: A directory, a missing or unwritable folder, or another suffix.
+        OutputFileError: A folder, device (``/dev/null`` included), FIFO or socket at the path,
+            a missing or unwritable folder, or another suffix.
     """
-    target = Path(path)
-    if target.is_dir():
-        raise OutputFileError(path, option, "is a directory; give a file name")
-    if suffixes is not None and target.suffix.lower() not in suffixes:
-        raise OutputFileError(
-            path,
-            option,
-            f"unknown file type {target.suffix or '(no suffix)'!r}; use " + ", ".join(suffixes),
-        )
-    folder = target.parent if str(target.parent) else Path(".")
-    if not folder.is_dir():
-        raise OutputFileError(path, option, f"the folder {str(folder)!r} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise OutputFileError(path, option, f"the folder {str(folder)!r} is not writable")
-    return target
+    from dh2urdf.output_file import output_problem
+
+    problem = output_problem(path, suffixes)
+    if problem is not None:
+        raise OutputFileError(path, option, problem)
+    return Path(path)
 
 
-def write_text_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in its folder and a rename."""
-    import tempfile
+def write_atomic(path: str | os.PathLike[str], write: Callable[[BinaryIO], object]) -> Path:
+    """Put what ``write`` writes on a binary handle at ``path``, whole or not at all.
 
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-            stream.write(text)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    Raises:
+        OutputFileError: ``path`` is not a regular file or a new path in a writable folder.
+        OutputWriteError: The disk filled up (or another I/O error) part-way; nothing changed.
+    """
+    from dh2urdf.output_file import write_atomic as write_whole
+
+    return write_whole(path, write, OutputFileError, OutputWriteError)
+
+
+def write_text_atomic(path: str | os.PathLike[str], text: str) -> Path:
+    """Write ``text`` (UTF-8, newlines as given) to ``path`` with :func:`write_atomic`."""
+    data = text.encode("utf-8")
+    return write_atomic(path, lambda handle: handle.write(data))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..exceptions import KinError
+from ..exceptions import KinError, OutputWriteError
 
 
 class ViewerError(KinError):
@@ -13,8 +13,8 @@ class ViewerInputError(ViewerError, ValueError):
     """A value to show is malformed (wrong shape, not finite, empty path)."""
 
 
-class PageWriteError(ViewerError, OSError):
-    """The static page cannot be written.
+class PageWriteError(ViewerError, OutputWriteError, OSError):
+    """The static page cannot be written (commands exit 1: checked beforehand, it is a fault).
 
     Attributes:
         path: The page's path.
@@ -22,9 +22,7 @@ class PageWriteError(ViewerError, OSError):
     """
 
     def __init__(self, path: str, reason: str):
-        self.path = path
-        self.reason = reason
-        super().__init__(f"cannot write the page '{path}': {reason}")
+        super().__init__(path, reason)
 
     def __str__(self) -> str:
         return f"cannot write the page '{self.path}': {self.reason}"

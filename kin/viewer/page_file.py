@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 from .exceptions import PageWriteError
@@ -11,8 +10,15 @@ from .exceptions import PageWriteError
 __all__ = ["write_page"]
 
 
+def _refused(path: str, _option: str, reason: str) -> PageWriteError:
+    """A :class:`PageWriteError` for a path that cannot take the page (a device, a folder...)."""
+    return PageWriteError(path, reason)
+
+
 def write_page(path: str | os.PathLike[str], text: str) -> Path:
     """Write ``text`` (UTF-8) to ``path``: either the whole page is there, or nothing changed.
+
+    Only a regular file or a new path is written (:mod:`dh2urdf.output_file`).
 
     Args:
         path: Destination file; its folder must exist.
@@ -22,25 +28,9 @@ def write_page(path: str | os.PathLike[str], text: str) -> Path:
         The destination path.
 
     Raises:
-        PageWriteError: The folder is missing or not writable, or the disk is full.
+        PageWriteError: A folder, device, FIFO or socket at the path, a missing or unwritable
+            folder, or the disk is full.
     """
-    target = Path(path)
-    if target.is_dir():
-        raise PageWriteError(str(target), "is a directory")
-    folder = target.parent
-    try:
-        handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=folder)
-    except OSError as err:
-        raise PageWriteError(str(target), err.strerror or str(err)) from err
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, target)
-    except OSError as err:
-        Path(temporary).unlink(missing_ok=True)
-        raise PageWriteError(str(target), err.strerror or str(err)) from err
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    return target
+    from dh2urdf.output_file import write_text_atomic
+
+    return write_text_atomic(path, text, _refused, PageWriteError)
