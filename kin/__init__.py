@@ -2,7 +2,14 @@
 
 from .batch_fk import batch_forward_kinematics, batch_tool_positions
 from .configuration import Configuration, as_joint_vector, limit_violations
-from .exceptions import FrameError, JointVectorError, KinError, ModelLoadError, NotWithinLimitsError
+from .exceptions import (
+    FrameError,
+    JointVectorError,
+    KinError,
+    ModelLoadError,
+    NotWithinLimitsError,
+    RunFaultError,
+)
 from .robot_model import RobotModel, load_robot, robot_from_table
 
 __version__ = "0.1.0"
@@ -15,6 +22,7 @@ __all__ = [
     "ModelLoadError",
     "NotWithinLimitsError",
     "RobotModel",
+    "RunFaultError",
     "as_joint_vector",
     "batch_forward_kinematics",
     "batch_tool_positions",

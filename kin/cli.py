@@ -22,10 +22,14 @@ from dh2urdf.command_line import (
 from dh2urdf.command_line import run_guarded as _run_guarded
 from dh2urdf.exceptions import Dh2UrdfError
 
-from .exceptions import KinError
+from .exceptions import KinError, RunFaultError
+
+#: Exit code of a run that failed part-way (a lost scheduler), not for its input.
+EXIT_FAULT = 1
 
 __all__ = [
     "EXIT_BAD_INPUT",
+    "EXIT_FAULT",
     "EXIT_INTERRUPTED",
     "ArgumentParser",
     "angle_scale",
@@ -41,5 +45,17 @@ __all__ = [
 def run_guarded(
     prog: str, body: Callable[[], int], extra: tuple[type[BaseException], ...] = ()
 ) -> int:
-    """Run ``body``; the project's exceptions (and ``extra``) become a one-line exit 2."""
-    return _run_guarded(prog, body, (Dh2UrdfError, KinError, *extra))
+    """Run ``body``; the project's exceptions (and ``extra``) become a one-line exit 2.
+
+    A :class:`~kin.exceptions.RunFaultError` (a fault during the run, not bad input) is one line
+    too, ``prog: error: ...``, with exit :data:`EXIT_FAULT`.
+    """
+
+    def faults_exit_1() -> int:
+        try:
+            return body()
+        except RunFaultError as err:
+            report_error(prog, err)
+            return EXIT_FAULT
+
+    return _run_guarded(prog, faults_exit_1, (Dh2UrdfError, KinError, *extra))

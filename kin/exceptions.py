@@ -90,3 +90,10 @@ class OutputWriteError(KinError, _Dh2UrdfOutputWriteError):
         path: The file being written.
         reason: What the operating system said.
     """
+
+
+class RunFaultError(KinError):
+    """A run failed part-way for a reason outside its input; commands exit 1 (not 2).
+
+    A lost Dask scheduler, or a chunk whose worker process died every time it ran.
+    """

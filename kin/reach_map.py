@@ -187,18 +187,19 @@ def _on_dask(
 ) -> Generator[tuple[int, np.ndarray], None, None]:
     from distributed import as_completed
 
-    # A key of its own (not the data's hash): two maps of one robot on one scheduler (two
-    # clients) must not share it, or the first one's release loses the second one's copy.
-    [shared] = client.scatter([robot], broadcast=True, hash=False)
-    futures = [
-        client.submit(_numbered, i, shared, chunk, rotations, timeout, pure=False)
-        for i, chunk in enumerate(chunks)
-    ]
-    try:
+    from .workspace_run import dask_faults
+
+    futures: list[Any] = []
+    with dask_faults(client, futures):  # a lost scheduler: RunFaultError, not a traceback
+        # A key of its own (not the data's hash): two maps of one robot on one scheduler (two
+        # clients) must not share it, or the first one's release loses the second one's copy.
+        [shared] = client.scatter([robot], broadcast=True, hash=False)
+        futures.extend(
+            client.submit(_numbered, i, shared, chunk, rotations, timeout, pure=False)
+            for i, chunk in enumerate(chunks)
+        )
         for future in as_completed(futures):
             yield future.result()
-    finally:
-        client.cancel(futures)
 
 
 @contextmanager
@@ -277,6 +278,8 @@ def reachability_map(
         KinError: An arm of fewer than 6 joints, a voxel that is not a positive finite length
             or needs more than :data:`MAX_VOXELS_PER_SIDE` per side, orientations not in 1 ..
             :data:`MAX_ORIENTATIONS`, a bad ``chunk_poses``, or Dask missing or unreachable.
+        RunFaultError: The Dask scheduler was lost during the run (or a chunk killed every
+            worker it ran on).
     """
     from .ik.reach import arm_reach
 

@@ -2,9 +2,10 @@
 
 Joint vectors are drawn uniformly within the joint limits, the tool points computed by batched
 NumPy FK (:mod:`kin.batch_fk`), and the points reduced chunk by chunk: minima and maxima, a
-voxel occupancy grid and three projected histograms, so that memory stays bounded for any number
-of samples. Chunk ``i`` draws from ``SeedSequence(seed).spawn(n_chunks)[i]`` and every reduction
-is exact (min, max, logical or, integer sums), so the statistics depend on ``seed``, ``n`` and
+voxel occupancy grid and three projected histograms. The chunks are made as they are needed (a
+generator), so that memory stays bounded for any number of samples. Chunk ``i`` draws from
+:func:`chunk_seed` ``(seed, i)``, the ``i``-th child of ``SeedSequence(seed)``, made from its
+index alone (a chunk run again gives the same samples), and every reduction is exact (min, max, logical or, integer sums), so the statistics depend on ``seed``, ``n`` and
 ``chunk_size`` only, never on how the chunks are spread over processes or a Dask cluster
 (:mod:`kin.workspace_run`).
 
@@ -16,7 +17,7 @@ joint 1 (scorbot's 16 mm offset), and for planar2 (``a1 = 0.3 m``) it is the elb
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -32,7 +33,9 @@ __all__ = [
     "WorkspaceGrid",
     "WorkspaceMap",
     "WorkspaceStats",
+    "chunk_seed",
     "chunk_sizes",
+    "chunk_tasks",
     "reach_bound",
     "reduce_chunk",
     "workspace",
@@ -40,6 +43,12 @@ __all__ = [
 
 #: Joint vectors per chunk: the unit of seeding, work and reduction.
 DEFAULT_CHUNK_SIZE = 100_000
+
+#: Largest chunk: its joint vectors and FK temporaries are held at once (about 1 kB each).
+MAX_CHUNK_SIZE = 1_000_000
+
+#: Most samples: the per-column counts are 64-bit integers.
+MAX_SAMPLES = 2**63 - 1
 
 #: Largest per-voxel sample count kept (only 1 and 2 matter to the estimate).
 HIT_CAP = 3
@@ -203,11 +212,37 @@ class WorkspaceMap:
         return tuple(o + half for o in self.grid.origin_m)  # type: ignore[return-value]
 
 
-def chunk_sizes(n: int, chunk_size: int = DEFAULT_CHUNK_SIZE) -> list[int]:
-    """Sizes of the chunks of ``n`` samples: ``chunk_size`` each, the last one the rest."""
-    if n < 1 or chunk_size < 1:
-        raise KinError(f"need at least one sample and chunk size 1, got n={n}, {chunk_size=}")
-    return [min(chunk_size, n - start) for start in range(0, n, chunk_size)]
+def _check_sizes(n: int, chunk_size: int) -> None:
+    """Raise :class:`KinError` unless ``n`` and ``chunk_size`` are whole numbers in range."""
+    for name, value, most in (("n", n, MAX_SAMPLES), ("chunk_size", chunk_size, MAX_CHUNK_SIZE)):
+        if isinstance(value, bool) or not isinstance(value, int | np.integer):
+            raise KinError(f"{name} must be a whole number, got {value!r}")
+        if not 1 <= value <= most:
+            raise KinError(f"{name} must be from 1 to {most:,}, got {value:,}")
+
+
+def chunk_sizes(n: int, chunk_size: int = DEFAULT_CHUNK_SIZE) -> Iterator[int]:
+    """Sizes of the chunks of ``n`` samples, made as read: ``chunk_size`` each, the last the rest.
+
+    Raises:
+        KinError: ``n`` or ``chunk_size`` not a whole number from 1 to :data:`MAX_SAMPLES` or
+            :data:`MAX_CHUNK_SIZE`.
+    """
+    _check_sizes(n, chunk_size)
+    return (min(chunk_size, n - start) for start in range(0, int(n), int(chunk_size)))
+
+
+def chunk_seed(seed: int, index: int) -> np.random.SeedSequence:
+    """The seed of chunk ``index``: ``SeedSequence(seed).spawn(index + 1)[index]``, made alone."""
+    return np.random.SeedSequence(seed, spawn_key=(index,))
+
+
+def chunk_tasks(
+    table: DHTable, grid: WorkspaceGrid, n: int, seed: int, chunk_size: int
+) -> Iterator[tuple[DHTable, WorkspaceGrid, int, np.random.SeedSequence]]:
+    """The arguments of :func:`reduce_chunk` for every chunk, made one at a time as read."""
+    for index, size in enumerate(chunk_sizes(n, chunk_size)):
+        yield table, grid, size, chunk_seed(seed, index)
 
 
 def summarize(
@@ -276,18 +311,20 @@ def workspace(
         seed: Seed of the ``np.random.SeedSequence`` whose children seed the chunks.
         voxel_size_m: Voxel edge [m]; default ``2 * reach_bound / 100``.
         chunk_size: Joint vectors per chunk.
-        workers: Processes (1: in this process).
+        workers: Processes (1: in this process); a process that dies is replaced and its
+            chunks run again.
         client: A ``distributed.Client``: the chunks run on its cluster (``workers`` ignored).
         progress: Called with (samples done, n) as chunks finish.
 
     Raises:
-        KinError: Bad ``n``, ``chunk_size`` or voxel size.
+        KinError: Bad ``n`` (a whole number from 1 to :data:`MAX_SAMPLES`), ``chunk_size``
+            (1 to :data:`MAX_CHUNK_SIZE`) or voxel size.
+        RunFaultError: The Dask scheduler was lost, or a chunk kept losing its worker process.
     """
     from .workspace_run import run_chunks
 
+    _check_sizes(n, chunk_size)
     grid = WorkspaceGrid.around(table, voxel_size_m)
-    sizes = chunk_sizes(n, chunk_size)
-    seeds = np.random.SeedSequence(seed).spawn(len(sizes))
-    tasks = [(table, grid, size, child) for size, child in zip(sizes, seeds, strict=True)]
+    tasks = chunk_tasks(table, grid, n, seed, chunk_size)
     total = run_chunks(tasks, workers=workers, client=client, progress=progress, n=n)
     return summarize(table, grid, total, seed, chunk_size)

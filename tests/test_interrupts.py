@@ -49,6 +49,36 @@ def test_ctrl_c_stops_a_workspace_run_with_two_workers(signals, bound, tmp_path)
             os.killpg(process.pid, signal.SIGKILL)
 
 
+@pytest.mark.parametrize("attempt", range(3))
+def test_ctrl_c_while_the_pool_starts_stops_the_run(attempt):
+    """SIGINT to the process group the moment the first worker process exists (the pool still
+    starting: a worker may not yet ignore it): exit 130 within 1 s, no process left."""
+    process = subprocess.Popen(
+        [*kin_command(), "workspace", "--robot", "humanoid7", "--n", "100000000"]
+        + ["--workers", "2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not subprocess.run(["pgrep", "-P", str(process.pid)], capture_output=True).stdout:
+            assert process.poll() is None and time.monotonic() < deadline
+            time.sleep(0.002)
+        os.killpg(process.pid, signal.SIGINT)
+        sent = time.monotonic()
+        _, err = process.communicate(timeout=30)
+        assert process.returncode == 130, err
+        assert err.decode().strip().splitlines()[-1] == "kin workspace: interrupted"
+        assert time.monotonic() - sent < 1.0
+        assert b"Traceback" not in err  # no worker saw the Ctrl-C before ignoring it
+        time.sleep(0.2)
+        assert _group_alive(process.pid) == []
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+
+
 def test_kill_int_stops_a_run_started_with_sigint_ignored():
     """A job started with SIGINT ignored (`cmd &` in a script, `timeout -s INT`) still stops on
     SIGINT: exit 130 within a second."""

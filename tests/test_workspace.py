@@ -106,9 +106,10 @@ def test_bounding_box_of_the_same_samples_through_pinocchio():
     robot = load_robot("ur5")
     table, n, chunk = robot.table, 3_000, 1_000
     stats = workspace(table, n, seed=5, chunk_size=chunk).stats
-    seeds = np.random.SeedSequence(5).spawn(len(chunk_sizes(n, chunk)))
+    sizes = list(chunk_sizes(n, chunk))
+    seeds = np.random.SeedSequence(5).spawn(len(sizes))
     points = []
-    for size, seed in zip(chunk_sizes(n, chunk), seeds, strict=True):
+    for size, seed in zip(sizes, seeds, strict=True):
         rng = np.random.default_rng(seed)
         q = table.lower + (table.upper - table.lower) * rng.random((size, table.dof))
         for qi in q:
