@@ -19,9 +19,10 @@ to place an arm's base: high indices mark where the tool can work from many dire
 - **Chunks**: the voxels within reach are solved in chunks of about ``chunk_poses`` poses; a
   chunk's counts do not depend on where it runs, so the map is the same in this process and on
   a Dask cluster (``scheduler``: an address, ``"local-cluster:N"`` or a ``distributed.Client``;
-  Dask is imported only then). Closed-form arms are exact (1e-9 m and rad); numeric arms are
-  solved pose by pose within their time budget (``timeout``), so a pose found near the end of
-  that budget can differ between runs on a loaded machine.
+  Dask is imported only then). Closed-form arms (a 6R arm's, a 7R arm's free-joint scan) are
+  exact (1e-9 m and rad); an arm without one is solved pose by pose by its numeric solver,
+  bounded by a number of starts (the time budget ``timeout`` is only a cap), so a loaded
+  machine gives the same map.
 
 Lengths in meters, the world frame throughout.
 """
@@ -52,8 +53,9 @@ __all__ = [
     "super_fibonacci_rotations",
 ]
 
-#: Poses per chunk by default (about half a second of closed-form batch IK).
-DEFAULT_CHUNK_POSES = 50_000
+#: Poses per chunk by default (a tenth of a second to a second of closed-form batch IK: the
+#: progress bar moves at least that often).
+DEFAULT_CHUNK_POSES = 10_000
 #: Most voxels along a side of the grid.
 MAX_VOXELS_PER_SIDE = 256
 #: Most orientations per voxel.
@@ -157,14 +159,84 @@ def _grid(origin: np.ndarray, voxel: float, reach: float) -> np.ndarray:
 def count_reached(
     robot: RobotModel, centers: np.ndarray, rotations: np.ndarray, timeout: float | None = None
 ) -> np.ndarray:
-    """Orientations reached at each centre (one chunk): int (N,) for centres (N, 3) [m]."""
-    from .ik.batch_solve import solve_batch
+    """Orientations reached at each centre (one chunk): int (N,) for centres (N, 3) [m].
+
+    Every pose of the chunk is solved from q = 0 by the arm's closed form when it has one: a
+    vectorized one (:func:`kin.ik.solve_batch`), or the free-joint form of a 7R arm, as the
+    first stage of its numeric solver takes it: the free joint scanned from the seed for every
+    pose at once (:func:`kin.ik.batch_solve.free_joint_answers`, compiled, in threads), then for
+    the poses left the free joints of the nearest seed-table samples (:func:`_sample_scans`).
+    The later numeric stages, which run until a deadline, are not tried: they found none of 400
+    poses the first stage left on a Panda map, at 50 ms each. An arm with neither is solved pose
+    by pose by its numeric solver, bounded by :data:`NUMERIC_ATTEMPTS` starts per pose
+    (``timeout`` [s] only a cap, :data:`NUMERIC_CAP` by default). Either way a busy machine
+    gives the same count.
+    """
+    from .ik.batch_solve import free_joint_answers, solve_batch
+    from .ik.dispatch import get_solver
+    from .ik.numeric.solver import NumericIK
 
     n, k = len(centers), len(rotations)
     positions = np.repeat(centers, k, axis=0)
     frames = np.broadcast_to(rotations, (n, k, 3, 3)).reshape(n * k, 3, 3)
-    result = solve_batch(robot, positions, frames, timeout=timeout)
-    return result.success.reshape(n, k).sum(axis=1)
+    seeds = np.zeros((n * k, robot.nq))
+    solver = get_solver(robot)
+    if not isinstance(solver, NumericIK):
+        success = solve_batch(robot, positions, frames, seeds).success
+    elif (answers := free_joint_answers(solver, robot, positions, frames, seeds)) is not None:
+        success = ~np.isnan(answers[0]).any(axis=1)
+        missed = np.flatnonzero(~success)
+        success[missed] = _sample_scans(solver, positions[missed], frames[missed])
+    else:
+        success = _numeric_success(solver, positions, frames, seeds, timeout)
+    return success.reshape(n, k).sum(axis=1)
+
+
+#: Starts (seed-table, random, QP) of the numeric solver per pose of an arm without a closed form.
+NUMERIC_ATTEMPTS = 16
+#: Wall-clock cap of one such numeric solve [s] (the work bound is :data:`NUMERIC_ATTEMPTS`).
+NUMERIC_CAP = 2.0
+
+
+def _sample_scans(solver: Any, positions: np.ndarray, frames: np.ndarray) -> np.ndarray:
+    """Per pose (N,), whether the free-joint closed form answers it from seed-table samples.
+
+    The first stage of the numeric pipeline alone (:func:`kin.ik.numeric.free_joint.
+    solve_free_joint`, without a seed: the seed's scan is done), work-bounded: the nearest
+    sample's free joints scanned, then those of the next few samples. ``solver`` is the arm's
+    numeric solver; its later stages are dropped here.
+    """
+    from .ik.numeric.solver import STAGES
+    from .ik.target import PoseTarget
+
+    solver.stages = STAGES[:1]
+    return np.array(
+        [
+            solver.solve(PoseTarget(p, r), None, timeout=NUMERIC_CAP).success
+            for p, r in zip(positions, frames)
+        ],
+        dtype=bool,
+    )
+
+
+def _numeric_success(
+    solver: Any,
+    positions: np.ndarray,
+    frames: np.ndarray,
+    seeds: np.ndarray,
+    timeout: float | None,
+) -> np.ndarray:
+    """Per pose (N,), whether the numeric solver answers it within its work bound."""
+    from .ik.target import PoseTarget
+
+    cap = NUMERIC_CAP if timeout is None else timeout
+    return np.array(
+        [
+            solver.solve(PoseTarget(p, r), q, timeout=cap, max_attempts=NUMERIC_ATTEMPTS).success
+            for p, r, q in zip(positions, frames, seeds)
+        ],
+        dtype=bool,
+    )
 
 
 def _in_process(
@@ -272,7 +344,8 @@ def reachability_map(
         progress: Called with (poses solved, poses to solve) as chunks finish.
         chunk_poses: Poses per chunk (whole voxels, at least one per chunk; default
             :data:`DEFAULT_CHUNK_POSES`).
-        timeout: Time budget of each numeric solve [s] (None: the solver's default).
+        timeout: Wall-clock cap of each numeric solve of an arm without a closed form [s]
+            (None: :data:`NUMERIC_CAP`); its work bound is :data:`NUMERIC_ATTEMPTS` starts.
 
     Raises:
         KinError: An arm of fewer than 6 joints, a voxel that is not a positive finite length
@@ -309,6 +382,8 @@ def reachability_map(
     chunks = [flat[s] for s in slices]
     counts = np.zeros(len(flat), dtype=np.int64)
     total, done = len(inside) * int(orientations), 0
+    if progress is not None:
+        progress(0, total)  # at once: the first chunk may take seconds
     with _client(scheduler) as client:
         results = (
             _in_process(robot, chunks, rotations, timeout)

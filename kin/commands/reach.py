@@ -8,8 +8,8 @@ a verified answer inside the joint limits. Voxels beyond the maximum reach get 0
 
 -o writes the map (.npz: voxel_m, centers_m (n, n, n, 3), index (n, n, n), orientations,
 rotations, time_s; SI units) through a temporary file and a rename; --png draws horizontal
-slices. --json prints the same as one JSON object (SI units). Progress on stderr; Ctrl-C stops
-with one line and exit 130, leaving no file.
+slices. --json prints the same as one JSON object (SI units). A progress bar on stderr (on a
+terminal, unless --quiet); Ctrl-C stops with one line and exit 130, leaving no file.
 """
 
 from __future__ import annotations
@@ -46,13 +46,15 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     parser.add_argument("-o", "--output", required=True, metavar="FILE.npz", help="the map")
     parser.add_argument("--png", metavar="FILE", help="draw horizontal slices (.png, .svg, .pdf)")
     parser.add_argument("--json", action="store_true", help="print the map as JSON, SI units")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     parser.add_argument(
         "--unit", choices=("m", "cm", "mm"), default="m", help="length unit (default m)"
     )
     parser.add_argument(
         "--timeout",
         type=positive_float,
-        help="numeric IK time budget per pose [ms] (default: the solver's)",
+        help="arms without a closed form: time cap of a numeric solve [ms] (default 2000); "
+        "its work bound is 16 starts",
     )
     return parser
 
@@ -71,7 +73,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             smallest_voxel,
         )
         from .output_file import FIGURE_SUFFIXES, checked_output
-        from .workspace import _Progress
+        from .progress import ProgressBar
 
         output = checked_output(args.output, "-o", (".npz",))  # before minutes of solving
         if args.png:
@@ -85,14 +87,15 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 f"per side for a reach of {reach / scale:.4g} {args.unit}: give --voxel "
                 f"{smallest_voxel(reach) / scale:.3g} or more"
             )
-        reach_map = reachability_map(
-            robot,
-            args.voxel * scale,
-            args.orientations,
-            scheduler=args.scheduler,
-            progress=_Progress(prog),
-            timeout=None if args.timeout is None else args.timeout / 1e3,
-        )
+        with ProgressBar(prog, "poses", quiet=args.quiet) as progress:
+            reach_map = reachability_map(
+                robot,
+                args.voxel * scale,
+                args.orientations,
+                scheduler=args.scheduler,
+                progress=progress,
+                timeout=None if args.timeout is None else args.timeout / 1e3,
+            )
         save_reach_map(reach_map, output)
         if args.png:
             plot_reach_map(reach_map, args.png, args.unit)

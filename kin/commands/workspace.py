@@ -2,15 +2,14 @@
 
 Joint vectors are drawn uniformly within the limits (seeded; the same --seed and --n give the
 same numbers with any --workers or --scheduler), tool points by batched FK. Lengths are printed
-in --unit; --json is SI with unit-named keys (max_radius_m, volume_m3, ...). Ctrl-C stops with
-one line and exit 130, leaving no half-written PNG.
+in --unit; --json is SI with unit-named keys (max_radius_m, volume_m3, ...). A progress bar on
+stderr (on a terminal, unless --quiet); Ctrl-C stops with one line and exit 130, leaving no
+half-written PNG.
 """
 
 from __future__ import annotations
 
 import json
-import sys
-import time
 
 from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
 from .robot_argument import add_robot_arguments, load_robot_argument
@@ -45,27 +44,8 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     parser.add_argument(
         "--chunk-size", type=positive_int, default=100_000, help="joint vectors per chunk"
     )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     return parser
-
-
-class _Progress:
-    """A line on stderr at most every 2 s, once the run has taken 2 s."""
-
-    def __init__(self, prog: str):
-        self.prog = prog
-        self.start = self.last = time.monotonic()
-
-    def __call__(self, done: int, total: int) -> None:
-        now = time.monotonic()
-        if now - self.last >= 2.0 and done < total:
-            self.last = now
-            rate = done / (now - self.start)
-            print(
-                f"{self.prog}: {done:,}/{total:,} samples ({100 * done / total:.0f}%), "
-                f"{rate / 1e6:.2f} M/s, {(total - done) / rate:.0f} s left",
-                file=sys.stderr,
-                flush=True,
-            )
 
 
 def _volume(volume_m3: float, unit: str) -> str:
@@ -119,6 +99,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
 
         from ..workspace import workspace
         from ..workspace_run import dask_client
+        from .progress import ProgressBar
 
         if args.output:
             from .output_file import FIGURE_SUFFIXES, checked_output
@@ -128,7 +109,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         scale = length_scale(args.unit)
         voxel = None if args.voxel is None else args.voxel * scale
         context = dask_client(args.scheduler) if args.scheduler else nullcontext()
-        with context as client:
+        with context as client, ProgressBar(prog, "samples", quiet=args.quiet) as progress:
+            progress(0, args.n)  # at once: the first chunk may take seconds
             work = workspace(
                 table,
                 args.n,
@@ -137,7 +119,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 chunk_size=args.chunk_size,
                 workers=args.workers,
                 client=client,
-                progress=_Progress(prog),
+                progress=progress,
             )
         if args.output:
             from ..workspace_plot import plot_workspace
