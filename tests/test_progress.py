@@ -179,3 +179,39 @@ def test_workspace_draws_the_bar_on_a_terminal(monkeypatch, capsys):
     _check_bar(err, "kin workspace", 30000)
     code, err = _run(monkeypatch, capsys, main, [*argv, "--quiet"])
     assert code == 0 and err == ""
+
+
+_PATH = ["--from", "0.4", "0.1", "0.3", "--rpy", "3.14", "0", "0"]
+_PATH += ["--to", "0.4", "-0.2", "0.4", "--rpy", "3.14", "0", "0", "--steps", "300", "--json"]
+
+
+@pytest.mark.parametrize("robot", ["ur5", "panda"])  # closed form; differential steps
+def test_path_draws_the_bar_on_a_terminal(monkeypatch, capsys, robot):
+    """kin path on a terminal: samples from 0 to all of them (the path is followed); silent on
+    a pipe and with --quiet."""
+    from kin.commands.path import main
+
+    code, err = _run(monkeypatch, capsys, main, ["--robot", robot, *_PATH])
+    assert code == 0, err
+    _check_bar(err, "kin path", 301)
+    for terminal, extra in ((False, []), (True, ["--quiet"])):
+        code, err = _run(monkeypatch, capsys, main, ["--robot", robot, *_PATH, *extra], terminal)
+        assert code == 0 and err == ""
+
+
+def test_path_library_progress_counts_every_sample():
+    """follow_path's progress: non-decreasing counts from 0 to the number of samples."""
+    import numpy as np
+
+    from kin import load_robot
+    from kin.ik import PoseTarget
+    from kin.path import follow_path, polyline
+
+    turn = np.diag([1.0, -1.0, -1.0])
+    path = polyline([PoseTarget([0.4, 0.1, 0.3], turn), PoseTarget([0.4, -0.2, 0.4], turn)], 50)
+    calls: list[tuple[int, int]] = []
+    result = follow_path(load_robot("ur5"), path, progress=lambda d, t: calls.append((d, t)))
+    assert result.success
+    done = [d for d, _ in calls]
+    assert done[0] == 0 and done[-1] == len(path) and done == sorted(done)
+    assert {t for _, t in calls} == {len(path)} and len(calls) >= len(path)

@@ -18,6 +18,8 @@ Units: every length (points, prismatic joint values and their rates) in --unit; 
 values, angles and their rates in radians, degrees with --deg. --json and --csv are SI (q in rad /
 m as "q_units" says, deviations in m, times in s).
 
+A progress bar (samples followed) goes to stderr on a terminal, unless --quiet.
+
 Exit 0 when the whole path is followed, 1 when the motion stopped, 2 for bad input.
 """
 
@@ -132,6 +134,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add("--dt", type=positive_float, help="with --time: resample the motion every DT [s]")
     add("--json", action="store_true", help="print one JSON object, SI units")
     add("--csv", metavar="FILE", help="write the joint path (SI, header with units) to FILE")
+    add("--quiet", action="store_true", help="no progress bar on stderr")
     return parser
 
 
@@ -153,16 +156,17 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         )
     if args.tool_axis is not None and not any("axis" in p for p in points):
         parser.error("--tool-axis needs --axis at the points")
-    return run_guarded(prog, lambda: _run(args, points))
+    return run_guarded(prog, lambda: _run(args, points, prog))
 
 
-def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
+def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PROG) -> int:
     """Build the path, follow it, time it, and write the outputs."""
     from ..cli import angle_scale, length_scale
     from ..path import follow_path, path_solver, polyline
     from ..path.follow import MAX_JOINT_STEP
     from .joint_units import JointUnits
     from .output_file import checked_output
+    from .progress import ProgressBar
     from .targets import build_target, check_kind
 
     if args.csv:
@@ -195,9 +199,16 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]]) -> int:
     seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
     max_step = MAX_JOINT_STEP if args.max_step is None else _max_step(args, units)
     path = polyline(waypoints, args.steps)
-    result = follow_path(
-        robot, path, seed, solver=solver, branch=args.branch, max_joint_step=max_step
-    )
+    with ProgressBar(prog, "samples", quiet=args.quiet) as bar:
+        result = follow_path(
+            robot,
+            path,
+            seed,
+            solver=solver,
+            branch=args.branch,
+            max_joint_step=max_step,
+            progress=bar,
+        )
     timed = _timing(args, robot, units, result) if args.time and len(result.q) >= 2 else None
     if args.csv:
         _write_csv(args.csv, units, result, timed, args.dt is not None)

@@ -15,7 +15,7 @@ always takes the value nearest the previous sample's, so it crosses pi without a
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -62,6 +62,7 @@ def follow_closed_form(
     seed: np.ndarray | None,
     branch: str | None,
     max_joint_step: float,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Trace:
     """Solve every sample in closed form, staying on one branch.
 
@@ -73,6 +74,7 @@ def follow_closed_form(
             (the solver's first solution).
         branch: Branch label the first sample must take, or None.
         max_joint_step: Largest change of one joint between samples [rad] / [m].
+        progress: Called with (samples done, samples) before each sample, or None.
 
     Raises:
         PathError: ``branch`` is not a branch of the first sample.
@@ -80,6 +82,8 @@ def follow_closed_form(
     unwrap = TurnUnwrapper(robot)
     trace = Trace(q=[], branches=[], branch_changes=[])
     for index in range(len(path)):
+        if progress is not None:
+            progress(index, len(path))
         previous = trace.q[-1] if trace.q else None
         result: IKResult = solver.solve(path.target(index), previous if index else seed)  # type: ignore[attr-defined]
         reference = previous if previous is not None else seed

@@ -12,6 +12,7 @@ target is out of reach), the motion stops there.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
@@ -39,6 +40,7 @@ def follow_differential(
     position_tol: float = 1e-6,
     rotation_tol: float = 1e-5,
     max_joint_step: float = math.inf,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Trace:
     """Walk the samples from ``q_start`` (a solution of sample 0) by differential IK sub-steps.
 
@@ -51,6 +53,7 @@ def follow_differential(
         position_tol: A sample is reached when the tool is this close [m] ...
         rotation_tol: ... and, for a pose path, turned this little from it [rad].
         max_joint_step: Largest change of one joint between samples [rad] / [m].
+        progress: Called with (samples done, samples) before each sample, or None.
 
     Raises:
         PathError: A pitch path (the differential step takes positions and poses).
@@ -79,6 +82,8 @@ def follow_differential(
         return position, float(np.linalg.norm(pin.log3(pose.rotation.T @ target.rotation)))
 
     for index in range(1, len(path)):
+        if progress is not None:
+            progress(index, len(path))
         sample = path.target(index)
         rotation = sample.rotation if isinstance(sample, PoseTarget) else None
         target = NumericTarget.from_arrays(sample.position, rotation, posture=q)
@@ -88,9 +93,9 @@ def follow_differential(
             position, turn = errors(q, target)
             if position < position_tol and turn < rotation_tol:
                 break
-            progress = position + ROTATION_WEIGHT * turn
-            stalled = stalled + 1 if progress > 0.99 * best else 0
-            best = min(best, progress)
+            measure = position + ROTATION_WEIGHT * turn
+            stalled = stalled + 1 if measure > 0.99 * best else 0
+            best = min(best, measure)
             if stalled >= PATIENCE:
                 break
             try:

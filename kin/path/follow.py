@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import inspect
 import logging
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -55,6 +56,7 @@ def follow_path(
     rotation_tol: float = 1e-5,
     timeout: float = 0.5,
     between: int = 1,
+    progress: Callable[[int, int], None] | None = None,
 ) -> PathResult:
     """Joint path along ``path``, each sample's IK seeded from the previous one.
 
@@ -73,6 +75,8 @@ def follow_path(
         rotation_tol: Differential method: ... and turned this little from it [rad].
         timeout: Time budget of the numeric solve of the first sample [s].
         between: Points checked between consecutive samples for the deviation (1: midpoint).
+        progress: Called with (samples followed, samples) as the motion goes on (the last call
+            says all of them when the whole path is followed), or None.
 
     Raises:
         PathError: Unknown method, a branch the first sample does not have, a pitch path for the
@@ -82,11 +86,13 @@ def follow_path(
     """
     seed_q = None if seed is None else as_joint_vector(robot, seed)
     solver = path_solver(robot, method) if solver is None else solver
+    if progress is not None:
+        progress(0, len(path))  # at once: a numeric first sample may take its whole budget
     if isinstance(solver, ClosedFormSolver) or _partial(path, robot.nq):
         # A partial pose (a mask, a free tool axis, a pose on a short arm) is solved per sample
         # from the previous one (kin.ik.partial_pose), every answer verified: the nearest is kept.
         chosen = "closed_form" if isinstance(solver, ClosedFormSolver) else "partial"
-        trace = follow_closed_form(robot, solver, path, seed_q, branch, max_joint_step)
+        trace = follow_closed_form(robot, solver, path, seed_q, branch, max_joint_step, progress)
     else:
         chosen = "differential"
         start = _solve_first(robot, solver, path, seed_q, timeout)
@@ -102,7 +108,10 @@ def follow_path(
                 position_tol=position_tol,
                 rotation_tol=rotation_tol,
                 max_joint_step=max_joint_step,
+                progress=progress,
             )
+    if progress is not None and trace.stopped_at is None:
+        progress(len(path), len(path))
     q = np.array(trace.q, dtype=float).reshape(-1, robot.nq)
     measured = measure_path(robot, path, q, between)
     logger.debug("path of %d samples: %s", len(path), trace.message or "complete")
