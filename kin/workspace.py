@@ -292,6 +292,26 @@ def _unseen(hits: np.ndarray) -> float:
     return f1 * f1 / (2.0 * f2) if f2 else f1 * (f1 - 1) / 2.0
 
 
+def _estimating(
+    progress: Callable[[int, int], None] | None, estimate: Callable[[float], None]
+) -> Callable[[int, int], None]:
+    """``progress``, and ``estimate`` of the run's duration [s] at the first chunk's end."""
+    import time
+
+    start = time.monotonic()
+    told = False
+
+    def report(done: int, n: int) -> None:
+        nonlocal told
+        if not told and done > 0:
+            told = True
+            estimate((time.monotonic() - start) * n / done)
+        if progress is not None:
+            progress(done, n)
+
+    return report
+
+
 def workspace(
     table: DHTable,
     n: int,
@@ -302,6 +322,7 @@ def workspace(
     workers: int = 1,
     client: object | None = None,
     progress: Callable[[int, int], None] | None = None,
+    estimate: Callable[[float], None] | None = None,
 ) -> WorkspaceMap:
     """Sample the workspace of ``table`` with ``n`` joint vectors.
 
@@ -315,6 +336,8 @@ def workspace(
             chunks run again.
         client: A ``distributed.Client``: the chunks run on its cluster (``workers`` ignored).
         progress: Called with (samples done, n) as chunks finish.
+        estimate: Called once, when the first chunk is done, with the whole run's estimated
+            duration [s] (the rate so far times ``n``).
 
     Raises:
         KinError: Bad ``n`` (a whole number from 1 to :data:`MAX_SAMPLES`), ``chunk_size``
@@ -326,5 +349,7 @@ def workspace(
     _check_sizes(n, chunk_size)
     grid = WorkspaceGrid.around(table, voxel_size_m)
     tasks = chunk_tasks(table, grid, n, seed, chunk_size)
+    if estimate is not None:
+        progress = _estimating(progress, estimate)
     total = run_chunks(tasks, workers=workers, client=client, progress=progress, n=n)
     return summarize(table, grid, total, seed, chunk_size)

@@ -129,7 +129,7 @@ def run_chunks(
     """
     chunks = iter(tasks)
     if client is not None:
-        results: Iterator[Any] = _on_dask(chunks, client)
+        results: Generator[Any, None, None] = _on_dask(chunks, client)
     elif workers > 1:
         results = run_unordered(_chunk, chunks, workers, per_worker=IN_FLIGHT_PER_WORKER)
     else:

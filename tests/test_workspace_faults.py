@@ -198,3 +198,59 @@ def test_cli_a_run_fault_is_one_line_and_exit_1(command, target, argv, monkeypat
     assert code == 1, err
     assert err == f"kin {command}: error: lost the Dask scheduler at tcp://x:8786 during the run\n"
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_estimate_comes_once_when_the_first_chunk_is_done():
+    """estimate is called once, before the first progress report, with a positive duration."""
+    events: list[tuple[str, float]] = []
+    workspace(
+        get_robot("planar2").load_table(),
+        5_000,
+        chunk_size=1_000,
+        progress=lambda done, n: events.append(("progress", done)),
+        estimate=lambda seconds: events.append(("estimate", seconds)),
+    )
+    assert [kind for kind, _ in events] == ["estimate"] + ["progress"] * 5
+    assert events[0][1] > 0
+
+
+@pytest.mark.parametrize(
+    ("seconds", "text"),
+    [(90, "1.5 minutes"), (3 * 3600, "3 hours"), (3 * 86400, "3 days"), (1e12, "31,688 years")],
+)
+def test_duration_text(seconds, text):
+    """Durations in the largest unit that gives 2 or more (1e12 s / 31,557,600 s a year)."""
+    from kin.commands.workspace import _duration_text
+
+    assert _duration_text(seconds) == text
+
+
+def test_cli_a_huge_n_says_how_long_and_stops_on_ctrl_c(monkeypatch, capsys):
+    """--n 1e18 (written out): after the first chunk one line with the estimate in years; Ctrl-C
+    after the second chunk: exit 130, 'interrupted' last, nothing on stdout."""
+    import kin.workspace_run
+
+    original = kin.workspace_run._chunk
+    calls: list[int] = []
+
+    def chunk_then_ctrl_c(task: tuple):  # noqa: ANN202
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return original(task)
+
+    monkeypatch.setattr(kin.workspace_run, "_chunk", chunk_then_ctrl_c)
+    argv = ["--robot", "planar2", "--n", str(10**18), "--chunk-size", "1000"]
+    assert workspace_main(argv) == 130
+    captured = capsys.readouterr()
+    lines = captured.err.splitlines()
+    assert lines[-1] == "kin workspace: interrupted"
+    assert lines[0].startswith("kin workspace: 1,000,000,000,000,000,000 samples take about ")
+    assert lines[0].endswith(" years at the first chunk's rate; Ctrl-C stops")
+    assert captured.out == ""
+
+
+def test_cli_a_short_run_says_nothing_of_its_duration(capsys):
+    """A run of well under a minute prints no estimate."""
+    assert workspace_main(["--robot", "planar2", "--n", "3000", "--json"]) == 0
+    assert capsys.readouterr().err == ""

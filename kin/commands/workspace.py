@@ -48,6 +48,40 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     return parser
 
 
+#: A run estimated to take longer than this says so on stderr after its first chunk [s].
+LONG_RUN_S = 60.0
+
+
+def _duration_text(seconds: float) -> str:
+    """``seconds`` [s] in minutes, hours, days or years (the largest that gives 2 or more)."""
+    value, unit = seconds / 60, "minutes"
+    for name, size in (("years", 365.25 * 86400), ("days", 86400), ("hours", 3600)):
+        if seconds >= 2 * size:
+            value, unit = seconds / size, name
+            break
+    return f"{value:,.0f} {unit}" if value >= 1000 else f"{value:.3g} {unit}"
+
+
+class _LongRunNotice:
+    """One line on stderr when the first chunk's rate says the run takes over :data:`LONG_RUN_S`."""
+
+    def __init__(self, prog: str, n: int):
+        self.prog = prog
+        self.n = n
+
+    def __call__(self, seconds: float) -> None:
+        import sys
+
+        if seconds > LONG_RUN_S:
+            clear = "\r\x1b[K" if sys.stderr.isatty() else ""  # over a progress bar's line
+            print(
+                f"{clear}{self.prog}: {self.n:,} samples take about {_duration_text(seconds)} at "
+                "the first chunk's rate; Ctrl-C stops",
+                file=sys.stderr,
+                flush=True,
+            )
+
+
 def _volume(volume_m3: float, unit: str) -> str:
     """A volume in m^3 with 4 digits, and in the user's length unit cubed when not m."""
     text = f"{volume_m3:.4g} m^3"
@@ -120,6 +154,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 workers=args.workers,
                 client=client,
                 progress=progress,
+                estimate=None if args.quiet else _LongRunNotice(prog, args.n),
             )
         if args.output:
             from ..workspace_plot import plot_workspace
