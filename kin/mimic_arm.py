@@ -14,13 +14,15 @@ joint vector holds the independent joints only, base to tip.
   answer is returned only when Pinocchio's model of the original URDF built with mimic joints
   (:class:`pinocchio.JointModelMimic`) puts the tip on the target within the judge's tolerances.
 
-Not yet wired to the ``kin`` commands (their joint units, seeds and closed forms read one
-variable per table row): :func:`kin.load_robot` names this module for such a chain.
+``kin fk`` and ``kin ik`` load such a chain through :func:`kin.robot_model.load_arm` (IK by
+:class:`kin.mimic_solver.MimicSolver`); the other commands, whose joint units, seeds and closed
+forms read one variable per table row, refuse it in one line.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,12 +33,34 @@ import pinocchio as pin
 from dh2urdf import DHTable
 from dh2urdf.urdf_chain import UrdfChain
 
-from .exceptions import JointVectorError, ModelLoadError
+from .exceptions import FrameError, JointVectorError, ModelLoadError, NotWithinLimitsError
 from .ik.judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, rotation_error
 from .ik.result import IKSolution
 from .robot_model import RobotModel
 
-__all__ = ["MimicArm", "load_mimic_arm"]
+#: Largest change of one joint in one descent step [rad] or [m].
+_MAX_STEP = 0.5
+#: Steps after which a descent that has not cut its residual by 10 % gives up (a local minimum).
+_STALL = 15
+
+__all__ = ["MimicArm", "MimicSearch", "load_mimic_arm", "mimic_arm_from_chain"]
+
+
+@dataclass(frozen=True, eq=False)
+class MimicSearch:
+    """What one IK search of a :class:`MimicArm` found.
+
+    Attributes:
+        answer: The first joint vector judged on target inside every joint's limits, or None.
+        best: The attempt nearest the target (by the search's own residual), as judged.
+        starts: Starts tried (the seed first, then random ones).
+        iterations: Damped least-squares steps taken, all starts together.
+    """
+
+    answer: IKSolution | None
+    best: IKSolution
+    starts: int
+    iterations: int
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +82,17 @@ class MimicArm:
     reference: pin.Model
     lower: np.ndarray
     upper: np.ndarray
+
+    @property
+    def name(self) -> str:
+        """Robot name (its table's, as :func:`kin.load_robot` names a URDF chain)."""
+        return self.table.name
+
+    @property
+    def frame_names(self) -> tuple[str, ...]:
+        """Frames :meth:`frame_pose` knows: ``"tool"`` (the tip link), then the URDF's links."""
+        links = (f.name for f in self.reference.frames if f.type == pin.FrameType.BODY)
+        return ("tool", *links)
 
     @property
     def nq(self) -> int:
@@ -93,7 +128,23 @@ class MimicArm:
 
     def reference_fk(self, q: npt.ArrayLike) -> np.ndarray:
         """``T_base_tip`` (4x4, [m]) by Pinocchio's mimic model of the original URDF."""
+        return np.array(self.frame_pose(q, "tool").homogeneous)
+
+    def frame_pose(self, q: npt.ArrayLike, frame: str = "tool") -> pin.SE3:
+        """``T_base_frame`` [m] by Pinocchio's mimic model of the original URDF.
+
+        Args:
+            q: The independent joints' values [rad] or [m].
+            frame: A link of the URDF, or ``"tool"``: the chain's tip link.
+
+        Raises:
+            JointVectorError: Not one finite value per independent joint.
+            FrameError: No link of that name; the message lists them.
+        """
         model = self.reference
+        name = self.chain.tip if frame == "tool" else frame
+        if not model.existFrame(name, pin.FrameType.BODY):
+            raise FrameError(frame, self.frame_names)
         data = model.createData()
         full = pin.neutral(model)
         for joint, value in zip(self.chain.independent, self._vector(q), strict=True):
@@ -104,8 +155,26 @@ class MimicArm:
                 full[entry.idx_q] = value
         pin.framesForwardKinematics(model, data, full)
         base = model.getFrameId(self.chain.base, pin.FrameType.BODY)
-        tip = model.getFrameId(self.chain.tip, pin.FrameType.BODY)
-        return np.array((data.oMf[base].inverse() * data.oMf[tip]).homogeneous)
+        return data.oMf[base].actInv(data.oMf[model.getFrameId(name, pin.FrameType.BODY)])
+
+    def limit_violations(self, q: npt.ArrayLike) -> list[NotWithinLimitsError]:
+        """The joints of the chain, mimic ones included, outside their own limits at ``q``.
+
+        Args:
+            q: The independent joints' values [rad] or [m].
+        """
+        full = self.chain.expand(self._vector(q))
+        return [
+            NotWithinLimitsError(
+                joint.name,
+                float(value),
+                joint.lower,
+                joint.upper,
+                "rad" if joint.joint_type == "revolute" else "m",
+            )
+            for joint, value in zip(self.chain.joints, full, strict=True)
+            if not (joint.continuous or joint.lower <= value <= joint.upper)
+        ]
 
     def within_limits(self, q: npt.ArrayLike) -> bool:
         """Whether every joint of the chain, mimic ones included, is inside its limits."""
@@ -139,42 +208,147 @@ class MimicArm:
             :data:`~kin.ik.judge.ROTATION_TOLERANCE` [rad] of the target; None when no start
             converges there.
         """
-        target = pin.SE3(np.asarray(T_base_target, dtype=float))
-        coupling = self.coupling
-        model, data = self.robot.model, self.robot.model.createData()
-        tool = model.getFrameId(self.robot.tool_frame)
-        lower, upper = self.lower, self.upper
-        middle = 0.5 * (lower + upper)
-        rng = np.random.default_rng(rng_seed)
-        starts = [middle if seed is None else np.clip(self._vector(seed), lower, upper)]
-        starts += [rng.uniform(lower, upper) for _ in range(restarts)]
-        for start in starts:
-            q = start.copy()
-            for _ in range(max_iter):
-                full = self.chain.expand(q)
-                pin.framesForwardKinematics(model, data, full)
-                error = pin.log6(data.oMf[tool].actInv(target)).vector
-                if float(np.linalg.norm(error)) < 1e-12:
-                    break
-                jacobian = pin.computeFrameJacobian(model, data, full, tool, pin.LOCAL) @ coupling
-                step = np.linalg.lstsq(
-                    jacobian.T @ jacobian + 1e-10 * np.eye(self.nq), jacobian.T @ error, rcond=None
-                )[0]
-                q = np.clip(q + step, lower, upper)
-            answer = self._judged(q, target)
-            if answer is not None:
-                return answer
-        return None
+        target = np.asarray(T_base_target, dtype=float)
+        found = self.search(
+            target[:3, 3],
+            target[:3, :3],
+            seed,
+            restarts=restarts,
+            max_iter=max_iter,
+            rng_seed=rng_seed,
+        )
+        return found.answer
 
-    def _judged(self, q: np.ndarray, target: pin.SE3) -> IKSolution | None:
-        """``q`` as a solution when the URDF's mimic model puts it on target inside the limits."""
-        pose = self.reference_fk(q)
-        position = float(np.linalg.norm(pose[:3, 3] - target.translation))
-        rotation = rotation_error(pose[:3, :3].ravel().tolist(), target.rotation.ravel().tolist())
-        on_target = position < POSITION_TOLERANCE and rotation < ROTATION_TOLERANCE
-        if not (on_target and self.within_limits(q)):
-            return None
-        return IKSolution(q.copy(), "", True, position, rotation)
+    def search(
+        self,
+        position: npt.ArrayLike,
+        rotation: npt.ArrayLike | None,
+        seed: npt.ArrayLike | None = None,
+        *,
+        restarts: int = 40,
+        max_iter: int = 200,
+        rng_seed: int = 0,
+        timeout: float | None = None,
+    ) -> MimicSearch:
+        """Damped least squares on the coupled Jacobian, from the seed then random starts.
+
+        Args:
+            position: Target position of the tip link in the base link [m], shape (3,).
+            rotation: Target axes of the tip link in the base link (3x3), or None: the
+                orientation is free.
+            seed: First start [rad] or [m] (default: the middle of the limits); clipped into
+                the limits.
+            restarts: Random starts after the seed (seeded by ``rng_seed``).
+            max_iter: Damped least-squares steps per start.
+            rng_seed: Seed of the random starts.
+            timeout: No new start after this time [s] (the first one always runs); None: all.
+
+        Returns:
+            The first answer judged on target inside every joint's limits (Pinocchio's mimic
+            model of the URDF, :data:`~kin.ik.judge.POSITION_TOLERANCE` [m],
+            :data:`~kin.ik.judge.ROTATION_TOLERANCE` [rad]), the best attempt, and the counts.
+        """
+        started = time.perf_counter()
+        oriented = rotation is not None
+        goal = pin.SE3(
+            np.asarray(rotation, dtype=float) if oriented else np.eye(3),  # type: ignore[arg-type]
+            np.asarray(position, dtype=float),
+        )
+        rng = np.random.default_rng(rng_seed)
+        first = (
+            0.5 * (self.lower + self.upper)
+            if seed is None
+            else np.clip(self._vector(seed), self.lower, self.upper)
+        )
+        best, best_residual, iterations, starts = first, math.inf, 0, 0
+        for start in range(restarts + 1):
+            if start and timeout is not None and time.perf_counter() - started > timeout:
+                break
+            starts += 1
+            q = first if start == 0 else rng.uniform(self.lower, self.upper)
+            q, steps = self._descend(q, goal, oriented, max_iter)
+            iterations += steps
+            answer = self._judged(q, goal, oriented)
+            if (
+                answer.within_limits
+                and answer.position_error < POSITION_TOLERANCE
+                and (answer.rotation_error is None or answer.rotation_error < ROTATION_TOLERANCE)
+            ):
+                return MimicSearch(answer, answer, starts, iterations)
+            residual = answer.position_error + (answer.rotation_error or 0.0)
+            if residual < best_residual:
+                best, best_residual = q, residual
+        return MimicSearch(None, self._judged(best, goal, oriented), starts, iterations)
+
+    def _descend(
+        self, q: np.ndarray, goal: pin.SE3, oriented: bool, max_iter: int
+    ) -> tuple[np.ndarray, int]:
+        """Levenberg-Marquardt steps from ``q`` inside the limits; the last ``q`` and the steps.
+
+        The residual is the tip's pose error ``log6(T_tip^-1 T_goal)`` (LOCAL), or its position
+        error in base axes when not ``oriented``; a step is kept when it lowers the residual
+        (then the damping shrinks), else the damping grows; a step moves no joint more than
+        :data:`_MAX_STEP`. The descent stops on target, after ``max_iter`` steps, or stuck
+        (the damping past 1e8, or the residual cut by less than 10 % in :data:`_STALL` steps).
+        """
+        model = self.robot.model
+        data = model.createData()
+        tool = model.getFrameId(self.robot.tool_frame)
+        coupling = self.coupling
+        frame = pin.LOCAL if oriented else pin.LOCAL_WORLD_ALIGNED
+        rows = 6 if oriented else 3
+
+        def residual(q: np.ndarray) -> np.ndarray:
+            pin.framesForwardKinematics(model, data, self.chain.expand(q))
+            if oriented:
+                return pin.log6(data.oMf[tool].actInv(goal)).vector
+            return goal.translation - data.oMf[tool].translation
+
+        error = residual(q)
+        norm = float(np.linalg.norm(error))
+        damping = 1e-3
+        history = [norm]
+        for step_count in range(1, max_iter + 1):
+            stalled = len(history) > _STALL and norm > 0.9 * history[-_STALL - 1]
+            if norm < 1e-12 or damping > 1e8 or stalled:
+                return q, step_count - 1
+            full = self.chain.expand(q)
+            jacobian = pin.computeFrameJacobian(model, data, full, tool, frame)[:rows] @ coupling
+            normal = jacobian.T @ jacobian
+            step = np.linalg.solve(
+                normal + damping * (np.diag(np.diag(normal)) + 1e-9 * np.eye(self.nq)),
+                jacobian.T @ error,
+            )
+            largest = float(np.abs(step).max())
+            if largest > _MAX_STEP:
+                step *= _MAX_STEP / largest
+            trial = np.clip(q + step, self.lower, self.upper)
+            trial_error = residual(trial)
+            trial_norm = float(np.linalg.norm(trial_error))
+            if trial_norm < norm:
+                q, error, norm = trial, trial_error, trial_norm
+                damping = max(damping / 5.0, 1e-9)
+            else:
+                damping *= 10.0
+            history.append(norm)
+        return q, max_iter
+
+    def _judged(self, q: np.ndarray, goal: pin.SE3, oriented: bool) -> IKSolution:
+        """``q`` measured by the URDF's mimic model: errors to ``goal`` and every joint's limits.
+
+        Args:
+            q: The independent joints' values [rad] or [m].
+            goal: Target ``T_base_tip`` [m].
+            oriented: Whether the goal's rotation counts (else the rotation error is None).
+        """
+        pose = self.frame_pose(q, "tool")
+        position = float(np.linalg.norm(pose.translation - goal.translation))
+        rotation = (
+            rotation_error(pose.rotation.ravel().tolist(), goal.rotation.ravel().tolist())
+            if oriented
+            else None
+        )
+        return IKSolution(q.copy(), "", self.within_limits(q), position, rotation)
 
     def _vector(self, q: npt.ArrayLike) -> np.ndarray:
         """``q`` as a float vector of the independent joints, else :class:`JointVectorError`."""
@@ -223,19 +397,29 @@ def load_mimic_arm(path: str | Path, base: str | None = None, tip: str | None = 
         ModelLoadError: The mimic joints' limits leave no joint vector.
     """
     from dh2urdf.urdf_chain import read_chain
+
+    return mimic_arm_from_chain(read_chain(path, base, tip))
+
+
+def mimic_arm_from_chain(chain: UrdfChain) -> MimicArm:
+    """The :class:`MimicArm` of a chain read by :func:`dh2urdf.urdf_chain.read_chain`.
+
+    Raises:
+        dh2urdf.urdf_chain.UrdfChainError: The DH table does not reproduce the chain.
+        ModelLoadError: The mimic joints' limits leave no joint vector.
+    """
     from dh2urdf.urdf_parse import build_pinocchio_model
     from dh2urdf.urdf_to_dh import check_table, table_from_chain
 
     from .robot_model import robot_from_table
 
-    chain = read_chain(path, base, tip)
     table = table_from_chain(chain)
     check_table(chain, table)
     lower, upper = _narrowed_limits(chain)
     if not (lower <= upper).all():
         names = [n for n, lo, hi in zip(chain.independent, lower, upper, strict=True) if lo > hi]
         raise ModelLoadError(
-            f"{path}: the limits of the mimic joints leave joint {names[0].name!r} no value"
+            f"{chain.path}: the limits of the mimic joints leave joint {names[0].name!r} no value"
         )
     return MimicArm(
         chain=chain,

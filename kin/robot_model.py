@@ -1,10 +1,15 @@
-"""Load a robot (registry name or DH table path) into a Pinocchio model built from its URDF."""
+"""Load a robot (registry name or DH table path) into a Pinocchio model built from its URDF.
+
+A URDF chain with a mimic joint in series is refused by :func:`load_robot` (every table row is
+one independent joint) and loaded by :func:`load_arm` as a :class:`kin.mimic_arm.MimicArm`.
+"""
 
 from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -12,6 +17,11 @@ import pinocchio as pin
 from dh2urdf import ROBOTS, DHTable, get_robot, load_table
 
 from .exceptions import ModelLoadError
+
+if TYPE_CHECKING:
+    from dh2urdf.urdf_chain import UrdfChain
+
+    from .mimic_arm import MimicArm
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,6 +109,40 @@ def robot_from_table(table: DHTable) -> RobotModel:
     return _build(table.name, table, urdf_string(table), table.path or table.name)
 
 
+def urdf_file(robot: str | Path) -> str | None:
+    """``robot`` as a path when it names a URDF file (not a registry name), else None.
+
+    A URDF is a ``.urdf``, a ``.xacro``, or any other file whose root element is ``<robot>``.
+    """
+    from dh2urdf.urdf_parse import is_urdf_file
+
+    text = str(robot)
+    return text if text not in ROBOTS and is_urdf_file(text) else None
+
+
+def robot_from_chain(chain: UrdfChain) -> RobotModel:
+    """Robot of a URDF chain read as a DH table (one independent joint per row).
+
+    Raises:
+        dh2urdf.urdf_chain.UrdfChainError: The table does not reproduce the chain.
+        ModelLoadError: A joint of the chain follows another (mimic): the message names it,
+            what takes such a chain (``kin fk``, ``kin ik``, :func:`load_arm`) and the fix.
+    """
+    from dh2urdf.urdf_to_dh import check_table, table_from_chain
+
+    for joint in chain.joints:
+        if joint.mimic is not None:
+            raise ModelLoadError(
+                f"{chain.path}: joint {joint.name!r} follows {joint.mimic.leader!r} (mimic): "
+                "kin fk and kin ik follow it (kin.robot_model.load_arm in Python); this command "
+                "takes one independent joint per DH row: choose a --tip before it"
+            )
+    table = table_from_chain(chain)
+    check_table(chain, table)
+    model = robot_from_table(table)
+    return replace(model, urdf_source=(chain.path, chain.base, chain.tip))
+
+
 def load_robot(robot: str | Path, base: str | None = None, tip: str | None = None) -> RobotModel:
     """Load a shipped robot by name, a DH table file, or the chain of a URDF file.
 
@@ -117,27 +161,46 @@ def load_robot(robot: str | Path, base: str | None = None, tip: str | None = Non
         dh2urdf.TableError: The table file is malformed.
         dh2urdf.urdf_chain.UrdfChainError: The URDF gives no serial chain from base to tip, or
             the file is another kind of XML (an MJCF ``<mujoco>``...).
-        ModelLoadError: The URDF cannot be read or loaded; base or tip given for a table.
+        ModelLoadError: The URDF cannot be read or loaded; base or tip given for a table; a
+            mimic joint on the URDF's chain (:func:`load_arm` follows it).
     """
-    from dh2urdf.urdf_parse import is_urdf_file
-
-    text = str(robot)
-    if text not in ROBOTS and is_urdf_file(text):
+    path = urdf_file(robot)
+    if path is not None:
         from dh2urdf.urdf_chain import read_chain
-        from dh2urdf.urdf_to_dh import check_table, table_from_chain
 
-        chain = read_chain(text, base, tip)
-        for joint in chain.joints:
-            if joint.mimic is not None:
-                raise ModelLoadError(
-                    f"{text}: joint {joint.name!r} follows {joint.mimic.leader!r} (mimic): the "
-                    "kin commands take one independent joint per DH row; choose a --tip before "
-                    "it, or use kin.mimic_arm.load_mimic_arm in Python (FK and IK)"
-                )
-        table = table_from_chain(chain)
-        check_table(chain, table)
-        model = robot_from_table(table)
-        return replace(model, urdf_source=(text, chain.base, chain.tip))
+        return robot_from_chain(read_chain(path, base, tip))
+    return _load_table_robot(robot, base, tip)
+
+
+def load_arm(
+    robot: str | Path, base: str | None = None, tip: str | None = None
+) -> RobotModel | MimicArm:
+    """:func:`load_robot`, except that a URDF chain with mimic joints gives a :class:`MimicArm`.
+
+    A mimic joint in series on the chain follows its leader (``q = multiplier * q_leader +
+    offset``): the arm's joint vector holds the independent joints only
+    (:func:`kin.mimic_arm.load_mimic_arm`). Every other robot loads as :func:`load_robot` does.
+
+    Raises:
+        The errors of :func:`load_robot` (but for the mimic refusal), and
+        :func:`kin.mimic_arm.load_mimic_arm`'s.
+    """
+    path = urdf_file(robot)
+    if path is None:
+        return _load_table_robot(robot, base, tip)
+    from dh2urdf.urdf_chain import read_chain
+
+    chain = read_chain(path, base, tip)
+    if all(joint.mimic is None for joint in chain.joints):
+        return robot_from_chain(chain)
+    from .mimic_arm import mimic_arm_from_chain
+
+    return mimic_arm_from_chain(chain)
+
+
+def _load_table_robot(robot: str | Path, base: str | None, tip: str | None) -> RobotModel:
+    """A shipped robot or a DH table file (``base`` and ``tip`` must be None)."""
+    text = str(robot)
     if base is not None or tip is not None:
         raise ModelLoadError(f"{text}: --base and --tip choose links of a URDF, not of a DH table")
     if isinstance(robot, Path) or text.endswith(".toml") or "/" in text:

@@ -6,15 +6,21 @@ The text output names the unit of each number; --json is SI (q in rad / m, as "q
 roll-pitch-yaw (R = Rz(yaw) Ry(pitch) Rx(roll), in rad or deg with --deg: JSON "rpy" in the unit
 "rpy_unit" names) and the unit quaternion W X Y Z (JSON "quat_wxyz", W >= 0): the same forms
 `kin ik --rpy` and `kin ik --quat` take, so one command's output pastes into the other.
+
+A URDF chain with mimic joints in series: --q holds the independent joints only (the names
+printed); each mimic joint follows its leader (the "mimic" line, JSON "mimic"), and the pose is
+Pinocchio's of the original URDF with mimic joints.
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import sys
 
 from ..cli import ArgumentParser, angle_scale, finite_float, length_scale, run_guarded
-from .robot_argument import add_robot_arguments, load_robot_argument
+from .arm_route import MIMIC_HELP
+from .robot_argument import add_robot_arguments
 
 PROG = "kin fk"
 
@@ -28,7 +34,8 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         type=finite_float,
         nargs="+",
         required=True,
-        help="joint values, base to tip: revolute [rad, or deg with --deg], prismatic [--unit]",
+        help="joint values, base to tip: revolute [rad, or deg with --deg], prismatic [--unit]; "
+        f"{MIMIC_HELP}",
     )
     parser.add_argument(
         "--deg", action="store_true", help="revolute joint values in degrees (default radians)"
@@ -52,15 +59,23 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         import pinocchio as pin
 
         from ..configuration import Configuration, limit_violations
-        from .joint_units import JointUnits
+        from ..robot_model import RobotModel
+        from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
 
-        robot = load_robot_argument(args)
-        units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
-        configuration = Configuration(robot, units.to_si(args.q, "--q"))
-        violations = limit_violations(robot, configuration.q)
+        robot = load_arm_argument(args)
+        units = arm_units(robot, args.unit, args.deg)
+        if isinstance(robot, RobotModel):
+            configuration = Configuration(robot, units.to_si(args.q, "--q"))
+            q = configuration.q
+            violations = limit_violations(robot, q)
+            pose_of = configuration.transform_frame_to_world
+        else:  # a URDF chain with mimic joints: q holds the independent joints
+            q = units.to_si(args.q, "--q")
+            violations = robot.limit_violations(q)
+            pose_of = functools.partial(robot.frame_pose, q)
         for violation in violations:
             print(f"{prog}: warning: {violation}", file=sys.stderr)
-        pose = configuration.transform_frame_to_world(args.frame)
+        pose = pose_of(args.frame)
         angle = angle_scale(args.deg)
         rpy = [v / angle for v in pin.rpy.matrixToRpy(pose.rotation).tolist()]
         x, y, z, w = pin.Quaternion(pose.rotation).coeffs().tolist()
@@ -72,7 +87,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 "robot": robot.name,
                 "frame": args.frame,
                 "joint_names": list(units.joint_names),
-                "q": configuration.q.tolist(),
+                "q": q.tolist(),
                 "q_units": list(units.si_labels),
                 "within_limits": not violations,
                 "position_m": pose.translation.tolist(),
@@ -81,13 +96,19 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 "rpy_unit": rpy_unit,
                 "quat_wxyz": quat,
             }
+            mimic = mimic_records(robot)
+            if mimic:
+                record["mimic"] = mimic
             print(json.dumps(record))
             return 0
         position = pose.translation / length_scale(args.unit)
-        q_shown = units.from_si(configuration.q)
+        q_shown = units.from_si(q)
         print(f"{robot.name}: pose of '{args.frame}' in the world frame")
         shown = (f"{n} {v:.6g} {u}" for n, v, u in zip(units.joint_names, q_shown, units.labels))
         print("q: " + ", ".join(shown))
+        note = mimic_line(robot)
+        if note is not None:
+            print(note)
         print(f"position [{args.unit}]: " + "  ".join(f"{v:.6f}" for v in position))
         print("rotation (columns: frame axes in world axes):")
         for line in pose.rotation:

@@ -23,6 +23,12 @@ SI (q in rad / m as "q_units" says, errors in m and rad, time in s).
 per input line, in order, each with its "line" number ({"error": ...} for a bad line,
 {"skipped": ...} for a blank one).
 
+A URDF chain with mimic joints in series: joint vectors (--seed-q, answers) hold the independent
+joints only (the names printed; each mimic joint follows its leader), the solver is damped least
+squares on the coupled Jacobian (a pose without --mask, or a position), and every answer is judged
+by Pinocchio's model of the original URDF with mimic joints; a search that ends without an answer
+says "not_converged", not "out_of_reach".
+
 Exit 0 when a valid solution exists, 1 when none (success false), 2 for bad input; with --stdin,
 once the input ends: 1 when any line had an error or no valid solution, else 0.
 """
@@ -43,12 +49,14 @@ from ..cli import (
     positive_float,
     run_guarded,
 )
-from .robot_argument import add_robot_arguments, load_robot_argument
+from .robot_argument import add_robot_arguments
 
 if TYPE_CHECKING:
     from collections.abc import Callable
 
     from ..ik.result import IKResult
+    from ..mimic_arm import MimicArm
+    from ..mimic_solver import MimicSolver
     from ..robot_model import RobotModel
     from .joint_units import JointUnits
 
@@ -151,16 +159,20 @@ def _run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..ik.target import PositionTarget
-    from .joint_units import JointUnits
+    from ..robot_model import RobotModel
+    from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
     from .solver_choice import NewtonRaphsonSolver, choose_solver, solve_function, target_kinds
     from .targets import build_target, check_kind
 
-    robot = load_robot_argument(args)
-    units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
+    robot = load_arm_argument(args)
+    units = arm_units(robot, args.unit, args.deg)
     # The documented default start is q = 0, as `kin preview --ik` starts from --q's zeros: the
     # same target and start give the same answer in both.
     seed = np.zeros(robot.nq) if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
-    solver = choose_solver(robot, args.solver)
+    if isinstance(robot, RobotModel):
+        solver = choose_solver(robot, args.solver)
+    else:  # a URDF chain with mimic joints
+        solver = _mimic_solver(robot, args.solver)
     solve = solve_function(solver, args.timeout / 1e3)
     kinds = None if isinstance(solver, NewtonRaphsonSolver) else target_kinds(solver)
     length = length_scale(args.unit)
@@ -178,7 +190,7 @@ def _run(args: argparse.Namespace) -> int:
             length,
             angle,
             args.all,
-            batch=_batch_stage(robot, solver),
+            batch=_batch_stage(robot, solver) if isinstance(robot, RobotModel) else None,
             pipeline=getattr(solver, "name", ""),
         )
         return stream.run(sys.stdin, sys.stdout)
@@ -204,11 +216,34 @@ def _run(args: argparse.Namespace) -> int:
         record = result_record(result, target)
         record.update(robot=robot.name, joint_names=list(units.joint_names))
         record["q_units"] = list(units.si_labels)
+        mimic = mimic_records(robot)
+        if mimic:
+            record["mimic"] = mimic
         print(json.dumps(record))
     else:
         free_rotation = isinstance(target, PositionTarget)
         _print_result(result, robot.name, units, args.unit, args.all, free_rotation)
+        note = mimic_line(robot)
+        if note is not None:
+            print(note)
     return 0 if result.success else EXIT_NO_SOLUTION
+
+
+def _mimic_solver(arm: MimicArm, forced: str | None) -> MimicSolver:
+    """The solver of a URDF chain with mimic joints; ``--solver`` cannot choose another.
+
+    Raises:
+        TargetError: ``--solver`` given (mink and nr read one joint per DH row).
+    """
+    from ..ik.exceptions import TargetError
+    from ..mimic_solver import MimicSolver
+
+    if forced is not None:
+        raise TargetError(
+            f"--solver {forced}: '{arm.name}' is a chain with mimic joints, solved by damped "
+            "least squares over its independent joints; drop --solver"
+        )
+    return MimicSolver(arm)
 
 
 def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., Callable[[], Any]] | None:

@@ -1,0 +1,111 @@
+"""IK of a URDF chain with mimic joints behind the solvers' common interface.
+
+``kin ik`` sees every solver through ``name``, ``target_kinds`` and
+``solve(target, seed=None, *, timeout=None) -> IKResult`` (:mod:`kin.commands.solver_choice`).
+:class:`MimicSolver` gives that interface to :meth:`kin.mimic_arm.MimicArm.search`: damped least
+squares over the independent joints, every answer judged by Pinocchio's mimic model of the
+original URDF inside every joint's limits, mimic ones included.
+
+A search that ends without an answer proves nothing about the target: its status is
+``"not_converged"``, never ``"out_of_reach"``, with the best attempt as the rejected solution.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+import numpy.typing as npt
+
+from .ik.exceptions import TargetError
+from .ik.result import IKResult
+from .ik.target import PoseTarget, PositionTarget
+
+if TYPE_CHECKING:
+    from .ik.target import Target
+    from .mimic_arm import MimicArm
+
+__all__ = ["MimicSolver"]
+
+#: The pipeline name in results.
+PIPELINE = "mimic_dls"
+
+
+class MimicSolver:
+    """Damped least squares on a :class:`~kin.mimic_arm.MimicArm`'s coupled Jacobian.
+
+    Args:
+        arm: The arm (its joint vector holds the independent joints only).
+        restarts: Random starts after the seed.
+        max_iter: Damped least-squares steps per start.
+    """
+
+    name = PIPELINE
+    target_kinds: tuple[type, ...] = (PoseTarget, PositionTarget)
+
+    def __init__(self, arm: MimicArm, restarts: int = 40, max_iter: int = 200):
+        self.arm = arm
+        self.restarts = restarts
+        self.max_iter = max_iter
+
+    def solve(
+        self, target: Target, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
+    ) -> IKResult:
+        """Solve a whole pose or a position of the tip in the chain's base link.
+
+        Args:
+            target: A :class:`~kin.ik.target.PoseTarget` (no mask) or a
+                :class:`~kin.ik.target.PositionTarget`, in the base link [m].
+            seed: First start [rad] or [m] of the independent joints (default: the middle of
+                the limits).
+            timeout: No new start after this time [s] (the seed's always runs); None: all
+                ``restarts`` run.
+
+        Returns:
+            ``"ok"`` with the answer, else ``"not_converged"`` with the best attempt rejected.
+
+        Raises:
+            TargetError: Another kind of target, or a pose with a mask.
+            kin.exceptions.JointVectorError: ``seed`` is not one value per independent joint.
+        """
+        started = time.perf_counter()
+        if not isinstance(target, (PoseTarget, PositionTarget)) or getattr(target, "mask", None):
+            raise TargetError(
+                f"'{self.arm.name}' (a chain with mimic joints) takes a whole pose (--rpy or "
+                "--quat, no --mask) or a position"
+            )
+        rotation = None if isinstance(target, PositionTarget) else np.asarray(target.rotation)
+        found = self.arm.search(
+            np.asarray(target.position),
+            rotation,
+            seed,
+            restarts=self.restarts,
+            max_iter=self.max_iter,
+            timeout=timeout,
+        )
+        elapsed = time.perf_counter() - started
+        if found.answer is not None:
+            method = "damped_least_squares" if found.starts == 1 else "random_restart"
+            return IKResult(
+                True,
+                PIPELINE,
+                "ok",
+                "on target inside every joint's limits, mimic joints included (judged by "
+                "Pinocchio's mimic model of the URDF)",
+                (found.answer,),
+                iterations=found.iterations,
+                time=elapsed,
+                method=method,
+            )
+        return IKResult(
+            False,
+            PIPELINE,
+            "not_converged",
+            f"no solution inside the joint limits found in {elapsed * 1e3:.0f} ms "
+            f"({found.starts} starts); the search does not prove the target out of reach",
+            (),
+            (found.best,),
+            iterations=found.iterations,
+            time=elapsed,
+        )
