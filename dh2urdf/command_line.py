@@ -29,6 +29,9 @@ EXIT_BAD_INPUT = 2
 #: Exit code after Ctrl-C (128 + SIGINT).
 EXIT_INTERRUPTED = 130
 
+#: Most characters of an error message on the one error line (then "...").
+ERROR_LINE_LIMIT = 2000
+
 #: Exit code of a run that failed part-way for a reason outside its input (a full disk).
 EXIT_FAULT = 1
 
@@ -100,8 +103,14 @@ def angle_scale(degrees: bool) -> float:
 
 
 def report_error(prog: str, err: BaseException) -> int:
-    """Print one line ``prog: error: ...`` on stderr and return the bad-input exit code."""
+    """Print one line ``prog: error: ...`` on stderr and return the bad-input exit code.
+
+    The line is cut at :data:`ERROR_LINE_LIMIT` characters: a message that lists names read
+    from a hostile file (links of a megabyte each) stays a line a terminal can show.
+    """
     text = " ".join(str(err).split())
+    if len(text) > ERROR_LINE_LIMIT:
+        text = text[:ERROR_LINE_LIMIT] + "..."
     print(f"{prog}: error: {text}", file=sys.stderr)
     return EXIT_BAD_INPUT
 

@@ -22,6 +22,7 @@ import numpy as np
 from .drive_section import JointDrive
 from .exceptions import TableError
 from .joint_cap import MAX_JOINTS
+from .table_values import MAX_ANGLE, MAX_LENGTH
 from .transforms import rot_x, rot_z, translation
 
 Convention = Literal["standard", "modified"]
@@ -79,6 +80,14 @@ class DHRow:
                 "that moves the other way, else leave it out",
                 self.index,
                 "direction",
+            )
+        bound = MAX_ANGLE if self.joint_type == "revolute" else MAX_LENGTH
+        if not -bound <= self.lower <= self.upper <= bound:
+            raise TableError(
+                "<DHRow>",
+                f"expected lower <= upper within +-{bound:g}, got [{self.lower!r}, {self.upper!r}]",
+                self.index,
+                "limits",
             )
 
     def dh_values(self, q: float) -> tuple[float, float]:

@@ -333,8 +333,12 @@ def check_table(
     rng = np.random.default_rng(7)
     lower = np.array([joint.lower for joint in chain.independent])
     upper = np.array([joint.upper for joint in chain.independent])
+    # Within the limits and [-pi, pi]; anywhere in [-pi, pi] where they do not meet (the DH
+    # product equals FK at every q: the limits only keep the samples where the arm goes).
+    low, high = np.maximum(lower, -math.pi), np.minimum(upper, math.pi)
+    low, high = np.where(low <= high, low, -math.pi), np.where(low <= high, high, math.pi)
     for _ in range(samples):
-        q = chain.expand(rng.uniform(np.maximum(lower, -math.pi), np.minimum(upper, math.pi)))
+        q = chain.expand(rng.uniform(low, high))
         full = pin.neutral(model)
         for value, joint_id in zip(q, ids, strict=True):
             joint = model.joints[joint_id]

@@ -11,10 +11,16 @@ import json
 import math
 import subprocess
 import sys
+import tempfile
 import warnings
+from datetime import timedelta
 from pathlib import Path
+from xml.sax.saxutils import quoteattr
 
 import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+from scripts_helper import load_script
 
 from dh2urdf import command as dh2urdf_command
 from dh2urdf import from_urdf_command, load_table
@@ -57,7 +63,7 @@ def zeros(n: int) -> list[str]:
 
 #: The commands a robot file goes through: name -> (main, arguments after the file).
 COMMANDS = {
-    "kin fk": (fk.main, lambda path, n: ["--robot", path, "--q", *zeros(n)]),
+    "kin fk": (fk.main, lambda path, n: ["--robot", path, "--q", *zeros(max(n, 1))]),
     "kin ik": (ik.main, lambda path, n: ["--robot", path, "--target", "0.1", "0.1", "0.3"]),
     "dh2urdf from-urdf": (from_urdf_command.main, lambda path, n: [path, "-o", "-"]),
     "dh2urdf": (dh2urdf_command.main, lambda path, n: [path, "-o", "-"]),
@@ -226,3 +232,211 @@ def test_stdin_line_of_a_million_numbers_is_not_repeated(monkeypatch, capsys):
         assert len(answer["error"]) < 300, answer["error"][:400]
     assert answers[0]["error"].startswith("the target position must be 3 number(s), got [0.1,")
     assert answers[3]["error"].startswith("not JSON")
+
+
+# Random malformed files (hypothesis): one line and exit 2, or exit 0 when the file happens to be
+# valid; never a traceback, within a deadline per example.
+
+#: Numbers and near-numbers a hostile file may hold.
+HOSTILE_NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -1.0, 1e308, -1e308, 1e6, 1e7, 25.2, -400.0]),
+    st.integers(-(10**30), 10**30),
+)
+#: Any value a TOML field may hold instead of the right one.
+HOSTILE_VALUES = st.one_of(
+    HOSTILE_NUMBERS,
+    st.booleans(),
+    st.text(max_size=12),
+    st.just("x" * 100_000),
+    st.lists(HOSTILE_NUMBERS, max_size=5),
+    st.just([0.1] * 10_000),
+    st.integers(1, 400).map(lambda depth: _nested(depth)),
+    st.dictionaries(st.text(max_size=5), HOSTILE_NUMBERS, max_size=3),
+)
+#: Joint counts around the cap (0 and 65 are refused).
+SIZES = st.sampled_from([0, 1, 2, 6, MAX_JOINTS, MAX_JOINTS + 1])
+#: Attribute text of a URDF number.
+HOSTILE_TEXT = st.one_of(
+    HOSTILE_NUMBERS.map(str),
+    st.sampled_from(["", "abc", "1 2", "0x10", "1e999", "-inf", "nan", "x" * 100_000]),
+)
+
+
+def _nested(depth: int) -> list:
+    """A list nested ``depth`` deep."""
+    value: list = [1.0]
+    for _ in range(depth):
+        value = [value]
+    return value
+
+
+def toml_value(value: object) -> str:
+    """``value`` as TOML text (a small writer: numbers, strings, lists, inline tables)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float) and not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    if isinstance(value, int | float):
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{json.dumps(k)} = {toml_value(v)}" for k, v in value.items()) + "}"
+    items: list[str] = []
+    stack: list = [(iter(value), items)]  # iterative: lists nested hundreds deep
+    while stack:
+        iterator, out = stack[-1]
+        item = next(iterator, StopIteration)
+        if item is StopIteration:
+            stack.pop()
+            if stack:
+                stack[-1][1].append("[" + ", ".join(out) + "]")
+            continue
+        if isinstance(item, list):
+            stack.append((iter(item), []))
+        else:
+            out.append(toml_value(item))
+    return "[" + ", ".join(items) + "]"
+
+
+@st.composite
+def hostile_tables(draw: st.DrawFn) -> tuple[str, int]:
+    """TOML text of a table with hostile fields, rows or structure, and its number of rows."""
+    rows = draw(SIZES)
+    document: dict = {"convention": "standard", "length_unit": "m", "angle_unit": "rad"}
+    row = {"type": "revolute", "a": 0.1, "alpha": 0.5, "d": 0.05, "theta": 0.0, "limits": [-3, 3]}
+    joints = [dict(row, name=f"j{i}") for i in range(rows)]
+    for _ in range(draw(st.integers(0, 3))):
+        key = draw(st.sampled_from([*row, "name", "velocity", "mass", "direction", "bogus"]))
+        value = draw(HOSTILE_VALUES)
+        if joints and draw(st.booleans()):
+            joints[draw(st.integers(0, rows - 1))][key] = value
+        elif key in ("type", "a", "alpha", "bogus") or not joints:
+            document[draw(st.sampled_from(["convention", "angle_unit", "name", "base", "x"]))] = (
+                value
+            )
+    lines = [f"{json.dumps(k)} = {toml_value(v)}" for k, v in document.items()]
+    for joint in joints:
+        lines.append("[[joints]]")
+        lines += [f"{json.dumps(k)} = {toml_value(v)}" for k, v in joint.items()]
+    text = "\n".join(lines) + "\n"
+    if draw(st.integers(0, 9)) == 0:
+        text = text[: draw(st.integers(0, len(text)))]  # cut anywhere
+    return text, rows
+
+
+@st.composite
+def hostile_urdfs(draw: st.DrawFn) -> tuple[str, int]:
+    """URDF text with hostile joints, limits, names or structure, and its number of joints."""
+    n = draw(SIZES)
+    joints = []
+    for i in range(1, n + 1):
+        fields = {
+            "type": "revolute",
+            "lower": "-3",
+            "upper": "3",
+            "xyz": "0 0 0.1",
+            "axis": "0 0 1",
+            "parent": f"l{i - 1}",
+            "name": f"j{i}",
+        }
+        joints.append(fields)
+    for _ in range(draw(st.integers(0, 3))):
+        if not joints:
+            break
+        fields = joints[draw(st.integers(0, n - 1))]
+        key = draw(st.sampled_from([*fields, "drop-limit"]))
+        if key == "type":
+            fields[key] = draw(
+                st.sampled_from(["continuous", "prismatic", "fixed", "floating", "planar", "x"])
+            )
+        elif key == "parent":
+            fields[key] = draw(st.sampled_from(["l0", f"l{n}", "nowhere", "x" * 100_000]))
+        elif key == "drop-limit":
+            fields["lower"] = None
+        elif key in ("xyz", "axis"):
+            fields[key] = " ".join(draw(st.lists(HOSTILE_TEXT, min_size=0, max_size=4)))
+        else:
+            fields[key] = draw(HOSTILE_TEXT)
+    parts = ['<robot name="hostile">', '<link name="l0"/>']
+    for i, fields in enumerate(joints, start=1):
+        limit = (
+            f"<limit lower={quoteattr(fields['lower'])} upper={quoteattr(fields['upper'])} "
+            'effort="1" velocity="1"/>'
+            if fields["lower"] is not None
+            else ""
+        )
+        parts.append(
+            f'<link name="l{i}"/><joint name={quoteattr(fields["name"])} '
+            f"type={quoteattr(fields['type'])}><parent link={quoteattr(fields['parent'])}/>"
+            f'<child link="l{i}"/><origin xyz={quoteattr(fields["xyz"])}/>'
+            f"<axis xyz={quoteattr(fields['axis'])}/>{limit}</joint>"
+        )
+    if draw(st.integers(0, 9)) == 0:
+        depth = draw(st.integers(1, 100_000))
+        parts.append("<gazebo>" * depth + "</gazebo>" * depth)
+    text = "\n".join([*parts, "</robot>"])
+    if draw(st.integers(0, 9)) == 0:
+        text = text[: draw(st.integers(0, len(text)))]  # cut anywhere
+    return text, n
+
+
+def assert_exit_0_or_one_line(code: int, err: str, path: Path) -> None:
+    """Exit 0, or exit 2 with one error line naming the file (or --q); never a traceback."""
+    assert "Traceback" not in err, err[-3000:]
+    assert code in (0, 2), (code, err[-3000:])
+    event(f"exit {code}")
+    if code == 2:
+        errors = [line for line in err.splitlines() if ": error: " in line]
+        assert len(errors) == 1, err[-3000:]
+        assert str(path) in errors[0] or "--q needs" in errors[0], errors[0][:3000]
+        assert len(errors[0]) < 2100, errors[0][:300]
+
+
+HOSTILE_SETTINGS = settings(
+    max_examples=200,
+    deadline=timedelta(seconds=20),  # a hang fails; a loaded machine does not
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
+
+
+@pytest.mark.parametrize("name", ["kin fk", "dh2urdf"])
+@HOSTILE_SETTINGS
+@given(case=hostile_tables())
+def test_hostile_tables_give_one_line(name, case, tmp_path, capsys):
+    """A table with NaN, inf, 1e308, huge strings, deep lists, 0 or 65 rows: exit 0 or 2."""
+    text, rows = case
+    path = Path(tempfile.mkdtemp(dir=tmp_path)) / "hostile.toml"
+    path.write_text(text, encoding="utf-8")
+    capsys.readouterr()
+    code, err = run(name, path, rows, capsys)
+    assert_exit_0_or_one_line(code, err, path)
+
+
+@pytest.mark.parametrize("name", ["kin fk", "dh2urdf from-urdf"])
+@HOSTILE_SETTINGS
+@given(case=hostile_urdfs())
+def test_hostile_urdfs_give_one_line(name, case, tmp_path, capsys):
+    """A URDF with hostile limits, axes, types, links, names, nesting, 0 or 65 joints: 0 or 2."""
+    text, joints = case
+    path = Path(tempfile.mkdtemp(dir=tmp_path)) / "hostile.urdf"
+    path.write_text(text, encoding="utf-8")
+    capsys.readouterr()
+    code, err = run(name, path, joints, capsys)
+    assert_exit_0_or_one_line(code, err, path)
+
+
+def test_bench_joint_cap_measures_below_and_refuses_above_the_cap(capsys):
+    """bench_joint_cap.py: a 4-joint table and URDF solve (rows with peak MiB), 65 are refused."""
+    assert load_script("bench_joint_cap").main(["--joints", "4", "65", "--timeout", "0.5"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
+    assert [row[:2] for row in rows] == [
+        ["table", "4"],
+        ["URDF", "4"],
+        ["table", "65"],
+        ["URDF", "65"],
+    ]
+    assert all(float(row[2]) > 10.0 for row in rows)  # peak memory of a Python child [MiB]
+    assert [row[3] == "refused:" for row in rows] == [False, False, True, True], rows
