@@ -5,7 +5,6 @@ from __future__ import annotations
 import io
 import json
 import subprocess
-import time
 
 import numpy as np
 import pinocchio as pin
@@ -121,8 +120,8 @@ def test_bad_line_gives_an_error_line_and_the_run_goes_on(line, needle, monkeypa
     assert answers[0]["success"] and answers[3]["success"] and answers[3]["line"] == 4
 
 
-def _throughput(name: str, lines: list[str]) -> float:
-    """Answers per second of `kin ik --stdin` in a subprocess, start-up excluded."""
+def _answers(name: str, lines: list[str]) -> list[dict]:
+    """The answers of `kin ik --stdin` in a subprocess to ``lines``, fed after the first answer."""
     data = "".join(line + "\n" for line in lines).encode()
     process = subprocess.Popen(
         [*kin_command(), "ik", "--robot", name, "--stdin"],
@@ -132,25 +131,23 @@ def _throughput(name: str, lines: list[str]) -> float:
     process.stdin.write(data[: data.index(b"\n") + 1])
     process.stdin.flush()
     first = process.stdout.readline()  # start-up and the first answer
-    start = time.perf_counter()
-    rest, _ = process.communicate(data[data.index(b"\n") + 1 :], timeout=120)
-    elapsed = time.perf_counter() - start
-    assert process.returncode == 0 and json.loads(first)["success"]
-    answers = rest.decode().splitlines()
-    assert len(answers) == len(lines) - 1 and all(json.loads(a)["success"] for a in answers)
-    return (len(lines) - 1) / elapsed
+    rest, _ = process.communicate(data[data.index(b"\n") + 1 :], timeout=300)
+    assert process.returncode == 0
+    return [json.loads(first)] + [json.loads(a) for a in rest.decode().splitlines()]
 
 
-def test_throughput_in_a_subprocess():
-    """Start-up paid once: thousands of answers per second (bench_cli.py measures the figures).
-
-    The bounds are a quarter of the targets (2,000/s humanoid7 full pose, 10,000/s closed form),
-    so that a loaded test machine does not fail the suite.
-    """
-    humanoid7, _ = _pose_lines("humanoid7", 1000, full=True)
-    pickplace3, _ = _pose_lines("pickplace3", 4000, full=False)
-    assert _throughput("humanoid7", humanoid7) > 500
-    assert _throughput("pickplace3", pickplace3) > 2500
+def test_many_lines_in_a_subprocess():
+    """Thousands of lines through one process: one answer per line, each solved and on target by
+    Pinocchio. The throughput is a benchmark's figure (scripts/bench_cli.py), not a test's."""
+    for name, count, full in (("humanoid7", 1000, True), ("pickplace3", 4000, False)):
+        lines, _ = _pose_lines(name, count, full=full)
+        answers = _answers(name, lines)
+        assert len(answers) == count and all(a["success"] for a in answers), name
+        configuration = Configuration(load_robot(name))
+        for line, answer in zip(lines[::97], answers[::97]):
+            q = answer["solutions"][0]["q"]
+            position = configuration.fk(np.array(q)).translation
+            assert np.allclose(position, json.loads(line)["target"], atol=1e-6), name
 
 
 def test_closed_pipe_ends_the_stream_quietly(tmp_path):
