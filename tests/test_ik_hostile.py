@@ -15,7 +15,6 @@ import functools
 import io
 import json
 import math
-import time
 
 import numpy as np
 import pinocchio as pin
@@ -148,12 +147,10 @@ def test_far_targets_answer_out_of_reach_at_once(name):
                 if kind is PositionTarget
                 else PoseTarget([value, 0, -value], np.eye(3))
             )
-            start = time.perf_counter()
             result = solver.solve(target, timeout=0.05)
-            elapsed = time.perf_counter() - start
             assert result.status == "out_of_reach", f"{name=} {value=} {result.message}"
             assert result.distance_to_workspace is not None and result.distance_to_workspace > 0
-            assert elapsed < 0.05, f"{name=} {value=} {elapsed=}"  # about 20 us: no search
+            assert not result.iterations, f"{name=} {value=} {result.iterations=}"  # no search
 
 
 def _number(value: float) -> str:

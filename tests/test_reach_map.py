@@ -301,7 +301,7 @@ def test_small_voxels_and_small_arms_are_one_line_in_the_users_unit(tmp_path, ca
     assert len(err) == 1 and "--voxel 1 mm" in err[0] and " mm: give --voxel " in err[0], err
     start = time.perf_counter()
     assert reach_main(["--robot", "lab5", "--voxel", "0.1", "-o", str(out)]) == 2
-    assert time.perf_counter() - start < 5.0
+    assert time.perf_counter() - start < 60.0  # at once, not the minutes of failed solves
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "5 joints" in err[0] and "6 or more" in err[0], err
     assert not out.exists()
