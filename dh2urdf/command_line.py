@@ -78,7 +78,14 @@ def positive_int(text: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+        hint = ""
+        try:
+            number = float(text)
+        except ValueError:
+            number = math.nan
+        if math.isfinite(number) and number == int(number):  # 1e6: write the digits out
+            hint = f"; write it with digits only, e.g. {int(number)}"
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}{hint}") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
     return value

@@ -131,6 +131,18 @@ def test_cli_too_large_a_chunk_is_one_line(capsys):
     assert code == 2 and err.count("\n") == 1 and "chunk_size must be from 1" in err
 
 
+@pytest.mark.parametrize(
+    ("text", "hint"), [("1e18", "e.g. 1000000000000000000"), ("1.5", None), ("abc", None)]
+)
+def test_cli_n_in_scientific_notation_is_one_line_with_the_digits(capsys, text, hint):
+    """--n 1e18: one line, exit 2, the number written out as the fix; 1.5 and abc: no hint."""
+    with pytest.raises(SystemExit) as exit_:
+        workspace_main(["--robot", "planar2", "--n", text])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert exit_.value.code == 2 and len(err) == 1 and "not a whole number" in err[0], err
+    assert (hint in err[0]) if hint else ("write it" not in err[0]), err
+
+
 def _closing_cluster_hook(cluster, after: int):  # noqa: ANN001, ANN202
     """A progress hook that closes ``cluster`` (scheduler and workers) at its ``after``-th call."""
     calls: list[int] = []
