@@ -9,7 +9,7 @@ in axes aligned with the world at the frame's origin (``LOCAL_WORLD_ALIGNED``).
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -72,6 +72,47 @@ def limit_violations(
         for i in range(robot.nq)
         if q[i] < lower[i] - tol or q[i] > upper[i] + tol
     ]
+
+
+def seed_inside(robot: RobotModel, q: Any) -> Any:
+    """The seed ``q`` moved into the joint limits: each joint clipped to its range.
+
+    Continuous joints (:attr:`dh2urdf.DHRow.continuous`) are kept as given. A seed already inside
+    is returned as it is (no copy); so is one that is not finite joint vectors (shape ``(nq,)``
+    or ``(N, nq)``), for the caller's check to name.
+
+    Args:
+        robot: The robot.
+        q: Joint vector (nq,) or vectors (N, nq) [rad] or [m].
+
+    Returns:
+        The nearest joint vector(s) inside the limits [rad] or [m].
+    """
+    if q is None:
+        return q
+    try:
+        values = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        return q
+    if values.ndim not in (1, 2) or values.shape[-1] != robot.nq or not np.isfinite(values).all():
+        return q
+    lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
+    if bool(np.all(values >= lower)) and bool(np.all(values <= upper)):
+        return q
+    continuous = np.array([row.continuous for row in robot.table.rows], dtype=bool)
+    return np.where(continuous, values, np.minimum(np.maximum(values, lower), upper))
+
+
+def default_seed(robot: RobotModel) -> np.ndarray:
+    """The seed of a solve given none: zero, or the nearest joint vector to it inside the limits.
+
+    An arm whose zero lies inside its limits starts from zero; Panda's joint 4 (range about
+    [-3.07, -0.07] rad) starts at its upper limit.
+
+    Returns:
+        Joint vector (nq,) [rad] or [m].
+    """
+    return seed_inside(robot, np.zeros(robot.nq))
 
 
 class Configuration:

@@ -7,7 +7,8 @@ squares over the independent joints, every answer judged by Pinocchio's mimic mo
 original URDF inside every joint's limits, mimic ones included.
 
 A search that ends without an answer proves nothing about the target: its status is
-``"not_converged"``, never ``"out_of_reach"``, with the best attempt as the rejected solution.
+``"not_found"`` (``"timeout"`` when the time budget stopped it first), never ``"out_of_reach"``,
+with the best attempt as the rejected solution.
 """
 
 from __future__ import annotations
@@ -63,7 +64,8 @@ class MimicSolver:
                 ``restarts`` run.
 
         Returns:
-            ``"ok"`` with the answer, else ``"not_converged"`` with the best attempt rejected.
+            ``"ok"`` with the answer, else ``"not_found"`` (every start done) or ``"timeout"``
+            with the best attempt rejected.
 
         Raises:
             TargetError: Another kind of target, or a pose with a mask.
@@ -98,12 +100,25 @@ class MimicSolver:
                 time=elapsed,
                 method=method,
             )
+        if found.starts < self.restarts + 1:  # the timeout stopped the starts
+            return IKResult(
+                False,
+                PIPELINE,
+                "timeout",
+                f"the time budget stopped the search after {found.starts} of "
+                f"{self.restarts + 1} starts; best position error "
+                f"{found.best.position_error:.4g} m: raise the timeout (--timeout)",
+                (),
+                (found.best,),
+                iterations=found.iterations,
+                time=elapsed,
+            )
         return IKResult(
             False,
             PIPELINE,
-            "not_converged",
-            f"no solution inside the joint limits found in {elapsed * 1e3:.0f} ms "
-            f"({found.starts} starts); the search does not prove the target out of reach",
+            "not_found",
+            f"no solution inside the joint limits found in {found.starts} starts; the search "
+            "does not prove the target out of reach",
             (),
             (found.best,),
             iterations=found.iterations,

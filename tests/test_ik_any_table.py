@@ -299,9 +299,9 @@ def test_full_pose_on_a_short_arm_is_solved_or_says_how_far(user_tables):
     assert reached.success, reached.message
     assert reached.best.position_error < 1e-5 and reached.best.rotation_error < 1e-4
     tilted = pose[:3, :3] @ np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
-    missed = solve_ik(robot, PoseTarget(pose[:3, 3], tilted), timeout=0.02)
+    missed = solve_ik(robot, PoseTarget(pose[:3, 3], tilted))
     assert not missed.success  # three joints cannot turn the tool a quarter turn in place
-    assert missed.status == "out_of_reach"
+    assert missed.status == "not_found", missed.message  # a search: it claims no proof
     assert "the nearest pose found is" in missed.message
     assert missed.rejected and missed.rejected[0].rotation_error > 1e-4
     with pytest.raises(TargetError, match=r"takes a position, .*full pose target, not a position"):
@@ -369,7 +369,7 @@ def test_solver_protocol_timeout_keyword():
     target = PositionTarget([0.1, 0.05, 0.0])
     for name in ("planar2", "humanoid7"):
         result = get_solver(load_robot(name)).solve(target, None, timeout=0.2)
-        assert result.status in ("ok", "out_of_reach", "outside_limits", "not_converged")
+        assert result.status in ("ok", "out_of_reach", "outside_limits", "not_found", "timeout")
     assert "solve_ik" in ik.__all__ and "NUMERIC_SOLVERS" not in ik.__all__
 
 

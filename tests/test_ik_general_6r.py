@@ -357,6 +357,6 @@ def test_a_degenerate_table_is_no_crash():
         table = make_table([1e-300] * dof, [0.3] * dof, [1e-300] * dof, [0.0] * dof)
         solver = get_solver(kin.robot_from_table(table))
         result = solver.solve(PoseTarget([0.0, 0.0, 0.0], np.eye(3)), timeout=0.05)
-        assert result.status in ("ok", "not_converged", "out_of_reach", "singular")
+        assert result.status in ("ok", "not_found", "timeout", "out_of_reach", "singular")
     with pytest.raises(StructureError):
         General6R.recognise(make_table([1e-300] * 6, [0.3] * 6, [1e-300] * 6, [0.0] * 6))

@@ -291,8 +291,8 @@ def test_kin_ik_round_trips_judged_by_pinocchio_mimic_fk(arm_file, capsys):
         assert _in_limits(answer, multiplier), f"{answer=}"
 
 
-def test_kin_ik_far_target_is_not_converged_never_a_success(arm_file, capsys):
-    """A target 5 m away: exit 1, status not_converged (the search proves nothing), the best
+def test_kin_ik_far_target_is_not_found_never_a_success(arm_file, capsys):
+    """A target 5 m away: exit 1, status not_found (the search proves nothing), the best
     attempt rejected with its true position error (over 3.5 m by Pinocchio's mimic FK)."""
     path, _ = arm_file
     argv = ["ik", "--robot", str(path), "--target", "5", "0", "0", "--rpy", "0", "0", "0"]
@@ -300,7 +300,7 @@ def test_kin_ik_far_target_is_not_converged_never_a_success(arm_file, capsys):
     assert code == 1
     assert (record["success"], record["status"], record["solutions"]) == (
         False,
-        "not_converged",
+        "not_found",
         [],
     )
     best = record["rejected"][0]

@@ -27,7 +27,7 @@ A URDF chain with mimic joints in series: joint vectors (--seed-q, answers) hold
 joints only (the names printed; each mimic joint follows its leader), the solver is damped least
 squares on the coupled Jacobian (a pose without --mask, or a position), and every answer is judged
 by Pinocchio's model of the original URDF with mimic joints; a search that ends without an answer
-says "not_converged", not "out_of_reach".
+says "not_found" (or "timeout"), not "out_of_reach".
 
 Exit 0 when a valid solution exists, 1 when none (success false), 2 for bad input; with --stdin,
 once the input ends: 1 when any line had an error or no valid solution, else 0.
@@ -122,8 +122,8 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add(
         "--timeout",
         type=positive_float,
-        default=50.0,
-        help="time budget of a numeric solve [ms] (default 50)",
+        help="time cap of a numeric solve [ms] (default: the solver's, 50 for a full pose, "
+        "2000 for a partial one, whose answer its 32 seeded starts decide)",
     )
     add("--stdin", action="store_true", help="read JSON targets from stdin, one per line")
     return parser
@@ -173,7 +173,7 @@ def _run(args: argparse.Namespace) -> int:
         solver = choose_solver(robot, args.solver)
     else:  # a URDF chain with mimic joints
         solver = _mimic_solver(robot, args.solver)
-    solve = solve_function(solver, args.timeout / 1e3)
+    solve = solve_function(solver, None if args.timeout is None else args.timeout / 1e3)
     kinds = None if isinstance(solver, NewtonRaphsonSolver) else target_kinds(solver)
     length = length_scale(args.unit)
     angle = angle_scale(args.deg)

@@ -23,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from kin import RobotModel, batch_forward_kinematics
+from kin.configuration import default_seed, seed_inside
 
 from .analytic.batch import BatchResult, BatchSolver
 from .dispatch import get_solver
@@ -124,8 +125,9 @@ def solve_batch(
         robot: The robot.
         positions: Tool points in the world frame (N, 3) [m].
         rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None for positions only.
-        seeds: Start joint vectors (N, nq) or one (nq,) for all [rad, m]; None: q = 0. The
-            answer of a target is the valid one nearest its seed.
+        seeds: Start joint vectors (N, nq) or one (nq,) for all [rad, m], moved into the limits
+            (:func:`kin.configuration.seed_inside`); None: zero, or the nearest joint vector to
+            it inside the limits. The answer of a target is the valid one nearest its seed.
         all_branches: Keep every branch of a vectorized closed form in :attr:`BatchIKResult.branches`.
         timeout: Time budget of each numeric solve [s] (None: the solver's default).
 
@@ -137,11 +139,11 @@ def solve_batch(
     n, nq = points.shape[0], robot.nq
     frames = None if rotations is None else _rotations(rotations, n)
     if seeds is None:
-        start = np.zeros((n, nq))
+        start = np.broadcast_to(default_seed(robot), (n, nq)).copy()
     else:
         start = np.array(seeds, dtype=float)
         start = np.broadcast_to(start, (n, nq)).copy() if start.shape == (nq,) else start
-        start = _array(start, (n, nq), "seeds")
+        start = seed_inside(robot, _array(start, (n, nq), "seeds"))
     vectorized = _closed_form(robot, frames is not None)
     if vectorized is not None and n:
         return _vectorized(vectorized, points, frames, start, all_branches)
@@ -282,7 +284,8 @@ def free_joint_answers(
         robot: The robot.
         points: Target positions (N, 3) [m], world frame.
         frames: Target rotations (N, 3, 3), or None for positions.
-        seeds: Start joint vectors (N, nq) [rad].
+        seeds: Start joint vectors (N, nq) [rad], moved into the limits
+            (:func:`kin.configuration.seed_inside`).
 
     Returns:
         ``(q, position_error, rotation_error)``: (N, nq) with NaN rows where the closed form
@@ -311,6 +314,7 @@ def start_free_joint_answers(
     if getattr(closed, "costly", False):  # a general 7R: the solver's stages, seed table first
         return None
     n, nq = points.shape[0], robot.nq
+    seeds = seed_inside(robot, seeds)  # as the solver's call moves each
     near_rows, skipped = _near_seeds(solver, robot, points, frames, seeds)
     candidates = np.full((n, nq), np.nan)
     jobs: list[tuple[np.ndarray, ScanJob]] = []

@@ -13,14 +13,17 @@ arm of fewer than six joints asked for a full pose reaches it only when the pose
    arm whose structure takes positions only (planar 2R, offset 3R) gives the branches of the
    position.
 2. **Weighted least squares** (Levenberg-Marquardt, clamped to the joint limits) on the
-   constrained components: from each off-target candidate, then from the seed, then from random
-   joint vectors inside the limits until the time budget is spent. The residual is
+   constrained components: from each off-target candidate, then from the seed, then from
+   :data:`RANDOM_STARTS` random joint vectors inside the limits (a seeded draw: the same call gives
+   the same answer on any machine; the timeout is only a cap, reported as ``timeout``). The
+   residual is
    ``e = (p_target - p, w log3(R_target R^T))`` in world axes ([m], and [rad] weighted by
    :data:`ROTATION_WEIGHT` [m/rad]), the rows the mask keeps; for an axis target the rotation
    rows are ``w theta n`` with ``theta`` the angle from the tool axis to the target axis and
    ``n`` the unit vector of their cross product (the roll about the axis takes no part). Where
    the pose is not reachable this converges to the nearest pose the arm reaches (in that
-   weighted sense), which the failure reports.
+   weighted sense), which the failure reports: ``not_found`` (the starts searched; no claim that
+   the pose is unreachable) or ``timeout`` (the cap came first).
 
 Every returned solution is measured by Pinocchio's forward kinematics on the constrained
 components only (:class:`PartialTask`): position error ``|e_p|`` [m] and rotation error
@@ -43,6 +46,7 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from kin import KinError, RobotModel, as_joint_vector
+from kin.configuration import default_seed, seed_inside
 
 from .analytic.branch_verification import wrap
 from .exceptions import StructureError, TargetError
@@ -62,8 +66,13 @@ ROTATION_WEIGHT = 0.1
 #: seed's roll.
 ROLL_GRID = 24
 
-#: Default time budget of one solve [s].
-DEFAULT_TIMEOUT = 0.05
+#: Default cap on the time of one solve [s]: the work (:data:`RANDOM_STARTS`) decides the answer;
+#: a call the cap stops first says ``timeout``.
+DEFAULT_TIMEOUT = 2.0
+
+#: Random starts of the least squares (drawn inside the limits from ``random_seed``), after the
+#: closed-form candidates, the seed and the seed-table samples: the work of one search.
+RANDOM_STARTS = 32
 
 #: Levenberg-Marquardt steps per start.
 MAX_ITERATIONS = 60
@@ -203,9 +212,11 @@ class PartialPoseIK:
         Args:
             target: A pose (masked, or full on an arm of fewer than six joints) or an axis target.
             seed: Start joint vector [rad] (or [m] for prismatic joints); the solutions are
-                ordered by distance to it (None: the middle of the limits).
-            timeout: Time budget [s] (None: :data:`DEFAULT_TIMEOUT`); the search stops at the
-                first solution after the closed-form candidates, or at the budget.
+                ordered by distance to it; moved into the limits first (None: zero, or the
+                nearest joint vector to it inside the limits).
+            timeout: Cap on the time [s] (None: :data:`DEFAULT_TIMEOUT`); the search stops at the
+                first solution after the closed-form candidates, after its starts
+                (:data:`RANDOM_STARTS` random ones; ``not_found``), or at the cap (``timeout``).
             random_seed: Seed of the random starts (results are reproducible).
             position_tol: Success tolerance on the constrained position components [m].
             rotation_tol: Success tolerance on the constrained rotation components [rad].
@@ -302,24 +313,31 @@ class PartialPoseIK:
             starts = [q for _, q in attempts]
             starts.append(seed)
             # The samples nearest a full pose, after the seed: looked up only when it is needed.
-            sampled = not full
+            lazy = full and samples is None
             if samples is not None:
-                sampled = True
                 starts.extend(samples)
             rng = np.random.default_rng(random_seed)
+            randoms = list(
+                rng.uniform(self.search_lower, self.search_upper, (RANDOM_STARTS, self.nq))
+            )
             best: tuple[float, np.ndarray] | None = None
             tried = 0
+            capped = False
             while True:
-                if not starts and not sampled:
-                    sampled = True
-                    starts.extend(self.samples(target.position, target.rotation, deadline))  # type: ignore[misc, union-attr]
-                if starts:
-                    q0 = starts.pop(0)
-                else:
-                    if time.perf_counter() > deadline:
-                        break
-                    q0 = rng.uniform(self.search_lower, self.search_upper)
-                q, cost = self._least_squares(task, q0, 0.1 * position_tol, 0.1 * rotation_tol)
+                if not starts:
+                    if lazy:
+                        lazy = False
+                        starts.extend(self.samples(target.position, target.rotation, deadline))  # type: ignore[misc, union-attr]
+                        continue
+                    if not randoms:
+                        break  # the work is done
+                    starts.append(randoms.pop(0))
+                if time.perf_counter() > deadline:
+                    capped = True
+                    break
+                q, cost = self._least_squares(
+                    task, starts.pop(0), 0.1 * position_tol, 0.1 * rotation_tol
+                )
                 tried += 1
                 verdict = self._judged(task, q, "", position_tol, rotation_tol)
                 if verdict is not None and verdict.within_limits:
@@ -330,10 +348,8 @@ class PartialPoseIK:
                     outside.append(verdict)
                 if best is None or cost < best[0]:
                     best = (cost, q)
-                if time.perf_counter() > deadline and tried >= 2:
-                    break
             if not found:
-                return self._unreached(task, best, outside, start, tried)
+                return self._unreached(task, best, outside, start, tried, capped)
         found.sort(key=lambda s: float(np.abs(s.q - seed).sum()))
         message = f"{len(found)} solution(s)"
         return IKResult(
@@ -394,11 +410,11 @@ class PartialPoseIK:
         return None, samples
 
     def _seed(self, seed: npt.ArrayLike | None) -> np.ndarray:
+        """The seed checked and moved into the limits (None: :func:`kin.configuration.default_seed`)."""
         if seed is None:
-            middle = 0.5 * (self.lower + self.upper)
-            return np.where(self.continuous, 0.0, middle)
+            return default_seed(self.robot)
         try:
-            return as_joint_vector(self.robot, seed)
+            return seed_inside(self.robot, as_joint_vector(self.robot, seed))  # type: ignore[no-any-return]
         except KinError as err:
             raise TargetError(f"seed of '{self.robot.name}': {err}") from err
 
@@ -540,8 +556,42 @@ class PartialPoseIK:
         outside: list[IKSolution],
         start: float,
         tried: int,
+        capped: bool = False,
     ) -> IKResult:
-        """The failure: on target only outside the limits, or the nearest pose found."""
+        """The failure, saying what is known.
+
+        ``timeout`` when the time cap stopped the search before its starts were done;
+        ``outside_limits`` when it found the target only outside the limits; ``out_of_reach``
+        when the closed form projected the target on the arm's poses (``tried`` 0: nothing to
+        search); else ``not_found``, with the nearest pose the starts found.
+        """
+        nearest: tuple[IKSolution, ...] = ()
+        what = "no pose found"
+        if best is not None:
+            q = best[1]
+            if self.continuous.any():
+                q = q.copy()
+                q[self.continuous] = (
+                    np.remainder(q[self.continuous] + math.pi, 2.0 * math.pi) - math.pi
+                )
+            p, rotation = self._fk(q)
+            position_error, rotation_error = task.errors(task.error(p, rotation))
+            inside = bool(np.all(q >= self.lower) and np.all(q <= self.upper))
+            rotation_value = rotation_error if task.rotation_rows else None
+            nearest = (IKSolution(q, "nearest", inside, position_error, rotation_value),)
+            what = f"the nearest pose found is {position_error:.4g} m" + (
+                f" and {rotation_error:.4g} rad" if task.rotation_rows else ""
+            )
+            what += " away (position, rotation)"
+        if capped:
+            return self._failure(
+                task,
+                "timeout",
+                f"the time cap stopped the search after {tried} start(s) (before its "
+                f"{RANDOM_STARTS} random ones were done); {what}: raise the timeout (--timeout)",
+                tuple(outside) + nearest,
+                start,
+            )
         if outside:
             return self._failure(
                 task,
@@ -550,34 +600,27 @@ class PartialPoseIK:
                 tuple(outside),
                 start,
             )
-        if best is None:
-            return self._failure(task, "not_converged", "no joint vector tried", (), start)
-        q = best[1]
-        if self.continuous.any():
-            q = q.copy()
-            q[self.continuous] = np.remainder(q[self.continuous] + math.pi, 2.0 * math.pi) - math.pi
-        p, rotation = self._fk(q)
-        position_error, rotation_error = task.errors(task.error(p, rotation))
-        inside = bool(np.all(q >= self.lower) and np.all(q <= self.upper))
-        nearest = IKSolution(
-            q, "nearest", inside, position_error, rotation_error if task.rotation_rows else None
-        )
-        searched = f"{tried} starts" if tried else "the closed form's branches"
-        what = f"{position_error:.4g} m" + (
-            f" and {rotation_error:.4g} rad" if task.rotation_rows else ""
-        )
         hint = ""
         if self.nq < 6 and task.target.__class__ is PoseTarget and task.target.mask is None:  # type: ignore[attr-defined]
             hint = (
                 f"; an arm of {self.nq} joints reaches only some orientations at a point: "
                 "free the others with a mask (--mask)"
             )
+        if not tried and nearest:  # the closed form's projection: the nearest pose the arm has
+            return self._failure(
+                task,
+                "out_of_reach",
+                f"no joint vector inside the limits reaches the target (the closed form's "
+                f"branches): {what}{hint}",
+                nearest,
+                start,
+            )
         return self._failure(
             task,
-            "out_of_reach",
-            f"no joint vector inside the limits reaches the target ({searched}): the nearest "
-            f"pose found is {what} away (position, rotation){hint}",
-            (nearest,),
+            "not_found",
+            f"no joint vector inside the limits found on the target in {tried} start(s) "
+            f"({RANDOM_STARTS} of them random); {what}{hint}",
+            nearest,
             start,
         )
 

@@ -13,7 +13,8 @@ Status = Literal[
     "outside_limits",
     "singular",
     "invalid_target",
-    "not_converged",
+    "not_found",
+    "timeout",
 ]
 
 
@@ -91,7 +92,10 @@ class IKResult:
             ``"closed_form_free_joint"``, ``"seed_table"``, ``"damped_newton"`` (from the
             caller's seed), ``"random_restart"``, ``"mink_qp"``, ``"newton_raphson"``; ``""``
             when none did.
-        status: ``"ok"`` or why there is no valid solution.
+        status: ``"ok"`` or why there is no valid solution: ``"out_of_reach"`` only when
+            proved (beyond the reach bound, or no closed-form branch); ``"not_found"`` when a
+            search did its bounded work without an answer (no claim of unreachability);
+            ``"timeout"`` when the time cap stopped a search first.
         message: One sentence for a person (e.g. how far out of reach the target is).
         solutions: Valid solutions (on target, within limits), closest to the seed first.
         rejected: Solutions on target but outside the limits (or the best off-target attempt of a

@@ -24,6 +24,7 @@ import numpy as np
 import numpy.typing as npt
 
 from kin import RobotModel
+from kin.configuration import default_seed, seed_inside
 
 from ..exceptions import StructureError, TargetError
 from ..judge import ToolJudge
@@ -133,6 +134,10 @@ class ClosedFormSolver(BranchVerification):
             PositionTarget in self._kinds and PoseTarget not in self._kinds
         ) or bool(getattr(self.structure, "projects", False))
         self._zero_seed = [0.0] * len(self._lower)
+        #: The seed of a call given none (:func:`kin.configuration.default_seed`); None when it
+        #: is zero (the readers' own default).
+        start_q = default_seed(robot)
+        self._default_seed = None if not start_q.any() else start_q
         self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # A structure with a compiled twin that also verifies (the 6R closed forms): pose targets
         # are solved, moved into the limits and measured in one call (:mod:`.six_r_twin`).
@@ -234,8 +239,10 @@ class ClosedFormSolver(BranchVerification):
         Args:
             target: A :class:`PositionTarget` (planar 2R, offset 3R), :class:`PoseTarget` or
                 :class:`PitchTarget` (five-joint arms), in the world frame.
-            seed: Current joint vector [rad] (zeros if None): the order of the solutions and the
-                ``2 pi`` copy of each angle; also the value of a free joint at a singularity.
+            seed: Current joint vector [rad], moved into the limits first
+                (:func:`kin.configuration.seed_inside`; None: zero, or the nearest vector to it
+                inside the limits): the order of the solutions and the ``2 pi`` copy of each
+                angle; also the value of a free joint at a singularity.
 
             timeout: Time budget [s] of the numeric solver, which answers the target kinds the
                 closed form does not take (a position on a five-joint arm); the closed form
@@ -248,6 +255,7 @@ class ClosedFormSolver(BranchVerification):
             TargetError: The target kind does not fit the arm, or the seed has the wrong size.
         """
         start = time.perf_counter()
+        seed = self._default_seed if seed is None else seed_inside(self.robot, seed)
         if target.__class__ is PoseTarget and self._solutions is not None:
             if target.mask is None:  # type: ignore[attr-defined]
                 # One C call (no lock: the twin shares no state between calls), which makes the

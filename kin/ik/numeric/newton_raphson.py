@@ -26,6 +26,7 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from kin import RobotModel
+from kin.configuration import default_seed, seed_inside
 
 from ..result import IKResult, IKSolution, Status
 from .numeric_target import NumericTarget, measure
@@ -48,7 +49,8 @@ def newton_raphson(
     Args:
         robot: The robot.
         position: Target tool position in the world frame [m].
-        q0: Initial joint vector [rad]; the stretched home ``q = 0`` if None.
+        q0: Initial joint vector [rad], moved into the limits; the stretched home ``q = 0`` if
+            None (or the nearest joint vector to it inside the limits).
         tol_cm: Stop when ``|e| < tol_cm`` [cm] (the paper: 1e-5).
         max_iterations: The paper's cap, 1000.
 
@@ -56,13 +58,16 @@ def newton_raphson(
         An :class:`IKResult` with ``solver="nr"``: ``success`` only when Pinocchio measures the
         final ``q`` on target (1e-5 m) and inside the limits; otherwise the final ``q`` is in
         ``rejected`` and ``status`` says why (``outside_limits``, ``singular``,
-        ``not_converged``).
+        ``not_found``).
     """
     start = time.perf_counter()
     target = NumericTarget.from_arrays(position)
     model, data = robot.model, robot.model.createData()
     fid = model.getFrameId(robot.tool_frame)
-    q = np.zeros(robot.nq) if q0 is None else np.array(q0, dtype=float).reshape(robot.nq)
+    if q0 is None:
+        q = default_seed(robot)
+    else:
+        q = seed_inside(robot, np.array(q0, dtype=float).reshape(robot.nq))
     target_cm = target.position / CM
     iterations = singular_steps = 0
     stalled = False
@@ -121,7 +126,7 @@ def newton_raphson(
             f"no convergence in {iterations} iterations; error {verdict.position_error:.3g} m"
             + note
         )
-        status = "not_converged"
+        status = "not_found"
     return IKResult(
         False, "nr", status, message, (), (solution,), iterations=iterations, time=elapsed
     )

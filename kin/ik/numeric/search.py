@@ -241,7 +241,11 @@ class Search:
         return ik.distance_from_base(self.target.position) > limit
 
     def failure(self) -> IKResult:
-        """The failed result: the best configuration found, measured by the judge."""
+        """The failed result: the best configuration found, measured by the judge.
+
+        ``out_of_reach`` beyond the arm's reach; ``timeout`` when the deadline ended the starts;
+        ``not_found`` when they were all done (``max_attempts``).
+        """
         ik, target, best = self.ik, self.target, self.best
         elapsed = time.perf_counter() - self.start
         rejected: tuple[IKSolution, ...] = ()
@@ -277,12 +281,24 @@ class Search:
                 iterations=self.iterations,
                 time=elapsed,
             )
+        worked = self.max_attempts is not None and self.attempts >= self.max_attempts
+        if self.expired() and not worked:  # the deadline stopped the starts, not their count
+            return IKResult(
+                False,
+                PIPELINE,
+                "timeout",
+                f"the time budget ({(self.deadline - self.start) * 1e3:.4g} ms) ended the search "
+                f"after {self.attempts} starts; {detail}: raise the timeout (--timeout)",
+                (),
+                rejected,
+                iterations=self.iterations,
+                time=elapsed,
+            )
         return IKResult(
             False,
             PIPELINE,
-            "not_converged",
-            f"no solution inside the joint limits found in {elapsed * 1e3:.0f} ms "
-            f"({self.attempts} starts); {detail}",
+            "not_found",
+            f"no solution inside the joint limits found in {self.attempts} starts; {detail}",
             (),
             rejected,
             iterations=self.iterations,

@@ -41,6 +41,7 @@ import numpy as np
 import numpy.typing as npt
 
 from kin import KinError, RobotModel, as_joint_vector, load_robot
+from kin.configuration import seed_inside
 
 from ..analytic.idealised import Idealised, idealise
 from ..exceptions import TargetError
@@ -375,7 +376,8 @@ class NumericIK:
             target: Tool target: a position or a full pose (a :class:`NumericTarget` may add a
                 posture preference); a masked pose, an axis target, or a pose on an arm of fewer
                 than six joints is solved by :class:`~kin.ik.partial_pose.PartialPoseIK`.
-            seed: Start joint vector [rad] (or [m] for prismatic joints). The free-joint closed
+            seed: Start joint vector [rad] (or [m] for prismatic joints), moved into the limits
+                first (:func:`kin.configuration.seed_inside`). The free-joint closed
                 form (when the arm has one) starts from it first: the answer keeps its free
                 joint as nearly as the target allows. Damped Newton tries it first, with its whole
                 iteration budget, for a redundant target when its tool is within
@@ -403,6 +405,7 @@ class NumericIK:
                 an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
         """
         start = time.perf_counter()
+        seed = seed_inside(self.robot, seed)
         cls = target.__class__
         if cls is PoseTarget or cls is PositionTarget:
             # Checked when built, read-only since: the numeric stages read it as it is.
