@@ -61,7 +61,7 @@ from .table_values import number as _number
 from .table_values import positive as _positive
 from .table_values import xml_text as _xml_text
 from .transforms import xyz_rpy
-from .units import ANGLE_UNITS, LENGTH_UNITS
+from .units import ANGLE_UNITS, LENGTH_UNITS, angle_to_radians
 
 __all__ = [
     "DEFAULT_EFFORT",
@@ -159,7 +159,9 @@ def _fixed_transform(
             if sub == "xyz":
                 x, y, z = (_length(path, v, None, f"{key}.xyz", meters) for v in vec)
             else:
-                x, y, z = (_number(path, v, None, f"{key}.rpy") * scale for v in vec)
+                x, y, z = (
+                    angle_to_radians(_number(path, v, None, f"{key}.rpy"), scale) for v in vec
+                )
             values.append((x, y, z))
         return xyz_rpy(values[0], values[1])
     if set(data) <= dh_keys:
@@ -167,9 +169,9 @@ def _fixed_transform(
         return dh_link_transform(
             convention,  # type: ignore[arg-type]
             _length(path, p["a"], None, f"{key}.a", meters),
-            p["alpha"] * radians,
+            angle_to_radians(p["alpha"], radians),
             _length(path, p["d"], None, f"{key}.d", meters),
-            p["theta"] * radians,
+            angle_to_radians(p["theta"], radians),
         )
     raise TableError(
         path,
@@ -310,9 +312,9 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         name=name,
         joint_type=joint_type,
         a=_length(path, data["a"], index, "a", meters),
-        alpha=_number(path, data["alpha"], index, "alpha") * radians,
+        alpha=angle_to_radians(_number(path, data["alpha"], index, "alpha"), radians),
         d=_length(path, data["d"], index, "d", meters),
-        theta=_number(path, data["theta"], index, "theta") * radians,
+        theta=angle_to_radians(_number(path, data["theta"], index, "theta"), radians),
         lower=lower,
         upper=upper,
         velocity=velocity,
@@ -398,9 +400,10 @@ def _warn_units(
         turn, turns = (RADIAN_SUSPECT, "a turn"), (LIMIT_SUSPECT, "four turns")
         for row in rows:
             where = f"{path}, joint row {row.index}, field"
+            written = data["joints"][row.index - 1]  # as written: the rows' are reduced
             angles += [
-                (f"{where} 'alpha'", row.alpha, *turn),
-                (f"{where} 'theta'", row.theta, *turn),
+                (f"{where} 'alpha'", float(written["alpha"]), *turn),
+                (f"{where} 'theta'", float(written["theta"]), *turn),
             ]
             if row.joint_type == "revolute":
                 angles += [(f"{where} 'limits'", v, *turns) for v in (row.lower, row.upper)]

@@ -119,19 +119,24 @@ def dh_matrices(convention: str, a, alpha, d, theta) -> np.ndarray:
     raise ValueError(f"unknown convention {convention!r}")
 
 
+def _angle(value, radians: float):
+    """An angle as written, reduced modulo a turn in its unit (exact), then in radians."""
+    return np.fmod(value, 360.0 if radians != 1.0 else 2.0 * math.pi) * radians
+
+
 def _fixed(data: dict, convention: str, meters: float, radians: float) -> np.ndarray:
     if set(data) <= {"xyz", "rpy"}:
         x, y, z = (v * meters for v in data.get("xyz", [0.0, 0.0, 0.0]))
-        roll, pitch, yaw = (v * radians for v in data.get("rpy", [0.0, 0.0, 0.0]))
+        roll, pitch, yaw = (_angle(v, radians) for v in data.get("rpy", [0.0, 0.0, 0.0]))
         out = _rz(yaw) @ _ry(pitch) @ _rx(roll)
         out[:3, 3] = (x, y, z)
         return out
     return dh_matrices(
         convention,
         data.get("a", 0.0) * meters,
-        data.get("alpha", 0.0) * radians,
+        _angle(data.get("alpha", 0.0), radians),
         data.get("d", 0.0) * meters,
-        data.get("theta", 0.0) * radians,
+        _angle(data.get("theta", 0.0), radians),
     )
 
 
@@ -150,9 +155,9 @@ def load_reference(path: str | Path) -> ReferenceTable:
         names=tuple(j.get("name", f"joint{i}") for i, j in enumerate(joints, start=1)),
         prismatic=prismatic,
         a=np.array([j["a"] for j in joints], dtype=float) * meters,
-        alpha=np.array([j["alpha"] for j in joints], dtype=float) * radians,
+        alpha=_angle(np.array([j["alpha"] for j in joints], dtype=float), radians),
         d=np.array([j["d"] for j in joints], dtype=float) * meters,
-        theta=np.array([j["theta"] for j in joints], dtype=float) * radians,
+        theta=_angle(np.array([j["theta"] for j in joints], dtype=float), radians),
         lower=limits[:, 0],
         upper=limits[:, 1],
         T_world_base=_fixed(data.get("base", {}), convention, meters, radians),

@@ -401,7 +401,9 @@ class StreamSolver:
             keep &= np.isfinite(angles).all(axis=1)
             if self.angle == 1.0:
                 keep &= (np.abs(angles) <= RADIAN_SUSPECT).all(axis=1)
-            rotations = rpy_matrices(np.where(keep[:, None], angles, 0.0) * self.angle)
+            # Reduced modulo a turn in the given unit first (angle_to_radians, vectorized).
+            turns = np.fmod(np.where(keep[:, None], angles, 0.0), 2.0 * np.pi / self.angle)
+            rotations = rpy_matrices(turns * self.angle)
         rows = np.flatnonzero(keep)
         if not rows.size:
             return _no_answers

@@ -14,6 +14,7 @@ import math
 from collections.abc import Sequence
 
 from dh2urdf.quoted_input import quoted
+from dh2urdf.units import angle_to_radians
 
 from ..ik.exceptions import TargetError
 from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
@@ -141,12 +142,12 @@ def build_target(
         rpy_values = _finite(rpy, 3, "--rpy")
         if angle == 1.0:
             warn_radians("--rpy", rpy_values)
-        rpy_si = [v * angle for v in rpy_values]
+        rpy_si = [angle_to_radians(v, angle) for v in rpy_values]  # any size: reduced first
         return PoseTarget.from_rpy(p, rpy_si, mask), "--rpy"
     if pitch is not None:
         if angle == 1.0:
             warn_radians("--pitch", _finite(pitch, 1, "--pitch"))
-        pitch_si = _finite(pitch, 1, "--pitch")[0] * angle
+        pitch_si = angle_to_radians(_finite(pitch, 1, "--pitch")[0], angle)
         roll_si = None if roll is None else _finite(roll, 1, "--roll")[0] * angle
         return PitchTarget(p, pitch_si, roll_si), "--pitch"
     return PositionTarget(p), "a position target"
