@@ -144,10 +144,11 @@ def test_round_joint_angles_whatever_the_blas_kernel(kernel):
     import subprocess
     import sys
 
+    tests = str(Path(__file__).parent)
     code = (
-        "import sys; sys.path.insert(0, {tests!r}); import test_ik_general_6r as t; "
+        f"import sys; sys.path.insert(0, {tests!r}); import test_ik_general_6r as t; "
         "[t.test_round_joint_angles(name) for name in ('crx10ia', 'jaco2_6dof')]"
-    ).format(tests=str(Path(__file__).parent))
+    )
     env = dict(os.environ, OPENBLAS_CORETYPE=kernel, OPENBLAS_VERBOSE="2")
     run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr[-3000:]
