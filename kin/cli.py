@@ -10,6 +10,7 @@ from collections.abc import Callable
 
 from dh2urdf.command_line import (
     EXIT_BAD_INPUT,
+    EXIT_FAULT,
     EXIT_INTERRUPTED,
     ArgumentParser,
     angle_scale,
@@ -23,9 +24,6 @@ from dh2urdf.command_line import run_guarded as _run_guarded
 from dh2urdf.exceptions import Dh2UrdfError
 
 from .exceptions import KinError, RunFaultError
-
-#: Exit code of a run that failed part-way (a lost scheduler), not for its input.
-EXIT_FAULT = 1
 
 __all__ = [
     "EXIT_BAD_INPUT",

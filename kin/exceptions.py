@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dh2urdf.exceptions import OutputFileError as _Dh2UrdfOutputFileError
 from dh2urdf.exceptions import OutputWriteError as _Dh2UrdfOutputWriteError
 
 
@@ -67,18 +68,15 @@ class NotWithinLimitsError(KinError, ValueError):
         )
 
 
-class OutputFileError(KinError, ValueError):
-    """An output file cannot be written as asked (missing folder, not writable, unknown suffix).
+class OutputFileError(KinError, _Dh2UrdfOutputFileError):
+    """An output file cannot be written as asked; found before any work, commands exit 2.
+
+    A device, FIFO or folder at the path, a missing or unwritable folder, an unknown suffix.
 
     Attributes:
         path: The file asked for.
         option: The command-line option (or argument) that named it.
     """
-
-    def __init__(self, path: str, option: str, reason: str):
-        self.path = path
-        self.option = option
-        super().__init__(f"{option} {path}: {reason}")
 
 
 class OutputWriteError(KinError, _Dh2UrdfOutputWriteError):
