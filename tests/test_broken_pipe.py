@@ -101,7 +101,7 @@ FULL_STDOUT = {
     "kin ik --stdin": (["ik", "--robot", "ur5", "--stdin"], '{"target": [0.3, 0, 0.3]}\n' * 50),
     "dh2urdf -o -": (["--robot", "ur5", "-o", "-"], None),
     "dh2urdf from-urdf -o -": (
-        ["from-urdf", str(ROOT / "dh2urdf" / "urdf" / "planar2.urdf"), "-o", "-"],
+        ["from-urdf", str(ROOT / "urdf" / "planar2.urdf"), "-o", "-"],
         None,
     ),
 }

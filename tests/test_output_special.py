@@ -31,7 +31,7 @@ from dh2urdf.command import main as dh2urdf_main
 from kin.commands import path, preview, reach, workspace
 
 ROOT = Path(__file__).resolve().parents[1]
-URDF = str(ROOT / "dh2urdf" / "urdf" / "planar2.urdf")
+URDF = str(ROOT / "urdf" / "planar2.urdf")
 PATH_ARGS = ["--robot", "ur5", "--from", "0.4", "0", "0.3", "--rpy", "180", "0", "0"]
 PATH_ARGS += ["--to", "0.4", "0.2", "0.3", "--rpy", "180", "0", "0", "--deg", "--steps", "10"]
 REACH_ARGS = ["--robot", "ur5", "--voxel", "0.3", "--orientations", "4", "--quiet"]
