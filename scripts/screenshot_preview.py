@@ -22,7 +22,9 @@ budget [ms] covers the --ik animation (2 s), which ends at the IK answer.
 from __future__ import annotations
 
 import argparse
+import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -63,6 +65,36 @@ def find_chromium() -> str | None:
     return None
 
 
+def _run_group(command: list[str], timeout_s: float) -> subprocess.CompletedProcess[str]:
+    """Run ``command`` in its own process group; on timeout kill the whole group.
+
+    Raises:
+        subprocess.TimeoutExpired: The command ran longer than ``timeout_s`` [s].
+    """
+    process = subprocess.Popen(
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        out, err = process.communicate(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        try:
+            os.killpg(process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        process.communicate()
+        raise
+    finally:
+        try:  # chromium's helpers outlive a normal exit too, now and then
+            os.killpg(process.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+    return subprocess.CompletedProcess(command, process.returncode, out, err)
+
+
 def render(
     page: Path,
     png: Path,
@@ -70,6 +102,7 @@ def render(
     height: int = 600,
     budget_ms: int = 4000,
     chromium: str | None = None,
+    timeout_s: float = 60.0,
 ) -> Path:
     """Screenshot ``page`` into ``png`` with headless Chromium.
 
@@ -80,17 +113,24 @@ def render(
         height: Window height [px].
         budget_ms: Virtual time the page runs before the picture [ms].
         chromium: Executable (default: found on PATH).
+        timeout_s: A run that takes longer is killed (with every process it started) and tried
+            again with a fresh profile, three runs in all [s].
 
     Raises:
         RuntimeError: No Chromium, or it wrote no picture.
+        subprocess.TimeoutExpired: All three runs took longer than ``timeout_s``.
     """
     chromium = chromium or find_chromium()
     if chromium is None:
         raise RuntimeError("no chromium on PATH (Debian: apt-get install chromium)")
-    # Headless Chromium on a loaded machine now and then never finishes a page (seen once in
-    # about ten CI runs): a stuck run is killed after 60 s and tried once more, fresh profile.
-    for attempt in (1, 2):
-        with tempfile.TemporaryDirectory(prefix="kin-chromium-") as profile:
+    # Headless Chromium on a loaded machine now and then never finishes a page (seen about once
+    # in ten CI runs): a stuck run is killed after ``timeout_s``, with every process it started (they
+    # would go on writing into the profile), and tried again with a fresh profile.
+    attempts = 3
+    for attempt in range(1, attempts + 1):
+        with tempfile.TemporaryDirectory(
+            prefix="kin-chromium-", ignore_cleanup_errors=True
+        ) as profile:
             command = [
                 chromium,
                 *CHROMIUM_FLAGS,
@@ -101,10 +141,10 @@ def render(
                 Path(page).resolve().as_uri(),
             ]
             try:
-                done = subprocess.run(command, capture_output=True, text=True, timeout=60)
+                done = _run_group(command, timeout_s)
                 break
             except subprocess.TimeoutExpired:
-                if attempt == 2:
+                if attempt == attempts:
                     raise
     if not Path(png).is_file():
         raise RuntimeError(

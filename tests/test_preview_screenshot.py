@@ -8,6 +8,8 @@ chromium``).
 
 from __future__ import annotations
 
+import subprocess
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -121,3 +123,35 @@ def test_docs_picture_is_a_rendered_preview():
     picture = image.imread(Path(__file__).resolve().parent.parent / "docs" / "preview.png")
     rgb = picture[..., :3].astype(float)
     assert rgb.shape == (600, 800, 3) and warm_fraction(rgb) > 0.005, warm_fraction(rgb)
+
+
+def test_a_stuck_chromium_is_killed_with_its_helpers_and_tried_again(tmp_path):
+    """A browser that hangs, with a helper still writing into the profile, is killed as a group.
+
+    A stand-in "chromium" starts a helper that keeps writing into the profile folder, then hangs.
+    Each of the three runs is killed after the timeout, the profile is removed all the same (the
+    CI failure this guards against: "Directory not empty" on cleanup hid the retry), and no helper
+    is left running.
+    """
+    marker = tmp_path / "helpers.txt"
+    fake = tmp_path / "fake-chromium"
+    fake.write_text(
+        "#!/bin/sh\n"
+        'for arg in "$@"; do case "$arg" in --user-data-dir=*) profile="${arg#*=}";; esac; done\n'
+        f'(while true; do mkdir -p "$profile/Default"; date > "$profile/Default/x"; sleep 0.01; done) &\n'
+        f'echo $! >> "{marker}"\n'
+        "sleep 600\n"
+    )
+    fake.chmod(0o755)
+    page = tmp_path / "page.html"
+    page.write_text("<html></html>")
+    with pytest.raises(subprocess.TimeoutExpired):
+        screenshot.render(page, tmp_path / "shot.png", chromium=str(fake), timeout_s=1.0)
+    helpers = [int(line) for line in marker.read_text().split()]
+    assert len(helpers) == 3
+    time.sleep(0.2)
+    for pid in helpers:
+        assert (
+            not Path(f"/proc/{pid}").exists()
+            or "Z" in Path(f"/proc/{pid}/stat").read_text().split()[2]
+        )
