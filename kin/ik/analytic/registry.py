@@ -20,6 +20,7 @@ from .planar.offset3r import Offset3R
 from .planar.parallel_axes import ParallelAxes, ParallelAxes2, ParallelAxes3
 from .planar.planar2r import Planar2R
 from .planar.yaw_planar import YawPlanar
+from .planar.yaw_roll import YawPlanarRoll
 from .six_r.general_6r import General6R
 from .six_r.pieper import Pieper6R
 from .six_r.reversed_chain import Reversed6R
@@ -35,6 +36,7 @@ CLOSED_FORMS: list[type[ClosedFormStructure]] = [
     ParallelAxes3,
     ParallelAxes,
     YawPlanar,  # base yaw, three parallel pitch joints
+    YawPlanarRoll,  # base yaw, two parallel pitch joints, a roll (Kinova's 4-DOF arms)
     FiveDof,
     URWrist6R,
     SphericalWrist6R,

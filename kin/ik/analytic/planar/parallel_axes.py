@@ -19,11 +19,18 @@ about ``n`` when the target is tilted: the arm cannot tilt its tool); with three
 the projection of the target on what the arm reaches; the partial-pose solver
 (:mod:`kin.ik.partial_pose`) measures them on the target's constrained components and reports
 the nearest pose when they miss.
+
+A position leaves the yaw free (:meth:`ParallelAxes.free_branches`): with the tool on the last
+axis (a SCARA's RRPR) the last joint keeps the seed's value; else (a planar 3R, a tool off the
+last axis) the yaw is the seed's ``psi``, or, when no branch there is inside the joint limits,
+the nearest one of a 1-degree sweep away from it (:func:`sweep_angles`) that has one. The
+branches are exact at that yaw: the stated value of the free angle.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import ClassVar
 
 import numpy as np
@@ -32,10 +39,55 @@ from dh2urdf import DHTable
 from dh2urdf.dh_table import dh_link_transform
 
 from ...exceptions import StructureError
-from ...target import PoseTarget
+from ...target import PoseTarget, PositionTarget, Target
+from ..branches import REACH_TOL, Branches
+from ..closed_form_structure import BatchBranches, candidate_branches
 
 #: Largest ``|u_i x n|`` of an axis taken as parallel to ``n``.
 PARALLEL_TOL = 1e-9
+#: Steps of the sweep of a free angle over a turn (:func:`sweep_angles`): 1 degree.
+SWEEP_STEPS = 360
+#: Slack on the joint limits [rad] or [m] of the sweep's choice (the judge decides after).
+LIMIT_SLACK = 1e-10
+
+
+def sweep_angles(start: float, steps: int = SWEEP_STEPS) -> np.ndarray:
+    """Angles [rad] of a turn in ``steps`` equal steps from ``start``, nearest it first.
+
+    ``start + d, start - d, start + 2 d, ...`` with ``d = 2 pi / steps`` (``start`` itself not
+    included), ``steps - 1`` values.
+    """
+    k = np.arange(1, steps // 2 + 1)
+    order = np.stack([k, -k], axis=1).reshape(-1)[: steps - 1]
+    return start + order * (2.0 * math.pi / steps)
+
+
+def inside_limits(
+    q: np.ndarray, lower: np.ndarray, upper: np.ndarray, revolute: np.ndarray
+) -> np.ndarray:
+    """Whether each joint vector of ``q`` (..., nq) has every value inside the limits.
+
+    A revolute angle [rad] counts as inside when a ``2 pi`` copy of it is; a slide [m] must be.
+    NaN rows are outside.
+    """
+    copy = np.where(revolute, lower + np.remainder(q - lower, 2.0 * math.pi), q)
+    with np.errstate(invalid="ignore"):
+        ok = (copy >= lower - LIMIT_SLACK) & (copy <= upper + LIMIT_SLACK)
+    return ok.all(axis=-1)  # type: ignore[no-any-return]
+
+
+def first_inside(
+    candidates: np.ndarray, lower: np.ndarray, upper: np.ndarray, revolute: np.ndarray
+) -> int | None:
+    """Index of the first of K candidate sets (K, B, nq) with a branch inside the limits.
+
+    Else the first with a branch at all (it is reachable, only outside the limits), else None.
+    """
+    inside = inside_limits(candidates, lower, upper, revolute).any(axis=1)
+    if inside.any():
+        return int(inside.argmax())
+    exists = (~np.isnan(candidates).any(axis=-1)).any(axis=1)
+    return int(exists.argmax()) if exists.any() else None
 
 
 def _axes(table: DHTable) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
@@ -54,17 +106,60 @@ def _axes(table: DHTable) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarra
     return directions, points, frame @ np.asarray(table.T_last_tool, dtype=float)
 
 
+def free_angle_branches(
+    solve_at: Callable[[np.ndarray], np.ndarray],
+    start: float,
+    limits: tuple[np.ndarray, np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, float, bool]:
+    """The branches of a position at a stated value of the free angle that the position leaves.
+
+    The seed's value ``start`` when a branch there is inside the limits; else the first of
+    :func:`sweep_angles` from it with a branch inside them (else with a branch at all).
+
+    Args:
+        solve_at: The branches (K, B, nq) [rad, m] at K values of the free angle [rad].
+        start: The seed's value of the free angle [rad].
+        limits: ``(lower, upper, revolute)`` per joint: limits [rad] or [m], and which are
+            revolute (:func:`inside_limits`).
+
+    Returns:
+        The branches (B, nq) (NaN rows: none), the free angle's value [rad] and whether it
+        was swept to (not the seed's).
+    """
+    q = solve_at(np.array([start]))
+    if inside_limits(q, *limits).any():
+        return q[0], start, False
+    angles = sweep_angles(start)
+    swept = solve_at(angles)
+    k = first_inside(swept, *limits)
+    if k is not None and (inside_limits(swept[k], *limits).any() or np.isnan(q).all()):
+        return swept[k], float(angles[k]), True
+    return q[0], start, False
+
+
+def free_label(word: str, angle: float, swept: bool) -> str:
+    """What a free angle [rad] was set to, for the branch labels."""
+    if not swept:
+        return f"{word} free: the seed's"
+    value = math.degrees(math.remainder(angle, 2.0 * math.pi))
+    return f"{word} free: {value:.4g} deg, the nearest the seed's with a branch inside the limits"
+
+
 class ParallelAxes:
     """The closed form of an arm with every joint axis parallel (see the module).
 
     Attributes:
         n: The common axis direction in the world frame (the first joint's).
         signs: Per revolute joint (in order), +1 or -1: its axis along ``n`` or against it.
+        offsets: DH angle offsets ``theta`` [rad] of the table (zeros for :meth:`from_axes`).
+        lower, upper: Joint limits [rad] or [m] (infinite for :meth:`from_axes` without them).
+        tool_on_axis: Three revolute joints and the tool point on the last one's axis: a
+            position leaves that joint free.
     """
 
     name: ClassVar[str] = "parallel_axes"
     dof: ClassVar[int] = 4
-    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
+    target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget, PoseTarget)
     branch_labels: tuple[str, ...] = ("elbow left", "elbow right")
     #: The candidates are the projection of a pose on what the arm reaches: the partial-pose
     #: solver measures them (a full pose on this arm goes there, see ``ClosedFormSolver``).
@@ -73,7 +168,12 @@ class ParallelAxes:
     def __init__(self, table: DHTable):
         directions, points, tool = _axes(table)
         kinds: list[str] = [row.joint_type for row in table.rows]
-        self._build(table.name, directions, points, tool, kinds)
+        limits = (
+            np.array([row.lower for row in table.rows]),
+            np.array([row.upper for row in table.rows]),
+        )
+        self._build(table.name, directions, points, tool, kinds, limits)
+        self.offsets = tuple(row.theta for row in table.rows)
 
     @classmethod
     def from_axes(
@@ -83,14 +183,24 @@ class ParallelAxes:
         points: list[np.ndarray],
         tool: np.ndarray,
         kinds: list[str],
+        limits: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> ParallelAxes:
         """The structure of a chain given by its joint axes (world, at ``q = 0``) and tool pose.
+
+        Args:
+            name: The arm's name (for errors).
+            directions: Per joint its axis direction, world, at ``q = 0``.
+            points: Per joint a point on its axis [m].
+            tool: ``T_world_tool`` at ``q = 0``.
+            kinds: Per joint ``"revolute"`` or ``"prismatic"``.
+            limits: The joints' ``(lower, upper)`` [rad] or [m], or None: none.
 
         Raises:
             StructureError: The axes are not all parallel, or the joint counts do not fit.
         """
         chain = cls.__new__(cls)
-        chain._build(name, directions, points, tool, kinds)
+        chain._build(name, directions, points, tool, kinds, limits)
+        chain.offsets = (0.0,) * len(kinds)
         return chain
 
     def _build(
@@ -100,6 +210,7 @@ class ParallelAxes:
         points: list[np.ndarray],
         tool: np.ndarray,
         kinds: list[str],
+        limits: tuple[np.ndarray, np.ndarray] | None,
     ) -> None:
         n = directions[0] / np.linalg.norm(directions[0])
         for i, u in enumerate(directions):
@@ -135,9 +246,18 @@ class ParallelAxes:
         )
         self.tool_rotation = tool[:3, :3]
         self.nq = len(kinds)
+        if limits is None:
+            limits = (np.full(self.nq, -np.inf), np.full(self.nq, np.inf))
+        self.lower, self.upper = (np.asarray(v, dtype=float) for v in limits)
+        self.is_revolute = np.array([kind == "revolute" for kind in kinds])
+        self.tool_on_axis = len(self.links) == 3 and float(self.links[2] @ self.links[2]) < 1e-24
 
     def _plane(self, point: np.ndarray) -> np.ndarray:
         return np.array([point @ self.e1, point @ self.e2])
+
+    def _along(self, point: np.ndarray) -> float:
+        """The point's height [m] along ``n`` from the first revolute axis's point."""
+        return float((point - self.base_point) @ self.n)
 
     @classmethod
     def recognise(cls, table: DHTable) -> ParallelAxes:
@@ -156,19 +276,25 @@ class ParallelAxes:
         e1, e2 = self.e1, self.e2
         return math.atan2(e2 @ m @ e1 - e1 @ m @ e2, e1 @ m @ e1 + e2 @ m @ e2)
 
+    def last_angle(self, q: np.ndarray | list[float]) -> float:
+        """The last link's angle ``psi`` [rad] about ``n`` at the joint vector ``q``."""
+        return float(sum(sign * q[i] for i, sign in zip(self.revolute, self.signs)))
+
     def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        """The two branches (2, dof) ``q`` [rad, m] of the target's projection (NaN: none)."""
+        """The two branches (2, dof) ``q`` [rad, m] of the target's projection (NaN: none).
+
+        A position (``rotation`` None) on three revolute joints: :meth:`free_branches` from
+        ``q = 0``.
+        """
+        if rotation is None and len(self.links) == 3:
+            return self.free_branches(position, np.zeros(self.nq))[0]
         out = np.full((2, self.nq), np.nan)
         target = self._plane(np.asarray(position, dtype=float))
         links = self.links
         three = len(links) == 3
         if three:
-            if rotation is None:
-                return out
-            psi = self.yaw(np.asarray(rotation, dtype=float))
-            c, s = math.cos(psi), math.sin(psi)
-            last = links[2]
-            target = target - np.array([c * last[0] - s * last[1], s * last[0] + c * last[1]])
+            assert rotation is not None
+            return self.solve_angles(position, np.array([self.yaw(np.asarray(rotation))]))[0]
         w = target - self.origin
         l1, l2 = links[0], links[1]
         if not float(np.abs(w).max()) < 1e150:  # no arm reaches that far (and no overflow)
@@ -180,7 +306,7 @@ class ParallelAxes:
             # The tool on the last joint's axis (no second link in the plane): the position
             # fixes the first link's angle (its projection on the circle the tool goes round),
             # the yaw the last one's; one branch, of a full pose only.
-            if three or rotation is None or not (float(l2 @ l2) < 1e-24 < float(l1 @ l1)):
+            if rotation is None or not (float(l2 @ l2) < 1e-24 < float(l1 @ l1)):
                 return out
             if float(w @ w) < 1e-24:  # on the first axis: the first angle is free
                 return out
@@ -196,10 +322,101 @@ class ParallelAxes:
                 cb, sb = math.cos(beta), math.sin(beta)
                 v = l1 + np.array([cb * l2[0] - sb * l2[1], sb * l2[0] + cb * l2[1]])
                 phi1 = math.atan2(w[1], w[0]) - math.atan2(v[1], v[0])
-                self._fill(out[k], [phi1, phi1 + beta] + ([psi] if three else []), position)
+                self._fill(out[k], [phi1, phi1 + beta], position)
         for i in self.revolute:
             out[:, i] = np.remainder(out[:, i] + math.pi, 2.0 * math.pi) - math.pi
         return out
+
+    def solve_angles(self, position: np.ndarray, psis: np.ndarray) -> np.ndarray:
+        """Both branches (K, 2, dof) ``q`` [rad, m] of a position with the last link at ``psis``.
+
+        Three revolute joints: the wrist point ``W = P - Rot(psi) L3`` is a two-link problem per
+        ``psi`` [rad] (K,); NaN where it is out of reach (or the chain has no second link).
+        """
+        k = len(psis)
+        out = np.full((k, 2, self.nq), np.nan)
+        l1, l2, l3 = self.links
+        a = float(l1 @ l2)
+        b = float(l1[1] * l2[0] - l1[0] * l2[1])
+        rho = math.hypot(a, b)
+        target = self._plane(np.asarray(position, dtype=float)) - self.origin
+        if rho < 1e-15 or not float(np.abs(target).max()) < 1e150:
+            return out
+        c, s = np.cos(psis), np.sin(psis)
+        wx = target[0] - (c * l3[0] - s * l3[1])
+        wy = target[1] - (s * l3[0] + c * l3[1])
+        cosine = (wx * wx + wy * wy - float(l1 @ l1) - float(l2 @ l2)) / (2.0 * rho)
+        spread = np.arccos(np.clip(cosine, -1.0, 1.0))
+        beta = math.atan2(b, a) + np.stack([spread, -spread], axis=1)  # (K, 2)
+        cb, sb = np.cos(beta), np.sin(beta)
+        vx = l1[0] + cb * l2[0] - sb * l2[1]
+        vy = l1[1] + sb * l2[0] + cb * l2[1]
+        phi1 = np.arctan2(wy, wx)[:, None] - np.arctan2(vy, vx)
+        phis = (phi1, phi1 + beta, np.broadcast_to(psis[:, None], phi1.shape))
+        previous: np.ndarray | float = 0.0
+        for phi, i, sign in zip(phis, self.revolute, self.signs):
+            angle = sign * (phi - previous)
+            out[:, :, i] = np.remainder(angle + math.pi, 2.0 * math.pi) - math.pi
+            previous = phi
+        if self.prismatic:
+            along = self._along(np.asarray(position, dtype=float))
+            out[:, :, self.prismatic[0]] = self.prismatic_sign * (along - self.height)
+        out[np.abs(cosine) > 1.0 + 1e-12] = np.nan
+        return out
+
+    def free_branches(self, position: np.ndarray, seed: np.ndarray) -> tuple[np.ndarray, str]:
+        """Both branches (2, dof) of a position, the free yaw stated (see the module).
+
+        Args:
+            position: Tool point in the world [m].
+            seed: The joint vector [rad, m] whose yaw (or last joint) is kept.
+
+        Returns:
+            The branches ``q`` (NaN: none) and what the free angle is (``""``: none is free).
+        """
+        last = self.revolute[-1]
+        position = np.asarray(position, dtype=float)
+        if not self.prismatic and abs(self._along(position) - self.height) > REACH_TOL:
+            return np.full((2, self.nq), np.nan), ""  # off the plane the tool moves in
+        if len(self.links) == 2:
+            l1, l2 = self.links
+            if not float(l2 @ l2) < 1e-24 < float(l1 @ l1):
+                return self.solve(position, None), ""
+            # The tool on the last axis: the first angle puts it on its circle, the last is free.
+            q = np.full((2, self.nq), np.nan)
+            w = self._plane(position) - self.origin
+            if abs(math.hypot(w[0], w[1]) - math.sqrt(float(l1 @ l1))) <= REACH_TOL:
+                phi1 = math.atan2(w[1], w[0]) - math.atan2(l1[1], l1[0])
+                self._fill(q[0], [phi1, phi1], position)
+                q[0, last] = seed[last]
+                q[0, self.revolute[0]] = math.remainder(q[0, self.revolute[0]], 2.0 * math.pi)
+            return q, f"joint {last + 1} free: the seed's value"
+        if self.tool_on_axis:  # the last joint does not move the tool point: the seed's
+            q = self.solve_angles(position, np.zeros(1))[0]
+            q[:, last] = np.where(np.isnan(q[:, last]), np.nan, seed[last])
+            return q, f"joint {last + 1} free: the seed's value"
+        q, angle, swept = free_angle_branches(
+            lambda psis: self.solve_angles(position, psis),
+            self.last_angle(seed),
+            (self.lower, self.upper, self.is_revolute),
+        )
+        return q, free_label("yaw", angle, swept)
+
+    def branches(self, target: Target, seed: list[float]) -> Branches:
+        """The branches (DH angles) of a position (the yaw stated) or of a pose's projection."""
+        if isinstance(target, PoseTarget):
+            q = self.solve(target.position, target.rotation)
+            return candidate_branches(self, q, self.offsets)
+        q, free = self.free_branches(target.position, np.asarray(seed, dtype=float))
+        branches = candidate_branches(self, q, self.offsets)
+        if free:
+            branches.thetas = [(t, f"{label}, {free}") for t, label in branches.thetas]
+        return branches
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """:meth:`solve_batch` (a free yaw from ``q = 0``); no elbow side (all False)."""
+        q = self.solve_batch(positions, rotations)
+        return BatchBranches(q, np.zeros(q.shape[:2], dtype=bool))
 
     def _fill(self, row: np.ndarray, phis: list[float], position: np.ndarray) -> None:
         """One branch ``q`` into ``row`` from the links' absolute angles ``phis`` [rad].

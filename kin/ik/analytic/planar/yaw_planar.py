@@ -14,11 +14,16 @@ offset ``h`` along ``n2`` from joint 1's axis, so:
 Four branches. A pose whose approach leaves the arm's plane is projected: the candidates are
 the nearest poses the arm reaches there, which the partial-pose solver
 (:mod:`kin.ik.partial_pose`) measures and, when they miss, reports as the nearest pose.
+
+A position leaves the pitch free: the four branches at the seed's pitch, or at the nearest
+pitch of a 1-degree sweep with a branch inside the limits
+(:func:`~.parallel_axes.free_angle_branches`); the labels state it.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import ClassVar
 
 import numpy as np
@@ -27,8 +32,39 @@ import pinocchio as pin
 from dh2urdf import DHTable
 
 from ...exceptions import StructureError
-from ...target import PoseTarget
-from .parallel_axes import PARALLEL_TOL, ParallelAxes, _axes
+from ...target import PoseTarget, PositionTarget, Target
+from ..branches import Branches
+from ..closed_form_structure import BatchBranches, candidate_branches
+from .parallel_axes import (
+    PARALLEL_TOL,
+    ParallelAxes,
+    _axes,
+    free_angle_branches,
+    free_label,
+)
+
+
+def plane_yaws(p: np.ndarray, n2: np.ndarray, side: np.ndarray, h: float) -> tuple[float, ...]:
+    """The base yaws ``phi`` [rad] putting a point in the pitch chain's plane.
+
+    Solves ``n2(phi) . p = h`` with ``n2(phi) = cos(phi) n2 + sin(phi) side``: two yaws (in
+    front, over the back), none when the point is nearer the base axis than ``|h|``.
+
+    Args:
+        p: The point from a point of the base axis [m] (world).
+        n2: The pitch axes' direction at ``phi = 0`` (normal to the base axis).
+        side: ``n1 x n2``.
+        h: The chain's offset along its pitch axes from the base axis [m].
+    """
+    if not float(np.abs(p).max()) < 1e150:
+        return ()
+    a, b = float(n2 @ p), float(side @ p)
+    rho = math.hypot(a, b)
+    if rho < abs(h) - 1e-12 or rho < 1e-15:
+        return ()
+    spread = math.acos(max(-1.0, min(1.0, h / rho)))
+    centre = math.atan2(b, a)
+    return centre - spread, centre + spread
 
 
 class YawPlanar:
@@ -40,11 +76,12 @@ class YawPlanar:
         n2: The pitch axes' direction at ``q1 = 0``.
         h: The tool point's offset along ``n2`` from joint 1's axis [m] (constant).
         chain: The planar 3R of joints 2-4 at ``q1 = 0``.
+        offsets: DH angle offsets ``theta`` [rad].
     """
 
     name: ClassVar[str] = "yaw_planar"
     dof: ClassVar[int] = 4
-    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
+    target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget, PoseTarget)
     branch_labels: tuple[str, ...] = (
         "yaw 1, elbow left",
         "yaw 1, elbow right",
@@ -64,12 +101,20 @@ class YawPlanar:
             raise StructureError(
                 table.name, self.name, "joint 2's axis is not normal to joint 1's (no base yaw)"
             )
+        self.lower = np.array([row.lower for row in table.rows])
+        self.upper = np.array([row.upper for row in table.rows])
         self.chain = ParallelAxes.from_axes(
-            table.name, directions[1:], points[1:], tool, ["revolute"] * 3
+            table.name,
+            directions[1:],
+            points[1:],
+            tool,
+            ["revolute"] * 3,
+            (self.lower[1:], self.upper[1:]),
         )  # raises when joints 2-4 are not parallel
         self.n1, self.o1, self.n2 = n1, points[0], n2
         self.side = np.cross(n1, n2)
         self.h = float((tool[:3, 3] - self.o1) @ n2)
+        self.offsets = tuple(row.theta for row in table.rows)
 
     @classmethod
     def recognise(cls, table: DHTable) -> YawPlanar:
@@ -80,29 +125,67 @@ class YawPlanar:
         """
         return cls(table)
 
-    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
-        """The four branches (4, 4) ``q`` [rad] of the target's projection (NaN: none)."""
-        out = np.full((4, 4), np.nan)
-        if rotation is None:
-            return out
+    def candidates(
+        self, position: np.ndarray, rotation: np.ndarray | None, pitches: np.ndarray | None = None
+    ) -> np.ndarray:
+        """The four branches (K, 4, 4) ``q`` [rad] of a pose (K = 1) or a position at K pitches.
+
+        Args:
+            position: Tool point in the world [m].
+            rotation: ``R_world_tool`` (its projection on the arm's poses is solved), or None.
+            pitches: With ``rotation`` None, the chain's pitch [rad] (K,) (the last link's angle
+                about the pitch axes, :meth:`~.parallel_axes.ParallelAxes.last_angle`).
+        """
+        count = 1 if pitches is None else len(pitches)
+        out = np.full((count, 4, 4), np.nan)
         p = np.asarray(position, dtype=float) - self.o1
-        if not float(np.abs(p).max()) < 1e150:
-            return out
-        a, b = float(self.n2 @ p), float(self.side @ p)
-        rho = math.hypot(a, b)
-        if rho < abs(self.h) - 1e-12 or rho < 1e-15:
-            return out
-        spread = math.acos(max(-1.0, min(1.0, self.h / rho)))
-        centre = math.atan2(b, a)
-        for k, phi in enumerate((centre - spread, centre + spread)):
+        for k, phi in enumerate(plane_yaws(p, self.n2, self.side, self.h)):
             back = pin.exp3(self.n1 * -phi)
-            branches = self.chain.solve(self.o1 + back @ p, back @ np.asarray(rotation))
-            out[2 * k : 2 * k + 2, 0] = math.remainder(phi, 2.0 * math.pi)
-            out[2 * k : 2 * k + 2, 1:] = branches
+            point = self.o1 + back @ p
+            if pitches is None:
+                assert rotation is not None
+                branches = self.chain.solve(point, back @ np.asarray(rotation))[None]
+            else:
+                branches = self.chain.solve_angles(point, pitches)
+            out[:, 2 * k : 2 * k + 2, 0] = math.remainder(phi, 2.0 * math.pi)
+            out[:, 2 * k : 2 * k + 2, 1:] = branches
         return out
+
+    def free_branches(self, position: np.ndarray, seed: Sequence[float]) -> tuple[np.ndarray, str]:
+        """The four branches (4, 4) of a position at the stated pitch, and what it is."""
+        q, pitch, swept = free_angle_branches(
+            lambda pitches: self.candidates(position, None, pitches),
+            self.chain.last_angle(list(seed)[1:]),
+            (self.lower, self.upper, np.ones(4, dtype=bool)),
+        )
+        return q, free_label("pitch", pitch, swept)
+
+    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """The four branches (4, 4) ``q`` [rad] of the target's projection (NaN: none).
+
+        A position (``rotation`` None): :meth:`free_branches` from ``q = 0``.
+        """
+        if rotation is None:
+            return self.free_branches(position, (0.0,) * 4)[0]
+        return self.candidates(position, rotation)[0]
+
+    def branches(self, target: Target, seed: Sequence[float]) -> Branches:
+        """The branches (DH angles) of a position (the pitch stated) or a pose's projection."""
+        if isinstance(target, PoseTarget):
+            q = self.solve(target.position, target.rotation)
+            return candidate_branches(self, q, self.offsets)
+        q, free = self.free_branches(target.position, seed)
+        branches = candidate_branches(self, q, self.offsets)
+        branches.thetas = [(t, f"{label}, {free}") for t, label in branches.thetas]
+        return branches
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """:meth:`solve_batch`; no elbow side (all False)."""
+        q = self.solve_batch(positions, rotations)
+        return BatchBranches(q, np.zeros(q.shape[:2], dtype=bool))
 
     def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
         """:meth:`solve` of N targets: (N, 4, 4)."""
         if rotations is None:
-            return np.full((len(positions), 4, 4), np.nan)
-        return np.array([self.solve(p, r) for p, r in zip(positions, rotations)])
+            return np.array([self.solve(p, None) for p in positions]).reshape(-1, 4, 4)
+        return np.array([self.solve(p, r) for p, r in zip(positions, rotations)]).reshape(-1, 4, 4)
