@@ -47,6 +47,8 @@ from ..closed_form_structure import BatchBranches, candidate_branches
 PARALLEL_TOL = 1e-9
 #: Steps of the sweep of a free angle over a turn (:func:`sweep_angles`): 1 degree.
 SWEEP_STEPS = 360
+#: Steps of the first, coarse sweep: 10 degrees (:func:`free_angle_branches`).
+COARSE_STEPS = 36
 #: Slack on the joint limits [rad] or [m] of the sweep's choice (the judge decides after).
 LIMIT_SLACK = 1e-10
 
@@ -113,8 +115,9 @@ def free_angle_branches(
 ) -> tuple[np.ndarray, float, bool]:
     """The branches of a position at a stated value of the free angle that the position leaves.
 
-    The seed's value ``start`` when a branch there is inside the limits; else the first of
-    :func:`sweep_angles` from it with a branch inside them (else with a branch at all).
+    The seed's value ``start`` when a branch there is inside the limits; else the nearest it
+    with a branch inside them on a 10-degree sweep refined in 1-degree steps, or on a 1-degree
+    sweep when the coarse one has none (else a value with a branch at all).
 
     Args:
         solve_at: The branches (K, B, nq) [rad, m] at K values of the free angle [rad].
@@ -129,6 +132,23 @@ def free_angle_branches(
     q = solve_at(np.array([start]))
     if inside_limits(q, *limits).any():
         return q[0], start, False
+    # 10-degree steps first; a hit is brought nearer the seed's value in 1-degree steps over the
+    # 10 degrees before it (either side); no hit: every 1-degree step.
+    coarse = sweep_angles(start, COARSE_STEPS)
+    swept = solve_at(coarse)
+    hits = inside_limits(swept, *limits).any(axis=1)
+    if hits.any():
+        k = int(hits.argmax())
+        reach = round(abs(coarse[k] - start) / (2.0 * math.pi) * SWEEP_STEPS)
+        ring = np.arange(max(reach - SWEEP_STEPS // COARSE_STEPS + 1, 1), reach)
+        if ring.size:
+            offsets = np.stack([ring, -ring], axis=1).reshape(-1) * (2.0 * math.pi / SWEEP_STEPS)
+            fine = solve_at(start + offsets)
+            near = inside_limits(fine, *limits).any(axis=1)
+            if near.any():
+                j = int(near.argmax())
+                return fine[j], float(start + offsets[j]), True
+        return swept[k], float(coarse[k]), True
     angles = sweep_angles(start)
     swept = solve_at(angles)
     k = first_inside(swept, *limits)
