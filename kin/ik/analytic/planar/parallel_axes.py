@@ -75,7 +75,7 @@ def inside_limits(
     copy = np.where(revolute, lower + np.remainder(q - lower, 2.0 * math.pi), q)
     with np.errstate(invalid="ignore"):
         ok = (copy >= lower - LIMIT_SLACK) & (copy <= upper + LIMIT_SLACK)
-    return ok.all(axis=-1)  # type: ignore[no-any-return]
+    return np.asarray(ok.all(axis=-1))
 
 
 def first_inside(
@@ -151,9 +151,9 @@ def free_angle_branches(
         return swept[k], float(coarse[k]), True
     angles = sweep_angles(start)
     swept = solve_at(angles)
-    k = first_inside(swept, *limits)
-    if k is not None and (inside_limits(swept[k], *limits).any() or np.isnan(q).all()):
-        return swept[k], float(angles[k]), True
+    found = first_inside(swept, *limits)
+    if found is not None and (inside_limits(swept[found], *limits).any() or np.isnan(q).all()):
+        return swept[found], float(angles[found]), True
     return q[0], start, False
 
 
