@@ -38,7 +38,7 @@ from __future__ import annotations
 import math
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -75,7 +75,7 @@ DEFAULT_TIMEOUT = 2.0
 RANDOM_STARTS = 32
 
 #: Levenberg-Marquardt steps per start.
-MAX_ITERATIONS = 60
+MAX_ITERATIONS = 100
 
 #: Largest joint change of one step (infinity norm) [rad].
 MAX_STEP = 0.5
@@ -163,6 +163,11 @@ class PartialPoseIK:
             ``time.perf_counter()`` value ``end``), tried after the seed and before random
             starts; or None. A five-joint arm's poses are a thin set: a start in the right
             basin matters more there than many random ones.
+        pose_candidates: ``pose_candidates(position, rotations, seed)``: the closed form's
+            branches of full poses as the arm's joint vectors
+            (:meth:`~kin.ik.analytic.closed_form.ClosedFormSolver.pose_candidates`: its
+            idealisation, offsets and joint directions applied), or None: ``structure``'s own
+            branches are used.
     """
 
     def __init__(
@@ -171,10 +176,15 @@ class PartialPoseIK:
         structure: Any = None,
         name: str = "numeric",
         samples: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
+        pose_candidates: Callable[
+            [np.ndarray, np.ndarray, np.ndarray], list[tuple[np.ndarray, str]]
+        ]
+        | None = None,
     ):
         self.robot = robot
         self.name = name
         self.samples = samples
+        self.pose_candidates = pose_candidates
         self.model = robot.model
         self.data = robot.model.createData()
         self.frame_id = robot.model.getFrameId(robot.tool_frame)
@@ -275,15 +285,18 @@ class PartialPoseIK:
         outside: list[IKSolution] = []
         attempts: list[tuple[float, np.ndarray]] = []  # (weighted cost, q) of the off-target ones
         method = ""
-        for grid in (False, True) if task.axis_column is not None else (False,):
-            for q, label in self._candidates(task, seed, grid):
-                verdict = self._judged(task, q, label, position_tol, rotation_tol)
-                if verdict is None:
-                    attempts.append((self._cost(task, q), q))
-                elif verdict.within_limits:
-                    _add(found, verdict)
-                else:
-                    outside.append(verdict)
+        for grid in (False, True) if sweeps(task) else (False,):
+            for group in self._candidates(task, seed, grid):
+                for q, label in group:
+                    verdict = self._judged(task, q, label, position_tol, rotation_tol)
+                    if verdict is None:
+                        attempts.append((self._cost(task, q), q))
+                    elif verdict.within_limits:
+                        _add(found, verdict)
+                    else:
+                        outside.append(verdict)
+                if found and not every_roll:
+                    break
             if found and not every_roll:
                 break
         if found:
@@ -311,9 +324,11 @@ class PartialPoseIK:
                     method = "damped_newton"
         if not found:
             starts = [q for _, q in attempts]
+            refined = len(starts)  # the first starts: the closed form's branches off target
             starts.append(seed)
-            # The samples nearest a full pose, after the seed: looked up only when it is needed.
-            lazy = full and samples is None
+            # The samples nearest the pose (a full one; a masked one's given rotation; an axis
+            # target at the seed's roll), after the seed: looked up only when it is needed.
+            lazy = self.samples is not None and samples is None
             if samples is not None:
                 starts.extend(samples)
             rng = np.random.default_rng(random_seed)
@@ -327,7 +342,8 @@ class PartialPoseIK:
                 if not starts:
                     if lazy:
                         lazy = False
-                        starts.extend(self.samples(target.position, target.rotation, deadline))  # type: ignore[misc, union-attr]
+                        rotation = _sweep(task, self._fk(seed)[1], False)[0][0]
+                        starts.extend(self.samples(target.position, rotation, deadline))  # type: ignore[misc]
                         continue
                     if not randoms:
                         break  # the work is done
@@ -342,7 +358,7 @@ class PartialPoseIK:
                 verdict = self._judged(task, q, "", position_tol, rotation_tol)
                 if verdict is not None and verdict.within_limits:
                     _add(found, verdict)
-                    method = "weighted_newton"
+                    method = "closed_form_refined" if tried <= refined else "weighted_newton"
                     break
                 if verdict is not None:
                     outside.append(verdict)
@@ -457,44 +473,62 @@ class PartialPoseIK:
 
     def _candidates(
         self, task: PartialTask, seed: np.ndarray, grid: bool = False
-    ) -> list[tuple[np.ndarray, str]]:
+    ) -> Iterator[list[tuple[np.ndarray, str]]]:
         """The closed form's branches for the target (moved into the limits nearest the seed).
 
-        An axis target gives the branches of the seed's roll (``grid`` False) or of
-        :data:`ROLL_GRID` rolls over a turn (``grid`` True).
+        One group of branches per tool rotation, computed when the caller asks for the next. A
+        target with one free rotation (an axis target's roll, a mask that frees one rotation
+        component) gives the branches of one rotation (``grid`` False: the seed's roll, or the
+        mask's given rotation) or of the other :data:`ROLL_GRID` - 1 rotations of a turn about
+        the free axis, nearest that one first (``grid`` True, :func:`_sweep`).
         """
         structure = self.structure
         if structure is None:
-            return []
+            return
         kinds = structure.target_kinds
         target = task.target
         labels = structure.branch_labels
         try:
-            if isinstance(target, AxisTarget):
-                if PoseTarget not in kinds:
-                    return []
-                rotations = _rolls(target, self._fk(seed)[1], grid)
-                positions = np.repeat(target.position[None, :], len(rotations), axis=0)
-                raw = np.asarray(structure.solve_batch(positions, rotations), dtype=float)
-                raw = raw.reshape(-1, raw.shape[-1])
-                rolls = [f"roll {360.0 * k / ROLL_GRID:g} deg" for k in range(ROLL_GRID)]
-                names = [
-                    f"{label}, {roll}"
-                    for roll in (rolls if grid else ["seed's roll"])
-                    for label in labels
-                ]
-            elif PoseTarget in kinds:
+            if PoseTarget in kinds and (isinstance(target, AxisTarget) or target.mask is not None):
+                rotations, names = _sweep(task, self._fk(seed)[1], grid)
+                if self.pose_candidates is None:  # the structure's batch, then one group each
+                    positions = np.repeat(target.position[None, :], len(rotations), axis=0)
+                    raw = np.asarray(structure.solve_batch(positions, rotations), dtype=float)
+                    raw = raw.reshape(len(rotations), -1, raw.shape[-1])
+                for k, name in enumerate(names):
+                    if self.pose_candidates is not None:  # the closed form's own branches
+                        branches = self.pose_candidates(target.position, rotations[k : k + 1], seed)
+                        yield self._kept(
+                            [q for q, _ in branches],
+                            [f"{b}, {name}" for _, b in branches],
+                            seed,
+                            False,
+                        )
+                    else:
+                        yield self._kept(
+                            raw[k], [f"{label}, {name}" for label in labels], seed, True
+                        )
+                return
+            if PoseTarget in kinds:
                 raw = np.asarray(structure.solve(target.position, target.rotation), dtype=float)
-                names = list(labels)
             elif PositionTarget in kinds:
                 raw = np.asarray(structure.solve(target.position, None), dtype=float)
-                names = list(labels)
             else:
-                return []
+                return
         except (ValueError, ArithmeticError, np.linalg.LinAlgError):
-            return []
+            return
+        yield self._kept(raw, list(labels), seed, True)
+
+    def _kept(
+        self, raw: Any, names: list[str], seed: np.ndarray, forward: bool
+    ) -> list[tuple[np.ndarray, str]]:
+        """The finite joint vectors of ``raw`` moved into the limits nearest the seed, named.
+
+        ``forward``: ``raw`` is in the structure's forward table (``q' = direction * q``).
+        """
         out = []
-        for q, name in zip(raw * self.directions, names):
+        for q, name in zip(raw, names):
+            q = np.asarray(q, dtype=float) * (self.directions if forward else 1.0)
             if q.shape == (self.nq,) and np.isfinite(q).all() and np.abs(q).max() < 1e9:
                 out.append((self._wrapped(q, seed)[0], name))
         return out
@@ -530,6 +564,16 @@ class PartialPoseIK:
             while lam < 1e10:
                 try:
                     dq = np.linalg.solve(normal + lam * identity, gradient)
+                    # A joint at a bound that the step pushes further out is held there and the
+                    # step taken by the others (an active set): clamping alone bends the step.
+                    held = ((q <= lower) & (dq < 0.0)) | ((q >= upper) & (dq > 0.0))
+                    if held.any():
+                        free = ~held
+                        dq = np.zeros(self.nq)
+                        dq[free] = np.linalg.solve(
+                            normal[np.ix_(free, free)] + lam * identity[: free.sum(), : free.sum()],
+                            gradient[free],
+                        )
                 except np.linalg.LinAlgError:
                     lam *= 10.0
                     continue
@@ -654,20 +698,52 @@ def _add(found: list[IKSolution], solution: IKSolution) -> None:
     found.append(solution)
 
 
-def _rolls(target: AxisTarget, seed_rotation: np.ndarray, grid: bool) -> np.ndarray:
-    """Tool rotations (K, 3, 3) with the target's tool axis along ``target.axis``.
+def _free_rotation(task: PartialTask) -> np.ndarray | None:
+    """The world axis of the one free rotation of a masked pose (unit (3,)), else None."""
+    target = task.target
+    if not isinstance(target, PoseTarget) or target.mask is None:
+        return None
+    free = [i for i in range(3) if not target.mask[3 + i]]
+    if len(free) != 1:
+        return None
+    return np.eye(3)[free[0]]
 
-    ``grid`` False: the seed's roll alone (the seed's tool turned onto the axis by the smallest
-    rotation); True: :data:`ROLL_GRID` rolls over a turn from it.
+
+def sweeps(task: PartialTask) -> bool:
+    """Whether the target leaves one rotation free: a tool axis's roll, or one masked rotation."""
+    return task.axis_column is not None or _free_rotation(task) is not None
+
+
+def _sweep(
+    task: PartialTask, seed_rotation: np.ndarray, grid: bool
+) -> tuple[np.ndarray, list[str]]:
+    """Tool rotations (K, 3, 3) that meet the target's constrained rotation, and their names.
+
+    An axis target: the seed's tool turned onto the axis by the smallest rotation (``grid``
+    False), or :data:`ROLL_GRID` rolls over a turn about the axis from there (True). A mask
+    that frees one rotation component: the given rotation (False), or :data:`ROLL_GRID` turns
+    of it over a turn about that world axis (True). Any other mask: the given rotation.
     """
-    column = TOOL_AXES[target.tool_axis]
-    axis = target.axis
-    turned = pin.exp3(axis_turn(seed_rotation[:, column], axis)) @ seed_rotation
-    if not grid:
-        return turned[None]
-    return np.array(
-        [pin.exp3(axis * (2.0 * math.pi * k / ROLL_GRID)) @ turned for k in range(ROLL_GRID)]
-    )
+    target = task.target
+    # the grid's other turns, nearest the first rotation first: 1, -1, 2, -2, ... steps
+    steps = sorted(range(1, ROLL_GRID), key=lambda k: (min(k, ROLL_GRID - k), k > ROLL_GRID // 2))
+    turns = [2.0 * math.pi * k / ROLL_GRID for k in steps]
+    degrees = [360.0 * (k if k <= ROLL_GRID // 2 else k - ROLL_GRID) / ROLL_GRID for k in steps]
+    names = [f"roll {value:+g} deg" for value in degrees]
+    if isinstance(target, AxisTarget):
+        column = TOOL_AXES[target.tool_axis]
+        axis = target.axis
+        turned = pin.exp3(axis_turn(seed_rotation[:, column], axis)) @ seed_rotation
+        if not grid:
+            return turned[None], ["seed's roll"]
+        return np.array([pin.exp3(axis * turn) @ turned for turn in turns]), names
+    free = _free_rotation(task)
+    if free is None or not grid:
+        return target.rotation[None], ["given rotation"]
+    turned = [pin.exp3(free * turn) @ target.rotation for turn in turns]
+    return np.array(turned), [
+        f"turn {value:+g} deg about world {'xyz'[int(np.argmax(free))]}" for value in degrees
+    ]
 
 
 def _structure(robot: RobotModel) -> Any:

@@ -89,9 +89,13 @@ class IKResult:
         solver: The pipeline that was asked (e.g. ``"closed_form:pickplace3"``, ``"numeric"``,
             ``"nr"``).
         method: The stage of that pipeline that answered: ``"closed_form"``,
-            ``"closed_form_free_joint"``, ``"seed_table"``, ``"damped_newton"`` (from the
-            caller's seed), ``"random_restart"``, ``"mink_qp"``, ``"newton_raphson"``; ``""``
-            when none did.
+            ``"closed_form_free_joint"``, ``"closed_form_polished"``, ``"seed_table"``,
+            ``"damped_newton"`` (from the caller's seed), ``"random_restart"``, ``"mink_qp"``,
+            ``"newton_raphson"``; for a partial pose (:mod:`kin.ik.partial_pose`) also
+            ``"weighted_newton"`` (least squares from the seed or a random start) and
+            ``"closed_form_refined"`` (least squares from a closed-form branch of the sweep,
+            where the free rotation is no symmetry of the arm: a five-joint arm's world-axis
+            mask); ``""`` when none did.
         status: ``"ok"`` or why there is no valid solution: ``"out_of_reach"`` only when
             proved (beyond the reach bound, or no closed-form branch); ``"not_found"`` when a
             search did its bounded work without an answer (no claim of unreachability);

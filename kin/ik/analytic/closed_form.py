@@ -181,8 +181,46 @@ class ClosedFormSolver(BranchVerification):
         if self._partial is None:
             from ..partial_pose import PartialPoseIK
 
-            self._partial = PartialPoseIK(self.robot, self.structure, self.name)
+            self._partial = PartialPoseIK(
+                self.robot, self.structure, self.name, pose_candidates=self.pose_candidates
+            )
         return self._partial
+
+    def pose_candidates(
+        self, position: np.ndarray, rotations: np.ndarray, seed: npt.ArrayLike
+    ) -> list[tuple[np.ndarray, str]]:
+        """The closed form's branches of full poses, as the arm's joint vectors, not yet judged.
+
+        The candidates of the partial-pose solver (:mod:`kin.ik.partial_pose`): for each tool
+        rotation of ``rotations`` (K, 3, 3) at ``position`` [m] (world frame), every branch of the
+        structure, the idealised structure's polished on the true chain (:mod:`.idealised`),
+        turned into the arm's joints (offsets and directions applied). Neither wrapped into the
+        limits nor measured: the caller judges them on the components it constrains.
+
+        Args:
+            position: Tool position [m], world frame.
+            rotations: Tool rotations (K, 3, 3), world frame.
+            seed: Joint vector [rad] inside the limits (a free joint's value at a singularity).
+        """
+        if PoseTarget not in self._kinds:
+            return []
+        forward = seed if self._directions is None else self._forward_seed(seed)
+        seed_list = self._seed_list(forward)
+        out: list[tuple[np.ndarray, str]] = []
+        with self._lock:
+            for rotation in rotations:
+                target = PoseTarget(position, rotation)
+                branches = self._branches(target, seed_list)
+                if branches.status == "out_of_reach":
+                    continue
+                if self.idealised is not None:
+                    branches = self._polished(branches, target)
+                for thetas, label in branches.thetas:
+                    q = np.subtract(thetas, self._offsets)
+                    if self._directions is not None:
+                        q = q * self._directions
+                    out.append((q, label))
+        return out
 
     @property
     def numeric(self) -> Any:
