@@ -7,8 +7,13 @@ squares over the independent joints, every answer judged by Pinocchio's mimic mo
 original URDF inside every joint's limits, mimic ones included.
 
 A search that ends without an answer proves nothing about the target: its status is
-``"not_found"`` (``"timeout"`` when the time budget stopped it first), never ``"out_of_reach"``,
+``"not_found"`` (``"timeout"`` when the time cap stopped it first), never ``"out_of_reach"``,
 with the best attempt as the rejected solution.
+
+Work, not time, decides the answer: the seed, then :data:`RESTARTS` random starts (seeded), each of
+at most :data:`MAX_ITERATIONS` steps. The timeout (:data:`DEFAULT_TIMEOUT`) is only a cap, checked
+before each start after the seed's: a call that reaches it says ``"timeout"``, else its answer is
+the one an idle machine gives.
 """
 
 from __future__ import annotations
@@ -32,20 +37,29 @@ __all__ = ["MimicSolver"]
 #: The pipeline name in results.
 PIPELINE = "mimic_dls"
 
+#: Random starts after the seed: the work of one search (about 0.15 s when nothing is found).
+RESTARTS = 40
+
+#: Damped least-squares steps per start at most (a start also stops when stuck).
+MAX_ITERATIONS = 200
+
+#: Default cap on the time of one solve [s] (the partial poses' and the numeric pipeline's too).
+DEFAULT_TIMEOUT = 2.0
+
 
 class MimicSolver:
     """Damped least squares on a :class:`~kin.mimic_arm.MimicArm`'s coupled Jacobian.
 
     Args:
         arm: The arm (its joint vector holds the independent joints only).
-        restarts: Random starts after the seed.
-        max_iter: Damped least-squares steps per start.
+        restarts: Random starts after the seed (the work; :data:`RESTARTS`).
+        max_iter: Damped least-squares steps per start at most (:data:`MAX_ITERATIONS`).
     """
 
     name = PIPELINE
     target_kinds: tuple[type, ...] = (PoseTarget, PositionTarget)
 
-    def __init__(self, arm: MimicArm, restarts: int = 40, max_iter: int = 200):
+    def __init__(self, arm: MimicArm, restarts: int = RESTARTS, max_iter: int = MAX_ITERATIONS):
         self.arm = arm
         self.restarts = restarts
         self.max_iter = max_iter
@@ -60,8 +74,9 @@ class MimicSolver:
                 :class:`~kin.ik.target.PositionTarget`, in the base link [m].
             seed: First start [rad] or [m] of the independent joints (default: the middle of
                 the limits).
-            timeout: No new start after this time [s] (the seed's always runs); None: all
-                ``restarts`` run.
+            timeout: Cap on the time [s] (None: :data:`DEFAULT_TIMEOUT`): no new start after
+                it (the seed's always runs); a start once begun runs to its end, so a call the
+                cap does not stop gives the answer of an idle machine.
 
         Returns:
             ``"ok"`` with the answer, else ``"not_found"`` (every start done) or ``"timeout"``
@@ -72,6 +87,9 @@ class MimicSolver:
             kin.exceptions.JointVectorError: ``seed`` is not one value per independent joint.
         """
         started = time.perf_counter()
+        cap = DEFAULT_TIMEOUT if timeout is None else timeout
+        if not cap >= 0.0:
+            raise TargetError(f"timeout must be a number of seconds >= 0, got {timeout!r}")
         if not isinstance(target, (PoseTarget, PositionTarget)) or getattr(target, "mask", None):
             raise TargetError(
                 f"'{self.arm.name}' (a chain with mimic joints) takes a whole pose (--rpy or "
@@ -84,7 +102,7 @@ class MimicSolver:
             seed,
             restarts=self.restarts,
             max_iter=self.max_iter,
-            timeout=timeout,
+            timeout=cap,
         )
         elapsed = time.perf_counter() - started
         if found.answer is not None:
@@ -105,7 +123,7 @@ class MimicSolver:
                 False,
                 PIPELINE,
                 "timeout",
-                f"the time budget stopped the search after {found.starts} of "
+                f"the time cap ({cap * 1e3:.4g} ms) stopped the search after {found.starts} of "
                 f"{self.restarts + 1} starts; best position error "
                 f"{found.best.position_error:.4g} m: raise the timeout (--timeout)",
                 (),

@@ -122,8 +122,8 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add(
         "--timeout",
         type=positive_float,
-        help="time cap of a numeric solve [ms] (default: the solver's, 50 for a full pose, "
-        "2000 for a partial one, whose answer its 32 seeded starts decide)",
+        help="time cap of a numeric solve [ms] (default 2000; the answer is decided by its "
+        "seeded starts, 200 for a full pose or position, 32 for a partial one)",
     )
     add("--stdin", action="store_true", help="read JSON targets from stdin, one per line")
     return parser

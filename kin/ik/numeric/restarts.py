@@ -1,16 +1,19 @@
-"""Stages 2-3 of the numeric pipeline: random restarts and mink QP runs, until the deadline.
+"""Stages 2-3 of the numeric pipeline: random restarts and mink QP runs, a fixed number of them.
 
 When the nearest starts fail: ``random_starts`` cheap damped Newton runs from random joint vectors
-inside the limits, then mink QP runs with hard limits (:mod:`kin.ik.numeric.differential_ik`,
-the first from the best configuration so far) each followed by a damped Newton polish, with
-``random_between`` random starts between two QP runs. Out of reach, the QP run comes first (it
-finds the closest configuration). Stopped by ``max_attempts`` without a solution: a last QP run
-from the best configuration tightens it.
+inside the limits (drawn from ``random_seed``), then mink QP runs with hard limits
+(:mod:`kin.ik.numeric.differential_ik`, ``qp_iterations`` steps, the first from the best
+configuration so far) each followed by a damped Newton polish, with ``random_between`` random
+starts between two QP runs, until the search has made ``max_attempts`` starts
+(:data:`~.search.MAX_ATTEMPTS`). Out of reach, the QP run comes first (it finds the closest
+configuration) and ``nearest + 3`` starts end it. Without a solution, a last QP run from the best
+configuration tightens it. The MuJoCo model of the QP runs is loaded on the first run, whatever
+the time left; the cap (:meth:`~.search.Search.expired`) is checked before each start and after
+each QP run, and stops the search (``timeout``).
 """
 
 from __future__ import annotations
 
-import time
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -26,22 +29,19 @@ if TYPE_CHECKING:
 RANDOM_RESTART = "random_restart"
 MINK_QP = "mink_qp"
 
-#: Expected time to import mink and MuJoCo and compile the robot's MuJoCo model [s] (about
-#: 0.17 s measured on a 2-core machine; counted with a margin).
-MINK_COST = 0.3
-
 
 def solve_with_restarts(ik: NumericContext, search: Search) -> IKResult | None:
-    """Random starts and mink QP runs until the deadline; the first verified result, else None.
+    """Random starts and mink QP runs; the first verified result, else None.
 
-    Stopped early by ``search.max_attempts``; seeded by ``search.random_seed`` (reproducible).
+    At least one start, then until ``search.max_attempts`` starts in all (or the cap); seeded by
+    ``search.random_seed`` (reproducible).
     """
     rng = np.random.default_rng(search.random_seed)
     max_attempts = search.max_attempts
     fallback = qp_runs = 0
     nearest_best = search.best
     out_of_reach = search.out_of_reach
-    while time.perf_counter() < search.deadline:
+    while not search.expired():
         k = fallback if out_of_reach else fallback - ik.random_starts
         use_qp = k >= 0 and k % (ik.random_between + 1) == 0
         fallback += 1
@@ -52,6 +52,8 @@ def solve_with_restarts(ik: NumericContext, search: Search) -> IKResult | None:
         if use_qp:
             qp_runs += 1
             q_next, steps = _qp_run(ik, search, q_next)
+            if search.expired():  # the cap came during the QP run: its end is not the work's
+                break
             outcome = search.newton(q_next, None)
             label = f"mink QP ({steps} steps) + damped Newton"
         else:
@@ -63,7 +65,7 @@ def solve_with_restarts(ik: NumericContext, search: Search) -> IKResult | None:
             return done
         if out_of_reach and search.attempts > ik.nearest + 2:
             break
-        if max_attempts is not None and search.attempts >= max_attempts:
+        if search.attempts >= max_attempts:
             break
     return None
 
@@ -74,6 +76,8 @@ def polish_best(ik: NumericContext, search: Search) -> IKResult | None:
     if best is None or search.best_from_qp or search.expired():
         return None
     q, _ = _qp_run(ik, search, best.q)
+    if search.expired():
+        return None
     outcome: NewtonOutcome = search.newton(q, None)
     return search.accept(outcome, MINK_QP, "mink QP from the best", from_qp=True)
 
@@ -81,12 +85,9 @@ def polish_best(ik: NumericContext, search: Search) -> IKResult | None:
 def _qp_run(ik: NumericContext, search: Search, q0: np.ndarray) -> tuple[np.ndarray, int]:
     """Run mink QP steps from ``q0``: the final joint vector and the steps taken.
 
-    The MuJoCo model is loaded on the first run when the call affords it (:data:`MINK_COST`
-    before its hard end, :meth:`Search.affords`); else ``q0`` is returned as it is (0 steps) and
-    the damped Newton run after it is one more start.
+    The MuJoCo model is loaded on the first run (about 0.2 s once per solver), whatever the time
+    left; the run stops at the cap too (the caller then asks :meth:`~.search.Search.expired`).
     """
-    if not ik.differential_loaded and not search.affords(MINK_COST):
-        return q0, 0
     differential = ik.differential
     differential.set_target(search.target)
     qp = differential.solve(

@@ -1,9 +1,16 @@
-"""The state one numeric solve shares between its stages: the target, the budget, the best attempt.
+"""The state one numeric solve shares between its stages: the target, the cap, the best attempt.
 
 Each stage of :class:`~kin.ik.numeric.solver.NumericIK` (closed form with a free joint, seed-table
 starts, random restarts, mink QP) runs damped Newton from its starts through :meth:`Search.newton`
 and hands every outcome to :meth:`Search.accept`, which returns the verified result or keeps the
 best failed attempt for :meth:`Search.failure`.
+
+Work, not time, decides the answer: the stages run a fixed number of starts
+(:data:`MAX_ATTEMPTS`, the solver's ``max_attempts``) of a fixed number of steps, from seeded
+draws, and load what they need (the seed table, the arm's reach, the MuJoCo model of the QP runs)
+whenever they need it. The time budget is only a cap, checked before each start and each load
+(:meth:`Search.expired`): a call that reaches it stops there with status ``timeout``. So the
+same call answers the same on a busy or an idle machine, or says ``timeout``.
 """
 
 from __future__ import annotations
@@ -17,9 +24,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..reach import REACH_COST, known_reach
 from ..result import IKResult, IKSolution
-from .damped_newton import LINALG_COST, NewtonOutcome, damped_newton, linalg_within
+from .damped_newton import NUMPY_LINALG, NewtonOutcome, damped_newton, linalg_within
 from .numeric_target import NumericTarget
 
 if TYPE_CHECKING:
@@ -32,18 +38,12 @@ RANK_WEIGHT = 0.1
 #: Pipeline name reported in :attr:`IKResult.solver`.
 PIPELINE = "numeric"
 
-#: The shortest hard end of a call [s] (see :func:`allowance`).
-MIN_ALLOWANCE = 0.02
-
-
-def allowance(timeout: float) -> float:
-    """How long a call with time budget ``timeout`` [s] may take at most, cold caches included.
-
-    ``max(2 timeout, 20 ms)``: the search stops at ``timeout``; loading a cache or a model that a
-    stage needs (the seed table, the MuJoCo model of the QP runs) counts too, and is done only
-    when its expected cost ends before this.
-    """
-    return max(2.0 * timeout, MIN_ALLOWANCE)
+#: Damped Newton starts of one solve (the caller's seed, seed-table samples, random starts and
+#: the polish of every mink QP run together, one QP run every ``random_between + 1`` starts): the
+#: work of a search that finds nothing, 50-150 ms on one core of a 2-core machine. On 450 full
+#: poses near the limits of humanoid7, Panda and puma560 (stages 1-3 alone) it finds 443, as the
+#: former 50 ms budget did with a QP run every 4 starts at four times the cost.
+MAX_ATTEMPTS = 200
 
 
 class Search:
@@ -54,14 +54,15 @@ class Search:
         target: The target (``position`` [m], ``rotation`` or None, ``posture`` or None).
         position_tol: Success tolerance on the position [m].
         rotation_tol: Success tolerance on the rotation [rad].
-        timeout: Time budget [s], counted from ``start``.
+        timeout: Cap on the time [s], counted from ``start``: checked before each start and each
+            load, it stops the search (status ``timeout``); it never shortens the work.
         start: ``time.perf_counter()`` when the call began (default: now).
-        table: The seed table, or None when this call could not afford to build it (the stages
-            that start from its samples are skipped).
+        table: The seed table, or None (the stages that start from its samples are skipped; the
+            solver always hands its table, built or loaded before the search).
         seed: The caller's seed as a checked joint vector [rad], or None: prepared once, read by
             every stage.
         random_seed: Seed of the random restarts.
-        max_attempts: Stop after this many starts even before the deadline, or None.
+        max_attempts: The work: damped Newton starts of the search (None: :data:`MAX_ATTEMPTS`).
     """
 
     __slots__ = (
@@ -81,7 +82,7 @@ class Search:
         "seed_bound",
         "seed_tried",
         "seed_scanned",
-        "allowance",
+        "capped",
         "table",
         "linalg",
         "seed",
@@ -105,18 +106,17 @@ class Search:
         self.ik = ik
         self.seed = seed
         self.random_seed = random_seed
-        self.max_attempts = max_attempts
+        self.max_attempts = MAX_ATTEMPTS if max_attempts is None else max_attempts
         self.target = target
         self.position_tol = position_tol
         self.rotation_tol = rotation_tol
         self.start = time.perf_counter() if start is None else start
         self.deadline = self.start + timeout
-        #: The hard end of the call: a cold resource (the MuJoCo model) is loaded only when its
-        #: cost fits before it (:func:`allowance`).
-        self.allowance = self.start + allowance(timeout)
+        #: Whether the cap stopped the search (:meth:`expired` found it reached).
+        self.capped = False
         self.table = table
-        #: The damped Newton steps' linear algebra: SciPy's LAPACK when loaded or affordable;
-        #: chosen at the first step (most calls end in the closed form without one).
+        #: The damped Newton steps' linear algebra, chosen at the first step by the target alone
+        #: (most calls end in the closed form without one).
         self.linalg: tuple | None = None
         self.best: NewtonOutcome | None = None
         self.best_from_qp = False
@@ -138,17 +138,27 @@ class Search:
         self.seed_scanned = False
 
     def expired(self) -> bool:
-        """Whether the time budget is spent."""
-        return time.perf_counter() > self.deadline
+        """Whether the cap is reached; then the search is stopped (:attr:`capped`: ``timeout``).
+
+        The stages ask before each start and each load, never inside one: a search the cap does
+        not stop does the same work, and gives the same answer, on any machine.
+        """
+        if time.perf_counter() > self.deadline:
+            self.capped = True
+        return self.capped
 
     def newton(
         self, q0: np.ndarray, patience: int | None, leash: float | None = None
     ) -> NewtonOutcome:
         """Damped Newton from ``q0`` (``patience``, ``leash``: see :func:`damped_newton`), counted."""
         ik, target = self.ik, self.target
-        if self.linalg is None:  # SciPy's import pays off only for steps the twin does not take
-            twin = ik.compiled_step and target.rotation is not None
-            self.linalg = linalg_within(not twin and self.affords(LINALG_COST))
+        if self.linalg is None:
+            # By the target, never the clock: a full pose the compiled twin does not step takes
+            # SciPy's LAPACK (imported now if need be: a load); positions (3 x 3 steps in Python)
+            # and the twin's rare declines NumPy's, the same in every call.
+            full = target.rotation is not None
+            twin = ik.compiled_step and full
+            self.linalg = linalg_within(True) if full and not twin else NUMPY_LINALG
         outcome = damped_newton(
             ik.search_model,
             ik.data,
@@ -222,29 +232,21 @@ class Search:
             method=method,
         )
 
-    def affords(self, cost: float) -> bool:
-        """Whether a load expected to take ``cost`` [s] ends before the call's hard end."""
-        return time.perf_counter() + cost <= self.allowance
-
     @property
     def out_of_reach(self) -> bool:
         """Whether the target is beyond the arm's reach (the largest distance found from its base).
 
-        When that distance is not known yet and the call cannot afford finding it
-        (:data:`~kin.ik.reach.REACH_COST`), the sure bound (links laid end to end) decides.
+        The reach is found on first use (:func:`kin.ik.reach.arm_reach`, a few milliseconds once
+        per robot), whatever the time left: the verdict depends on the target alone.
         """
         ik = self.ik
-        reach = known_reach(ik.robot)
-        if reach is None and self.affords(REACH_COST):
-            reach = ik.arm_reach
-        limit = ik.reach if reach is None else reach.maximum
-        return ik.distance_from_base(self.target.position) > limit
+        return ik.distance_from_base(self.target.position) > ik.arm_reach.maximum
 
     def failure(self) -> IKResult:
         """The failed result: the best configuration found, measured by the judge.
 
-        ``out_of_reach`` beyond the arm's reach; ``timeout`` when the deadline ended the starts;
-        ``not_found`` when they were all done (``max_attempts``).
+        ``timeout`` when the cap stopped the search (:attr:`capped`), whatever the target;
+        else ``out_of_reach`` beyond the arm's reach, ``not_found`` when the work was done.
         """
         ik, target, best = self.ik, self.target, self.best
         elapsed = time.perf_counter() - self.start
@@ -265,9 +267,21 @@ class Search:
             detail = f"best configuration misses by {verdict.position_error:.3g} m" + (
                 "" if target.position_only else f" and {verdict.rotation_error:.3g} rad"
             )
+        if self.capped:  # the cap stopped the starts, not their count
+            return IKResult(
+                False,
+                PIPELINE,
+                "timeout",
+                f"the time cap ({(self.deadline - self.start) * 1e3:.4g} ms) stopped the search "
+                f"after {self.attempts} of its {self.max_attempts} starts; {detail}: raise the "
+                "timeout (--timeout)",
+                (),
+                rejected,
+                iterations=self.iterations,
+                time=elapsed,
+            )
         if self.out_of_reach:
-            found = known_reach(ik.robot)
-            reach = ik.reach if found is None else found.maximum
+            reach = ik.arm_reach.maximum
             distance = ik.distance_from_base(target.position) - reach
             return IKResult(
                 False,
@@ -278,19 +292,6 @@ class Search:
                 (),
                 rejected,
                 distance_to_workspace=distance,
-                iterations=self.iterations,
-                time=elapsed,
-            )
-        worked = self.max_attempts is not None and self.attempts >= self.max_attempts
-        if self.expired() and not worked:  # the deadline stopped the starts, not their count
-            return IKResult(
-                False,
-                PIPELINE,
-                "timeout",
-                f"the time budget ({(self.deadline - self.start) * 1e3:.4g} ms) ended the search "
-                f"after {self.attempts} starts; {detail}: raise the timeout (--timeout)",
-                (),
-                rejected,
                 iterations=self.iterations,
                 time=elapsed,
             )
@@ -321,8 +322,13 @@ class Stage:
 
 
 def run_stages(stages: Sequence[Stage], ik: NumericContext, search: Search) -> IKResult:
-    """The first verified result of ``stages`` in order, else the search's failure."""
+    """The first verified result of ``stages`` in order, else the search's failure.
+
+    The cap is checked before each stage (:meth:`Search.expired`): a capped search runs no more.
+    """
     for stage in stages:
+        if search.expired():
+            break
         done = stage.run(ik, search)
         if done is not None:
             return done

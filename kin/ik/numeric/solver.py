@@ -1,6 +1,6 @@
 """Numeric IK of any DH table: a pipeline of small stages, inside the limits, verified by Pinocchio.
 
-The stages, in order, until one returns a verified solution or the time budget runs out:
+The stages, in order, until one returns a verified solution or the work is done (or the cap):
 
 0. :mod:`.free_joint`: the closed form with a free joint, for an arm that has one (humanoid7's
    :class:`~kin.ik.analytic.structure.SevenDof` structure; Panda's and xArm7's
@@ -12,10 +12,16 @@ The stages, in order, until one returns a verified solution or the time budget r
    when the closed form's branch with the seed's free joint is far from it).
 1. :mod:`.starts`: damped Newton from the seed-table samples nearest the target, after the
    caller's posture and seed for a redundant target (the answer stays near them).
-2. :mod:`.restarts`: random restarts and mink QP runs with hard limits, until the deadline; then
-   a last QP run from the best configuration.
+2. :mod:`.restarts`: random restarts and mink QP runs with hard limits, until the search has
+   made ``max_attempts`` starts (:data:`~.search.MAX_ATTEMPTS`); then a last QP run from the best
+   configuration.
 
-:class:`~.search.Search` carries the target, the budget and the best attempt between stages.
+Work, not time, decides the answer (:mod:`.search`): a fixed number of starts of a fixed number
+of steps from seeded draws, and the seed table built or loaded before the search. The timeout
+(:data:`DEFAULT_TIMEOUT`) is only a cap: a call that reaches it says ``timeout``. So a busy machine
+gives the answers of an idle one, or ``timeout``.
+
+:class:`~.search.Search` carries the target, the cap and the best attempt between stages.
 Pinocchio is the judge: a configuration is a solution only when Pinocchio's forward kinematics at
 it finds it within ``1e-5 m`` and ``1e-4 rad`` of the target and inside the limits. Otherwise the
 result says so (``success=False``) and carries the best configuration found and its errors. One
@@ -33,7 +39,6 @@ from __future__ import annotations
 import functools
 import logging
 import math
-import sys
 import threading
 import time
 
@@ -50,7 +55,6 @@ from ..partial_pose import PartialPoseIK
 from ..reach import Reach, arm_reach, reach_bound
 from ..result import IKResult
 from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
-from . import seed_cache
 from .damped_newton import COMPILED as COMPILED_STEP
 from .damped_newton import load_linalg
 from .differential_ik import DifferentialIK
@@ -65,14 +69,8 @@ from .free_joint import (
 )
 from .numeric_target import NumericTarget
 from .restarts import MINK_QP, RANDOM_RESTART, polish_best, solve_with_restarts
-from .search import PIPELINE, Search, Stage, allowance, run_stages
-from .seed_table import (
-    DEFAULT_CELL_SIZE,
-    DEFAULT_ROTATION_WEIGHT,
-    SeedTable,
-    build_seed_table,
-    seed_table_for,
-)
+from .search import MAX_ATTEMPTS, PIPELINE, Search, Stage, run_stages
+from .seed_table import SeedTable, build_seed_table, seed_table_for
 from .starts import SEED_TABLE, solve_from_starts
 
 logger = logging.getLogger(__name__)
@@ -80,14 +78,11 @@ logger = logging.getLogger(__name__)
 #: NumPy's (interned) float64 dtype: an identity check is the fast path's cheapest test.
 _FLOAT64 = np.dtype(np.float64)
 
-#: Default time budget of one solve [s].
-DEFAULT_TIMEOUT = 0.05
-
-#: Expected time to take a seed table from memory or the disk cache [s] (a few ms measured).
-TABLE_LOAD_COST = 0.015
-#: Expected time to build a seed table, per sample [s] (20 to 30 ms for 20,000 samples measured).
-#: A call that cannot afford it has it built in a background thread for the next calls.
-TABLE_BUILD_COST = 2e-6
+#: Default cap on the time of one solve [s], the partial poses' too: the work
+#: (:data:`~.search.MAX_ATTEMPTS` starts, about 0.1 s when nothing is found, plus the seed table
+#: and the MuJoCo model loaded once) decides the answer; a call the cap stops first says
+#: ``timeout``. Found answers return as soon as found (tens of microseconds to a few ms).
+DEFAULT_TIMEOUT = 2.0
 
 #: Default free-joint scan steps of the closed form [rad], coarse to fine (with or without the
 #: compiled twins: the same answers either way).
@@ -117,7 +112,12 @@ class NumericIK:
             that do not halve its error (None: always ``newton_iterations`` steps).
         random_starts: Random starts tried after the nearest ones and before the first mink
             QP run (a QP run costs as much as dozens of damped Newton starts).
-        random_between: Random starts between two mink QP runs.
+        max_attempts: The work of one solve: damped Newton starts in all (seeded draws), after
+            which a search without an answer says ``not_found``; a solve's own ``max_attempts``
+            overrides it.
+        random_between: Random starts between two mink QP runs (a QP run of ``qp_iterations``
+            steps costs as much as about 20 random starts and finds as many answers near the
+            limits).
         random_patience: ``patience`` of the random starts (a mink QP run is always followed
             by ``newton_iterations`` damped Newton steps).
         seed_radius: For a redundant target (more joints than it constrains), a caller's seed
@@ -155,8 +155,8 @@ class NumericIK:
             Python module). Both return the same joint vectors; the twin is faster. Damped
             Newton's steps take their compiled twin too (``_damped_step``; False: NumPy's, the
             same joint vectors to rounding).
-        prepare: Build (or load) the seed table now (False: on the first solve that can afford
-            it within its time budget, see :meth:`solve`).
+        prepare: Build (or load) the seed table now (False: on the first solve that needs it,
+            before its search, whatever its timeout: see :meth:`solve`).
     """
 
     #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
@@ -172,7 +172,8 @@ class NumericIK:
         qp_iterations: int = 25,
         patience: int | None = 3,
         random_starts: int = 10,
-        random_between: int = 3,
+        max_attempts: int = MAX_ATTEMPTS,
+        random_between: int = 19,
         random_patience: int | None = 3,
         seed_radius: float = 0.1,
         seed_reach: float = 0.45,
@@ -201,6 +202,7 @@ class NumericIK:
         self.qp_iterations = qp_iterations
         self.patience = patience
         self.random_starts = random_starts
+        self.max_attempts = max_attempts
         self.random_between = random_between
         self.random_patience = random_patience
         self.seed_radius = seed_radius
@@ -290,12 +292,11 @@ class NumericIK:
         # that share a solver get the answers one thread would).
         self._lock = threading.Lock()
         self._table_lock = threading.Lock()
-        self._table_thread: threading.Thread | None = None
         # The seed table (tens of milliseconds to build, a few to load) and, for an arm without
         # a free-joint closed form (whose targets all go to damped Newton), SciPy's LAPACK for
         # the steps (imported once per process) come with the solver, not inside a solve's
-        # budget. A solve that finds SciPy not loaded and cannot afford it uses NumPy's; with
-        # the steps' compiled twin (COMPILED_STEP) SciPy is not needed at all.
+        # cap. Without ``prepare`` the first solve that needs them loads them (the cap counts
+        # it); with the steps' compiled twin (COMPILED_STEP) SciPy is not needed at all.
         if prepare:
             _ = self.table
             if self.closed_form is None and not self.compiled_step:
@@ -310,7 +311,7 @@ class NumericIK:
     def table(self) -> SeedTable:
         """The seed table (built on first use; cached on disk per table, in memory per shipped robot)."""
         if self._table is None:
-            with self._table_lock:  # one build, whoever asks first (a solve or the background)
+            with self._table_lock:  # one build, whichever thread asks first
                 if self._table is None:
                     if _is_shipped(self.robot):
                         self._table = seed_table_for(self.robot.name, self.table_size)
@@ -336,12 +337,14 @@ class NumericIK:
         """The joint vectors of the :attr:`nearest` seed-table samples nearest a pose, (k, nq).
 
         Nearest in the table's pose embedding (position [m], rotation weighed); none when the
-        table cannot be had before ``end`` (a ``time.perf_counter()`` value: built or loaded in
-        the background then, :meth:`_affordable_table`) or the target's cell is empty.
+        target's cell is empty. The table is built or loaded now if need be, whatever ``end``
+        (the caller's cap, a ``time.perf_counter()`` value, which it checks itself after): the
+        samples depend on the target alone.
         """
-        table = self._affordable_table(end)
-        found = None if table is None else table.ranked(position, rotation)
-        if table is None or found is None or not found[0].size:
+        del end  # the work, not the time left, decides what is returned
+        table = self.table
+        found = table.ranked(position, rotation)
+        if found is None or not found[0].size:
             return np.empty((0, self.nq))
         candidates, distances = found
         order = np.argsort(distances, kind="stable")[: self.nearest]
@@ -383,17 +386,18 @@ class NumericIK:
                 iteration budget, for a redundant target when its tool is within
                 ``seed_radius``; else first when its tool pose is at least as near to the target
                 as the nearest seed-table sample's. A posture preference is always tried first.
-            timeout: Time budget [s] (None: :data:`DEFAULT_TIMEOUT`); the first verified
-                solution returns earlier. It bounds the whole call, cold caches included: the
-                call returns within ``max(2 timeout, 20 ms)``
-                (:func:`~kin.ik.numeric.search.allowance`); the seed table and the MuJoCo model
-                of the QP runs are loaded only when their expected cost fits in that, else the
-                stages that need them are skipped in this call.
+            timeout: Cap on the time [s] (None: :data:`DEFAULT_TIMEOUT`), cold loads included
+                (the seed table, the arm's reach, the MuJoCo model of the QP runs, SciPy's
+                LAPACK: each loaded when first needed, whatever the time left). Checked before
+                each stage, start and load, never inside one: a call that reaches it returns
+                ``timeout`` with the best configuration found (a call overruns it by at most one
+                start or load); else the answer is the one the work gives on any machine.
             random_seed: Seed of the random restarts (results are reproducible).
             position_tol: Success tolerance on the position [m].
             rotation_tol: Success tolerance on the rotation [rad].
-            max_attempts: Stop after this many starts even before the deadline (with a long
-                timeout, a result that does not depend on the machine's speed), or None.
+            max_attempts: The work: damped Newton starts in all, after which a search without
+                an answer says ``not_found`` (None: the solver's ``max_attempts``,
+                :data:`~.search.MAX_ATTEMPTS` by default).
 
         Returns:
             ``IKResult(solver="numeric")`` with ``method`` the stage that answered; on failure
@@ -479,7 +483,7 @@ class NumericIK:
             if distance > self.reach:  # surely unreachable: no search
                 return self._beyond_reach(target, distance, start)
             seed_vector = None if seed is None else self.seed_vector(seed)  # checked once
-            table = self._affordable_table(start + allowance(budget))
+            table = self.table  # before the search, whatever the cap: work decides
             search = Search(
                 self,
                 target,
@@ -490,55 +494,10 @@ class NumericIK:
                 table,
                 seed_vector,
                 random_seed,
-                max_attempts,
+                self.max_attempts if max_attempts is None else max_attempts,
             )
             search.seed_scanned = scanned
             return run_stages(self.stages, self, search)
-
-    def _affordable_table(self, end: float) -> SeedTable | None:
-        """The seed table, loaded or built now when that ends before ``end``, else None.
-
-        Expected costs: :data:`TABLE_LOAD_COST` from memory or the disk cache,
-        :data:`TABLE_BUILD_COST` per sample to build it.
-        """
-        if self._table is not None:
-            return self._table
-        building = self._table_thread
-        if building is not None:  # being built in the background: wait while the call affords it
-            building.join(max(0.0, end - time.perf_counter() - 2e-3))
-            return self._table
-        cached = seed_cache.exists(
-            self.robot, self.table_size, DEFAULT_ROTATION_WEIGHT, DEFAULT_CELL_SIZE
-        )
-        cost = TABLE_LOAD_COST if cached else TABLE_BUILD_COST * self.table_size
-        if time.perf_counter() + cost > end:
-            logger.info(
-                "%s: seed table built in the background (no time in this call)", self.robot.name
-            )
-            self._table_thread = threading.Thread(
-                target=self._build_in_background,
-                name=f"seed table of {self.robot.name}",
-                daemon=True,
-            )
-            self._table_thread.start()
-            return None
-        return self.table
-
-    def _build_in_background(self) -> None:
-        """Build :attr:`table` in a background thread, handing the interpreter lock back often.
-
-        While it runs, the interpreter's thread switch interval is 0.5 ms instead of 5 ms, so
-        that a solve waiting for the lock (with a budget of a few milliseconds) waits little.
-        """
-        interval = sys.getswitchinterval()
-        sys.setswitchinterval(min(interval, 5e-4))
-        try:
-            _ = self.table
-        except Exception:  # noqa: BLE001 - a later solve builds it again and reports
-            logger.info("%s: background seed table failed", self.robot.name, exc_info=True)
-            self._table_thread = None
-        finally:
-            sys.setswitchinterval(interval)
 
     def _beyond_reach(self, target: NumericTarget, distance: float, start: float) -> IKResult:
         """``out_of_reach`` for a target farther than :attr:`reach` from the base (no search)."""

@@ -39,17 +39,18 @@ DAMPED_NEWTON = "damped_newton"
 def solve_from_starts(ik: NumericContext, search: Search) -> IKResult | None:
     """Damped Newton from each start in turn; the first verified result, else None.
 
-    Without a seed table (the call could not afford it) only the posture and the caller's seed.
+    Without a seed table only the posture and the caller's seed. The cap is checked before each
+    start (:meth:`~.search.Search.expired`).
     """
     for label, q0, index, patience, leash in seed_table_starts(ik, search):
+        if search.expired():
+            break
         outcome = search.newton(q0, patience, leash)
         method = SEED_TABLE if index >= 0 else DAMPED_NEWTON
         message = f"damped Newton from {label}, {outcome.iterations} steps"
         done = search.accept(outcome, method, message)
         if done is not None:
             return done
-        if search.expired():
-            break
     return None
 
 
