@@ -19,7 +19,7 @@ and the --rpy/--pitch/--roll angles in radians, degrees with --deg. --json and -
 SI (q in rad / m as "q_units" says, errors in m and rad, time in s).
 
 --stdin reads one JSON target per line ({"target": [x, y, z], "rpy": [r, p, y]} or "quat",
-"mask", "axis", "tool_axis", "pitch", "roll", "position_only", "seed_q"; in --unit / --deg) and writes exactly one JSON answer
+"mask", "axis", "tool_axis", "pitch", "roll", "position_only", "seed_q", "all"; in --unit / --deg) and writes exactly one JSON answer
 per input line, in order, each with its "line" number ({"error": ...} for a bad line,
 {"skipped": ...} for a blank one).
 
@@ -28,6 +28,11 @@ joints only (the names printed; each mimic joint follows its leader), the solver
 squares on the coupled Jacobian (a pose without --mask, or a position), and every answer is judged
 by Pinocchio's model of the original URDF with mimic joints; a search that ends without an answer
 says "not_found" (or "timeout"), not "out_of_reach".
+
+--all prints every solution, also those outside the limits; on a 7R arm (Panda, xArm7,
+humanoid7, a 7R URDF) every branch of its free-joint closed form at 32 values evenly spaced over
+the free joint's range, the seed's and the answer's, nearest the seed first ("all": true on a
+--stdin line does the same for that line).
 
 Exit 0 when a valid solution exists, 1 when none (success false), 2 for bad input; with --stdin,
 once the input ends: 1 when any line had an error or no valid solution, else 0.
@@ -116,7 +121,12 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         nargs="+",
         help="current joint vector: revolute [rad or deg], prismatic [--unit] (default zeros)",
     )
-    add("--all", action="store_true", help="print every solution, also those outside the limits")
+    add(
+        "--all",
+        action="store_true",
+        help="print every solution, also those outside the limits; on a 7R arm every branch at "
+        "32 values of its free joint over its range, the seed's and the answer's",
+    )
     add("--json", action="store_true", help="print one JSON object, SI units")
     add("--solver", choices=("mink", "nr"), help="force the numeric solver: mink, or nr (paper's)")
     add(
@@ -173,7 +183,11 @@ def _run(args: argparse.Namespace) -> int:
         solver = choose_solver(robot, args.solver)
     else:  # a URDF chain with mimic joints
         solver = _mimic_solver(robot, args.solver)
-    solve = solve_function(solver, None if args.timeout is None else args.timeout / 1e3)
+    timeout = None if args.timeout is None else args.timeout / 1e3
+    solve = solve_function(solver, timeout)
+    solve_all = _every_branch(solver, timeout)
+    if args.all and solve_all is not None:
+        solve = solve_all
     kinds = None if isinstance(solver, NewtonRaphsonSolver) else target_kinds(solver)
     length = length_scale(args.unit)
     angle = angle_scale(args.deg)
@@ -192,6 +206,7 @@ def _run(args: argparse.Namespace) -> int:
             args.all,
             batch=_batch_stage(robot, solver) if isinstance(robot, RobotModel) else None,
             pipeline=getattr(solver, "name", ""),
+            solve_all=solve_all,
         )
         return stream.run(sys.stdin, sys.stdout)
     target, given = build_target(
@@ -227,6 +242,24 @@ def _run(args: argparse.Namespace) -> int:
         if note is not None:
             print(note)
     return 0 if result.success else EXIT_NO_SOLUTION
+
+
+def _every_branch(solver: object, timeout: float | None) -> Callable[[Any, Any], IKResult] | None:
+    """``solve(target, seed)`` asking for every branch (``all_branches``), or None.
+
+    None when the solver has no such option (a closed form gives every branch anyway).
+    """
+    import inspect
+
+    solve = getattr(solver, "solve", None)
+    try:
+        takes = solve is not None and "all_branches" in inspect.signature(solve).parameters
+    except (TypeError, ValueError):
+        takes = False
+    if not takes:
+        return None
+    assert solve is not None
+    return lambda target, seed: solve(target, seed, timeout=timeout, all_branches=True)
 
 
 def _mimic_solver(arm: MimicArm, forced: str | None) -> MimicSolver:

@@ -2,8 +2,9 @@
 
 Start-up (imports, model, solver, seed table) is paid once; then each line costs one solve. An
 input line is an object: ``"target": [x, y, z]`` [--unit], optionally one of ``"rpy"``,
-``"quat"``, ``"pitch"`` (with ``"roll"``) [rad, or deg with --deg], ``"position_only"``, and
-``"seed_q"`` (revolute [rad or deg], prismatic [--unit]; default: the command's --seed-q).
+``"quat"``, ``"pitch"`` (with ``"roll"``) [rad, or deg with --deg], ``"position_only"``,
+``"seed_q"`` (revolute [rad or deg], prismatic [--unit]; default: the command's --seed-q) and
+``"all": true`` (the answer of --all for this line: every branch of a 7R arm, the rejected kept).
 
 An answer is :meth:`kin.ik.IKResult.to_dict` (SI: q in rad / m, errors in m and rad, time in s)
 with ``"line"`` (the 1-based input line number) and ``"q_units"``; ``"rejected"`` (solutions
@@ -70,6 +71,7 @@ KEYS = (
     "roll",
     "position_only",
     "seed_q",
+    "all",
 )
 _KEYS = frozenset(KEYS)
 try:  # the plainest lines read and answered in C (kin/commands/_plain_lines.c), if built
@@ -119,6 +121,8 @@ class StreamSolver:
             (:func:`kin.ik.batch_solve.start_free_joint_answers`, NaN rows where it gives none:
             those lines are solved one by one), or None.
         pipeline: The solver's name, as the answers of ``batch`` report it.
+        solve_all: ``solve(target, seed)`` asking for every branch (a line's ``"all": true``),
+            or None (the solver has no such option: ``solve``, the rejected kept).
     """
 
     robot: str
@@ -132,6 +136,7 @@ class StreamSolver:
     all_solutions: bool = False
     batch: Callable[..., Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]]] | None = None
     pipeline: str = "numeric"
+    solve_all: Callable[[Target, np.ndarray | None], IKResult] | None = None
 
     def answer(self, line: str | bytes) -> dict[str, Any]:
         """The answer to one input line.
@@ -139,11 +144,16 @@ class StreamSolver:
         Raises:
             KinError, ValueError: A bad line (not JSON, unknown key, bad values, wrong kind).
         """
-        target, seed = self.request(line)
-        return result_record(self.solve(target, seed), target, self.all_solutions)
+        target, seed, every = self.request(line)
+        solve = self._solver(every)
+        return result_record(solve(target, seed), target, self.all_solutions or every)
 
-    def request(self, line: str | bytes) -> tuple[Target, np.ndarray | None]:
-        """The target and seed [rad, m] of one input line.
+    def _solver(self, every: bool) -> Callable[[Target, np.ndarray | None], IKResult]:
+        """The solve of a line: with every branch when it asks (``"all": true``) and can."""
+        return self.solve_all if every and self.solve_all is not None else self.solve
+
+    def request(self, line: str | bytes) -> tuple[Target, np.ndarray | None, bool]:
+        """The target, seed [rad, m] and ``"all"`` (every branch asked) of one input line.
 
         Raises:
             KinError, ValueError: A bad line (not JSON, unknown key, bad values, wrong kind).
@@ -163,6 +173,9 @@ class StreamSolver:
         position_only = request.get("position_only", False)
         if position_only is not True and position_only is not False:
             raise ValueError(f'"position_only" must be true or false, got {quoted(position_only)}')
+        every = request.get("all", False)
+        if every is not True and every is not False:
+            raise ValueError(f'"all" must be true or false, got {quoted(every)}')
         target, given = build_target(
             request["target"],
             rpy=request.get("rpy"),
@@ -184,7 +197,7 @@ class StreamSolver:
             if not isinstance(seed_q, list):
                 raise ValueError(f'"seed_q" must be a list of numbers, got {quoted(seed_q)}')
             seed = self.units.to_si(seed_q, '"seed_q"')
-        return target, seed
+        return target, seed, every
 
     def run(self, source: TextIO | Iterable[str], out: TextIO) -> int:
         """Answer every line of ``source`` on ``out``, one JSON line each.
@@ -298,15 +311,15 @@ class StreamSolver:
             try:
                 with warnings.catch_warnings(record=True) as caught:
                     warnings.simplefilter("always")
-                    target, seed = self.request(line)
+                    target, seed, every = self.request(line)
                 notes[index] = [" ".join(str(w.message).split()) for w in caught]
             except Exception as err:  # noqa: BLE001 - one line fails, never the stream
                 records[index] = _error_record(number, err)
                 continue
-            if self._batched(target):
+            if self._batched(target) and not every:
                 together.append((index, target, seed))
             else:
-                records[index] = self._solved(number, target, seed)
+                records[index] = self._solved(number, target, seed, every)
         if together:
             for index, solved in self._solved_together(together, before).items():
                 records[index] = solved
@@ -519,10 +532,16 @@ class StreamSolver:
         cls = target.__class__
         return cls is PositionTarget or (cls is PoseTarget and target.mask is None)  # type: ignore[union-attr]
 
-    def _solved(self, number: int, target: Target, seed: np.ndarray | None) -> dict[str, Any]:
-        """The answer of one target by the solver (an error record if it raises)."""
+    def _solved(
+        self, number: int, target: Target, seed: np.ndarray | None, every: bool = False
+    ) -> dict[str, Any]:
+        """The answer of one target by the solver (an error record if it raises).
+
+        ``every``: the line asks for every branch (``"all": true``).
+        """
         try:
-            return result_record(self.solve(target, seed), target, self.all_solutions)
+            solve = self._solver(every)
+            return result_record(solve(target, seed), target, self.all_solutions or every)
         except Exception as err:  # noqa: BLE001 - one line fails, never the stream
             return _error_record(number, err)
 

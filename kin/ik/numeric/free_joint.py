@@ -126,10 +126,21 @@ class _ReversedJoints:
         self._directions = directions
         self.compiled_twin = closed.compiled_twin
         self.costly = bool(getattr(closed, "costly", False))
+        #: The free joint (0-based), the forward form's.
+        self.free: int = getattr(closed, "free", -1)
 
     def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> Any:
         """The forward closed form's :meth:`FreeJointClosedForm.prepare` (the same target)."""
         return self._closed.prepare(position, rotation)
+
+    def branches_at(
+        self, position: np.ndarray, rotation: np.ndarray | None, values: np.ndarray
+    ) -> np.ndarray | None:
+        """The forward form's ``branches_at`` in the arm's q: free-joint ``values`` (G,) [rad] in."""
+        found = self._closed.branches_at(  # type: ignore[attr-defined]
+            position, rotation, values * self._directions[self.free]
+        )
+        return None if found is None else found * self._directions
 
     def first(
         self, target: Any, starts: np.ndarray, out: np.ndarray, step: float, compiled: bool

@@ -372,6 +372,7 @@ class NumericIK:
         position_tol: float = POSITION_TOLERANCE,
         rotation_tol: float = ROTATION_TOLERANCE,
         max_attempts: int | None = None,
+        all_branches: bool = False,
     ) -> IKResult:
         """Find a joint vector inside the limits that puts the tool on ``target``.
 
@@ -398,6 +399,9 @@ class NumericIK:
             max_attempts: The work: damped Newton starts in all, after which a search without
                 an answer says ``not_found`` (None: the solver's ``max_attempts``,
                 :data:`~.search.MAX_ATTEMPTS` by default).
+            all_branches: On an arm with a free-joint closed form (7R) and a full pose, every
+                verified branch at a grid of free-joint values, the seed's and the answer's,
+                nearest the seed first (:mod:`.all_branches`); else the usual answer.
 
         Returns:
             ``IKResult(solver="numeric")`` with ``method`` the stage that answered; on failure
@@ -408,6 +412,19 @@ class NumericIK:
             TargetError: A target of a kind the arm cannot take (a pitch target; a full pose on
                 an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
         """
+        if all_branches:
+            from .all_branches import solve_all_branches
+
+            return solve_all_branches(
+                self,
+                target,
+                seed,
+                timeout=timeout,
+                random_seed=random_seed,
+                position_tol=position_tol,
+                rotation_tol=rotation_tol,
+                max_attempts=max_attempts,
+            )
         start = time.perf_counter()
         seed = seed_inside(self.robot, seed)
         cls = target.__class__

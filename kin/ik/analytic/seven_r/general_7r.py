@@ -180,6 +180,18 @@ class General7RIK:
         out[..., self.free] = np.asarray(values, dtype=float)[:, None]
         return out
 
+    def branches_at(
+        self, position: np.ndarray, rotation: np.ndarray | None, values: np.ndarray
+    ) -> np.ndarray | None:
+        """Every branch (G, B, 7) [rad] of a tool pose at free-joint values (G,), NaN rows.
+
+        Limits ignored; None for a position (full poses only).
+        """
+        target = self.prepare(position, rotation)
+        if target is None:
+            return None
+        return self.branches(np.broadcast_to(target, (values.shape[0], 4, 4)), values)
+
     def _nearest_inside(self, branches: np.ndarray, start: np.ndarray) -> np.ndarray | None:
         """The branch (7,) inside the limits nearest ``start``, or None.
 

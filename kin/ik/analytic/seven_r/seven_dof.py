@@ -61,6 +61,8 @@ class SevenDofIK:
 
     #: Whether the compiled twin of :meth:`first` (``_closed7``) is built.
     compiled_twin: ClassVar[bool] = COMPILED
+    #: The free joint (0-based): joint 1.
+    free: ClassVar[int] = 0
 
     def __init__(self, structure: SevenDof, lower: Sequence[float], upper: Sequence[float]):
         self.structure = structure
@@ -89,6 +91,7 @@ class SevenDofIK:
         # Joint-7 axis direction (frame 7 z of M = R47 Rx(alpha7)^T) seen in frame 7.
         self._axis7 = (0.0, s[6], c[6])
         self._g = (0.0, -s[5], c[5])  # Rx(alpha6) e_z
+        self._unlimited: SevenDofIK | None = None
 
     def c_fields(self) -> dict[str, tuple[float, ...]]:
         """The compiled twin's parameters by field name (its ``CLOSED7_PARAMS``; lengths [m])."""
@@ -174,6 +177,27 @@ class SevenDofIK:
             r0 = self._base_r.T @ rotation @ self._tool_r.T
             p0 = self._base_r.T @ (position - self._base_t) - r0 @ self._tool_t
         return 0, np.concatenate((p0, r0.ravel()), dtype=float)
+
+    def branches_at(
+        self, position: np.ndarray, rotation: np.ndarray | None, values: np.ndarray
+    ) -> np.ndarray | None:
+        """Every branch (G, 8, 7) [rad] of a tool pose at joint-1 values (G,), limits ignored.
+
+        :meth:`pose` at each value, of the same arm without limits (joints 2-7 in [-pi, pi]),
+        NaN rows where there is none; None for a position (its wrist is free too).
+        """
+        if rotation is None:
+            return None
+        if self._unlimited is None:
+            turn = [-math.pi] * 7, [math.pi] * 7
+            self._unlimited = SevenDofIK(self.structure, *turn)
+        frame = self.pose_frame(position, rotation)
+        out = np.full((values.shape[0], 8, 7), np.nan)
+        for k, q1 in enumerate(values.tolist()):
+            found = self._unlimited.pose(q1, frame)
+            if found:
+                out[k, : len(found)] = found
+        return out
 
     def first_many(
         self,

@@ -81,6 +81,8 @@ class SphericalShoulder7RIK(Shoulder7Batch):
 
     #: Whether the compiled twin of :meth:`first` (``_shoulder7``) is built.
     compiled_twin: ClassVar[bool] = COMPILED
+    #: The free joint (0-based): joint 7.
+    free: ClassVar[int] = 6
 
     def __init__(
         self, structure: SphericalShoulder7R, lower: Sequence[float], upper: Sequence[float]
@@ -340,6 +342,21 @@ class SphericalShoulder7RIK(Shoulder7Batch):
         for slot, q in self.branches(target, float(q7), _wrap_joint):
             out[slot] = q
         return out
+
+    def branches_at(
+        self, position: np.ndarray, rotation: np.ndarray | None, values: np.ndarray
+    ) -> np.ndarray | None:
+        """Every branch (G, 8, 7) [rad] of a tool pose at joint-7 values (G,), limits ignored.
+
+        :meth:`solve_batch` of the pose repeated (NaN rows where there is none); None for a
+        position (not handled).
+        """
+        if rotation is None:
+            return None
+        n = values.shape[0]
+        return self.solve_batch(
+            np.broadcast_to(position, (n, 3)), np.broadcast_to(rotation, (n, 3, 3)), values
+        )
 
     def first(
         self,

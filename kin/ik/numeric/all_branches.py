@@ -1,0 +1,185 @@
+"""``NumericIK.solve(..., all_branches=True)``: the redundancy of a 7R arm exposed, branch by branch.
+
+The usual answer is solved first (:meth:`~.solver.NumericIK.solve`, unchanged). Then, on an arm
+with a free-joint closed form (:mod:`.free_joint`: Panda, FR3, xArm7, humanoid7, iiwa, Gen3, any
+7R URDF it fits) and a full-pose target, every branch of the closed form at a stated set of
+free-joint values:
+
+- :data:`~kin.ik.analytic.seven_r.branches7.GRID` values evenly spaced over the free joint's
+  range (:func:`~kin.ik.analytic.seven_r.branches7.free_grid`: the midpoints of equal cells, over
+  one turn at most, the other turns as copies);
+- the seed's value (the seed moved inside the limits first) and the usual answer's.
+
+Each branch goes into the limits in every ``2 pi`` copy of its joints
+(:func:`~kin.ik.analytic.seven_r.branches7.windings`) and is measured by the judge's batched
+twin (:func:`kin.batch_forward_kinematics` of the robot's table, :func:`~kin.ik.judge.batch_pose_errors`;
+limits without tolerance): kept within :data:`BRANCH_TOLERANCE` (or the caller's tolerances,
+when tighter). A branch off by less than :data:`NEAR_MISS` (a near-double root, an idealised
+table's answer) is first polished on the true chain (:func:`~kin.ik.analytic.idealised.polish`).
+Branches equal modulo a turn within ``DISTINCT`` are one; the rest are returned nearest the seed
+first (Euclidean distance in joint space). Branches on target with no copy inside the limits are
+the result's ``rejected``.
+
+Any other arm or target (a position, a mask, an axis) gets the usual answer.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from kin.batch_fk import batch_forward_kinematics
+from kin.configuration import default_seed, seed_inside
+
+from ..analytic.idealised import polish
+from ..analytic.seven_r.branches7 import GRID, branches_over, distinct, free_grid, windings
+from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, batch_pose_errors
+from ..result import IKResult, IKSolution
+from ..target import PoseTarget
+from .free_joint import METHOD
+from .numeric_target import NumericTarget
+
+if TYPE_CHECKING:
+    from .solver import NumericIK
+
+#: Largest pose error of a returned branch [m] and [rad] (the closed forms' rounding is far below).
+BRANCH_TOLERANCE = 1e-9
+#: A branch off by less than this [m] / [rad] is polished on the true chain before it is judged.
+NEAR_MISS = 1e-3
+
+
+def solve_all_branches(
+    ik: NumericIK,
+    target: object,
+    seed: npt.ArrayLike | None = None,
+    *,
+    free_values: npt.ArrayLike | None = None,
+    position_tol: float = POSITION_TOLERANCE,
+    rotation_tol: float = ROTATION_TOLERANCE,
+    **options: Any,
+) -> IKResult:
+    """Every verified branch of a full-pose target at the stated free-joint values (see the module).
+
+    Args:
+        ik: The solver.
+        target: Tool target (a :class:`~kin.ik.PoseTarget` without mask or a
+            :class:`NumericTarget` with a rotation gets every branch; any other the usual answer).
+        seed: Start joint vector [rad], moved into the limits; None: the solver's default.
+        free_values: The free-joint values [rad] instead of the grid, the seed's and the usual
+            answer's (the peer comparison asks at the values of ssik's answers).
+        position_tol: Success tolerance of the usual answer [m].
+        rotation_tol: Success tolerance of the usual answer [rad].
+        **options: The rest of :meth:`NumericIK.solve`'s options (``timeout``, ...).
+
+    Returns:
+        ``IKResult`` whose ``solutions`` are the branches, nearest the seed first; the usual
+        answer's result when the arm or target has none (or none verifies).
+    """
+    start = time.perf_counter()
+    result = ik.solve(target, seed, position_tol=position_tol, rotation_tol=rotation_tol, **options)
+    closed = ik.closed_form
+    rotation = getattr(target, "rotation", None)
+    full_pose = (target.__class__ is PoseTarget and target.mask is None) or isinstance(  # type: ignore[attr-defined]
+        target, NumericTarget
+    )
+    if closed is None or not hasattr(closed, "branches_at") or rotation is None or not full_pose:
+        return result
+    if result.status == "invalid_target":
+        return result
+    free = int(closed.free)  # type: ignore[attr-defined]
+    near = seed_inside(ik.robot, default_seed(ik.robot) if seed is None else ik.seed_vector(seed))
+    near = np.asarray(near, dtype=float)
+    if free_values is None:
+        values = [free_grid(float(ik.lower[free]), float(ik.upper[free]), GRID), near[free, None]]
+        values += [np.array([s.q[free]]) for s in result.solutions]
+        grid = np.unique(np.concatenate(values))
+    else:
+        grid = np.unique(np.asarray(free_values, dtype=float))
+    position = np.asarray(target.position, dtype=float)  # type: ignore[attr-defined]
+    rotation = np.asarray(rotation, dtype=float)
+    found = branches_over(closed, position, rotation, grid)  # type: ignore[arg-type]
+    if found is None:
+        return result
+    tolerances = (min(BRANCH_TOLERANCE, position_tol), min(BRANCH_TOLERANCE, rotation_tol))
+    on_target = distinct(_on_target(ik, found, position, rotation, tolerances))
+    inside, source = windings(on_target, ik.lower, ik.upper)
+    errors = _errors(ik, inside, position, rotation)
+    keep = (errors[0] < tolerances[0]) & (errors[1] < tolerances[1])
+    keep &= (inside >= ik.lower).all(axis=1) & (inside <= ik.upper).all(axis=1)
+    if not keep.any():
+        return result
+    rows = inside[keep]
+    rows = rows[np.argsort(((rows - near) ** 2).sum(axis=1), kind="stable")]
+    solutions = _solutions(ik, rows, position, rotation, True)
+    outside = np.setdiff1d(np.arange(on_target.shape[0]), source)
+    rejected = _solutions(ik, on_target[outside], position, rotation, False)
+    return IKResult(
+        True,
+        result.solver,
+        "ok",
+        f"{len(solutions)} branches at {grid.size} values of joint {free + 1} (a grid of "
+        f"{GRID} over its range, the seed's, the answer's), each verified"
+        if free_values is None
+        else f"{len(solutions)} branches at {grid.size} given values of joint {free + 1}",
+        solutions,
+        rejected,
+        iterations=result.iterations,
+        time=time.perf_counter() - start,
+        method=METHOD,
+    )
+
+
+def _errors(
+    ik: NumericIK, rows: np.ndarray, position: np.ndarray, rotation: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Position [m] and rotation [rad] errors of joint vectors (M, 7): the judge's batched twin."""
+    poses = batch_forward_kinematics(ik.robot.table, rows)
+    count = rows.shape[0]
+    position_error, rotation_error = batch_pose_errors(
+        poses, np.broadcast_to(position, (count, 3)), np.broadcast_to(rotation, (count, 3, 3))
+    )
+    assert rotation_error is not None
+    return position_error, rotation_error
+
+
+def _on_target(
+    ik: NumericIK,
+    rows: np.ndarray,
+    position: np.ndarray,
+    rotation: np.ndarray,
+    tolerances: tuple[float, float],
+) -> np.ndarray:
+    """The rows (M, 7) on target within ``tolerances``, near misses polished on the true chain."""
+    if not rows.shape[0]:
+        return rows
+    position_error, rotation_error = _errors(ik, rows, position, rotation)
+    exact = (position_error < tolerances[0]) & (rotation_error < tolerances[1])
+    near = ~exact & (position_error < NEAR_MISS) & (rotation_error < NEAR_MISS)
+    if not near.any():
+        return rows[exact]
+    judge = ik.judge
+    polished = np.array(
+        [
+            polish(judge.model, judge.data, judge.frame_id, q, position, rotation, ik.compiled_step)
+            for q in rows[near]
+        ]
+    )
+    position_error, rotation_error = _errors(ik, polished, position, rotation)
+    good = (position_error < tolerances[0]) & (rotation_error < tolerances[1])
+    return np.concatenate((rows[exact], polished[good]))
+
+
+def _solutions(
+    ik: NumericIK, rows: np.ndarray, position: np.ndarray, rotation: np.ndarray, inside: bool
+) -> tuple[IKSolution, ...]:
+    """Joint vectors (M, 7) [rad] as solutions, with their errors and ``within_limits=inside``."""
+    if not rows.shape[0]:
+        return ()
+    position_error, rotation_error = _errors(ik, rows, position, rotation)
+    return tuple(
+        IKSolution(q, "", inside, float(p), float(r))
+        for q, p, r in zip(rows.copy(), position_error.tolist(), rotation_error.tolist())
+    )
