@@ -509,6 +509,8 @@ class PartialPoseIK:
                             raw[k], [f"{label}, {name}" for label in labels], seed, True
                         )
                 return
+            if isinstance(target, AxisTarget):
+                return  # a structure of positions alone: no branch knows the axis
             if PoseTarget in kinds:
                 raw = np.asarray(structure.solve(target.position, target.rotation), dtype=float)
             elif PositionTarget in kinds:
