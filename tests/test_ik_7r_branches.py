@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from dh_reference import fk_frames, load_reference, rotation_angle
+from scripts_helper import load_script
 
 from kin import load_robot
 from kin.commands import ik
@@ -197,49 +198,9 @@ def _rpy(rotation: np.ndarray) -> list[float]:
 
 #: Our arm (a shipped name, or None: ssik's chain written as a URDF) -> ssik's prebuilt module.
 PEERS = {
-    "panda": ("panda", "franka.panda_ik"),
-    "fr3": (None, "franka.fr3_ik"),
-    "xarm7": ("xarm7", "ufactory.xarm7_ik"),
+    **load_script("bench_ik_7r_branches").ARMS,
     "xarm7-chain": (None, "ufactory.xarm7_ik"),  # rounded: an idealised closed form, polished
-    "gen3": (None, "kinova.gen3_ik"),
-    "iiwa14": (None, "kuka.iiwa14_ik"),
 }
-
-
-def ssik_urdf(module, name: str) -> str:
-    """ssik's baked chain of an arm (joint origins, axes, limits, tool) as URDF text."""
-    from scipy.spatial.transform import Rotation
-
-    def origin(T: np.ndarray) -> str:
-        xyz = " ".join(repr(float(v)) for v in T[:3, 3])
-        rpy = " ".join(repr(float(v)) for v in Rotation.from_matrix(T[:3, :3]).as_euler("xyz"))
-        return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
-
-    lines = [f'<robot name="{name}">', f'<link name="{module.BASE_LINK}"/>']
-    parent, before = module.BASE_LINK, np.eye(4)
-    for i, joint in enumerate(module._JOINT_NAMES):
-        child = f"{name}_link{i + 1}"
-        limits = module._JOINT_LIMITS[i]
-        kind = "continuous" if limits is None else "revolute"
-        limit = (
-            ""
-            if limits is None
-            else (f'<limit lower="{limits[0]!r}" upper="{limits[1]!r}" effort="1" velocity="1"/>')
-        )
-        axis = " ".join(repr(float(v)) for v in module._JOINT_AXES[i])
-        lines += [
-            f'<link name="{child}"/>',
-            f'<joint name="{joint}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
-            f'{origin(before @ module._JOINT_T_LEFTS[i])}<axis xyz="{axis}"/>{limit}</joint>',
-        ]
-        parent, before = child, module._JOINT_T_RIGHTS[i]
-    lines += [
-        f'<link name="{module.EE_LINK}"/>',
-        f'<joint name="tool" type="fixed"><parent link="{parent}"/><child link="{module.EE_LINK}"/>'
-        f"{origin(before)}</joint>",
-        "</robot>",
-    ]
-    return "\n".join(lines) + "\n"
 
 
 @pytest.mark.peer
@@ -251,7 +212,9 @@ def test_at_least_ssik_branches_at_its_free_joint_values(arm, tmp_path):
     module = importlib.import_module(f"ssik.prebuilt.{module_name}")
     if shipped is None:  # its chain as ssik has it: ssik's FK is the model's
         path = tmp_path / f"{arm}.urdf"
-        path.write_text(ssik_urdf(module, arm), encoding="utf-8")
+        path.write_text(
+            load_script("bench_ik_7r_branches").ssik_urdf(module, arm), encoding="utf-8"
+        )
         robot = load_robot(path)
         fk = lambda rows: np.array([module.fk(r) for r in rows])  # noqa: E731
     else:  # ours (within 1e-5 of ssik's chain): the NumPy DH product of its table
@@ -274,3 +237,25 @@ def test_at_least_ssik_branches_at_its_free_joint_values(arm, tmp_path):
         assert len(ours.solutions) >= len(theirs), f"{arm=} {len(ours.solutions)=} {len(theirs)=}"
         counted += 1
     assert counted >= TARGETS // 2, f"{arm=}: ssik answered {counted} of {TARGETS}"
+
+
+def test_bench_refuses_bad_arguments_with_one_line(capsys):
+    """--targets 0 and an arm it does not know: exit 2, one line naming the option."""
+    from scripts_helper import exit_code
+
+    bench = load_script("bench_ik_7r_branches")
+    for argv, needle in ((["--targets", "0"], "--targets"), (["--arms", "ur5"], "--arms")):
+        assert exit_code(bench.main, argv) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and needle in err, err
+
+
+@pytest.mark.peer
+def test_bench_prints_one_row_per_arm(capsys):
+    """Two Panda targets: the header and one row whose counts and ratio are numbers."""
+    pytest.importorskip("ssik")
+    assert load_script("bench_ik_7r_branches").main(["--arms", "panda", "--targets", "2"]) == 0
+    rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| panda")]
+    assert len(rows) == 1
+    cells = [cell.strip() for cell in rows[0].strip("|").split("|")]
+    assert cells[1] == "2" and float(cells[4]) > 0 and cells[7] == "2/2", rows[0]
