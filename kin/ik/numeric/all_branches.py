@@ -98,8 +98,8 @@ def solve_all_branches(
         grid = np.unique(np.concatenate(values))
     else:
         grid = np.unique(np.asarray(free_values, dtype=float))
-    position = np.asarray(target.position, dtype=float)  # type: ignore[attr-defined]
-    rotation = np.asarray(rotation, dtype=float)
+    position = np.array(target.position, dtype=float)  # type: ignore[attr-defined]
+    rotation = np.array(rotation, dtype=float)
     found = branches_over(closed, position, rotation, grid)  # type: ignore[arg-type]
     if found is None:
         return result
@@ -111,11 +111,13 @@ def solve_all_branches(
     keep &= (inside >= ik.lower).all(axis=1) & (inside <= ik.upper).all(axis=1)
     if not keep.any():
         return result
-    rows = inside[keep]
-    rows = rows[np.argsort(((rows - near) ** 2).sum(axis=1), kind="stable")]
-    solutions = _solutions(ik, rows, position, rotation, True)
-    outside = np.setdiff1d(np.arange(on_target.shape[0]), source)
-    rejected = _solutions(ik, on_target[outside], position, rotation, False)
+    order = np.flatnonzero(keep)
+    order = order[np.argsort(((inside[order] - near) ** 2).sum(axis=1), kind="stable")]
+    solutions = _solutions(inside[order], errors[0][order], errors[1][order], True)
+    outside = on_target[np.setdiff1d(np.arange(on_target.shape[0]), source)]
+    rejected: tuple[IKSolution, ...] = ()
+    if outside.shape[0]:
+        rejected = _solutions(outside, *_errors(ik, outside, position, rotation), False)
     return IKResult(
         True,
         result.solver,
@@ -173,13 +175,10 @@ def _on_target(
 
 
 def _solutions(
-    ik: NumericIK, rows: np.ndarray, position: np.ndarray, rotation: np.ndarray, inside: bool
+    rows: np.ndarray, position_error: np.ndarray, rotation_error: np.ndarray, inside: bool
 ) -> tuple[IKSolution, ...]:
-    """Joint vectors (M, 7) [rad] as solutions, with their errors and ``within_limits=inside``."""
-    if not rows.shape[0]:
-        return ()
-    position_error, rotation_error = _errors(ik, rows, position, rotation)
+    """Joint vectors (M, 7) [rad] with their errors [m], [rad] as solutions (``within_limits=inside``)."""
     return tuple(
-        IKSolution(q, "", inside, float(p), float(r))
+        IKSolution(q, "", inside, p, r)
         for q, p, r in zip(rows.copy(), position_error.tolist(), rotation_error.tolist())
     )

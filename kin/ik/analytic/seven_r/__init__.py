@@ -5,7 +5,7 @@ The numeric solver's first stage (:mod:`kin.ik.numeric.free_joint`) asks them: `
 (axes 1-3 and 5-6 meeting: Panda, xArm7; joint 7 free; its structure in
 ``shoulder7_structure``, its batched steps in ``shoulder7_batch``) and ``general_7r`` (any other
 7R arm: joint 1 or 7 held, the 6R closed forms of :mod:`..six_r` for the rest). ``subproblems``
-holds the sub-problems the first two share; ``branches7`` lists every branch of any of them over a
-stated grid of the free joint (``solve(..., all_branches=True)``). Their compiled twins ``_closed7`` and ``_shoulder7``
-(C, optional) run the same steps.
+holds the sub-problems the first two share; ``branches7`` lists every branch of any of them over
+a stated grid of the free joint (``solve(..., all_branches=True)``). Their compiled twins
+``_closed7`` and ``_shoulder7`` (C, optional) run the same steps.
 """
