@@ -98,7 +98,7 @@ def solve_all_branches(
         grid = np.unique(np.concatenate(values))
     else:
         grid = np.unique(np.asarray(free_values, dtype=float))
-    position = np.array(target.position, dtype=float)  # type: ignore[attr-defined]
+    position: np.ndarray = np.array(getattr(target, "position"), dtype=float)
     rotation = np.array(rotation, dtype=float)
     found = branches_over(closed, position, rotation, grid)  # type: ignore[arg-type]
     if found is None:
