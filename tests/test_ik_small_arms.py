@@ -17,8 +17,11 @@ from dh_reference import fk_frames, load_reference, rotation_angle
 from scipy.optimize import least_squares
 from urdf_reference import UrdfReference
 
+from dh2urdf import load_table
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver
+from kin.ik.analytic.planar.parallel_axes import inside_limits, row_inside
+from kin.ik.analytic.planar.yaw_planar import YawPlanar
 
 DATA = Path(__file__).parent / "data"
 TABLES = {name: DATA / "toolbox" / f"{name}.toml" for name in ("cobra600", "al5d", "orion5")}
@@ -169,3 +172,32 @@ def test_yaw_planar_position_states_the_pitch_it_used():
     far = get_solver(robot).solve(PositionTarget(fk(q)[:3, 3]), np.zeros(4))
     assert far.success and far.method == "closed_form", far.message
     assert all("pitch free" in s.branch for s in far.solutions)
+
+
+@pytest.mark.parametrize("arm", ["al5d", "orion5"])
+def test_single_pitch_path_equals_the_vectorized_one(arm):
+    """The plain-float path of one pitch gives the NumPy path's branches and limits verdicts.
+
+    200 targets: half FK points at random pitches, half random points of the arm's reach box
+    (some out of reach: the NaN rows must match too).
+    """
+    robot, fk = _arm(arm)
+    structure = YawPlanar(load_table(TABLES[arm]))
+    rng = np.random.default_rng(11)
+    lower, upper = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
+    reach = np.array([fk(q)[:3, 3] for q in rng.uniform(lower, upper, size=(100, 4))])
+    box = rng.uniform(reach.min(axis=0) * 1.3, reach.max(axis=0) * 1.3, size=(100, 3))
+    limits = (structure.lower, structure.upper, np.ones(4, dtype=bool))
+    bounds = tuple(tuple(v.tolist()) for v in limits)
+    found = inside_count = 0
+    for position in np.concatenate([reach, box]):
+        pitch = float(rng.uniform(-np.pi, np.pi))
+        vectorized = structure.candidates(position, None, np.array([pitch]))[0]
+        scalar = np.array(structure.candidates_at(tuple(position), pitch))
+        assert np.array_equal(np.isnan(scalar), np.isnan(vectorized)), f"{position=} {pitch=}"
+        assert np.allclose(scalar, vectorized, atol=1e-12, equal_nan=True), f"{position=}"
+        inside = inside_limits(vectorized, *limits)
+        assert [row_inside(tuple(row), bounds) for row in scalar] == inside.tolist()
+        inside_count += int(inside.sum())
+        found += int((~np.isnan(scalar).any(axis=1)).sum())
+    assert found > 100 and inside_count > 10, f"{found=} {inside_count=}"  # not NaN rows only

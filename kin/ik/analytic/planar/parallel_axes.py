@@ -78,6 +78,21 @@ def inside_limits(
     return np.asarray(ok.all(axis=-1))
 
 
+#: One branch ``q`` [rad, m] as plain floats (all NaN: none), the single-target path.
+Row = tuple[float, ...]
+
+
+def row_inside(
+    row: Row, limits: tuple[tuple[float, ...], tuple[float, ...], tuple[bool, ...]]
+) -> bool:
+    """:func:`inside_limits` of one branch in plain floats (``limits`` as tuples)."""
+    for value, lower, upper, revolute in zip(row, *limits):
+        copy = lower + (value - lower) % (2.0 * math.pi) if revolute else value
+        if not lower - LIMIT_SLACK <= copy <= upper + LIMIT_SLACK:
+            return False
+    return True
+
+
 def first_inside(
     candidates: np.ndarray, lower: np.ndarray, upper: np.ndarray, revolute: np.ndarray
 ) -> int | None:
@@ -112,6 +127,7 @@ def free_angle_branches(
     solve_at: Callable[[np.ndarray], np.ndarray],
     start: float,
     limits: tuple[np.ndarray, np.ndarray, np.ndarray],
+    solve_one: Callable[[float], list[Row]] | None = None,
 ) -> tuple[np.ndarray, float, bool]:
     """The branches of a position at a stated value of the free angle that the position leaves.
 
@@ -124,14 +140,23 @@ def free_angle_branches(
         start: The seed's value of the free angle [rad].
         limits: ``(lower, upper, revolute)`` per joint: limits [rad] or [m], and which are
             revolute (:func:`inside_limits`).
+        solve_one: ``solve_at`` of the seed's value alone in plain floats (the same branches,
+            faster than NumPy on one value), or None: ``solve_at``.
 
     Returns:
         The branches (B, nq) (NaN rows: none), the free angle's value [rad] and whether it
         was swept to (not the seed's).
     """
-    q = solve_at(np.array([start]))
-    if inside_limits(q, *limits).any():
-        return q[0], start, False
+    if solve_one is not None:
+        rows = solve_one(start)
+        q = np.array(rows, dtype=float)[None]
+        bounds = (tuple(limits[0].tolist()), tuple(limits[1].tolist()), tuple(limits[2].tolist()))
+        if any(row_inside(row, bounds) for row in rows):
+            return q[0], start, False
+    else:
+        q = solve_at(np.array([start]))
+        if inside_limits(q, *limits).any():
+            return q[0], start, False
     # 10-degree steps first; a hit is brought nearer the seed's value in 1-degree steps over the
     # 10 degrees before it (either side); no hit: every 1-degree step.
     coarse = sweep_angles(start, COARSE_STEPS)
@@ -271,6 +296,10 @@ class ParallelAxes:
         self.lower, self.upper = (np.asarray(v, dtype=float) for v in limits)
         self.is_revolute = np.array([kind == "revolute" for kind in kinds])
         self.tool_on_axis = len(self.links) == 3 and float(self.links[2] @ self.links[2]) < 1e-24
+        # plain floats of the single-target path (:meth:`solve_angle`)
+        self._basis = (tuple(self.e1.tolist()), tuple(self.e2.tolist()), tuple(self.n.tolist()))
+        self._base = tuple(self.base_point.tolist())
+        self._links = tuple(tuple(link.tolist()) for link in self.links)
 
     def _plane(self, point: np.ndarray) -> np.ndarray:
         return np.array([point @ self.e1, point @ self.e2])
@@ -347,6 +376,57 @@ class ParallelAxes:
             out[:, i] = np.remainder(out[:, i] + math.pi, 2.0 * math.pi) - math.pi
         return out
 
+    def solve_angle(self, position: tuple[float, float, float], psi: float) -> list[Row]:
+        """:meth:`solve_angles` at one ``psi`` [rad] in plain floats: the two branches.
+
+        Args:
+            position: Tool point in the world [m].
+            psi: The last link's angle about ``n`` [rad].
+
+        Returns:
+            Two rows ``q`` [rad, m] (all NaN: none), as :meth:`solve_angles` ``[0]``.
+        """
+        none = (math.nan,) * self.nq
+        (l1x, l1y), (l2x, l2y), (l3x, l3y) = self._links
+        a = l1x * l2x + l1y * l2y
+        b = l1y * l2x - l1x * l2y
+        rho = math.hypot(a, b)
+        e1, e2, n = self._basis
+        x, y, z = position
+        tx = x * e1[0] + y * e1[1] + z * e1[2] - float(self.origin[0])
+        ty = x * e2[0] + y * e2[1] + z * e2[2] - float(self.origin[1])
+        if rho < 1e-15 or not (abs(tx) < 1e150 and abs(ty) < 1e150):
+            return [none, none]
+        c, s = math.cos(psi), math.sin(psi)
+        wx = tx - (c * l3x - s * l3y)
+        wy = ty - (s * l3x + c * l3y)
+        cosine = (wx * wx + wy * wy - (l1x * l1x + l1y * l1y) - (l2x * l2x + l2y * l2y)) / (
+            2.0 * rho
+        )
+        if abs(cosine) > 1.0 + 1e-12:
+            return [none, none]
+        spread = math.acos(max(-1.0, min(1.0, cosine)))
+        centre = math.atan2(b, a)
+        slide = None
+        if self.prismatic:
+            along = (x - self._base[0]) * n[0] + (y - self._base[1]) * n[1]
+            slide = self.prismatic_sign * (along + (z - self._base[2]) * n[2] - self.height)
+        rows = []
+        for beta in (centre + spread, centre - spread):
+            cb, sb = math.cos(beta), math.sin(beta)
+            vx = l1x + cb * l2x - sb * l2y
+            vy = l1y + sb * l2x + cb * l2y
+            phi1 = math.atan2(wy, wx) - math.atan2(vy, vx)
+            row = [math.nan] * self.nq
+            previous = 0.0
+            for phi, i, sign in zip((phi1, phi1 + beta, psi), self.revolute, self.signs):
+                row[i] = (sign * (phi - previous) + math.pi) % (2.0 * math.pi) - math.pi
+                previous = phi
+            if slide is not None:
+                row[self.prismatic[0]] = slide
+            rows.append(tuple(row))
+        return rows
+
     def solve_angles(self, position: np.ndarray, psis: np.ndarray) -> np.ndarray:
         """Both branches (K, 2, dof) ``q`` [rad, m] of a position with the last link at ``psis``.
 
@@ -415,10 +495,12 @@ class ParallelAxes:
             q = self.solve_angles(position, np.zeros(1))[0]
             q[:, last] = np.where(np.isnan(q[:, last]), np.nan, seed[last])
             return q, f"joint {last + 1} free: the seed's value"
+        point = (float(position[0]), float(position[1]), float(position[2]))
         q, angle, swept = free_angle_branches(
             lambda psis: self.solve_angles(position, psis),
             self.last_angle(seed),
             (self.lower, self.upper, self.is_revolute),
+            lambda psi: self.solve_angle(point, psi),
         )
         return q, free_label("yaw", angle, swept)
 

@@ -38,13 +38,16 @@ from ..closed_form_structure import BatchBranches, candidate_branches
 from .parallel_axes import (
     PARALLEL_TOL,
     ParallelAxes,
+    Row,
     _axes,
     free_angle_branches,
     free_label,
 )
 
 
-def plane_yaws(p: np.ndarray, n2: np.ndarray, side: np.ndarray, h: float) -> tuple[float, ...]:
+def plane_yaws(
+    p: Sequence[float], n2: Sequence[float], side: Sequence[float], h: float
+) -> tuple[float, ...]:
     """The base yaws ``phi`` [rad] putting a point in the pitch chain's plane.
 
     Solves ``n2(phi) . p = h`` with ``n2(phi) = cos(phi) n2 + sin(phi) side``: two yaws (in
@@ -56,9 +59,11 @@ def plane_yaws(p: np.ndarray, n2: np.ndarray, side: np.ndarray, h: float) -> tup
         side: ``n1 x n2``.
         h: The chain's offset along its pitch axes from the base axis [m].
     """
-    if not float(np.abs(p).max()) < 1e150:
+    x, y, z = (float(v) for v in p)
+    if not (abs(x) < 1e150 and abs(y) < 1e150 and abs(z) < 1e150):
         return ()
-    a, b = float(n2 @ p), float(side @ p)
+    a = float(n2[0]) * x + float(n2[1]) * y + float(n2[2]) * z
+    b = float(side[0]) * x + float(side[1]) * y + float(side[2]) * z
     rho = math.hypot(a, b)
     if rho < abs(h) - 1e-12 or rho < 1e-15:
         return ()
@@ -115,6 +120,8 @@ class YawPlanar:
         self.side = np.cross(n1, n2)
         self.h = float((tool[:3, 3] - self.o1) @ n2)
         self.offsets = tuple(row.theta for row in table.rows)
+        # plain floats of the single-target path (:meth:`candidates_at`)
+        self._axes = tuple(tuple(v.tolist()) for v in (self.n1, self.o1, self.n2, self.side))
 
     @classmethod
     def recognise(cls, table: DHTable) -> YawPlanar:
@@ -151,12 +158,36 @@ class YawPlanar:
             out[:, 2 * k : 2 * k + 2, 1:] = branches
         return out
 
+    def candidates_at(self, position: Sequence[float], pitch: float) -> list[Row]:
+        """:meth:`candidates` of a position at one pitch [rad] in plain floats: four rows.
+
+        The same branches as ``candidates(position, None, [pitch])[0]`` (all NaN: none),
+        without NumPy's cost on one value (the seed's pitch of every position target).
+        """
+        (n1x, n1y, n1z), o1, n2, side = self._axes
+        px, py, pz = (float(position[i]) - o1[i] for i in range(3))
+        rows: list[Row] = []
+        for phi in plane_yaws((px, py, pz), n2, side, self.h):
+            # Rodrigues: p turned by -phi about n1, back in the world
+            c, s = math.cos(phi), -math.sin(phi)
+            dot = (n1x * px + n1y * py + n1z * pz) * (1.0 - c)
+            point = (
+                o1[0] + c * px + s * (n1y * pz - n1z * py) + dot * n1x,
+                o1[1] + c * py + s * (n1z * px - n1x * pz) + dot * n1y,
+                o1[2] + c * pz + s * (n1x * py - n1y * px) + dot * n1z,
+            )
+            yaw = math.remainder(phi, 2.0 * math.pi)
+            rows.extend((yaw, *row) for row in self.chain.solve_angle(point, pitch))
+        rows.extend([(math.nan,) * 4] * (4 - len(rows)))
+        return rows
+
     def free_branches(self, position: np.ndarray, seed: Sequence[float]) -> tuple[np.ndarray, str]:
         """The four branches (4, 4) of a position at the stated pitch, and what it is."""
         q, pitch, swept = free_angle_branches(
             lambda pitches: self.candidates(position, None, pitches),
             self.chain.last_angle(list(seed)[1:]),
             (self.lower, self.upper, np.ones(4, dtype=bool)),
+            lambda pitch: self.candidates_at(position, pitch),
         )
         return q, free_label("pitch", pitch, swept)
 
