@@ -509,11 +509,9 @@ class PartialPoseIK:
                             raw[k], [f"{label}, {name}" for label in labels], seed, True
                         )
                 return
-            if isinstance(target, AxisTarget):
-                return  # a structure of positions alone: no branch knows the axis
-            if PoseTarget in kinds:
+            if PoseTarget in kinds and isinstance(target, PoseTarget):
                 raw = np.asarray(structure.solve(target.position, target.rotation), dtype=float)
-            elif PositionTarget in kinds:
+            elif PositionTarget in kinds:  # the position's branches, judged on the rest
                 raw = np.asarray(structure.solve(target.position, None), dtype=float)
             else:
                 return
