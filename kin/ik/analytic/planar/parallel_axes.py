@@ -337,14 +337,13 @@ class ParallelAxes:
         """
         if rotation is None and len(self.links) == 3:
             return self.free_branches(position, np.zeros(self.nq))[0]
-        out = np.full((2, self.nq), np.nan)
-        target = self._plane(np.asarray(position, dtype=float))
         links = self.links
-        three = len(links) == 3
-        if three:
+        if len(links) == 3:
             assert rotation is not None
-            return self.solve_angles(position, np.array([self.yaw(np.asarray(rotation))]))[0]
-        w = target - self.origin
+            point = (float(position[0]), float(position[1]), float(position[2]))
+            return np.array(self.solve_angle(point, self.yaw(np.asarray(rotation))))
+        out = np.full((2, self.nq), np.nan)
+        w = self._plane(np.asarray(position, dtype=float)) - self.origin
         l1, l2 = links[0], links[1]
         if not float(np.abs(w).max()) < 1e150:  # no arm reaches that far (and no overflow)
             return out
