@@ -44,10 +44,11 @@ from .parallel_axes import (
     free_label,
 )
 
+#: A 3-vector as an array or plain floats.
+Vector = Sequence[float] | np.ndarray
 
-def plane_yaws(
-    p: Sequence[float], n2: Sequence[float], side: Sequence[float], h: float
-) -> tuple[float, ...]:
+
+def plane_yaws(p: Vector, n2: Vector, side: Vector, h: float) -> tuple[float, ...]:
     """The base yaws ``phi`` [rad] putting a point in the pitch chain's plane.
 
     Solves ``n2(phi) . p = h`` with ``n2(phi) = cos(phi) n2 + sin(phi) side``: two yaws (in
@@ -158,7 +159,7 @@ class YawPlanar:
             out[:, 2 * k : 2 * k + 2, 1:] = branches
         return out
 
-    def candidates_at(self, position: Sequence[float], pitch: float) -> list[Row]:
+    def candidates_at(self, position: Vector, pitch: float) -> list[Row]:
         """:meth:`candidates` of a position at one pitch [rad] in plain floats: four rows.
 
         The same branches as ``candidates(position, None, [pitch])[0]`` (all NaN: none),
