@@ -181,8 +181,14 @@ class ClosedFormSolver(BranchVerification):
         if self._partial is None:
             from ..partial_pose import PartialPoseIK
 
+            # The numeric solver's seed table gives starts in the right basin where the closed
+            # form's branches miss (a five-joint arm's masked poses: a thin set).
             self._partial = PartialPoseIK(
-                self.robot, self.structure, self.name, pose_candidates=self.pose_candidates
+                self.robot,
+                self.structure,
+                self.name,
+                samples=self.numeric.nearest_samples,
+                pose_candidates=self.pose_candidates,
             )
         return self._partial
 
