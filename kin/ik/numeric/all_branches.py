@@ -26,7 +26,7 @@ Any other arm or target (a position, a mask, an axis) gets the usual answer.
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -42,9 +42,6 @@ from ..target import PoseTarget
 from .free_joint import METHOD
 from .numeric_target import NumericTarget
 
-if TYPE_CHECKING:
-    from .solver import NumericIK
-
 #: Largest pose error of a returned branch [m] and [rad] (the closed forms' rounding is far below).
 BRANCH_TOLERANCE = 1e-9
 #: A branch off by less than this [m] / [rad] is polished on the true chain before it is judged.
@@ -52,7 +49,7 @@ NEAR_MISS = 1e-3
 
 
 def solve_all_branches(
-    ik: NumericIK,
+    ik: Any,
     target: object,
     seed: npt.ArrayLike | None = None,
     *,
@@ -135,7 +132,7 @@ def solve_all_branches(
 
 
 def _errors(
-    ik: NumericIK, rows: np.ndarray, position: np.ndarray, rotation: np.ndarray
+    ik: Any, rows: np.ndarray, position: np.ndarray, rotation: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """Position [m] and rotation [rad] errors of joint vectors (M, 7): the judge's batched twin."""
     poses = batch_forward_kinematics(ik.robot.table, rows)
@@ -148,7 +145,7 @@ def _errors(
 
 
 def _on_target(
-    ik: NumericIK,
+    ik: Any,
     rows: np.ndarray,
     position: np.ndarray,
     rotation: np.ndarray,
