@@ -2,7 +2,8 @@
 
 For an arm whose table fits a closed-form structure that takes the targets (poses, or positions),
 every pose is solved at once in NumPy (:class:`~kin.ik.analytic.batch.BatchSolver`: every branch,
-wrapped into the limits, each measured by the table's NumPy DH product); the answer of a pose is
+moved into the limits by the single call's rule (:mod:`kin.ik.limit_rule`: the copy nearest the
+target's seed), each measured by the table's NumPy DH product); the answer of a pose is
 its valid branch nearest its seed. A 7R arm with a free-joint closed form (humanoid7, Panda,
 xArm7) has its stage 0 batched: every target's scan from its seed, in compiled code and in
 threads (:func:`free_joint_answers`). For the others, and the targets that stage leaves (a
@@ -169,11 +170,11 @@ def _vectorized(
 ) -> BatchIKResult:
     n = points.shape[0]
     if frames is None:
-        result = solver.solve_positions(points)
+        result = solver.solve_positions(points, seeds)
     else:
         poses = np.zeros((n, 4, 4))
         poses[:, :3, :3], poses[:, :3, 3], poses[:, 3, 3] = frames, points, 1.0
-        result = solver.solve_poses(poses)
+        result = solver.solve_poses(poses, seeds)
     valid = result.valid
     # The valid branch nearest the seed (Euclidean joint distance), as the per-call solver orders.
     distance = np.where(valid, np.linalg.norm(result.q - seeds[:, None, :], axis=2), math.inf)

@@ -1,8 +1,9 @@
 """Batched closed-form IK: N targets at once, every branch, vectorized with NumPy over N.
 
 The registered structure's batched solve (:mod:`.closed_form_structure`: the solver knows no
-structure by name) gives the candidates; each angle is wrapped to ``(-pi, pi]`` then moved by
-``2 pi`` into the limits when that helps; the batched judge (:func:`kin.ik.judge.batch_pose_errors`
+structure by name) gives the candidates; each angle goes to its ``2 pi`` copy inside the limits
+nearest the target's seed (zero without one), the rule of the single call
+(:func:`kin.ik.limit_rule.nearest_copies`); the batched judge (:func:`kin.ik.judge.batch_pose_errors`
 on :func:`kin.batch_forward_kinematics`, not Pinocchio) measures them. The per-call API
 (:class:`~.closed_form.ClosedFormSolver`) verifies with Pinocchio, and the tests check that the
 two agree.
@@ -22,6 +23,7 @@ from kin import RobotModel, batch_forward_kinematics
 
 from ..exceptions import TargetError
 from ..judge import batch_axis_errors, batch_pose_errors
+from ..limit_rule import nearest_copies
 from ..target import PitchTarget, PoseTarget, PositionTarget
 from .closed_form_structure import BatchBranches, DetailedStructure, PitchStructure
 from .joint_directions import forward_table, mirrored_limits, reversed_joints, to_joint
@@ -114,22 +116,34 @@ class BatchSolver:
         if self._directions is not None:
             self._lower, self._upper = mirrored_limits(self._lower, self._upper, self._directions)
 
-    def _wrap(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        q = q - (2 * np.pi) * np.rint(q / (2 * np.pi))
-        inside = np.ones(q.shape[:-1], dtype=bool)
-        for i in range(q.shape[-1]):
-            lo, hi = self._lower[i] - 1e-10, self._upper[i] + 1e-10
-            column = q[..., i]
-            ok = (column >= lo) & (column <= hi)
-            if hi > np.pi or lo < -np.pi:
-                for shift in (2 * np.pi, -2 * np.pi):
-                    moved = column + shift
-                    better = ~ok & (moved >= lo) & (moved <= hi)
-                    column = np.where(better, moved, column)
-                    ok |= better
-                q[..., i] = column
-            inside &= ok
-        return q, inside
+    def _seeds(self, seeds: npt.ArrayLike | None, n: int) -> np.ndarray:
+        """The seeds as (n, nq) [rad] (None: zero).
+
+        Raises:
+            TargetError: The seeds are neither (n, nq) nor (nq,), or not finite.
+        """
+        nq = len(self._lower)
+        if seeds is None:
+            return np.zeros((n, nq))
+        values = np.asarray(seeds, dtype=float)
+        if values.shape == (nq,):
+            values = np.broadcast_to(values, (n, nq))
+        if values.shape != (n, nq) or not np.isfinite(values).all():
+            raise TargetError(
+                f"the seeds of '{self.robot.name}' must be finite, ({n}, {nq}) or ({nq},); "
+                f"got shape {values.shape}"
+            )
+        return values
+
+    def _wrap(self, q: np.ndarray, seeds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each angle of ``q'`` (N, B, nq) into the limits nearest its target's seed (N, nq).
+
+        ``q'`` and the limits are the structure's (``q' = direction * q``), the seeds the arm's.
+        """
+        if self._directions is not None:
+            seeds = seeds * self._directions
+        q, inside = nearest_copies(q, seeds[:, None, :], self._lower, self._upper)
+        return q, inside.all(axis=-1)
 
     def _require(self, kind: type, instead: str) -> None:
         if kind not in self.structure.target_kinds:
@@ -151,22 +165,33 @@ class BatchSolver:
         q = structure.solve_batch(positions, rotations)
         return BatchBranches(q, np.zeros(q.shape[:2], dtype=bool))
 
-    def solve_positions(self, positions: npt.ArrayLike) -> BatchResult:
-        """All branches for N tool points (N, 3) [m] (a structure that takes positions)."""
+    def solve_positions(
+        self, positions: npt.ArrayLike, seeds: npt.ArrayLike | None = None
+    ) -> BatchResult:
+        """All branches for N tool points (N, 3) [m] (a structure that takes positions).
+
+        ``seeds`` (N, nq) or (nq,) [rad]: each angle goes to its copy inside the limits nearest
+        its target's seed (None: zero), as :class:`~.closed_form.ClosedFormSolver` moves it.
+        """
         self._require(PositionTarget, self._instead())
         p = np.asarray(positions, dtype=float).reshape(-1, 3)
+        start = self._seeds(seeds, p.shape[0])
         if p.shape[0] > CHUNK:
-            return _chunked(self.solve_positions, p.shape[0], p)
-        return self._finish(self._candidates(p, None), p, None)
+            return _chunked(self.solve_positions, p.shape[0], p, start)
+        return self._finish(self._candidates(p, None), p, None, start)
 
-    def solve_poses(self, poses: npt.ArrayLike) -> BatchResult:
-        """All branches for N tool poses ``T_world_tool`` (N, 4, 4) (a structure that takes poses)."""
+    def solve_poses(self, poses: npt.ArrayLike, seeds: npt.ArrayLike | None = None) -> BatchResult:
+        """All branches for N tool poses ``T_world_tool`` (N, 4, 4) (a structure that takes poses).
+
+        ``seeds``: as in :meth:`solve_positions`.
+        """
         self._require(PoseTarget, self._instead())
         T = np.asarray(poses, dtype=float).reshape(-1, 4, 4)
+        start = self._seeds(seeds, T.shape[0])
         if T.shape[0] > CHUNK:
-            return _chunked(self.solve_poses, T.shape[0], T)
+            return _chunked(self.solve_poses, T.shape[0], T, start)
         p, rotation = T[:, :3, 3], T[:, :3, :3]
-        return self._finish(self._candidates(p, rotation), p, rotation)
+        return self._finish(self._candidates(p, rotation), p, rotation, start)
 
     def solve_pitch(
         self, positions: npt.ArrayLike, pitch: npt.ArrayLike, roll: npt.ArrayLike = 0.0
@@ -181,14 +206,19 @@ class BatchSolver:
         roll = np.broadcast_to(np.asarray(roll, dtype=float), (n,))
         if n > CHUNK:
             return _chunked(self.solve_pitch, n, p, pitch, roll)
-        return self._finish(structure.pitch_batch_branches(p, pitch, roll), p, None)
+        start = self._seeds(None, n)
+        return self._finish(structure.pitch_batch_branches(p, pitch, roll), p, None, start)
 
     def _finish(
-        self, candidates: BatchBranches, p: np.ndarray, rotation: np.ndarray | None
+        self,
+        candidates: BatchBranches,
+        p: np.ndarray,
+        rotation: np.ndarray | None,
+        seeds: np.ndarray,
     ) -> BatchResult:
         n, b, nq = candidates.q.shape
         exists = ~np.isnan(candidates.q).any(-1)
-        q, inside = self._wrap(candidates.q)
+        q, inside = self._wrap(candidates.q, seeds)
         if self._directions is not None:
             q = to_joint(q, self._directions)
         poses = batch_forward_kinematics(self.table, q.reshape(-1, nq))

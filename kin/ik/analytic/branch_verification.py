@@ -3,7 +3,7 @@
 For each branch of :class:`~.closed_form.ClosedFormSolver` (mixed into it: reads its fields):
 
 1. each angle goes to the ``2 pi`` copy inside the joint limits closest to the seed
-   (:func:`wrap`, the fast form of :func:`nearest_copy`);
+   (:func:`kin.ik.limit_rule.wrap_into`, the rule of :mod:`kin.ik.limit_rule`);
 2. the judge (:mod:`kin.ik.judge`: Pinocchio) measures the tool pose of the joint vector:
    position error [m], rotation error [rad] (the angle of ``R_fk^T R_target`` for pose targets,
    between the approach axes for pitch targets, None for position targets);
@@ -32,72 +32,14 @@ import numpy.typing as npt
 from kin import RobotModel
 
 from ..judge import ToolJudge, axis_error, rotation_error
+from ..limit_rule import FAST_COPY, FAST_SEED, wrap_into
+from ..limit_rule import wrap_into as wrap  # noqa: F401  (partial_pose's name for it)
 from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target
 from .branches import Branches, BranchStatus
 from .closed_form_structure import ClosedFormStructure, PitchStructure
 
 logger = logging.getLogger("kin.ik.analytic.closed_form")
-
-TWO_PI = 2.0 * math.pi
-#: Slack on the joint limits [rad] for angles computed exactly at a limit.
-LIMIT_TOL = 1e-10
-
-
-#: Closer than this to the seed [rad], an angle inside the limits is the copy that
-#: :func:`nearest_copy` picks (the other copies are more than ``pi`` away). The margin below
-#: ``pi`` covers the round-off of seeds up to :data:`FAST_SEED` in magnitude.
-FAST_COPY = math.pi - 1e-9
-FAST_SEED = 1e5
-
-
-def nearest_copy(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
-    """The ``value + 2 pi k`` inside ``[lower, upper]`` closest to ``seed``, else the least outside."""
-    base = value - TWO_PI * round((value - seed) / TWO_PI)
-    best, best_key = base, (math.inf, math.inf)
-    for candidate in (base, base - TWO_PI, base + TWO_PI, base - 2 * TWO_PI, base + 2 * TWO_PI):
-        violation = max(lower - LIMIT_TOL - candidate, candidate - upper - LIMIT_TOL, 0.0)
-        key = (violation, abs(candidate - seed))
-        if key < best_key:
-            best, best_key = candidate, key
-    return best, best_key[0] == 0.0
-
-
-def wrap(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
-    """:func:`nearest_copy`, comparing only the candidates that can win (same keys, same order).
-
-    When the copy nearest the seed, ``base``, is below the limits, the copies below it have a
-    larger violation and never win; going up, a copy that is no longer below the limits (inside
-    or above them) beats every copy after it: usually the first one up, the only one compared
-    here (the others go through :func:`nearest_copy`). Likewise above the limits.
-    """
-    base = value - TWO_PI * round((value - seed) / TWO_PI)
-    lower_tol = lower - LIMIT_TOL
-    violation = lower_tol - base
-    if violation > 0.0:  # below the limits: the copy above decides
-        candidate = base + TWO_PI
-        if lower_tol - candidate > 0.0:  # still below
-            return nearest_copy(value, seed, lower, upper)
-        candidate_violation = candidate - upper - LIMIT_TOL
-    else:
-        violation = base - upper - LIMIT_TOL
-        if violation > 0.0:  # above the limits: the copy below decides
-            candidate = base - TWO_PI
-            if candidate - upper - LIMIT_TOL > 0.0:  # still above
-                return nearest_copy(value, seed, lower, upper)
-            candidate_violation = lower_tol - candidate
-        elif -FAST_COPY < base - seed < FAST_COPY:
-            return base, True
-        else:
-            return nearest_copy(value, seed, lower, upper)
-    if candidate_violation < 0.0:
-        candidate_violation = 0.0
-    if candidate_violation < violation or (
-        candidate_violation == violation and abs(candidate - seed) < abs(base - seed)
-    ):
-        return candidate, candidate_violation == 0.0
-    return base, False
-
 
 #: Sort key of the (distance to the seed, solution) pairs.
 _DISTANCE = operator.itemgetter(0)
@@ -181,8 +123,9 @@ class BranchVerification:
         """The result of a pose from the compiled twin's answer when it is not the result itself.
 
         ``answer`` is what :meth:`.six_r_twin.TwinVerifier.solutions` returned: the branches
-        (moved into the limits as :func:`wrap` does, measured by the table's DH product in C
-        instead of Pinocchio; the tests compare the two paths) when some are off target or none
+        (moved into the limits as :func:`~kin.ik.limit_rule.wrap_into` does, measured by the
+        table's DH product in C instead of Pinocchio; the tests compare the two paths) when
+        some are off target or none
         is valid, else a code: no branch, a target that is not finite, a seed to check here.
         """
         if answer.__class__ is int and answer == -2:  # checked here: a TargetError names it
@@ -263,7 +206,7 @@ class BranchVerification:
                     if (
                         not lows[i] < value < highs[i]
                     ):  # else: inside the limits, the copy nearest the seed
-                        q_list[i], ok = wrap(value, seed[i], lower[i], upper[i])
+                        q_list[i], ok = wrap_into(value, seed[i], lower[i], upper[i])
                         if not ok:
                             inside = False
                     i += 1
