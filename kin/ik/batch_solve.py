@@ -27,9 +27,9 @@ from kin import RobotModel, batch_forward_kinematics
 from kin.configuration import default_seed, seed_inside
 
 from .analytic.batch import BatchResult, BatchSolver
-from .dispatch import get_solver
-from .exceptions import StructureError, TargetError
+from .exceptions import TargetError
 from .judge import batch_pose_errors
+from .solver_table import front_end_solver, vectorized_solver
 from .target import ROTATION_SNAP, PoseTarget, PositionTarget
 
 if TYPE_CHECKING:
@@ -152,13 +152,8 @@ def solve_batch(
 
 
 def _closed_form(robot: RobotModel, poses: bool) -> BatchSolver | None:
-    """The batch closed form of ``robot`` when it takes these targets, else None."""
-    try:
-        solver = BatchSolver(robot)
-    except StructureError:
-        return None
-    kind = PoseTarget if poses else PositionTarget
-    return solver if kind in solver.structure.target_kinds else None
+    """The batch closed form of ``robot`` when it takes these targets, else None (the table)."""
+    return vectorized_solver(robot, PoseTarget if poses else PositionTarget)
 
 
 def _vectorized(
@@ -238,15 +233,15 @@ _SOLVERS: weakref.WeakKeyDictionary[RobotModel, tuple[np.ndarray, np.ndarray, An
 
 
 def _solver(robot: RobotModel) -> Any:
-    """``get_solver(robot)``, built on the robot's first batch and kept while the robot lives.
+    """The solver table's ``batch`` solver of ``robot``, kept while the robot lives.
 
-    Rebuilt when the model's joint limits are no longer those it was built with. A solver
+    Built on the robot's first batch; rebuilt when the model's joint limits are no longer those it was built with. A solver
     serializes its solves (a lock), so threads that share a robot share it safely.
     """
     kept = _SOLVERS.get(robot)
     lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
     if kept is None or not (np.array_equal(kept[0], lower) and np.array_equal(kept[1], upper)):
-        kept = _SOLVERS[robot] = (lower.copy(), upper.copy(), get_solver(robot))
+        kept = _SOLVERS[robot] = (lower.copy(), upper.copy(), front_end_solver(robot, "batch"))
     return kept[2]
 
 
@@ -512,7 +507,7 @@ def _one_by_one(
     solver: object | None = None,
 ) -> BatchIKResult:
     """The robot's solver, target by target (every stage of it)."""
-    solve = (get_solver(robot) if solver is None else solver).solve  # type: ignore[attr-defined]
+    solve = (front_end_solver(robot, "batch") if solver is None else solver).solve  # type: ignore[attr-defined]
     n, nq = points.shape[0], robot.nq
     q = np.full((n, nq), np.nan)
     position_error = np.full(n, np.nan)

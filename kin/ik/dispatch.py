@@ -1,49 +1,26 @@
 """Which IK solver a robot uses, for any DH table, behind one :class:`Solver` protocol.
 
-:func:`get_solver` asks each registered closed-form structure
-(:data:`kin.ik.analytic.registry.CLOSED_FORMS`, see :mod:`kin.ik.analytic.closed_form_structure`)
-whether the table fits; the first that fits gives a :class:`ClosedFormSolver`, which hands the
-numeric solver the target kinds its closed form does not take (a position on a five- or six-joint
-arm). When none fits, the numeric solver (:class:`NumericIK`), which itself starts with a closed
-form with a free joint where the arm has one (seven-joint arms: humanoid7's joint 1, Panda's and
-xArm7's joint 7). :func:`solve_ik` is the one-call form.
+:func:`get_solver` reads the solver table (:mod:`kin.ik.solver_table`, choice ``auto``): the
+closed form when a registered structure fits the table (:mod:`kin.ik.analytic.registry`, asked
+by precedence) gives a :class:`ClosedFormSolver`, which hands the numeric solver the target
+kinds its closed form does not take (a position on a five- or six-joint arm). When none fits,
+the numeric solver (:class:`NumericIK`), which itself starts with a closed form with a free
+joint where the arm has one (seven-joint arms: humanoid7's joint 1, Panda's and xArm7's joint
+7). :func:`solve_ik` is the one-call form.
 """
 
 from __future__ import annotations
 
-from typing import Any, Protocol
+from typing import Any
 
 import numpy.typing as npt
 
 from kin import RobotModel
 
-from .analytic.closed_form import ClosedFormSolver
-from .exceptions import StructureError
-from .numeric.solver import NumericIK
 from .result import IKResult
+from .solver_table import Solver, choose
 
-
-class Solver(Protocol):
-    """What every IK solver offers (closed form, numeric, the composite of both).
-
-    Attributes:
-        name: The pipeline, as :attr:`IKResult.solver` reports it (``"closed_form:<structure>"``,
-            ``"numeric"``).
-        target_kinds: The target classes :meth:`solve` accepts.
-    """
-
-    name: str
-
-    @property
-    def target_kinds(self) -> tuple[type, ...]:
-        """The target classes :meth:`solve` accepts."""
-        ...
-
-    def solve(
-        self, target: Any, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
-    ) -> IKResult:
-        """Solve one target from a seed (joint vector [rad] / [m]) within ``timeout`` [s]."""
-        ...
+__all__ = ["Solver", "get_solver", "solve_ik"]
 
 
 def get_solver(robot: RobotModel, *, near_seed: bool = False) -> Solver:
@@ -58,10 +35,7 @@ def get_solver(robot: RobotModel, *, near_seed: bool = False) -> Solver:
             free-joint closed form far from the seed is checked against damped Newton from the
             seed (about 1.3 us more per seeded solve; the ``kin`` commands and the paths use it).
     """
-    try:
-        return ClosedFormSolver(robot)
-    except StructureError:
-        return NumericIK(robot, near_seed=near_seed)
+    return choose(robot, "auto", near_seed=near_seed)
 
 
 def solve_ik(

@@ -1,6 +1,7 @@
 """Inverse kinematics along a Cartesian path: one joint vector per sample, each from the last.
 
-:func:`follow_path` picks the method from the robot's solver (:func:`kin.ik.get_solver`):
+:func:`follow_path` picks the method from the robot's solver (:func:`path_solver`, the solver
+table's ``path`` front end, :mod:`kin.ik.solver_table`):
 
 - a closed-form solver: every sample in closed form, on one branch
   (:func:`~kin.path.branch_follow.follow_closed_form`);
@@ -14,7 +15,6 @@ and a sample that cannot be reached without a jump stops the motion there (``sto
 
 from __future__ import annotations
 
-import inspect
 import logging
 from collections.abc import Callable
 from typing import Literal
@@ -23,7 +23,8 @@ import numpy as np
 import numpy.typing as npt
 
 from ..configuration import as_joint_vector
-from ..ik import ClosedFormSolver, NumericIK, StructureError, get_solver
+from ..ik import ClosedFormSolver, StructureError
+from ..ik.solver_table import FRONT_ENDS, bind_timeout, front_end_solver
 from ..robot_model import RobotModel
 from .branch_follow import TurnUnwrapper, follow_closed_form
 from .cartesian import CartesianPath
@@ -139,28 +140,21 @@ def _partial(path: CartesianPath, nq: int) -> bool:
 def path_solver(robot: RobotModel, method: Method = "auto") -> object:
     """The solver of ``robot``'s paths: its own, or the numeric one (asked, or no closed form).
 
-    Its ``target_kinds`` say which waypoints the path takes.
+    The solver table's ``path`` front end (:data:`kin.ik.solver_table.FRONT_ENDS`): ``auto`` the
+    robot's own, ``closed_form`` only a closed form, ``differential`` the numeric solver, each
+    with ``near_seed`` (a path's samples are seeded by the previous one). Its ``target_kinds``
+    say which waypoints the path takes.
 
     Raises:
-        PathError: Unknown method, or ``"closed_form"`` for a robot whose solver is numeric.
-        kin.ik.StructureError: ``"closed_form"`` for a robot no closed form fits.
+        PathError: Unknown method, or ``"closed_form"`` for a robot no closed form fits.
     """
-    if method not in ("auto", "closed_form", "differential"):
-        raise PathError(
-            f"unknown method {method!r}; choose one of: auto, closed_form, differential", "method"
-        )
-    # The path's samples are seeded by the previous one: answers near it (NumericIK.near_seed).
-    if method == "differential":
-        return NumericIK(robot, near_seed=True)
+    choices = FRONT_ENDS["path"].choices
+    if method not in choices:
+        raise PathError(f"unknown method {method!r}; choose one of: {', '.join(choices)}", "method")
     try:
-        solver = get_solver(robot, near_seed=True)
-    except StructureError:
-        if method == "closed_form":
-            raise
-        return NumericIK(robot, near_seed=True)
-    if method == "closed_form" and not isinstance(solver, ClosedFormSolver):
-        raise PathError(f"'{robot.name}' has no closed-form solver", "method")
-    return solver
+        return front_end_solver(robot, "path", method)
+    except StructureError as err:
+        raise PathError(f"'{robot.name}' has no closed-form solver", "method") from err
 
 
 def _solve_first(
@@ -178,8 +172,6 @@ def _solve_first(
     limits (relative to each range) is kept: a start at a limit leaves the differential steps no
     room.
     """
-    solve = solver.solve  # type: ignore[attr-defined]
-    takes_timeout = "timeout" in inspect.signature(solve).parameters
     target = path.target(0)
     if seed is not None:
         starts = [seed]
@@ -187,10 +179,10 @@ def _solve_first(
         lower, upper = robot.lower, robot.upper
         random = np.random.default_rng(0).uniform(lower, upper, (START_SEEDS, robot.nq))
         starts = [(lower + upper) / 2.0, *random]
+    solve = bind_timeout(solver, timeout / len(starts))
     solutions, why = [], ""
     for start in starts:
-        budget = timeout / len(starts)
-        result = solve(target, start, timeout=budget) if takes_timeout else solve(target, start)
+        result = solve(target, start)
         solutions += [np.asarray(s.q, dtype=float) for s in result.solutions]
         why = f"{result.status}: {result.message}"
     if not solutions:

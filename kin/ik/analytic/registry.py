@@ -1,12 +1,19 @@
-"""The registered closed-form structures, asked in turn whether a DH table fits.
+"""The registered closed-form structures, in an explicit, documented precedence.
 
-Each entry is a class meeting :class:`~.closed_form_structure.ClosedFormStructure`. Several may
-share a joint count: :func:`recognise` asks, in order, every structure of the table's joint
-count and takes the first that fits. :func:`register` adds one (see
-:mod:`.closed_form_structure` for what it must provide).
+Each entry (:class:`ClosedFormEntry`) names a class meeting
+:class:`~.closed_form_structure.ClosedFormStructure` and its ``precedence``. Several structures
+may share a joint count: :func:`recognise` asks, lowest precedence first, every structure of the
+table's joint count and takes the first that fits, so a special case (with its faster form or
+compiled twin) stands before the family that also takes it, and the general 6R form stands last.
+The shipped precedences are multiples of 10 (:data:`SHIPPED`), leaving room for a new entry
+between two. :func:`register` adds one; ``docs/adding-a-closed-form.md`` shows a worked example.
+Which solver answers which robot overall (closed form, numeric, batches) is
+:mod:`kin.ik.solver_table`.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -28,30 +35,91 @@ from .six_r.spherical_wrist import SphericalWrist6R
 from .six_r.three_parallel import ThreeParallel6R
 from .six_r.ur_wrist import URWrist6R
 
-#: The registered structures, in the order they are asked.
-CLOSED_FORMS: list[type[ClosedFormStructure]] = [
-    Planar2R,
-    ParallelAxes2,  # every axis parallel: planar 2R read from any frame, RRP, planar 3R, SCARA
-    Offset3R,
-    ParallelAxes3,
-    ParallelAxes,
-    YawPlanar,  # base yaw, three parallel pitch joints
-    YawPlanarRoll,  # base yaw, two parallel pitch joints, a roll (Kinova's 4-DOF arms)
-    FiveDof,
-    URWrist6R,
-    SphericalWrist6R,
-    Pieper6R,
-    ThreeParallel6R,
-    Reversed6R,  # the 6R families above, read from the tool
-    General6R,  # last: any other 6R arm, by elimination
-]
+
+@dataclass(frozen=True)
+class ClosedFormEntry:
+    """One registered closed form and its place in the asking order.
+
+    Attributes:
+        structure: The structure class (meets :class:`ClosedFormStructure`).
+        precedence: Lower is asked first among the structures of the same joint count (and
+            listed first in messages); unique across the registry.
+        why: One line: why it stands where it does.
+    """
+
+    structure: type[ClosedFormStructure]
+    precedence: int
+    why: str
 
 
-def register(structure: type[ClosedFormStructure], *, first: bool = False) -> None:
-    """Add a structure to :data:`CLOSED_FORMS` (last, or ``first``); once only.
+#: The shipped closed forms, by precedence. A special case stands before the family that also
+#: fits its tables (its answers and branch labels are the special case's).
+SHIPPED: tuple[ClosedFormEntry, ...] = (
+    ClosedFormEntry(Planar2R, 10, "the planar 2R of the paper, before the any-frame 2R"),
+    ClosedFormEntry(
+        ParallelAxes2,
+        20,
+        "every axis parallel, 2 joints: a planar 2R the planar 2R form does not take",
+    ),
+    ClosedFormEntry(Offset3R, 30, "base yaw, two parallel pitch joints, a shoulder offset"),
+    ClosedFormEntry(
+        ParallelAxes3, 40, "every axis parallel, 3 joints: planar 3R, planar 2R with a slide"
+    ),
+    ClosedFormEntry(
+        ParallelAxes, 50, "every axis parallel, 4 joints: SCARA, before the yaw-planar arms"
+    ),
+    ClosedFormEntry(YawPlanar, 60, "base yaw, three parallel pitch joints"),
+    ClosedFormEntry(
+        YawPlanarRoll, 70, "base yaw, two parallel pitch joints, a roll (Kinova 4-DOF)"
+    ),
+    ClosedFormEntry(FiveDof, 80, "base yaw, three parallel pitch joints, a wrist roll"),
+    ClosedFormEntry(
+        URWrist6R, 90, "UR family (compiled twin), before the three-parallel family that also fits"
+    ),
+    ClosedFormEntry(
+        SphericalWrist6R,
+        100,
+        "spherical wrist with parallel axes 2, 3 (compiled twin), before Pieper",
+    ),
+    ClosedFormEntry(Pieper6R, 110, "spherical wrist, any first three joints"),
+    ClosedFormEntry(ThreeParallel6R, 120, "three parallel axes 2-4, any joints 1, 5, 6"),
+    ClosedFormEntry(
+        Reversed6R, 130, "the 6R families above read from the tool, before the general form"
+    ),
+    ClosedFormEntry(General6R, 1000, "any other 6R arm, by elimination: always last"),
+)
+
+_entries: list[ClosedFormEntry] = list(SHIPPED)
+
+#: The registered structures in the order they are asked (kept in step with :func:`entries`;
+#: updated in place by :func:`register`).
+CLOSED_FORMS: list[type[ClosedFormStructure]] = [entry.structure for entry in SHIPPED]
+
+
+def entries() -> tuple[ClosedFormEntry, ...]:
+    """Every registered entry, shipped and added, lowest precedence first."""
+    return tuple(_entries)
+
+
+def register(
+    structure: type[ClosedFormStructure],
+    *,
+    precedence: int | None = None,
+    first: bool = False,
+    why: str = "",
+) -> ClosedFormEntry:
+    """Add a structure to the registry; once only (a second call returns its entry).
+
+    Args:
+        structure: The structure class.
+        precedence: Its place in the asking order (lower first; see :data:`SHIPPED` for the
+            shipped values). None: after every entry, or before every entry with ``first``.
+        first: With ``precedence`` None, ask it before every other structure.
+        why: One line: why it stands there.
 
     Raises:
         TypeError: ``structure`` lacks a part of :class:`ClosedFormStructure`.
+        ValueError: ``precedence`` is taken by another entry.
     """
     missing = [
         part
@@ -61,12 +129,22 @@ def register(structure: type[ClosedFormStructure], *, first: bool = False) -> No
     ]
     if missing:
         raise TypeError(f"{structure.__name__} is not a closed-form structure: no {missing}")
-    if structure in CLOSED_FORMS:
-        return
-    if first:
-        CLOSED_FORMS.insert(0, structure)
-    else:
-        CLOSED_FORMS.append(structure)
+    for entry in _entries:
+        if entry.structure is structure:
+            return entry
+    taken = {entry.precedence: entry.structure.__name__ for entry in _entries}
+    if precedence is None:
+        precedence = min(taken) - 10 if first else max(taken) + 10
+    elif precedence in taken:
+        raise ValueError(
+            f"precedence {precedence} is {taken[precedence]}'s; choose a free value "
+            f"(taken: {', '.join(f'{p} {n}' for p, n in sorted(taken.items()))})"
+        )
+    entry = ClosedFormEntry(structure, precedence, why)
+    _entries.append(entry)
+    _entries.sort(key=lambda e: e.precedence)
+    CLOSED_FORMS[:] = [e.structure for e in _entries]
+    return entry
 
 
 def recognise_turned(table: DHTable) -> tuple[ClosedFormStructure, DHTable, np.ndarray | None]:

@@ -1,0 +1,43 @@
+"""The paper's Newton-Raphson IK (position only, no limits) behind the common solver interface.
+
+The ``nr`` row of the solver table (:mod:`kin.ik.solver_table`), ``kin ik --solver nr``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...robot_model import RobotModel
+from ..exceptions import TargetError
+from ..result import IKResult
+from ..target import PositionTarget, Target
+
+
+class NewtonRaphsonSolver:
+    """The paper's Newton-Raphson IK behind the common solver interface.
+
+    Args:
+        robot: The robot.
+    """
+
+    name = "nr"
+    target_kinds: tuple[type, ...] = (PositionTarget,)
+
+    def __init__(self, robot: RobotModel):
+        self.robot = robot
+
+    def solve(
+        self, target: Target, seed: np.ndarray | None = None, *, timeout: float | None = None
+    ) -> IKResult:
+        """Solve a position target from ``seed`` [rad] (q = 0 if None); ``timeout`` is unused.
+
+        Raises:
+            TargetError: Not a position target.
+        """
+        from .newton_raphson import newton_raphson
+
+        if not isinstance(target, PositionTarget):
+            raise TargetError(
+                "--solver nr is the paper's position-only method: drop --rpy/--quat/--pitch"
+            )
+        return newton_raphson(self.robot, target.position, seed)
