@@ -295,7 +295,7 @@ def compiled_seeded_many(
 def solve_free_joint(ik: NumericContext, search: Search) -> IKResult | None:
     """The closed form from the caller's seed, then from seed-table samples; None if none verifies.
 
-    With ``ik.near_seed``, a seed whose tool is near the target (:func:`.starts.seed_leash`)
+    With ``near_seed`` (settings), a seed whose tool is near the target (:func:`.starts.seed_leash`)
     expects the answer near it: :func:`_near_seed` first. A target with a posture preference
     skips this stage (the closed form does not weigh it).
     """
@@ -311,14 +311,14 @@ def solve_free_joint(ik: NumericContext, search: Search) -> IKResult | None:
     out = np.empty(7)
     seed = search.seed
     if seed is not None and not search.seed_scanned:
-        leash = seed_leash(ik, search, seed) if ik.near_seed else None
+        leash = seed_leash(ik, search, seed) if ik.settings.near_seed else None
         if leash is not None:
             done = _near_seed(ik, search, closed, prepared, seed, leash, out, position, rotation)
             if done is not None:
                 return done
         # The seed's free joints, scanned outward (coarse, then fine) when they give no branch.
         starts = seed[None]
-        for step in ik.closed_form_steps:
+        for step in ik.settings.closed_form_steps:
             if closed.first(prepared, starts, out, step, ik.compiled) == 0:
                 errors = _verified(ik, search, out, position, rotation)
                 if errors is not None:
@@ -356,7 +356,7 @@ def _near_seed(
     """The answer near a seed whose tool is near the target, or None (the scan and samples next).
 
     The closed form with the seed's own free joints (no scan) when its branch is within
-    ``ik.seed_near`` of the seed; else damped Newton from the seed (``leash``: see
+    ``settings.seed_near`` of the seed; else damped Newton from the seed (``leash``: see
     :func:`.starts.seed_leash`), whose steps move every joint, the free one too; the nearer of
     the two verified answers. Keeping the free joint can put the branch far: the near branch
     outside a limit at that free-joint value, or moved a long way by it.
@@ -368,11 +368,13 @@ def _near_seed(
         if errors is not None:
             moved = _moved(out, seed)
             kept = IKSolution(out.copy(), "", True, *errors)
-            if moved <= ik.seed_near:
+            if moved <= ik.settings.seed_near:
                 return search.success(kept, METHOD, FROM_SEED, 0)
     search.seed_tried = True
     outcome = (
-        search.newton(seed, None) if leash == math.inf else search.newton(seed, ik.patience, leash)
+        search.newton(seed, None)
+        if leash == math.inf
+        else search.newton(seed, ik.settings.patience, leash)
     )
     if kept is None or (outcome.converged and _moved(outcome.q, seed) < moved):
         done = search.accept(
@@ -436,7 +438,7 @@ def _sample_starts(
     ``closed_form_starts`` samples (not scanned). Looked up lazily: most targets need the caller's
     seed only.
     """
-    steps = ik.closed_form_steps
+    steps = ik.settings.closed_form_steps
     target = search.target
     table = search.table
     if table is None:
@@ -448,7 +450,7 @@ def _sample_starts(
             return
         for step in steps:
             yield table.q[candidates[:1]], candidates, step
-        rest = candidates[1 : ik.closed_form_starts]
+        rest = candidates[1 : ik.settings.closed_form_starts]
     else:
         found = table.ranked(position, rotation)
         if found is None or not found[0].size:
@@ -457,7 +459,7 @@ def _sample_starts(
         first = int(distances.argmin())
         for step in steps:
             yield table.q[candidates[first : first + 1]], candidates[first:], step
-        order = np.argsort(distances, kind="stable")[: ik.closed_form_starts]
+        order = np.argsort(distances, kind="stable")[: ik.settings.closed_form_starts]
         rest = candidates[order[order != first]]
     if rest.size:
         yield table.q[rest], rest, 0.0

@@ -5,7 +5,7 @@ inside the limits (drawn from ``random_seed``), then mink QP runs with hard limi
 (:mod:`kin.ik.numeric.differential_ik`, ``qp_iterations`` steps, the first from the best
 configuration so far) each followed by a damped Newton polish, with ``random_between`` random
 starts between two QP runs, until the search has made ``max_attempts`` starts
-(:data:`~.search.MAX_ATTEMPTS`). Out of reach, the QP run comes first (it finds the closest
+(:data:`~.settings.MAX_ATTEMPTS`). Out of reach, the QP run comes first (it finds the closest
 configuration) and ``nearest + 3`` starts end it. Without a solution, a last QP run from the best
 configuration tightens it. The MuJoCo model of the QP runs is loaded on the first run, whatever
 the time left; the cap (:meth:`~.search.Search.expired`) is checked before each start and after
@@ -42,8 +42,8 @@ def solve_with_restarts(ik: NumericContext, search: Search) -> IKResult | None:
     nearest_best = search.best
     out_of_reach = search.out_of_reach
     while not search.expired():
-        k = fallback if out_of_reach else fallback - ik.random_starts
-        use_qp = k >= 0 and k % (ik.random_between + 1) == 0
+        k = fallback if out_of_reach else fallback - ik.settings.random_starts
+        use_qp = k >= 0 and k % (ik.settings.random_between + 1) == 0
         fallback += 1
         if use_qp and not qp_runs and nearest_best is not None:
             q_next = nearest_best.q  # the first run: from the nearest starts' best
@@ -57,13 +57,13 @@ def solve_with_restarts(ik: NumericContext, search: Search) -> IKResult | None:
             outcome = search.newton(q_next, None)
             label = f"mink QP ({steps} steps) + damped Newton"
         else:
-            outcome = search.newton(q_next, ik.random_patience)
+            outcome = search.newton(q_next, ik.settings.random_patience)
             label = "damped Newton from a random start"
         method = MINK_QP if use_qp else RANDOM_RESTART
         done = search.accept(outcome, method, f"{label}, attempt {search.attempts}", use_qp)
         if done is not None:
             return done
-        if out_of_reach and search.attempts > ik.nearest + 2:
+        if out_of_reach and search.attempts > ik.settings.nearest + 2:
             break
         if search.attempts >= max_attempts:
             break
@@ -92,7 +92,7 @@ def _qp_run(ik: NumericContext, search: Search, q0: np.ndarray) -> tuple[np.ndar
     differential.set_target(search.target)
     qp = differential.solve(
         q0,
-        ik.qp_iterations,
+        ik.settings.qp_iterations,
         search.inner_position_tol,
         search.inner_rotation_tol,
         search.deadline,

@@ -27,6 +27,7 @@ import numpy as np
 from ..result import IKResult, IKSolution
 from .damped_newton import NUMPY_LINALG, NewtonOutcome, damped_newton, linalg_within
 from .numeric_target import NumericTarget
+from .settings import MAX_ATTEMPTS
 
 if TYPE_CHECKING:
     from .context import NumericContext
@@ -38,19 +39,13 @@ RANK_WEIGHT = 0.1
 #: Pipeline name reported in :attr:`IKResult.solver`.
 PIPELINE = "numeric"
 
-#: Damped Newton starts of one solve (the caller's seed, seed-table samples, random starts and
-#: the polish of every mink QP run together, one QP run every ``random_between + 1`` starts): the
-#: work of a search that finds nothing, 50-150 ms on one core of a 2-core machine. On 450 full
-#: poses near the limits of humanoid7, Panda and puma560 (stages 1-3 alone) it finds 443, as the
-#: former 50 ms budget did with a QP run every 4 starts at four times the cost.
-MAX_ATTEMPTS = 200
 
 
 class Search:
     """One solve in progress.
 
     Args:
-        ik: The solver as its stages see it (:class:`~.context.NumericContext`).
+        ik: The solver's settings and model handles (:class:`~.context.NumericContext`).
         target: The target (``position`` [m], ``rotation`` or None, ``posture`` or None).
         position_tol: Success tolerance on the position [m].
         rotation_tol: Success tolerance on the rotation [rad].
@@ -166,7 +161,7 @@ class Search:
             q0,
             target.position,
             target.rotation,
-            max_iterations=ik.newton_iterations,
+            max_iterations=ik.settings.newton_iterations,
             position_tol=self.inner_position_tol,
             rotation_tol=self.inner_rotation_tol,
             posture=target.posture,

@@ -136,6 +136,21 @@ class SeedTable:
             return None
         return owners, np.dot(block, self._query(position, rotation))
 
+    def nearest_rows(
+        self, position: np.ndarray, rotation: np.ndarray | None, k: int
+    ) -> np.ndarray:
+        """The joint vectors of the ``k`` samples of the target's neighbourhood nearest it, (k, nq).
+
+        Nearest in the pose embedding (position [m], rotation weighed); none when the target's
+        cell is outside the grid or empty (:meth:`ranked`).
+        """
+        found = self.ranked(position, rotation)
+        if found is None or not found[0].size:
+            return np.empty((0, self.q.shape[1]))
+        candidates, distances = found
+        order = np.argsort(distances, kind="stable")[:k]
+        return self.q[candidates[order]]
+
     def _neighbourhood(self, key: int) -> tuple[np.ndarray, np.ndarray]:
         """The samples of cell ``key``'s 3 x 3 x 3 neighbourhood and their lifted rows (cached)."""
         found = self._blocks.get(key)
@@ -353,3 +368,18 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
 def seed_table_for(robot_name: str, size: int = 20000, seed: int = 0) -> SeedTable:
     """The (cached) seed table of a shipped robot."""
     return build_seed_table(load_robot(robot_name), size=size, seed=seed)
+
+
+def seed_table_of(robot: RobotModel, size: int) -> SeedTable:
+    """The seed table of ``robot``: the cached one of a shipped robot, else its own, built now."""
+    if _is_shipped(robot):
+        return seed_table_for(robot.name, size)
+    return build_seed_table(robot, size)  # a robot loaded from a table file
+
+
+def _is_shipped(robot: RobotModel) -> bool:
+    """Whether ``robot`` is the registry's (cached) model of its name."""
+    try:
+        return load_robot(robot.name) is robot
+    except Exception:  # noqa: BLE001 - any name the registry does not know
+        return False

@@ -13,7 +13,7 @@ The stages, in order, until one returns a verified solution or the work is done 
 1. :mod:`.starts`: damped Newton from the seed-table samples nearest the target, after the
    caller's posture and seed for a redundant target (the answer stays near them).
 2. :mod:`.restarts`: random restarts and mink QP runs with hard limits, until the search has
-   made ``max_attempts`` starts (:data:`~.search.MAX_ATTEMPTS`); then a last QP run from the best
+   made ``max_attempts`` starts (:data:`~.settings.MAX_ATTEMPTS`); then a last QP run from the best
    configuration.
 
 Work, not time, decides the answer (:mod:`.search`): a fixed number of starts of a fixed number
@@ -36,60 +36,51 @@ exception to the judge: stage 0 from the caller's seed of a :class:`~kin.ik.Pose
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import logging
-import math
 import threading
 import time
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from kin import KinError, RobotModel, as_joint_vector, load_robot
+from kin import RobotModel, load_robot
 from kin.configuration import seed_inside
 
-from ..analytic.idealised import Idealised, idealise
 from ..exceptions import TargetError
-from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, ToolJudge
+from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
 from ..partial_pose import PartialPoseIK
-from ..reach import Reach, arm_reach, reach_bound
 from ..result import IKResult
 from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
-from .damped_newton import COMPILED as COMPILED_STEP
+from .build_context import build_context, compiled_stage0
 from .damped_newton import load_linalg
-from .differential_ik import DifferentialIK
 from .free_joint import METHOD as FREE_JOINT
 from .free_joint import (
-    FreeJointClosedForm,
-    SeededMany,
-    compiled_seeded,
-    compiled_seeded_many,
-    free_joint_closed_form,
     solve_free_joint,
 )
 from .numeric_target import NumericTarget
 from .restarts import MINK_QP, RANDOM_RESTART, polish_best, solve_with_restarts
-from .search import MAX_ATTEMPTS, PIPELINE, Search, Stage, run_stages
-from .seed_table import SeedTable, build_seed_table, seed_table_for
+from .search import PIPELINE, Search, Stage, run_stages
+from .seed_table import SeedTable, seed_table_of
+from .settings import DEFAULT_CLOSED_FORM_STEPS as DEFAULT_CLOSED_FORM_STEPS
+from .settings import NumericSettings
 from .starts import SEED_TABLE, solve_from_starts
 
 logger = logging.getLogger(__name__)
 
-#: NumPy's (interned) float64 dtype: an identity check is the fast path's cheapest test.
-_FLOAT64 = np.dtype(np.float64)
+#: What :meth:`NumericIK.__getattr__` finds neither in the context nor in the settings.
+_MISSING = object()
 
 #: Default cap on the time of one solve [s], the partial poses' too: the work
-#: (:data:`~.search.MAX_ATTEMPTS` starts, about 0.1 s when nothing is found, plus the seed table
+#: (:data:`~.settings.MAX_ATTEMPTS` starts, about 0.1 s when nothing is found, plus the seed table
 #: and the MuJoCo model loaded once) decides the answer; a call the cap stops first says
 #: ``timeout``. Found answers return as soon as found (tens of microseconds to a few ms).
 DEFAULT_TIMEOUT = 2.0
 
-#: Default free-joint scan steps of the closed form [rad], coarse to fine (with or without the
-#: compiled twins: the same answers either way).
-DEFAULT_CLOSED_FORM_STEPS = (0.05, 0.01)
-
-#: The numeric pipeline, in order (see the module): each stage gets the solver as its context
-#: (:class:`~.context.NumericContext`) and the shared :class:`~.search.Search`.
+#: The numeric pipeline, in order (see the module): each stage gets the solver's frozen
+#: :class:`~.context.NumericContext` and the shared :class:`~.search.Search`.
 STAGES: tuple[Stage, ...] = (
     Stage(FREE_JOINT, solve_free_joint),
     Stage(SEED_TABLE, solve_from_starts),
@@ -103,193 +94,52 @@ class NumericIK:
 
     Args:
         robot: The robot.
-        table_size: Number of sampled poses in the seed table.
-        qp_solver: QP solver of the mink fallback (``"daqp"`` or ``"osqp"``).
-        nearest: Number of seed-table starts tried before the fallback.
-        newton_iterations: Damped Newton steps per start.
-        qp_iterations: mink QP steps per fallback run.
-        patience: A nearest start is abandoned after this many damped Newton steps in a row
-            that do not halve its error (None: always ``newton_iterations`` steps).
-        random_starts: Random starts tried after the nearest ones and before the first mink
-            QP run (a QP run costs as much as dozens of damped Newton starts).
-        max_attempts: The work of one solve: damped Newton starts in all (seeded draws), after
-            which a search without an answer says ``not_found``; a solve's own ``max_attempts``
-            overrides it.
-        random_between: Random starts between two mink QP runs (a QP run of ``qp_iterations``
-            steps costs as much as about 20 random starts and finds as many answers near the
-            limits).
-        random_patience: ``patience`` of the random starts (a mink QP run is always followed
-            by ``newton_iterations`` damped Newton steps).
-        seed_radius: For a redundant target (more joints than it constrains), a caller's seed
-            whose tool is within this of the target [m] (rotations weighed as in the seed
-            table's pose embedding) is the first start of damped Newton, with the whole
-            ``newton_iterations`` budget: the answer is the solution near the seed. A farther
-            seed goes first only when its tool is at least as near as the nearest sample's.
-        seed_reach: For a redundant target, a caller's seed whose tool is farther than
-            ``seed_radius`` but within this [m] (and turned at most ``seed_turn``) is the first
-            start of damped Newton too, on a ``seed_leash``; so is it in the closed-form stage
-            when the closed form's answer from it is farther than ``seed_near`` from it (or there
-            is none).
-        seed_turn: The largest rotation angle between the seed's tool and a full-pose target for
-            ``seed_reach`` [rad] (a seed turned farther has no solution near it).
-        seed_leash: A damped Newton run from a seed beyond ``seed_radius`` gives up as soon as it
-            has moved farther than this from the seed (largest joint change [rad]), or stalls
-            (``patience``): the answer near the seed is not where it goes, and samples' starts
-            are cheaper.
-        seed_near: The closed form's answer from a seed near the target (within ``seed_reach``)
-            is taken when no joint is farther than this from the seed's [rad]; else damped Newton
-            from the seed runs first, and the nearer of the two answers is returned.
-        near_seed: Whether the closed-form stage checks that its answer from the caller's seed
-            is near the seed when the seed's tool is near the target (``seed_reach``,
-            ``seed_near``). It costs one forward kinematics of the seed per seeded solve (about
-            1.3 us, 10-20 % of a closed-form answer's time), hence off by default: without it,
-            the closed form keeps the seed's free joint and its branch may be far.
-        closed_form: Try the free-joint closed form first when the arm has one
-            (:func:`~.free_joint.free_joint_closed_form`; False: damped Newton and mink only).
-        closed_form_starts: Seed-table samples tried by the closed form before damped Newton.
-        closed_form_steps: Free-joint scan steps of the first closed-form starts [rad], coarse
-            to fine: when a start's free joint gives no branch inside the limits, it is scanned
-            outward from there, on the coarse grid first.
-        compiled: Run the free-joint closed form's compiled twin (``_closed7`` for humanoid7's
-            structure, ``_shoulder7`` for the spherical shoulder) when it is built (False: the
-            Python module). Both return the same joint vectors; the twin is faster. Damped
-            Newton's steps take their compiled twin too (``_damped_step``; False: NumPy's, the
-            same joint vectors to rounding).
-        prepare: Build (or load) the seed table now (False: on the first solve that needs it,
-            before its search, whatever its timeout: see :meth:`solve`).
+        settings: The settings (:class:`~.settings.NumericSettings`; None: its defaults).
+        **options: Settings by name (``near_seed=True``, ``closed_form=False``, ...), over
+            ``settings``: every field of :class:`~.settings.NumericSettings`, with its unit.
+
+    Attributes:
+        settings: The settings, frozen.
+        context: What the stages read (:class:`~.context.NumericContext`): the settings and the
+            model handles. Their fields read as the solver's too (``solver.nearest``,
+            ``solver.judge``, ``solver.closed_form``), read-only.
+        stages: The pipeline, in order (:class:`~.search.Stage`): each gets the context and the
+            shared search, and returns a verified result or hands the search on.
     """
 
     #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
     name = PIPELINE
 
     def __init__(
-        self,
-        robot: RobotModel,
-        table_size: int = 20000,
-        qp_solver: str = "daqp",
-        nearest: int = 8,
-        newton_iterations: int = 20,
-        qp_iterations: int = 25,
-        patience: int | None = 3,
-        random_starts: int = 10,
-        max_attempts: int = MAX_ATTEMPTS,
-        random_between: int = 19,
-        random_patience: int | None = 3,
-        seed_radius: float = 0.1,
-        seed_reach: float = 0.45,
-        seed_turn: float = 1.2,
-        seed_leash: float = 0.75,
-        seed_near: float = 0.4,
-        near_seed: bool = False,
-        closed_form: bool = True,
-        closed_form_starts: int = 32,
-        closed_form_steps: tuple[float, ...] = DEFAULT_CLOSED_FORM_STEPS,
-        compiled: bool = True,
-        prepare: bool = True,
-    ):
+        self, robot: RobotModel, settings: NumericSettings | None = None, **options: Any
+    ) -> None:
+        if settings is None:
+            settings = NumericSettings(**options)
+        elif options:
+            settings = dataclasses.replace(settings, **options)
+        self.settings = settings
+        self.context = context = build_context(robot, settings)
         self.robot = robot
-        self.model = robot.model
-        self.data = robot.model.createData()
-        self.frame_id = robot.model.getFrameId(robot.tool_frame)
-        #: Number of joints.
-        self.nq: int = robot.model.nq
-        #: The judge of every answer (Pinocchio's FK of the tool, the limits), in :attr:`data`.
-        self.judge = ToolJudge(robot, self.data)
-        self.table_size = table_size
-        self.qp_solver = qp_solver
-        self.nearest = nearest
-        self.newton_iterations = newton_iterations
-        self.qp_iterations = qp_iterations
-        self.patience = patience
-        self.random_starts = random_starts
-        self.max_attempts = max_attempts
-        self.random_between = random_between
-        self.random_patience = random_patience
-        self.seed_radius = seed_radius
-        self.seed_reach = seed_reach
-        self.seed_turn = seed_turn
-        self.seed_leash = seed_leash
-        self.seed_near = seed_near
-        self.near_seed = near_seed
-        self.lower = robot.model.lowerPositionLimit.copy()
-        self.upper = robot.model.upperPositionLimit.copy()
-        #: Joints without limits (``continuous`` rows): damped Newton moves them freely (a model
-        #: with limits of +-3 pi for them, :attr:`search_model`) and answers are wrapped back
-        #: into [-pi, pi], so that a solution across pi is found, not clamped away.
-        self.continuous = tuple(i for i, row in enumerate(robot.table.rows) if row.continuous)
-        self.search_model = robot.model
-        if self.continuous:
-            self.search_model = robot.model.copy()
-            for i in self.continuous:
-                self.search_model.lowerPositionLimit[i] = -3.0 * math.pi
-                self.search_model.upperPositionLimit[i] = 3.0 * math.pi
-        #: The limits as lists of floats (the stages' checks run on Python floats).
-        self.lows, self.highs = self.lower.tolist(), self.upper.tolist()
-        self._lows, self._highs = self.lows, self.highs
-        #: The pipeline, in order (:class:`~.context.Stage`): each gets the shared search and
-        #: returns a verified result, or hands the search on.
-        self.stages: tuple[Stage, ...] = STAGES
-        #: Upper bound of the tool's distance from the base origin [m] (triangle inequality): a
-        #: target beyond it is answered ``out_of_reach`` before any search.
-        self.reach = reach_bound(robot)
-        self._base_origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].tolist()
-        self._shape = (robot.model.nq,)
+        #: Number of joints, and the joint limits (arrays).
+        self.nq: int = context.nq
+        self.lower, self.upper = context.lower, context.upper
+        self._shape = (self.nq,)
         # A pose on an arm of fewer than six joints, a masked pose and an axis target go to
         # :mod:`kin.ik.partial_pose` (weighted least squares on the constrained components).
         self._kinds: tuple[type, ...] = (NumericTarget, PoseTarget, PositionTarget, AxisTarget)
         self._partial: PartialPoseIK | None = None
         self._table: SeedTable | None = None
-        self._differential: DifferentialIK | None = None
-        #: The free-joint closed form of this arm, or None (no structure fits, or not asked).
-        self.closed_form: FreeJointClosedForm | None = None
-        #: The idealised table the free-joint closed form fits when the true one misses it by
-        #: rounding (its answers are polished on the true chain), else None.
-        self.idealised: Idealised | None = None
-        if closed_form:
-            # The special forms, on the true table, then on the idealised one (a rounded URDF);
-            # only then the general 7R form on the true table (slower, no compiled twin).
-            lower, upper = self.lower, self.upper
-            self.closed_form = free_joint_closed_form(robot.table, lower, upper, general=False)
-            ideal = idealise(robot.table) if self.closed_form is None else None
-            if ideal is not None:
-                self.closed_form = free_joint_closed_form(ideal.table, lower, upper, general=False)
-                self.idealised = ideal if self.closed_form is not None else None
-            if self.closed_form is None:
-                self.closed_form = free_joint_closed_form(robot.table, lower, upper)
-        if getattr(self.closed_form, "costly", False):  # a general 7R: after the seed table
+        self.stages: tuple[Stage, ...] = STAGES
+        if getattr(context.closed_form, "costly", False):  # a general 7R: after the seed table
             self.stages = (STAGES[1], STAGES[0], *STAGES[2:])
-        self.closed_form_starts = closed_form_starts
-        self.closed_form_steps = tuple(closed_form_steps)
-        #: Whether the closed form runs its compiled twin (asked for and built).
-        self.compiled = compiled and self.closed_form is not None and self.closed_form.compiled_twin
-        #: Whether damped Newton's steps run their compiled twin (asked for and built).
-        self.compiled_step = compiled and COMPILED_STEP
         #: Stage 0 from the caller's seed in one compiled call (:func:`.free_joint.compiled_seeded`)
-        #: for a PoseTarget or PositionTarget, or None (the stages in Python).
-        self._seeded = None
-        if self.compiled and self.idealised is None and self.stages is STAGES:
-            self._seeded = compiled_seeded(
-                self.closed_form,
-                robot.table,
-                self._base_origin,
-                self.reach,
-                self.closed_form_steps,
-                PIPELINE,
-            )
-        #: The batch's closed-form stage in compiled code (:func:`.free_joint.compiled_seeded_many`:
-        #: :func:`kin.ik.solve_batch`, ``kin ik --stdin``), or None where ``_seeded`` is.
-        self.seeded_many: SeededMany | None = None
-        if self._seeded is not None:
-            self.seeded_many = compiled_seeded_many(
-                self.closed_form,
-                robot.table,
-                self.lower,
-                self.upper,
-                self._base_origin,
-                self.reach,
-            )
-        # One solve at a time per solver: the stages share :attr:`data` and the caches (threads
-        # that share a solver get the answers one thread would).
+        #: for a PoseTarget or PositionTarget, and the batch's (:func:`kin.ik.solve_batch`, ``kin
+        #: ik --stdin``), or None (the stages in Python).
+        self._seeded, self.seeded_many = None, None
+        if context.compiled and context.idealised is None and self.stages is STAGES:
+            self._seeded, self.seeded_many = compiled_stage0(context, PIPELINE)
+        # One solve at a time per solver: the stages share the context's data and the caches
+        # (threads that share a solver get the answers one thread would).
         self._lock = threading.Lock()
         self._table_lock = threading.Lock()
         # The seed table (tens of milliseconds to build, a few to load) and, for an arm without
@@ -297,15 +147,18 @@ class NumericIK:
         # the steps (imported once per process) come with the solver, not inside a solve's
         # cap. Without ``prepare`` the first solve that needs them loads them (the cap counts
         # it); with the steps' compiled twin (COMPILED_STEP) SciPy is not needed at all.
-        if prepare:
+        if settings.prepare:
             _ = self.table
-            if self.closed_form is None and not self.compiled_step:
+            if context.closed_form is None and not context.compiled_step:
                 load_linalg()
 
-    @property
-    def arm_reach(self) -> Reach:
-        """The tool's largest distance from the base (:func:`kin.ik.reach.arm_reach`)."""
-        return arm_reach(self.robot)
+    def __getattr__(self, name: str) -> Any:
+        """A field of the context or, failing that, of the settings (read-only aliases)."""
+        if name not in ("context", "settings") and not name.startswith("__"):  # built
+            for source in (self.context, self.settings):
+                if (value := getattr(source, name, _MISSING)) is not _MISSING:
+                    return value
+        raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
 
     @property
     def table(self) -> SeedTable:
@@ -313,16 +166,8 @@ class NumericIK:
         if self._table is None:
             with self._table_lock:  # one build, whichever thread asks first
                 if self._table is None:
-                    if _is_shipped(self.robot):
-                        self._table = seed_table_for(self.robot.name, self.table_size)
-                    else:  # a robot loaded from a table file: its own table
-                        self._table = build_seed_table(self.robot, self.table_size)
+                    self._table = seed_table_of(self.robot, self.settings.table_size)
         return self._table
-
-    @property
-    def differential_loaded(self) -> bool:
-        """Whether the mink differential IK is loaded (a QP run costs no model load)."""
-        return self._differential is not None
 
     @property
     def partial(self) -> PartialPoseIK:
@@ -342,20 +187,7 @@ class NumericIK:
         samples depend on the target alone.
         """
         del end  # the work, not the time left, decides what is returned
-        table = self.table
-        found = table.ranked(position, rotation)
-        if found is None or not found[0].size:
-            return np.empty((0, self.nq))
-        candidates, distances = found
-        order = np.argsort(distances, kind="stable")[: self.nearest]
-        return table.q[candidates[order]]
-
-    @property
-    def differential(self) -> DifferentialIK:
-        """The mink differential IK (MuJoCo model loaded on first use)."""
-        if self._differential is None:
-            self._differential = DifferentialIK(self.robot, solver=self.qp_solver)
-        return self._differential
+        return self.table.nearest_rows(position, rotation, self.settings.nearest)
 
     @property
     def target_kinds(self) -> tuple[type, ...]:
@@ -398,7 +230,7 @@ class NumericIK:
             rotation_tol: Success tolerance on the rotation [rad].
             max_attempts: The work: damped Newton starts in all, after which a search without
                 an answer says ``not_found`` (None: the solver's ``max_attempts``,
-                :data:`~.search.MAX_ATTEMPTS` by default).
+                :data:`~.settings.MAX_ATTEMPTS` by default).
             all_branches: On an arm with a free-joint closed form (7R) and a full pose, every
                 verified branch at a grid of free-joint values, the seed's and the answer's,
                 nearest the seed first (:mod:`.all_branches`); else the usual answer.
@@ -476,33 +308,27 @@ class NumericIK:
             seeded is not None
             and seed is not None
             and posture is None
-            and not self.near_seed
+            and not self.settings.near_seed
             and (timeout is None or timeout >= 0.0)
         ):  # stage 0 from the seed, compiled: the usual answer, without the stages' set-up
             answer = seeded(target, seed, position_tol, rotation_tol, start, np.empty(7))
             if answer.__class__ is IKResult:
                 return answer  # type: ignore[no-any-return]
             scanned = answer is False  # tried from the seed: stage 0 goes on from the samples
-        if posture is not None and posture.shape != self._shape:
-            raise TargetError(
-                f"posture of '{self.robot.name}' must have {self.nq} values, got {posture.size}"
-            )
-        if posture is not None and not (
-            np.all(posture >= self.lower) and np.all(posture <= self.upper)
-        ):  # a preference outside the limits pulls toward the nearest joint vector inside
-            clipped = np.minimum(np.maximum(posture, self.lower), self.upper)
-            target = NumericTarget(target.position, target.rotation, clipped)
+        if posture is not None:
+            target = self.context.posture_inside(target, posture)
         budget = DEFAULT_TIMEOUT if timeout is None else timeout
         if not budget >= 0.0:
             raise TargetError(f"timeout must be a number of seconds >= 0, got {timeout!r}")
         with self._lock:
-            distance = self.distance_from_base(target.position)
-            if distance > self.reach:  # surely unreachable: no search
-                return self._beyond_reach(target, distance, start)
+            context = self.context
+            distance = context.distance_from_base(target.position)
+            if distance > context.reach:  # surely unreachable: no search
+                return _beyond_reach(context.arm_reach.maximum, distance, start)
             seed_vector = None if seed is None else self.seed_vector(seed)  # checked once
             table = self.table  # before the search, whatever the cap: work decides
             search = Search(
-                self,
+                context,
                 target,
                 position_tol,
                 rotation_tol,
@@ -511,51 +337,31 @@ class NumericIK:
                 table,
                 seed_vector,
                 random_seed,
-                self.max_attempts if max_attempts is None else max_attempts,
+                self.settings.max_attempts if max_attempts is None else max_attempts,
             )
             search.seed_scanned = scanned
-            return run_stages(self.stages, self, search)
-
-    def _beyond_reach(self, target: NumericTarget, distance: float, start: float) -> IKResult:
-        """``out_of_reach`` for a target farther than :attr:`reach` from the base (no search)."""
-        reach = self.arm_reach.maximum
-        return IKResult(
-            False,
-            PIPELINE,
-            "out_of_reach",
-            f"target is {distance - reach:.4g} m beyond the arm's reach ({reach:.4g} m from its "
-            "base); no search",
-            distance_to_workspace=distance - reach,
-            time=time.perf_counter() - start,
-        )
-
-    def distance_from_base(self, position: np.ndarray) -> float:
-        """Distance of a world point from the base origin [m]."""
-        x, y, z = position.tolist() if position.__class__ is np.ndarray else position
-        bx, by, bz = self._base_origin
-        return math.hypot(x - bx, y - by, z - bz)  # no overflow for 1e308
+            return run_stages(self.stages, context, search)
 
     def seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
-        """The caller's seed as a finite joint vector (the solver never writes into it)."""
-        if (
-            type(seed_q) is np.ndarray
-            and seed_q.shape == self._shape
-            and seed_q.dtype is _FLOAT64
-            and math.isfinite(sum(seed_q.tolist()))
-        ):
-            return seed_q  # already valid: no copy, no validation
-        try:
-            return as_joint_vector(self.robot, seed_q)
-        except KinError as err:
-            raise TargetError(f"seed of '{self.robot.name}': {err}") from err
+        """The caller's seed as a finite joint vector (:meth:`.NumericContext.seed_vector`)."""
+        return self.context.seed_vector(seed_q)
 
 
-def _is_shipped(robot: RobotModel) -> bool:
-    """Whether ``robot`` is the registry's (cached) model of its name."""
-    try:
-        return load_robot(robot.name) is robot
-    except Exception:  # noqa: BLE001 - any name the registry does not know
-        return False
+def _beyond_reach(reach: float, distance: float, start: float) -> IKResult:
+    """``out_of_reach`` for a target ``distance`` [m] from the base, beyond the arm's ``reach`` [m].
+
+    No search: the target is farther than the links laid end to end (``start``: the call's
+    ``time.perf_counter()``).
+    """
+    return IKResult(
+        False,
+        PIPELINE,
+        "out_of_reach",
+        f"target is {distance - reach:.4g} m beyond the arm's reach ({reach:.4g} m from its "
+        "base); no search",
+        distance_to_workspace=distance - reach,
+        time=time.perf_counter() - start,
+    )
 
 
 @functools.lru_cache(maxsize=8)

@@ -71,6 +71,7 @@ def seed_table_starts(
     table = search.table
     target = search.target
     posture = target.posture
+    patience, count = ik.settings.patience, ik.settings.nearest
     if posture is not None:  # the caller's preference: always first, the whole budget
         posture = np.asarray(posture, dtype=float)
         yield "the preferred posture", posture, -1, None, None
@@ -85,15 +86,15 @@ def seed_table_starts(
             yield "the given seed", seed, -1, None, None
             seed = None
         elif first is not None:  # likewise, on a leash
-            yield "the given seed", seed, -1, ik.patience, first
+            yield "the given seed", seed, -1, patience, first
             seed = None
     if table is None:  # no samples this call: the seed alone
         if seed is not None:
-            yield "the given seed", seed, -1, ik.patience, None
+            yield "the given seed", seed, -1, patience, None
         return
     found = table.ranked(target.position, target.rotation)
-    if found is None or found[0].size < ik.nearest:  # outside the grid: every sample
-        candidates, distances = table.nearest(target.position, target.rotation, k=ik.nearest), None
+    if found is None or found[0].size < count:  # outside the grid: every sample
+        candidates, distances = table.nearest(target.position, target.rotation, k=count), None
         first_index = 0
     else:
         candidates, distances = found
@@ -109,29 +110,29 @@ def seed_table_starts(
         )
         ahead = not seed_beyond(ik, search, seed, nearest)
         if ahead:
-            yield "the given seed", seed, -1, ik.patience, None
+            yield "the given seed", seed, -1, patience, None
     index = int(candidates[first_index])
-    yield f"seed-table sample {index}", table.q[index], index, ik.patience, None
+    yield f"seed-table sample {index}", table.q[index], index, patience, None
     if seed is not None and not ahead:
-        yield "the given seed", seed, -1, ik.patience, None
+        yield "the given seed", seed, -1, patience, None
     if distances is None:
         rest = candidates[1:].tolist()
     else:
-        ranked = np.argsort(distances, kind="stable")[: ik.nearest]
-        rest = [candidates[i] for i in ranked if i != first_index][: ik.nearest - 1]
+        ranked = np.argsort(distances, kind="stable")[:count]
+        rest = [candidates[i] for i in ranked if i != first_index][: count - 1]
     for i in rest:
         index = int(i)
-        yield f"seed-table sample {index}", table.q[index], index, ik.patience, None
+        yield f"seed-table sample {index}", table.q[index], index, patience, None
 
 
 def seed_leash(ik: NumericContext, search: Search, seed: np.ndarray) -> float | None:
     """The leash [rad] of damped Newton from the caller's seed as the first start, or None.
 
     For a redundant target (:func:`redundant`) whose seed's tool is near it (the caller, a user or
-    a Cartesian path, expects the solution near the seed): within ``ik.seed_radius`` in the pose
-    embedding the whole budget (``math.inf``: no leash); within ``ik.seed_reach`` (and a tool
-    rotation within ``ik.seed_turn`` of the target's) the run gives up as soon as it moves
-    farther than ``ik.seed_leash`` from the seed, or stalls (``ik.patience``): the solution near
+    a Cartesian path, expects the solution near the seed): within ``seed_radius`` (settings) in the
+    pose embedding the whole budget (``math.inf``: no leash); within ``seed_reach`` (and a tool
+    rotation within ``seed_turn`` of the target's) the run gives up as soon as it moves farther
+    than ``seed_leash`` from the seed, or stalls (``patience``): the solution near
     the seed is not where it goes. None otherwise: the seed is no first start. One forward
     kinematics of the seed; its embedding distance is kept in ``search.seed_distance``.
     """
@@ -139,9 +140,10 @@ def seed_leash(ik: NumericContext, search: Search, seed: np.ndarray) -> float | 
     target = search.target
     if not redundant(ik, target):
         return None
+    settings = ik.settings
     pose = ik.judge.tool_pose(seed)
     distance = _translation2(pose, target)
-    reach = max(ik.seed_reach, ik.seed_radius)
+    reach = max(settings.seed_reach, settings.seed_radius)
     if distance > reach * reach:  # the common case of a far seed
         if target.rotation is None:
             search.seed_distance = distance
@@ -154,11 +156,11 @@ def seed_leash(ik: NumericContext, search: Search, seed: np.ndarray) -> float | 
     share, inner = _rotation_share(ik, pose, target)
     distance += share
     search.seed_distance = distance
-    if distance <= ik.seed_radius * ik.seed_radius:
+    if distance <= settings.seed_radius * settings.seed_radius:
         return math.inf
-    if inner < 1.0 + 2.0 * math.cos(ik.seed_turn):
+    if inner < 1.0 + 2.0 * math.cos(settings.seed_turn):
         return None
-    return ik.seed_leash
+    return settings.seed_leash
 
 
 def seed_distance(ik: NumericContext, search: Search, seed: np.ndarray) -> float:
