@@ -27,6 +27,7 @@ from operator import le
 from typing import Protocol
 
 import numpy as np
+import numpy.typing as npt
 import pinocchio as pin
 
 from kin import RobotModel
@@ -72,6 +73,13 @@ class Measurement:
 def rotation_error(r_fk: Sequence[float], r_target: Sequence[float]) -> float:
     """Angle of ``R_fk^T R_target`` [rad] from two rotations given row-major (9 values each)."""
     return 2.0 * math.asin(min(1.0, math.dist(r_fk, r_target) / _SQRT8))
+
+
+def rotation_angles(r_fk: npt.ArrayLike, r_target: npt.ArrayLike) -> np.ndarray:
+    """:func:`rotation_error` of rotations (..., 3, 3): angles of ``R_fk^T R_target`` [rad]."""
+    difference = np.asarray(r_fk, dtype=float) - np.asarray(r_target, dtype=float)
+    distance = np.sqrt((difference**2).sum((-2, -1)))
+    return np.asarray(2.0 * np.arcsin(np.minimum(1.0, distance / _SQRT8)))
 
 
 def axis_error(u: Sequence[float], a: Sequence[float]) -> float:
@@ -169,8 +177,7 @@ def batch_pose_errors(
     position_error = np.sqrt(((poses[:, :3, 3] - positions) ** 2).sum(-1))
     if rotations is None:
         return position_error, None
-    distance = np.sqrt(((poses[:, :3, :3] - rotations) ** 2).sum((-2, -1)))
-    return position_error, 2.0 * np.arcsin(np.minimum(1.0, distance / _SQRT8))
+    return position_error, rotation_angles(poses[:, :3, :3], rotations)
 
 
 def batch_axis_errors(axes: np.ndarray, target_axes: np.ndarray) -> np.ndarray:

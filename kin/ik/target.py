@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from . import angles
 from .exceptions import TargetError
 
 try:  # the compiled twin of the pose check on the short way (optional: same verdict, faster)
@@ -284,16 +285,14 @@ PoseTarget.rotation = _PackedArray("rotation", 24, (3, 3))  # type: ignore[assig
 
 
 def rpy_matrix(rpy: npt.ArrayLike) -> list[list[float]]:
-    """URDF roll-pitch-yaw [rad] as a rotation matrix ``Rz(yaw) Ry(pitch) Rx(roll)`` (rows)."""
-    roll, pitch, yaw = _vector(rpy, 3, "rpy")
-    cr, sr = math.cos(roll), math.sin(roll)
-    cp, sp = math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    return [
-        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-        [-sp, cp * sr, cp * cr],
-    ]
+    """URDF roll-pitch-yaw [rad] as a rotation matrix ``Rz(yaw) Ry(pitch) Rx(roll)`` (rows).
+
+    :func:`kin.ik.angles.rpy_matrix` of three checked numbers.
+
+    Raises:
+        TargetError: ``rpy`` is not three finite numbers.
+    """
+    return angles.rpy_matrix(*_vector(rpy, 3, "rpy"))
 
 
 #: The tool axis an :class:`AxisTarget` may name, as a column of ``R_world_tool``.

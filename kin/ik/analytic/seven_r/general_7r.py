@@ -33,6 +33,7 @@ import numpy.typing as npt
 from dh2urdf import DHTable
 
 from ...exceptions import StructureError
+from ...limit_rule import nearest_copies
 from ..closed_form_structure import ClosedFormStructure
 from ..registry import recognise_turned
 from ..six_r.general_6r import General6R
@@ -195,15 +196,11 @@ class General7RIK:
     def _nearest_inside(self, branches: np.ndarray, start: np.ndarray) -> np.ndarray | None:
         """The branch (7,) inside the limits nearest ``start``, or None.
 
-        Each joint is shifted by 2 pi into the limits, nearest the start's value.
+        Each joint goes to its 2 pi copy inside the limits nearest the start's value (the limit
+        rule, :func:`kin.ik.limit_rule.nearest_copies`).
         """
-        shifts = np.array([-_TWO_PI, 0.0, _TWO_PI])
-        moved = branches[..., None] + shifts  # (B, 7, 3)
-        inside = (moved >= self.lower[:, None]) & (moved <= self.upper[:, None])
-        distance = np.where(inside, np.abs(moved - start[:, None]), np.inf)
-        pick = distance.argmin(axis=-1)
-        chosen = np.take_along_axis(moved, pick[..., None], axis=-1)[..., 0]
-        ok = np.isfinite(np.take_along_axis(distance, pick[..., None], axis=-1)[..., 0]).all(-1)
+        chosen, inside = nearest_copies(branches, start, self.lower, self.upper)
+        ok = inside.all(axis=-1)
         if not ok.any():
             return None
         rows = chosen[ok]

@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
+from ...angles import wrap_array
 from ...exceptions import TargetError
-from ..six_r._six_r import wrap_array
 from .shoulder7_structure import SphericalShoulder7R, Vec
 from .subproblems import ScanJob, call_first_many, harmonic_roots_array, rotation_pair_array
 

@@ -34,7 +34,8 @@ from typing import Any, ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from ..six_r._six_r import wrap
+from ...angles import wrap
+from ...limit_rule import nearest_inside
 from .shoulder7_batch import BRANCHES, Shoulder7Batch
 from .shoulder7_structure import SphericalShoulder7R, inverse_point
 from .subproblems import (
@@ -55,19 +56,6 @@ COMPILED = _shoulder7 is not None
 
 
 _TWO_PI = 2.0 * math.pi
-
-
-def _into_limits(q: float, low: float, high: float, near: float) -> float | None:
-    """``q + 2 pi k`` inside ``[low, high]`` nearest ``near`` [rad], or None."""
-    q = near + math.remainder(q - near, _TWO_PI)
-    if low <= q <= high:
-        return q
-    up, down = q + _TWO_PI, q - _TWO_PI
-    if low <= up <= high and not (low <= down <= high and near - down < up - near):
-        return up
-    if low <= down <= high:
-        return down
-    return None
 
 
 class SphericalShoulder7RIK(Shoulder7Batch):
@@ -408,7 +396,7 @@ class SphericalShoulder7RIK(Shoulder7Batch):
             clipped = [min(max(v, lo), hi) for v, lo, hi in zip(start, lows, highs)]
 
             def fit(joint: int, q: float, near: list[float] = clipped) -> float | None:
-                return _into_limits(q, lows[joint], highs[joint], near[joint])
+                return nearest_inside(q, near[joint], lows[joint], highs[joint])
 
             for q7 in scan(clipped[6], step, lows[6], highs[6]):
                 t7 = q7 + off7

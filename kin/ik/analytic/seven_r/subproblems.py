@@ -17,6 +17,8 @@ import numpy as np
 
 from dh2urdf import DHTable
 
+from ...angles import clip_unit
+
 #: Slack on ``|cos| <= 1`` of the elbow and pair angles (rounding at the edge of the workspace).
 COS_SLACK = 1e-12
 
@@ -29,15 +31,9 @@ def harmonic_roots(p: float, q: float, k: float) -> tuple[float, ...]:
     rho = math.hypot(p, q)
     if rho < 1e-15:
         return ()
-    c = k / rho
-    if c > 1.0:
-        if c > 1.0 + COS_SLACK:
-            return ()
-        c = 1.0
-    elif c < -1.0:
-        if c < -1.0 - COS_SLACK:
-            return ()
-        c = -1.0
+    c = clip_unit(k / rho, COS_SLACK)
+    if c is None:
+        return ()
     phi, delta = math.atan2(q, p), math.acos(c)
     return (phi + delta, phi - delta) if delta > 0.0 else (phi,)
 

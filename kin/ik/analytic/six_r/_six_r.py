@@ -23,6 +23,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ...angles import SLACK, clip_cosines, clip_unit, wrap, wrap_array  # noqa: F401  (the family's names)
 from ...exceptions import StructureError, TargetError
 from ..structure import Checker
 
@@ -30,8 +31,6 @@ from ..structure import Checker
 ANGLE_TOL = 1e-9
 #: Tolerance on DH lengths [m] that the structure needs to be exactly zero.
 LENGTH_TOL = 1e-12
-#: Slack on ``|cos| <= 1`` and on squared radii (rounding at the edge of the workspace).
-SLACK = 1e-12
 #: Below this ``|sin|`` of the wrist angle a joint is free (singular wrist) [-].
 SINGULAR = 1e-12
 
@@ -211,24 +210,6 @@ def sin_cos(angle: float) -> tuple[float, float]:
     """``sin``, ``cos`` of a twist [rad], a cosine below 1e-15 set to 0 (90 deg exactly)."""
     s, c = math.sin(angle), math.cos(angle)
     return s, (0.0 if abs(c) < 1e-15 else c)
-
-
-def clip_cosines(cosine: np.ndarray) -> np.ndarray:
-    """Cosines within :data:`SLACK` of +-1 set to +-1; beyond it NaN."""
-    out = np.clip(cosine, -1.0, 1.0)
-    return np.where(np.abs(cosine) > 1.0 + SLACK, np.nan, out)
-
-
-def wrap(angle: float) -> float:
-    """``angle`` [rad] in (-pi, pi]."""
-    out = math.remainder(angle, _TWO_PI)
-    return out + _TWO_PI if out <= -math.pi else out
-
-
-def wrap_array(angle: np.ndarray) -> np.ndarray:
-    """:func:`wrap` of every element (NaN stays NaN)."""
-    out = angle - _TWO_PI * np.round(angle / _TWO_PI)
-    return np.where(out <= -math.pi, out + _TWO_PI, out)
 
 
 def target_arrays(

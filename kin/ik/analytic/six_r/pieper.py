@@ -70,6 +70,7 @@ from ._six_r import (
     SLACK,
     SixRChecker,
     TargetFrame,
+    clip_unit,
     wrap,
 )
 from .pieper_batch import PieperBatch
@@ -299,10 +300,9 @@ class Pieper6R(PieperBatch):
                 cos3 = (big_r - g0) / size
             else:
                 cos3 = (ca1 * z - g30) / size
-            if cos3 > 1.0 or cos3 < -1.0:
-                if abs(cos3) > 1.0 + SLACK:
-                    return out
-                cos3 = 1.0 if cos3 > 0.0 else -1.0
+            if (clipped := clip_unit(cos3)) is None:
+                return out
+            cos3 = clipped
             delta = math.acos(cos3)
             roots = [psi - delta, psi + delta]
         for elbow, t3 in enumerate(roots):
@@ -368,10 +368,9 @@ class Pieper6R(PieperBatch):
         if self._classic:
             sin5 = math.hypot(wvx, wvy)
         else:
-            if cos5 > 1.0 or cos5 < -1.0:
-                if abs(cos5) > 1.0 + SLACK:
-                    return NAN_ROW, NAN_ROW
-                cos5 = 1.0 if cos5 > 0.0 else -1.0
+            if (clipped := clip_unit(cos5)) is None:
+                return NAN_ROW, NAN_ROW
+            cos5 = clipped
             sin5 = math.sqrt(max(0.0, 1.0 - cos5 * cos5))
         q123 = (wrap(t1 - o1), wrap(t2 - o2), wrap(t3 - o3))
         rows = []

@@ -45,6 +45,7 @@ from ._six_r import (
     SixRChecker,
     TargetFrame,
     clip_cosines,
+    clip_unit,
     in_blocks,
     wrap,
     wrap_array,
@@ -225,10 +226,9 @@ class SphericalWrist6R(CompiledSixR):
             x1 = big_a - a1
             # 3. elbow
             cos3 = (x1 * x1 + y1 * y1 - base_sq) / two_a2_l3
-            if cos3 > 1.0 or cos3 < -1.0:
-                if abs(cos3) > 1.0 + SLACK:
-                    continue
-                cos3 = 1.0 if cos3 > 0.0 else -1.0
+            if (clipped := clip_unit(cos3)) is None:
+                continue
+            cos3 = clipped
             delta = math.acos(cos3)
             ct1, st1 = math.cos(t1), math.sin(t1)
             # Rx(alpha1)^T Rz(t1)^T applied to the two columns
@@ -254,10 +254,9 @@ class SphericalWrist6R(CompiledSixR):
                 if classic:
                     sin5 = math.hypot(wvx, wvy)
                 else:
-                    if cos5 > 1.0 or cos5 < -1.0:
-                        if abs(cos5) > 1.0 + SLACK:
-                            continue
-                        cos5 = 1.0 if cos5 > 0.0 else -1.0
+                    if (clipped := clip_unit(cos5)) is None:
+                        continue
+                    cos5 = clipped
                     sin5 = math.sqrt(max(0.0, 1.0 - cos5 * cos5))
                 q123 = (wrap(t1 - o1), wrap(t2 - o2), wrap(t3 - o3))
                 index = 4 * shoulder + 2 * elbow

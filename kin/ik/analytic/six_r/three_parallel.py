@@ -68,9 +68,9 @@ from ._six_r import (
     LENGTH_TOL,
     NAN_ROW,
     SINGULAR,
-    SLACK,
     SixRChecker,
     TargetFrame,
+    clip_unit,
     sin_cos,
     wrap,
 )
@@ -252,10 +252,9 @@ class ThreeParallel6R(ThreeParallelBatch):
         if rho == 0.0:
             return out
         k = (c1 * (w[2] - self.d1) - self.lateral) / (s1 * rho)
-        if k > 1.0 or k < -1.0:
-            if abs(k) > 1.0 + SLACK:
-                return out
-            k = 1.0 if k > 0.0 else -1.0
+        if (clipped := clip_unit(k)) is None:
+            return out
+        k = clipped
         beta = math.atan2(w[1], w[0])
         asin_k = math.asin(k)
         for shoulder in (0, 1):
@@ -268,10 +267,9 @@ class ThreeParallel6R(ThreeParallelBatch):
                          n[0] * z1[1] - n[1] * z1[0])  # fmt: skip
                 sin5 = math.hypot(*cross)
             else:
-                if cos5 > 1.0 or cos5 < -1.0:
-                    if abs(cos5) > 1.0 + SLACK:
-                        continue
-                    cos5 = 1.0 if cos5 > 0.0 else -1.0
+                if (clipped := clip_unit(cos5)) is None:
+                    continue
+                cos5 = clipped
                 sin5 = math.sqrt(1.0 - cos5 * cos5)
             out[2 * shoulder] = (t1, cos5, sin5)
             out[2 * shoulder + 1] = (t1, cos5, -sin5)
@@ -377,10 +375,9 @@ class ThreeParallel6R(ThreeParallelBatch):
         bx = ct * qx + st * qy - (cp * ex - sp * ey)
         by = y1[0] * qx + y1[1] * qy + y1[2] * qz - (sp * ex + cp * ey)
         cos3 = (bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3)
-        if cos3 > 1.0 or cos3 < -1.0:
-            if abs(cos3) > 1.0 + SLACK:
-                return NAN_ROW, NAN_ROW
-            cos3 = 1.0 if cos3 > 0.0 else -1.0
+        if (clipped := clip_unit(cos3)) is None:
+            return NAN_ROW, NAN_ROW
+        cos3 = clipped
         sin3 = math.sqrt(1.0 - cos3 * cos3)
         heading = math.atan2(by, bx)
         rows = []

@@ -49,10 +49,10 @@ from ...target import PoseTarget
 from ._six_r import (
     NAN_ROW,
     SINGULAR,
-    SLACK,
     SixRChecker,
     TargetFrame,
     clip_cosines,
+    clip_unit,
     in_blocks,
     sin_cos,
     wrap,
@@ -219,10 +219,9 @@ class URWrist6R(CompiledSixR):
         if rho == 0.0:
             return np.array(out)
         k = (c1 * (pz - d1) - h) / (s1 * rho)
-        if k > 1.0 or k < -1.0:
-            if abs(k) > 1.0 + SLACK:
-                return np.array(out)
-            k = 1.0 if k > 0.0 else -1.0
+        if (clipped := clip_unit(k)) is None:
+            return np.array(out)
+        k = clipped
         beta = math.atan2(py, px)
         asin_k = math.asin(k)
         two_a2a3 = 2.0 * a2 * a3
@@ -243,10 +242,9 @@ class URWrist6R(CompiledSixR):
             if classic:
                 sin5 = xy6
             else:
-                if cos5 > 1.0 or cos5 < -1.0:
-                    if abs(cos5) > 1.0 + SLACK:
-                        continue
-                    cos5 = 1.0 if cos5 > 0.0 else -1.0
+                if (clipped := clip_unit(cos5)) is None:
+                    continue
+                cos5 = clipped
                 sin5 = math.sqrt(1.0 - cos5 * cos5)
             # p5 - o1 in the arm plane
             qx, qy, qz = px - a1 * ct, py - a1 * st, pz - d1
@@ -275,10 +273,9 @@ class URWrist6R(CompiledSixR):
                 bx = ax - (cp * ex - sp * ey)
                 by = ay - (sp * ex + cp * ey)
                 cos3 = (bx * bx + by * by - base_sq) / two_a2a3
-                if cos3 > 1.0 or cos3 < -1.0:
-                    if abs(cos3) > 1.0 + SLACK:
-                        continue
-                    cos3 = 1.0 if cos3 > 0.0 else -1.0
+                if (clipped := clip_unit(cos3)) is None:
+                    continue
+                cos3 = clipped
                 sin3 = math.sqrt(1.0 - cos3 * cos3)
                 heading = math.atan2(by, bx)
                 q156 = (wrap(t1 - o1), wrap(t5 - o5), wrap(t6 - o6))
