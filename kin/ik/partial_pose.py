@@ -158,11 +158,12 @@ class PartialPoseIK:
             looked up (the idealised table's when the true one misses a structure by
             rounding), none if no structure fits.
         name: The pipeline reported in :attr:`IKResult.solver`.
-        samples: ``samples(position, rotation, end)``: joint vectors of sampled poses nearest a
-            full pose (the numeric solver's seed table, loaded only when that ends before the
-            ``time.perf_counter()`` value ``end``), tried after the seed and before random
-            starts; or None. A five-joint arm's poses are a thin set: a start in the right
-            basin matters more there than many random ones.
+        samples: ``samples(position, rotation, end)``: joint vectors of the seed-table samples
+            nearest a pose (``rotation`` None: nearest the position alone), tried after the seed
+            and before the random starts; or None. ``end`` is the call's cap (a
+            ``time.perf_counter()`` value); the samples depend on the target alone. A five-joint
+            arm's poses are a thin set: a start in the right basin matters more there than
+            many random ones.
         pose_candidates: ``pose_candidates(position, rotations, seed)``: the closed form's
             branches of full poses as the arm's joint vectors
             (:meth:`~kin.ik.analytic.closed_form.ClosedFormSolver.pose_candidates`: its
@@ -175,7 +176,7 @@ class PartialPoseIK:
         robot: RobotModel,
         structure: Any = None,
         name: str = "numeric",
-        samples: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
+        samples: Callable[[np.ndarray, np.ndarray | None, float], np.ndarray] | None = None,
         pose_candidates: Callable[
             [np.ndarray, np.ndarray, np.ndarray], list[tuple[np.ndarray, str]]
         ]
@@ -342,7 +343,16 @@ class PartialPoseIK:
                 if not starts:
                     if lazy:
                         lazy = False
-                        rotation = _sweep(task, self._fk(seed)[1], False)[0][0]
+                        # A mask that frees a rotation on an arm of fewer than six joints: the
+                        # samples nearest the position alone (the given rotation is one of many
+                        # the target allows, and most of them are off the arm's thin set).
+                        rotation = (
+                            None
+                            if self.nq < 6
+                            and len(task.rotation_rows) < 3
+                            and task.axis_column is None
+                            else _sweep(task, self._fk(seed)[1], False)[0][0]
+                        )
                         starts.extend(self.samples(target.position, rotation, deadline))  # type: ignore[misc]
                         continue
                     if not randoms:
