@@ -7,7 +7,7 @@ and one link length refitted; ranks them by the samples they reproduce at the pr
 fits the constant base and tool transforms T_urdf(q) = B T_table(q) E for every reading and
 ranks the residuals. Sample file: CSV with a header naming q1..qN, x, y, z, optionally roll,
 pitch, yaw or r11..r33, optionally label; # starts a comment; values in the table's units
-(docs/audit/README.md).
+(docs/audit.md).
 """
 
 from __future__ import annotations
