@@ -1,6 +1,6 @@
 r"""Screenshot a ``kin preview`` page in headless Chromium (software WebGL, no network).
 
-Regenerates the README picture::
+Regenerates the picture of docs/commands.md::
 
     python scripts/screenshot_preview.py -o docs/preview.png
 
@@ -32,7 +32,7 @@ from pathlib import Path
 
 from kin.cli import EXIT_BAD_INPUT, ArgumentParser, positive_int
 
-#: ``kin preview`` options of the README picture.
+#: ``kin preview`` options of the docs picture (docs/preview.png).
 DOCS_PREVIEW = (
     "--robot humanoid7 --q 20 30 0 60 0 30 0 --deg --target 30 20 -20 --unit cm --frames --ik"
 ).split()
