@@ -5,12 +5,14 @@ The ``nr`` row of the solver table (:mod:`kin.ik.solver_table`), ``kin ik --solv
 
 from __future__ import annotations
 
-import numpy as np
+from typing import Any
+
+import numpy.typing as npt
 
 from ...robot_model import RobotModel
 from ..exceptions import TargetError
 from ..result import IKResult
-from ..target import PositionTarget, Target
+from ..target import PositionTarget
 
 
 class NewtonRaphsonSolver:
@@ -27,7 +29,7 @@ class NewtonRaphsonSolver:
         self.robot = robot
 
     def solve(
-        self, target: Target, seed: np.ndarray | None = None, *, timeout: float | None = None
+        self, target: Any, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
     ) -> IKResult:
         """Solve a position target from ``seed`` [rad] (q = 0 if None); ``timeout`` is unused.
 
