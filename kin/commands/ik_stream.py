@@ -21,84 +21,55 @@ Answers are flushed before the command waits for more input, and at least every
 while a producer that queues thousands of lines does not pay one write per line. Ctrl-C writes
 the answers of the lines solved so far (whole lines, in order: the answer of a prefix of the
 input) and stops with ``KeyboardInterrupt`` (exit 130); one during a write waits for its end.
+
+The parts: :mod:`.stream_reader` (batches of lines, each line's request), :mod:`.stream_batch`
+(the compiled route: the lines of a batch answered together), :mod:`.stream_records` (the
+records and their writing); this module runs them in turn and holds the compiled twins of the
+plainest lines' reading and writing (``kin/commands/_plain_lines.c``, if built).
 """
 
 from __future__ import annotations
 
+import functools
 import json
-import logging
-import os
-import select
-import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
-from functools import partial
 from typing import Any, TextIO
 
 import numpy as np
 
-from dh2urdf.quoted_input import quoted
-
-from ..exceptions import KinError
-from ..ik.batch_solve import FREE_JOINT_STAGE
-from ..ik.numeric.free_joint import FROM_SEED
 from ..ik.result import IKResult
 from ..ik.target import PoseTarget, PositionTarget, Target
 from .interrupt_gate import InterruptGate, interrupt_gate
 from .joint_units import JointUnits
-from .targets import build_target, check_kind
+from .stream_batch import BatchRoute, BatchStage
+from .stream_batch import rpy_matrices as rpy_matrices
+from .stream_reader import CHUNK, KEYS, READ, LineReader, plain_groups
+from .stream_reader import input_waiting as _input_waiting
+from .stream_reader import line_batches as _line_batches
+from .stream_records import FLUSH_EVERY as FLUSH_EVERY
+from .stream_records import error_record, numbered, write_records
+from .stream_records import result_record as result_record
 
-logger = logging.getLogger(__name__)
+__all__ = ["FLUSH_EVERY", "KEYS", "StreamSolver", "line_batches", "result_record", "rpy_matrices"]
 
-#: Most answers written between two flushes while input lines are already there.
-FLUSH_EVERY = 32
-#: Bytes per read of the input [B] (a pipe holds 64 KiB).
-_READ = 1 << 16
-#: Most bytes read into one batch while more input is already there [B]: each batch has costs
-#: of its own (arrays, thread hand-offs), so batches of a few thousand lines run faster.
-_CHUNK = 1 << 20
-
-#: Keys an input line may have.
-KEYS = (
-    "target",
-    "rpy",
-    "quat",
-    "mask",
-    "axis",
-    "tool_axis",
-    "pitch",
-    "roll",
-    "position_only",
-    "seed_q",
-    "all",
-)
-_KEYS = frozenset(KEYS)
+#: Bytes per read of the input, and most bytes per batch [B] (:func:`line_batches`).
+_READ = READ
+_CHUNK = CHUNK
 try:  # the plainest lines read and answered in C (kin/commands/_plain_lines.c), if built
     from ._plain_lines import read as _read_plain
     from ._plain_lines import write as _write_plain
 except ImportError:  # pragma: no cover - the json module reads them all, %-format writes
     _read_plain = _write_plain = None
-_decoder = json.JSONDecoder()
-_decode = _decoder.decode
-#: The decoder's scanner: ``(value, end)`` of the JSON value at an index of a string.
-_scan = _decoder.scan_once  # type: ignore[attr-defined]  # set by JSONDecoder.__init__
 
 
-def result_record(result: IKResult, target: Target, rejected: bool = True) -> dict[str, Any]:
-    """``result.to_dict()`` (SI), rotation errors null when ``target`` leaves the rotation free.
+def line_batches(source: TextIO | Iterable[str]) -> Iterator[Sequence[str | bytes]]:
+    """The input lines in batches of those already there (:func:`.stream_reader.line_batches`).
 
-    Args:
-        result: The result.
-        target: Its target.
-        rejected: Keep the rejected solutions even when there are valid ones.
+    Reads of :data:`_READ` bytes, batches of up to :data:`_CHUNK` bytes.
     """
-    record = result.to_dict(rejected)
-    if isinstance(target, PositionTarget):
-        for key in ("solutions", "rejected"):
-            for solution in record[key]:
-                solution["rotation_error_rad"] = None
-    return record
+    return _line_batches(source, _READ, _CHUNK)
 
 
 @dataclass(frozen=True)
@@ -134,7 +105,7 @@ class StreamSolver:
     length: float
     angle: float
     all_solutions: bool = False
-    batch: Callable[..., Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]]] | None = None
+    batch: BatchStage | None = None
     pipeline: str = "numeric"
     solve_all: Callable[[Target, np.ndarray | None], IKResult] | None = None
 
@@ -158,46 +129,21 @@ class StreamSolver:
         Raises:
             KinError, ValueError: A bad line (not JSON, unknown key, bad values, wrong kind).
         """
-        try:
-            text = line.decode() if isinstance(line, bytes) else line
-            request = _decode(text)
-        except (ValueError, RecursionError) as err:  # RecursionError: nested too deep
-            raise ValueError(f"not JSON: {err}") from None
-        if not isinstance(request, dict):
-            raise ValueError(f"a line must be a JSON object, got {type(request).__name__}")
-        if not request.keys() <= _KEYS:
-            unknown = sorted(request.keys() - _KEYS)
-            raise ValueError(f"unknown key(s) {quoted(unknown)}; known: {', '.join(KEYS)}")
-        if "target" not in request:
-            raise ValueError('missing "target": [x, y, z]')
-        position_only = request.get("position_only", False)
-        if position_only is not True and position_only is not False:
-            raise ValueError(f'"position_only" must be true or false, got {quoted(position_only)}')
-        every = request.get("all", False)
-        if every is not True and every is not False:
-            raise ValueError(f'"all" must be true or false, got {quoted(every)}')
-        target, given = build_target(
-            request["target"],
-            rpy=request.get("rpy"),
-            quat=request.get("quat"),
-            pitch=request.get("pitch"),
-            roll=request.get("roll"),
-            position_only=position_only,
-            length=self.length,
-            angle=self.angle,
-            mask=request.get("mask"),
-            axis=request.get("axis"),
-            tool_axis=request.get("tool_axis"),
-        )
-        if self.kinds is not None:
-            check_kind(self.robot, self.nq, self.kinds, target, given)
-        seed = self.seed
-        seed_q = request.get("seed_q")
-        if seed_q is not None:
-            if not isinstance(seed_q, list):
-                raise ValueError(f'"seed_q" must be a list of numbers, got {quoted(seed_q)}')
-            seed = self.units.to_si(seed_q, '"seed_q"')
-        return target, seed, every
+        return self._reader.request(line)
+
+    @functools.cached_property
+    def _reader(self) -> LineReader:
+        """The line-by-line reader (:class:`.stream_reader.LineReader`)."""
+        units, kinds, seed = self.units, self.kinds, self.seed
+        return LineReader(self.robot, self.nq, units, kinds, seed, self.length, self.angle)
+
+    @functools.cached_property
+    def _route(self) -> BatchRoute | None:
+        """The compiled route (:class:`.stream_batch.BatchRoute`), or None (no batch stage)."""
+        if self.batch is None:
+            return None
+        units, seed, pipeline = self.units, self.seed, self.pipeline
+        return BatchRoute(self.batch, self.nq, seed, self.length, self.angle, units, pipeline)
 
     def run(self, source: TextIO | Iterable[str], out: TextIO) -> int:
         """Answer every line of ``source`` on ``out``, one JSON line each.
@@ -234,9 +180,9 @@ class StreamSolver:
                 try:
                     records = self._records(started, gate)
                 except _Interrupted as stop:  # Ctrl-C: the answers made so far, whole, then 130
-                    _write_records(stop.records, out, dumps, q_units)
+                    write_records(stop.records, out, dumps, q_units)
                     raise
-                failed |= _write_records(records, out, dumps, q_units)
+                failed |= write_records(records, out, dumps, q_units)
                 gate.release()  # a Ctrl-C during the write stops the stream now
                 if getattr(out, "broken", False):  # the reader is gone (| head): stop reading
                     break
@@ -246,13 +192,20 @@ class StreamSolver:
     def _start(self, lines: Sequence[str | bytes], before: int) -> _Started:
         """A batch of input lines (the first is line ``before + 1``) with its batch stage started.
 
-        The plainest lines (:meth:`_plain`) are read and their compiled scans started; the
-        answers are made by :meth:`_records`.
+        The plainest lines (:func:`.stream_reader.plain_groups`: by the compiled reader
+        :data:`_read_plain` where it takes them, else by the json module's scanner) are read
+        and their compiled scans started (:meth:`.stream_batch.BatchRoute.start`), group by
+        group; the answers are made by :meth:`_records`. The lines the batch reads and leaves
+        are added to ``tried`` with their targets (the line-by-line path solves them without
+        reading them again).
         """
         tried: dict[int, Target] = {}
         finish: list[Callable[[], dict[int, str]]] = []
-        if self.batch is not None and not self.all_solutions:
-            finish = self._plain(lines, before, tried)
+        route = self._route
+        if route is not None and not self.all_solutions:
+            write = _write_plain
+            for indices, targets, rpys in plain_groups(lines, _read_plain):
+                finish.append(route.start(indices, targets, rpys, before, tried, write))
         return _Started(lines, before, tried, finish)
 
     def _records(self, started: _Started, gate: InterruptGate) -> list[dict[str, Any] | str]:
@@ -260,7 +213,7 @@ class StreamSolver:
 
         Lines the batch stage takes (:attr:`batch`: full poses or positions, without --all) are
         solved together (those of the plainest form, ``{"target": [...], "rpy": [...]}`` or a
-        target alone, read together too: :meth:`_plain`); the others, and those it leaves
+        target alone, read together too: :meth:`_start`); the others, and those it leaves
         unanswered, one by one.
 
         Raises:
@@ -276,8 +229,8 @@ class StreamSolver:
         except KeyboardInterrupt:
             gate.hold()
             solved = records.index(None) if None in records else len(records)
-            raise _Interrupted(_numbered(records[:solved], notes, before)) from None
-        return _numbered(records, notes, before)
+            raise _Interrupted(numbered(records[:solved], notes, before)) from None
+        return numbered(records, notes, before)
 
     def _solve_batch(
         self,
@@ -297,6 +250,7 @@ class StreamSolver:
             for index, encoded in finish().items():
                 records[index] = encoded
         together: list[tuple[int, Target, np.ndarray | None]] = []
+        request = self._reader.request
         for index, line in enumerate(lines):
             if records[index] is not None:
                 continue
@@ -311,219 +265,20 @@ class StreamSolver:
             try:
                 with warnings.catch_warnings(record=True) as caught:
                     warnings.simplefilter("always")
-                    target, seed, every = self.request(line)
+                    target, seed, every = request(line)
                 notes[index] = [" ".join(str(w.message).split()) for w in caught]
             except Exception as err:  # noqa: BLE001 - one line fails, never the stream
-                records[index] = _error_record(number, err)
+                records[index] = error_record(number, err)
                 continue
             if self._batched(target) and not every:
                 together.append((index, target, seed))
             else:
                 records[index] = self._solved(number, target, seed, every)
         if together:
-            for index, solved in self._solved_together(together, before).items():
+            route = self._route
+            assert route is not None
+            for index, solved in route.solve_together(together, before, self._solved).items():
                 records[index] = solved
-
-    def _plain(
-        self, lines: Sequence[str | bytes], before: int, tried: dict[int, Target]
-    ) -> list[Callable[[], dict[int, str]]]:
-        """The plainest lines, read and their batch stage started: what gives their answers.
-
-        Each callable returned gives the encoded answers of one group of lines, by line index.
-
-        A line ``{"target": [x, y, z]}`` or ``{"target": [x, y, z], "rpy": [r, p, y]}`` of finite
-        numbers (no ``true``/``false`` anywhere, no angle beyond a turn without --deg: those
-        take the checks of :meth:`request`) is read with the others into arrays (one check for
-        all) and answered by :attr:`batch`; what it answers is encoded here (the record of
-        :func:`result_record`, the same keys in the same order). Every other line is left to
-        the line-by-line path; those the batch read and did not answer are added to ``tried``
-        (when the callable runs) with their targets (they go to the solver one by one, not to
-        the batch again, and are not read again: the targets :meth:`request` would make, the
-        same float64 values).
-
-        The lines spelled as ``json.dumps`` writes those two forms are read by the compiled
-        twin (:data:`_read_plain`, ``kin/commands/_plain_lines.c``: the same values as the json
-        module's, about 4 us a line less); the others, and all without the twin, by
-        :func:`_decoded`.
-        """
-        answers: list[Callable[[], dict[int, str]]] = []
-        rest: Sequence[int] = range(len(lines))  # the lines for the json module, by index
-        if _read_plain is not None:
-            kinds, values = _read_plain(lines)
-            kind = np.frombuffer(kinds, dtype=np.uint8)
-            read = np.frombuffer(values).reshape(-1, 6)
-            for code, poses in ((2, True), (1, False)):
-                rows = np.flatnonzero(kind == code)
-                if rows.size:
-                    rpys = read[rows, 3:] if poses else None
-                    answers.append(
-                        self._plain_group(rows.tolist(), read[rows, :3], rpys, before, tried)
-                    )
-            rest = np.flatnonzero(kind == 0).tolist()
-            if not rest:
-                return answers
-        groups: dict[bool, list[tuple[int, Any, Any]]] = {True: [], False: []}
-        for position, request in _decoded([lines[i] for i in rest]):
-            if request.__class__ is not dict:
-                continue
-            index = rest[position]
-            size = len(request)
-            if size == 1 and "target" in request:
-                groups[False].append((index, request["target"], None))
-            elif size == 2 and "target" in request and "rpy" in request:
-                groups[True].append((index, request["target"], request["rpy"]))
-        for poses, group in groups.items():
-            if group:
-                indices = [item[0] for item in group]
-                points = [item[1] for item in group]
-                angles = [item[2] for item in group] if poses else None
-                answers.append(self._plain_group(indices, points, angles, before, tried))
-        return answers
-
-    def _plain_group(
-        self,
-        indices: list[int],
-        targets: Any,
-        rpys: Any,
-        before: int,
-        tried: dict[int, Target],
-    ) -> Callable[[], dict[int, str]]:
-        """:meth:`_plain` of the lines of one kind: their indices, targets and rpy (or None).
-
-        ``targets`` and ``rpys`` as read (arrays, or the lists the json module gave), in the
-        user's units. The batch stage is started here; the callable returned makes the answers
-        (:meth:`_plain_answers`).
-        """
-        from dh2urdf.table_file import RADIAN_SUSPECT
-
-        poses = rpys is not None
-        try:
-            with np.errstate(all="ignore"):
-                given = np.array(targets, dtype=float)  # in --unit
-                points = given * self.length
-                angles = np.array(rpys, dtype=float) if poses else None
-        except (TypeError, ValueError, OverflowError):
-            return _no_answers
-        if points.shape != (len(indices), 3) or (
-            angles is not None and angles.shape != (len(indices), 3)
-        ):
-            return _no_answers
-        keep = np.isfinite(points).all(axis=1)
-        rotations = None
-        if angles is not None:
-            keep &= np.isfinite(angles).all(axis=1)
-            if self.angle == 1.0:
-                keep &= (np.abs(angles) <= RADIAN_SUSPECT).all(axis=1)
-            # Reduced modulo a turn in the given unit first (angle_to_radians, vectorized).
-            turns = np.fmod(np.where(keep[:, None], angles, 0.0), 2.0 * np.pi / self.angle)
-            rotations = rpy_matrices(turns * self.angle)
-        rows = np.flatnonzero(keep)
-        if not rows.size:
-            return _no_answers
-        start = time.perf_counter()
-        default = np.zeros(self.nq) if self.seed is None else self.seed
-        seeds = np.broadcast_to(default, (rows.size, self.nq))
-        assert self.batch is not None
-        try:
-            result = self.batch(points[rows], None if rotations is None else rotations[rows], seeds)
-        except Exception:  # noqa: BLE001 - the lines go the line-by-line way instead
-            logger.debug("batch stage failed", exc_info=True)
-            return _no_answers
-        launch = time.perf_counter() - start
-        return partial(
-            self._plain_answers, indices, given, angles, rows, result, launch, before, tried
-        )
-
-    def _plain_answers(
-        self,
-        indices: list[int],
-        given: np.ndarray,
-        angles: np.ndarray | None,
-        rows: np.ndarray,
-        result: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]],
-        launch: float,
-        before: int,
-        tried: dict[int, Target],
-    ) -> dict[int, str]:
-        """The encoded answers of :meth:`_plain_group`'s lines, by line index.
-
-        ``given``, ``angles``: their targets and rpy as read (in --unit, and radians or degrees);
-        ``rows`` of them went to the batch stage: ``result`` gives its answer; ``launch`` [s]
-        it took to start. ``time_s`` of an answer: the time spent starting and finishing the
-        batch stage, per line (not the time other lines took in between).
-        """
-        start = time.perf_counter()
-        try:
-            q, position_error, rotation_error = result()
-        except Exception:  # noqa: BLE001 - the lines go the line-by-line way instead
-            logger.debug("batch stage failed", exc_info=True)
-            return {}
-        poses = angles is not None
-        each = repr((launch + time.perf_counter() - start) / rows.size)
-        head = (
-            f'{{"success": true, "solver": {json.dumps(self.pipeline)}, "status": "ok", '
-            f'"message": {json.dumps(FROM_SEED)}, "solutions": [{{"q": ['
-        )
-        tail = (
-            f'"rejected": [], "method": "{FREE_JOINT_STAGE}", "distance_to_workspace_m": null, '
-            f'"iterations": 0, "time_s": {each}, "free": [], "line": '
-        )
-        units = json.dumps(list(self.units.si_labels))
-        answers: dict[int, str] = {}
-        found = ~np.isnan(q).any(axis=1)
-        for row in rows[~found].tolist():  # made as request() makes them, from the same numbers
-            rpy = None if angles is None else angles[row].tolist()
-            try:
-                target, _ = build_target(
-                    given[row].tolist(), rpy=rpy, length=self.length, angle=self.angle
-                )
-            except (KinError, ValueError):  # request() says what is wrong with the line
-                continue
-            tried[indices[row]] = target
-        first = before + 1  # the number of line index 0
-        chosen = [indices[row] for row in rows[found].tolist()]
-        after = ', "position_error_m": '
-        rotation = ', "rotation_error_rad": '
-        if _write_plain is not None:  # the compiled writer: the values' texts read back the same
-            columns = [q[found], position_error[found, None]]
-            if poses:
-                columns.append(rotation_error[found, None])
-            pieces = (
-                head,
-                *[", "] * (q.shape[1] - 1),
-                '], "branch": "", "within_limits": true' + after,
-                *([rotation] if poses else []),
-                ("}], " if poses else rotation + "null}], ") + tail,
-                ', "q_units": ' + units + "}\n",
-            )
-            numbers = np.array(chosen, dtype=np.int64) + first
-            lines_out = _write_plain(pieces, np.hstack(columns), numbers)
-            return dict(zip(chosen, lines_out))
-        # A line by one %-format of the values' reprs (the json module's for a finite float),
-        # from lists made once (a NumPy scalar per value costs more than the value's repr).
-        line_format = "".join(
-            (
-                head.replace("%", "%%"),
-                ", ".join(["%r"] * q.shape[1]),
-                '], "branch": "", "within_limits": true' + after + "%r",
-                rotation + ("%r}], " if poses else "null}], "),
-                tail.replace("%", "%%"),
-                '%d, "q_units": ',
-                units.replace("%", "%%"),
-                "}\n",
-            )
-        )
-        values = q[found].tolist()
-        if poses:
-            solved = zip(
-                chosen, values, position_error[found].tolist(), rotation_error[found].tolist()
-            )
-            for index, row, position, rotation_value in solved:
-                answers[index] = line_format % (*row, position, rotation_value, first + index)
-        else:
-            for index, row, position in zip(chosen, values, position_error[found].tolist()):
-                answers[index] = line_format % (*row, position, first + index)
-        return answers
 
     def _batched(self, target: Target) -> bool:
         """Whether ``target`` goes to the batch stage."""
@@ -543,120 +298,7 @@ class StreamSolver:
             solve = self._solver(every)
             return result_record(solve(target, seed), target, self.all_solutions or every)
         except Exception as err:  # noqa: BLE001 - one line fails, never the stream
-            return _error_record(number, err)
-
-    def _solved_together(
-        self, items: list[tuple[int, Target, np.ndarray | None]], before: int
-    ) -> dict[int, dict[str, Any]]:
-        """The answers of the batch stage's lines (poses and positions apart), by line index."""
-        records: dict[int, dict[str, Any]] = {}
-        assert self.batch is not None
-        for poses in (True, False):
-            group = [item for item in items if (item[1].__class__ is PoseTarget) == poses]
-            if not group:
-                continue
-            start = time.perf_counter()
-            points = np.array([target.position for _, target, _ in group])
-            rotations = (
-                np.array([target.rotation for _, target, _ in group])  # type: ignore[union-attr]
-                if poses
-                else None
-            )
-            default = np.zeros(self.nq) if self.seed is None else self.seed
-            seeds = np.array([default if seed is None else seed for _, _, seed in group])
-            try:
-                q, position_error, rotation_error = self.batch(points, rotations, seeds)()
-            except Exception:  # noqa: BLE001 - the lines go one by one instead
-                logger.debug("batch stage failed", exc_info=True)
-                q = np.full((len(group), self.nq), np.nan)
-            each = (time.perf_counter() - start) / len(group)
-            found = ~np.isnan(q).any(axis=1)
-            for k, (index, target, seed) in enumerate(group):
-                if not found[k]:
-                    records[index] = self._solved(before + index + 1, target, seed)
-                    continue
-                solution = {
-                    "q": q[k].tolist(),
-                    "branch": "",
-                    "within_limits": True,
-                    "position_error_m": float(position_error[k]),
-                    "rotation_error_rad": float(rotation_error[k]) if poses else None,
-                }
-                records[index] = {
-                    "success": True,
-                    "solver": self.pipeline,
-                    "status": "ok",
-                    "message": FROM_SEED,
-                    "solutions": [solution],
-                    "rejected": [],
-                    "method": FREE_JOINT_STAGE,
-                    "distance_to_workspace_m": None,
-                    "iterations": 0,
-                    "time_s": each,
-                    "free": [],
-                }
-        return records
-
-
-def _numbered(
-    records: Sequence[dict[str, Any] | str | None], notes: list[list[str]], before: int
-) -> list[dict[str, Any] | str]:
-    """The answers of a batch's first lines with their line numbers and warnings.
-
-    Args:
-        records: Each line's answer (solved: none is None), encoded or a record.
-        notes: Each line's warnings.
-        before: The lines read before the batch.
-    """
-    out: list[dict[str, Any] | str] = []
-    for index, answer in enumerate(records):
-        assert answer is not None
-        if isinstance(answer, str):
-            out.append(answer)
-            continue
-        record = answer
-        number = before + index + 1
-        if "error" in record or "skipped" in record:
-            out.append({"line": number, **record})
-            continue
-        if notes[index]:
-            record["warnings"] = notes[index]
-        record["line"] = number
-        out.append(record)
-    return out
-
-
-def _write_records(
-    records: list[dict[str, Any] | str],
-    out: TextIO,
-    dumps: Callable[[Any], str],
-    q_units: list[str],
-) -> bool:
-    """Write answers on ``out``, :data:`FLUSH_EVERY` lines per write, and flush.
-
-    Returns:
-        Whether any line had an error or no valid solution.
-    """
-    write, flush = out.write, out.flush
-    failed = False
-    pending: list[str] = []  # written FLUSH_EVERY answers at a time, in one write
-    for count, record in enumerate(records, start=1):
-        if record.__class__ is str:  # a verified answer of the batch stage, encoded
-            pending.append(record)  # type: ignore[arg-type]
-        else:
-            assert isinstance(record, dict)
-            if "error" in record or ("success" in record and not record["success"]):
-                failed = True
-            if "success" in record:
-                record["q_units"] = q_units
-            pending.append(dumps(record) + "\n")
-        if count % FLUSH_EVERY == 0:
-            write("".join(pending))
-            pending.clear()
-            flush()
-    write("".join(pending))
-    flush()
-    return failed
+            return error_record(number, err)
 
 
 class _Interrupted(KeyboardInterrupt):
@@ -667,142 +309,15 @@ class _Interrupted(KeyboardInterrupt):
         self.records = records
 
 
-def _no_answers() -> dict[int, str]:
-    """The answers of a group of plain lines the batch stage did not take: none."""
-    return {}
-
-
 @dataclass(frozen=True)
 class _Started:
     """A batch of input lines (the first is line ``before + 1``), its batch stage started.
 
     ``tried``: the lines it read and left, with their targets (filled as ``finish`` runs);
-    ``finish``: what gives the encoded answers of the others (:meth:`StreamSolver._plain`).
+    ``finish``: what gives the encoded answers of the others (:meth:`StreamSolver._start`).
     """
 
     lines: Sequence[str | bytes]
     before: int
     tried: dict[int, Target]
     finish: list[Callable[[], dict[int, str]]]
-
-
-def _input_waiting(source: object) -> bool:
-    """Whether ``source`` (a file descriptor's stream) has input to read now, without waiting.
-
-    False for a source without a descriptor, or where ``select`` does not take it (Windows
-    pipes): the stream then never reads ahead.
-    """
-    try:
-        fd = source.fileno()  # type: ignore[attr-defined]
-    except (AttributeError, OSError, ValueError):
-        return False
-    return _fd_waiting(fd)
-
-
-def _fd_waiting(fd: int) -> bool:
-    """Whether ``fd`` can be read now without waiting; False where ``select`` does not take it."""
-    try:
-        return bool(select.select([fd], [], [], 0)[0])
-    except (OSError, ValueError):
-        return False
-
-
-def _decoded(lines: Sequence[str | bytes]) -> list[tuple[int, Any]]:
-    """``(index, value)`` of the lines that are one JSON value without ``true`` or ``false``.
-
-    Each line by the decoder's scanner from its first character (about 1.5 us a line instead
-    of 2.1 us through ``decode``), kept when the value ends the line; a line with anything
-    else around its value (spaces too) goes through ``decode``; a line that is not one JSON
-    value is left out (the line-by-line path says what is wrong with it).
-    """
-    decoded = []
-    for index, line in enumerate(lines):
-        if not line:
-            continue
-        try:
-            text = line.decode() if isinstance(line, bytes) else line
-        except UnicodeDecodeError:
-            continue
-        if "true" in text or "false" in text:
-            continue
-        try:
-            value, end = _scan(text, 0)
-        except (StopIteration, ValueError):
-            end = -1
-        if end != len(text):
-            try:
-                value = _decode(text)
-            except ValueError:
-                continue
-        decoded.append((index, value))
-    return decoded
-
-
-def rpy_matrices(rpy: np.ndarray) -> np.ndarray:
-    """URDF roll-pitch-yaw (N, 3) [rad] as rotation matrices ``Rz(yaw) Ry(pitch) Rx(roll)`` (N, 3, 3).
-
-    The batched twin of :func:`kin.ik.target.rpy_matrix`.
-    """
-    cr, sr = np.cos(rpy[:, 0]), np.sin(rpy[:, 0])
-    cp, sp = np.cos(rpy[:, 1]), np.sin(rpy[:, 1])
-    cy, sy = np.cos(rpy[:, 2]), np.sin(rpy[:, 2])
-    out = np.empty((len(rpy), 3, 3))
-    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = (
-        cy * cp,
-        cy * sp * sr - sy * cr,
-        cy * sp * cr + sy * sr,
-    )
-    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = (
-        sy * cp,
-        sy * sp * sr + cy * cr,
-        sy * sp * cr - cy * sr,
-    )
-    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = -sp, cp * sr, cp * cr
-    return out
-
-
-def _error_record(number: int, err: Exception) -> dict[str, Any]:
-    """The answer of a line that failed: its message, or an internal error's (logged)."""
-    text = " ".join(str(err).split())
-    if isinstance(err, (KinError, ValueError, TypeError)):
-        return {"error": text}
-    logger.debug("line %d: unexpected error", number, exc_info=True)
-    return {"error": f"internal error: {type(err).__name__}: {text}"}
-
-
-def line_batches(source: TextIO | Iterable[str]) -> Iterator[Sequence[str | bytes]]:
-    """The input lines, in batches of those already there (read without waiting).
-
-    From a file descriptor (pipe, terminal, file): a batch is what one ``os.read`` gives, and
-    what further reads give while more input is already there (``select``), up to
-    :data:`_CHUNK` bytes; its complete lines (a line typed or written alone is a batch of one).
-    From anything else (e.g. ``StringIO``): one line per batch. The caller flushes its answers
-    after each batch, so it never sits on an answer while waiting for input, and a fast
-    producer does not cost a write per line.
-    """
-    try:
-        fd = source.fileno()  # type: ignore[union-attr]
-    except (AttributeError, OSError, ValueError):  # io.UnsupportedOperation is an OSError
-        for line in source:
-            yield [line]
-        return
-    pending = b""
-    ended = False
-    while not ended:
-        chunk = os.read(fd, _READ)  # waits for input
-        if not chunk:
-            break
-        parts, size = [pending, chunk], len(pending) + len(chunk)
-        while size < _CHUNK and _fd_waiting(fd):
-            more = os.read(fd, _READ)
-            if not more:
-                ended = True
-                break
-            parts.append(more)
-            size += len(more)
-        lines = b"".join(parts).split(b"\n")
-        pending = lines.pop()
-        if lines:
-            yield lines
-    if pending:
-        yield [pending]
