@@ -235,8 +235,9 @@ _SOLVERS: weakref.WeakKeyDictionary[RobotModel, tuple[np.ndarray, np.ndarray, An
 def _solver(robot: RobotModel) -> Any:
     """The solver table's ``batch`` solver of ``robot``, kept while the robot lives.
 
-    Built on the robot's first batch; rebuilt when the model's joint limits are no longer those it was built with. A solver
-    serializes its solves (a lock), so threads that share a robot share it safely.
+    Built on the robot's first batch; rebuilt when the model's joint limits are no longer those
+    it was built with. A solver serializes its solves (a lock), so threads that share a robot
+    share it safely.
     """
     kept = _SOLVERS.get(robot)
     lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
@@ -507,7 +508,8 @@ def _one_by_one(
     solver: object | None = None,
 ) -> BatchIKResult:
     """The robot's solver, target by target (every stage of it)."""
-    solve = (front_end_solver(robot, "batch") if solver is None else solver).solve  # type: ignore[attr-defined]
+    chosen = front_end_solver(robot, "batch") if solver is None else solver
+    solve = chosen.solve  # type: ignore[attr-defined]
     n, nq = points.shape[0], robot.nq
     q = np.full((n, nq), np.nan)
     position_error = np.full(n, np.nan)
