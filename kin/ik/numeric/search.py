@@ -3,7 +3,7 @@
 Each stage of :class:`~kin.ik.numeric.solver.NumericIK` (closed form with a free joint, seed-table
 starts, random restarts, mink QP) runs damped Newton from its starts through :meth:`Search.newton`
 and hands every outcome to :meth:`Search.accept`, which returns the verified result or keeps the
-best failed attempt for :meth:`Search.failure`.
+best failed attempt for :func:`failure`.
 
 Work, not time, decides the answer: the stages run a fixed number of starts
 (:data:`MAX_ATTEMPTS`, the solver's ``max_attempts``) of a fixed number of steps, from seeded
@@ -237,70 +237,6 @@ class Search:
         ik = self.ik
         return ik.distance_from_base(self.target.position) > ik.arm_reach.maximum
 
-    def failure(self) -> IKResult:
-        """The failed result: the best configuration found, measured by the judge.
-
-        ``timeout`` when the cap stopped the search (:attr:`capped`), whatever the target;
-        else ``out_of_reach`` beyond the arm's reach, ``not_found`` when the work was done.
-        """
-        ik, target, best = self.ik, self.target, self.best
-        elapsed = time.perf_counter() - self.start
-        rejected: tuple[IKSolution, ...] = ()
-        detail = "no configuration"
-        if best is not None:
-            verdict = ik.judge.measure(best.q, target)
-            rotation_error = None if target.position_only else verdict.rotation_error
-            rejected = (
-                IKSolution(
-                    best.q.copy(),
-                    "",
-                    verdict.within_limits,
-                    verdict.position_error,
-                    rotation_error,
-                ),
-            )
-            detail = f"best configuration misses by {verdict.position_error:.3g} m" + (
-                "" if target.position_only else f" and {verdict.rotation_error:.3g} rad"
-            )
-        if self.capped:  # the cap stopped the starts, not their count
-            return IKResult(
-                False,
-                PIPELINE,
-                "timeout",
-                f"the time cap ({(self.deadline - self.start) * 1e3:.4g} ms) stopped the search "
-                f"after {self.attempts} of its {self.max_attempts} starts; {detail}: raise the "
-                "timeout (--timeout)",
-                (),
-                rejected,
-                iterations=self.iterations,
-                time=elapsed,
-            )
-        if self.out_of_reach:
-            reach = ik.arm_reach.maximum
-            distance = ik.distance_from_base(target.position) - reach
-            return IKResult(
-                False,
-                PIPELINE,
-                "out_of_reach",
-                f"target is {distance:.4g} m beyond the arm's reach ({reach:.4g} m from its "
-                f"base); {detail}",
-                (),
-                rejected,
-                distance_to_workspace=distance,
-                iterations=self.iterations,
-                time=elapsed,
-            )
-        return IKResult(
-            False,
-            PIPELINE,
-            "not_found",
-            f"no solution inside the joint limits found in {self.attempts} starts; {detail}",
-            (),
-            rejected,
-            iterations=self.iterations,
-            time=elapsed,
-        )
-
 
 @dataclass(frozen=True)
 class Stage:
@@ -316,6 +252,71 @@ class Stage:
     run: Callable[[NumericContext, Search], IKResult | None]
 
 
+def failure(search: Search) -> IKResult:
+    """The failed result of ``search``: the best configuration found, measured by the judge.
+
+    ``timeout`` when the cap stopped the search (:attr:`Search.capped`), whatever the target;
+    else ``out_of_reach`` beyond the arm's reach, ``not_found`` when the work was done.
+    """
+    ik, target, best = search.ik, search.target, search.best
+    elapsed = time.perf_counter() - search.start
+    rejected: tuple[IKSolution, ...] = ()
+    detail = "no configuration"
+    if best is not None:
+        verdict = ik.judge.measure(best.q, target)
+        rotation_error = None if target.position_only else verdict.rotation_error
+        rejected = (
+            IKSolution(
+                best.q.copy(),
+                "",
+                verdict.within_limits,
+                verdict.position_error,
+                rotation_error,
+            ),
+        )
+        detail = f"best configuration misses by {verdict.position_error:.3g} m" + (
+            "" if target.position_only else f" and {verdict.rotation_error:.3g} rad"
+        )
+    if search.capped:  # the cap stopped the starts, not their count
+        return IKResult(
+            False,
+            PIPELINE,
+            "timeout",
+            f"the time cap ({(search.deadline - search.start) * 1e3:.4g} ms) stopped the search "
+            f"after {search.attempts} of its {search.max_attempts} starts; {detail}: raise the "
+            "timeout (--timeout)",
+            (),
+            rejected,
+            iterations=search.iterations,
+            time=elapsed,
+        )
+    if search.out_of_reach:
+        reach = ik.arm_reach.maximum
+        distance = ik.distance_from_base(target.position) - reach
+        return IKResult(
+            False,
+            PIPELINE,
+            "out_of_reach",
+            f"target is {distance:.4g} m beyond the arm's reach ({reach:.4g} m from its "
+            f"base); {detail}",
+            (),
+            rejected,
+            distance_to_workspace=distance,
+            iterations=search.iterations,
+            time=elapsed,
+        )
+    return IKResult(
+        False,
+        PIPELINE,
+        "not_found",
+        f"no solution inside the joint limits found in {search.attempts} starts; {detail}",
+        (),
+        rejected,
+        iterations=search.iterations,
+        time=elapsed,
+    )
+
+
 def run_stages(stages: Sequence[Stage], ik: NumericContext, search: Search) -> IKResult:
     """The first verified result of ``stages`` in order, else the search's failure.
 
@@ -327,4 +328,4 @@ def run_stages(stages: Sequence[Stage], ik: NumericContext, search: Search) -> I
         done = stage.run(ik, search)
         if done is not None:
             return done
-    return search.failure()
+    return failure(search)

@@ -113,11 +113,7 @@ class NumericIK:
     def __init__(
         self, robot: RobotModel, settings: NumericSettings | None = None, **options: Any
     ) -> None:
-        if settings is None:
-            settings = NumericSettings(**options)
-        elif options:
-            settings = dataclasses.replace(settings, **options)
-        self.settings = settings
+        self.settings = settings = dataclasses.replace(settings or NumericSettings(), **options)
         self.context = context = build_context(robot, settings)
         self.robot = robot
         #: Number of joints, and the joint limits (arrays).
@@ -142,11 +138,9 @@ class NumericIK:
         # (threads that share a solver get the answers one thread would).
         self._lock = threading.Lock()
         self._table_lock = threading.Lock()
-        # The seed table (tens of milliseconds to build, a few to load) and, for an arm without
-        # a free-joint closed form (whose targets all go to damped Newton), SciPy's LAPACK for
-        # the steps (imported once per process) come with the solver, not inside a solve's
-        # cap. Without ``prepare`` the first solve that needs them loads them (the cap counts
-        # it); with the steps' compiled twin (COMPILED_STEP) SciPy is not needed at all.
+        # The seed table and, for an arm without a free-joint closed form nor the steps' compiled
+        # twin, SciPy's LAPACK come with the solver, not inside a solve's cap (without
+        # ``prepare``: with the first solve that needs them, the cap counting them).
         if settings.prepare:
             _ = self.table
             if context.closed_form is None and not context.compiled_step:

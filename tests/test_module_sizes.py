@@ -1,0 +1,274 @@
+"""The house's limits on ``kin/`` (issue 34 item 4): small modules, small classes, no import circle.
+
+No module over :data:`MODULE_LINES` lines and no class over :data:`CLASS_LINES` (Python sources;
+the C files and the compiled modules aside), and no circle in the graph of ``kin``'s imports of
+itself: every import counts, the function-local and ``TYPE_CHECKING`` ones too, and a name taken
+from a package (``from kin import RobotModel``) counts as an import of the module that defines it.
+
+What still breaks a limit today is listed below with today's size: a ratchet. The test fails when
+a listed one grows, or when a new one appears; a listed one brought within the limit may leave the
+list.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+KIN = Path(__file__).resolve().parent.parent / "kin"
+
+#: The limits [lines].
+MODULE_LINES = 400
+CLASS_LINES = 250
+
+#: Modules over :data:`MODULE_LINES` on 2026-11-27 (path under ``kin/``: lines). Each is to be
+#: split by concept (the house style: one concept per module, roughly 50-300 lines).
+MODULES_OVER = {
+    "ik/analytic/closed_form.py": 448,
+    "ik/analytic/planar/parallel_axes.py": 555,
+    "ik/analytic/seven_r/seven_dof.py": 483,
+    "ik/analytic/seven_r/spherical_shoulder7.py": 441,
+    "ik/analytic/six_r/general_6r.py": 476,
+    "ik/batch_solve.py": 529,
+    "ik/numeric/free_joint.py": 465,
+    "ik/partial_pose.py": 775,
+    "ik/target.py": 446,
+    "mimic_arm.py": 431,
+    "reach_map.py": 540,
+}
+
+#: Classes over :data:`CLASS_LINES` on 2026-11-27 (``path::class``: lines): pipelines to be
+#: composed of small stages over a frozen context, as ``NumericIK`` now is.
+CLASSES_OVER = {
+    "ik/analytic/closed_form.py::ClosedFormSolver": 394,
+    "ik/analytic/planar/parallel_axes.py::ParallelAxes": 351,
+    "ik/analytic/seven_r/seven_dof.py::SevenDofIK": 431,
+    "ik/analytic/seven_r/spherical_shoulder7.py::SphericalShoulder7RIK": 354,
+    "ik/analytic/six_r/pieper.py::Pieper6R": 306,
+    "ik/analytic/six_r/spherical_wrist.py::SphericalWrist6R": 310,
+    "ik/analytic/six_r/three_parallel.py::ThreeParallel6R": 298,
+    "ik/analytic/six_r/ur_wrist.py::URWrist6R": 317,
+    "ik/partial_pose.py::PartialPoseIK": 550,
+    "mimic_arm.py::MimicArm": 300,
+}
+
+#: Import circles on 2026-11-27 (the modules of each strongly connected part of the graph).
+CIRCLES_KNOWN = (
+    # robot_model -> mimic_arm (a function-local import: a URDF with mimic joints) -> ik.judge
+    # -> kin (RobotModel) -> robot_model.
+    frozenset({"kin.robot_model", "kin.mimic_arm", "kin.ik.judge"}),
+    # workspace -> workspace_run (function-local: run the chunks) -> workspace (reduce_chunk).
+    frozenset({"kin.workspace", "kin.workspace_run"}),
+    # registry -> six_r.general_6r -> registry (function-local: the closed forms' list).
+    frozenset({"kin.ik.analytic.registry", "kin.ik.analytic.six_r.general_6r"}),
+)
+
+
+def _sources() -> Iterator[tuple[str, Path]]:
+    """``(path under kin/, path)`` of every Python module of the package."""
+    for path in sorted(KIN.rglob("*.py")):
+        yield path.relative_to(KIN).as_posix(), path
+
+
+def _module_name(relative: str, top: str = "kin") -> str:
+    """The dotted name of a module by its path under the package ``top`` (a package: its own)."""
+    parts = [top, *relative.removesuffix(".py").split("/")]
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _lines(path: Path) -> int:
+    return len(path.read_text(encoding="utf-8").splitlines())
+
+
+def _classes(path: Path) -> Iterator[tuple[str, int]]:
+    """``(name, lines)`` of every class of a module, nested ones too (decorators aside)."""
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ClassDef):
+            assert node.end_lineno is not None
+            yield node.name, node.end_lineno - node.lineno + 1
+
+
+def _over(sizes: dict[str, int], limit: int, known: dict[str, int], what: str) -> list[str]:
+    """The complaints: a size over ``limit`` not in ``known``, or above its known size."""
+    found = []
+    for name, size in sorted(sizes.items()):
+        if size <= limit:
+            continue
+        if name not in known:
+            found.append(f"{what} {name} has {size} lines (limit {limit}): split it")
+        elif size > known[name]:
+            found.append(f"{what} {name} grew to {size} lines (was {known[name]}, limit {limit})")
+    return found
+
+
+def test_no_module_over_the_limit():
+    """No module of kin/ over 400 lines but the listed ones, none of those grown."""
+    sizes = {relative: _lines(path) for relative, path in _sources()}
+    assert _over(sizes, MODULE_LINES, MODULES_OVER, "module") == []
+
+
+def test_no_class_over_the_limit():
+    """No class of kin/ over 250 lines but the listed ones, none of those grown."""
+    sizes = {
+        f"{relative}::{name}": lines
+        for relative, path in _sources()
+        for name, lines in _classes(path)
+    }
+    assert _over(sizes, CLASS_LINES, CLASSES_OVER, "class") == []
+
+
+def test_the_ratchet_sees_a_module_that_grows():
+    """The checks themselves: a listed module grown, a new one and a class over the limit."""
+    known = {"a.py": 500}
+    assert _over({"a.py": 500, "b.py": 400}, 400, known, "module") == []
+    assert _over({"a.py": 501}, 400, known, "module") == [
+        "module a.py grew to 501 lines (was 500, limit 400)"
+    ]
+    assert _over({"b.py": 401}, 400, known, "module") == [
+        "module b.py has 401 lines (limit 400): split it"
+    ]
+
+
+def _absolute(module: str, package: bool, node: ast.ImportFrom) -> str:
+    """The dotted name a ``from ... import`` of ``module`` reads (relative ones resolved)."""
+    if node.level == 0:
+        return node.module or ""
+    base = module.split(".") if package else module.split(".")[:-1]
+    base = base[: len(base) - node.level + 1]
+    return ".".join([*base, *([node.module] if node.module else [])])
+
+
+def import_graph(root: Path = KIN) -> dict[str, set[str]]:
+    """Each module of the package under ``root`` and the package's modules it imports.
+
+    Every import statement counts, wherever it stands (module level, a function, a
+    ``TYPE_CHECKING`` block). ``from pkg import name`` is an import of ``pkg.name`` when that is
+    a module, else of the module ``pkg``'s ``__init__`` takes ``name`` from (followed through
+    re-exports), else of ``pkg`` itself.
+    """
+    top = root.name
+    trees: dict[str, ast.Module] = {}
+    packages: set[str] = set()
+    for path in sorted(root.rglob("*.py")):
+        name = _module_name(path.relative_to(root).as_posix(), top)
+        trees[name] = ast.parse(path.read_text(encoding="utf-8"))
+        if path.name == "__init__.py":
+            packages.add(name)
+    exported: dict[str, dict[str, tuple[str, str]]] = {}
+    for package in packages:
+        table = exported[package] = {}
+        for node in trees[package].body:
+            if isinstance(node, ast.ImportFrom):
+                source = _absolute(package, True, node)
+                for alias in node.names:
+                    table[alias.asname or alias.name] = (source, alias.name)
+
+    def defining(package: str, name: str, hops: int = 0) -> str | None:
+        if f"{package}.{name}" in trees:
+            return f"{package}.{name}"
+        if package in exported and name in exported[package] and hops < 20:
+            source, original = exported[package][name]
+            if source in packages:
+                return defining(source, original, hops + 1)
+            if source in trees:
+                return source
+        return package if package in trees else None
+
+    graph: dict[str, set[str]] = {module: set() for module in trees}
+    for module, tree in trees.items():
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                graph[module].update(alias.name for alias in node.names if alias.name in trees)
+            elif isinstance(node, ast.ImportFrom):
+                source = _absolute(module, module in packages, node)
+                if source.split(".")[0] != top:
+                    continue
+                for alias in node.names:
+                    found = defining(source, alias.name)
+                    if found is not None and found != module:
+                        graph[module].add(found)
+    return graph
+
+
+def circles(graph: dict[str, set[str]]) -> list[frozenset[str]]:
+    """The strongly connected parts of ``graph`` of more than one module (Tarjan, iterative)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[frozenset[str]] = []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, edges = work[-1]
+            step = next(edges, None)
+            if step is not None:
+                if step not in index:
+                    index[step] = low[step] = len(index)
+                    stack.append(step)
+                    on_stack.add(step)
+                    work.append((step, iter(sorted(graph.get(step, ())))))
+                elif step in on_stack:
+                    low[node] = min(low[node], index[step])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                part = set()
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    part.add(member)
+                    if member == node:
+                        break
+                if len(part) > 1:
+                    found.append(frozenset(part))
+    return found
+
+
+@pytest.fixture(scope="module")
+def kin_graph() -> dict[str, set[str]]:
+    """The import graph of kin/ (read once)."""
+    return import_graph()
+
+
+def test_no_import_circle_but_the_known_ones(kin_graph):
+    """No circle in kin/'s imports of itself but the listed ones, none of those grown."""
+    new = [
+        sorted(part)
+        for part in circles(kin_graph)
+        if not any(part <= known for known in CIRCLES_KNOWN)
+    ]
+    assert new == [], f"import circles: {new}"
+
+
+def test_the_graph_sees_a_circle_behind_a_function_local_import(tmp_path):
+    """A tiny package: a circle closed by a function-local import through a re-export is found,
+    and a package whose __init__ re-exports its modules is no circle by itself."""
+    package = tmp_path / "pkg"
+    (package / "sub").mkdir(parents=True)
+    (package / "__init__.py").write_text("from .a import A\nfrom .sub.c import C\n")
+    (package / "a.py").write_text("from .b import B\n\nclass A:\n    pass\n")
+    (package / "b.py").write_text("def f():\n    from pkg import A\n\nclass B:\n    pass\n")
+    (package / "sub" / "__init__.py").write_text("")
+    (package / "sub" / "c.py").write_text("from ..a import A\n\nclass C:\n    pass\n")
+    graph = import_graph(package)
+    assert graph["pkg.b"] == {"pkg.a"} and graph["pkg.sub.c"] == {"pkg.a"}
+    assert circles(graph) == [frozenset({"pkg.a", "pkg.b"})]
+    (package / "b.py").write_text("class B:\n    pass\n")
+    assert circles(import_graph(package)) == []
+
+
+@pytest.mark.parametrize("known", CIRCLES_KNOWN, ids=lambda part: "+".join(sorted(part)))
+def test_each_known_circle_names_modules_that_exist(known, kin_graph):
+    """The listed circles name modules that exist (a renamed module leaves the list)."""
+    assert known <= kin_graph.keys(), sorted(known - kin_graph.keys())
