@@ -115,30 +115,63 @@ def nearest_copies(
         The copies (..., nq) [rad] and, per angle, whether it is inside the limits.
     """
     values = np.asarray(values, dtype=float)
-    seeds = np.broadcast_to(np.asarray(seeds, dtype=float), values.shape)
-    low = np.asarray(lower, dtype=float) - LIMIT_TOL  # as nearest_copy computes, operation
-    upper = np.asarray(upper, dtype=float)  # for operation
-    base = values - TWO_PI * np.round((values - seeds) / TWO_PI)
+    if values.ndim == 1:  # one joint vector
+        q, inside = nearest_copies(values[None], seeds, lower, upper)
+        return q[0], inside[0]
+    shape = values.shape
+    seed = np.ascontiguousarray(np.broadcast_to(np.asarray(seeds, dtype=float), shape))
+    lows = np.broadcast_to(np.asarray(lower, dtype=float), shape[-1:]) - LIMIT_TOL
+    uppers = np.broadcast_to(np.asarray(upper, dtype=float), shape[-1:])
     with np.errstate(invalid="ignore"):
-        # Inside the limits and nearer the seed than FAST_COPY: the copy nearest_copy picks.
-        done = (base >= low) & (base - upper - LIMIT_TOL <= 0.0)
-        done &= np.abs(base - seeds) < FAST_COPY
-        done &= np.abs(seeds) < FAST_SEED
-    rest = ~done & ~np.isnan(base)
-    if not rest.any():
-        return base, done
-    where = np.nonzero(rest)
-    low = np.broadcast_to(low, values.shape)[where]
-    upper = np.broadcast_to(upper, values.shape)[where]
-    copies, inside = _nearest_copies(base[where], seeds[where], low, upper)
-    base = base.copy()
-    base[where] = copies
-    done[where] = inside
+        base = values - TWO_PI * np.round((values - seed) / TWO_PI)
+        near = np.abs(base - seed) < FAST_COPY  # nearer the seed than the other copies
+        near &= base == base  # not NaN
+        done = np.empty(shape, dtype=bool)
+        for j, (low, high) in enumerate(zip(lows.tolist(), uppers.tolist())):  # one joint
+            column = base[..., j]
+            inside = column >= low
+            inside &= column - high - LIMIT_TOL <= 0.0
+            # Inside the limits and near the seed: the copy nearest_copy picks.
+            ok = inside & near[..., j]
+            done[..., j] = ok
+            rest = ~ok
+            rest &= column == column  # not NaN
+            if rest.any():
+                column[rest], done[..., j][rest] = _wrap_into(
+                    column[rest], seed[..., j][rest], low, high
+                )
     return base, done
 
 
+def _wrap_into(
+    base: np.ndarray, seed: np.ndarray, low: float, upper: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`wrap_into` of the copies ``base`` nearest ``seed`` (1-D, not NaN), on arrays."""
+    below = low - base  # the violation of base below the limits when positive
+    above = base - upper - LIMIT_TOL  # and above
+    is_below = below > 0.0
+    outside = is_below | (above > 0.0)
+    candidate = base + np.where(is_below, TWO_PI, -TWO_PI)  # one turn toward the limits
+    violation = np.where(is_below, below, above)
+    further = np.where(is_below, candidate - upper - LIMIT_TOL, low - candidate)
+    candidate_violation = np.maximum(further, 0.0)
+    take = candidate_violation < violation
+    tie = candidate_violation == violation
+    if tie.any():  # the nearer the seed
+        take |= tie & (np.abs(candidate - seed) < np.abs(base - seed))
+    take &= outside
+    copies = np.where(take, candidate, base)
+    inside = take & (candidate_violation == 0.0)
+    # Inside but far from the seed, or two turns outside: every candidate compared.
+    still = np.where(is_below, low - candidate, candidate - upper - LIMIT_TOL) > 0.0
+    hard = ~outside | still
+    if hard.any():
+        copies[hard], inside[hard] = _nearest_copies(base[hard], seed[hard], low, upper)
+    return copies, inside
+
+
 def _nearest_copies(
-    base: np.ndarray, seeds: np.ndarray, low: np.ndarray, upper: np.ndarray
+    base: np.ndarray, seeds: np.ndarray, low: float, upper: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`nearest_copies` of the copies ``base`` nearest ``seeds``, every candidate compared."""
     best = base
