@@ -143,7 +143,7 @@ class BatchSolver:
         if self._directions is not None:
             seeds = seeds * self._directions
         q, inside = nearest_copies(q, seeds[:, None, :], self._lower, self._upper)
-        return q, inside.all(axis=-1)
+        return q, np.asarray(inside.all(axis=-1))
 
     def _require(self, kind: type, instead: str) -> None:
         if kind not in self.structure.target_kinds:
