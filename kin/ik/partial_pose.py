@@ -48,9 +48,9 @@ import pinocchio as pin
 from kin import KinError, RobotModel, as_joint_vector
 from kin.configuration import default_seed, seed_inside
 
-from .analytic.branch_verification import wrap
 from .exceptions import StructureError, TargetError
 from .judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
+from .limit_rule import wrap_into
 from .numeric.damped_newton import damped_newton
 from .reach import reach_bound
 from .result import IKResult, IKSolution
@@ -457,12 +457,12 @@ class PartialPoseIK:
     def _wrapped(self, q: np.ndarray, seed: np.ndarray) -> tuple[np.ndarray, bool]:
         """``q`` with each revolute angle moved by 2 pi into the limits, nearest the seed.
 
-        The closed forms' choice of copy (:func:`~.analytic.branch_verification.wrap`); whether
+        The closed forms' choice of copy (:func:`~.limit_rule.wrap_into`); whether
         every joint is inside its limits is then judged without their slack.
         """
         out = q.copy()
         for i in np.flatnonzero(self.revolute).tolist():
-            out[i] = wrap(float(out[i]), float(seed[i]), self.lower[i], self.upper[i])[0]
+            out[i] = wrap_into(float(out[i]), float(seed[i]), self.lower[i], self.upper[i])[0]
         inside = bool(np.all(out >= self.lower) and np.all(out <= self.upper))
         return out, inside
 

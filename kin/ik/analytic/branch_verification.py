@@ -33,7 +33,6 @@ from kin import RobotModel
 
 from ..judge import ToolJudge, axis_error, rotation_error
 from ..limit_rule import FAST_COPY, FAST_SEED, wrap_into
-from ..limit_rule import wrap_into as wrap  # noqa: F401  (partial_pose's name for it)
 from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target
 from .branches import Branches, BranchStatus
