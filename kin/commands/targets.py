@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dh2urdf.quoted_input import quoted
 from dh2urdf.units import angle_to_radians
 
+from ..ik.angles import quaternion_matrix as unit_quaternion_matrix
 from ..ik.exceptions import TargetError
 from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
 from .joint_units import warn_radians
@@ -45,20 +46,14 @@ def _finite(values: object, size: int, what: str) -> list[float]:
 
 
 def quaternion_matrix(w: float, x: float, y: float, z: float) -> list[list[float]]:
-    """Rotation matrix of the quaternion ``w + xi + yj + zk`` (normalised here).
+    """Rotation matrix of the quaternion ``w + xi + yj + zk`` (:func:`kin.ik.angles.quaternion_matrix`).
 
     Raises:
         TargetError: A zero quaternion.
     """
-    norm = math.sqrt(w * w + x * x + y * y + z * z)
-    if norm < 1e-9:
+    if math.sqrt(w * w + x * x + y * y + z * z) < 1e-9:
         raise TargetError(f"--quat must not be zero, got {[w, x, y, z]}")
-    w, x, y, z = w / norm, x / norm, y / norm, z / norm
-    return [
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ]
+    return unit_quaternion_matrix(w, x, y, z)
 
 
 def _mask_flags(values: object) -> list[int]:
