@@ -201,9 +201,9 @@ class BatchRoute:
                 logger.debug("batch stage failed", exc_info=True)
                 q = np.full((len(group), self.nq), np.nan)
             each = (time.perf_counter() - start) / len(group)
-            found = ~np.isnan(q).any(axis=1)
+            missing = np.asarray(np.isnan(q).any(axis=1))  # per line: the stage gave no answer
             for k, (index, target, seed) in enumerate(group):
-                if not found[k]:
+                if missing[k]:
                     records[index] = solved(before + index + 1, target, seed)
                     continue
                 rotation = float(rotation_error[k]) if poses else None
