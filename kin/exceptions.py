@@ -95,3 +95,17 @@ class RunFaultError(KinError):
 
     A lost Dask scheduler, or a chunk whose worker process died every time it ran.
     """
+
+
+class CollisionModelError(KinError, ValueError):
+    """A collision model's input is bad: a scene file, an SRDF, a mesh of the scene.
+
+    The message names the file and the field (``scene.toml: box[2].size: ...``); commands exit 2.
+
+    Attributes:
+        path: The file at fault (empty when the input came from memory).
+    """
+
+    def __init__(self, path: str, message: str):
+        self.path = path
+        super().__init__(f"{path}: {message}" if path else message)

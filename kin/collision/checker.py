@@ -1,0 +1,243 @@
+"""Collision and distance queries of a :class:`~kin.collision.CollisionModel` at joint vectors.
+
+One checker serves many threads: each thread gets its own Pinocchio data and geometry data on
+first use (as the IK solvers keep theirs). Points are in the world frame (the arm's base) [m].
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+import pinocchio as pin
+
+from ..configuration import as_joint_vector
+from .model import CollisionModel
+
+__all__ = ["Closest", "CollisionChecker", "Contact"]
+
+_FLOAT64 = np.dtype(np.float64)
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Two shapes in contact.
+
+    Attributes:
+        a: Link (base side) or link of a scene pair.
+        b: Link or scene object.
+        depth: Penetration depth [m], >= 0 (padding included).
+        point_a: Witness point on ``a``, world frame [m], shape (3,).
+        point_b: Witness point on ``b``, world frame [m], shape (3,).
+    """
+
+    a: str
+    b: str
+    depth: float
+    point_a: np.ndarray
+    point_b: np.ndarray
+
+
+@dataclass(frozen=True)
+class Closest:
+    """The closest checked pair.
+
+    Attributes:
+        a: Link (base side) or link of a scene pair.
+        b: Link or scene object.
+        distance: Distance between the padded shapes [m]; negative when they overlap.
+        point_a: Nearest point on ``a``, world frame [m], shape (3,).
+        point_b: Nearest point on ``b``, world frame [m], shape (3,).
+    """
+
+    a: str
+    b: str
+    distance: float
+    point_a: np.ndarray
+    point_b: np.ndarray
+
+
+class CollisionChecker:
+    """Collision queries of one model, safe to call from many threads at once.
+
+    Args:
+        model: The collision model (:func:`kin.collision.load_collision_model`).
+    """
+
+    def __init__(self, model: CollisionModel):
+        self.model = model
+        self._robot = model.robot
+        self._pin_model = model.robot.model
+        self._geometry = model.geometry_model
+        self._shape = (model.robot.nq,)
+        self._local = threading.local()
+        self._pool: pin.GeometryPool | None = None
+        self._pool_lock = threading.Lock()
+
+    def _data(self) -> tuple[pin.Data, pin.GeometryData]:
+        local = self._local
+        try:
+            return local.data, local.geometry_data
+        except AttributeError:
+            local.data = self._pin_model.createData()
+            local.geometry_data = self._new_geometry_data()
+            return local.data, local.geometry_data
+
+    def _new_geometry_data(self) -> pin.GeometryData:
+        geometry_data = pin.GeometryData(self._geometry)
+        self._prepare(geometry_data)
+        return geometry_data
+
+    def _prepare(self, geometry_data: pin.GeometryData) -> None:
+        padding = self.model.padding
+        for request in geometry_data.collisionRequests:
+            request.security_margin = padding
+            request.enable_contact = True
+
+    def _q(self, q: npt.ArrayLike) -> np.ndarray:
+        if q.__class__ is not np.ndarray or q.dtype is not _FLOAT64 or q.shape != self._shape:  # type: ignore[union-attr]
+            return as_joint_vector(self._robot, q)
+        if not math.isfinite(q.dot(q)):  # type: ignore[union-attr]
+            as_joint_vector(self._robot, q)  # raises the detailed error
+        return q  # type: ignore[return-value]
+
+    def in_collision(self, q: npt.ArrayLike) -> bool:
+        """Whether any checked pair is in contact at ``q`` [rad, m] (stops at the first).
+
+        Raises:
+            kin.JointVectorError: Wrong size or non-finite values.
+        """
+        data, geometry_data = self._data()
+        return bool(
+            pin.computeCollisions(
+                self._pin_model, data, self._geometry, geometry_data, self._q(q), True
+            )
+        )
+
+    def collisions(self, q: npt.ArrayLike) -> tuple[Contact, ...]:
+        """The pairs in contact at ``q`` [rad, m], the deepest contact of each, deepest first.
+
+        Raises:
+            kin.JointVectorError: Wrong size or non-finite values.
+        """
+        data, geometry_data = self._data()
+        pin.computeCollisions(
+            self._pin_model, data, self._geometry, geometry_data, self._q(q), False
+        )
+        deepest: dict[tuple[str, str], Contact] = {}
+        padding = self.model.padding
+        for index, result in enumerate(geometry_data.collisionResults):
+            if not result.isCollision():
+                continue
+            contact = result.getContact(0)
+            # coal's penetration_depth is the signed distance (negative inside): depth >= 0
+            depth = max(0.0, padding - float(contact.penetration_depth))
+            a, b = self.model.pair_owners[index]
+            known = deepest.get((a, b))
+            if known is None or depth > known.depth:
+                deepest[(a, b)] = Contact(
+                    a,
+                    b,
+                    depth,
+                    np.array(contact.getNearestPoint1()),
+                    np.array(contact.getNearestPoint2()),
+                )
+        return tuple(sorted(deepest.values(), key=lambda c: -c.depth))
+
+    def distance(self, q: npt.ArrayLike) -> Closest:
+        """The closest checked pair at ``q`` [rad, m] and its distance [m] (padding taken off).
+
+        Raises:
+            kin.JointVectorError: Wrong size or non-finite values.
+            ValueError: The model checks no pair.
+        """
+        if not self.model.pair_owners:
+            raise ValueError("the collision model checks no pair: no distance to give")
+        data, geometry_data = self._data()
+        index = pin.computeDistances(
+            self._pin_model, data, self._geometry, geometry_data, self._q(q)
+        )
+        result = geometry_data.distanceResults[index]
+        a, b = self.model.pair_owners[index]
+        return Closest(
+            a,
+            b,
+            float(result.min_distance) - self.model.padding,
+            np.array(result.getNearestPoint1()),
+            np.array(result.getNearestPoint2()),
+        )
+
+    def _batch(self, qs: npt.ArrayLike) -> np.ndarray:
+        values = np.asarray(qs, dtype=float)
+        if values.ndim != 2 or values.shape[1] != self._robot.nq:
+            from ..exceptions import JointVectorError
+
+            raise JointVectorError(
+                f"joint vectors must have shape (N, {self._robot.nq}), got {values.shape}",
+                self._robot.nq,
+                values.shape[-1] if values.ndim else 0,
+            )
+        if not np.isfinite(values).all():
+            row = int(np.flatnonzero(~np.isfinite(values).all(axis=1))[0])
+            as_joint_vector(self._robot, values[row])
+        return values
+
+    def in_collision_batch(self, qs: npt.ArrayLike, threads: int | None = None) -> np.ndarray:
+        """:meth:`in_collision` of each row of ``qs`` (N, nq) [rad, m], on all cores.
+
+        Args:
+            qs: Joint vectors, one per row.
+            threads: Threads to use (default: the cores this process may use).
+
+        Returns:
+            Boolean array (N,).
+        """
+        values = self._batch(qs)
+        if len(values) == 0:
+            return np.zeros(0, dtype=bool)
+        count = threads or _cores()
+        with self._pool_lock:
+            if self._pool is None or self._pool.size() < count:
+                pool = pin.GeometryPool(self._pin_model, self._geometry, count)
+                for geometry_data in pool.getGeometryDatas():
+                    self._prepare(geometry_data)
+                self._pool = pool
+            result = pin.computeCollisionsInParallel(
+                count, self._pool, np.asfortranarray(values.T), True
+            )
+        return np.asarray(result, dtype=bool).reshape(len(values))
+
+    def distances_batch(self, qs: npt.ArrayLike, threads: int | None = None) -> np.ndarray:
+        """:meth:`distance` of each row of ``qs`` (N, nq) [rad, m], on all cores.
+
+        Returns:
+            Distances [m], shape (N,).
+        """
+        values = self._batch(qs)
+        count = min(threads or _cores(), max(1, len(values)))
+        out = np.empty(len(values))
+
+        def chunk(rows: range) -> None:
+            for row in rows:
+                out[row] = self.distance(values[row]).distance
+
+        bounds = np.linspace(0, len(values), count + 1).astype(int)
+        ranges = [range(bounds[i], bounds[i + 1]) for i in range(count)]
+        if count == 1:
+            chunk(ranges[0])
+        else:
+            with ThreadPoolExecutor(count) as executor:
+                list(executor.map(chunk, ranges))
+        return out
+
+
+def _cores() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not Linux
+        return max(1, os.cpu_count() or 1)

@@ -1,0 +1,246 @@
+"""A robot's collision model: the arm's shapes on the kin model's joints, a scene, allowed pairs.
+
+Shapes: a robot loaded from a URDF keeps the ``<collision>`` elements of its chain's links (base
+to tip), each shape moved onto the DH model's joint that carries its link (the offset measured at
+q = 0, where both models agree); a DH table robot has the link cylinders the URDF writer emits
+(per-row ``radius``). Scene objects hang on the world. Pairs checked: every two arm links, and
+every arm link with every scene object, but the allowed ones (:attr:`CollisionModel.disabled`):
+adjacent links (one after the other along the chain, links without shapes skipped, as MoveIt's
+setup assistant counts them), links carried by the same joint, and an SRDF's pairs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import CollisionModelError
+from ..robot_model import RobotModel
+from .urdf_shapes import Shape, link_shapes
+
+__all__ = ["CollisionModel", "load_collision_model"]
+
+
+@dataclass(frozen=True, eq=False)
+class CollisionModel:
+    """The shapes of an arm and its scene and the pairs of them that are checked.
+
+    Attributes:
+        robot: The robot (its ``model`` drives the shapes).
+        geometry_model: Pinocchio's geometry model, one object per shape, its collision pairs
+            those of :attr:`pairs`.
+        links: Names of the arm's links that have shapes, base to tip.
+        scene_objects: Names of the scene objects.
+        pairs: The ``(a, b)`` checked: two links (base side first), or a link and an object.
+        disabled: The pairs not checked, ``(a, b) -> reason`` (``"adjacent"``, ``"rigid"``,
+            ``"srdf: <reason>"``).
+        owners: Per geometry object, the link or scene object it belongs to.
+        pair_owners: Per collision pair of :attr:`geometry_model`, its ``(a, b)``.
+        padding: Distance added around every shape [m]: a pair is in collision closer than it.
+        shape_note: One line: which geometry the queries use and how far it is from the meshes.
+    """
+
+    robot: RobotModel
+    geometry_model: pin.GeometryModel
+    links: tuple[str, ...]
+    scene_objects: tuple[str, ...]
+    pairs: tuple[tuple[str, str], ...]
+    disabled: dict[tuple[str, str], str]
+    owners: tuple[str, ...]
+    pair_owners: tuple[tuple[str, str], ...]
+    padding: float
+    shape_note: str
+
+
+def load_collision_model(
+    robot: RobotModel,
+    *,
+    srdf: str | Path | None = None,
+    scene: str | Path | None = None,
+    padding: float = 0.0,
+) -> CollisionModel:
+    """The collision model of ``robot`` (see the module docstring for what it holds).
+
+    Args:
+        robot: A robot from :func:`kin.load_robot`.
+        srdf: A MoveIt SRDF whose ``disable_collisions`` pairs are not checked.
+        scene: A scene TOML or a URDF of the cell (:mod:`kin.collision.scene`).
+        padding: Margin around every shape [m], >= 0.
+
+    Raises:
+        CollisionModelError: A bad scene, SRDF or padding (the message names file and field).
+        kin.ModelLoadError: The robot's URDF can no longer be read.
+    """
+    if not (math.isfinite(padding) and padding >= 0.0):
+        raise CollisionModelError("", f"padding: {padding!r} m must be a finite number >= 0")
+    arm, chain, all_links, robot_name = _arm_shapes(robot)
+    objects: tuple[Shape, ...] = ()
+    if scene is not None:
+        from .scene import read_scene
+
+        objects = read_scene(scene)
+        clash = sorted({s.owner for s in objects} & set(all_links))
+        if clash:
+            raise CollisionModelError(str(scene), f"name {clash[0]!r} is a link of the robot")
+    links = tuple(link for link in chain if any(s.owner == link for s in arm))
+    names = tuple(dict.fromkeys(s.owner for s in objects))
+    carrier = {s.owner: s.parent for s in arm}
+    disabled: dict[tuple[str, str], str] = {}
+    for a, b in zip(links, links[1:], strict=False):
+        disabled[(a, b)] = "adjacent"
+    for i, a in enumerate(links):
+        for b in links[i + 1 :]:
+            if (a, b) not in disabled and carrier[a] == carrier[b]:
+                disabled[(a, b)] = "rigid"
+    if srdf is not None:
+        from .srdf import read_srdf
+
+        for (a, b), reason in read_srdf(
+            srdf, robot_name, {*all_links, *names}, {*links, *names}
+        ).items():
+            if (a, b) not in disabled and (b, a) not in disabled:
+                disabled[_ordered(a, b, links)] = reason
+    candidates = [(a, b) for i, a in enumerate(links) for b in links[i + 1 :]]
+    candidates += [(link, name) for name in names for link in links]
+    pairs = tuple(p for p in candidates if p not in disabled and p[::-1] not in disabled)
+    geometry_model, owners, pair_owners = _geometry_model(robot, arm, objects, pairs)
+    return CollisionModel(
+        robot=robot,
+        geometry_model=geometry_model,
+        links=links,
+        scene_objects=names,
+        pairs=pairs,
+        disabled=disabled,
+        owners=owners,
+        pair_owners=pair_owners,
+        padding=float(padding),
+        shape_note=_note(arm, objects, padding),
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class _ArmShape(Shape):
+    """A shape on the kin model: ``placement`` is ``T_joint_shape`` of joint ``parent``."""
+
+    parent: int = 0
+
+
+def _ordered(a: str, b: str, links: tuple[str, ...]) -> tuple[str, str]:
+    if a in links and b in links:
+        return (a, b) if links.index(a) < links.index(b) else (b, a)
+    return (a, b) if a in links else (b, a)
+
+
+def _arm_shapes(robot: RobotModel) -> tuple[list[_ArmShape], list[str], list[str], str]:
+    """The arm's shapes on the kin model, its chain's links base to tip, all URDF links, name."""
+    from dh2urdf.exceptions import UrdfChainError
+    from dh2urdf.urdf_parse import build_pinocchio_model, parse_urdf_xml
+
+    if robot.urdf_source is None:
+        where, text, base, tip = robot.table.path or robot.name, robot.urdf, None, robot.tool_frame
+    else:
+        from dh2urdf.urdf_chain import urdf_text
+
+        where, base, tip = robot.urdf_source
+    try:
+        if robot.urdf_source is not None:
+            text = urdf_text(where)
+        root, text = parse_urdf_xml(text, where)
+        source = robot.model if robot.urdf_source is None else build_pinocchio_model(text, where)
+    except UrdfChainError as err:
+        from ..exceptions import ModelLoadError
+
+        raise ModelLoadError(str(err)) from err
+    chain = _chain_links(source, base, tip)
+    all_links = [link.get("name", "") for link in root.iter("link")]
+    data = source.createData()
+    pin.framesForwardKinematics(source, data, pin.neutral(source))
+    world = pin.SE3.Identity() if base is None else _body(source, data, base).inverse()
+    ours = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, ours, np.zeros(robot.nq))
+    shapes = []
+    for shape in link_shapes(root, chain, where, strict_meshes=False):
+        frame = source.frames[source.getFrameId(shape.owner, pin.FrameType.BODY)]
+        joint_name = source.names[frame.parentJoint]
+        joint = robot.model.getJointId(joint_name) if frame.parentJoint > 0 else 0
+        if joint >= robot.model.njoints:  # a joint above the base: fixed in our world
+            joint = 0
+        T_base_link = world * _body(source, data, shape.owner)
+        placement = ours.oMi[joint].inverse() * T_base_link * shape.placement
+        shapes.append(
+            _ArmShape(shape.owner, shape.name, shape.geometry, placement, shape.kind, joint)
+        )
+    return shapes, chain, all_links, root.get("name", robot.name)
+
+
+def _body(model: pin.Model, data: pin.Data, link: str) -> pin.SE3:
+    return data.oMf[model.getFrameId(link, pin.FrameType.BODY)]
+
+
+def _chain_links(model: pin.Model, base: str | None, tip: str) -> list[str]:
+    """The links from ``base`` (the root when None) to ``tip``, base first."""
+    fid = model.getFrameId(tip)
+    links: list[str] = []
+    while True:
+        frame = model.frames[fid]
+        if frame.type == pin.FrameType.BODY:
+            links.append(frame.name)
+            if frame.name == base:
+                break
+        if fid == 0 or frame.parentFrame == fid:
+            break
+        fid = frame.parentFrame
+    return links[::-1]
+
+
+def _geometry_model(
+    robot: RobotModel,
+    arm: list[_ArmShape],
+    objects: tuple[Shape, ...],
+    pairs: tuple[tuple[str, str], ...],
+) -> tuple[pin.GeometryModel, tuple[str, ...], tuple[tuple[str, str], ...]]:
+    model = robot.model
+    geometry_model = pin.GeometryModel()
+    owners = []
+    for shape in arm:
+        frame = (
+            model.getFrameId(model.names[shape.parent], pin.FrameType.JOINT) if shape.parent else 0
+        )
+        geometry_model.addGeometryObject(
+            pin.GeometryObject(shape.name, shape.parent, frame, shape.placement, shape.geometry)
+        )
+        owners.append(shape.owner)
+    for shape in objects:
+        geometry_model.addGeometryObject(
+            pin.GeometryObject(f"scene/{shape.name}", 0, 0, shape.placement, shape.geometry)
+        )
+        owners.append(shape.owner)
+    by_owner: dict[str, list[int]] = {}
+    for index, owner in enumerate(owners):
+        by_owner.setdefault(owner, []).append(index)
+    pair_owners = []
+    for a, b in pairs:
+        for i in by_owner[a]:
+            for j in by_owner[b]:
+                geometry_model.addCollisionPair(pin.CollisionPair(i, j))
+                pair_owners.append((a, b))
+    return geometry_model, tuple(owners), tuple(pair_owners)
+
+
+def _note(arm: list[_ArmShape], objects: tuple[Shape, ...], padding: float) -> str:
+    kinds = sorted({s.kind for s in (*arm, *objects)})
+    meshes = "mesh" in kinds
+    primitives = [k for k in kinds if k != "mesh"]
+    parts = []
+    if primitives:
+        parts.append(f"{', '.join(primitives)} as given (exact)")
+    if meshes:
+        parts.append("meshes as their convex hulls (they enclose the mesh: never closer)")
+    return (
+        f"every query uses {'; '.join(parts) or 'no shapes'}; "
+        f"padding {padding:g} m around every shape"
+    )
