@@ -158,7 +158,14 @@ CASES = [(c,) for c in EXPECTED] + [
 ]
 
 
-@pytest.mark.parametrize("corruptions", CASES, ids=["+".join(c) for c in CASES])
+#: Every single corruption and every sixth pair in the default run; the other pairs are slow.
+FAST_CASES = [
+    pytest.param(c, id="+".join(c), marks=() if len(c) == 1 or k % 6 == 0 else pytest.mark.slow)
+    for k, c in enumerate(CASES)
+]
+
+
+@pytest.mark.parametrize("corruptions", FAST_CASES)
 def test_audit_recovers_the_corruption(tmp_path, corruptions):
     """The best reading is exactly the corruption, and it reproduces every sample."""
     table, samples = write_case(tmp_path, corruptions)
@@ -271,7 +278,13 @@ RANDOM_CASES = [
 ]
 
 
-@pytest.mark.parametrize(("seed", "corruptions"), RANDOM_CASES)
+@pytest.mark.parametrize(
+    ("seed", "corruptions"),
+    [  # the first table's single corruptions in the default run, the rest slow
+        pytest.param(*case, marks=() if case[0] == 100 and len(case[1]) == 1 else pytest.mark.slow)
+        for case in RANDOM_CASES
+    ],
+)
 def test_random_tables_give_back_the_correct_table(tmp_path, seed, corruptions):
     """Random tables: the best reading's table and sample units are those of the correct table
     (however its changes are described: all twists but one may be the other ones flipped)."""

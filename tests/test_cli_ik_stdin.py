@@ -290,6 +290,7 @@ def test_an_unexpected_exception_in_one_line_is_that_lines_error(monkeypatch, ca
     assert answers[1]["error"] == "internal error: ZeroDivisionError: boom"
 
 
+@pytest.mark.slow
 def test_batched_stream_gives_the_per_line_answers():
     """Hundreds of lines through a pipe (read in batches): plain poses and positions are answered
     together, the rest line by line; every answer is the one `kin ik` gives that line alone."""

@@ -117,7 +117,14 @@ def test_random_tables_every_branch_on_target_and_q_among_them(convention):
     assert len(missed) <= 0.001 * total and not regular, f"{total=} {missed=}"
 
 
-@pytest.mark.parametrize("name", ["xarm6", "jaco2_6dof", "crx10ia"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param("xarm6", marks=pytest.mark.slow),
+        "jaco2_6dof",  # its 55 deg wrist: q5 = 180 deg makes axes 4 and 6 parallel
+        pytest.param("crx10ia", marks=pytest.mark.slow),
+    ],
+)
 def test_round_joint_angles(name):
     """Joint vectors of round angles (0, +-90, 180, 45, -60 deg): symmetric poses where several
     solutions share a joint angle (multiple roots). Every branch on target; the sampled q among
@@ -154,6 +161,7 @@ def test_round_joint_angles_whatever_the_blas_kernel(kernel):
     assert run.returncode == 0, run.stderr[-3000:]
 
 
+@pytest.mark.slow
 def test_every_least_squares_solution_is_a_branch():
     """200 least-squares starts (no limits) on a few poses: each distinct solution is a branch."""
     from scipy.optimize import least_squares
@@ -185,7 +193,9 @@ def test_every_least_squares_solution_is_a_branch():
         assert len(branches) >= len(solutions)
 
 
-@pytest.mark.parametrize("name", REAL_ARMS)
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n == "piper" else n for n in REAL_ARMS]
+)
 def test_real_arms_every_branch_and_the_family(name):
     """The makers' tables: the registry's family; General6R (asked directly) recovers q and its
     branches reach FK(q) on 300 poses; on PiPER it finds the spherical-wrist family's count."""
@@ -243,6 +253,7 @@ def test_gen3_lite_from_the_makers_urdf():
 SSIK_ARMS = list(REAL_ARMS) if os.environ.get("KIN_GENERAL_6R_SSIK") == "all" else ["xarm6"]
 
 
+@pytest.mark.peer
 @pytest.mark.parametrize("name", SSIK_ARMS)
 def test_branch_counts_match_ssik(name):
     """ssik (enumerate_windings=False, no limits) finds as many solutions as we do per pose, each

@@ -72,6 +72,7 @@ def test_small_arms_reach_their_own_poses(name):
     assert solved >= 39, f"{name}: {solved}/40"
 
 
+@pytest.mark.peer
 def test_toolbox_fkine_agrees_where_installed():
     """The small arms' tables against the Robotics Toolbox's own models (skipped without it)."""
     rtb = pytest.importorskip("roboticstoolbox")

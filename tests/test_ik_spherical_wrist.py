@@ -229,6 +229,7 @@ def test_wrong_joint_count_ur5_and_prismatic_are_refused():
 # Peer
 
 
+@pytest.mark.peer
 def test_ikine_a_of_the_robotics_toolbox_is_among_the_branches():
     """Puma560 of the Robotics Toolbox: each of its 8 ikine_a configurations is one of ours."""
     rtb = pytest.importorskip("roboticstoolbox", reason="roboticstoolbox is not installed")

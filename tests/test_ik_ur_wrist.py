@@ -239,6 +239,7 @@ def test_wrong_joint_count_and_prismatic_are_refused():
 # Peer
 
 
+@pytest.mark.peer
 def test_same_solutions_as_ur_analytic_ik():
     """UR5: the same solutions as ur-analytic-ik on 1000 random targets (1e-9 after matching)."""
     ur_ik = pytest.importorskip("ur_analytic_ik", reason="ur-analytic-ik is not installed")

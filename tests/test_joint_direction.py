@@ -89,6 +89,7 @@ def test_toolbox_table_fk_equals_the_plain_dh_product(arm):
     assert moved.max() > 0.1
 
 
+@pytest.mark.peer
 @pytest.mark.parametrize("arm", ["Jaco", "Mico"])
 def test_toolbox_table_fk_equals_the_toolbox_fkine(arm):
     """Where roboticstoolbox-python is installed, its fkine equals the table's FK."""

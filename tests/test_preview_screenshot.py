@@ -95,6 +95,7 @@ def pictures(tmp_path_factory) -> dict[str, np.ndarray]:
         return dict(zip(pages, pool.map(shoot, pages)))
 
 
+@pytest.mark.browser
 @pytest.mark.parametrize("name", ["ur5-a", "ur5-b", "humanoid7-a", "humanoid7-b", "ik", "goal"])
 def test_the_arm_is_drawn(name, pictures):
     """Every picture is 800 x 600 with at least 0.1 % warm pixels (a blank canvas has none)."""
@@ -102,6 +103,7 @@ def test_the_arm_is_drawn(name, pictures):
     assert warm_fraction(pictures[name]) > 0.001, f"{name=} {warm_fraction(pictures[name])=:.4f}"
 
 
+@pytest.mark.browser
 @pytest.mark.parametrize("robot", CONFIGURATIONS)
 def test_two_configurations_give_different_pictures(robot, pictures):
     """Another joint vector, same camera: at least 0.5 % of the pixels change."""
@@ -109,6 +111,7 @@ def test_two_configurations_give_different_pictures(robot, pictures):
     assert changed > 0.005, f"{robot=} {changed=:.4f}"
 
 
+@pytest.mark.browser
 def test_ik_animation_ends_at_the_answer(pictures):
     """The --ik page, once its 2 s animation has played, looks like the still page at the answer.
 

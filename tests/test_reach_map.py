@@ -90,6 +90,7 @@ def test_random_voxels_agree_with_per_call_ik(ur5_map):
     assert len({round(index[i] * K) for i in picked.tolist()}) > 2  # not all 0 or all K
 
 
+@pytest.mark.slow
 def test_a_seven_joint_map_agrees_with_the_whole_per_call_pipeline():
     """Panda (a free-joint closed form, then numeric stages until a deadline per call): random
     voxels of a coarse map recomputed with the per-call solver from q = 0, every stage of it,

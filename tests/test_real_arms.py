@@ -223,6 +223,7 @@ def test_puma560_limits_are_the_published_qlim():
     assert np.allclose(robot.upper, expected[:, 1], rtol=0.0, atol=1e-12), f"{robot.upper=}"
 
 
+@pytest.mark.peer
 def test_puma560_matches_robotics_toolbox_fkine():
     """At 1000 random q, our tool is roboticstoolbox's Puma560().fkine(q), and qlim agrees."""
     rtb = pytest.importorskip(

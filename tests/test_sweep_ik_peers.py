@@ -69,6 +69,7 @@ def _tiny_sweep(peers, capsys):
     return captured.out
 
 
+@pytest.mark.peer
 def test_tiny_rtb_sweep_prints_the_table_and_the_winners(capsys):
     pytest.importorskip("roboticstoolbox")
     out = _tiny_sweep("rtb", capsys)
@@ -80,6 +81,7 @@ def test_tiny_rtb_sweep_prints_the_table_and_the_winners(capsys):
     assert all("--rtb-method" in line and "--rtb-searches" in line for line in best)
 
 
+@pytest.mark.peer
 def test_tiny_tracik_sweep_prints_the_table_and_the_winners(capsys):
     pytest.importorskip("trac_ik")
     out = _tiny_sweep("tracik", capsys)
@@ -90,6 +92,7 @@ def test_tiny_tracik_sweep_prints_the_table_and_the_winners(capsys):
     assert len(best) == 2 + 1 and all("--tracik-solver" in line for line in best)
 
 
+@pytest.mark.peer
 def test_ctrl_c_prints_the_finished_runs_and_exits_130(capsys, monkeypatch):
     """An interrupt in the second run keeps the first run's row and the winners, exit 130."""
     pytest.importorskip("roboticstoolbox")
