@@ -9,7 +9,7 @@ in axes aligned with the world at the frame's origin (``LOCAL_WORLD_ALIGNED``).
 from __future__ import annotations
 
 import math
-from typing import Any, Literal
+from typing import Any, Literal, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -17,6 +17,17 @@ import pinocchio as pin
 
 from .exceptions import FrameError, JointVectorError, NotWithinLimitsError
 from .robot_model import RobotModel
+
+
+class CollisionQueries(Protocol):
+    """What :meth:`Configuration.collisions` asks: a :class:`kin.collision.CollisionChecker`."""
+
+    def collisions(self, q: np.ndarray) -> tuple[Any, ...]:
+        """The pairs in contact at ``q``."""
+
+    def distance(self, q: np.ndarray) -> Any:
+        """The closest pair at ``q``."""
+
 
 _FLOAT64 = np.dtype(np.float64)
 
@@ -221,6 +232,28 @@ class Configuration:
                 f"unknown reference {reference!r}; choose one of: {', '.join(sorted(_REFERENCES))}"
             ) from None
         return pin.computeFrameJacobian(self.model, self.data, self._q, self.frame_id(frame), ref)
+
+    def collisions(self, checker: CollisionQueries) -> tuple[Any, ...]:
+        """The checked pairs in contact at the current ``q``, deepest first.
+
+        Args:
+            checker: A :class:`kin.collision.CollisionChecker` of this robot.
+
+        Returns:
+            :class:`kin.collision.Contact` per pair (depth [m], witness points in the world [m]).
+        """
+        return checker.collisions(self._q)
+
+    def distance(self, checker: CollisionQueries) -> Any:
+        """The closest checked pair at the current ``q``: a :class:`kin.collision.Closest`.
+
+        Args:
+            checker: A :class:`kin.collision.CollisionChecker` of this robot.
+
+        Returns:
+            The pair, its distance [m] (negative when the shapes overlap) and nearest points.
+        """
+        return checker.distance(self._q)
 
     def within_limits(self, tol: float = 0.0) -> bool:
         """Whether the current ``q`` is inside the joint limits (widened by ``tol``)."""

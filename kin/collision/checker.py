@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 import os
 import threading
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -212,28 +211,17 @@ class CollisionChecker:
             )
         return np.asarray(result, dtype=bool).reshape(len(values))
 
-    def distances_batch(self, qs: npt.ArrayLike, threads: int | None = None) -> np.ndarray:
-        """:meth:`distance` of each row of ``qs`` (N, nq) [rad, m], on all cores.
+    def distances_batch(self, qs: npt.ArrayLike) -> np.ndarray:
+        """:meth:`distance` of each row of ``qs`` (N, nq) [rad, m].
+
+        A loop: Pinocchio's bindings keep Python's lock through ``computeDistances``, so threads
+        gain nothing (measured on Panda, 1,000 configurations: 0.095 s looped, 0.098 s on 2).
 
         Returns:
             Distances [m], shape (N,).
         """
         values = self._batch(qs)
-        count = min(threads or _cores(), max(1, len(values)))
-        out = np.empty(len(values))
-
-        def chunk(rows: range) -> None:
-            for row in rows:
-                out[row] = self.distance(values[row]).distance
-
-        bounds = np.linspace(0, len(values), count + 1).astype(int)
-        ranges = [range(bounds[i], bounds[i + 1]) for i in range(count)]
-        if count == 1:
-            chunk(ranges[0])
-        else:
-            with ThreadPoolExecutor(count) as executor:
-                list(executor.map(chunk, ranges))
-        return out
+        return np.array([self.distance(q).distance for q in values], dtype=float)
 
 
 def _cores() -> int:
