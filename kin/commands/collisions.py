@@ -1,0 +1,83 @@
+"""Write an SRDF of the link pairs a collision check may skip, found as MoveIt's assistant does.
+
+A pair is disabled when its links are joined by a joint (Adjacent), collide with every joint at
+0 (Default), collide at every sampled configuration (Always) or at none (Never); the samples are
+--samples configurations drawn uniformly within the joint limits with --random-seed, both stated
+in the SRDF's comment. The same robot, count and seed give the same bytes. The file is written
+whole or not at all; give it to `kin check --srdf` or `kin ik --srdf`.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from ..cli import ArgumentParser, positive_int, run_guarded
+from .robot_argument import add_robot_arguments
+
+PROG = "kin collisions"
+#: Suffixes of the written SRDF.
+SRDF_SUFFIXES = (".srdf", ".xml")
+
+
+def _seed(text: str) -> int:
+    """A random seed: an integer >= 0."""
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {value}")
+    return value
+
+
+def get_argument_parser(prog: str = PROG) -> ArgumentParser:
+    """Command-line arguments of ``kin collisions``."""
+    parser = ArgumentParser(prog=prog, description=__doc__)
+    add_robot_arguments(parser)
+    parser.add_argument(
+        "--write-srdf",
+        metavar="FILE",
+        required=True,
+        help="the SRDF to write (.srdf or .xml)",
+    )
+    parser.add_argument(
+        "--samples",
+        type=positive_int,
+        default=10_000,
+        help="random configurations to sample [count] (default 10000, as MoveIt's assistant)",
+    )
+    parser.add_argument(
+        "--random-seed", type=_seed, default=0, help="seed of the samples (default 0)"
+    )
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = PROG) -> int:
+    """Write the SRDF; exit 0, 2 with one line for bad input, 1 when the disk fails."""
+    args = get_argument_parser(prog).parse_args(argv)
+
+    def body() -> int:
+        from ..collision import load_collision_model
+        from ..collision.srdf_generator import REASONS, generate_disabled_pairs, srdf_text
+        from .output_file import checked_output, write_text_atomic
+        from .robot_argument import load_robot_argument
+
+        checked_output(args.write_srdf, "--write-srdf", SRDF_SUFFIXES)
+        robot = load_robot_argument(args)
+        model = load_collision_model(robot)
+        disabled = generate_disabled_pairs(model, args.samples, args.random_seed)
+        text = srdf_text(robot.name, disabled, args.samples, args.random_seed)
+        write_text_atomic(args.write_srdf, text)
+        counts = {r: n for r in REASONS if (n := sum(v == r for v in disabled.values()))}
+        summary = ", ".join(f"{n} {r}" for r, n in counts.items())
+        total = len({*model.pairs, *model.disabled})
+        print(
+            f"{prog}: {robot.name}: {len(disabled)} of {total} link pairs disabled ({summary}); "
+            f"{args.samples} samples, seed {args.random_seed} -> {args.write_srdf}",
+            file=sys.stderr,
+        )
+        return 0
+
+    return run_guarded(prog, body)
