@@ -20,7 +20,6 @@ __all__ = ["COMMANDS", "get_argument_parser", "main"]
 COMMANDS: dict[str, str] = {
     "cache": "the numeric solver's seed-table cache: folder, files, size; --clear empties it",
     "collisions": "SRDF of the link pairs a collision check may skip (as MoveIt's assistant)",
-    "collisions": "SRDF of the link pairs a collision check may skip (as MoveIt's assistant)",
     "check": "collisions of a joint vector: self, with a scene (--scene, --srdf); exit 1 if any",
     "drives": "stepper pulses of a joint vector, the angles reached and the tool error",
     "fk": "pose of a robot frame at a joint vector",
