@@ -13,6 +13,7 @@ from its root at the world origin; each link is one scene object.
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -45,7 +46,10 @@ def read_scene(path: str | Path) -> tuple[Shape, ...]:
     where = str(path)
     if Path(where).suffix.lower() in (".urdf", ".xml", ".xacro"):
         return _urdf_scene(where)
-    import tomllib
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # Python 3.10
+        import tomli as tomllib
 
     try:
         raw = Path(where).read_bytes()
@@ -55,6 +59,8 @@ def read_scene(path: str | Path) -> tuple[Shape, ...]:
         document = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise CollisionModelError(where, f"not a TOML scene: {err}") from None
+    except RecursionError:  # tomllib recurses once per nested array or inline table
+        raise CollisionModelError(where, "not a TOML scene: arrays nested too deep") from None
     shapes: list[Shape] = []
     for kind, entries in document.items():
         if kind not in _KINDS:

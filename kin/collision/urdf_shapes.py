@@ -77,7 +77,11 @@ def load_mesh(path: Path, scale: np.ndarray) -> coal.CollisionGeometry:
         raise OSError(f"cannot read the mesh {path} ({' '.join(str(err).split())[:120]})") from err
     if mesh.num_vertices < 4:
         raise OSError(f"cannot read the mesh {path} (fewer than 4 vertices)")
-    mesh.buildConvexRepresentation(False)
+    # the hull itself (qhull): a convex over the mesh's own triangles, which
+    # buildConvexRepresentation gives, misleads GJK's hill climbing on a concave mesh
+    mesh.buildConvexHull(True, "Qt")
+    if mesh.convex is None:
+        raise OSError(f"cannot read the mesh {path} (qhull found no hull: flat or degenerate)")
     return mesh.convex
 
 
