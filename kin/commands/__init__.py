@@ -19,8 +19,8 @@ __all__ = ["COMMANDS", "get_argument_parser", "main"]
 #: Subcommand -> one-line summary (the module is ``kin.commands.<name>``).
 COMMANDS: dict[str, str] = {
     "cache": "the numeric solver's seed-table cache: folder, files, size; --clear empties it",
-    "collisions": "SRDF of the link pairs a collision check may skip (as MoveIt's assistant)",
     "check": "collisions of a joint vector: self, with a scene (--scene, --srdf); exit 1 if any",
+    "collisions": "SRDF of the link pairs a collision check may skip (as MoveIt's assistant)",
     "drives": "stepper pulses of a joint vector, the angles reached and the tool error",
     "fk": "pose of a robot frame at a joint vector",
     "ik": "inverse kinematics of a tool target (or JSON targets on stdin)",
