@@ -214,11 +214,11 @@ def _geometry_model(
             pin.GeometryObject(shape.name, shape.parent, frame, shape.placement, shape.geometry)
         )
         owners.append(shape.owner)
-    for shape in objects:
+    for thing in objects:
         geometry_model.addGeometryObject(
-            pin.GeometryObject(f"scene/{shape.name}", 0, 0, shape.placement, shape.geometry)
+            pin.GeometryObject(f"scene/{thing.name}", 0, 0, thing.placement, thing.geometry)
         )
-        owners.append(shape.owner)
+        owners.append(thing.owner)
     by_owner: dict[str, list[int]] = {}
     for index, owner in enumerate(owners):
         by_owner.setdefault(owner, []).append(index)
