@@ -239,15 +239,14 @@ def test_configuration_wrappers(ur5):
 def test_missing_robot_mesh_warns_once_and_drops_the_shape(tmp_path, caplog):
     """A URDF mesh that cannot be found: one warning naming file and link; other shapes kept."""
     source = erd(PANDA)
-    text = source.read_text()
+    root = ET.parse(source).getroot()
     folder = source.parent
-    for mesh in {m for m in ET.fromstring(text).iter("mesh")}:
-        name = mesh.get("filename")
-        rest = name[len("package://") :]
-        found = next(p / rest for p in [folder, *folder.parents] if (p / rest).is_file())
-        text = text.replace(f'"{name}"', f'"{found}"')
-    text = text.replace(str(found.parent / "link3.stl"), str(tmp_path / "gone.stl"))
-    (tmp_path / "panda.urdf").write_text(text)
+    for mesh in root.iter("mesh"):
+        rest = mesh.get("filename", "")[len("package://") :]
+        mesh.set("filename", str(next(p / rest for p in folder.parents if (p / rest).is_file())))
+    link3 = next(link for link in root.iter("link") if link.get("name") == "panda_link3")
+    link3.find("collision/geometry/mesh").set("filename", str(tmp_path / "gone.stl"))
+    (tmp_path / "panda.urdf").write_bytes(ET.tostring(root))
     robot = kin.load_robot(str(tmp_path / "panda.urdf"), tip="panda_link8")
     with caplog.at_level(logging.WARNING, logger="kin.collision"):
         model = load_collision_model(robot)
