@@ -127,15 +127,10 @@ def compare(name: str, count: int) -> dict[str, int]:
     return tally
 
 
-#: Found by this test: kin.collision.urdf_shapes.load_mesh calls buildConvexRepresentation(False),
-#: which takes the mesh's own vertices and triangles as a convex shape; on UR5's non-convex meshes
-#: GJK's support search stops in local maxima (wrist_2_link vs the ball: +12.5 mm where the hull
-#: overlaps by 13.8 mm; 222 of 500 colliding configurations called free). buildConvexHull(True,
-#: "Qt") (the hull the note promises) gives 0 disagreements. Strict: remove once fixed.
-MESH_HULL_BUG = pytest.mark.xfail(
-    strict=True, reason="load_mesh builds no convex hull (buildConvexRepresentation(False))"
-)
-CHECKED = [pytest.param(n, marks=MESH_HULL_BUG) if n == "ur5" else n for n in ROBOTS]
+#: Found by this test once: meshes taken as convex shapes without a hull (coal's
+#: buildConvexRepresentation(False)) let GJK stop in local maxima on UR5's non-convex meshes (222
+#: of 500 colliding configurations called free); the model now builds qhull's hull.
+CHECKED = list(ROBOTS)
 
 
 @pytest.mark.parametrize("name", CHECKED)
