@@ -79,13 +79,19 @@ class _Worker:
     tasks: deque[tuple[Any, int]] = field(default_factory=deque)
 
 
-def _start(context: Any, function: Callable[[Any], Any]) -> _Worker:
+def _start(context: Any, function: Callable[[Any], Any], pool: list[_Worker]) -> None:
+    """Fork a worker and add it to ``pool``, SIGINT held until it is there.
+
+    A Ctrl-C delivered between the fork and the worker's entry in the pool would leave a worker
+    nobody kills: it ignores SIGINT and holds its own pipe open, so it would wait forever (and
+    keep the command's output open).
+    """
     parent_end, child_end = context.Pipe()
     with _sigint_held():
         process = context.Process(target=_serve, args=(child_end, function), daemon=True)
         process.start()
-    child_end.close()  # the worker's death then reads as EOF here, never as a wait
-    return _Worker(process, parent_end)
+        pool.append(_Worker(process, parent_end))
+        child_end.close()  # the worker's death then reads as EOF here, never as a wait
 
 
 def _kill(pool: list[_Worker]) -> None:
@@ -140,7 +146,7 @@ def run_unordered(
     try:
         while True:
             while len(pool) < workers:
-                pool.append(_start(context, function))
+                _start(context, function, pool)
             for worker in list(pool):
                 while len(worker.tasks) < per_worker:
                     entry = again.popleft() if again else (next(tasks, None), 0)

@@ -1,0 +1,47 @@
+"""kin.chunk_pool: a Ctrl-C that lands while a worker is forked leaves no worker behind.
+
+The worker ignores SIGINT and holds its own pipe open: one that the pool does not know about
+would wait forever and keep the command's output open (seen once in CI: ``kin workspace
+--workers 2`` hung on a Ctrl-C sent the moment its first worker existed).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import multiprocessing.context
+import os
+import signal
+import threading
+
+import pytest
+
+from kin.chunk_pool import run_unordered
+
+
+def _square(x: int) -> int:
+    return x * x
+
+
+@pytest.mark.skipif(
+    "fork" not in multiprocessing.get_all_start_methods()
+    or threading.current_thread() is not threading.main_thread(),
+    reason="needs fork and the main thread (signals)",
+)
+def test_a_ctrl_c_right_after_a_fork_kills_that_worker_too(monkeypatch):
+    """SIGINT sent to this process right after the first fork: KeyboardInterrupt, no child left."""
+    start = multiprocessing.context.ForkProcess.start
+
+    def start_then_ctrl_c(self):  # noqa: ANN001
+        start(self)
+        os.kill(os.getpid(), signal.SIGINT)  # as if the user pressed Ctrl-C now
+
+    monkeypatch.setattr(multiprocessing.context.ForkProcess, "start", start_then_ctrl_c)
+    before = set(multiprocessing.active_children())
+    with pytest.raises(KeyboardInterrupt):
+        for _ in run_unordered(_square, iter(range(100)), workers=2):
+            pass
+    left = [child for child in multiprocessing.active_children() if child not in before]
+    for child in left:  # do not leak them into the other tests
+        child.kill()
+        child.join()
+    assert left == []
