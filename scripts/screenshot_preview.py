@@ -102,7 +102,7 @@ def render(
     height: int = 600,
     budget_ms: int = 4000,
     chromium: str | None = None,
-    timeout_s: float = 60.0,
+    timeout_s: float = 120.0,
 ) -> Path:
     """Screenshot ``page`` into ``png`` with headless Chromium.
 
