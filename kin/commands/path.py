@@ -20,7 +20,14 @@ m as "q_units" says, deviations in m, times in s).
 
 A progress bar (samples followed) goes to stderr on a terminal, unless --quiet.
 
-Exit 0 when the whole path is followed, 1 when the motion stopped, 2 for bad input.
+--scene FILE (a TOML cell or a URDF) and/or --srdf FILE [--padding M] check the solved path for
+collisions (kin check's shapes and pairs): every sample, and the motion between samples by a step
+bound (a pair is free between two samples when its distances there add up to more than how far
+the links can move, |dq_j| times their reach from joint j; else the step is halved, down to
+1e-6 m). The first colliding segment and pair are named.
+
+Exit 0 when the whole path is followed (and collision-free), 1 when the motion stopped or the
+path collides, 2 for bad input.
 """
 
 from __future__ import annotations
@@ -132,6 +139,13 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         "--amax", type=positive_float, nargs="+", help="joint accel. limits [unit/s^2], with --time"
     )
     add("--dt", type=positive_float, help="with --time: resample the motion every DT [s]")
+    add("--scene", metavar="FILE", help="check collisions with a cell: TOML of boxes... or URDF")
+    add("--srdf", metavar="FILE", help="check collisions; a MoveIt SRDF's pairs are allowed")
+    add(
+        "--padding",
+        type=finite_float,
+        help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
+    )
     add("--json", action="store_true", help="print one JSON object, SI units")
     add("--csv", metavar="FILE", help="write the joint path (SI, header with units) to FILE")
     add("--quiet", action="store_true", help="no progress bar on stderr")
@@ -156,13 +170,15 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         )
     if args.tool_axis is not None and not any("axis" in p for p in points):
         parser.error("--tool-axis needs --axis at the points")
+    if args.padding is not None and args.scene is None and args.srdf is None:
+        parser.error("--padding needs --scene or --srdf")
     return run_guarded(prog, lambda: _run(args, points, prog))
 
 
 def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PROG) -> int:
     """Build the path, follow it, time it, and write the outputs."""
     from ..cli import angle_scale, length_scale
-    from ..path import follow_path, path_solver, polyline
+    from ..path import check_path_collisions, follow_path, path_solver, polyline
     from ..path.follow import MAX_JOINT_STEP
     from .joint_units import JointUnits
     from .output_file import checked_output
@@ -196,6 +212,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
         )
         check_kind(robot.name, robot.nq, path_kinds, target, given)
         waypoints.append(target)
+    checker = _collision_checker(args, robot, length)  # bad files fail before the solve
     seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
     max_step = MAX_JOINT_STEP if args.max_step is None else _max_step(args, units)
     path = polyline(waypoints, args.steps)
@@ -210,13 +227,34 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
             progress=bar,
         )
     timed = _timing(args, robot, units, result) if args.time and len(result.q) >= 2 else None
+    check = None if checker is None else check_path_collisions(checker, result.q)
     if args.csv:
         _write_csv(args.csv, units, result, timed, args.dt is not None)
     if args.json:
-        print(json.dumps(_record(robot.name, units, result, timed, args.dt is not None)))
+        record = _record(robot.name, units, result, timed, args.dt is not None)
+        if check is not None:
+            record["collisions"] = check.to_dict()
+        print(json.dumps(record))
     else:
         _print_text(robot.name, units, args.unit, length, result, timed)
+        if check is not None:
+            verdict = "free" if check.free else "IN COLLISION"
+            print(f"collisions: {verdict} ({len(result.q)} samples; {check.rule})")
+    if check is not None and check.first is not None:
+        print(f"{prog}: the path collides: {check.first.describe()}", file=sys.stderr)
+        return EXIT_STOPPED
     return 0 if result.success else EXIT_STOPPED
+
+
+def _collision_checker(args: argparse.Namespace, robot: Any, length: float) -> Any:
+    """The checker of --scene/--srdf/--padding [--unit], or None when none is given."""
+    if args.scene is None and args.srdf is None:
+        return None
+    from ..collision import CollisionChecker, load_collision_model
+
+    padding = 0.0 if args.padding is None else args.padding * length
+    model = load_collision_model(robot, srdf=args.srdf, scene=args.scene, padding=padding)
+    return CollisionChecker(model)
 
 
 def _check_orientations(points: list[dict[str, Any]]) -> None:

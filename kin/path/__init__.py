@@ -1,6 +1,7 @@
 """Cartesian paths: tool poses along lines and polylines, IK along them, time-optimal timing."""
 
 from .cartesian import CartesianPath, line, polyline
+from .collision_check import PathCollision, PathCollisionCheck, check_path_collisions
 from .exceptions import PathError
 from .follow import follow_path, path_solver
 from .joint_path_file import JointPath, animation_frames, read_joint_path
@@ -11,10 +12,13 @@ __all__ = [
     "CartesianPath",
     "DEFAULT_ACCELERATION",
     "JointPath",
+    "PathCollision",
+    "PathCollisionCheck",
     "PathError",
     "PathResult",
     "TimedPath",
     "animation_frames",
+    "check_path_collisions",
     "follow_path",
     "line",
     "path_solver",

@@ -1,0 +1,297 @@
+"""Collision check of a joint path: every sample, and the motion between samples.
+
+The rule between two samples (a step bound, conservative advancement): on the straight joint
+segment from ``q0`` to ``q1``, a point of a shape carried by joint ``k`` moves at most
+
+    B = sum over the revolute joints j at or above k of |q1_j - q0_j| * R_jk
+        + sum over the prismatic joints j at or above k of |q1_j - q0_j|
+
+where ``R_jk`` bounds the distance of the shape's (padded) points from joint j's axis: the lengths
+of the joint origins' links from j to k (a prismatic joint's travel taken at its larger end value
+on the segment) plus the shape's bounding-sphere reach from joint k's origin. Two shapes close by
+at most ``B_a + B_b`` (a scene object does not move), so a pair whose distances at the two ends
+satisfy ``d0 + d1 > B_a + B_b`` cannot touch in between (the lower bounds ``d0 - B t`` and
+``d1 - B (1 - t)`` stay positive). Otherwise the segment is halved and the midpoint checked, down
+to a bound of ``tolerance`` [m]: a pair that cannot be shown apart at that scale is reported as in
+collision (closer than ``tolerance``). The samples themselves are judged by
+:meth:`kin.collision.CollisionChecker.in_collision`, the distances by Pinocchio's
+``computeDistances`` on the same shapes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+if TYPE_CHECKING:
+    from ..collision import CollisionChecker
+
+__all__ = ["PathCollision", "PathCollisionCheck", "check_path_collisions"]
+
+#: Default scale below which a pair is not shown apart between samples [m].
+TOLERANCE = 1e-6
+#: The rule in one line (printed by ``kin path``).
+RULE = (
+    "between samples: free when d0 + d1 > the links' largest motion bound (sum of |dq_j| times "
+    "the reach from joint j), else halved down to 1e-6 m"
+)
+
+
+@dataclass(frozen=True)
+class PathCollision:
+    """The first place where a joint path collides.
+
+    Attributes:
+        segment: Index ``i`` of the segment from sample ``i`` to ``i + 1``; for a colliding
+            sample ``i``, the segment that ends there (``i - 1``, or 0 for the first sample).
+        fraction: Where along the segment, 0 (sample ``i``) to 1 (sample ``i + 1``).
+        q: The joint vector there [rad] / [m].
+        a: Link (base side) of the pair.
+        b: Link or scene object.
+        kind: ``"self"`` or ``"scene"``.
+        at_sample: The place is a sample (not the motion between two).
+        proven: In contact there (False: closer than the tolerance, not shown apart).
+    """
+
+    segment: int
+    fraction: float
+    q: np.ndarray
+    a: str
+    b: str
+    kind: str
+    at_sample: bool
+    proven: bool
+
+    def describe(self) -> str:
+        """One line: where and which pair."""
+        if self.at_sample:
+            sample = self.segment + (1 if self.fraction >= 1.0 else 0)
+            place = f"sample {sample}"
+        else:
+            place = (
+                f"between samples {self.segment} and {self.segment + 1} (t = {self.fraction:.4g})"
+            )
+        verdict = "collides" if self.proven else "comes closer than 1e-6 m"
+        return f"{place} {verdict}: {self.a} / {self.b} ({self.kind})"
+
+
+@dataclass(frozen=True)
+class PathCollisionCheck:
+    """The verdict on a joint path.
+
+    Attributes:
+        free: No sample collides and every motion between samples is shown free.
+        first: The first colliding place along the path, or None.
+        sample_collisions: Per sample, whether it collides, shape (M,).
+        checks: Configurations checked between samples (the subdivisions).
+        rule: The rule used between samples.
+    """
+
+    free: bool
+    first: PathCollision | None
+    sample_collisions: np.ndarray
+    checks: int
+    rule: str = RULE
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict, SI."""
+        first = self.first
+        return {
+            "free": self.free,
+            "rule": self.rule,
+            "colliding_samples": np.flatnonzero(self.sample_collisions).tolist(),
+            "checks_between_samples": self.checks,
+            "first": None
+            if first is None
+            else {
+                "segment": first.segment,
+                "fraction": first.fraction,
+                "at_sample": first.at_sample,
+                "q": first.q.tolist(),
+                "a": first.a,
+                "b": first.b,
+                "kind": first.kind,
+                "proven": first.proven,
+            },
+        }
+
+
+class _Distances:
+    """Per-pair distances and per-shape motion bounds of one checker's model."""
+
+    def __init__(self, checker: CollisionChecker):
+        import pinocchio as pin
+
+        model = checker.model
+        self._pin = pin
+        self.model = model
+        self.checker = checker
+        self.pin_model = model.robot.model
+        self.data = self.pin_model.createData()
+        self.geometry_data = pin.GeometryData(model.geometry_model)
+        self.pairs = [(p.first, p.second) for p in model.geometry_model.collisionPairs]
+        nj = self.pin_model.njoints
+        self.parents = list(self.pin_model.parents)
+        self.links = [float(np.linalg.norm(p.translation)) for p in self.pin_model.jointPlacements]
+        # revolute (RX, RY, RZ, RevoluteUnaligned) or prismatic (PX, ..., PrismaticUnaligned)
+        self.kinds = [j.shortname()[len("JointModel") :][:1] for j in self.pin_model.joints]
+        self.idx_q = [j.idx_q for j in self.pin_model.joints]
+        unknown = [self.pin_model.names[i] for i in range(1, nj) if self.kinds[i] not in "RP"]
+        if unknown or self.pin_model.nq != model.robot.nq:
+            raise ValueError(
+                f"path collision check: joints {unknown} are neither revolute nor prismatic"
+            )
+        # bounding reach of each shape from its joint's origin [m], padding included
+        self.reach = []
+        self.parent = []
+        for obj in model.geometry_model.geometryObjects:
+            geometry = obj.geometry
+            geometry.computeLocalAABB()
+            center = obj.placement.rotation @ np.asarray(geometry.aabb_center) + np.asarray(
+                obj.placement.translation
+            )
+            self.reach.append(float(np.linalg.norm(center) + geometry.aabb_radius + model.padding))
+            self.parent.append(int(obj.parentJoint))
+
+    def distances(self, q: np.ndarray) -> np.ndarray:
+        """Per collision pair, the distance between the padded shapes [m] (<= 0: contact)."""
+        pin = self._pin
+        pin.computeDistances(
+            self.pin_model, self.data, self.model.geometry_model, self.geometry_data, q
+        )
+        return (
+            np.array([r.min_distance for r in self.geometry_data.distanceResults], dtype=float)
+            - self.model.padding
+        )
+
+    def motion(self, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
+        """Per geometry object, the bound B on its points' motion along q0 -> q1 [m]."""
+        dq = np.abs(q1 - q0)
+        out = np.zeros(len(self.reach))
+        for index, (joint, reach) in enumerate(zip(self.parent, self.reach)):
+            bound = 0.0
+            arm = reach  # distance bound from the current joint's origin
+            k = joint
+            while k > 0:
+                iq = self.idx_q[k]
+                if self.kinds[k] == "R":
+                    bound += dq[iq] * arm
+                else:
+                    bound += dq[iq]
+                    arm += max(abs(q0[iq]), abs(q1[iq]))  # the joint's travel shifts its child
+                arm += self.links[k]  # from joint k's origin to its parent's
+                k = self.parents[k]
+            out[index] = bound
+        return out
+
+
+def check_path_collisions(
+    checker: CollisionChecker,
+    q: npt.ArrayLike,
+    *,
+    tolerance: float = TOLERANCE,
+    max_checks: int = 100_000,
+) -> PathCollisionCheck:
+    """Check every sample of a joint path and the straight joint motion between them.
+
+    Args:
+        checker: The collision checker (its model's shapes, scene, allowed pairs and padding).
+        q: Joint path, shape (M, nq) [rad] / [m] (e.g. :attr:`kin.path.PathResult.q`).
+        tolerance: Bound [m] below which a pair not shown apart counts as in collision.
+        max_checks: Most configurations checked between samples (then the rest counts as not
+            shown free, reported as a collision not proven).
+
+    Returns:
+        The verdict and the first colliding place (sample or motion), in path order.
+
+    Raises:
+        kin.JointVectorError: A sample of the wrong size or with non-finite values.
+    """
+    path = np.asarray(q, dtype=float)
+    if path.ndim != 2:
+        path = path.reshape(-1, checker.model.robot.nq)
+    model = checker.model
+    if len(path) == 0:
+        return PathCollisionCheck(True, None, np.zeros(0, dtype=bool), 0)
+    at_samples = checker.in_collision_batch(path)
+    if not model.pair_owners:
+        return PathCollisionCheck(True, None, at_samples, 0)
+    helper = _Distances(checker)
+    ends = [helper.distances(path[0])]
+    checks = 0
+    for i in range(len(path)):
+        if at_samples[i]:
+            pair = _colliding_pair(checker, path[i])
+            first = PathCollision(
+                max(i - 1, 0), 1.0 if i else 0.0, path[i].copy(), *pair, True, True
+            )
+            return PathCollisionCheck(False, first, at_samples, checks)
+        if i + 1 == len(path) or at_samples[i + 1]:
+            continue
+        ends.append(helper.distances(path[i + 1]))
+        found, used = _segment(
+            helper, path[i], path[i + 1], ends[-2], ends[-1], tolerance, max_checks - checks
+        )
+        checks += used
+        if found is not None:
+            t, q_at, index, proven = found
+            a, b = model.pair_owners[index]
+            kind = "scene" if b in model.scene_objects else "self"
+            first = PathCollision(i, t, q_at, a, b, kind, False, proven)
+            return PathCollisionCheck(False, first, at_samples, checks)
+    return PathCollisionCheck(True, None, at_samples, checks)
+
+
+def _colliding_pair(checker: CollisionChecker, q: np.ndarray) -> tuple[str, str, str]:
+    contacts = checker.collisions(q)
+    a, b = (contacts[0].a, contacts[0].b) if contacts else checker.model.pair_owners[0]
+    return a, b, "scene" if b in checker.model.scene_objects else "self"
+
+
+def _segment(
+    helper: _Distances,
+    q0: np.ndarray,
+    q1: np.ndarray,
+    d0: np.ndarray,
+    d1: np.ndarray,
+    tolerance: float,
+    budget: int,
+) -> tuple[tuple[float, np.ndarray, int, bool] | None, int]:
+    """First colliding place on q0 -> q1 (fraction, q, pair index, proven), checks used."""
+    first_object = np.array([p[0] for p in helper.pairs])
+    second_object = np.array([p[1] for p in helper.pairs])
+    checks = 0
+    # depth-first, earliest half first: the first place found is the first along the segment
+    stack = [(0.0, 1.0, q0, q1, d0, d1, np.arange(len(helper.pairs)))]
+    while stack:
+        t0, t1, qa, qb, da, db, open_pairs = stack.pop()
+        motion = helper.motion(qa, qb)
+        bound = motion[first_object[open_pairs]] + motion[second_object[open_pairs]]
+        unresolved = da[open_pairs] + db[open_pairs] <= bound
+        if not unresolved.any():
+            continue
+        open_pairs = open_pairs[unresolved]
+        bound = bound[unresolved]
+        tm = 0.5 * (t0 + t1)
+        qm = 0.5 * (qa + qb)
+        if bound.max() <= tolerance or checks >= budget:
+            index = int(open_pairs[np.argmin(da[open_pairs] + db[open_pairs])])
+            return (tm, qm, index, False), checks
+        checks += 1
+        dm = helper.distances(qm)
+        hit = open_pairs[dm[open_pairs] <= 0.0]
+        if hit.size and helper.checker.in_collision(qm):
+            index = int(hit[np.argmin(dm[hit])])
+            # the earlier half may hold an earlier contact: look there first
+            found, used = _segment(helper, qa, qm, da, dm, tolerance, budget - checks)
+            checks += used
+            if found is not None and found[3]:  # an earlier contact (not just a near miss)
+                t, q_at, i, proven = found
+                return (t0 + t * (tm - t0), q_at, i, proven), checks
+            return (tm, qm, index, True), checks
+        stack.append((tm, t1, qm, qb, dm, db, open_pairs))
+        stack.append((t0, tm, qa, qm, da, dm, open_pairs))
+    return None, checks
