@@ -23,7 +23,7 @@ from .solver_table import Solver, choose
 __all__ = ["Solver", "get_solver", "solve_ik"]
 
 
-def get_solver(robot: RobotModel, *, near_seed: bool = False) -> Solver:
+def get_solver(robot: RobotModel, *, near_seed: bool = False, collisions: Any = None) -> Solver:
     """The solver of ``robot``: the closed form when a registered structure fits, else numeric.
 
     Never raises for a table: an arm no closed form fits (any number of joints, revolute or
@@ -34,8 +34,11 @@ def get_solver(robot: RobotModel, *, near_seed: bool = False) -> Solver:
         near_seed: The numeric solver's :attr:`NumericIK.near_seed`: a seeded answer of the
             free-joint closed form far from the seed is checked against damped Newton from the
             seed (about 1.3 us more per seeded solve; the ``kin`` commands and the paths use it).
+        collisions: A :class:`~kin.collision.CollisionChecker` of ``robot``: every answer is
+            also judged by it (:class:`~kin.ik.collision_aware.CollisionAwareSolver`: colliding
+            ones rejected with their reason, status ``in_collision`` when all collide).
     """
-    return choose(robot, "auto", near_seed=near_seed)
+    return choose(robot, "auto", near_seed=near_seed, collisions=collisions)
 
 
 def solve_ik(
@@ -48,9 +51,11 @@ def solve_ik(
         target: A :class:`~kin.ik.PositionTarget`, :class:`~kin.ik.PoseTarget` or
             :class:`~kin.ik.PitchTarget` in the world frame.
         seed: Start joint vector [rad] (or [m] for prismatic joints), or None.
-        **options: Passed to the solver's ``solve`` (e.g. ``timeout`` [s]).
+        **options: Passed to the solver's ``solve`` (e.g. ``timeout`` [s]); ``collisions``, a
+            collision checker, to :func:`get_solver`.
 
     Raises:
         TargetError: The arm cannot take this kind of target; the message names those it takes.
     """
-    return get_solver(robot).solve(target, seed, **options)
+    collisions = options.pop("collisions", None)
+    return get_solver(robot, collisions=collisions).solve(target, seed, **options)

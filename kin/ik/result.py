@@ -15,6 +15,7 @@ Status = Literal[
     "invalid_target",
     "not_found",
     "timeout",
+    "in_collision",
 ]
 
 
@@ -33,6 +34,8 @@ class IKSolution:
         position_error: ``|p_fk(q) - p_target|`` [m].
         rotation_error: Angle of ``R_fk(q)^T R_target`` [rad]; None when the target does not
             constrain the orientation (a position target).
+        reason: Why a collision-aware solve (:mod:`kin.ik.collision_aware`) rejected it, e.g.
+            ``"self: forearm/base"`` or ``"scene: table"``; ``""`` otherwise.
     """
 
     q: np.ndarray
@@ -40,6 +43,7 @@ class IKSolution:
     within_limits: bool
     position_error: float
     rotation_error: float | None
+    reason: str = ""
 
     def __init__(
         self,
@@ -48,6 +52,7 @@ class IKSolution:
         within_limits: bool,
         position_error: float,
         rotation_error: float | None,
+        reason: str = "",
     ):
         # Slots, set through their descriptors (the generated frozen __init__ looks each one up
         # through object.__setattr__). The closed forms' compiled twins fill the same slots
@@ -57,11 +62,21 @@ class IKSolution:
         _SET_WITHIN_LIMITS(self, within_limits)
         _SET_POSITION_ERROR(self, position_error)
         _SET_ROTATION_ERROR(self, rotation_error)
+        _SET_REASON(self, reason)
+
+    def __getattr__(self, name: str) -> Any:
+        # Only reached when a slot is unset: the compiled twins fill the first five fields alone.
+        if name == "reason":
+            return ""
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dict, SI: ``q`` in rad (revolute) / m (prismatic), errors in m and rad."""
+        """JSON-ready dict, SI: ``q`` in rad (revolute) / m (prismatic), errors in m and rad.
+
+        ``"reason"`` is there only when it is not empty (a collision-aware rejection).
+        """
         q = self.q
-        return {
+        out = {
             "q": q.tolist() if q.__class__ is np.ndarray else [float(v) for v in q],
             "branch": self.branch,
             "within_limits": bool(self.within_limits),
@@ -70,6 +85,10 @@ class IKSolution:
                 None if self.rotation_error is None else float(self.rotation_error)
             ),
         }
+        reason = self.reason
+        if reason:
+            out["reason"] = reason
+        return out
 
 
 # The slot descriptors' setters of IKSolution (past its frozen __setattr__, as dataclasses do).
@@ -78,6 +97,7 @@ _SET_BRANCH = IKSolution.__dict__["branch"].__set__
 _SET_WITHIN_LIMITS = IKSolution.__dict__["within_limits"].__set__
 _SET_POSITION_ERROR = IKSolution.__dict__["position_error"].__set__
 _SET_ROTATION_ERROR = IKSolution.__dict__["rotation_error"].__set__
+_SET_REASON = IKSolution.__dict__["reason"].__set__
 
 
 @dataclass(frozen=True, eq=False, slots=True)
@@ -99,7 +119,9 @@ class IKResult:
         status: ``"ok"`` or why there is no valid solution: ``"out_of_reach"`` only when
             proved (beyond the reach bound, or no closed-form branch); ``"not_found"`` when a
             search did its bounded work without an answer (no claim of unreachability);
-            ``"timeout"`` when the time cap stopped a search first.
+            ``"timeout"`` when the time cap stopped a search first; ``"in_collision"`` when the
+            target is reachable but every answer found collides (a collision-aware solve,
+            :mod:`kin.ik.collision_aware`; the colliding answers are ``rejected``).
         message: One sentence for a person (e.g. how far out of reach the target is).
         solutions: Valid solutions (on target, within limits), closest to the seed first.
         rejected: Solutions on target but outside the limits (or the best off-target attempt of a

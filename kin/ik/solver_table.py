@@ -27,6 +27,10 @@ options. ``near_seed`` (:attr:`kin.ik.NumericIK.near_seed`): a seeded answer of 
 closed form far from the seed is checked against damped Newton from the seed; the commands and
 paths, whose users give or carry a seed, set it.
 
+**Collisions**: given a checker (``collisions=``, :class:`~kin.collision.CollisionChecker`), the
+chosen row's solver is wrapped in :class:`~.collision_aware.CollisionAwareSolver`: its colliding
+answers are rejected and the search goes on where the arm has freedom left.
+
 **Batches** take, before the rows, the vectorized closed form (:func:`vectorized_solver`:
 :class:`~.analytic.batch.BatchSolver`, every target at once) when the structure itself takes the
 target kind; else the ``batch`` front end's solver, target by target.
@@ -150,13 +154,21 @@ FRONT_ENDS: Mapping[str, FrontEnd] = MappingProxyType(
 )
 
 
-def choose(robot: RobotModel, choice: str = "auto", *, near_seed: bool = False) -> Solver:
+def choose(
+    robot: RobotModel,
+    choice: str = "auto",
+    *,
+    near_seed: bool = False,
+    collisions: Any = None,
+) -> Solver:
     """The solver that ``choice`` gives ``robot``: the first of its rows that fits.
 
     Args:
         robot: The robot.
         choice: A key of :data:`CHOICES`.
         near_seed: The numeric solver's :attr:`~kin.ik.NumericIK.near_seed`.
+        collisions: A :class:`~kin.collision.CollisionChecker` of ``robot``: the solver is
+            wrapped in :class:`~.collision_aware.CollisionAwareSolver`; None: not.
 
     Raises:
         IKError: ``choice`` is not in :data:`CHOICES`; the message lists them.
@@ -166,21 +178,32 @@ def choose(robot: RobotModel, choice: str = "auto", *, near_seed: bool = False) 
     rows = CHOICES.get(choice)
     if rows is None:
         raise IKError(f"unknown solver {choice!r}; choose one of: {', '.join(CHOICES)}")
+    solver = None
     for name in rows[:-1]:
         try:
-            return SOLVERS[name].build(robot, near_seed)
+            solver = SOLVERS[name].build(robot, near_seed)
+            break
         except StructureError:
             continue
-    return SOLVERS[rows[-1]].build(robot, near_seed)
+    if solver is None:
+        solver = SOLVERS[rows[-1]].build(robot, near_seed)
+    if collisions is None:
+        return solver
+    from .collision_aware import CollisionAwareSolver
+
+    return CollisionAwareSolver(solver, collisions)
 
 
-def front_end_solver(robot: RobotModel, front_end: str, choice: str | None = None) -> Solver:
+def front_end_solver(
+    robot: RobotModel, front_end: str, choice: str | None = None, *, collisions: Any = None
+) -> Solver:
     """:func:`choose` with the options of ``front_end`` (a key of :data:`FRONT_ENDS`).
 
     Args:
         robot: The robot.
         front_end: The caller.
         choice: One of the front end's choices; None: its default.
+        collisions: A collision checker of ``robot`` (see :func:`choose`), or None.
 
     Raises:
         IKError: ``choice`` is not one ``front_end`` offers; the message lists them.
@@ -190,7 +213,7 @@ def front_end_solver(robot: RobotModel, front_end: str, choice: str | None = Non
     choice = front.choices[0] if choice is None else choice
     if choice not in front.choices:
         raise IKError(f"unknown solver {choice!r}; choose one of: {', '.join(front.choices)}")
-    return choose(robot, choice, near_seed=front.near_seed)
+    return choose(robot, choice, near_seed=front.near_seed, collisions=collisions)
 
 
 def vectorized_solver(robot: RobotModel, kind: type) -> BatchSolver | None:
