@@ -83,6 +83,8 @@ class ReachMap:
         max_reach_m: The arm's maximum reach from the base origin [m] (voxels whose centre is
             farther have index 0, unsolved).
         time_s: Wall time of the computation [s].
+        collisions: ``""`` (poses and limits only), or what the answers were checked against:
+            ``"collision-free answers only (scene cell.toml; 42 pairs, padding 0 m)"``.
     """
 
     robot: str
@@ -93,6 +95,7 @@ class ReachMap:
     rotations: np.ndarray
     max_reach_m: float
     time_s: float
+    collisions: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """The map as a JSON-ready dict (SI units).
@@ -108,6 +111,7 @@ class ReachMap:
             "orientations": self.orientations,
             "max_reach_m": self.max_reach_m,
             "time_s": self.time_s,
+            "collisions": self.collisions,
         }
 
 
@@ -157,9 +161,18 @@ def _grid(origin: np.ndarray, voxel: float, reach: float) -> np.ndarray:
 
 
 def count_reached(
-    robot: RobotModel, centers: np.ndarray, rotations: np.ndarray, timeout: float | None = None
+    robot: RobotModel,
+    centers: np.ndarray,
+    rotations: np.ndarray,
+    timeout: float | None = None,
+    collisions: Any = None,
 ) -> np.ndarray:
     """Orientations reached at each centre (one chunk): int (N,) for centres (N, 3) [m].
+
+    With ``collisions`` (a :class:`kin.collision.CollisionChecker`, or a ``(scene, srdf,
+    padding)`` it is built from) an orientation counts only with a collision-free answer, judged
+    by ``in_collision_batch``: every valid branch of a vectorized closed form, else the one
+    answer each pose's solve gives (a colliding one is not searched further).
 
     Every pose of the chunk is solved from q = 0 by the arm's closed form when it has one: a
     vectorized one (:func:`kin.ik.solve_batch`), or the free-joint form of a 7R arm, as the
@@ -181,15 +194,44 @@ def count_reached(
     frames = np.broadcast_to(rotations, (n, k, 3, 3)).reshape(n * k, 3, 3)
     seeds = np.zeros((n * k, robot.nq))
     solver = get_solver(robot)
+    checker = _checker(robot, collisions)
     if not isinstance(solver, NumericIK):
-        success = solve_batch(robot, positions, frames, seeds).success
+        result = solve_batch(robot, positions, frames, seeds, all_branches=checker is not None)
+        success, q = result.success, result.q
+        if checker is not None and result.branches is not None:  # any free branch counts
+            valid = result.branches.valid
+            free = valid.copy()
+            free[valid] = ~checker.in_collision_batch(result.branches.q[valid])
+            return free.any(axis=1).reshape(n, k).sum(axis=1)
     elif (answers := free_joint_answers(solver, robot, positions, frames, seeds)) is not None:
-        success = ~np.isnan(answers[0]).any(axis=1)
+        q = answers[0]
+        success = ~np.isnan(q).any(axis=1)
         missed = np.flatnonzero(~success)
-        success[missed] = _sample_scans(solver, positions[missed], frames[missed])
+        success[missed], q[missed] = _sample_scans(solver, positions[missed], frames[missed])
     else:
-        success = _numeric_success(solver, positions, frames, seeds, timeout)
+        success, q = _numeric_success(solver, positions, frames, seeds, timeout)
+    if checker is not None and success.any():
+        success[success] = ~checker.in_collision_batch(q[success])
     return success.reshape(n, k).sum(axis=1)
+
+
+def _checker(robot: RobotModel, collisions: Any) -> Any:
+    """A collision checker: None, a checker as given, or built from ``(scene, srdf, padding)``."""
+    if collisions is None or not isinstance(collisions, tuple):
+        return collisions
+    from .collision import CollisionChecker, load_collision_model
+
+    scene, srdf, padding = collisions
+    return CollisionChecker(load_collision_model(robot, scene=scene, srdf=srdf, padding=padding))
+
+
+def _answers(results: list[Any], nq: int) -> tuple[np.ndarray, np.ndarray]:
+    """(success (N,), q (N, nq) with NaN rows) of IK results: their first solution."""
+    q = np.full((len(results), nq), np.nan)
+    for i, result in enumerate(results):
+        if result.success:
+            q[i] = result.solutions[0].q
+    return np.array([r.success for r in results], dtype=bool).reshape(-1), q
 
 
 #: Starts (seed-table, random, QP) of the numeric solver per pose of an arm without a closed form.
@@ -198,7 +240,9 @@ NUMERIC_ATTEMPTS = 16
 NUMERIC_CAP = 2.0
 
 
-def _sample_scans(solver: Any, positions: np.ndarray, frames: np.ndarray) -> np.ndarray:
+def _sample_scans(
+    solver: Any, positions: np.ndarray, frames: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Per pose (N,), whether the free-joint closed form answers it from seed-table samples.
 
     The first stage of the numeric pipeline alone (:func:`kin.ik.numeric.free_joint.
@@ -210,13 +254,10 @@ def _sample_scans(solver: Any, positions: np.ndarray, frames: np.ndarray) -> np.
     from .ik.target import PoseTarget
 
     solver.stages = STAGES[:1]
-    return np.array(
-        [
-            solver.solve(PoseTarget(p, r), None, timeout=NUMERIC_CAP).success
-            for p, r in zip(positions, frames)
-        ],
-        dtype=bool,
-    )
+    results = [
+        solver.solve(PoseTarget(p, r), None, timeout=NUMERIC_CAP) for p, r in zip(positions, frames)
+    ]
+    return _answers(results, solver.robot.nq)
 
 
 def _numeric_success(
@@ -225,25 +266,28 @@ def _numeric_success(
     frames: np.ndarray,
     seeds: np.ndarray,
     timeout: float | None,
-) -> np.ndarray:
-    """Per pose (N,), whether the numeric solver answers it within its work bound."""
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per pose (N,), whether the numeric solver answers it within its work bound, and q."""
     from .ik.target import PoseTarget
 
     cap = NUMERIC_CAP if timeout is None else timeout
-    return np.array(
-        [
-            solver.solve(PoseTarget(p, r), q, timeout=cap, max_attempts=NUMERIC_ATTEMPTS).success
-            for p, r, q in zip(positions, frames, seeds)
-        ],
-        dtype=bool,
-    )
+    results = [
+        solver.solve(PoseTarget(p, r), q, timeout=cap, max_attempts=NUMERIC_ATTEMPTS)
+        for p, r, q in zip(positions, frames, seeds)
+    ]
+    return _answers(results, seeds.shape[1])
 
 
 def _in_process(
-    robot: RobotModel, chunks: list[np.ndarray], rotations: np.ndarray, timeout: float | None
+    robot: RobotModel,
+    chunks: list[np.ndarray],
+    rotations: np.ndarray,
+    timeout: float | None,
+    collisions: Any = None,
 ) -> Generator[tuple[int, np.ndarray], None, None]:
+    checker = _checker(robot, collisions)  # once: the shapes are loaded a single time
     for i, chunk in enumerate(chunks):
-        yield i, count_reached(robot, chunk, rotations, timeout)
+        yield i, count_reached(robot, chunk, rotations, timeout, checker)
 
 
 def _numbered(i: int, *args: Any) -> tuple[int, np.ndarray]:
@@ -256,6 +300,7 @@ def _on_dask(
     chunks: list[np.ndarray],
     rotations: np.ndarray,
     timeout: float | None,
+    collisions: Any = None,
 ) -> Generator[tuple[int, np.ndarray], None, None]:
     from distributed import as_completed
 
@@ -267,7 +312,7 @@ def _on_dask(
         # clients) must not share it, or the first one's release loses the second one's copy.
         [shared] = client.scatter([robot], broadcast=True, hash=False)
         futures.extend(
-            client.submit(_numbered, i, shared, chunk, rotations, timeout, pure=False)
+            client.submit(_numbered, i, shared, chunk, rotations, timeout, collisions, pure=False)
             for i, chunk in enumerate(chunks)
         )
         for future in as_completed(futures):
@@ -331,6 +376,9 @@ def reachability_map(
     progress: Callable[[int, int], None] | None = None,
     chunk_poses: int | None = None,
     timeout: float | None = None,
+    scene: str | Path | None = None,
+    srdf: str | Path | None = None,
+    padding: float = 0.0,
 ) -> ReachMap:
     """The :class:`ReachMap` of ``robot``.
 
@@ -346,6 +394,10 @@ def reachability_map(
             :data:`DEFAULT_CHUNK_POSES`).
         timeout: Wall-clock cap of each numeric solve of an arm without a closed form [s]
             (None: :data:`NUMERIC_CAP`); its work bound is :data:`NUMERIC_ATTEMPTS` starts.
+        scene: A cell (TOML or URDF, :func:`kin.collision.load_collision_model`): with it, or
+            with ``srdf``, only collision-free answers count (:func:`count_reached`).
+        srdf: A MoveIt SRDF whose ``disable_collisions`` pairs are allowed.
+        padding: Margin around every shape [m] (with ``scene`` or ``srdf``).
 
     Raises:
         KinError: An arm of fewer than 6 joints, a voxel that is not a positive finite length
@@ -372,6 +424,14 @@ def reachability_map(
     if not isinstance(chunk_poses, int) or chunk_poses < 1:
         raise KinError(f"chunk_poses must be a positive integer, got {chunk_poses!r}")
     start = time.perf_counter()
+    collisions: Any = None
+    note = ""
+    if scene is not None or srdf is not None:
+        from .collision import CollisionChecker, load_collision_model
+
+        model = load_collision_model(robot, scene=scene, srdf=srdf, padding=padding)
+        collisions = (scene, srdf, padding)  # rebuilt by each Dask worker from the files
+        note = _collision_note(model, scene, srdf)
     reach = arm_reach(robot)
     centers = _grid(reach.origin, float(voxel), reach.maximum)
     rotations = super_fibonacci_rotations(int(orientations))
@@ -386,9 +446,15 @@ def reachability_map(
         progress(0, total)  # at once: the first chunk may take seconds
     with _client(scheduler) as client:
         results = (
-            _in_process(robot, chunks, rotations, timeout)
+            _in_process(
+                robot,
+                chunks,
+                rotations,
+                timeout,
+                None if collisions is None else CollisionChecker(model),
+            )
             if client is None
-            else _on_dask(client, robot, chunks, rotations, timeout)
+            else _on_dask(client, robot, chunks, rotations, timeout, collisions)
         )
         with closing(results):  # on Ctrl-C the futures are cancelled here, not when collected
             for i, reached in results:
@@ -405,6 +471,17 @@ def reachability_map(
         rotations=rotations,
         max_reach_m=float(reach.maximum),
         time_s=time.perf_counter() - start,
+        collisions=note,
+    )
+
+
+def _collision_note(model: Any, scene: str | Path | None, srdf: str | Path | None) -> str:
+    """One line: the map counts collision-free answers only, against what."""
+    against = [f"scene {Path(scene).name}"] if scene is not None else []
+    against += [f"srdf {Path(srdf).name}"] if srdf is not None else []
+    return (
+        f"collision-free answers only ({', '.join(against)}; {len(model.pairs)} pairs, "
+        f"padding {model.padding:g} m)"
     )
 
 
@@ -441,6 +518,7 @@ def save_reach_map(reach_map: ReachMap, path: str | Path) -> Path:
         "rotations": reach_map.rotations,
         "max_reach_m": np.array(reach_map.max_reach_m),
         "time_s": np.array(reach_map.time_s),
+        "collisions": np.array(reach_map.collisions),
     }
     _write_whole(path, lambda handle: np.savez_compressed(handle, **arrays))
     return path
@@ -477,6 +555,7 @@ def load_reach_map(path: str | Path) -> ReachMap:
             rotations=fields.get("rotations", np.zeros((0, 3, 3))),
             max_reach_m=float(fields.get("max_reach_m", math.nan)),
             time_s=float(fields.get("time_s", math.nan)),
+            collisions=str(fields.get("collisions", "")),
         )
     except (KeyError, TypeError, ValueError) as err:
         raise KinError(f"{path}: not a reachability map written by kin reach ({err})") from err
@@ -530,10 +609,11 @@ def plot_reach_map(
         axes.set_ylabel(f"y [{unit}]")
         axes.set_aspect("equal")
     assert image is not None  # at least one slice
-    figure.colorbar(image, ax=list(axes_list), shrink=0.85, label="reachability index")
+    label = "reachability index" + (", collision-free" if reach_map.collisions else "")
+    figure.colorbar(image, ax=list(axes_list), shrink=0.85, label=label)
     figure.suptitle(
         f"{reach_map.robot}: reachability index ({reach_map.orientations} orientations, "
-        f"{v:.3g} {unit} voxels)"
+        f"{v:.3g} {unit} voxels)" + (f"\n{reach_map.collisions}" if reach_map.collisions else "")
     )
     kind = path.suffix.lower().lstrip(".") or "png"
     _write_whole(path, lambda handle: figure.savefig(handle, format=kind))

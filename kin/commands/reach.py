@@ -5,6 +5,10 @@ orientations spread evenly over SO(3) (a super-Fibonacci spiral: deterministic, 
 the same rotations) are solved by batch IK at the voxel's centre; the index is the fraction with
 a verified answer inside the joint limits. Voxels beyond the maximum reach get 0 unsolved.
 --scheduler ADDRESS (or local-cluster:N) runs the chunks on a Dask cluster: same map.
+--scene FILE (a TOML cell or a URDF) and/or --srdf FILE [--padding] count collision-free answers
+only (kin check's shapes and pairs): every valid branch of a closed form is checked, an
+orientation counts when one is free (arms without a vectorized closed form: the one answer found).
+The map's "collisions" field, the summary and the picture's title say so.
 
 -o writes the map (.npz: voxel_m, centers_m (n, n, n, 3), index (n, n, n), orientations,
 rotations, time_s; SI units) through a temporary file and a rename; --png draws horizontal
@@ -16,7 +20,14 @@ from __future__ import annotations
 
 import json
 
-from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
+from ..cli import (
+    ArgumentParser,
+    finite_float,
+    length_scale,
+    positive_float,
+    positive_int,
+    run_guarded,
+)
 from ..exceptions import KinError
 from .robot_argument import add_robot_arguments, load_robot_argument
 
@@ -43,6 +54,17 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         metavar="local|ADDRESS",
         help="local (this process, default), a Dask scheduler address, or local-cluster:N",
     )
+    parser.add_argument(
+        "--scene", metavar="FILE", help="count collision-free answers: a TOML cell or a URDF"
+    )
+    parser.add_argument(
+        "--srdf", metavar="FILE", help="count collision-free answers; the SRDF's pairs allowed"
+    )
+    parser.add_argument(
+        "--padding",
+        type=finite_float,
+        help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
+    )
     parser.add_argument("-o", "--output", required=True, metavar="FILE.npz", help="the map")
     parser.add_argument("--png", metavar="FILE", help="draw horizontal slices (.png, .svg, .pdf)")
     parser.add_argument("--json", action="store_true", help="print the map as JSON, SI units")
@@ -61,7 +83,10 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
 
 def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     """Compute and write the map; exit 0, 2 for bad input, 130 on Ctrl-C."""
-    args = get_argument_parser(prog).parse_args(argv)
+    parser = get_argument_parser(prog)
+    args = parser.parse_args(argv)
+    if args.padding is not None and args.scene is None and args.srdf is None:
+        parser.error("--padding needs --scene or --srdf")
 
     def body() -> int:
         from ..ik.reach import arm_reach
@@ -95,6 +120,9 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 scheduler=args.scheduler,
                 progress=progress,
                 timeout=None if args.timeout is None else args.timeout / 1e3,
+                scene=args.scene,
+                srdf=args.srdf,
+                padding=0.0 if args.padding is None else args.padding * scale,
             )
         save_reach_map(reach_map, output)
         if args.png:
@@ -110,6 +138,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 f"{reach_map.time_s:.3g} s; wrote {output}"
                 + (f" and {args.png}" if args.png else "")
             )
+            if reach_map.collisions:
+                print(f"counted: {reach_map.collisions}")
         return 0
 
     return run_guarded(prog, body)
