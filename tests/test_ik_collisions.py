@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from collision_reference import CollisionReference
 from test_collision_engines import setup
@@ -217,3 +218,114 @@ def test_no_solution_collides(name):
         if answer.status == "in_collision":
             assert all(_collides(reference, pairs, s.q) for s in answer.rejected if s.reason)
     assert statuses.get("ok", 0) > 0 and statuses.get("in_collision", 0) > 0, statuses
+
+
+# -- every route gives the library's answer ------------------------------------------------------
+
+CELL = Path(__file__).parent / "data" / "collision" / "cell.toml"
+
+
+def _cell_targets(robot: kin.RobotModel, count: int, seed: int = 5):
+    config = kin.Configuration(robot)
+    rng = np.random.default_rng(seed)
+    qs = rng.uniform(robot.lower, robot.upper, (count, robot.nq))
+    return [config.fk(q) for q in qs], rng.uniform(robot.lower, robot.upper, (count, robot.nq))
+
+
+@pytest.mark.parametrize("name", ["ur5", "humanoid7"])
+def test_kin_ik_stdin_and_solve_batch_give_the_library_answer(name, monkeypatch, capsys):
+    """kin ik --json, kin ik --stdin and solve_batch(collisions=) answer as get_solver does."""
+    import io
+    import json
+
+    from kin.commands import ik
+    from kin.ik import solve_batch
+
+    robot = kin.load_robot(name)
+    checker = CollisionChecker(load_collision_model(robot, scene=CELL))
+    poses, seeds = _cell_targets(robot, 12)
+    rpys = [pin.rpy.matrixToRpy(T.rotation).tolist() for T in poses]
+    command = get_solver(robot, near_seed=True, collisions=checker)
+    library = get_solver(robot, collisions=checker)
+    targets = [PoseTarget(T.translation, pin.rpy.rpyToMatrix(*rpy)) for T, rpy in zip(poses, rpys)]
+    expected = [command.solve(t, s) for t, s in zip(targets, seeds)]
+    assert {r.status for r in expected} >= {"ok", "in_collision"}, [r.status for r in expected]
+    argv = ["--robot", name, "--scene", str(CELL)]
+    lines = [
+        json.dumps({"target": T.translation.tolist(), "rpy": rpy, "seed_q": s.tolist()})
+        for T, rpy, s in zip(poses, rpys, seeds)
+    ]
+    monkeypatch.setattr("sys.stdin", io.StringIO("".join(line + "\n" for line in lines)))
+    ik.main([*argv, "--stdin"])
+    records = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert len(records) == len(expected)
+    for record, result in zip(records, expected):
+        assert record["status"] == result.status
+        if result.solutions:
+            np.testing.assert_allclose(
+                record["solutions"][0]["q"], result.solutions[0].q, atol=1e-12
+            )
+    for k in (0, 1, 2, 3):
+        T, rpy, s = poses[k], rpys[k], seeds[k]
+        code = ik.main(
+            [
+                *argv,
+                "--json",
+                "--target",
+                *map(str, T.translation),
+                "--rpy",
+                *map(repr, rpy),
+                "--seed-q",
+                *map(repr, s.tolist()),
+            ]
+        )
+        record = json.loads(capsys.readouterr().out)
+        assert record["status"] == expected[k].status
+        assert code == (0 if expected[k].success else 1)
+        if expected[k].solutions:
+            np.testing.assert_allclose(
+                record["solutions"][0]["q"], expected[k].solutions[0].q, atol=1e-9
+            )
+    batch = solve_batch(
+        robot,
+        [t.position for t in targets],
+        [t.rotation for t in targets],
+        seeds,
+        collisions=checker,
+    )
+    for i, t in enumerate(targets):
+        result = library.solve(t, seeds[i])
+        assert bool(batch.success[i]) == result.success
+        if result.success:
+            np.testing.assert_allclose(batch.q[i], result.solutions[0].q, atol=1e-12)
+            assert not checker.in_collision(batch.q[i])
+
+
+def test_kin_ik_text_names_the_colliding_branches(capsys):
+    """kin ik --scene --all marks each colliding branch with its reason; --padding needs a scene."""
+    from kin.commands import ik
+
+    code = ik.main(
+        [
+            "--robot",
+            "ur5",
+            "--target",
+            "0.4",
+            "0.1",
+            "0.3",
+            "--rpy",
+            "3.14",
+            "0",
+            "0",
+            "--scene",
+            str(CELL),
+            "--all",
+        ]
+    )
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "collides: scene: wall" in out
+    with pytest.raises(SystemExit) as exit_:
+        ik.main(["--robot", "ur5", "--target", "0.4", "0.1", "0.3", "--padding", "0.01"])
+    assert exit_.value.code == 2
+    assert "--padding needs --scene or --srdf" in capsys.readouterr().err

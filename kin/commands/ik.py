@@ -34,6 +34,12 @@ humanoid7, a 7R URDF) every branch of its free-joint closed form at 32 values ev
 the free joint's range, the seed's and the answer's, nearest the seed first ("all": true on a
 --stdin line does the same for that line).
 
+--scene FILE (a TOML cell or a URDF) and/or --srdf FILE [--padding M, in --unit] make the solve
+collision-aware (kin.ik.collision_aware): a colliding answer is rejected with its reason
+("self: a/b", "scene: name"; shown with --all), the search goes on through the free joint of a
+7R arm, every roll of an --axis target or --mask, and more numeric starts; "in_collision" when
+the target is reached but every answer found collides. With --stdin every line is solved so.
+
 Exit 0 when a valid solution exists, 1 when none (success false), 2 for bad input; with --stdin,
 once the input ends: 1 when any line had an error or no valid solution, else 0.
 """
@@ -136,6 +142,13 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         "seeded starts, 200 for a full pose or position, 32 for a partial one)",
     )
     add("--stdin", action="store_true", help="read JSON targets from stdin, one per line")
+    add("--scene", metavar="FILE", help="avoid collisions with a cell: TOML of boxes... or URDF")
+    add("--srdf", metavar="FILE", help="avoid collisions; a MoveIt SRDF's pairs are allowed")
+    add(
+        "--padding",
+        type=finite_float,
+        help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
+    )
     return parser
 
 
@@ -161,6 +174,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error(f"--stdin reads the targets from stdin: drop {', '.join(target_options)}")
     if not args.stdin and args.target is None:
         parser.error("the following arguments are required: --target (or --stdin)")
+    if args.padding is not None and args.scene is None and args.srdf is None:
+        parser.error("--padding needs --scene or --srdf")
     return run_guarded(prog, lambda: _run(args))
 
 
@@ -171,6 +186,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..ik.target import PositionTarget
     from ..robot_model import RobotModel
     from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
+    from .path import _collision_checker
     from .solver_choice import NewtonRaphsonSolver, choose_solver, solve_function, target_kinds
     from .targets import build_target, check_kind
 
@@ -179,13 +195,22 @@ def _run(args: argparse.Namespace) -> int:
     # The documented default start is q = 0, as `kin preview --ik` starts from --q's zeros: the
     # same target and start give the same answer in both.
     seed = np.zeros(robot.nq) if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
+    checker = None
     if isinstance(robot, RobotModel):
         solver = choose_solver(robot, args.solver)
+        checker = _collision_checker(args, robot, length_scale(args.unit))
     else:  # a URDF chain with mimic joints
-        solver = _mimic_solver(robot, args.solver)
+        solver = _mimic_solver(robot, args.solver, args.scene or args.srdf)
     timeout = None if args.timeout is None else args.timeout / 1e3
-    solve = solve_function(solver, timeout)
     solve_all = _every_branch(solver, timeout)
+    if checker is not None:
+        from ..ik.collision_aware import CollisionAwareSolver
+
+        solver = CollisionAwareSolver(solver, checker)
+        if solve_all is not None:
+            aware = solver
+            solve_all = lambda t, s: aware.solve(t, s, timeout=timeout, all_branches=True)  # noqa: E731
+    solve = solve_function(solver, timeout)
     if args.all and solve_all is not None:
         solve = solve_all
     kinds = None if isinstance(solver, NewtonRaphsonSolver) else target_kinds(solver)
@@ -204,7 +229,12 @@ def _run(args: argparse.Namespace) -> int:
             length,
             angle,
             args.all,
-            batch=_batch_stage(robot, solver) if isinstance(robot, RobotModel) else None,
+            # the compiled batch route answers without the checker: bypassed with collisions
+            batch=(
+                _batch_stage(robot, solver)
+                if isinstance(robot, RobotModel) and checker is None
+                else None
+            ),
             pipeline=getattr(solver, "name", ""),
             solve_all=solve_all,
         )
@@ -262,14 +292,21 @@ def _every_branch(solver: object, timeout: float | None) -> Callable[[Any, Any],
     return lambda target, seed: solve(target, seed, timeout=timeout, all_branches=True)
 
 
-def _mimic_solver(arm: MimicArm, forced: str | None) -> MimicSolver:
+def _mimic_solver(arm: MimicArm, forced: str | None, collisions: str | None = None) -> MimicSolver:
     """The solver of a URDF chain with mimic joints; ``--solver`` cannot choose another.
 
     Raises:
-        TargetError: ``--solver`` given (mink and nr read one joint per DH row).
+        TargetError: ``--solver`` given (mink and nr read one joint per DH row), or
+            ``--scene``/``--srdf`` (``collisions``: no collision model of such a chain yet).
     """
     from ..ik.exceptions import TargetError
     from ..mimic_solver import MimicSolver
+
+    if collisions is not None:
+        raise TargetError(
+            f"--scene/--srdf: '{arm.name}' is a chain with mimic joints, which has no collision "
+            "model yet; drop --scene and --srdf"
+        )
 
     if forced is not None:
         raise TargetError(
@@ -350,7 +387,8 @@ def _print_result(
         values = "  ".join(f"{v:>{w}.4f}" for v, w in zip(units.from_si(solution.q), widths))
         error = None if free_rotation else solution.rotation_error
         rotation = "-" if error is None else f"{error:.3g}"
+        reason = f"  collides: {solution.reason}" if solution.reason else ""
         print(
             f"{solution.branch:<{label}} {values}  {'ok' if solution.within_limits else 'OUT':>6}  "
-            f"{solution.position_error / length:.3g}  {rotation}"
+            f"{solution.position_error / length:.3g}  {rotation}{reason}"
         )

@@ -113,6 +113,7 @@ def solve_batch(
     *,
     all_branches: bool = False,
     timeout: float | None = None,
+    collisions: Any = None,
 ) -> BatchIKResult:
     """Solve N targets: tool positions (N, 3) [m], with rotations (N, 3, 3) for full poses.
 
@@ -131,6 +132,10 @@ def solve_batch(
             it inside the limits. The answer of a target is the valid one nearest its seed.
         all_branches: Keep every branch of a vectorized closed form in :attr:`BatchIKResult.branches`.
         timeout: Time budget of each numeric solve [s] (None: the solver's default).
+        collisions: A :class:`~kin.collision.CollisionChecker` of ``robot``: every target is
+            solved by the collision-aware solver (``get_solver(robot, collisions=...)``, one by
+            one, the compiled routes bypassed): its answer is the nearest collision-free one;
+            ``all_branches`` is then ignored.
 
     Raises:
         TargetError: A non-finite value, a wrong shape or a matrix that is no rotation; the
@@ -145,6 +150,9 @@ def solve_batch(
         start = np.array(seeds, dtype=float)
         start = np.broadcast_to(start, (n, nq)).copy() if start.shape == (nq,) else start
         start = seed_inside(robot, _array(start, (n, nq), "seeds"))
+    if collisions is not None:
+        aware = front_end_solver(robot, "batch", collisions=collisions)
+        return _one_by_one(robot, points, frames, start, timeout, aware)
     vectorized = _closed_form(robot, frames is not None)
     if vectorized is not None and n:
         return _vectorized(vectorized, points, frames, start, all_branches)

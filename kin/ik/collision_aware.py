@@ -176,7 +176,7 @@ class CollisionAwareSolver:
             True,
             base.solver,
             "ok",
-            base.message,
+            f"{len(free)} collision-free solution(s); {len(colliding)} colliding rejected",
             free,
             tuple(colliding) + tuple(base.rejected),
             base.distance_to_workspace,
