@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..exceptions import KinError
+from ..ik.angles import rpy_matrices
 from ..ik.target import PoseTarget, Target
 from .joint_units import JointUnits
 from .stream_records import PlainWriter, batch_record, encode_found
@@ -211,26 +212,3 @@ class BatchRoute:
                     self.pipeline, q[k].tolist(), float(position_error[k]), rotation, each
                 )
         return records
-
-
-def rpy_matrices(rpy: np.ndarray) -> np.ndarray:
-    """URDF roll-pitch-yaw (N, 3) [rad] as rotation matrices ``Rz(yaw) Ry(pitch) Rx(roll)`` (N, 3, 3).
-
-    The batched twin of :func:`kin.ik.target.rpy_matrix`.
-    """
-    cr, sr = np.cos(rpy[:, 0]), np.sin(rpy[:, 0])
-    cp, sp = np.cos(rpy[:, 1]), np.sin(rpy[:, 1])
-    cy, sy = np.cos(rpy[:, 2]), np.sin(rpy[:, 2])
-    out = np.empty((len(rpy), 3, 3))
-    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = (
-        cy * cp,
-        cy * sp * sr - sy * cr,
-        cy * sp * cr + sy * sr,
-    )
-    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = (
-        sy * cp,
-        sy * sp * sr + cy * cr,
-        sy * sp * cr - cy * sr,
-    )
-    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = -sp, cp * sr, cp * cr
-    return out
