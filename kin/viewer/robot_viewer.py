@@ -99,6 +99,7 @@ class RobotViewer:
         # meshcat's grid is 20 m wide in 0.5 m cells: shrink it to the arm, round cell sizes
         self.grid_scale = max([s for s in _GRID_SCALES if 10.0 * s <= self.arm_length] or [0.01])
         self.viewer["/Grid"].set_transform(tf.scale_matrix(self.grid_scale))
+        self._scene_corners: list[np.ndarray] = []  # of the scene objects drawn
         self.display(self.q)
 
     @property
@@ -239,7 +240,11 @@ class RobotViewer:
         extra_points: npt.ArrayLike | None = None,
         configurations: Sequence[npt.ArrayLike] | None = None,
     ) -> None:
-        """Aim the camera at every frame of the arm and at ``extra_points``.
+        """Aim the camera at the arm's frames and drawn shapes, and at ``extra_points``.
+
+        Every visual geometry of the arm (the maker's meshes included) enters by the corners of
+        its bounding box placed at each configuration, and so does every scene object drawn by
+        :meth:`show_scene`: the whole arm and cell stay in view, not only the frame origins.
 
         Args:
             extra_points: More points to keep in view, shape (M, 3), world frame [m].
@@ -248,8 +253,11 @@ class RobotViewer:
         data = self.robot.model.createData()
         corners: list[np.ndarray] = []
         for q in [self.q] if configurations is None else configurations:
-            pin.framesForwardKinematics(self.robot.model, data, as_joint_vector(self.robot, q))
+            q = as_joint_vector(self.robot, q)
+            pin.framesForwardKinematics(self.robot.model, data, q)
             corners.extend(frame.translation.copy() for frame in data.oMf)
+            corners.extend(self._visual_corners(q))
+        corners.extend(self._scene_corners)
         if extra_points is not None:
             corners.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
         cloud = np.array(corners)
@@ -258,6 +266,25 @@ class RobotViewer:
         size = max(float(np.linalg.norm(high - low)), 0.5 * self.arm_length, 0.05)
         direction = np.array([1.0, 0.8, 0.7]) / np.linalg.norm([1.0, 0.8, 0.7])
         self.set_camera(centre, centre + CAMERA_DISTANCE * size * direction)
+
+    def _visual_corners(self, q: np.ndarray) -> list[np.ndarray]:
+        """Corners of each visual geometry's bounding box at ``q``, world frame [m]."""
+        if self.meshes is not None:
+            model, full = self.meshes.model, self.meshes.full_q(q)
+            root_to_world = np.linalg.inv(self.meshes.base_in_root)
+        else:
+            model, full, root_to_world = self.robot.model, q, np.eye(4)
+        data = model.createData()
+        geometry_data = pin.GeometryData(self.visual_model)
+        pin.updateGeometryPlacements(model, data, self.visual_model, geometry_data, full)
+        corners = []
+        for obj, placement in zip(self.visual_model.geometryObjects, geometry_data.oMg):
+            box = _local_box(obj)
+            if box is None:
+                continue
+            T = root_to_world @ placement.homogeneous
+            corners.extend((T[:3, :3] @ box.T).T + T[:3, 3])
+        return corners
 
     def static_html(self) -> str:
         """The scene as one self-contained HTML page (meshcat's export, three.js inlined)."""
@@ -303,6 +330,24 @@ def _arm_length(robot: RobotModel, q: np.ndarray) -> float:
     origins = np.array([frame.translation for frame in data.oMf])
     length = float(np.linalg.norm(np.diff(origins, axis=0), axis=1).sum())
     return max(length, 0.05)
+
+
+def _local_box(obj: pin.GeometryObject) -> np.ndarray | None:
+    """The 8 corners (8, 3) of a geometry's bounding box in its own frame [m].
+
+    Pinocchio loads a mesh with the URDF's scale applied to its vertices: the box is the drawn one.
+    """
+    geometry = obj.geometry
+    try:
+        geometry.computeLocalAABB()
+        low = np.asarray(geometry.aabb_local.min_, dtype=float)
+        high = np.asarray(geometry.aabb_local.max_, dtype=float)
+    except (AttributeError, RuntimeError):
+        return None
+    if not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
+        return None
+    pick = np.array([[i >> 2 & 1, i >> 1 & 1, i & 1] for i in range(8)], dtype=float)
+    return low + pick * (high - low)
 
 
 def _finite(values: npt.ArrayLike, shape: tuple[int, ...], what: str) -> np.ndarray:
