@@ -243,8 +243,9 @@ class RobotViewer:
         """Aim the camera at the arm's frames and drawn shapes, and at ``extra_points``.
 
         Every visual geometry of the arm (the maker's meshes included) enters by the corners of
-        its bounding box placed at each configuration, and so does every scene object drawn by
-        :meth:`show_scene`: the whole arm and cell stay in view, not only the frame origins.
+        its bounding box placed at each configuration, and so do the corners in
+        ``_scene_corners`` (scene objects, once drawn): the whole arm stays in view, not only
+        the frame origins.
 
         Args:
             extra_points: More points to keep in view, shape (M, 3), world frame [m].
