@@ -206,7 +206,7 @@ def _run(args: argparse.Namespace) -> int:
     if checker is not None:
         from ..ik.collision_aware import CollisionAwareSolver
 
-        solver = CollisionAwareSolver(solver, checker)
+        solver = CollisionAwareSolver(solver, checker, every=args.all)
         if solve_all is not None:
             aware = solver
             solve_all = lambda t, s: aware.solve(t, s, timeout=timeout, all_branches=True)  # noqa: E731

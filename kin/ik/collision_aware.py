@@ -17,6 +17,12 @@ on where the arm has freedom left, bounded by work (the timeout only a cap):
 A closed-form 6R pose has every branch in its first answer: the nearest free branch is the
 answer, with no search. The first free answers found win, nearest the caller's seed first.
 
+The answers are judged nearest the seed first, and by default the judging stops at the first
+free one: ``solutions`` holds that answer alone (the farther ones are not checked, so not
+returned); ``every=True`` (or ``all_branches=True`` of a call, ``kin ik --all``) judges every
+answer and keeps all the free ones. Only the answers judged colliding get a reason (a second,
+full query of the checker).
+
 Statuses: the wrapped solver's (``out_of_reach``, ``not_found``, ...) pass through unchanged;
 ``in_collision`` when answers were found but every one collides (after the extra search);
 ``timeout`` when the cap stopped the extra search first. No distance bound enters the damped
@@ -80,12 +86,14 @@ class CollisionAwareSolver:
         solver: A solver of the table (:func:`kin.ik.get_solver`), or any with its protocol.
         checker: The collision checker of the same robot
             (:class:`~kin.collision.CollisionChecker`).
+        every: Judge every answer and keep all the free ones (default: stop at the first free
+            one, nearest the seed).
 
     Attributes:
         name: The wrapped solver's name (:attr:`IKResult.solver`).
     """
 
-    def __init__(self, solver: Any, checker: Any):
+    def __init__(self, solver: Any, checker: Any, *, every: bool = False):
         if checker.model.robot.nq != solver.robot.nq:
             from .exceptions import IKError
 
@@ -95,6 +103,7 @@ class CollisionAwareSolver:
             )
         self.solver = solver
         self.checker = checker
+        self.every = every
         self.robot = solver.robot
         self.name = solver.name
 
@@ -135,9 +144,10 @@ class CollisionAwareSolver:
         first = self.solver.solve(target, seed, timeout=timeout, **options)
         if not first.solutions:
             return first
-        free, colliding = self._judge(first.solutions)
+        every = self.every or bool(options.get("all_branches"))
+        free, colliding = self._judge(first.solutions, every)
         if free:
-            if not colliding:
+            if not colliding and len(free) == len(first.solutions):
                 return first
             return self._result(first, free, colliding, start)
         cap = start + (DEFAULT_TIMEOUT if timeout is None else timeout)
@@ -150,9 +160,12 @@ class CollisionAwareSolver:
     # -- judging ---------------------------------------------------------------------------------
 
     def _judge(
-        self, solutions: tuple[IKSolution, ...]
+        self, solutions: tuple[IKSolution, ...], every: bool
     ) -> tuple[tuple[IKSolution, ...], list[IKSolution]]:
-        """(free answers in order, colliding ones with their reasons)."""
+        """(free answers in order, colliding ones with their reasons).
+
+        Up to the first free answer, unless ``every``.
+        """
         checker = self.checker
         free: list[IKSolution] = []
         colliding: list[IKSolution] = []
@@ -162,6 +175,8 @@ class CollisionAwareSolver:
                 colliding.append(_rejected(solution, collision_reason(checker, q)))
             else:
                 free.append(solution)
+                if not every:
+                    break
         return tuple(free), colliding
 
     def _result(
@@ -176,7 +191,8 @@ class CollisionAwareSolver:
             True,
             base.solver,
             "ok",
-            f"{len(free)} collision-free solution(s); {len(colliding)} colliding rejected",
+            f"{len(free)} collision-free solution(s) (nearest first); {len(colliding)} colliding "
+            "rejected",
             free,
             tuple(colliding) + tuple(base.rejected),
             base.distance_to_workspace,
@@ -231,7 +247,7 @@ class CollisionAwareSolver:
             result = solve(left)
             if result is None:
                 continue
-            free, bad = self._judge(result.solutions)
+            free, bad = self._judge(result.solutions, self.every)
             colliding += bad
             if free:
                 return _with(result, free), colliding, False
