@@ -25,7 +25,7 @@ input) and stops with ``KeyboardInterrupt`` (exit 130); one during a write waits
 The parts: :mod:`.stream_reader` (batches of lines, each line's request), :mod:`.stream_batch`
 (the compiled route: the lines of a batch answered together), :mod:`.stream_records` (the
 records and their writing); this module runs them in turn and holds the compiled twins of the
-plainest lines' reading and writing (``kin/commands/_plain_lines.c``, if built).
+plainest lines' reading and writing (``kin/_native/_plain_lines.c``, if built).
 """
 
 from __future__ import annotations
@@ -38,6 +38,8 @@ from dataclasses import dataclass
 from typing import Any, TextIO
 
 import numpy as np
+
+from kin._native import twin
 
 from ..ik.result import IKResult
 from ..ik.target import PoseTarget, PositionTarget, Target
@@ -57,10 +59,10 @@ __all__ = ["FLUSH_EVERY", "KEYS", "StreamSolver", "line_batches", "result_record
 #: Bytes per read of the input, and most bytes per batch [B] (:func:`line_batches`).
 _READ = READ
 _CHUNK = CHUNK
-try:  # the plainest lines read and answered in C (kin/commands/_plain_lines.c), if built
-    from ._plain_lines import read as _read_plain
-    from ._plain_lines import write as _write_plain
-except ImportError:  # pragma: no cover - the json module reads them all, %-format writes
+_twin = twin("_plain_lines")  # the plainest lines read and answered in C (kin/_native/_plain_lines.c)
+if _twin is not None:
+    _read_plain, _write_plain = _twin.read, _twin.write
+else:  # pragma: no cover - the json module reads them all, %-format writes
     _read_plain = _write_plain = None
 
 

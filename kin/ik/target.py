@@ -17,13 +17,13 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from kin._native import twin
+
 from . import angles
 from .exceptions import TargetError
 
-try:  # the compiled twin of the pose check on the short way (optional: same verdict, faster)
-    from ._pose_check import exact_pack as _exact_pack
-except ImportError:  # pragma: no cover - built wherever a C compiler is
-    _exact_pack = None
+_twin = twin("_pose_check")  # the pose check on the short way in C (optional: same verdict, faster)
+_exact_pack = _twin.exact_pack if _twin is not None else None
 
 #: Largest ``max |R^T R - I|`` of a target rotation replaced by its nearest rotation matrix; a
 #: farther matrix is refused.

@@ -21,6 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from dh2urdf import DHTable
+from kin._native import twin
 from kin.batch_fk import batch_forward_kinematics
 
 #: Largest change of a twist snapped to a multiple of 90 deg [rad].
@@ -149,8 +150,8 @@ def _gauss_newton(
     return best, best_error
 
 
-try:  # damped Newton's compiled twin (kin/ik/numeric/_damped_step.c), built with a compiler
-    from ..numeric._damped_step import damped_step as _damped_step
-    from ..numeric._damped_step import pose_error as _pose_error
-except ImportError:  # pragma: no cover - NumPy's least squares and Pinocchio's log3 alone
+_twin = twin("_damped_step")  # damped Newton's compiled twin (kin/_native/_damped_step.c)
+if _twin is not None:
+    _damped_step, _pose_error = _twin.damped_step, _twin.pose_error
+else:  # pragma: no cover - NumPy's least squares and Pinocchio's log3 alone
     _damped_step = _pose_error = None

@@ -26,11 +26,12 @@ from operator import le, sub
 import numpy as np
 import pinocchio as pin
 
-try:  # the step's error and linear algebra in C (kin/ik/numeric/_damped_step.c)
-    from ._damped_step import advance as _compiled_advance
-    from ._damped_step import damped_step as _compiled_step
-    from ._damped_step import pose_error as _compiled_error
-except ImportError:  # pragma: no cover - built with a compiler; else NumPy / SciPy / Pinocchio
+from kin._native import twin
+
+_twin = twin("_damped_step")  # the step's error and linear algebra in C (kin/_native/_damped_step.c)
+if _twin is not None:
+    _compiled_advance, _compiled_step, _compiled_error = _twin.advance, _twin.damped_step, _twin.pose_error
+else:  # pragma: no cover - built with a compiler; else NumPy / SciPy / Pinocchio
     _compiled_step = _compiled_error = _compiled_advance = None
 
 #: Whether the compiled twin of the step's linear algebra is built.

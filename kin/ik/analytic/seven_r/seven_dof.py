@@ -15,7 +15,7 @@ Up to 8 joint vectors per ``q1``. For a position-only target the wrist angles ar
 
 All of it is scalar arithmetic; the numeric solver (:mod:`ik.numeric`) picks ``q1`` (and the
 wrist) from its seed table and has Pinocchio judge every answer. :meth:`SevenDofIK.first` runs the
-compiled twin of this module (``kin/ik/analytic/seven_r/_closed7.c``, an optional extension built at install when a C
+compiled twin of this module (``kin/_native/_closed7.c``, an optional extension built at install when a C
 compiler is there) and this Python code otherwise; the tests compare the two. ``t_i`` are DH
 angles, ``q_i = t_i - theta_i`` joint values [rad]; lengths in [m].
 """
@@ -28,6 +28,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from kin._native import twin
+
 from ..structure import SevenDof
 from .subproblems import (
     ScanJob,
@@ -39,12 +41,9 @@ from .subproblems import (
     scan,
 )
 
-try:
-    from . import _closed7  # type: ignore[attr-defined]
-except ImportError:  # pragma: no cover - the extension is optional
-    _closed7 = None
+_closed7 = twin("_closed7")
 
-#: Whether the compiled twin (``kin/ik/analytic/seven_r/_closed7.c``) is built.
+#: Whether the compiled twin (``kin/_native/_closed7.c``) is built.
 COMPILED = _closed7 is not None
 
 _TWO_PI = 2.0 * math.pi

@@ -12,15 +12,14 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
+from kin._native import twin
+
 from ...angles import wrap_array
 from ...exceptions import TargetError
 from .shoulder7_structure import SphericalShoulder7R, Vec
 from .subproblems import ScanJob, call_first_many, harmonic_roots_array, rotation_pair_array
 
-try:
-    from . import _shoulder7  # type: ignore[attr-defined]
-except ImportError:  # pragma: no cover - the extension is optional
-    _shoulder7 = None
+_shoulder7 = twin("_shoulder7")
 
 #: Branches per joint-7 value: 2 elbows x 2 wrists x 2 shoulders.
 BRANCHES = 8

@@ -1,6 +1,6 @@
-"""The compiled twins of the 6R closed forms: loading, their parameter blocks, solve and verify.
+"""The compiled twins of the 6R closed forms: their parameter blocks, solve and verify.
 
-``kin/ik/analytic/six_r/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
+``kin/_native/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
 when a C compiler is there) repeat :meth:`URWrist6R.solve <.ur_wrist.URWrist6R.solve>` and
 :meth:`SphericalWrist6R.solve <.spherical_wrist.SphericalWrist6R.solve>` operation for operation;
 the Python modules are the reference and the fallback. Each twin also has ``verify``: the 8
@@ -17,7 +17,6 @@ the tolerances as a second one (``CHECK_LAYOUT``, :func:`check_params`).
 from __future__ import annotations
 
 import functools
-import importlib
 import time
 from collections.abc import Callable, Sequence
 from types import ModuleType
@@ -33,14 +32,6 @@ from ._six_r import target_arrays
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
 MISSING, VALID, OUTSIDE_LIMITS, OFF_TARGET = 0, 1, 2, 3
-
-
-def load_twin(name: str) -> ModuleType | None:
-    """The compiled twin ``kin.ik.analytic.<name>``, or None when it is not built."""
-    try:
-        return importlib.import_module(f"{__package__}.{name}")
-    except ImportError:
-        return None
 
 
 def frame_fields(T_base: np.ndarray, T_tool: np.ndarray) -> dict[str, tuple[float, ...]]:

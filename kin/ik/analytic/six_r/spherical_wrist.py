@@ -35,6 +35,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dh2urdf import DHTable
+from kin._native import twin
 
 from ...exceptions import TargetError
 from ...target import PoseTarget
@@ -50,7 +51,7 @@ from ._six_r import (
     wrap,
     wrap_array,
 )
-from .six_r_twin import CompiledSixR, load_twin, twin_solve
+from .six_r_twin import CompiledSixR, twin_solve
 
 
 def _labels() -> tuple[str, ...]:
@@ -88,8 +89,8 @@ class SphericalWrist6R(CompiledSixR):
     dof: ClassVar[int] = 6
     target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     branch_labels: ClassVar[tuple[str, ...]] = _labels()
-    #: The compiled twin (``kin/ik/analytic/six_r/_spherical_wrist.c``), or None when it is not built.
-    compiled_twin: ClassVar[ModuleType | None] = load_twin("_spherical_wrist")
+    #: The compiled twin (``kin/_native/_spherical_wrist.c``), or None when it is not built.
+    compiled_twin: ClassVar[ModuleType | None] = twin("_spherical_wrist")
 
     robot: str
     a1: float

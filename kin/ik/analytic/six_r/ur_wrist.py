@@ -43,6 +43,7 @@ import numpy as np
 import numpy.typing as npt
 
 from dh2urdf import DHTable
+from kin._native import twin
 
 from ...exceptions import TargetError
 from ...target import PoseTarget
@@ -58,7 +59,7 @@ from ._six_r import (
     wrap,
     wrap_array,
 )
-from .six_r_twin import CompiledSixR, load_twin, twin_solve
+from .six_r_twin import CompiledSixR, twin_solve
 
 
 def _labels() -> tuple[str, ...]:
@@ -97,8 +98,8 @@ class URWrist6R(CompiledSixR):
     dof: ClassVar[int] = 6
     target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     branch_labels: ClassVar[tuple[str, ...]] = _labels()
-    #: The compiled twin (``kin/ik/analytic/six_r/_ur_wrist.c``), or None when it is not built.
-    compiled_twin: ClassVar[ModuleType | None] = load_twin("_ur_wrist")
+    #: The compiled twin (``kin/_native/_ur_wrist.c``), or None when it is not built.
+    compiled_twin: ClassVar[ModuleType | None] = twin("_ur_wrist")
 
     robot: str
     alpha1: float

@@ -2,7 +2,7 @@
  * The seeded solve of a 7R free-joint closed form in one call (kin/ik/numeric/free_joint.py's
  * stage 0 from the caller's seed, the numeric pipeline's usual answer): the world target brought
  * to the structure's frames, first() from the seed for each scan step in turn, each branch found
- * measured by the table's DH product (chain_step in ../_twin.h, an FK independent of the closed
+ * measured by the table's DH product (chain_step in _twin.h, an FK independent of the closed
  * form's algebra; tests compare it with Pinocchio's). Included by _closed7.c and _shoulder7.c
  * after their Params, first_start and
  *   static void prepare_seeded(const Seed *S, int mode, const double *p, const double *r,
@@ -19,7 +19,7 @@
  *   solution, result: the classes IKSolution and IKResult; name, message, method: the answer's
  *               solver, message and method (strings); clock: time.perf_counter;
  *   target:     its position [m] and R_world_tool in the world (or None: a position, mode 1),
- *               read by target_values (../_twin.h);
+ *               read by target_values (_twin.h);
  *   seed:       float64[7] [rad];
  *   start:      clock() at the call's start [s];
  *   out:        float64[7] receives the answer [rad] (the solution's q).
@@ -33,7 +33,7 @@
 #ifndef KIN_IK_ANALYTIC_SEVEN_R_SEEDED7_H
 #define KIN_IK_ANALYTIC_SEVEN_R_SEEDED7_H
 
-#include "../_results.h"
+#include "_results.h"
 
 /* X(field, size, description) */
 #define SEED_PARAMS(X)                                                                  \
@@ -279,13 +279,13 @@ static PyObject *seeded_many(PyObject *self, PyObject *args)
 #define SEEDED_MANY_DOC                                                                        \
     "seeded_many(params, seed_block, limits, mode, tolerances, targets, starts, out, steps) -> " \
     "how many of the N world targets got a verified branch (q and its errors in out's rows). " \
-    "See kin/ik/analytic/seven_r/_seeded7.h."
+    "See kin/_native/_seeded7.h."
 
 /* The docstring of seeded in the method tables. */
 #define SEEDED_DOC                                                                           \
     "seeded(params, seed_block, steps, solution, result, name, message, method, clock, "     \
     "target, seed, position_tol, rotation_tol, start, out) -> the IKResult of "              \
     "the answer from the seed, False (none within the tolerances), or None (a target or seed " \
-    "the call does not take). See kin/ik/analytic/seven_r/_seeded7.h."
+    "the call does not take). See kin/_native/_seeded7.h."
 
 #endif

@@ -34,7 +34,7 @@
 #ifndef KIN_IK_ANALYTIC_SIX_R_TWIN_H
 #define KIN_IK_ANALYTIC_SIX_R_TWIN_H
 
-#include "../_twin.h"
+#include "_twin.h"
 
 #define BRANCHES 8
 #define JOINTS 6

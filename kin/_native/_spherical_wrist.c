@@ -1,5 +1,5 @@
 /*
- * Compiled twin of kin/ik/analytic/spherical_wrist.py (SphericalWrist6R.solve: the 8 branches of
+ * Compiled twin of kin/ik/analytic/six_r/spherical_wrist.py (SphericalWrist6R.solve: the 8 branches of
  * a 6R arm with a spherical wrist and parallel axes 2-3): the same arithmetic, operation for
  * operation, for speed; with verify (each branch moved into the limits and measured by the
  * table's DH product, _six_r_twin.h). The Python module is the reference and the fallback when

@@ -1,5 +1,5 @@
 /*
- * Compiled twin of kin/ik/analytic/ur_wrist.py (URWrist6R.solve: the 8 branches of a 6R arm of
+ * Compiled twin of kin/ik/analytic/six_r/ur_wrist.py (URWrist6R.solve: the 8 branches of a 6R arm of
  * the UR family): the same arithmetic, operation for operation, for speed; with verify (each
  * branch moved into the limits and measured by the table's DH product, _six_r_twin.h). The Python
  * module is the reference and the fallback when this extension is not built;

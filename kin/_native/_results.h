@@ -1,7 +1,7 @@
 /*
  * The IK results made in C (kin/ik/result.py's IKSolution and IKResult, as their __init__ makes
  * them) by the compiled twins that answer a whole call: the 6R closed forms' solutions()
- * (six_r/_six_r_module.h) and the 7R free-joint forms' seeded() (seven_r/_seeded7.h). A module
+ * (_six_r_module.h) and the 7R free-joint forms' seeded() (_seeded7.h). A module
  * calls results_init() when it is imported.
  */
 #ifndef KIN_IK_ANALYTIC_RESULTS_H

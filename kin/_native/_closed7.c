@@ -1,8 +1,8 @@
 /*
- * Compiled twin of kin/ik/analytic/seven_dof.py (SevenDofIK.pose / SevenDofIK.position and the choice of the
+ * Compiled twin of kin/ik/analytic/seven_r/seven_dof.py (SevenDofIK.pose / SevenDofIK.position and the choice of the
  * branch nearest a start): the same arithmetic, operation for operation, for speed, except that
  * the angle pairs a limit check drops are dropped before their second angle is computed
- * (rotation_pair_fit in ../_twin.h), and a scan skips the joint-1 values where the elbow has no
+ * (rotation_pair_fit in _twin.h), and a scan skips the joint-1 values where the elbow has no
  * root (elbow_window) or where no branch, followed as directions, fits the limits (q1_may_fit):
  * skips that never drop a branch the Python module keeps. The Python module is the reference
  * and the fallback when this extension is not built; the tests compare the two. Angles in
@@ -21,7 +21,7 @@
  *   Returns the index of the first start with a branch inside the limits (the branch nearest the
  *   start, at the joint-1 value nearest the start's, is written to out), or -1.
  */
-#include "../_twin.h"
+#include "_twin.h"
 
 /*
  * The parameter layout, declared here once. SevenDofIK.c_params reads the order, offsets and
@@ -67,7 +67,7 @@ static int inside(const Params *P, int i, double q)
  * arcs, and says 0 only when every branch has a joint outside its arc, widened by a slack.
  * Where a direction could not be trusted to well within that slack (the roots of an equation
  * near each other, an equation too weak, a vector too short to normalise: the guards in
- * ../_twin.h), it says 1: the exact path decides. Worst cases under these guards: joints 3 and 4
+ * _twin.h), it says 1: the exact path decides. Worst cases under these guards: joints 3 and 4
  * off by 5e-10 rad, joint 2 by 2e-8, joints 5-7 by 3e-5 / rho6 rad (rho6 = |sin alpha5| |g_xy|,
  * 1 for humanoid7; the wrist is not tested below CHAIN_RHO_MIN); errors of 1e-12 are usual.
  * Hence ARC_SLACK and CHAIN_SLACK. A branch arm() and pose() would keep is never skipped; the
@@ -446,7 +446,7 @@ static PyObject *first_many(PyObject *self, PyObject *args)
 static PyMethodDef methods[] = {
     {"first", first, METH_VARARGS,
      "first(params, mode, target, starts, out, step) -> index of the first start with a branch inside "
-     "the limits (written to out), or -1. See kin/ik/analytic/seven_dof.py."},
+     "the limits (written to out), or -1. See kin/ik/analytic/seven_r/seven_dof.py."},
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},

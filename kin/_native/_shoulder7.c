@@ -1,8 +1,8 @@
 /*
- * Compiled twin of kin/ik/analytic/spherical_shoulder7.py (SphericalShoulder7RIK.first with its
+ * Compiled twin of kin/ik/analytic/seven_r/spherical_shoulder7.py (SphericalShoulder7RIK.first with its
  * branches, the joint-7 scan and the branch nearest a start): the same arithmetic, operation for
  * operation, for speed, except that the angle pairs a limit check drops are dropped before their
- * second angle is computed (rotation_pair_fit in ../_twin.h). The Python module is the reference
+ * second angle is computed (rotation_pair_fit in _twin.h). The Python module is the reference
  * and the fallback when this extension is not built; tests/test_shoulder7_parity.py compares the
  * two. Angles in radians, lengths in meters.
  *
@@ -22,9 +22,9 @@
  * first_many(params, targets, starts, out, steps) -> int: first() of N targets at once, each from
  *   its own start (targets float64[N, 12], starts float64[N, 7]), trying the scan steps
  *   (float64[m]) in turn until one gives a branch; out float64[N, 7] receives the rows found
- *   (others untouched). Returns how many were found (first_many_call in ../_twin.h).
+ *   (others untouched). Returns how many were found (first_many_call in _twin.h).
  */
-#include "../_twin.h"
+#include "_twin.h"
 
 /*
  * The parameter layout, declared here once. SphericalShoulder7RIK.c_params reads the order,
@@ -95,7 +95,7 @@ static void back(const double *k6, const double *turn, double x, double y, doubl
  * A test before branches()'s angles (not in the Python module: the same answers). Most joint-7
  * values a scan visits inside joint 4's reach give no branch: a joint lands outside its limits.
  * branches_may_fit() follows the branches as directions (cos, sin: square roots and products
- * instead of atan2, acos, sin and cos; the helpers in ../_twin.h) and the joint ranges as arcs,
+ * instead of atan2, acos, sin and cos; the helpers in _twin.h) and the joint ranges as arcs,
  * and says 0 only when every branch has a joint outside its arc, widened by a slack; where a
  * direction could not be trusted to well within it (the guards), it says 1 and the exact path
  * decides. Worst cases under the guards: joints 4 and 6 off by 5e-10 rad, joint 5 by 2e-8,
@@ -361,7 +361,7 @@ static PyObject *first_many(PyObject *self, PyObject *args)
 static PyMethodDef methods[] = {
     {"first", first, METH_VARARGS,
      "first(params, target, starts, out, step) -> index of the first start with a branch inside "
-     "the limits (written to out), or -1. See kin/ik/analytic/spherical_shoulder7.py."},
+     "the limits (written to out), or -1. See kin/ik/analytic/seven_r/spherical_shoulder7.py."},
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},

@@ -7,7 +7,7 @@
 
 #include "_six_r_twin.h"
 
-#include "../_results.h"
+#include "_results.h"
 
 /* p_0_6, R_0_6 of a world target, then its branches. */
 static inline void solve_world(const Params *P, const double *pw, const double *rw, double free,
@@ -100,7 +100,7 @@ static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *method_clo
 /*
  * solutions(params, check, directions, solution, labels, result, name, messages, clock, target,
  * seed, start): verify()'s work on the target's position and rotation (target_values in
- * ../_twin.h: a PoseTarget's packed values, or its arrays), then the answer as ClosedFormSolver returns it. When
+ * _twin.h: a PoseTarget's packed values, or its arrays), then the answer as ClosedFormSolver returns it. When
  * a branch is valid and none is off target, the IKResult itself (class result: success, solver
  * name, status "ok", message messages[n - 1] for n valid, the two tuples below, no distance, 0
  * iterations, time clock() - start [s], method "closed_form", nothing free); else
@@ -241,13 +241,13 @@ static PyMethodDef methods[] = {
     {"solutions", (PyCFunction)(void (*)(void))solutions, METH_FASTCALL,
      "solutions(params, check, directions, solution, labels, result, name, messages, clock, "
      "target, seed, start) -> the IKResult, or (valid, rejected, off), or -1 (a target value not finite), 0 (no branch), -2 (a seed that "
-     "is not 6 finite float64). See kin/ik/analytic/six_r/_six_r_module.h."},
+     "is not 6 finite float64). See kin/_native/_six_r_module.h."},
     {"solve", solve, METH_VARARGS,
      "solve(params, positions, rotations, free, out): the 8 branches of N targets into out "
-     "(N x 8 x 6). See kin/ik/analytic/_six_r_twin.h."},
+     "(N x 8 x 6). See kin/_native/_six_r_twin.h."},
     {"verify", verify, METH_VARARGS,
      "verify(params, check, position, rotation, seed, free, q, info) -> branches found, or -1 "
-     "for a target that is not finite. See kin/ik/analytic/_six_r_twin.h."},
+     "for a target that is not finite. See kin/_native/_six_r_twin.h."},
     {NULL, NULL, 0, NULL}};
 
 /* The module: LAYOUT, PARAM_COUNT (the twin's), CHECK_LAYOUT, CHECK_COUNT. */

@@ -122,8 +122,8 @@ static inline int rotation_pair_fit(double sa, double ca, const double *v, const
 
 /*
  * Branches followed as directions (cos, sin) instead of angles: the scans' tests of whether a
- * free-joint value may have a branch inside the limits (q1_may_fit in seven_r/_closed7.c,
- * branches_may_fit in seven_r/_shoulder7.c). A test says "no" only beyond a slack that covers,
+ * free-joint value may have a branch inside the limits (q1_may_fit in _closed7.c,
+ * branches_may_fit in _shoulder7.c). A test says "no" only beyond a slack that covers,
  * with a margin, the worst difference between a direction and the angle the exact path
  * computes, under these guards (an equation too weak, roots too near each other, a vector too
  * short to normalise: then the test says "maybe").

@@ -1,6 +1,6 @@
 /*
  * The shortest decimal text of a float64 that reads back as the same float64, for the JSON
- * lines kin/commands/_plain_lines.c writes (about 20 times faster than float.__repr__ here).
+ * lines _plain_lines.c writes (about 20 times faster than float.__repr__ here).
  *
  * Grisu2 (F. Loitsch, "Printing floating-point numbers quickly and accurately with integers",
  * PLDI 2010): the value and the two bounds of its rounding interval scaled by a cached power of
