@@ -2,14 +2,22 @@
 
 One checker serves many threads: each thread gets its own Pinocchio data and geometry data on
 first use (as the IK solvers keep theirs). Points are in the world frame (the arm's base) [m].
+
+``in_collision`` is the hot call (IK branches, path samples, reach voxels): it uses geometry data
+that asks coal for the verdict only (no contact points), the same query as a bare
+``pin.computeCollisions``, and checks a float64 vector of the right size with a few attribute
+tests and one sum (a non-finite sum sends ``q`` to :func:`kin.configuration.as_joint_vector`,
+which names the bad value). ``collisions`` and ``distance`` use a second geometry data that
+computes contacts.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import threading
 from dataclasses import dataclass
+from functools import partial
+from math import isfinite
 
 import numpy as np
 import numpy.typing as npt
@@ -73,37 +81,34 @@ class CollisionChecker:
         self._robot = model.robot
         self._pin_model = model.robot.model
         self._geometry = model.geometry_model
-        self._shape = (model.robot.nq,)
-        self._local = threading.local()
+        self._nq = model.robot.nq
+        self._local = _PerThread(self)
         self._pool: pin.GeometryPool | None = None
         self._pool_lock = threading.Lock()
 
-    def _data(self) -> tuple[pin.Data, pin.GeometryData]:
-        local = self._local
-        try:
-            return local.data, local.geometry_data
-        except AttributeError:
-            local.data = self._pin_model.createData()
-            local.geometry_data = self._new_geometry_data()
-            return local.data, local.geometry_data
-
-    def _new_geometry_data(self) -> pin.GeometryData:
+    def _new_geometry_data(self, contact: bool) -> pin.GeometryData:
+        """Geometry data with the model's padding; ``contact``: coal computes contact points."""
         geometry_data = pin.GeometryData(self._geometry)
-        self._prepare(geometry_data)
+        self._prepare(geometry_data, contact)
         return geometry_data
 
-    def _prepare(self, geometry_data: pin.GeometryData) -> None:
+    def _prepare(self, geometry_data: pin.GeometryData, contact: bool) -> None:
         padding = self.model.padding
         for request in geometry_data.collisionRequests:
             request.security_margin = padding
-            request.enable_contact = True
+            request.enable_contact = contact
 
     def _q(self, q: npt.ArrayLike) -> np.ndarray:
-        if q.__class__ is not np.ndarray or q.dtype is not _FLOAT64 or q.shape != self._shape:  # type: ignore[union-attr]
-            return as_joint_vector(self._robot, q)
-        if not math.isfinite(q.dot(q)):  # type: ignore[union-attr]
-            as_joint_vector(self._robot, q)  # raises the detailed error
-        return q  # type: ignore[return-value]
+        """``q`` itself when it is a finite float64 vector of size nq, else the checked copy."""
+        if (
+            q.__class__ is np.ndarray
+            and q.dtype is _FLOAT64  # type: ignore[union-attr]
+            and q.ndim == 1  # type: ignore[union-attr]
+            and len(q) == self._nq  # type: ignore[arg-type]
+            and isfinite(sum(q.tolist()))  # type: ignore[union-attr]
+        ):
+            return q  # type: ignore[return-value]
+        return as_joint_vector(self._robot, q)  # converts, or raises the detailed error
 
     def in_collision(self, q: npt.ArrayLike) -> bool:
         """Whether any checked pair is in contact at ``q`` [rad, m] (stops at the first).
@@ -111,12 +116,16 @@ class CollisionChecker:
         Raises:
             kin.JointVectorError: Wrong size or non-finite values.
         """
-        data, geometry_data = self._data()
-        return bool(
-            pin.computeCollisions(
-                self._pin_model, data, self._geometry, geometry_data, self._q(q), True
-            )
-        )
+        # _q inlined: a method call is a fifth of what this wrapper may add to Pinocchio's call
+        if not (
+            q.__class__ is np.ndarray
+            and q.dtype is _FLOAT64  # type: ignore[union-attr]
+            and q.ndim == 1  # type: ignore[union-attr]
+            and len(q) == self._nq  # type: ignore[arg-type]
+            and isfinite(sum(q.tolist()))  # type: ignore[union-attr]
+        ):
+            q = as_joint_vector(self._robot, q)  # converts, or raises the detailed error
+        return self._local.check(q, True)  # type: ignore[no-any-return]
 
     def collisions(self, q: npt.ArrayLike) -> tuple[Contact, ...]:
         """The pairs in contact at ``q`` [rad, m], the deepest contact of each, deepest first.
@@ -124,7 +133,8 @@ class CollisionChecker:
         Raises:
             kin.JointVectorError: Wrong size or non-finite values.
         """
-        data, geometry_data = self._data()
+        local = self._local
+        data, geometry_data = local.data, local.contact
         pin.computeCollisions(
             self._pin_model, data, self._geometry, geometry_data, self._q(q), False
         )
@@ -157,7 +167,8 @@ class CollisionChecker:
         """
         if not self.model.pair_owners:
             raise ValueError("the collision model checks no pair: no distance to give")
-        data, geometry_data = self._data()
+        local = self._local
+        data, geometry_data = local.data, local.contact
         index = pin.computeDistances(
             self._pin_model, data, self._geometry, geometry_data, self._q(q)
         )
@@ -204,7 +215,7 @@ class CollisionChecker:
             if self._pool is None or self._pool.size() < count:
                 pool = pin.GeometryPool(self._pin_model, self._geometry, count)
                 for geometry_data in pool.getGeometryDatas():
-                    self._prepare(geometry_data)
+                    self._prepare(geometry_data, contact=False)
                 self._pool = pool
             result = pin.computeCollisionsInParallel(
                 count, self._pool, np.asfortranarray(values.T), True
@@ -222,6 +233,19 @@ class CollisionChecker:
         """
         values = self._batch(qs)
         return np.array([self.distance(q).distance for q in values], dtype=float)
+
+
+class _PerThread(threading.local):
+    """One thread's Pinocchio data and geometry data (verdict only, and with contacts)."""
+
+    def __init__(self, checker: CollisionChecker):
+        self.data = checker._pin_model.createData()
+        self.verdict = checker._new_geometry_data(contact=False)
+        self.contact = checker._new_geometry_data(contact=True)
+        #: ``check(q, stop_at_first)``: Pinocchio's computeCollisions with the verdict-only data
+        self.check = partial(
+            pin.computeCollisions, checker._pin_model, self.data, checker._geometry, self.verdict
+        )
 
 
 def _cores() -> int:
