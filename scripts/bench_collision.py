@@ -6,9 +6,14 @@ configurations within the limits:
 
 * ``check``: ``CollisionChecker.in_collision(q)`` (self and scene), median of single calls;
 * ``pin``: ``pin.computeCollisions`` on the same GeometryModel (FK, placements, every active
-  pair, stop at the first contact), median of single calls, alternated with ``check``;
+  pair, stop at the first contact), median of single calls, alternated with ``check``: each goes
+  first at every other configuration (the first call after MuJoCo's finds the shared meshes out
+  of cache; always calling ``check`` first made it 1.4-1.8x ``pin`` and ``pin`` first 1.4x
+  ``check``);
 * ``batch``: ``in_collision_batch`` over ``--batch`` configurations, per configuration, against
-  a Python loop of ``in_collision`` over the same ones;
+  a Python loop of ``in_collision`` over the same ones, in four alternating rounds of a quarter
+  each (on a shared machine one long run of each measures the neighbours' load as much as the
+  code);
 * ``mujoco``: ``mj_kinematics`` + ``mj_collision`` on the maker's URDF (meshes: MuJoCo's convex
   hulls, the same as the checker's) with the cell's geoms added, the checker's disabled pairs
   excluded; MuJoCo finds every contact (no early stop).
@@ -79,12 +84,34 @@ def _alternate(functions: list[Callable[[np.ndarray], object]], qs: np.ndarray) 
     for q in qs[:5]:
         for function in functions:
             function(q)
-    for q in qs:
-        for function, bucket in zip(functions, times, strict=True):
+    pair = [(functions[0], times[0]), (functions[1], times[1])]
+    rest = list(zip(functions[2:], times[2:], strict=True))
+    for i, q in enumerate(qs):
+        # the first two swap places at every configuration; the others come after them
+        for function, bucket in (pair if i % 2 else pair[::-1]) + rest:
             start = clock()
             function(q)
             bucket.append(clock() - start)
     return [statistics.median(bucket) * 1e6 for bucket in times]
+
+
+def _loop_and_batch(checker, qs: np.ndarray, rounds: int = 4) -> tuple[float, float, bool]:
+    """Time [us/configuration] of a loop of ``in_collision`` and of ``in_collision_batch``.
+
+    Alternating rounds over quarters of ``qs``; the third value: the verdicts agree.
+    """
+    clock = time.perf_counter
+    t_loop = t_batch = 0.0
+    agree = True
+    for chunk in np.array_split(qs, rounds):
+        start = clock()
+        looped = [checker.in_collision(q) for q in chunk]
+        t_loop += clock() - start
+        start = clock()
+        batched = checker.in_collision_batch(chunk)
+        t_batch += clock() - start
+        agree &= list(map(bool, batched)) == list(map(bool, looped))
+    return t_loop / len(qs) * 1e6, t_batch / len(qs) * 1e6, agree
 
 
 def _mujoco_collide(robot, model) -> Callable[[np.ndarray], object] | None:
@@ -187,14 +214,9 @@ def bench_row(name: str, configurations: int, batch: int) -> tuple[float, float]
     timings = _alternate(functions, single)
     t_check, t_pin = timings[0], timings[1]
     t_mujoco = timings[2] if collide is not None else float("nan")
-    loop_start = time.perf_counter()
-    looped = [checker.in_collision(q) for q in qs[:batch]]
-    t_loop = (time.perf_counter() - loop_start) / batch * 1e6
-    batch_start = time.perf_counter()
-    batched = checker.in_collision_batch(qs[:batch])
-    t_batch = (time.perf_counter() - batch_start) / batch * 1e6
-    assert list(map(bool, batched)) == list(map(bool, looped)), name
-    colliding = float(np.mean(looped))
+    t_loop, t_batch, same = _loop_and_batch(checker, qs[:batch])
+    assert same, name
+    colliding = float(np.mean(checker.in_collision_batch(qs[:batch])))
     print(
         f"{name:<11} {len(model.pairs):>5} {colliding:>9.0%} {t_check:>10.1f} {t_pin:>9.1f} "
         f"{t_check / t_pin:>6.2f} {t_loop:>9.1f} {t_batch:>10.1f} {t_loop / t_batch:>6.2f} "
