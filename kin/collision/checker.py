@@ -83,7 +83,6 @@ class CollisionChecker:
         self._geometry = model.geometry_model
         self._nq = model.robot.nq
         self._local = _PerThread(self)
-        self._pool: pin.GeometryPool | None = None
         self._pool_lock = threading.Lock()
 
     def _new_geometry_data(self, contact: bool) -> pin.GeometryData:
@@ -211,15 +210,14 @@ class CollisionChecker:
         if len(values) == 0:
             return np.zeros(0, dtype=bool)
         count = threads or _cores()
+        # A fresh pool each call (about 1 ms): a pool reused after other batches was seen to call
+        # a colliding configuration free (Panda, convex hulls: its verdict depended on what the
+        # pool had computed before), which a fresh one never did.
+        pool = pin.GeometryPool(self._pin_model, self._geometry, count)
+        for geometry_data in pool.getGeometryDatas():
+            self._prepare(geometry_data, contact=False)
         with self._pool_lock:
-            if self._pool is None or self._pool.size() < count:
-                pool = pin.GeometryPool(self._pin_model, self._geometry, count)
-                for geometry_data in pool.getGeometryDatas():
-                    self._prepare(geometry_data, contact=False)
-                self._pool = pool
-            result = pin.computeCollisionsInParallel(
-                count, self._pool, np.asfortranarray(values.T), True
-            )
+            result = pin.computeCollisionsInParallel(count, pool, np.asfortranarray(values.T), True)
         return np.asarray(result, dtype=bool).reshape(len(values))
 
     def distances_batch(self, qs: npt.ArrayLike) -> np.ndarray:
