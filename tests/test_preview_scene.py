@@ -85,3 +85,147 @@ def test_panda_camera_aims_at_the_box_of_its_meshes():
         diagonal,
     )
     assert low[0] < -0.15  # the base mesh reaches 0.15 m behind the base, no frame does
+
+
+# --- the scene, the links in collision and the closest pair (issue 36 item 5) ---------------
+
+CELL = Path(__file__).resolve().parent.parent / "examples" / "cell.toml"
+#: UR5 [rad]: the forearm (link3) through the wall; and a free posture.
+UR5_IN_WALL = [-2.356, -0.6, 0.3, 0.0, 0.0, 0.0]
+UR5_FREE = [0.0, -1.2, 0.5, 0.0, 0.0, 0.0]
+
+
+def _rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """URDF roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll), written out apart from the code."""
+    cr, sr, cp, sp, cy, sy = (f(a) for a in (roll, pitch, yaw) for f in (np.cos, np.sin))
+    rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
+    rz = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def _shown(robot_name: str, q: list[float], *extra: str):
+    """A recorded viewer of the arm at ``q`` after the command's collision step, and its title."""
+    from kin.commands import preview
+
+    viewer = viewer_module.RobotViewer(load_robot(robot_name))
+    viewer.display(q)
+    args = preview.get_argument_parser().parse_args(["--robot", robot_name, *extra])
+    return viewer, preview._show_collisions(viewer, args)
+
+
+def _node(viewer, *path: str) -> tuple[dict, np.ndarray | None]:
+    """The recorded object (unpacked) and transform (4, 4) of a meshcat node."""
+    import umsgpack
+    from meshcat.servers.tree import find_node
+
+    node = find_node(viewer.viewer.window.tree, ["meshcat", *path])
+    assert node.object is not None, path
+    matrix = None
+    if node.transform is not None:
+        flat = umsgpack.unpackb(node.transform)["matrix"]
+        matrix = np.array(flat, dtype=float).reshape(4, 4).T  # three.js: column-major
+    return umsgpack.unpackb(node.object)["object"], matrix
+
+
+def test_scene_objects_are_drawn_with_the_sizes_and_placements_of_the_file():
+    """Every object of cell.toml (read here with tomllib) is drawn grey at its size and pose."""
+    import tomllib
+
+    viewer, _ = _shown("ur5", UR5_FREE, "--scene", str(CELL))
+    document = tomllib.loads(CELL.read_text(encoding="utf-8"))
+    count = 0
+    for kind, entries in document.items():
+        for entry in entries:
+            drawn, T = _node(viewer, "scene", "cell", entry["name"])
+            geometry = drawn["geometries"][0]
+            if kind == "box":
+                assert geometry["type"] == "BoxGeometry"
+                size = [geometry["width"], geometry["height"], geometry["depth"]]
+                np.testing.assert_allclose(size, entry["size"], atol=1e-12)
+            else:
+                assert kind == "sphere" and geometry["type"] == "SphereGeometry"
+                assert abs(geometry["radius"] - entry["radius"]) < 1e-12
+            np.testing.assert_allclose(T[:3, 3], entry["xyz"], atol=1e-12)
+            rpy = entry.get("rpy", [0.0, 0.0, 0.0])
+            np.testing.assert_allclose(T[:3, :3], _rpy_matrix(*rpy), atol=1e-12)
+            material = drawn["materials"][0]
+            red, green, blue = (
+                material["color"] >> 16,
+                material["color"] >> 8 & 255,
+                material["color"] & 255,
+            )
+            assert red == green == blue, f"{entry['name']}: not grey"
+            count += 1
+    assert count == 3
+
+
+@pytest.mark.parametrize("q", [UR5_IN_WALL, UR5_FREE])
+def test_red_links_are_exactly_the_colliding_ones(q):
+    """The red material is on every visual of the links collisions(q) names, and on no other."""
+    from kin.collision import CollisionChecker, load_collision_model
+
+    robot = load_robot("ur5")
+    checker = CollisionChecker(load_collision_model(robot, scene=str(CELL)))
+    named = {n for c in checker.collisions(q) for n in (c.a, c.b)} - {"table", "wall", "ball"}
+    viewer, title = _shown("ur5", q, "--scene", str(CELL))
+    model = viewer.robot.model
+    red_links = set()
+    for node, obj in zip(viewer.geometry_nodes, viewer.visual_model.geometryObjects):
+        drawn, _ = _node(viewer, *node.split("/"))
+        if drawn["materials"][0]["color"] == 0xFF0000:
+            red_links.add(model.frames[obj.parentFrame].name)
+    assert red_links == named, (red_links, named)
+    assert (q == UR5_IN_WALL) == bool(named) == ("IN COLLISION" in title)
+
+
+def test_the_closest_pair_line_joins_the_witness_points():
+    """The line's two end points are distance(q)'s points; the title names the pair."""
+    from kin.collision import CollisionChecker, load_collision_model
+
+    robot = load_robot("ur5")
+    closest = CollisionChecker(load_collision_model(robot, scene=str(CELL))).distance(UR5_FREE)
+    viewer, title = _shown("ur5", UR5_FREE, "--scene", str(CELL))
+    drawn, _ = _node(viewer, "scene", "markers", "closest", "line")
+    raw = drawn["geometries"][0]["data"]["attributes"]["position"]["array"]
+    ends = np.frombuffer(raw.data, dtype=np.float32).reshape(-1, 3)
+    np.testing.assert_allclose(ends[0], closest.point_a, atol=1e-6)
+    np.testing.assert_allclose(ends[1], closest.point_b, atol=1e-6)
+    assert f"closest: {closest.a} / {closest.b} {closest.distance:.4f} m" in title
+
+
+def test_the_camera_frames_the_scene(tmp_path):
+    """With --scene the camera aims at the box around the arm and the 1.6 m table (not the arm)."""
+    viewer, _ = _shown("ur5", UR5_FREE, "--scene", str(CELL))
+    aimed = []
+    viewer.set_camera = lambda t, p: aimed.append((np.array(t), np.array(p)))  # type: ignore[method-assign]
+    viewer.fit_camera()
+    target, position = aimed[0]
+    # the table spans x, y in [-0.8, 0.8]: a camera on the arm alone stands < 1.2 m away
+    assert np.linalg.norm(position - target) > 0.6 * np.hypot(1.6, 1.6), (target, position)
+    assert abs(target[0]) < 0.4 and abs(target[1]) < 0.4, target
+
+
+def test_preview_scene_command_writes_the_page_with_its_verdict(tmp_path, capsys):
+    """kin preview --scene: exit 0, the verdict on stdout and in the page's title."""
+    from kin.commands import preview
+
+    page = tmp_path / "cell.html"
+    argv = ["--robot", "ur5", "--q", *map(str, UR5_IN_WALL), "--scene", str(CELL)]
+    assert preview.main([*argv, "--html", str(page)]) == 0
+    out = capsys.readouterr().out
+    assert "ur5: IN COLLISION (link3 / wall)" in out
+    assert "<title>ur5: IN COLLISION (link3 / wall); closest: link3 / wall" in page.read_text()
+
+
+def test_preview_bad_scene_is_one_line_exit_2(tmp_path, capsys):
+    """A scene with a negative size: exit 2, one line naming the file and field, no page."""
+    scene = tmp_path / "bad.toml"
+    scene.write_text("[[box]]\nsize = [1.0, -1.0, 1.0]\n")
+    page = tmp_path / "bad.html"
+    from kin.commands import preview
+
+    assert preview.main(["--robot", "ur5", "--scene", str(scene), "--html", str(page)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "bad.toml" in err[0] and "box[0].size[1]" in err[0], err
+    assert not page.exists()

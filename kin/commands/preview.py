@@ -8,6 +8,9 @@ controls replay it). --path FILE animates a joint path written by `kin path --js
 time when it was timed with --time) and draws the tool's trace; --workspace N draws the tool
 points of N joint vectors drawn uniformly within the limits (seeded), colored by height;
 --reach FILE.npz draws the voxels of a `kin reach` map, colored by index (viridis, as its PNG).
+--scene FILE (a TOML cell or a URDF) draws the cell's objects in grey; with it or --srdf, the links
+in collision at the shown configuration turn red and a line joins the closest pair's witness
+points (its distance in the page title and on stdout).
 
 Without --html: start meshcat's server, print the viewer URL and serve until Ctrl-C (exit 130).
 With --html FILE: write one self-contained page (three.js inlined; no server, no network
@@ -40,6 +43,7 @@ if TYPE_CHECKING:
 
     from ..ik.target import Target
     from ..robot_model import RobotModel
+    from ..viewer import RobotViewer
     from .joint_units import JointUnits
 
 PROG = "kin preview"
@@ -90,6 +94,14 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         help=f"draw the tool points of N random joint vectors (default N {WORKSPACE_POINTS:,})",
     )
     add("--reach", metavar="FILE.npz", help="draw the voxels of a kin reach map by index")
+    add("--scene", metavar="FILE", help="draw a cell (TOML of boxes... or URDF) and check it")
+    add("--srdf", metavar="FILE", help="a MoveIt SRDF: its disable_collisions pairs are allowed")
+    add(
+        "--padding",
+        type=finite_float,
+        default=0.0,
+        help="margin around every shape [--unit] (default 0): closer counts as a collision",
+    )
     add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
     add(
         "--duration", type=positive_float, default=2.0, help="--ik animation length [s] (default 2)"
@@ -185,9 +197,12 @@ def _run(args: argparse.Namespace, prog: str) -> int:
             extra.extend(cloud[:: max(1, len(cloud) // 2000)])
         if args.reach is not None:
             extra.extend(_reach_voxels(viewer, robot.name, args.reach))
+        title = None
+        if args.scene is not None or args.srdf is not None:
+            title = _show_collisions(viewer, args)
         viewer.fit_camera(np.array(extra).reshape(-1, 3) if extra else None, in_view)
         if args.html is not None:
-            written = write_page(args.html, viewer.static_html())
+            written = write_page(args.html, viewer.static_html(title))
             print(f"{robot.name}: preview written to {written}")
             return EXIT_NO_SOLUTION if args.ik and q_goal is None else 0
         print(viewer.url, flush=True)
@@ -231,6 +246,35 @@ def _solve(
 
 
 TRACE_RGB = (0.95, 0.55, 0.1)
+
+
+def _show_collisions(viewer: RobotViewer, args: argparse.Namespace) -> str:
+    """Draw the scene, the links in collision at the shown q (red) and the closest pair.
+
+    Prints the verdict and the closest pair; returns the page title that names them.
+    """
+    from ..collision import CollisionChecker, load_collision_model
+    from ..viewer.collision_view import show_closest, show_colliding_links, show_scene
+
+    robot = viewer.robot
+    scale = length_scale(args.unit)
+    model = load_collision_model(
+        robot, srdf=args.srdf, scene=args.scene, padding=args.padding * scale
+    )
+    show_scene(viewer, model)
+    checker = CollisionChecker(model)
+    contacts = checker.collisions(viewer.q)
+    links = sorted({name for c in contacts for name in (c.a, c.b)} & set(model.links))
+    show_colliding_links(viewer, links)
+    pairs = ", ".join(f"{c.a} / {c.b}" for c in contacts)
+    verdict = f"IN COLLISION ({pairs})" if contacts else "collision-free"
+    print(f"{robot.name}: {verdict}")
+    title = f"{robot.name}: {verdict}"
+    if model.pairs:
+        label = show_closest(viewer, checker.distance(viewer.q), args.unit, scale)
+        print(label)
+        title = f"{title}; {label}"
+    return title
 
 
 def _path_frames(

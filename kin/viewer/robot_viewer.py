@@ -287,9 +287,18 @@ class RobotViewer:
             corners.extend((T[:3, :3] @ box.T).T + T[:3, 3])
         return corners
 
-    def static_html(self) -> str:
-        """The scene as one self-contained HTML page (meshcat's export, three.js inlined)."""
-        return self.viewer.static_html()
+    def static_html(self, title: str | None = None) -> str:
+        """The scene as one self-contained HTML page (meshcat's export, three.js inlined).
+
+        Args:
+            title: The page's title (default meshcat's, "MeshCat").
+        """
+        page = self.viewer.static_html()
+        if title is None:
+            return page
+        import html
+
+        return page.replace("<title>MeshCat</title>", f"<title>{html.escape(title)}</title>", 1)
 
     def close(self) -> None:
         """Stop the meshcat server, if this viewer started one."""

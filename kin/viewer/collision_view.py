@@ -1,0 +1,166 @@
+"""Collision overlays of a :class:`~kin.viewer.RobotViewer`: the cell, red links, the closest pair.
+
+Scene objects (a collision model's, read by ``kin.collision.scene.read_scene``) go under ``scene/cell/<name>`` in a
+neutral grey, each node's transform its world placement; a mesh object is drawn as the convex hull
+the collision queries use. A colliding link's visual geometries are drawn again, in place, in
+:data:`COLLISION_RGB`. The closest pair is a line between its two witness points under
+``scene/markers/closest``. Lengths in meters, world frame (the arm's base).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
+import meshcat.geometry as mg
+import numpy as np
+import pinocchio as pin
+from pinocchio.visualize.meshcat_visualizer import loadPrimitive
+
+from .markers import draw_sphere, hex_color
+from .robot_viewer import RobotViewer, _local_box
+
+if TYPE_CHECKING:
+    from ..collision import Closest, CollisionModel
+
+__all__ = [
+    "CLOSEST_RGB",
+    "COLLISION_RGB",
+    "SCENE_OPACITY",
+    "SCENE_RGB",
+    "link_nodes",
+    "show_closest",
+    "show_colliding_links",
+    "show_scene",
+]
+
+#: Scene objects: a neutral grey (RGB in [0, 1]), see-through so a wall hides no link.
+SCENE_RGB = (0.62, 0.62, 0.62)
+SCENE_OPACITY = 0.35
+#: Links in collision: pure red (no green or blue in any shade of it).
+COLLISION_RGB = (1.0, 0.0, 0.0)
+#: The closest pair's line and end points (cyan: neither grey nor red).
+CLOSEST_RGB = (0.0, 0.8, 0.9)
+
+
+def show_scene(viewer: RobotViewer, model: CollisionModel) -> int:
+    """Draw a collision model's scene objects in grey; the camera then frames them too.
+
+    The shapes drawn are the ones checked (a mesh object as its convex hull), unpadded, each
+    under ``scene/cell/<shape>`` with its world placement as the node's transform.
+
+    Args:
+        viewer: The viewer.
+        model: The collision model (``kin.collision.load_collision_model(..., scene=...)``).
+
+    Returns:
+        The number of shapes drawn.
+    """
+    material = mg.MeshLambertMaterial(
+        color=hex_color(SCENE_RGB), opacity=SCENE_OPACITY, transparent=True
+    )
+    scene = set(model.scene_objects)
+    drawn = 0
+    for obj, owner in zip(model.geometry_model.geometryObjects, model.owners):
+        if owner not in scene:
+            continue
+        node = viewer.scene["cell"][_node_name(obj.name.removeprefix("scene/"))]
+        node.set_object(loadPrimitive(obj), material)
+        T = obj.placement.homogeneous
+        node.set_transform(T)
+        box = _local_box(obj)
+        if box is not None:
+            viewer._scene_corners.extend((T[:3, :3] @ box.T).T + T[:3, 3])
+        drawn += 1
+    return drawn
+
+
+def link_nodes(viewer: RobotViewer, link: str) -> tuple[str, ...]:
+    """Meshcat paths of the visual geometries the viewer draws for ``link``."""
+    model = viewer.meshes.model if viewer.meshes is not None else viewer.robot.model
+    return tuple(
+        node
+        for node, obj in zip(viewer.geometry_nodes, viewer.visual_model.geometryObjects)
+        if model.frames[obj.parentFrame].name == link
+    )
+
+
+def show_colliding_links(viewer: RobotViewer, links: Iterable[str]) -> tuple[str, ...]:
+    """Draw every visual geometry of ``links`` again, in place, in :data:`COLLISION_RGB`.
+
+    Args:
+        viewer: The viewer (its arm already displayed).
+        links: Link names (``Contact.a`` / ``Contact.b`` of the arm's links).
+
+    Returns:
+        The meshcat paths redrawn in red.
+    """
+    wanted = set(links)
+    model = viewer.meshes.model if viewer.meshes is not None else viewer.robot.model
+    material = mg.MeshLambertMaterial(color=hex_color(COLLISION_RGB))
+    redrawn = []
+    for node, obj in zip(viewer.geometry_nodes, viewer.visual_model.geometryObjects):
+        if model.frames[obj.parentFrame].name not in wanted:
+            continue
+        geometry = _drawable(obj)
+        if geometry is None:
+            continue
+        viewer.viewer[node].set_object(geometry, material)
+        redrawn.append(node)
+    viewer.display(viewer.q)  # a new object takes its node's transform again in a live viewer
+    return tuple(redrawn)
+
+
+def show_closest(viewer: RobotViewer, closest: Closest, unit: str = "m", scale: float = 1.0) -> str:
+    """Draw the closest pair: a line between its witness points and a dot on each.
+
+    Args:
+        viewer: The viewer.
+        closest: The closest pair (``CollisionChecker.distance``; points in the world [m]).
+        unit: Unit of the label's distance.
+        scale: Meters per ``unit``.
+
+    Returns:
+        The label, e.g. ``closest: link3 / table 0.0412 m``.
+    """
+    a = np.asarray(closest.point_a, dtype=float)
+    b = np.asarray(closest.point_b, dtype=float)
+    node = viewer.scene["markers"]["closest"]
+    node.delete()
+    color = hex_color(CLOSEST_RGB)
+    node["line"].set_object(
+        mg.Line(
+            mg.PointsGeometry(np.stack([a, b]).T.astype(np.float32)),
+            mg.LineBasicMaterial(color=color, linewidth=3),
+        )
+    )
+    radius = 0.012 * viewer.arm_length
+    for name, point in (("a", a), ("b", b)):
+        draw_sphere(node[name], radius, CLOSEST_RGB)
+        node[name].set_transform(_translation(point))
+    distance = float(closest.distance)
+    return f"closest: {closest.a} / {closest.b} {distance / scale:.4f} {unit}"
+
+
+def _drawable(obj: pin.GeometryObject) -> object | None:
+    """A meshcat geometry of a visual object in its own frame (node scale applied by meshcat)."""
+    import coal
+
+    if isinstance(obj.geometry, coal.ShapeBase):
+        return loadPrimitive(obj)
+    suffix = obj.meshPath.rsplit(".", 1)[-1].lower() if obj.meshPath else ""
+    loaders = {"stl": mg.StlMeshGeometry, "obj": mg.ObjMeshGeometry, "dae": mg.DaeMeshGeometry}
+    if suffix in loaders:
+        return loaders[suffix].from_file(obj.meshPath)
+    return None
+
+
+def _node_name(name: str) -> str:
+    """A meshcat path element: no slash."""
+    return name.replace("/", "_") or "object"
+
+
+def _translation(point: np.ndarray) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, 3] = point
+    return T
