@@ -166,6 +166,7 @@ def _run(args: argparse.Namespace, prog: str) -> int:
         q_start = animated[1][0]
 
     from ..viewer import RobotViewer, write_page  # meshcat: only now
+    from ..viewer.page_file import titled
 
     viewer = RobotViewer(robot, serve=args.html is None)
     try:
@@ -202,7 +203,8 @@ def _run(args: argparse.Namespace, prog: str) -> int:
             title = _show_collisions(viewer, args)
         viewer.fit_camera(np.array(extra).reshape(-1, 3) if extra else None, in_view)
         if args.html is not None:
-            written = write_page(args.html, viewer.static_html(title))
+            page = viewer.static_html()
+            written = write_page(args.html, page if title is None else titled(page, title))
             print(f"{robot.name}: preview written to {written}")
             return EXIT_NO_SOLUTION if args.ik and q_goal is None else 0
         print(viewer.url, flush=True)

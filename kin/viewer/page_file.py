@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .exceptions import PageWriteError
 
-__all__ = ["write_page"]
+__all__ = ["titled", "write_page"]
 
 
 def _refused(path: str, _option: str, reason: str) -> PageWriteError:
@@ -34,3 +34,10 @@ def write_page(path: str | os.PathLike[str], text: str) -> Path:
     from dh2urdf.output_file import write_text_atomic
 
     return write_text_atomic(path, text, _refused, PageWriteError)
+
+
+def titled(page: str, title: str) -> str:
+    """``page`` (meshcat's static HTML) with ``title`` (escaped) in place of "MeshCat"."""
+    import html
+
+    return page.replace("<title>MeshCat</title>", f"<title>{html.escape(title)}</title>", 1)

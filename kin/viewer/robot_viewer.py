@@ -32,6 +32,7 @@ from pinocchio.visualize import MeshcatVisualizer
 from ..configuration import as_joint_vector
 from ..exceptions import FrameError
 from ..robot_model import RobotModel
+from .camera_framing import framing_distance
 from .exceptions import ViewerError, ViewerInputError
 from .maker_meshes import MakerMeshes, maker_meshes
 from .markers import draw_points, draw_sphere, draw_triad
@@ -257,7 +258,7 @@ class RobotViewer:
             q = as_joint_vector(self.robot, q)
             pin.framesForwardKinematics(self.robot.model, data, q)
             corners.extend(frame.translation.copy() for frame in data.oMf)
-            corners.extend(self._visual_corners(q))
+            corners.extend(_visual_corners(self, q))
         corners.extend(self._scene_corners)
         if extra_points is not None:
             corners.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
@@ -266,39 +267,12 @@ class RobotViewer:
         centre = 0.5 * (low + high)
         size = max(float(np.linalg.norm(high - low)), 0.5 * self.arm_length, 0.05)
         direction = np.array([1.0, 0.8, 0.7]) / np.linalg.norm([1.0, 0.8, 0.7])
-        self.set_camera(centre, centre + CAMERA_DISTANCE * size * direction)
+        distance = max(CAMERA_DISTANCE * size, framing_distance(cloud - centre, direction))
+        self.set_camera(centre, centre + distance * direction)
 
-    def _visual_corners(self, q: np.ndarray) -> list[np.ndarray]:
-        """Corners of each visual geometry's bounding box at ``q``, world frame [m]."""
-        if self.meshes is not None:
-            model, full = self.meshes.model, self.meshes.full_q(q)
-            root_to_world = np.linalg.inv(self.meshes.base_in_root)
-        else:
-            model, full, root_to_world = self.robot.model, q, np.eye(4)
-        data = model.createData()
-        geometry_data = pin.GeometryData(self.visual_model)
-        pin.updateGeometryPlacements(model, data, self.visual_model, geometry_data, full)
-        corners = []
-        for obj, placement in zip(self.visual_model.geometryObjects, geometry_data.oMg):
-            box = _local_box(obj)
-            if box is None:
-                continue
-            T = root_to_world @ placement.homogeneous
-            corners.extend((T[:3, :3] @ box.T).T + T[:3, 3])
-        return corners
-
-    def static_html(self, title: str | None = None) -> str:
-        """The scene as one self-contained HTML page (meshcat's export, three.js inlined).
-
-        Args:
-            title: The page's title (default meshcat's, "MeshCat").
-        """
-        page = self.viewer.static_html()
-        if title is None:
-            return page
-        import html
-
-        return page.replace("<title>MeshCat</title>", f"<title>{html.escape(title)}</title>", 1)
+    def static_html(self) -> str:
+        """The scene as one self-contained HTML page (meshcat's export, three.js inlined)."""
+        return self.viewer.static_html()
 
     def close(self) -> None:
         """Stop the meshcat server, if this viewer started one."""
@@ -340,6 +314,26 @@ def _arm_length(robot: RobotModel, q: np.ndarray) -> float:
     origins = np.array([frame.translation for frame in data.oMf])
     length = float(np.linalg.norm(np.diff(origins, axis=0), axis=1).sum())
     return max(length, 0.05)
+
+
+def _visual_corners(viewer: RobotViewer, q: np.ndarray) -> list[np.ndarray]:
+    """Corners of each visual geometry's bounding box of ``viewer``'s arm at ``q``, world [m]."""
+    if viewer.meshes is not None:
+        model, full = viewer.meshes.model, viewer.meshes.full_q(q)
+        root_to_world = np.linalg.inv(viewer.meshes.base_in_root)
+    else:
+        model, full, root_to_world = viewer.robot.model, q, np.eye(4)
+    data = model.createData()
+    geometry_data = pin.GeometryData(viewer.visual_model)
+    pin.updateGeometryPlacements(model, data, viewer.visual_model, geometry_data, full)
+    corners = []
+    for obj, placement in zip(viewer.visual_model.geometryObjects, geometry_data.oMg):
+        box = _local_box(obj)
+        if box is None:
+            continue
+        T = root_to_world @ placement.homogeneous
+        corners.extend((T[:3, :3] @ box.T).T + T[:3, 3])
+    return corners
 
 
 def _local_box(obj: pin.GeometryObject) -> np.ndarray | None:
