@@ -469,6 +469,7 @@ def test_a_structure_with_only_the_required_parts_plugs_in(monkeypatch):
     robot = load_robot("planar2")
     shipped_solver, shipped_batch = ClosedFormSolver(robot), ik.BatchSolver(robot)
     monkeypatch.setattr(registry, "CLOSED_FORMS", list(registry.CLOSED_FORMS))
+    monkeypatch.setattr(registry, "_entries", list(registry._entries))  # restored after
     registry.register(PlainPlanar, first=True)
     with pytest.raises(TypeError, match="not a closed-form structure"):
         registry.register(type("Half", (), {"name": "half", "dof": 2}))
