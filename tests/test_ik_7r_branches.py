@@ -18,13 +18,14 @@ import pytest
 from dh_reference import fk_frames, load_reference, rotation_angle
 from scripts_helper import load_script
 
+import dh2urdf
 from kin import load_robot
 from kin.commands import ik
 from kin.ik import PoseTarget, PositionTarget, get_solver
 from kin.ik.analytic.seven_r.branches7 import distinct, free_grid, windings
 from kin.ik.numeric.all_branches import solve_all_branches
 
-TABLES = Path(__file__).resolve().parents[1] / "dh2urdf" / "tables"
+TABLES = Path(dh2urdf.__file__).resolve().parent / "tables"  # the installed package's
 #: Pose agreement of every branch with the target [m] / [rad].
 TOL = 1e-9
 #: Random targets per arm.

@@ -13,12 +13,14 @@ list.
 from __future__ import annotations
 
 import ast
+import importlib.util
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
-KIN = Path(__file__).resolve().parent.parent / "kin"
+#: The package as installed (its sources in an editable install, site-packages from a wheel).
+KIN = Path(importlib.util.find_spec("kin").origin).resolve().parent  # type: ignore[arg-type]
 
 #: The limits [lines].
 MODULE_LINES = 400

@@ -23,8 +23,11 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 from kin import _native
 from kin._native import PARITY_TESTS, TWINS, twin, why_missing
 
-ROOT = Path(__file__).resolve().parents[1]
-NATIVE = ROOT / "kin" / "_native"
+ROOT = Path(__file__).resolve().parents[1]  # the repository: pyproject.toml
+#: Where the package is installed (the sources in an editable install, site-packages from a
+#: wheel, which ships the C files too): the folder that paths like ``kin/_native/x.c`` are under.
+SITE = Path(_native.__file__).resolve().parents[2]
+NATIVE = SITE / "kin" / "_native"
 PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
 EXTENSIONS = {ext["name"]: ext for ext in PYPROJECT["tool"]["setuptools"]["ext-modules"]}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
@@ -50,8 +53,8 @@ def _headers_reached(source: Path) -> set[str]:
 def test_every_c_file_of_the_package_sits_in_the_native_folder():
     """No C source or header in kin/ outside kin/_native/, and the folder holds some."""
     outside = [
-        str(p.relative_to(ROOT))
-        for p in (ROOT / "kin").rglob("*")
+        str(p.relative_to(SITE))
+        for p in (SITE / "kin").rglob("*")
         if p.suffix in {".c", ".h"} and p.parent != NATIVE
     ]
     assert outside == []
@@ -64,9 +67,9 @@ def test_each_declared_extension_builds_from_the_native_folder(name):
     ext = EXTENSIONS[name]
     (source,) = ext["sources"]
     files = [source, *ext.get("depends", [])]
-    assert all(f.startswith("kin/_native/") and (ROOT / f).is_file() for f in files), f"{name=}"
+    assert all(f.startswith("kin/_native/") and (SITE / f).is_file() for f in files), f"{name=}"
     assert Path(source).stem == name.rsplit(".", 1)[1], f"{name=}: the source is named for it"
-    reached = _headers_reached(ROOT / source)
+    reached = _headers_reached(SITE / source)
     assert all((NATIVE / h).is_file() for h in reached), f"{name=} includes a missing header"
     assert {Path(d).name for d in ext.get("depends", [])} == reached, f"{name=}"
 
@@ -123,10 +126,10 @@ def test_an_unknown_twin_is_a_key_error_listing_the_twins():
 def test_no_python_module_imports_a_twin_by_itself():
     """Every import of a twin in kin/ goes through kin._native.twin (one loader, one fallback)."""
     offenders = []
-    for path in (ROOT / "kin").rglob("*.py"):
+    for path in (SITE / "kin").rglob("*.py"):
         for match in DIRECT.finditer(path.read_text()):
             if {match["a"], match["b"], match["c"]} & set(TWINS):
-                offenders.append(f"{path.relative_to(ROOT)}: {match[0].strip()}")
+                offenders.append(f"{path.relative_to(SITE)}: {match[0].strip()}")
     assert offenders == []
 
 

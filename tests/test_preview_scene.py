@@ -130,7 +130,10 @@ def _node(viewer, *path: str) -> tuple[dict, np.ndarray | None]:
 
 def test_scene_objects_are_drawn_with_the_sizes_and_placements_of_the_file():
     """Every object of cell.toml (read here with tomllib) is drawn grey at its size and pose."""
-    import tomllib
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
 
     viewer, _ = _shown("ur5", UR5_FREE, "--scene", str(CELL))
     document = tomllib.loads(CELL.read_text(encoding="utf-8"))
