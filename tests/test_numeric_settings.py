@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import re
 
 import numpy as np
@@ -22,8 +23,9 @@ def panda():
 
 def test_every_setting_is_documented_with_its_default_in_one_place():
     """The docstring's ``Attributes:`` names exactly the fields, in order (21 settings)."""
-    doc = NumericSettings.__doc__ or ""
-    documented = re.findall(r"^        (\w+): ", doc.split("Attributes:")[1], re.MULTILINE)
+    # cleandoc: Python 3.13 strips the docstring's indentation itself, older ones do not
+    doc = inspect.cleandoc(NumericSettings.__doc__ or "")
+    documented = re.findall(r"^    (\w+): ", doc.split("Attributes:")[1], re.MULTILINE)
     fields = [field.name for field in dataclasses.fields(NumericSettings)]
     assert documented == fields
     assert len(fields) == 21
