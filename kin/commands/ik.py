@@ -186,7 +186,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..ik.target import PositionTarget
     from ..robot_model import RobotModel
     from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
-    from .path import _collision_checker
+    from .collision_options import collision_checker
     from .solver_choice import NewtonRaphsonSolver, choose_solver, solve_function, target_kinds
     from .targets import build_target, check_kind
 
@@ -198,7 +198,7 @@ def _run(args: argparse.Namespace) -> int:
     checker = None
     if isinstance(robot, RobotModel):
         solver = choose_solver(robot, args.solver)
-        checker = _collision_checker(args, robot, length_scale(args.unit))
+        checker = collision_checker(args, robot, length_scale(args.unit))
     else:  # a URDF chain with mimic joints
         solver = _mimic_solver(robot, args.solver, args.scene or args.srdf)
     timeout = None if args.timeout is None else args.timeout / 1e3

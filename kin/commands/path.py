@@ -40,6 +40,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
+from .collision_options import collision_checker
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 if TYPE_CHECKING:
@@ -212,7 +213,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
         )
         check_kind(robot.name, robot.nq, path_kinds, target, given)
         waypoints.append(target)
-    checker = _collision_checker(args, robot, length)  # bad files fail before the solve
+    checker = collision_checker(args, robot, length)  # bad files fail before the solve
     seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
     max_step = MAX_JOINT_STEP if args.max_step is None else _max_step(args, units)
     path = polyline(waypoints, args.steps)
@@ -244,17 +245,6 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
         print(f"{prog}: the path collides: {check.first.describe()}", file=sys.stderr)
         return EXIT_STOPPED
     return 0 if result.success else EXIT_STOPPED
-
-
-def _collision_checker(args: argparse.Namespace, robot: Any, length: float) -> Any:
-    """The checker of --scene/--srdf/--padding [--unit], or None when none is given."""
-    if args.scene is None and args.srdf is None:
-        return None
-    from ..collision import CollisionChecker, load_collision_model
-
-    padding = 0.0 if args.padding is None else args.padding * length
-    model = load_collision_model(robot, srdf=args.srdf, scene=args.scene, padding=padding)
-    return CollisionChecker(model)
 
 
 def _check_orientations(points: list[dict[str, Any]]) -> None:
