@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
+from .collision_options import add_collision_options
 from .robot_argument import add_robot_arguments
 
 PROG = "kin check"
@@ -41,17 +42,11 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         default="m",
         help="length unit of prismatic joint values and of the printed lengths (default m)",
     )
-    parser.add_argument(
-        "--scene", metavar="FILE", help="the cell: a TOML of boxes, spheres... or a URDF"
-    )
-    parser.add_argument(
-        "--srdf", metavar="FILE", help="a MoveIt SRDF: its disable_collisions pairs are allowed"
-    )
-    parser.add_argument(
-        "--padding",
-        type=finite_float,
-        default=0.0,
-        help="margin around every shape [--unit] (default 0): closer counts as a collision",
+    add_collision_options(
+        parser,
+        scene="the cell: a TOML of boxes, spheres... or a URDF",
+        srdf="a MoveIt SRDF: its disable_collisions pairs are allowed",
+        self_check=True,
     )
     parser.add_argument("--json", action="store_true", help="print one JSON object, SI units")
     return parser

@@ -60,6 +60,7 @@ from ..cli import (
     positive_float,
     run_guarded,
 )
+from .collision_options import add_collision_options, check_padding
 from .robot_argument import add_robot_arguments
 
 if TYPE_CHECKING:
@@ -142,12 +143,10 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         "seeded starts, 200 for a full pose or position, 32 for a partial one)",
     )
     add("--stdin", action="store_true", help="read JSON targets from stdin, one per line")
-    add("--scene", metavar="FILE", help="avoid collisions with a cell: TOML of boxes... or URDF")
-    add("--srdf", metavar="FILE", help="avoid collisions; a MoveIt SRDF's pairs are allowed")
-    add(
-        "--padding",
-        type=finite_float,
-        help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
+    add_collision_options(
+        parser,
+        scene="avoid collisions with a cell: TOML of boxes... or URDF",
+        srdf="avoid collisions; a MoveIt SRDF's pairs are allowed",
     )
     return parser
 
@@ -174,8 +173,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error(f"--stdin reads the targets from stdin: drop {', '.join(target_options)}")
     if not args.stdin and args.target is None:
         parser.error("the following arguments are required: --target (or --stdin)")
-    if args.padding is not None and args.scene is None and args.srdf is None:
-        parser.error("--padding needs --scene or --srdf")
+    check_padding(parser, args)
     return run_guarded(prog, lambda: _run(args))
 
 

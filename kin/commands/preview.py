@@ -37,6 +37,7 @@ from ..cli import (
     positive_float,
     run_guarded,
 )
+from .collision_options import add_collision_options
 
 if TYPE_CHECKING:
     import numpy as np
@@ -94,13 +95,11 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         help=f"draw the tool points of N random joint vectors (default N {WORKSPACE_POINTS:,})",
     )
     add("--reach", metavar="FILE.npz", help="draw the voxels of a kin reach map by index")
-    add("--scene", metavar="FILE", help="draw a cell (TOML of boxes... or URDF) and check it")
-    add("--srdf", metavar="FILE", help="a MoveIt SRDF: its disable_collisions pairs are allowed")
-    add(
-        "--padding",
-        type=finite_float,
-        default=0.0,
-        help="margin around every shape [--unit] (default 0): closer counts as a collision",
+    add_collision_options(
+        parser,
+        scene="draw a cell (TOML of boxes... or URDF) and check it",
+        srdf="a MoveIt SRDF: its disable_collisions pairs are allowed",
+        self_check=True,
     )
     add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
     add(

@@ -22,13 +22,13 @@ import json
 
 from ..cli import (
     ArgumentParser,
-    finite_float,
     length_scale,
     positive_float,
     positive_int,
     run_guarded,
 )
 from ..exceptions import KinError
+from .collision_options import add_collision_options, check_padding
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin reach"
@@ -54,16 +54,10 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         metavar="local|ADDRESS",
         help="local (this process, default), a Dask scheduler address, or local-cluster:N",
     )
-    parser.add_argument(
-        "--scene", metavar="FILE", help="count collision-free answers: a TOML cell or a URDF"
-    )
-    parser.add_argument(
-        "--srdf", metavar="FILE", help="count collision-free answers; the SRDF's pairs allowed"
-    )
-    parser.add_argument(
-        "--padding",
-        type=finite_float,
-        help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
+    add_collision_options(
+        parser,
+        scene="count collision-free answers: a TOML cell or a URDF",
+        srdf="count collision-free answers; the SRDF's pairs allowed",
     )
     parser.add_argument("-o", "--output", required=True, metavar="FILE.npz", help="the map")
     parser.add_argument("--png", metavar="FILE", help="draw horizontal slices (.png, .svg, .pdf)")
@@ -85,8 +79,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     """Compute and write the map; exit 0, 2 for bad input, 130 on Ctrl-C."""
     parser = get_argument_parser(prog)
     args = parser.parse_args(argv)
-    if args.padding is not None and args.scene is None and args.srdf is None:
-        parser.error("--padding needs --scene or --srdf")
+    check_padding(parser, args)
 
     def body() -> int:
         from ..ik.reach import arm_reach
