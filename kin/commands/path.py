@@ -24,7 +24,12 @@ A progress bar (samples followed) goes to stderr on a terminal, unless --quiet.
 collisions (kin check's shapes and pairs): every sample, and the motion between samples by a step
 bound (a pair is free between two samples when its distances there add up to more than how far
 the links can move, |dq_j| times their reach from joint j; else the step is halved, down to
-1e-6 m). The first colliding segment and pair are named.
+1e-6 m). The first colliding segment and pair are named. --avoid keeps every sample and the
+motion between samples free: when the plain path collides, the free answers of every sample
+(another branch of a closed form, the free joint of a 7R arm, the numeric solver's other starts)
+are joined, within --max-step and by free motions, into the path of least joint motion; or one
+line names the sample (index, arc length, pose) where no free answer goes on, exit 1, nothing
+written.
 
 Exit 0 when the whole path is followed (and collision-free), 1 when the motion stopped or the
 path collides, 2 for bad input.
@@ -33,10 +38,8 @@ path collides, 2 for bad input.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import sys
-from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
@@ -147,6 +150,12 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         type=finite_float,
         help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
     )
+    add(
+        "--avoid",
+        action="store_true",
+        help="with --scene/--srdf: keep every sample and motion collision-free (another branch, "
+        "the free joint, other starts), or fail naming the sample",
+    )
     add("--json", action="store_true", help="print one JSON object, SI units")
     add("--csv", metavar="FILE", help="write the joint path (SI, header with units) to FILE")
     add("--quiet", action="store_true", help="no progress bar on stderr")
@@ -173,16 +182,25 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("--tool-axis needs --axis at the points")
     if args.padding is not None and args.scene is None and args.srdf is None:
         parser.error("--padding needs --scene or --srdf")
+    if args.avoid and args.scene is None and args.srdf is None:
+        parser.error("--avoid needs --scene or --srdf (the cell to avoid)")
     return run_guarded(prog, lambda: _run(args, points, prog))
 
 
 def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PROG) -> int:
     """Build the path, follow it, time it, and write the outputs."""
     from ..cli import angle_scale, length_scale
-    from ..path import check_path_collisions, follow_path, path_solver, polyline
+    from ..path import (
+        check_path_collisions,
+        follow_path,
+        follow_path_avoiding,
+        path_solver,
+        polyline,
+    )
     from ..path.follow import MAX_JOINT_STEP
     from .joint_units import JointUnits
     from .output_file import checked_output
+    from .path_output import print_text, write_csv
     from .progress import ProgressBar
     from .targets import build_target, check_kind
 
@@ -217,27 +235,53 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
     seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
     max_step = MAX_JOINT_STEP if args.max_step is None else _max_step(args, units)
     path = polyline(waypoints, args.steps)
+    avoided = None
     with ProgressBar(prog, "samples", quiet=args.quiet) as bar:
-        result = follow_path(
-            robot,
-            path,
-            seed,
-            solver=solver,
-            branch=args.branch,
-            max_joint_step=max_step,
-            progress=bar,
-        )
+        if args.avoid:
+            avoided = follow_path_avoiding(
+                robot,
+                path,
+                checker,
+                seed,
+                branch=args.branch,
+                max_joint_step=max_step,
+                progress=bar,
+            )
+        else:
+            result = follow_path(
+                robot,
+                path,
+                seed,
+                solver=solver,
+                branch=args.branch,
+                max_joint_step=max_step,
+                progress=bar,
+            )
+    if avoided is not None:
+        if avoided.result is None:
+            assert avoided.failure is not None
+            print(f"{prog}: {avoided.failure.describe()}", file=sys.stderr)
+            return EXIT_STOPPED  # nothing written: no path
+        result = avoided.result
     timed = _timing(args, robot, units, result) if args.time and len(result.q) >= 2 else None
-    check = None if checker is None else check_path_collisions(checker, result.q)
+    check = avoided.check if avoided is not None else None
+    if check is None and checker is not None:
+        check = check_path_collisions(checker, result.q)
     if args.csv:
-        _write_csv(args.csv, units, result, timed, args.dt is not None)
+        write_csv(args.csv, units, result, timed, args.dt is not None)
     if args.json:
         record = _record(robot.name, units, result, timed, args.dt is not None)
         if check is not None:
             record["collisions"] = check.to_dict()
+        if avoided is not None:
+            record["avoid"] = avoided.to_dict()
         print(json.dumps(record))
     else:
-        _print_text(robot.name, units, args.unit, length, result, timed)
+        print_text(robot.name, units, args.unit, length, result, timed)
+        if avoided is not None:
+            plain = avoided.plain
+            why = "is free" if plain is None else f"collides ({plain.describe()})"
+            print(f"avoid: the plain path {why}; this one is free")
         if check is not None:
             verdict = "free" if check.free else "IN COLLISION"
             print(f"collisions: {verdict} ({len(result.q)} samples; {check.rule})")
@@ -317,68 +361,3 @@ def _record(
                 "qd": timed.qd.tolist(),
             }
     return record
-
-
-def _write_csv(
-    file: str, units: JointUnits, result: PathResult, timed: TimedPath | None, dense: bool
-) -> None:
-    """One row per sample (per --dt sample with --dt), SI, header with units."""
-    names, labels = units.joint_names, units.si_labels
-    header = ["sample"] + (["t [s]"] if timed is not None else [])
-    header += [f"{n} [{u}]" for n, u in zip(names, labels)]
-    if timed is not None:
-        header += [f"{n} velocity [{u}/s]" for n, u in zip(names, labels)]
-    rows: Iterable[tuple[Any, Any, Any]]
-    if timed is not None and dense:
-        rows = zip(timed.t, timed.q, timed.qd)
-    elif timed is not None:
-        rows = zip(timed.waypoint_times, result.q, timed.waypoint_qd)
-    else:
-        rows = ((None, q, None) for q in result.q)
-    import io
-    from pathlib import Path
-
-    from .output_file import write_text_atomic
-
-    stream = io.StringIO()
-    writer = csv.writer(stream)
-    writer.writerow(header)
-    for index, (t, q, qd) in enumerate(rows):
-        row = [index] + ([] if t is None else [f"{t:.9g}"])
-        row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v + 0.0:.9g}" for v in qd])
-        writer.writerow(row)
-    write_text_atomic(Path(file), stream.getvalue())  # whole, or not at all
-
-
-def _print_text(
-    robot: str,
-    units: JointUnits,
-    unit: str,
-    length: float,
-    result: PathResult,
-    timed: TimedPath | None,
-) -> None:
-    """A summary, then one line per sample in command-line units."""
-    out = sys.stdout.write
-    status = "followed" if result.success else result.message
-    out(f"{robot} ({result.method}): {len(result.path)} samples, {status}\n")
-    if len(result.q):
-        out(f"max deviation from the path: {result.max_deviation / length:.3g} {unit}\n")
-    if result.max_step_joint >= 0:
-        j = result.max_step_joint
-        step = result.max_joint_step / units.scales[j]
-        out(f"max joint step: {step:.4g} {units.labels[j]} ({units.joint_names[j]})\n")
-    changes = ", ".join(map(str, result.branch_changes)) or "none"
-    out(f"branch changes at samples: {changes}\n")
-    times = None
-    if timed is not None:
-        out(f"duration: {timed.duration:.4g} s\n")
-        times = timed.waypoint_times
-    columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]
-    widths = [max(10, len(c)) for c in columns]
-    head = "sample" + ("     t [s]" if times is not None else "")
-    out(head + "  " + "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths)) + "  branch\n")
-    for i, q in enumerate(result.q):
-        values = "  ".join(f"{v:>{w}.4f}" for v, w in zip(units.from_si(q), widths))
-        t = f"{times[i]:>10.4f}" if times is not None else ""
-        out(f"{i:>6}{t}  {values}  {result.branches[i]}\n")

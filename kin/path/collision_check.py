@@ -29,7 +29,7 @@ import numpy.typing as npt
 if TYPE_CHECKING:
     from ..collision import CollisionChecker
 
-__all__ = ["PathCollision", "PathCollisionCheck", "check_path_collisions"]
+__all__ = ["MotionCheck", "PathCollision", "PathCollisionCheck", "check_path_collisions"]
 
 #: Default scale below which a pair is not shown apart between samples [m].
 TOLERANCE = 1e-6
@@ -213,36 +213,81 @@ def check_path_collisions(
     path = np.asarray(q, dtype=float)
     if path.ndim != 2:
         path = path.reshape(-1, checker.model.robot.nq)
-    model = checker.model
     if len(path) == 0:
         return PathCollisionCheck(True, None, np.zeros(0, dtype=bool), 0)
     at_samples = checker.in_collision_batch(path)
-    if not model.pair_owners:
+    motion = MotionCheck(checker, tolerance)
+    if motion.helper is None:
         return PathCollisionCheck(True, None, at_samples, 0)
-    helper = _Distances(checker)
-    ends = [helper.distances(path[0])]
-    checks = 0
+    ends = [motion.distances(path[0])]
     for i in range(len(path)):
         if at_samples[i]:
-            pair = _colliding_pair(checker, path[i])
+            a, b, kind = _colliding_pair(checker, path[i])
             first = PathCollision(
-                max(i - 1, 0), 1.0 if i else 0.0, path[i].copy(), *pair, True, True
+                max(i - 1, 0), 1.0 if i else 0.0, path[i].copy(), a, b, kind, True, True
             )
-            return PathCollisionCheck(False, first, at_samples, checks)
+            return PathCollisionCheck(False, first, at_samples, motion.checks)
         if i + 1 == len(path) or at_samples[i + 1]:
             continue
-        ends.append(helper.distances(path[i + 1]))
-        found, used = _segment(
-            helper, path[i], path[i + 1], ends[-2], ends[-1], tolerance, max_checks - checks
-        )
-        checks += used
+        ends.append(motion.distances(path[i + 1]))
+        found = motion.between(path[i], path[i + 1], ends[-2], ends[-1], i, max_checks)
         if found is not None:
-            t, q_at, index, proven = found
-            a, b = model.pair_owners[index]
-            kind = "scene" if b in model.scene_objects else "self"
-            first = PathCollision(i, t, q_at, a, b, kind, False, proven)
-            return PathCollisionCheck(False, first, at_samples, checks)
-    return PathCollisionCheck(True, None, at_samples, checks)
+            return PathCollisionCheck(False, found, at_samples, motion.checks)
+    return PathCollisionCheck(True, None, at_samples, motion.checks)
+
+
+class MotionCheck:
+    """The rule of this module on single joint motions, the subdivisions counted.
+
+    Args:
+        checker: The collision checker.
+        tolerance: Bound [m] below which a pair not shown apart counts as in collision.
+
+    Attributes:
+        checks: Configurations checked between the ends so far.
+    """
+
+    def __init__(self, checker: CollisionChecker, tolerance: float = TOLERANCE):
+        self.checker = checker
+        self.tolerance = tolerance
+        self.helper = _Distances(checker) if checker.model.pair_owners else None
+        self.checks = 0
+
+    def distances(self, q: np.ndarray) -> np.ndarray:
+        """Per collision pair, the distance at ``q`` [m] (<= 0: contact); empty without pairs."""
+        return np.zeros(0) if self.helper is None else self.helper.distances(q)
+
+    def between(
+        self,
+        q0: np.ndarray,
+        q1: np.ndarray,
+        d0: np.ndarray,
+        d1: np.ndarray,
+        segment: int = 0,
+        max_checks: int = 100_000,
+    ) -> PathCollision | None:
+        """The first colliding place on the straight motion q0 -> q1 (free ends), or None.
+
+        Args:
+            q0: Start [rad] / [m].
+            q1: End [rad] / [m].
+            d0: :meth:`distances` at ``q0`` [m].
+            d1: :meth:`distances` at ``q1`` [m].
+            segment: The segment index the answer names.
+            max_checks: Most checks in all (:attr:`checks` included): the rest is not shown free.
+        """
+        if self.helper is None:
+            return None
+        found, used = _segment(
+            self.helper, q0, q1, d0, d1, self.tolerance, max_checks - self.checks
+        )
+        self.checks += used
+        if found is None:
+            return None
+        t, q_at, index, proven = found
+        a, b = self.checker.model.pair_owners[index]
+        kind = "scene" if b in self.checker.model.scene_objects else "self"
+        return PathCollision(segment, t, q_at, a, b, kind, False, proven)
 
 
 def _colliding_pair(checker: CollisionChecker, q: np.ndarray) -> tuple[str, str, str]:

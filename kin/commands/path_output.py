@@ -1,0 +1,77 @@
+"""What ``kin path`` writes: the CSV of the joint path and the text summary."""
+
+from __future__ import annotations
+
+import csv
+import sys
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..path import PathResult, TimedPath
+    from .joint_units import JointUnits
+
+
+def write_csv(
+    file: str, units: JointUnits, result: PathResult, timed: TimedPath | None, dense: bool
+) -> None:
+    """One row per sample (per --dt sample with --dt), SI, header with units."""
+    names, labels = units.joint_names, units.si_labels
+    header = ["sample"] + (["t [s]"] if timed is not None else [])
+    header += [f"{n} [{u}]" for n, u in zip(names, labels)]
+    if timed is not None:
+        header += [f"{n} velocity [{u}/s]" for n, u in zip(names, labels)]
+    rows: Iterable[tuple[Any, Any, Any]]
+    if timed is not None and dense:
+        rows = zip(timed.t, timed.q, timed.qd)
+    elif timed is not None:
+        rows = zip(timed.waypoint_times, result.q, timed.waypoint_qd)
+    else:
+        rows = ((None, q, None) for q in result.q)
+    import io
+    from pathlib import Path
+
+    from .output_file import write_text_atomic
+
+    stream = io.StringIO()
+    writer = csv.writer(stream)
+    writer.writerow(header)
+    for index, (t, q, qd) in enumerate(rows):
+        row = [index] + ([] if t is None else [f"{t:.9g}"])
+        row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v + 0.0:.9g}" for v in qd])
+        writer.writerow(row)
+    write_text_atomic(Path(file), stream.getvalue())  # whole, or not at all
+
+
+def print_text(
+    robot: str,
+    units: JointUnits,
+    unit: str,
+    length: float,
+    result: PathResult,
+    timed: TimedPath | None,
+) -> None:
+    """A summary, then one line per sample in command-line units."""
+    out = sys.stdout.write
+    status = "followed" if result.success else result.message
+    out(f"{robot} ({result.method}): {len(result.path)} samples, {status}\n")
+    if len(result.q):
+        out(f"max deviation from the path: {result.max_deviation / length:.3g} {unit}\n")
+    if result.max_step_joint >= 0:
+        j = result.max_step_joint
+        step = result.max_joint_step / units.scales[j]
+        out(f"max joint step: {step:.4g} {units.labels[j]} ({units.joint_names[j]})\n")
+    changes = ", ".join(map(str, result.branch_changes)) or "none"
+    out(f"branch changes at samples: {changes}\n")
+    times = None
+    if timed is not None:
+        out(f"duration: {timed.duration:.4g} s\n")
+        times = timed.waypoint_times
+    columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]
+    widths = [max(10, len(c)) for c in columns]
+    head = "sample" + ("     t [s]" if times is not None else "")
+    out(head + "  " + "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths)) + "  branch\n")
+    for i, q in enumerate(result.q):
+        values = "  ".join(f"{v:>{w}.4f}" for v, w in zip(units.from_si(q), widths))
+        t = f"{times[i]:>10.4f}" if times is not None else ""
+        out(f"{i:>6}{t}  {values}  {result.branches[i]}\n")

@@ -1,0 +1,198 @@
+"""Collision-free paths (kin.path.follow_path_avoiding, ``kin path --avoid``) judged apart.
+
+Every verdict is the direct coal check built apart (tests/collision_reference.py: the URDF's
+shapes placed by Pinocchio and asked of coal pair by pair): the scene pairs are every link with
+shapes against every scene object, the self pairs those the model checks. The samples' poses are
+measured by Pinocchio's forward kinematics of the same URDF (not the DH product of the code under
+test). The cells put a box where the arm goes on the plain path's branch, so the plain path
+surely collides (asserted by the reference too).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from cli_helper import assert_one_line_error, call
+from collision_reference import CollisionReference
+
+from kin import load_robot
+from kin.collision import CollisionChecker, load_collision_model
+from kin.commands import path as path_command
+from kin.ik import PoseTarget, get_solver
+from kin.path import follow_path, follow_path_avoiding, polyline
+
+CONTACT_TOL = 1e-6
+#: Reference points per segment when the motion between samples is checked densely.
+DENSE = 12
+#: The cells: robot -> (box TOML, start point, end point [m], tool rpy [rad]).
+CELLS = {
+    # a shelf behind the base, where the UR5's upper arm goes on the shoulder-left branch
+    "ur5": (
+        "[[box]]\nname = 'shelf'\nsize = [0.1, 1.0, 0.4]\nxyz = [-0.12, 0.0, 0.55]\n",
+        (0.4, 0.1, 0.3),
+        (0.4, -0.3, 0.3),
+        (3.14159, 0.0, 0.0),
+    ),
+    # a roof over the Panda's elbow: the elbow must swing aside (the free joint)
+    "panda": (
+        "[[box]]\nname = 'roof'\nsize = [0.3, 1.0, 0.1]\nxyz = [0.1, 0.0, 0.73]\n",
+        (0.5, 0.2, 0.3),
+        (0.5, -0.2, 0.3),
+        (3.14159, 0.0, 0.0),
+    ),
+}
+STEPS = 20
+
+
+def _cell(tmp_path: Path, name: str, scene: str | None = None):
+    """(robot, path, checker, reference, pairs, scene file) of a cell."""
+    text, start, end, rpy = CELLS[name]
+    file = tmp_path / f"{name}.toml"
+    file.write_text(text if scene is None else scene, encoding="utf-8")
+    robot = load_robot(name)
+    rotation = pin.rpy.rpyToMatrix(*rpy)
+    path = polyline(
+        [PoseTarget(np.array(start), rotation), PoseTarget(np.array(end), rotation)], STEPS
+    )
+    model = load_collision_model(robot, scene=file)
+    reference = CollisionReference(robot.urdf, None, robot.joint_names, None, file)
+    pairs = [(link, obj) for link in reference.links for obj in reference.scene_names]
+    pairs += [p for p in model.pairs if p[1] not in reference.scene_names]
+    return robot, path, CollisionChecker(model), reference, pairs, file
+
+
+def _deepest(reference: CollisionReference, pairs, q) -> float:
+    """The reference's smallest signed distance over ``pairs`` at ``q`` [m]."""
+    return min(d for d, _ in reference.signed_distances(np.asarray(q, float), pairs).values())
+
+
+def _tool_poses(robot, q: np.ndarray) -> list[pin.SE3]:
+    """Pinocchio FK of the robot's URDF: the tool frame at each joint vector."""
+    model = pin.buildModelFromXML(robot.urdf)
+    data = model.createData()
+    frame = model.getFrameId(robot.tool_frame)
+    poses = []
+    for row in q:
+        pin.framesForwardKinematics(model, data, row)
+        poses.append(data.oMf[frame].copy())
+    return poses
+
+
+@pytest.mark.parametrize("name", sorted(CELLS))
+def test_avoid_gives_a_free_path_on_target_where_the_plain_one_collides(tmp_path, name):
+    """Plain path collides (reference); --avoid's samples and motions are free, poses on target."""
+    robot, path, checker, reference, pairs, _ = _cell(tmp_path, name)
+    plain = follow_path(robot, path)
+    assert min(_deepest(reference, pairs, q) for q in plain.q) < -CONTACT_TOL, f"{name=}"
+    avoided = follow_path_avoiding(robot, path, checker)
+    assert avoided.success and avoided.searched and avoided.plain is not None, f"{name=}"
+    q = avoided.result.q
+    assert q.shape == (STEPS + 1, robot.nq)
+    # every sample free, and the motion between samples (densely) free
+    fractions = np.linspace(0.0, 1.0, DENSE + 1)[:-1]
+    for i in range(len(q) - 1):
+        for t in fractions:
+            distance = _deepest(reference, pairs, q[i] + t * (q[i + 1] - q[i]))
+            assert distance > -CONTACT_TOL, f"{name=} segment {i} t={t}: {distance}"
+    assert _deepest(reference, pairs, q[-1]) > -CONTACT_TOL
+    # on target, by Pinocchio's FK of the URDF
+    for i, pose in enumerate(_tool_poses(robot, q)):
+        assert np.linalg.norm(pose.translation - path.positions[i]) < 1e-6, f"{name=} {i=}"
+        turn = pin.log3(pose.rotation.T @ path.rotations[i])
+        assert np.linalg.norm(turn) < 1e-5, f"{name=} {i=}"
+    # continuous: no joint moves more than the step bound between samples
+    assert np.abs(np.diff(q, axis=0)).max() <= 0.35 + 1e-12, f"{name=}"
+    assert avoided.result.max_deviation < 0.01
+
+
+def test_a_free_plain_path_is_kept(tmp_path):
+    """A cell the plain path misses: the answer is the plain path, no search."""
+    far = "[[sphere]]\nname = 'far'\nradius = 0.05\nxyz = [-1.0, -1.0, 1.0]\n"
+    robot, path, checker, *_ = _cell(tmp_path, "ur5", far)
+    avoided = follow_path_avoiding(robot, path, checker)
+    assert avoided.success and not avoided.searched and avoided.plain is None
+    np.testing.assert_array_equal(avoided.result.q, follow_path(robot, path).q)
+
+
+def test_no_free_answer_fails_at_the_first_blocked_sample(tmp_path):
+    """A ball on the tool's line: the failure names the first sample every answer of which collides."""
+    ball = "[[sphere]]\nname = 'ball'\nradius = 0.03\nxyz = [0.4, -0.105, 0.3]\n"
+    robot, path, checker, reference, pairs, _ = _cell(tmp_path, "ur5", ball)
+    avoided = follow_path_avoiding(robot, path, checker)
+    assert not avoided.success and avoided.result is None
+    failure = avoided.failure
+    solver = get_solver(robot)
+
+    def every_answer_collides(index: int) -> bool:
+        answers = solver.solve(path.target(index)).solutions
+        assert answers, f"{index=}"
+        return all(_deepest(reference, pairs, s.q) < -CONTACT_TOL for s in answers)
+
+    blocked = [i for i in range(len(path)) if every_answer_collides(i)]
+    assert blocked and failure.sample == blocked[0], f"{blocked=} {failure=}"
+    arc = float(np.linalg.norm(path.positions[failure.sample] - path.positions[0]))
+    assert failure.arc_length == pytest.approx(arc, abs=1e-12)
+    line = failure.describe()
+    assert f"sample {failure.sample} " in line and "arc length" in line and "xyz = (0.4" in line
+    assert "collide" in failure.reason and "\n" not in line
+
+
+def test_a_step_bound_too_small_names_the_jump(tmp_path):
+    """Free answers exist but none within the step bound: the failure says how far, which joint."""
+    robot, path, checker, *_ = _cell(tmp_path, "ur5")
+    avoided = follow_path_avoiding(robot, path, checker, max_joint_step=1e-3)
+    assert not avoided.success
+    assert avoided.failure.sample == 1
+    assert "would jump" in avoided.failure.reason and "from sample 0's" in avoided.failure.reason
+
+
+def _line(name: str) -> list[str]:
+    _, start, end, rpy = CELLS[name]
+    point = [str(v) for v in rpy]
+    return ["--robot", name, "--steps", str(STEPS), "--quiet", "--from", *map(str, start),
+            "--rpy", *point, "--to", *map(str, end), "--rpy", *point]  # fmt: skip
+
+
+def test_kin_path_avoid_json(tmp_path, capsys):
+    """Exit 0; the JSON says free, names the plain path's collision, and the path is the library's."""
+    robot, path, checker, _, _, scene = _cell(tmp_path, "ur5")
+    code = call(path_command.main, _line("ur5") + ["--scene", str(scene), "--avoid", "--json"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    record = json.loads(out)
+    assert record["collisions"]["free"] is True and record["success"] is True
+    assert (
+        record["avoid"]["searched"] is True and "shelf" in record["avoid"]["plain_path_collision"]
+    )
+    expected = follow_path_avoiding(robot, path, checker).result.q
+    np.testing.assert_allclose(record["q"], expected, atol=1e-9)
+
+
+def test_kin_path_avoid_failure_is_one_line_and_writes_nothing(tmp_path, capsys):
+    """No free answer: exit 1, one stderr line naming the sample, no stdout, no CSV."""
+    ball = tmp_path / "ball.toml"
+    ball.write_text("[[sphere]]\nradius = 0.03\nxyz = [0.4, -0.105, 0.3]\n", encoding="utf-8")
+    csv = tmp_path / "out.csv"
+    argv = _line("ur5") + ["--scene", str(ball), "--avoid", "--csv", str(csv)]
+    code = call(path_command.main, argv)
+    out, err = capsys.readouterr()
+    assert code == 1 and out == "" and not csv.exists()
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "no collision-free path at sample" in lines[0], err
+
+
+@pytest.mark.parametrize(
+    ("extra", "needle"),
+    [
+        (["--avoid"], "--avoid needs --scene or --srdf"),
+        (["--avoid", "--scene", "/nonexistent/cell.toml"], "cell.toml"),
+    ],
+)
+def test_bad_avoid_input_exits_2(capsys, extra, needle):
+    """--avoid without a cell, or with a missing one: one line, exit 2."""
+    code = call(path_command.main, _line("ur5") + extra)
+    assert_one_line_error(code, capsys.readouterr().err, needle)
