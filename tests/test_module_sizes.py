@@ -36,7 +36,6 @@ MODULES_OVER = {
     "ik/analytic/six_r/general_6r.py": 476,
     "ik/batch_solve.py": 537,  # 529 + solve_batch(collisions=) (issue 36), landed the same day
     "ik/numeric/free_joint.py": 465,
-    "ik/partial_pose.py": 775,
     "ik/target.py": 446,
     "mimic_arm.py": 431,
     "reach_map.py": 620,  # 540 + kin reach --scene (issue 36): next, its file I/O and plot apart
@@ -53,7 +52,6 @@ CLASSES_OVER = {
     "ik/analytic/six_r/spherical_wrist.py::SphericalWrist6R": 310,
     "ik/analytic/six_r/three_parallel.py::ThreeParallel6R": 298,
     "ik/analytic/six_r/ur_wrist.py::URWrist6R": 317,
-    "ik/partial_pose.py::PartialPoseIK": 550,
     "mimic_arm.py::MimicArm": 300,
 }
 
