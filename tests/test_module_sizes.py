@@ -34,7 +34,6 @@ MODULES_OVER = {
     "ik/analytic/seven_r/seven_dof.py": 483,
     "ik/analytic/seven_r/spherical_shoulder7.py": 441,
     "ik/analytic/six_r/general_6r.py": 476,
-    "ik/batch_solve.py": 537,  # 529 + solve_batch(collisions=) (issue 36), landed the same day
     "ik/numeric/free_joint.py": 465,
     "ik/target.py": 446,
     "mimic_arm.py": 431,
