@@ -22,28 +22,35 @@ from collision_reference import CollisionReference
 from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model
 from kin.commands import path as path_command
-from kin.ik import PoseTarget, get_solver
+from kin.ik import AxisTarget, PoseTarget, PositionTarget, get_solver
 from kin.path import follow_path, follow_path_avoiding, polyline
 
 CONTACT_TOL = 1e-6
 #: Reference points per segment when the motion between samples is checked densely.
 DENSE = 12
-#: The cells: robot -> (box TOML, start point, end point [m], tool rpy [rad]).
+SHELF = "[[box]]\nname = 'shelf'\nsize = [0.1, 1.0, 0.4]\nxyz = [-0.12, 0.0, 0.55]\n"
+ROOF = "[[box]]\nname = 'roof'\nsize = [0.3, 1.0, 0.1]\nxyz = [0.1, 0.0, 0.73]\n"
+#: The cells: name -> (box TOML, start point, end point [m], tool rpy [rad] or None: the tool
+#: pointing down (z axis to -z, roll free) on "-axis" cells, a position path on "-position").
 CELLS = {
     # a shelf behind the base, where the UR5's upper arm goes on the shoulder-left branch
     "ur5": (
-        "[[box]]\nname = 'shelf'\nsize = [0.1, 1.0, 0.4]\nxyz = [-0.12, 0.0, 0.55]\n",
+        SHELF,
         (0.4, 0.1, 0.3),
         (0.4, -0.3, 0.3),
         (3.14159, 0.0, 0.0),
     ),
     # a roof over the Panda's elbow: the elbow must swing aside (the free joint)
     "panda": (
-        "[[box]]\nname = 'roof'\nsize = [0.3, 1.0, 0.1]\nxyz = [0.1, 0.0, 0.73]\n",
+        ROOF,
         (0.5, 0.2, 0.3),
         (0.5, -0.2, 0.3),
         (3.14159, 0.0, 0.0),
     ),
+    # a partial pose: the closed form's roll sweep (kin.ik.partial_pose)
+    "ur5-axis": (SHELF, (0.4, 0.1, 0.3), (0.4, -0.3, 0.3), None),
+    # positions on a 7R arm: the numeric solver (its other starts, the distance bound)
+    "panda-position": (ROOF, (0.5, 0.2, 0.3), (0.5, -0.2, 0.3), None),
 }
 STEPS = 20
 
@@ -53,11 +60,14 @@ def _cell(tmp_path: Path, name: str, scene: str | None = None):
     text, start, end, rpy = CELLS[name]
     file = tmp_path / f"{name}.toml"
     file.write_text(text if scene is None else scene, encoding="utf-8")
-    robot = load_robot(name)
-    rotation = pin.rpy.rpyToMatrix(*rpy)
-    path = polyline(
-        [PoseTarget(np.array(start), rotation), PoseTarget(np.array(end), rotation)], STEPS
-    )
+    robot = load_robot(name.split("-")[0])
+    if name.endswith("-axis"):
+        ends = [AxisTarget(np.array(p), np.array([0.0, 0.0, -1.0])) for p in (start, end)]
+    elif name.endswith("-position"):
+        ends = [PositionTarget(np.array(p)) for p in (start, end)]
+    else:
+        ends = [PoseTarget(np.array(p), pin.rpy.rpyToMatrix(*rpy)) for p in (start, end)]
+    path = polyline(ends, STEPS)
     model = load_collision_model(robot, scene=file)
     reference = CollisionReference(robot.urdf, None, robot.joint_names, None, file)
     pairs = [(link, obj) for link in reference.links for obj in reference.scene_names]
@@ -102,8 +112,11 @@ def test_avoid_gives_a_free_path_on_target_where_the_plain_one_collides(tmp_path
     # on target, by Pinocchio's FK of the URDF
     for i, pose in enumerate(_tool_poses(robot, q)):
         assert np.linalg.norm(pose.translation - path.positions[i]) < 1e-6, f"{name=} {i=}"
-        turn = pin.log3(pose.rotation.T @ path.rotations[i])
-        assert np.linalg.norm(turn) < 1e-5, f"{name=} {i=}"
+        if path.rotations is not None:
+            turn = pin.log3(pose.rotation.T @ path.rotations[i])
+            assert np.linalg.norm(turn) < 1e-5, f"{name=} {i=}"
+        if path.axes is not None:
+            assert np.linalg.norm(pose.rotation[:, 2] - path.axes[i]) < 1e-5, f"{name=} {i=}"
     # continuous: no joint moves more than the step bound between samples
     assert np.abs(np.diff(q, axis=0)).max() <= 0.35 + 1e-12, f"{name=}"
     assert avoided.result.max_deviation < 0.01

@@ -280,8 +280,11 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
         print_text(robot.name, units, args.unit, length, result, timed)
         if avoided is not None:
             plain = avoided.plain
-            why = "is free" if plain is None else f"collides ({plain.describe()})"
-            print(f"avoid: the plain path {why}; this one is free")
+            why = "stops before the end" if plain is None else f"collides ({plain.describe()})"
+            done = (
+                f"the plain path {why}; this one is free" if avoided.searched else "nothing to do"
+            )
+            print(f"avoid: {done}")
         if check is not None:
             verdict = "free" if check.free else "IN COLLISION"
             print(f"collisions: {verdict} ({len(result.q)} samples; {check.rule})")

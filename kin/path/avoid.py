@@ -159,7 +159,8 @@ class _Search:
         self.aware = CollisionAwareSolver(solver, checker, every=True)
         partial = path.axes is not None or path.mask is not None
         closed = isinstance(solver, ClosedFormSolver)
-        #: Revolute joints turned toward the previous answers (the closed-form rule).
+        #: Revolute joints turned toward the previous answers (the closed-form rule); the
+        #: answers' labels are branches only then (a numeric answer's names its method).
         self.unwrap = TurnUnwrapper(robot) if closed or partial else None
         grid = isinstance(solver, NumericIK) and path.kind is PoseTarget and not partial
         #: One solve per sample gives every branch (its seed orders them, adds one grid value).
@@ -220,7 +221,7 @@ class _Search:
                 for copy in self._copies(np.asarray(solution.q, dtype=float), refs):
                     if not any(np.abs(copy - a).max() < 1e-9 for a in answers):
                         answers.append(copy)
-                        labels.append(solution.branch)
+                        labels.append(solution.branch if self.unwrap is not None else "")
         if answers:
             why = "branches: " + "; ".join(sorted(map(repr, set(labels))))
         return np.array(answers, dtype=float).reshape(-1, self.robot.nq), labels, why
