@@ -1,8 +1,11 @@
-"""Benchmark IK of the small arms (SCARA, yaw_planar 4R, Kinova 4-DOF) against TRAC-IK.
+"""Benchmark IK of the small arms (SCARA, yaw_planar 4R, Kinova 4-DOF, QArm) against TRAC-IK.
 
 Targets: Pinocchio's FK of the arm's URDF at random joint vectors inside the limits (so
 reachable); the toolbox tables' URDF is the one ``kin`` generates, Kinova's the maker's
-(``tests/data/kinova4``). Timed is the call a user makes,
+(``tests/data/kinova4``). With ``--corpus DIR`` (a checkout of the public URDF corpus
+github.com/Daniella1/urdf_files_dataset, or its bare git directory) the corpus' small arms are
+added (:data:`CORPUS_ARMS`: every Kinova 4-DOF URDF, the QArm, the ``yaw_planar`` 4R arms, the
+Valkyrie forearm). TRAC-IK returns one answer; we return every branch, each verified. Timed is the call a user makes,
 ``get_solver(robot).solve(target, seed)``, on the position (``ours: position``, every branch
 with the free joint stated) and on the full pose (``ours: pose``); TRAC-IK solves the full pose
 (it takes no position-only target). Seed: ``q = 0`` moved into the limits. The solvers take
@@ -12,6 +15,7 @@ success is judged by Pinocchio on that URDF (1e-5 m, 1e-4 rad for poses, inside 
 
     python scripts/bench_ik_small_arms.py
     python scripts/bench_ik_small_arms.py --arms al5d mico4 --targets 500
+    python scripts/bench_ik_small_arms.py --corpus /path/to/urdf_files_dataset
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import statistics  # noqa: E402
+import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
@@ -47,6 +52,87 @@ ARMS: dict[str, tuple[Path, str | None, str | None]] = {
     "mico4": (DATA / "kinova4" / "m1n4s200_standalone.urdf", "root", "m1n4s200_end_effector"),
     "jaco4": (DATA / "kinova4" / "j2n4s300_standalone.urdf", "root", "j2n4s300_end_effector"),
 }
+
+#: Small arms of the URDF corpus: arm -> (file inside the corpus' ``urdf_files``, base link
+#: (None: the root), tip link).
+CORPUS_ARMS: dict[str, tuple[str, str | None, str]] = {
+    "c_mico4": (
+        "oems/xacro_generated/kinova_robotics/kinova_description/urdf/m1n4s200_standalone.urdf",
+        None,
+        "m1n4s200_end_effector",
+    ),
+    "c_jaco4": (
+        "oems/xacro_generated/kinova_robotics/kinova_description/urdf/j2n4s300_standalone.urdf",
+        None,
+        "j2n4s300_end_effector",
+    ),
+    "c_jaco4_rtb": (
+        "robotics-toolbox/xacro_generated/kinova_description/urdf/j2n4s300.urdf",
+        None,
+        "j2n4s300_end_effector",
+    ),
+    "c_mico4_mw": (
+        "matlab/kinova_description/urdf/kinovaMicoM1N4S200.urdf",
+        None,
+        "m1n4s200_end_effector",
+    ),
+    "c_qarm": ("oems/qarm_quanser/qarm_description/urdf/QARM.urdf", None, "END-EFFECTOR"),
+    "c_qarm_mw": ("matlab/qarm_description/urdf/quanserQArm.urdf", None, "END-EFFECTOR"),
+    "c_al5d": ("robotics-toolbox/al5d_description/urdf/al5d_robot.urdf", None, "link4"),
+    "c_openmanip": (
+        "oems/xacro_generated/open-manipulator_robotis/open_manipulator_description/urdf/"
+        "open_manipulator_robot.urdf",
+        None,
+        "end_effector_link",
+    ),
+    "c_openmanip_mw": (
+        "matlab/open_manipulator_description/urdf/robotisOpenManipulator.urdf",
+        None,
+        "end_effector_link",
+    ),
+    "c_pincher": (
+        "robotics-toolbox/pxpincher/urdf/pincher_arm.urdf",
+        None,
+        "gripper_finger_base_link",
+    ),
+    "c_turtlearm": (
+        "robotics-toolbox/pxpincher/urdf/turtlebot_arm.urdf",
+        None,
+        "gripper_static_finger_link",
+    ),
+    "c_px100": (
+        "robotics-toolbox/xacro_generated/interbotix_descriptions/urdf/px100.urdf",
+        None,
+        "/ee_gripper_link",
+    ),
+    "c_val_fl": (
+        "robotics-toolbox/val_description/model/robots/forearm_left.urdf",
+        None,
+        "rightPalm",
+    ),
+    "c_val_fr": (
+        "robotics-toolbox/val_description/model/robots/forearm_right.urdf",
+        None,
+        "rightPalm",
+    ),
+}
+
+
+def corpus_file(corpus: Path, relative: str) -> Path:
+    """A corpus URDF: from a checkout, or written out of a bare git directory (``git show``)."""
+    checkout = corpus / "urdf_files" / relative
+    if checkout.is_file():
+        return checkout
+    text = subprocess.run(
+        ["git", "--git-dir", str(corpus), "show", f"HEAD:urdf_files/{relative}"],
+        check=True,
+        capture_output=True,
+    ).stdout
+    handle, name = tempfile.mkstemp(suffix=".urdf", prefix=f"{Path(relative).stem}_")
+    with os.fdopen(handle, "wb") as stream:
+        stream.write(text)
+    return Path(name)
+
 
 #: One timed call: (target pose, seed) -> joint vectors it returns.
 Call = Callable[[pin.SE3, np.ndarray], list[np.ndarray]]
@@ -96,7 +182,14 @@ def on_target(
 def get_argument_parser() -> ArgumentParser:
     """Command-line arguments."""
     parser = ArgumentParser(prog="bench_ik_small_arms.py", description=__doc__)
-    parser.add_argument("--arms", nargs="+", choices=tuple(ARMS), default=list(ARMS))
+    parser.add_argument(
+        "--arms", nargs="+", choices=(*ARMS, *CORPUS_ARMS), help="arms (default: every one)"
+    )
+    parser.add_argument(
+        "--corpus",
+        type=Path,
+        help="the URDF corpus (checkout or bare git directory): adds its small arms",
+    )
     parser.add_argument("--targets", type=positive_int, default=200, help="targets per arm (200)")
     return parser
 
@@ -105,11 +198,19 @@ def main(argv: list[str] | None = None) -> int:
     """Print one row per arm and solver: success, median single call, answers, ratio."""
     args = get_argument_parser().parse_args(argv)
     print(
-        f"{'arm':<9} {'solver':<30} {'success':>8} {'median':>10} {'answers':>8} {'ratio':>6}"
+        f"{'arm':<14} {'solver':<46} {'success':>8} {'median':>10} {'answers':>8} {'ratio':>6}"
         "   (answers: valid per target; ratio: median over TRAC-IK's)"
     )
-    for arm in args.arms:
-        source, base, tip = ARMS[arm]
+    arms = args.arms or [*ARMS, *(CORPUS_ARMS if args.corpus else ())]
+    for arm in arms:
+        if arm in ARMS:
+            source, base, tip = ARMS[arm]
+        elif args.corpus is None:
+            print(f"{arm:<14} needs --corpus")
+            continue
+        else:
+            relative, base, tip = CORPUS_ARMS[arm]
+            source = corpus_file(args.corpus, relative)
         robot = load_robot(source, base, tip)
         urdf, base_link, tip_link = urdf_of(robot, source)
         judge = Judge(urdf, base_link, tip_link, robot.joint_names)
@@ -121,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
         }
         peer = tracik(urdf, base_link, tip_link)
         if isinstance(peer, str):
-            print(f"{arm:<9} TRAC-IK: {peer}")
+            print(f"{arm:<14} TRAC-IK: {peer}")
         else:
             label, prepare, solve = peer
             calls[label] = ((lambda t, s, p=prepare, f=solve: f(p(t), s)), False)
@@ -155,7 +256,7 @@ def main(argv: list[str] | None = None) -> int:
             median = statistics.median(times[key])
             ratio = f"{median / peer_median:>6.2f}" if peer_median else f"{'-':>6}"
             print(
-                f"{arm:<9} {key:<30} {100.0 * hits[key] / len(targets):>7.1f}% "
+                f"{arm:<14} {key:<46} {100.0 * hits[key] / len(targets):>7.1f}% "
                 f"{median * 1e6:>8.1f}us {answers[key] / len(targets):>8.2f} {ratio}"
             )
     return 0

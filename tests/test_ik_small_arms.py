@@ -20,7 +20,7 @@ from urdf_reference import UrdfReference
 from dh2urdf import load_table
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver
-from kin.ik.analytic.planar.parallel_axes import inside_limits, row_inside
+from kin.ik.analytic.planar.free_angle import inside_limits, row_inside
 from kin.ik.analytic.planar.yaw_planar import YawPlanar
 
 DATA = Path(__file__).parent / "data"

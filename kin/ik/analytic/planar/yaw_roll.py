@@ -5,8 +5,8 @@ to the two parallel axes of joints 2 and 3 (direction ``n2`` at ``q1 = 0``), joi
 tool about an axis through the tool point. The tool point is set by joints 1-3 alone:
 
 1. the base yaw ``q1`` puts the point on the pitch chain's plane
-   (:func:`~.yaw_planar.plane_yaws`, two yaws: in front or over the back);
-2. the planar 2R of joints 2 and 3 (:class:`~.parallel_axes.ParallelAxes`) gives the two elbow
+   (:meth:`~.base_yaw.BaseYaw.plane_points`, two yaws: in front or over the back);
+2. the planar 2R of joints 2 and 3 (:class:`~.plane_chain.PlaneChain`) gives the two elbow
    branches of each;
 3. the roll ``q4``: a position leaves it free (the seed's value, stated in the labels); a pose
    gives it as the angle about joint 4's axis of ``(R1 R2 R3)^T R_target R0^T`` (product of
@@ -26,7 +26,6 @@ from collections.abc import Sequence
 from typing import ClassVar
 
 import numpy as np
-import pinocchio as pin
 
 from dh2urdf import DHTable
 
@@ -34,49 +33,34 @@ from ...exceptions import StructureError
 from ...target import PoseTarget, PositionTarget, Target
 from ..branches import Branches
 from ..closed_form_structure import BatchBranches, candidate_branches
-from .parallel_axes import PARALLEL_TOL, ParallelAxes, _axes
-from .yaw_planar import plane_yaws
+from .base_yaw import BaseYaw, Point, turn
+from .plane_chain import PlaneChain
 
 #: Largest distance [m] of the tool point from joint 4's axis.
 ON_AXIS_TOL = 1e-9
 
 
-class YawPlanarRoll:
+def _dot(u: Point, v: Point) -> float:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+class YawPlanarRoll(BaseYaw):
     """Base yaw, two parallel pitch joints, a roll through the tool point (see the module).
 
     Attributes:
-        n1: Joint 1's axis in the world frame; ``o1`` a point on it [m].
-        n2: The pitch axes' direction at ``q1 = 0``; ``side = n1 x n2``.
-        h: The tool point's offset along ``n2`` from joint 1's axis [m] (constant).
         chain: The planar 2R of joints 2 and 3 to the tool point, at ``q1 = 0``.
         axes: The four joint axes' directions in the world at ``q = 0``.
         roll_basis: Two unit vectors normal to joint 4's axis (for the roll's angle).
         tool_rotation: ``R_world_tool`` at ``q = 0``.
-        offsets: DH angle offsets ``theta`` [rad].
+        (the base yaw's: :class:`~.base_yaw.BaseYaw`)
     """
 
     name: ClassVar[str] = "yaw_planar_roll"
-    dof: ClassVar[int] = 4
     target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget, PoseTarget)
-    branch_labels: tuple[str, ...] = (
-        "yaw 1, elbow left",
-        "yaw 1, elbow right",
-        "yaw 2, elbow left",
-        "yaw 2, elbow right",
-    )
-    #: The candidates are the projection of a pose on what the arm reaches.
-    projects: ClassVar[bool] = True
 
     def __init__(self, table: DHTable):
-        if table.dof != self.dof or any(row.joint_type != "revolute" for row in table.rows):
-            raise StructureError(table.name, self.name, "not four revolute joints")
-        directions, points, tool = _axes(table)
+        directions, points, tool = self._base_yaw(table)
         axes = [u / np.linalg.norm(u) for u in directions]
-        n1, n2 = axes[0], axes[1]
-        if abs(float(n1 @ n2)) > PARALLEL_TOL:
-            raise StructureError(
-                table.name, self.name, "joint 2's axis is not normal to joint 1's (no base yaw)"
-            )
         tool_point = tool[:3, 3]
         off_axis = np.linalg.norm(np.cross(tool_point - points[3], axes[3]))
         if off_axis > ON_AXIS_TOL:
@@ -85,19 +69,22 @@ class YawPlanarRoll:
                 self.name,
                 f"the tool point is {off_axis:.3g} m off joint 4's axis (expected on it: a roll)",
             )
-        self.chain = ParallelAxes.from_axes(
+        self.chain = PlaneChain(
             table.name, directions[1:3], points[1:3], tool, ["revolute"] * 2
         )  # raises when joints 2 and 3 are not parallel
-        self.n1, self.o1, self.n2 = n1, points[0], n2
-        self.side = np.cross(n1, n2)
-        self.h = float((tool_point - self.o1) @ n2)
         self.axes = axes
         helper = np.array([1.0, 0.0, 0.0]) if abs(axes[3][0]) < 0.9 else np.array([0.0, 1.0, 0.0])
         e1 = np.cross(axes[3], helper)
         e1 /= np.linalg.norm(e1)
         self.roll_basis = (e1, np.cross(axes[3], e1))
         self.tool_rotation = tool[:3, :3]
-        self.offsets = tuple(row.theta for row in table.rows)
+        # Plain floats of :meth:`roll`: the axes of joints 2 and 3, the roll basis, and the
+        # basis brought back through the tool's rotation at q = 0 (``R0^T e_j``).
+        self._roll_axes = tuple(tuple(u.tolist()) for u in axes[1:3])
+        self._basis = tuple(tuple(e.tolist()) for e in self.roll_basis)
+        self._tool_basis = tuple(
+            tuple((self.tool_rotation.T @ e).tolist()) for e in self.roll_basis
+        )
 
     @classmethod
     def recognise(cls, table: DHTable) -> YawPlanarRoll:
@@ -108,29 +95,38 @@ class YawPlanarRoll:
         """
         return cls(table)
 
-    def roll(self, q: np.ndarray, rotation: np.ndarray) -> float:
-        """The roll ``q4`` [rad] of a branch ``q[:3]`` nearest the rotation ``R_world_tool``."""
-        r123 = np.eye(3)
-        for axis, angle in zip(self.axes[:3], q[:3]):
-            r123 = r123 @ pin.exp3(axis * angle)
-        m = r123.T @ rotation @ self.tool_rotation.T
-        e1, e2 = self.roll_basis
-        return math.atan2(e2 @ m @ e1 - e1 @ m @ e2, e1 @ m @ e1 + e2 @ m @ e2)
+    def roll(self, q: np.ndarray | Sequence[float], rotation: np.ndarray) -> float:
+        """The roll ``q4`` [rad] of a branch ``q[:3]`` nearest the rotation ``R_world_tool``.
+
+        The angle about joint 4's axis of ``m = (R1 R2 R3)^T R R0^T``, from
+        ``e_i . m e_j = (R3^T R2^T R1^T R R0^T e_j) . e_i`` in plain floats.
+        """
+        r = np.asarray(rotation, dtype=float).tolist()
+        n1 = self._yaw_axes[0]
+        c1, s1 = math.cos(q[0]), -math.sin(q[0])
+        back = [self._back_turned(turn(n1, c1, s1, _apply(r, b)), q) for b in self._tool_basis]
+        e1, e2 = self._basis
+        return math.atan2(
+            _dot(e2, back[0]) - _dot(e1, back[1]), _dot(e1, back[0]) + _dot(e2, back[1])
+        )
+
+    def _back_turned(self, v: Point, q: np.ndarray | Sequence[float]) -> Point:
+        """``R3^T R2^T v`` at the branch's ``q2, q3`` [rad]."""
+        (a2, a3) = self._roll_axes
+        v = turn(a2, math.cos(q[1]), -math.sin(q[1]), v)
+        return turn(a3, math.cos(q[2]), -math.sin(q[2]), v)
 
     def solve_roll(
         self, position: np.ndarray, rotation: np.ndarray | None, roll: float = 0.0
     ) -> np.ndarray:
         """The four branches (4, 4) ``q`` [rad]: ``q4`` from ``rotation``, else ``roll``."""
         out = np.full((4, 4), np.nan)
-        p = np.asarray(position, dtype=float) - self.o1
-        for k, phi in enumerate(plane_yaws(p, self.n2, self.side, self.h)):
-            back = pin.exp3(self.n1 * -phi)
-            rows = out[2 * k : 2 * k + 2]
-            rows[:, 0] = math.remainder(phi, 2.0 * math.pi)
-            rows[:, 1:3] = self.chain.solve(self.o1 + back @ p, None)
-            for row in rows:
-                if not np.isnan(row[1]):
-                    row[3] = roll if rotation is None else self.roll(row, rotation)
+        for k, (yaw, point, _, _) in enumerate(self.plane_points(position)):
+            for j, (q2, q3) in enumerate(self.chain.solve_chain(point, None)):
+                if math.isnan(q2):
+                    continue
+                q4 = roll if rotation is None else self.roll((yaw, q2, q3), rotation)
+                out[2 * k + j] = (yaw, q2, q3, q4)
         return out
 
     def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
@@ -161,3 +157,8 @@ class YawPlanarRoll:
         if rotations is None:
             return np.array([self.solve(p, None) for p in positions]).reshape(-1, 4, 4)
         return np.array([self.solve(p, r) for p, r in zip(positions, rotations)]).reshape(-1, 4, 4)
+
+
+def _apply(rows: list[list[float]], v: Point) -> Point:
+    """``R v`` of a rotation given as rows of plain floats."""
+    return (_dot(rows[0], v), _dot(rows[1], v), _dot(rows[2], v))  # type: ignore[arg-type]
