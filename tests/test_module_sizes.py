@@ -33,7 +33,6 @@ MODULES_OVER = {
     "ik/analytic/seven_r/seven_dof.py": 483,
     "ik/analytic/seven_r/spherical_shoulder7.py": 441,
     "ik/analytic/six_r/general_6r.py": 476,
-    "ik/batch_solve.py": 537,  # 529 + solve_batch(collisions=) (issue 36), landed the same day
     "ik/numeric/free_joint.py": 465,
     "ik/target.py": 446,
     "mimic_arm.py": 431,
@@ -48,6 +47,8 @@ CLASSES_OVER = {
     "ik/analytic/seven_r/spherical_shoulder7.py::SphericalShoulder7RIK": 354,
     "ik/analytic/six_r/pieper.py::Pieper6R": 306,
     "ik/analytic/six_r/spherical_wrist.py::SphericalWrist6R": 310,
+    "ik/analytic/six_r/three_parallel.py::ThreeParallel6R": 298,
+    "ik/analytic/six_r/ur_wrist.py::URWrist6R": 317,
     "mimic_arm.py::MimicArm": 300,
 }
 
