@@ -32,7 +32,6 @@ MODULES_OVER = {
     "ik/analytic/closed_form.py": 448,
     "ik/analytic/seven_r/seven_dof.py": 483,
     "ik/analytic/seven_r/spherical_shoulder7.py": 441,
-    "ik/analytic/six_r/general_6r.py": 476,
     "ik/numeric/free_joint.py": 465,
     "ik/target.py": 446,
     "mimic_arm.py": 431,

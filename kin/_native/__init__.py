@@ -26,6 +26,7 @@ __all__ = ["PARITY_TESTS", "TWINS", "twin", "why_missing"]
 TWINS: dict[str, str] = {
     "_closed7": "kin.ik.analytic.seven_r._closed7",
     "_damped_step": "kin.ik.numeric._damped_step",
+    "_general6r": "kin.ik.analytic.six_r._general6r",
     "_plain_lines": "kin.commands._plain_lines",
     "_pose_check": "kin.ik._pose_check",
     "_shoulder7": "kin.ik.analytic.seven_r._shoulder7",
@@ -37,6 +38,7 @@ TWINS: dict[str, str] = {
 PARITY_TESTS: dict[str, str] = {
     "_closed7": "test_closed7_parity.py",
     "_damped_step": "test_damped_step.py",
+    "_general6r": "test_general6r_twin.py",
     "_plain_lines": "test_plain_lines.py",
     "_pose_check": "test_pose_check.py",
     "_shoulder7": "test_shoulder7_parity.py",

@@ -148,6 +148,25 @@ class Formulation:
         )
         setattr_(self, "_h0", np.kron(np.array([1.0, 0.0, 1.0]), np.array([1.0, 0.0, 1.0])))
 
+    def twin_block(self) -> np.ndarray:
+        """The arm's float64 block of ``kin/_native/_general6r.c`` (its ``ARM_*`` layout).
+
+        Start, reading, the fixed ``C_k`` and their inverses, the left side's coefficients, the
+        chain ``F0 .. F6`` [m] and ``F0^-1``, ``F6^-1``, the fit on the grid and :data:`TAU`.
+        """
+        parts = (
+            [float(self.start), float(self.reverse)],
+            self._C_fixed,
+            self._C_inv,
+            self._P,
+            self.F,
+            inverse(self.F[0]),
+            inverse(self.F[6]),
+            _FIT9,
+            TAU,
+        )
+        return np.concatenate([np.ravel(np.asarray(part, dtype=float)) for part in parts])
+
     def _loop_constants(self, K: np.ndarray) -> tuple[list[np.ndarray], list[np.ndarray]]:
         """``C1 .. C6`` of N poses and their inverses, (N, 4, 4) each (see the module).
 

@@ -32,24 +32,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from dh2urdf import DHTable
+from kin._native import twin
 
 from ...exceptions import StructureError, TargetError
 from ...target import PoseTarget
 from ..structure import Checker
+from ._general_6r_chain import BRANCHES, chain_transforms, distinct, forward, polish
 from ._general_6r_elimination import IMAG_TOL, Formulation
-from ._stacked_transforms import SMALL_STACK, inverse, rot_z, times, times_rz
+from ._stacked_transforms import inverse
 
-#: Number of branches (columns of :meth:`General6R.solve`): a 6R arm has at most 16.
-BRANCHES = 16
-#: Newton steps of the polish, and the error it stops at [m, rad] (most roots start below it).
-NEWTON_STEPS = 8
-NEWTON_TOL = 1e-12
 #: A polished candidate is kept when its position [m] and rotation [rad] errors are below this.
 KEEP_TOL = 1e-10
 #: Eigenvalues this close to real (relative imaginary part) count as roots a pose must keep:
@@ -58,8 +55,6 @@ ROOT_TOL = 1e-7
 #: Poses solved together by :meth:`General6R.solve_batch` (more in chunks of this many: larger
 #: stacks outgrow the CPU's caches, 10 to 20 % slower per pose measured at 10,000).
 CHUNK = 1024
-#: Two branches closer than this in every joint (modulo 2 pi) [rad] are one.
-SAME_TOL = 1e-7
 #: Further eliminations asked for a pose the first one does not solve cleanly, at most.
 FALLBACKS = 2
 #: Sampled poses per formulation when an arm is recognised, and the seed of their joints.
@@ -94,154 +89,6 @@ NUDGES = tuple(
 )
 
 
-def _rot_x(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    out = np.eye(4)
-    out[1:3, 1:3] = [[c, -s], [s, c]]
-    return out
-
-
-def _trans(x: float = 0.0, z: float = 0.0) -> np.ndarray:
-    out = np.eye(4)
-    out[0, 3], out[2, 3] = x, z
-    return out
-
-
-def chain_transforms(table: DHTable) -> tuple[np.ndarray, np.ndarray]:
-    """The constant transforms ``F0 .. F6`` (7, 4, 4) [m] and the joint directions (6,).
-
-    ``T_world_tool(q) = F0 Rz(s1 q1) F1 ... Rz(s6 q6) F6`` with ``s_i`` the row's direction
-    (+-1): the base and a modified row's ``Rx(alpha) Tx(a)`` before the joint, the offset
-    ``theta`` into the transform before the joint, the tool into ``F6``.
-    """
-    F = [np.array(table.T_world_base, dtype=float)] + [np.eye(4) for _ in range(6)]
-    signs = np.ones(6)
-    for i, row in enumerate(table.rows):
-        signs[i] = float(getattr(row, "direction", 1) or 1)
-        if table.convention == "modified":
-            F[i] = F[i] @ _rot_x(row.alpha) @ _trans(x=row.a) @ rot_z(row.theta)
-            F[i + 1] = _trans(z=row.d)
-        else:
-            F[i] = F[i] @ rot_z(row.theta)
-            F[i + 1] = _trans(z=row.d) @ _trans(x=row.a) @ _rot_x(row.alpha)
-    F[6] = F[6] @ np.array(table.T_last_tool, dtype=float)
-    return np.stack(F), signs
-
-
-def forward(F: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Tool poses (..., 4, 4), joint axes and joint origins (..., 6, 3) in the world [m].
-
-    ``u`` (..., 6) [rad] are the DH joint variables (``s_i q_i``).
-    """
-    axes = np.empty(u.shape[:-1] + (6, 3))
-    origins = np.empty(u.shape[:-1] + (6, 3))
-    small = u.size <= 6 * SMALL_STACK  # the Rz of every joint at once, then matmuls
-    R = rot_z(u) if small else None
-    T = F[0]  # (4, 4): broadcast by the products
-    for i in range(6):
-        axes[..., i, :] = T[..., :3, 2]
-        origins[..., i, :] = T[..., :3, 3]
-        T = (
-            T @ R[..., i, :, :] @ F[i + 1]
-            if R is not None
-            else times(times_rz(T, u[..., i]), F[i + 1])
-        )
-    return T, axes, origins
-
-
-def _errors(T: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Error vectors (M, 6) of poses to targets, and the largest of each (M,).
-
-    Position [m] and small-angle rotation [rad]; the largest is ``inf`` when the rotation is
-    more than 90 deg off.
-    """
-    E = target[:, :3, :3] @ np.swapaxes(T[:, :3, :3], 1, 2)
-    e = np.empty((T.shape[0], 6))
-    np.subtract(target[:, :3, 3], T[:, :3, 3], out=e[:, :3])
-    np.subtract(E[:, 2, 1], E[:, 1, 2], out=e[:, 3])
-    np.subtract(E[:, 0, 2], E[:, 2, 0], out=e[:, 4])
-    np.subtract(E[:, 1, 0], E[:, 0, 1], out=e[:, 5])
-    e[:, 3:] *= 0.5
-    size = np.abs(e).max(axis=1)
-    trace = E[:, 0, 0] + E[:, 1, 1] + E[:, 2, 2]
-    return e, np.where(trace > 1.0, size, np.inf)
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross products of (..., 3) vectors (faster than ``np.cross`` on small stacks)."""
-    return np.stack(
-        (
-            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-        ),
-        axis=-1,
-    )
-
-
-#: The damping of the polish's normal equations (keeps an exact singularity solvable).
-_DAMPING = 1e-14 * np.eye(6)
-
-
-def polish(F: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Newton steps of DH joint variables ``u`` (M, 6) [rad] towards targets ``target`` (M, 4, 4).
-
-    Each row stops once on target to :data:`NEWTON_TOL` or off it by more than 1 (m or rad,
-    a root that is not one). Returns the polished ``u`` wrapped to [-pi, pi) and the largest
-    error of each row (M,) [m or rad].
-    """
-    u = np.array(u, dtype=float)
-    error = np.full(u.shape[0], np.inf)
-    rows = np.arange(u.shape[0])
-    for step in range(NEWTON_STEPS + 1):
-        T, axes, origins = forward(F, u[rows])
-        e, size = _errors(T, target[rows])
-        error[rows] = size
-        go = (size > NEWTON_TOL) & (size < 1.0)
-        if step == NEWTON_STEPS or not go.any():
-            break
-        rows, e, T, axes, origins = rows[go], e[go], T[go], axes[go], origins[go]
-        J = np.empty((rows.size, 6, 6))
-        J[:, :3, :] = np.swapaxes(_cross(axes, T[:, None, :3, 3] - origins), 1, 2)
-        J[:, 3:, :] = np.swapaxes(axes, 1, 2)
-        JJt = J @ np.swapaxes(J, 1, 2) + _DAMPING
-        delta = (np.swapaxes(J, 1, 2) @ np.linalg.solve(JJt, e[..., None]))[..., 0]
-        u[rows] += np.clip(delta, -0.5, 0.5)
-    return np.remainder(u + math.pi, 2.0 * math.pi) - math.pi, error
-
-
-def distinct(n: int, pose: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Branches (n, 16, 6) [rad] of the polished rows ``u`` (M, 6) of poses ``pose`` (M,).
-
-    Per pose, rows within :data:`SAME_TOL` of another row before them (modulo 2 pi) are
-    dropped; the rest are ordered by ascending joint 1, NaN rows after.
-    """
-    out = np.full((n, BRANCHES, 6), np.nan)
-    if not pose.size:
-        return out
-    # Joint 1 near +pi sorts with -pi (the same angle).
-    order = np.lexsort(
-        (np.where(u[:, 0] > math.pi - SAME_TOL, u[:, 0] - 2.0 * math.pi, u[:, 0]), pose)
-    )
-    pose, u = pose[order], u[order]
-    # A duplicate follows its twin within the rows of equal pose and joint 1 (sorted).
-    duplicate = np.zeros(pose.size, dtype=bool)
-    for shift in range(1, pose.size):
-        gap1 = np.remainder(u[shift:, 0] - u[:-shift, 0] + math.pi, 2.0 * math.pi) - math.pi
-        near = (pose[shift:] == pose[:-shift]) & (np.abs(gap1) <= SAME_TOL)
-        if not near.any():
-            break
-        gap = np.remainder(u[shift:] - u[:-shift] + math.pi, 2.0 * math.pi) - math.pi
-        duplicate[shift:] |= near & (np.abs(gap).max(axis=1) <= SAME_TOL)
-    keep = ~duplicate
-    pose, u = pose[keep], u[keep]
-    first = np.searchsorted(pose, pose)  # index of each pose's first row
-    rank = np.arange(pose.size) - first
-    fits = rank < BRANCHES
-    out[pose[fits], rank[fits]] = u[fits]
-    return out
-
-
 @dataclass(frozen=True, eq=False)
 class General6R:
     """Any revolute 6R arm (16 branches), by Raghavan-Roth / Manocha-Canny elimination.
@@ -255,6 +102,9 @@ class General6R:
         fallbacks: Further eliminations, asked for the poses where the first leaves a real
             root unsolved (two solutions sharing the eliminated joint's angle, a root that does
             not polish onto the target, an odd count): their branches are merged.
+        compiled: Run the first elimination's pass in the compiled twin
+            (``kin/_native/_general6r.c``) when it is built and one elimination is used; the
+            NumPy path is the reference, the fallback and every later pass.
     """
 
     name: ClassVar[str] = "general_6r"
@@ -269,9 +119,11 @@ class General6R:
     F: np.ndarray = field(repr=False)
     signs: np.ndarray = field(repr=False)
     fallbacks: tuple[Formulation, ...] = ()
+    compiled: bool = field(default=True, repr=False)
     _F0_inv: np.ndarray = field(init=False, repr=False)
     _F6_inv: np.ndarray = field(init=False, repr=False)
     _cuts: tuple[Formulation, ...] = field(init=False, repr=False)
+    _twin: tuple[Any, np.ndarray] | None = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_F0_inv", inverse(self.F[0]))
@@ -283,6 +135,9 @@ class General6R:
             for start in range(3)
         )
         object.__setattr__(self, "_cuts", cuts)
+        module = twin("_general6r") if self.compiled and len(self.formulations) == 1 else None
+        block = None if module is None else self.formulations[0].twin_block()
+        object.__setattr__(self, "_twin", None if module is None else (module, block))
 
     @classmethod
     def recognise(cls, table: DHTable) -> General6R:
@@ -368,9 +223,9 @@ class General6R:
         T = np.where(finite[:, None, None], T, np.eye(4))
         inverses = (self._F0_inv, self._F6_inv)
         n = T.shape[0]
-        pose, u, roots = _candidates(self.F, self.formulations, T, *inverses)
+        pose, u, roots, out = self._first_pass(T, inverses)
         pose, u = pose[finite[pose]], u[finite[pose]]
-        out = distinct(n, pose, u)
+        out = distinct(n, pose, u) if out is None or not finite.all() else out
         doubtful = None  # the poses the first elimination did not solve cleanly
         for extra in self.formulations[:1] + self.fallbacks:
             found = (~np.isnan(out[..., 0])).sum(axis=1)
@@ -401,6 +256,31 @@ class General6R:
                 u = np.concatenate((u, more_u))
             out = distinct(n, pose, u)
         return out * self.signs
+
+
+    def _first_pass(
+        self, T: np.ndarray, inverses: tuple[np.ndarray, np.ndarray]
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+        """:func:`_candidates` of the first elimination(s), and their branches (N, 16, 6) or None.
+
+        In the compiled twin when there is one; a pose it cannot answer (a singular leading
+        matrix) is answered by the NumPy path, the branches then left to :func:`distinct`.
+        """
+        if self._twin is None:
+            return (*_candidates(self.F, self.formulations, T, *inverses), None)
+        module, block = self._twin
+        n = T.shape[0]
+        out = np.empty((n, BRANCHES, 6))
+        roots = np.empty(n)
+        module.first_pass(block, T, out, roots)
+        answered = roots >= 0.0
+        pose, branch = np.nonzero(~np.isnan(out[..., 0]) & answered[:, None])
+        failed = np.nonzero(~answered)[0]
+        u = out[pose, branch]
+        if not failed.size:
+            return pose, u, roots, out
+        more_pose, more_u, roots[failed] = _candidates(self.F, self.formulations, T[failed], *inverses)
+        return np.concatenate((pose, failed[more_pose])), np.concatenate((u, more_u)), roots, None
 
 
 def _candidates(

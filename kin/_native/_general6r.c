@@ -1,0 +1,524 @@
+/*
+ * Compiled twin of the first pass of the general 6R closed form (optional: without it the NumPy
+ * path runs alone). kin/ik/analytic/six_r/_general_6r_elimination.py (Formulation.candidates,
+ * careful=False) and general_6r.py (polish, distinct) are the reference; this file repeats them
+ * operation for operation for one formulation and N poses, and tests/test_general6r_twin.py holds
+ * the two to the same branches.
+ *
+ * Per pose: the right side of the loop at its 9 grid points -> Q (14x9); the left null space of
+ * Q's last 8 columns (LAPACK dgesvd) -> the 12x12 matrix quadratic M2 x^2 + M1 x + M0; its 24x24
+ * companion matrix on the better conditioned leading matrix (dgetrf, dgesv) -> eigenpairs
+ * (dgeev); each (near-)real root -> the joints, Newton-polished on the true chain, kept on
+ * target, duplicates merged, ordered by joint 1. LAPACK comes from SciPy's cython_lapack
+ * capsules at import (no link-time dependency).
+ *
+ * first_pass(arm, T, out, roots): arm the float64 block of general_6r.twin_block (layout in
+ * ARM_* below), T (N, 4, 4) the tool poses [m], out (N, 16, 6) the DH joint variables [rad]
+ * (NaN rows after the branches), roots (N,) the real roots counted per pose, or -1 where this
+ * pass cannot answer (a singular leading matrix, a non-finite companion matrix): the NumPy path
+ * answers that pose.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <string.h>
+
+typedef void dgeev_t(char *, char *, int *, double *, int *, double *, double *, double *, int *,
+                     double *, int *, double *, int *, int *);
+typedef void dgesvd_t(char *, char *, int *, int *, double *, int *, double *, double *, int *,
+                      double *, int *, double *, int *, int *);
+typedef void dgetrf_t(int *, int *, double *, int *, int *, int *);
+typedef void dgesv_t(int *, int *, double *, int *, int *, double *, int *, int *);
+
+static dgeev_t *dgeev_;
+static dgesvd_t *dgesvd_;
+static dgetrf_t *dgetrf_;
+static dgesv_t *dgesv_;
+
+/* The arm block: start, reverse, C_fixed (5 4x4), C_inv (5 4x4), P (3x14x9), F (7 4x4),
+   F0^-1, F6^-1, FIT9 (9x9), TAU (3). */
+#define ARM_START 0
+#define ARM_REVERSE 1
+#define ARM_C 2
+#define ARM_CINV (ARM_C + 80)
+#define ARM_P (ARM_CINV + 80)
+#define ARM_F (ARM_P + 378)
+#define ARM_F0INV (ARM_F + 112)
+#define ARM_F6INV (ARM_F0INV + 16)
+#define ARM_FIT9 (ARM_F6INV + 16)
+#define ARM_TAU (ARM_FIT9 + 81)
+#define ARM_SIZE (ARM_TAU + 3)
+
+#define BRANCHES 16
+#define NEWTON_STEPS 8
+#define NEWTON_TOL 1e-12
+#define KEEP_TOL 1e-10
+#define ROOT_TOL 1e-7
+#define IMAG_TOL 1e-3
+#define SAME_TOL 1e-7
+
+static const double GRID[3] = {0.0, 2.0 * M_PI / 3.0, 4.0 * M_PI / 3.0};
+
+/* c = a b of 4x4 row-major transforms (c may not alias). */
+static void mul4(const double *a, const double *b, double *c)
+{
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            c[4 * i + j] = a[4 * i] * b[j] + a[4 * i + 1] * b[4 + j] + a[4 * i + 2] * b[8 + j] +
+                           a[4 * i + 3] * b[12 + j];
+}
+
+static void rz(double angle, double *out)
+{
+    double c = cos(angle), s = sin(angle);
+    memset(out, 0, 16 * sizeof(double));
+    out[0] = c, out[1] = -s, out[4] = s, out[5] = c, out[10] = 1.0, out[15] = 1.0;
+}
+
+/* x Rz(angle) into out. */
+static void mul_rz(const double *x, double angle, double *out)
+{
+    double r[16];
+    rz(angle, r);
+    mul4(x, r, out);
+}
+
+static void rigid_inverse(const double *t, double *out)
+{
+    memset(out, 0, 16 * sizeof(double));
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) out[4 * i + j] = t[4 * j + i];
+    for (int i = 0; i < 3; i++)
+        out[4 * i + 3] = -(out[4 * i] * t[3] + out[4 * i + 1] * t[7] + out[4 * i + 2] * t[11]);
+    out[15] = 1.0;
+}
+
+/* The 14 Raghavan-Roth quantities of the z axis and origin of transform t. */
+static void equations(const double *t, double *out)
+{
+    double l[3] = {t[2], t[6], t[10]}, p[3] = {t[3], t[7], t[11]};
+    double pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    double pl = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+    for (int k = 0; k < 3; k++) out[k] = l[k], out[3 + k] = p[k];
+    out[6] = pp, out[7] = pl;
+    out[8] = p[1] * l[2] - p[2] * l[1];
+    out[9] = p[2] * l[0] - p[0] * l[2];
+    out[10] = p[0] * l[1] - p[1] * l[0];
+    for (int k = 0; k < 3; k++) out[11 + k] = pp * l[k] - 2.0 * pl * p[k];
+}
+
+/* Tool pose of DH variables u through the chain F (7 4x4), with the joints' axes and origins. */
+static void forward(const double *F, const double *u, double *T, double *axes, double *origins)
+{
+    double cur[16], tmp[16];
+    memcpy(cur, F, sizeof cur);
+    for (int i = 0; i < 6; i++) {
+        axes[3 * i] = cur[2], axes[3 * i + 1] = cur[6], axes[3 * i + 2] = cur[10];
+        origins[3 * i] = cur[3], origins[3 * i + 1] = cur[7], origins[3 * i + 2] = cur[11];
+        mul_rz(cur, u[i], tmp);
+        mul4(tmp, F + 16 * (i + 1), cur);
+    }
+    memcpy(T, cur, sizeof cur);
+}
+
+/* Error vector of pose T to target and its largest entry (inf beyond 90 deg of rotation). */
+static double pose_error(const double *T, const double *target, double *e)
+{
+    double E[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            E[3 * i + j] = target[4 * i] * T[4 * j] + target[4 * i + 1] * T[4 * j + 1] +
+                           target[4 * i + 2] * T[4 * j + 2];
+    for (int k = 0; k < 3; k++) e[k] = target[4 * k + 3] - T[4 * k + 3];
+    e[3] = 0.5 * (E[7] - E[5]);
+    e[4] = 0.5 * (E[2] - E[6]);
+    e[5] = 0.5 * (E[3] - E[1]);
+    double size = 0.0;
+    for (int k = 0; k < 6; k++) {
+        double a = fabs(e[k]);
+        if (a > size || isnan(a)) size = a;
+    }
+    return E[0] + E[4] + E[8] > 1.0 ? size : INFINITY;
+}
+
+/* Solve the n x n system a x = b (row-major, partial pivoting) in place: 0, or -1 if singular. */
+static int solve_small(double *a, double *b, int n)
+{
+    for (int c = 0; c < n; c++) {
+        int p = c;
+        for (int r = c + 1; r < n; r++)
+            if (fabs(a[r * n + c]) > fabs(a[p * n + c])) p = r;
+        if (a[p * n + c] == 0.0) return -1;
+        if (p != c) {
+            for (int k = 0; k < n; k++) {
+                double t = a[c * n + k];
+                a[c * n + k] = a[p * n + k], a[p * n + k] = t;
+            }
+            double t = b[c];
+            b[c] = b[p], b[p] = t;
+        }
+        for (int r = c + 1; r < n; r++) {
+            double f = a[r * n + c] / a[c * n + c];
+            for (int k = c; k < n; k++) a[r * n + k] -= f * a[c * n + k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int c = n - 1; c >= 0; c--) {
+        double s = b[c];
+        for (int k = c + 1; k < n; k++) s -= a[c * n + k] * b[k];
+        b[c] = s / a[c * n + c];
+    }
+    return 0;
+}
+
+/* Newton steps of u (6) onto target (general_6r.polish): the largest error left; u wrapped. */
+static double polish(const double *F, double *u, const double *target)
+{
+    double T[16], axes[18], origins[18], e[6], error = INFINITY;
+    for (int step = 0; step <= NEWTON_STEPS; step++) {
+        forward(F, u, T, axes, origins);
+        error = pose_error(T, target, e);
+        if (step == NEWTON_STEPS || !(error > NEWTON_TOL && error < 1.0)) break;
+        double J[36], JJt[36], y[6];
+        for (int i = 0; i < 6; i++) {
+            const double *z = axes + 3 * i;
+            double r[3] = {T[3] - origins[3 * i], T[7] - origins[3 * i + 1],
+                           T[11] - origins[3 * i + 2]};
+            J[0 * 6 + i] = z[1] * r[2] - z[2] * r[1];
+            J[1 * 6 + i] = z[2] * r[0] - z[0] * r[2];
+            J[2 * 6 + i] = z[0] * r[1] - z[1] * r[0];
+            J[3 * 6 + i] = z[0], J[4 * 6 + i] = z[1], J[5 * 6 + i] = z[2];
+        }
+        for (int i = 0; i < 6; i++) {
+            for (int j = 0; j < 6; j++) {
+                double s = 0.0;
+                for (int k = 0; k < 6; k++) s += J[6 * i + k] * J[6 * j + k];
+                JJt[6 * i + j] = s + (i == j ? 1e-14 : 0.0);
+            }
+            y[i] = e[i];
+        }
+        if (solve_small(JJt, y, 6) != 0) break;
+        for (int i = 0; i < 6; i++) {
+            double d = 0.0;
+            for (int k = 0; k < 6; k++) d += J[6 * k + i] * y[k];
+            u[i] += d > 0.5 ? 0.5 : (d < -0.5 ? -0.5 : d);
+        }
+    }
+    for (int i = 0; i < 6; i++) {
+        double w = fmod(u[i] + M_PI, 2.0 * M_PI);
+        if (w < 0.0) w += 2.0 * M_PI;
+        u[i] = w - M_PI;
+    }
+    return error;
+}
+
+static double wrap_gap(double d)
+{
+    double w = fmod(d + M_PI, 2.0 * M_PI);
+    if (w < 0.0) w += 2.0 * M_PI;
+    return w - M_PI;
+}
+
+/* general_6r.distinct of one pose: rows (m, 6) -> out (16, 6), NaN after the branches. */
+static void distinct(double *rows, int m, double *out)
+{
+    double key[24];
+    int order[24], n = 0;
+    for (int r = 0; r < m; r++) key[r] = rows[6 * r] > M_PI - SAME_TOL ? rows[6 * r] - 2.0 * M_PI : rows[6 * r];
+    for (int r = 0; r < m; r++) { /* stable insertion sort by key */
+        int k = r;
+        while (k > 0 && key[order[k - 1]] > key[r]) order[k] = order[k - 1], k--;
+        order[k] = r;
+    }
+    for (int k = 0; k < BRANCHES * 6; k++) out[k] = NAN;
+    int kept[24];
+    for (int j = 0; j < m; j++) {
+        const double *b = rows + 6 * order[j];
+        int duplicate = 0;
+        for (int i = j - 1; i >= 0 && !duplicate; i--) {
+            const double *a = rows + 6 * order[i];
+            if (!(fabs(wrap_gap(b[0] - a[0])) <= SAME_TOL)) continue;
+            duplicate = 1;
+            for (int k = 1; k < 6; k++)
+                if (!(fabs(wrap_gap(b[k] - a[k])) <= SAME_TOL)) duplicate = 0;
+        }
+        if (!duplicate) kept[n++] = order[j];
+    }
+    for (int j = 0; j < n && j < BRANCHES; j++) memcpy(out + 6 * j, rows + 6 * kept[j], 6 * sizeof(double));
+}
+
+/* log |det| minus the log of the row norms of a 12x12 row-major matrix; -inf if singular. */
+static double hadamard_ratio(const double *m)
+{
+    double a[144], norms = 0.0;
+    int n = 12, ipiv[12], info;
+    for (int i = 0; i < 12; i++) {
+        double s = 0.0;
+        for (int j = 0; j < 12; j++) s += m[12 * i + j] * m[12 * i + j];
+        norms += log(fmax(sqrt(s), 1e-300));
+    }
+    memcpy(a, m, sizeof a); /* the transpose's determinant is the same */
+    dgetrf_(&n, &n, a, &n, ipiv, &info);
+    if (info > 0) return -INFINITY;
+    double logdet = 0.0;
+    for (int i = 0; i < 12; i++) logdet += log(fabs(a[13 * i]));
+    return logdet - norms;
+}
+
+/* atan2 of the consecutive pair (along y: step 3, 3x3 pairs; along z: step 1, 4x2) of largest norm. */
+static double ratio_angle(const double *v, int along_y)
+{
+    double best = -1.0, angle = 0.0;
+    for (int i = 0; i < (along_y ? 3 : 4); i++)
+        for (int j = 0; j < (along_y ? 3 : 2); j++) {
+            double t = v[3 * i + j], x = along_y ? v[3 * (i + 1) + j] : v[3 * i + j + 1];
+            double size = t * t + x * x;
+            if (size > best) best = size, angle = atan2(x, t);
+        }
+    return angle;
+}
+
+/* The first pass of one pose: 0, or -1 when the NumPy path must answer. */
+static int one_pose(const double *arm, const double *T, double *out, double *roots)
+{
+    int a = (int)arm[ARM_START], reverse = arm[ARM_REVERSE] != 0.0;
+    const double *Cf = arm + ARM_C, *Ci = arm + ARM_CINV, *P = arm + ARM_P, *F = arm + ARM_F;
+    const double *fit = arm + ARM_FIT9, *tau = arm + ARM_TAU;
+    double K[16], tmp[16], G[16], Ginv[16];
+    const double *C[6], *Cinv[6];
+    mul4(arm + ARM_F0INV, T, tmp);
+    mul4(tmp, arm + ARM_F6INV, K);
+    if (reverse) memcpy(G, K, sizeof G), rigid_inverse(K, Ginv);
+    else rigid_inverse(K, G), memcpy(Ginv, K, sizeof Ginv);
+    for (int k = 0; k < 5; k++) C[k] = Cf + 16 * k, Cinv[k] = Ci + 16 * k;
+    C[5] = G, Cinv[5] = Ginv;
+    int i3 = (a + 3) % 6, i4 = (a + 4) % 6, i5 = (a + 5) % 6;
+    /* Right side at the 9 grid points, fitted on {1, s, c}^2: Q (14x9). */
+    double values[9][14], Q[14][9];
+    for (int g = 0; g < 9; g++) {
+        double r5[16], r4[16], x[16], y[16];
+        rz(-GRID[g % 3], r5);
+        rz(-GRID[g / 3], r4);
+        mul4(Cinv[i5], r5, x);
+        mul4(x, Cinv[i4], y);
+        mul4(y, r4, x);
+        mul4(x, Cinv[i3], y);
+        equations(y, values[g]);
+    }
+    for (int k = 0; k < 14; k++)
+        for (int i = 0; i < 9; i++) {
+            double s = 0.0;
+            for (int j = 0; j < 9; j++) s += fit[9 * i + j] * values[j][k];
+            Q[k][i] = s;
+        }
+    /* SVD of Q[:, 1:] (column-major 14x8). */
+    double A[14 * 8], U[14 * 14], sv[8], Vt[8 * 8], work[1024];
+    int m14 = 14, n8 = 8, lwork = 1024, info;
+    for (int j = 0; j < 8; j++)
+        for (int i = 0; i < 14; i++) A[i + 14 * j] = Q[i][j + 1];
+    char all = 'A';
+    dgesvd_(&all, &all, &m14, &n8, A, &m14, sv, U, &m14, Vt, &n8, work, &lwork, &info);
+    if (info != 0) return -1;
+    /* M_k (12x12 row-major): [S 0; 0 S] shifted, S = null P_k. */
+    double M[3][144];
+    memset(M, 0, sizeof M);
+    for (int k = 0; k < 3; k++)
+        for (int r = 0; r < 6; r++)
+            for (int c = 0; c < 9; c++) {
+                double s = 0.0;
+                for (int i = 0; i < 14; i++) {
+                    double p = P[(k * 14 + i) * 9 + c];
+                    if (k != 1 && (c == 0 || c == 2 || c == 6 || c == 8)) p -= Q[i][0];
+                    s += U[i + 14 * (8 + r)] * p;
+                }
+                M[k][12 * r + c] = s;
+                M[k][12 * (6 + r) + 3 + c] = s;
+            }
+    /* Companion matrix on the better conditioned leading matrix. */
+    int flip = hadamard_ratio(M[0]) > hadamard_ratio(M[2]);
+    const double *lead = flip ? M[0] : M[2], *tail = flip ? M[2] : M[0];
+    double L[144], rhs[12 * 24], comp[24 * 24];
+    int n12 = 12, n24 = 24, ipiv[12];
+    for (int i = 0; i < 12; i++)
+        for (int j = 0; j < 12; j++) {
+            L[i + 12 * j] = lead[12 * i + j];
+            rhs[i + 12 * j] = tail[12 * i + j];
+            rhs[i + 12 * (12 + j)] = M[1][12 * i + j];
+        }
+    dgesv_(&n12, &n24, L, &n12, ipiv, rhs, &n12, &info);
+    if (info != 0) return -1;
+    memset(comp, 0, sizeof comp);
+    for (int i = 0; i < 12; i++) comp[i + 24 * (12 + i)] = 1.0;
+    for (int i = 0; i < 12; i++)
+        for (int j = 0; j < 24; j++) {
+            double v = -rhs[i + 12 * j];
+            if (!isfinite(v)) return -1;
+            comp[12 + i + 24 * j] = v;
+        }
+    double wr[24], wi[24], vr[24 * 24], vl[1];
+    int one = 1;
+    char no = 'N', yes = 'V';
+    dgeev_(&no, &yes, &n24, comp, &n24, wr, wi, vl, &one, vr, &n24, work, &lwork, &info);
+    if (info != 0) return -1;
+    /* Each (near-)real root: the joints, polished. */
+    double rows[24 * 6];
+    int m = 0, count = 0;
+    for (int e = 0; e < 24; e++) {
+        double im = fabs(wi[e]) / (1.0 + hypot(wr[e], wi[e]));
+        if (!(im <= IMAG_TOL)) continue;
+        /* The eigenvector (complex when wi != 0: columns re, +-im), its larger half. */
+        int base = wi[e] == 0.0 ? e : (wi[e] > 0.0 ? e : e - 1);
+        double sign = wi[e] < 0.0 ? -1.0 : 1.0;
+        double re[24], imv[24];
+        for (int i = 0; i < 24; i++) {
+            re[i] = vr[i + 24 * base];
+            imv[i] = wi[e] == 0.0 ? 0.0 : sign * vr[i + 24 * (base + 1)];
+        }
+        double top = 0.0, bottom = 0.0;
+        for (int i = 0; i < 12; i++) {
+            top += re[i] * re[i] + imv[i] * imv[i];
+            bottom += re[12 + i] * re[12 + i] + imv[12 + i] * imv[12 + i];
+        }
+        int off = top >= bottom ? 0 : 12, big = 0;
+        double bigsize = -1.0;
+        for (int i = 0; i < 12; i++) {
+            double s = hypot(re[off + i], imv[off + i]);
+            if (s > bigsize) bigsize = s, big = i;
+        }
+        double pr = re[off + big] / fmax(bigsize, 1e-300), pi = -imv[off + big] / fmax(bigsize, 1e-300);
+        double v[12];
+        for (int i = 0; i < 12; i++) v[i] = re[off + i] * pr - imv[off + i] * pi;
+        double theta = tau[0] + 2.0 * (flip ? atan2(1.0, wr[e]) : atan2(wr[e], 1.0));
+        double phi = tau[1] + 2.0 * ratio_angle(v, 1), psi = tau[2] + 2.0 * ratio_angle(v, 0);
+        /* The right side's joints from the monomials (least squares on Q), u_a+3 from the loop. */
+        double Lt[16], x[16], f[14], mono[8], u[6];
+        rz(theta, tmp);
+        mul4(tmp, C[a], x);
+        mul_rz(x, phi, tmp);
+        mul4(tmp, C[a + 1], x);
+        mul_rz(x, psi, tmp);
+        mul4(tmp, C[a + 2], Lt);
+        equations(Lt, f);
+        for (int i = 0; i < 14; i++) f[i] -= Q[i][0];
+        for (int i = 0; i < 8; i++) {
+            double s = 0.0;
+            for (int r = 0; r < 8; r++) {
+                double inv = sv[r] > sv[0] * 1e-12 ? 1.0 / (sv[r] > 0 ? sv[r] : 1.0) : 0.0;
+                if (inv == 0.0) continue;
+                double uf = 0.0;
+                for (int k = 0; k < 14; k++) uf += U[k + 14 * r] * f[k];
+                s += Vt[r + 8 * i] * inv * uf;
+            }
+            mono[i] = s;
+        }
+        u[a] = theta, u[(a + 1) % 6] = phi, u[(a + 2) % 6] = psi;
+        u[i5] = atan2(mono[0], mono[1]);
+        u[i4] = atan2(mono[2], mono[5]);
+        double R[16];
+        mul_rz(C[i3], u[i4], tmp);
+        mul4(tmp, C[i4], x);
+        mul_rz(x, u[i5], tmp);
+        mul4(tmp, C[i5], R);
+        double Z[9]; /* (R L)^T, rotation parts */
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                Z[3 * j + i] = R[4 * i] * Lt[j] + R[4 * i + 1] * Lt[4 + j] + R[4 * i + 2] * Lt[8 + j];
+        u[i3] = atan2(Z[3] - Z[1], Z[0] + Z[4]);
+        double q[6];
+        int finite = 1;
+        for (int k = 0; k < 6; k++) {
+            q[reverse ? 5 - k : k] = reverse ? -u[k] : u[k];
+            if (!isfinite(u[k])) finite = 0;
+        }
+        if (!finite) continue;
+        if (im <= ROOT_TOL) count++;
+        if (polish(F, q, T) <= KEEP_TOL) memcpy(rows + 6 * m++, q, sizeof q);
+    }
+    *roots = (double)count;
+    distinct(rows, m, out);
+    return 0;
+}
+
+/* A C-contiguous float64 buffer of n values, or 0 with a TypeError. */
+static int doubles(PyObject *obj, Py_buffer *view, Py_ssize_t n, int writable, const char *what)
+{
+    if (PyObject_GetBuffer(obj, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0)) != 0)
+        return 0;
+    if (view->itemsize != sizeof(double) || view->format == NULL || strcmp(view->format, "d") != 0 ||
+        view->len != n * (Py_ssize_t)sizeof(double)) {
+        PyBuffer_Release(view);
+        PyErr_Format(PyExc_TypeError, "first_pass: %s must be %zd contiguous float64 values", what, n);
+        return 0;
+    }
+    return 1;
+}
+
+static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "first_pass(arm, T, out, roots)");
+        return NULL;
+    }
+    Py_buffer arm, T, out, roots;
+    if (!doubles(args[0], &arm, ARM_SIZE, 0, "arm")) return NULL;
+    Py_ssize_t n = PyObject_Length(args[3]);
+    if (n < 0) {
+        PyBuffer_Release(&arm);
+        return NULL;
+    }
+    if (!doubles(args[1], &T, 16 * n, 0, "T (N, 4, 4)")) {
+        PyBuffer_Release(&arm);
+        return NULL;
+    }
+    if (!doubles(args[2], &out, BRANCHES * 6 * n, 1, "out (N, 16, 6)")) {
+        PyBuffer_Release(&arm), PyBuffer_Release(&T);
+        return NULL;
+    }
+    if (!doubles(args[3], &roots, n, 1, "roots (N,)")) {
+        PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out);
+        return NULL;
+    }
+    const double *a = arm.buf, *t = T.buf;
+    double *o = out.buf, *r = roots.buf;
+    Py_BEGIN_ALLOW_THREADS
+    for (Py_ssize_t k = 0; k < n; k++)
+        if (one_pose(a, t + 16 * k, o + BRANCHES * 6 * k, r + k) != 0) r[k] = -1.0;
+    Py_END_ALLOW_THREADS
+    PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out), PyBuffer_Release(&roots);
+    Py_RETURN_NONE;
+}
+
+static PyMethodDef methods[] = {
+    {"first_pass", (PyCFunction)(void (*)(void))first_pass, METH_FASTCALL,
+     "first_pass(arm, T, out, roots): the general 6R closed form's first pass of N poses."},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_general6r", NULL, -1, methods};
+
+/* A LAPACK routine's pointer from SciPy's cython_lapack capsules, or NULL with an ImportError. */
+static void *lapack(PyObject *capi, const char *name)
+{
+    PyObject *capsule = PyDict_GetItemString(capi, name);
+    if (capsule == NULL) {
+        PyErr_Format(PyExc_ImportError, "scipy.linalg.cython_lapack has no %s", name);
+        return NULL;
+    }
+    return PyCapsule_GetPointer(capsule, PyCapsule_GetName(capsule));
+}
+
+PyMODINIT_FUNC PyInit__general6r(void)
+{
+    PyObject *lapack_module = PyImport_ImportModule("scipy.linalg.cython_lapack");
+    if (lapack_module == NULL) return NULL;
+    PyObject *capi = PyObject_GetAttrString(lapack_module, "__pyx_capi__");
+    Py_DECREF(lapack_module);
+    if (capi == NULL) return NULL;
+    dgeev_ = (dgeev_t *)lapack(capi, "dgeev");
+    dgesvd_ = (dgesvd_t *)lapack(capi, "dgesvd");
+    dgetrf_ = (dgetrf_t *)lapack(capi, "dgetrf");
+    dgesv_ = (dgesv_t *)lapack(capi, "dgesv");
+    Py_DECREF(capi);
+    if (!dgeev_ || !dgesvd_ || !dgetrf_ || !dgesv_) return NULL;
+    return PyModule_Create(&module);
+}
