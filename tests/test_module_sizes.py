@@ -46,8 +46,6 @@ CLASSES_OVER = {
     "ik/analytic/seven_r/spherical_shoulder7.py::SphericalShoulder7RIK": 354,
     "ik/analytic/six_r/pieper.py::Pieper6R": 306,
     "ik/analytic/six_r/spherical_wrist.py::SphericalWrist6R": 310,
-    "ik/analytic/six_r/three_parallel.py::ThreeParallel6R": 298,
-    "ik/analytic/six_r/ur_wrist.py::URWrist6R": 317,
     "mimic_arm.py::MimicArm": 300,
 }
 

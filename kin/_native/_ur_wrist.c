@@ -1,9 +1,10 @@
 /*
- * Compiled twin of kin/ik/analytic/six_r/ur_wrist.py (URWrist6R.solve: the 8 branches of a 6R arm of
- * the UR family): the same arithmetic, operation for operation, for speed; with verify (each
- * branch moved into the limits and measured by the table's DH product, _six_r_twin.h). The Python
- * module is the reference and the fallback when this extension is not built;
- * tests/test_six_r_twins.py compares the two. Angles in radians, lengths in meters.
+ * Compiled twin of the three-parallel family (kin/ik/analytic/six_r/three_parallel.py and its
+ * NumPy algorithm three_parallel_batch.py) for its intersecting case, axes 5 and 6 meeting: the UR
+ * arms (URWrist6R, "ur_wrist"). The 8 branches of a target, for speed; with verify (each branch
+ * moved into the limits and measured by the table's DH product, _six_r_twin.h). The NumPy form is
+ * the reference and the fallback when this extension is not built; tests/test_six_r_twins.py
+ * compares the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"
 

@@ -33,7 +33,6 @@ from .six_r.pieper import Pieper6R
 from .six_r.reversed_chain import Reversed6R
 from .six_r.spherical_wrist import SphericalWrist6R
 from .six_r.three_parallel import ThreeParallel6R
-from .six_r.ur_wrist import URWrist6R
 
 
 @dataclass(frozen=True)
@@ -74,7 +73,10 @@ SHIPPED: tuple[ClosedFormEntry, ...] = (
     ),
     ClosedFormEntry(FiveDof, 80, "base yaw, three parallel pitch joints, a wrist roll"),
     ClosedFormEntry(
-        URWrist6R, 90, "UR family (compiled twin), before the three-parallel family that also fits"
+        ThreeParallel6R,
+        90,
+        "three parallel axes 2-4, any joints 1, 5, 6; the UR case (axes 5, 6 meeting: ur_wrist, "
+        "compiled twin) first, as before the spherical wrist",
     ),
     ClosedFormEntry(
         SphericalWrist6R,
@@ -82,7 +84,6 @@ SHIPPED: tuple[ClosedFormEntry, ...] = (
         "spherical wrist with parallel axes 2, 3 (compiled twin), before Pieper",
     ),
     ClosedFormEntry(Pieper6R, 110, "spherical wrist, any first three joints"),
-    ClosedFormEntry(ThreeParallel6R, 120, "three parallel axes 2-4, any joints 1, 5, 6"),
     ClosedFormEntry(
         Reversed6R, 130, "the 6R families above read from the tool, before the general form"
     ),

@@ -1,9 +1,10 @@
 """The compiled twins of the 6R closed forms: their parameter blocks, solve and verify.
 
 ``kin/_native/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
-when a C compiler is there) repeat :meth:`URWrist6R.solve <.ur_wrist.URWrist6R.solve>` and
-:meth:`SphericalWrist6R.solve <.spherical_wrist.SphericalWrist6R.solve>` operation for operation;
-the Python modules are the reference and the fallback. Each twin also has ``verify``: the 8
+when a C compiler is there) repeat, target by target, the NumPy algorithm of the three-parallel
+family (:mod:`.three_parallel_batch`) for its UR case (axes 5 and 6 meeting) and
+:meth:`SphericalWrist6R.solve <.spherical_wrist.SphericalWrist6R.solve>`; the Python forms are
+the reference and the fallback. Each twin also has ``verify``: the 8
 branches of one target, each moved into the joint limits (the ``2 pi`` copy nearest the seed, as
 :class:`~.closed_form.ClosedFormSolver` does) and measured by a plain DH product of the table as
 written (either convention, its base and tool): an FK independent of the closed form's algebra,
@@ -27,8 +28,9 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
+from ...exceptions import TargetError
 from ..seven_r.subproblems import chain_fields, pack_params
-from ._six_r import target_arrays
+from ._six_r import in_blocks, target_arrays
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
 MISSING, VALID, OUTSIDE_LIMITS, OFF_TARGET = 0, 1, 2, 3
@@ -173,11 +175,12 @@ class TwinVerifier:
 
 
 class CompiledSixR:
-    """What the 6R structures with a compiled twin share: the parameter block and the verifier.
+    """What the 6R families with a compiled twin share: solve, the parameter block, the verifier.
 
     Mixed into a frozen dataclass that has ``name``, ``compiled_twin`` (class attributes),
     ``T_base``, ``T_tool``, a field ``_c_params`` (``init=False``) filled by :meth:`_pack_twin`
-    in ``__post_init__``, and :meth:`_c_own` (its own fields of the twin's ``LAYOUT``).
+    in ``__post_init__`` (None where the twin does not fit the arm), :meth:`_c_own` (its own
+    fields of the twin's ``LAYOUT``) and ``_solve_block``, the family's NumPy algorithm.
     """
 
     name: ClassVar[str]
@@ -185,9 +188,68 @@ class CompiledSixR:
     T_base: np.ndarray
     T_tool: np.ndarray
     _c_params: np.ndarray | None
+    _solve_block: Callable[[np.ndarray, np.ndarray, float], np.ndarray]
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
         raise NotImplementedError
+
+    def solve(
+        self,
+        position: npt.ArrayLike,
+        rotation: npt.ArrayLike | None,
+        free: float = 0.0,
+        *,
+        compiled: bool = True,
+    ) -> np.ndarray:
+        """The 8 branches reaching a tool pose: :meth:`solve_batch` of one target.
+
+        Args:
+            position: Tool position in the world frame [m], (3,).
+            rotation: Tool rotation ``R_world_tool``, (3, 3).
+            free: Value of the free joint [rad] where the wrist is singular (the family's).
+            compiled: Run the compiled twin when it is built and fits the arm (False: NumPy).
+
+        Returns:
+            Joint vectors [rad] in (-pi, pi], (8, 6), one row per branch label; a row of NaN
+            where that branch does not reach the target. Not verified, not wrapped into limits.
+
+        Raises:
+            TargetError: No rotation (a 6R closed form needs a full pose).
+        """
+        if rotation is None:
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
+        p1 = np.reshape(np.asarray(position, dtype=float), (1, 3))
+        r1 = np.reshape(np.asarray(rotation, dtype=float), (1, 3, 3))
+        return self.solve_batch(p1, r1, free, compiled=compiled)[0]
+
+    def solve_batch(
+        self,
+        positions: npt.ArrayLike,
+        rotations: npt.ArrayLike | None,
+        free: float = 0.0,
+        *,
+        compiled: bool = True,
+    ) -> np.ndarray:
+        """The 8 branches of N tool poses: the compiled twin when it fits, else the NumPy form.
+
+        Args:
+            positions: Tool positions in the world frame [m], (N, 3).
+            rotations: Tool rotations ``R_world_tool``, (N, 3, 3).
+            free: Value of the free joint [rad] where the wrist is singular.
+            compiled: Run the compiled twin when it is built and fits the arm (False: NumPy).
+
+        Returns:
+            Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
+
+        Raises:
+            TargetError: No rotations, or ``positions`` not (N, 3) or ``rotations`` not (N, 3, 3).
+        """
+        if rotations is None:
+            raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
+        twin, params = self.compiled_twin, self._c_params
+        if compiled and twin is not None and params is not None:
+            return twin_solve(twin, params, positions, rotations, free)
+        return in_blocks(self._solve_block, positions, rotations, free)
 
     def _pack_twin(self) -> None:
         twin = self.compiled_twin

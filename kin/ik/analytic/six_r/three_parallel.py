@@ -8,7 +8,10 @@ Structure, read from the table brought to the standard chain (:mod:`._six_r`, ei
 - joint 5 not parallel to them and joint 6 not parallel to joint 5 (``sin alpha4 != 0``,
   ``sin alpha5 != 0``); ``a5``, ``d5``, ``d6``, ``a6`` and ``alpha6`` free. Two families:
 
-  * ``intersecting``: ``a5 = 0``, axes 5 and 6 meet (the UR arms, :mod:`.ur_wrist`): quadratics;
+  * ``intersecting``: ``a5 = 0``, axes 5 and 6 meet: quadratics. This is the UR case (UR3, UR5,
+    UR10 and the e-series: ``alpha = (90, 0, 0, 90, -90, 0) deg``, ``a = (0, a2, a3, 0, 0, 0)``,
+    ``d = (d1, 0, 0, d4, d5, d6)``; Unitree Z1): :class:`URWrist6R`, named ``ur_wrist`` in answers,
+    solved by the family's algorithm and by its compiled twin (``kin/_native/_ur_wrist.c``);
   * ``general``: ``a5 != 0``: a quartic (IK-Geo solves it with its subproblem 6); refused when
     ``0 < |a5| < NEAR_MEET (|a2| + |a3|)`` (:data:`NEAR_MEET`: nearly meeting axes 5 and 6
     make the quartic's roots pair up too closely; such tables go to the numeric solver).
@@ -34,7 +37,7 @@ with ``h = d2 + d3 + d4 + ca4 d5`` and ``P`` the planar 2R (``a2`` at angle ``t2
      rho)`` (``rho, beta`` the polar coordinates of ``W`` in the base plane): two ``t1``
      (shoulder left: ``beta - asin``, right: ``beta - pi + asin``); ``B`` gives ``cos t5`` and two
      signs of ``sin t5`` (wrist up: ``sin t5 >= 0``, down: ``< 0``; with both wrist twists at
-     +-90 deg ``|sin t5|`` is read as in :mod:`.ur_wrist`, without cancellation);
+     +-90 deg ``|sin t5| = |(x6, y6)|``, read without cancellation);
    - general: ``u = A / (sa4 a5)`` and ``v = -B / (sa4 sa5)`` are ``(sin t5, cos t5)``, so
      ``E(t1) = u^2 + v^2 - 1 = 0``. ``u``, ``v`` are affine in ``(c1, s1)``, so ``E`` is a
      trigonometric polynomial of degree 2: a quartic in ``x = tan((t1 - tau) / 2)``, solved as
@@ -49,42 +52,28 @@ with ``h = d2 + d3 + d4 + ca4 d5`` and ``P`` the planar 2R (``a2`` at angle ``t2
    the 2R ``(a2, a3)`` reaches ``(W - o1) - Rz(phi) (a4 + a5 c5, ca4 a5 s5 - sa4 d5)`` in the
    plane of ``x1, y1`` by the law of cosines (elbow up: ``sin t3 >= 0``, down: ``< 0``); then
    ``t2``, and ``t4 = phi - t2 - t3``.
+
+One algorithm, in NumPy, for N targets (:mod:`.three_parallel_batch`; one target is N = 1); the
+compiled twin repeats it for the intersecting family, target by target.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
+from types import ModuleType
 from typing import Any, ClassVar
 
 import numpy as np
-import numpy.typing as npt
 
 from dh2urdf import DHTable
+from kin._native import twin
 
-from ...exceptions import TargetError
 from ...target import PoseTarget
-from ._six_r import (
-    LENGTH_TOL,
-    NAN_ROW,
-    SINGULAR,
-    SixRChecker,
-    TargetFrame,
-    clip_unit,
-    sin_cos,
-    wrap,
-)
-from ._trig_quartic import (
-    EPS,
-    candidates,
-    polish,
-)
-from .three_parallel_batch import ThreeParallelBatch, harmonics
+from ._six_r import LENGTH_TOL, SixRChecker, TargetFrame, sin_cos
+from .six_r_twin import CompiledSixR
+from .three_parallel_batch import REACH_TOL, ThreeParallelBatch
 
-#: A general-family root is kept when, after polishing, ``|E(t1)| max(|sa4 a5| [m], |sa4 sa5|)
-#: <= 2 REACH_TOL`` (plus the rounding of ``E``): ``(sin t5, cos t5)`` then meets ``A`` within
-#: about ``REACH_TOL`` [m] and ``B`` within about ``REACH_TOL`` [-].
-REACH_TOL = 1e-10
+__all__ = ["NEAR_MEET", "REACH_TOL", "ThreeParallel6R", "URWrist6R"]
 #: ``|a5|`` below ``NEAR_MEET (|a2| + |a3|)`` (but not 0) is refused: axes 5 and 6 nearly meet,
 #: the roots of ``E`` come in pairs about ``|a5|`` apart that the companion matrix and Newton
 #: steps no longer resolve (q is then missed on more than 0.1 % of targets).
@@ -97,9 +86,63 @@ _ARM_LABELS = {
 }
 
 
+def _labels(family: str) -> tuple[str, ...]:
+    """The meaning of the 8 rows of a family: its ``(t1, t5)`` slot, then the elbow."""
+    return tuple(f"{arm}, elbow {e}" for arm in _ARM_LABELS[family] for e in ("up", "down"))
+
+
+def _read(table: DHTable, solver: str, meet: bool) -> dict[str, Any]:
+    """The fields of ``table``'s arm; ``meet``: axes 5 and 6 must meet (the UR case).
+
+    Raises:
+        StructureError: The table is not of the family; the message names the row and parameter.
+    """
+    check = SixRChecker(table, solver)
+    alpha1 = check.skew(0, "axis 2 must not be parallel to axis 1")
+    check.twist(1, (0.0,), "axes 2, 3 and 4 must be parallel")
+    check.twist(2, (0.0,), "axes 2, 3 and 4 must be parallel")
+    a2 = check.nonzero(1, "a", "the upper arm between axes 2 and 3")
+    a3 = check.nonzero(2, "a", "the forearm between axes 3 and 4")
+    alpha4 = check.skew(3, "axis 5 must not be parallel to axes 2-4")
+    alpha5 = check.skew(4, "axis 6 must not be parallel to axis 5")
+    if meet:
+        check.zero(4, "a", "axes 5 and 6 must meet")
+    a5 = float(check.a[4])
+    family = "intersecting" if abs(a5) <= LENGTH_TOL else "general"
+    least = NEAR_MEET * (abs(a2) + abs(a3))
+    if family == "general" and abs(a5) < least:
+        raise check.fail(
+            f"{check.where(4, 'a')} = {a5:g} m, expected 0 or at least {least:g} m "
+            f"({NEAR_MEET:g} of |a2| + |a3|: axes 5 and 6 nearly meet, and the quartic's "
+            "roots come in pairs too close to separate)"
+        )
+    d = check.d
+    return {
+        "robot": table.name,
+        "family": family,
+        "alpha1": float(alpha1),
+        "a1": float(check.a[0]),
+        "d1": float(d[0]),
+        "a2": a2,
+        "a3": a3,
+        "lateral": float(d[1] + d[2] + d[3] + sin_cos(alpha4)[1] * d[4]),
+        "a4": float(check.a[3]),
+        "alpha4": float(alpha4),
+        "d5": float(d[4]),
+        "a5": 0.0 if family == "intersecting" else a5,
+        "alpha5": float(alpha5),
+        "d6": float(d[5]),
+        "offsets": tuple(float(v) for v in check.theta),
+        "T_base": check.T_base,
+        "T_tool": check.T_tool,
+    }
+
+
 @dataclass(frozen=True)
-class ThreeParallel6R(ThreeParallelBatch):
+class ThreeParallel6R(CompiledSixR, ThreeParallelBatch):
     """A 6R arm with axes 2, 3, 4 parallel: parameters in SI, and its closed form (8 branches).
+
+    :meth:`recognise` gives the UR case (``a5 = 0``) as a :class:`URWrist6R`.
 
     Attributes:
         robot: Robot name.
@@ -125,6 +168,9 @@ class ThreeParallel6R(ThreeParallelBatch):
     name: ClassVar[str] = "three_parallel"
     dof: ClassVar[int] = 6
     target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
+    #: The family's compiled twin (``kin/_native/_ur_wrist.c``: the intersecting family), or
+    #: None when it is not built.
+    compiled_twin: ClassVar[ModuleType | None] = twin("_ur_wrist")
 
     robot: str
     family: str
@@ -146,6 +192,7 @@ class ThreeParallel6R(ThreeParallelBatch):
     _frame: TargetFrame = field(init=False, repr=False, compare=False)
     _k: tuple[float, ...] = field(init=False, repr=False, compare=False)
     _classic: bool = field(init=False, repr=False, compare=False)
+    _c_params: np.ndarray | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_frame", TargetFrame(self.T_base, self.T_tool))
@@ -155,244 +202,56 @@ class ThreeParallel6R(ThreeParallelBatch):
         object.__setattr__(self, "_k", (s1, c1, s4, c4, s5, c5))
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         object.__setattr__(self, "_classic", c4 == 0.0 and c5 == 0.0)
+        if self.family == "intersecting":
+            self._pack_twin()
+        else:  # the twin solves the intersecting family only
+            object.__setattr__(self, "_c_params", None)
+
+    def _c_own(self) -> dict[str, tuple[float, ...]]:
+        s1, c1, s4, c4, s5, c5 = self._k
+        # the wrist-to-axis-3 vector in the arm plane, turned by phi: (a4, -sin(alpha4) d5)
+        return {
+            "k": (s1, c1, self.a4, -s4 * self.d5, s4, c4, s5, c5),
+            "classic": (float(self._classic),),
+            "len": (self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6),
+            "off": self.offsets,
+        }
 
     @property
     def branch_labels(self) -> tuple[str, ...]:
         """The meaning of the 8 rows of :meth:`solve`: the family's ``(t1, t5)`` slot, the elbow."""
-        return tuple(
-            f"{arm}, elbow {e}" for arm in _ARM_LABELS[self.family] for e in ("up", "down")
-        )
+        return _labels(self.family)
 
     @classmethod
     def recognise(cls, table: DHTable) -> ThreeParallel6R:
-        """The parameters of ``table``'s arm.
+        """The parameters of ``table``'s arm (a :class:`URWrist6R` when axes 5 and 6 meet).
 
         Raises:
             StructureError: The table is not a 6R arm with three parallel axes 2-4 and finitely
                 many solutions; the message names the row and the parameter that does not fit.
         """
-        check = SixRChecker(table, "6R three parallel axes")
-        alpha1 = check.skew(0, "axis 2 must not be parallel to axis 1")
-        check.twist(1, (0.0,), "axes 2, 3 and 4 must be parallel")
-        check.twist(2, (0.0,), "axes 2, 3 and 4 must be parallel")
-        a2 = check.nonzero(1, "a", "the upper arm between axes 2 and 3")
-        a3 = check.nonzero(2, "a", "the forearm between axes 3 and 4")
-        alpha4 = check.skew(3, "axis 5 must not be parallel to axes 2-4")
-        alpha5 = check.skew(4, "axis 6 must not be parallel to axis 5")
-        a5 = float(check.a[4])
-        family = "intersecting" if abs(a5) <= LENGTH_TOL else "general"
-        least = NEAR_MEET * (abs(a2) + abs(a3))
-        if family == "general" and abs(a5) < least:
-            raise check.fail(
-                f"{check.where(4, 'a')} = {a5:g} m, expected 0 or at least {least:g} m "
-                f"({NEAR_MEET:g} of |a2| + |a3|: axes 5 and 6 nearly meet, and the quartic's "
-                "roots come in pairs too close to separate)"
-            )
-        d = check.d
-        return cls(
-            robot=table.name,
-            family=family,
-            alpha1=float(alpha1),
-            a1=float(check.a[0]),
-            d1=float(d[0]),
-            a2=a2,
-            a3=a3,
-            lateral=float(d[1] + d[2] + d[3] + sin_cos(alpha4)[1] * d[4]),
-            a4=float(check.a[3]),
-            alpha4=float(alpha4),
-            d5=float(d[4]),
-            a5=0.0 if family == "intersecting" else a5,
-            alpha5=float(alpha5),
-            d6=float(d[5]),
-            offsets=tuple(float(v) for v in check.theta),
-            T_base=check.T_base,
-            T_tool=check.T_tool,
-        )
+        fields = _read(table, "6R three parallel axes", meet=False)
+        return (URWrist6R if fields["family"] == "intersecting" else ThreeParallel6R)(**fields)
 
-    # -----------------------------------------------------------------------------------------
-    # One target
 
-    def solve(
-        self, position: npt.ArrayLike, rotation: npt.ArrayLike | None, free: float = 0.0
-    ) -> np.ndarray:
-        """The 8 branches reaching a tool pose.
+@dataclass(frozen=True)
+class URWrist6R(ThreeParallel6R):
+    """The UR case of :class:`ThreeParallel6R`: axes 5 and 6 meet (``a5 = 0``); 8 branches.
 
-        Args:
-            position: Tool position in the world frame [m], (3,).
-            rotation: Tool rotation ``R_world_tool``, (3, 3).
-            free: Value of ``q6`` [rad] where the wrist is singular (axis 6 parallel to 2-4).
+    UR3, UR5, UR10 and the e-series, Unitree Z1: the family's ``intersecting`` arms, named
+    ``ur_wrist`` (in :attr:`~kin.ik.result.IKResult.method` and the solver's name), solved by the
+    family's algorithm and its compiled twin. Fields as :class:`ThreeParallel6R`'s.
+    """
 
-        Returns:
-            Joint vectors [rad] in (-pi, pi], (8, 6), one row per :attr:`branch_labels`; a row of
-            NaN where that branch does not reach the target. Not verified, not wrapped into limits.
+    name: ClassVar[str] = "ur_wrist"
+    branch_labels: ClassVar[tuple[str, ...]] = _labels("intersecting")  # type: ignore[misc]
+
+    @classmethod
+    def recognise(cls, table: DHTable) -> URWrist6R:
+        """The parameters of ``table``'s arm.
+
+        Raises:
+            StructureError: The table is not a 6R arm of the UR case; the message names the row
+                and the parameter that does not fit.
         """
-        if rotation is None:
-            raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
-        p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
-        d6 = self.d6
-        n = (r[0][2], r[1][2], r[2][2])
-        w = (p[0] - d6 * n[0], p[1] - d6 * n[1], p[2] - d6 * n[2])
-        if self.family == "general":
-            slots = self._general_slots(w, n)
-        else:
-            slots = self._intersecting_slots(w, n)
-        out: list[tuple[float, ...]] = [NAN_ROW] * 8
-        for index, slot in enumerate(slots):
-            if slot is not None:
-                out[2 * index], out[2 * index + 1] = self._arm_scalar(slot, w, r, free)
-        return np.array(out)
-
-    def _intersecting_slots(
-        self, w: tuple[float, float, float], n: tuple[float, float, float]
-    ) -> list[tuple[float, float, float] | None]:
-        """``(t1, cos t5, sin t5)`` of the four slots (shoulder, wrist) when ``a5 = 0``."""
-        s1, c1, s4, c4, s5, c5 = self._k
-        out: list[tuple[float, float, float] | None] = [None] * 4
-        rho = math.hypot(w[0], w[1])
-        if rho == 0.0:
-            return out
-        k = (c1 * (w[2] - self.d1) - self.lateral) / (s1 * rho)
-        if (clipped := clip_unit(k)) is None:
-            return out
-        k = clipped
-        beta = math.atan2(w[1], w[0])
-        asin_k = math.asin(k)
-        for shoulder in (0, 1):
-            t1 = beta - asin_k if shoulder == 0 else beta - math.pi + asin_k
-            ct, st = math.cos(t1), math.sin(t1)
-            z1 = (s1 * st, -s1 * ct, c1)
-            cos5 = (c4 * c5 - (n[0] * z1[0] + n[1] * z1[1] + n[2] * z1[2])) / (s4 * s5)
-            if self._classic:  # |sin t5| = |(x6, y6)|: the part of z1 across z6
-                cross = (n[1] * z1[2] - n[2] * z1[1], n[2] * z1[0] - n[0] * z1[2],
-                         n[0] * z1[1] - n[1] * z1[0])  # fmt: skip
-                sin5 = math.hypot(*cross)
-            else:
-                if (clipped := clip_unit(cos5)) is None:
-                    continue
-                cos5 = clipped
-                sin5 = math.sqrt(1.0 - cos5 * cos5)
-            out[2 * shoulder] = (t1, cos5, sin5)
-            out[2 * shoulder + 1] = (t1, cos5, -sin5)
-        return out
-
-    def _general_slots(
-        self, w: tuple[float, float, float], n: tuple[float, float, float]
-    ) -> list[tuple[float, float, float] | None]:
-        """``(t1, cos t5, sin t5)`` of the real roots of ``E(t1)``, in ascending ``q1``."""
-        uv = self._uv(*w, *n)
-        out: list[tuple[float, float, float] | None] = [None] * 4
-        roots = []
-        for start in candidates(*harmonics(uv)):
-            root = self._polish(start, uv)
-            if root is not None:
-                roots.append(root)
-        o1 = self.offsets[0]
-        roots.sort(key=lambda root: wrap(root[0] - o1))
-        for index, root in enumerate(roots):
-            out[index] = root
-        return out
-
-    def _uv(self, wx: Any, wy: Any, wz: Any, nx: Any, ny: Any, nz: Any) -> tuple[Any, ...]:
-        """``u = u0 + uc c1 + us s1``, ``v = v0 + vc c1 + vs s1`` and their rounding scales.
-
-        Floats or arrays: ``(u0, uc, us, v0, vc, vs, su, sv)``, ``su``, ``sv`` the sums of the
-        magnitudes that make up ``u``, ``v`` [-].
-        """
-        s1, c1, s4, c4, s5, c5 = self._k
-        ka, kb = s4 * self.a5, s4 * s5
-        u0 = (c1 * (wz - self.d1) - self.lateral) / ka
-        v0 = (c4 * c5 - c1 * nz) / kb
-        su = abs(s1) * (abs(wx) + abs(wy)) + abs(c1) * (abs(wz) + abs(self.d1)) + abs(self.lateral)
-        sv = abs(s1) * (abs(nx) + abs(ny)) + abs(c1 * nz) + abs(c4 * c5)
-        return (u0, -s1 * wy / ka, s1 * wx / ka, v0, s1 * ny / kb, -s1 * nx / kb,
-                su / abs(ka), sv / abs(kb))  # fmt: skip
-
-    def _residual(
-        self, t1: Any, uv: tuple[Any, ...], cos: Any, sin: Any
-    ) -> tuple[Any, Any, Any, Any, Any]:
-        """``E(t1)`` [-], ``dE/dt1`` [-], the bound on ``|E|`` of a kept root, ``u`` and ``v``.
-
-        Floats with ``math.cos``, ``math.sin`` or arrays with ``np.cos``, ``np.sin``.
-        """
-        u0, uc, us, v0, vc, vs, su, sv = uv
-        c, s = cos(t1), sin(t1)
-        u = u0 + uc * c + us * s
-        v = v0 + vc * c + vs * s
-        e = u * u + v * v - 1.0
-        de = 2.0 * (u * (us * c - uc * s) + v * (vs * c - vc * s))
-        _, _, s4, _, s5, _ = self._k
-        reach = 2.0 * REACH_TOL / max(abs(s4 * self.a5), abs(s4 * s5))
-        bound = reach + 16.0 * EPS * (abs(u) * su + abs(v) * sv + 1.0)
-        return e, de, bound, u, v
-
-    def _polish(self, t1: float, uv: tuple[float, ...]) -> tuple[float, float, float] | None:
-        """Newton steps on ``E(t1)``: ``(t1, cos t5, sin t5)``; None if ``|E|`` stays too large."""
-        root = polish(lambda t: self._residual(t, uv, math.cos, math.sin), t1)
-        if root is None:
-            return None
-        t1, (u, v) = root
-        size = math.hypot(u, v)
-        return t1, v / size, u / size
-
-    def _arm_scalar(
-        self,
-        slot: tuple[float, float, float],
-        w: tuple[float, float, float],
-        r: list[list[float]],
-        free: float,
-    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        """The rows (elbow up, down) of a slot ``(t1, cos t5, sin t5)``: ``q`` [rad], NaN: none."""
-        t1, cos5, st5 = slot
-        s1, c1, s4, c4, s5a, c5a = self._k
-        a2, a3, a5 = self.a2, self.a3, self.a5
-        o1, o2, o3, o4, o5, o6 = self.offsets
-        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r
-        ct, st = math.cos(t1), math.sin(t1)
-        y1 = (-c1 * st, c1 * ct, s1)
-        z1 = (s1 * st, -s1 * ct, c1)
-        # 2. z1 in frame 6 (x6, y6), turned onto (vx, vy) by t6
-        x6 = r00 * z1[0] + r10 * z1[1] + r20 * z1[2]
-        y6 = r01 * z1[0] + r11 * z1[1] + r21 * z1[2]
-        t5 = math.atan2(st5, cos5)
-        if math.hypot(x6, y6) <= SINGULAR:
-            t6 = free + o6
-        else:
-            vx, vy = s4 * st5, c5a * s4 * cos5 + s5a * c4
-            t6 = math.atan2(vy, vx) - math.atan2(y6, x6)
-        # 3. phi from the first row of Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6)
-        ct6, st6 = math.cos(t6), math.sin(t6)
-        xi0 = cos5 * ct6 - st5 * c5a * st6
-        xi1 = -cos5 * st6 - st5 * c5a * ct6
-        xi2 = s5a * st5
-        rx = r00 * xi0 + r01 * xi1 + r02 * xi2
-        ry = r10 * xi0 + r11 * xi1 + r12 * xi2
-        rz = r20 * xi0 + r21 * xi1 + r22 * xi2
-        phi = math.atan2(y1[0] * rx + y1[1] * ry + y1[2] * rz, ct * rx + st * ry)
-        cp, sp = math.cos(phi), math.sin(phi)
-        # W - o1 in the arm plane, less the wrist offset turned by phi
-        qx, qy, qz = w[0] - self.a1 * ct, w[1] - self.a1 * st, w[2] - self.d1
-        ex, ey = self.a4 + a5 * cos5, c4 * a5 * st5 - s4 * self.d5
-        bx = ct * qx + st * qy - (cp * ex - sp * ey)
-        by = y1[0] * qx + y1[1] * qy + y1[2] * qz - (sp * ex + cp * ey)
-        cos3 = (bx * bx + by * by - (a2 * a2 + a3 * a3)) / (2.0 * a2 * a3)
-        if (clipped := clip_unit(cos3)) is None:
-            return NAN_ROW, NAN_ROW
-        cos3 = clipped
-        sin3 = math.sqrt(1.0 - cos3 * cos3)
-        heading = math.atan2(by, bx)
-        rows = []
-        for st3 in (sin3, -sin3):
-            t3 = math.atan2(st3, cos3)
-            t2 = heading - math.atan2(a3 * st3, a2 + a3 * cos3)
-            t4 = phi - t2 - t3
-            rows.append(
-                (
-                    wrap(t1 - o1),
-                    wrap(t2 - o2),
-                    wrap(t3 - o3),
-                    wrap(t4 - o4),
-                    wrap(t5 - o5),
-                    wrap(t6 - o6),
-                )  # fmt: skip
-            )
-        return rows[0], rows[1]
+        return cls(**_read(table, "6R UR-wrist (three parallel axes)", meet=True))

@@ -1,28 +1,30 @@
-"""The batched steps of :class:`~.three_parallel.ThreeParallel6R`: N tool poses at once, in NumPy.
+"""The algorithm of :class:`~.three_parallel.ThreeParallel6R`: N tool poses at once, in NumPy.
 
-The same arithmetic as the scalar steps of :mod:`.three_parallel` (joint 1 from the wrist
-centre, in closed form when axes 5 and 6 meet, else a quartic polished; the three parallel axes
-as a planar 2R; the wrist), array by array; :meth:`ThreeParallelBatch.solve_batch` of one pose
-equals :meth:`~.three_parallel.ThreeParallel6R.solve` (the tests hold them to it). Also the
-quartic's harmonics both use. Angles in [rad], lengths in [m].
+The one form of the family (one target is N = 1; the compiled twin ``_ur_wrist.c`` repeats it
+for the intersecting family): joint 1 from the wrist centre, in closed form when axes 5 and 6
+meet, else a quartic polished (:mod:`._trig_quartic`); the three parallel axes as a planar 2R;
+the wrist. The steps are those of :mod:`.three_parallel`'s docstring. Angles in [rad], lengths
+in [m].
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import Any, ClassVar
 
 import numpy as np
-import numpy.typing as npt
 
-from ...exceptions import TargetError
-from ._six_r import SINGULAR, clip_cosines, in_blocks, wrap_array
-from ._trig_quartic import candidates_batch, polish_batch
+from ._six_r import SINGULAR, clip_cosines, wrap_array
+from ._trig_quartic import EPS, candidates_batch, polish_batch
+
+#: A general-family root is kept when, after polishing, ``|E(t1)| max(|sa4 a5| [m], |sa4 sa5|)
+#: <= 2 REACH_TOL`` (plus the rounding of ``E``): ``(sin t5, cos t5)`` then meets ``A`` within
+#: about ``REACH_TOL`` [m] and ``B`` within about ``REACH_TOL`` [-].
+REACH_TOL = 1e-10
 
 
 class ThreeParallelBatch:
-    """:meth:`solve_batch` of a :class:`~.three_parallel.ThreeParallel6R` (mixed into it)."""
+    """The NumPy algorithm of a :class:`~.three_parallel.ThreeParallel6R` (mixed into it)."""
 
     name: ClassVar[str]
     family: str
@@ -39,27 +41,9 @@ class ThreeParallelBatch:
     _frame: Any
     _k: tuple[float, ...]
     _classic: bool
-    _residual: Callable[..., Any]
-    _uv: Callable[..., tuple[Any, ...]]
-
-    def solve_batch(
-        self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None, free: float = 0.0
-    ) -> np.ndarray:
-        """:meth:`solve` of N tool poses at once, in NumPy.
-
-        Args:
-            positions: Tool positions in the world frame [m], (N, 3).
-            rotations: Tool rotations ``R_world_tool``, (N, 3, 3).
-            free: Value of ``q6`` [rad] where the wrist is singular.
-
-        Returns:
-            Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
-        """
-        if rotations is None:
-            raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
-        return in_blocks(self._solve_block, positions, rotations, free)
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
+        """The 8 branches (N, 8, 6) [rad] of N world tool poses, NaN where a branch is missing."""
         p, r = self._frame.batch(positions, rotations)
         with np.errstate(invalid="ignore", divide="ignore"):
             n = r[:, :, 2]
@@ -73,7 +57,10 @@ class ThreeParallelBatch:
         return out
 
     def _intersecting_slots_batch(self, w: np.ndarray, n: np.ndarray) -> np.ndarray:
-        """:meth:`_intersecting_slots` of N targets: (N, 4, 3) [rad], [-], NaN: no slot."""
+        """``(t1, cos t5, sin t5)`` of the four slots (shoulder, wrist) when ``a5 = 0``.
+
+        (N, 4, 3) [rad], [-], NaN: no slot.
+        """
         s1, c1, s4, c4, s5, c5 = self._k
         wx, wy, wz = w.T
         rho = np.hypot(wx, wy)
@@ -100,7 +87,10 @@ class ThreeParallelBatch:
         return out
 
     def _general_slots_batch(self, w: np.ndarray, n: np.ndarray) -> np.ndarray:
-        """:meth:`_general_slots` of N targets: (N, 4, 3), real roots first, then NaN."""
+        """``(t1, cos t5, sin t5)`` of the real roots of ``E(t1)``, ascending ``q1``, then NaN.
+
+        (N, 4, 3) [rad], [-].
+        """
         uv = self._uv(*w.T, *n.T)
         t1 = candidates_batch(*harmonics(uv))
         slots = self._polish_batch(t1, tuple(np.asarray(k)[:, None] for k in uv))
@@ -109,9 +99,37 @@ class ThreeParallelBatch:
         )
         return np.take_along_axis(slots, np.argsort(key, axis=1)[:, :, None], axis=1)
 
+    def _uv(self, wx: Any, wy: Any, wz: Any, nx: Any, ny: Any, nz: Any) -> tuple[Any, ...]:
+        """``u = u0 + uc c1 + us s1``, ``v = v0 + vc c1 + vs s1`` and their rounding scales.
+
+        Arrays of N targets: ``(u0, uc, us, v0, vc, vs, su, sv)``, ``su``, ``sv`` the sums of the
+        magnitudes that make up ``u``, ``v`` [-].
+        """
+        s1, c1, s4, c4, s5, c5 = self._k
+        ka, kb = s4 * self.a5, s4 * s5
+        u0 = (c1 * (wz - self.d1) - self.lateral) / ka
+        v0 = (c4 * c5 - c1 * nz) / kb
+        su = abs(s1) * (abs(wx) + abs(wy)) + abs(c1) * (abs(wz) + abs(self.d1)) + abs(self.lateral)
+        sv = abs(s1) * (abs(nx) + abs(ny)) + abs(c1 * nz) + abs(c4 * c5)
+        return (u0, -s1 * wy / ka, s1 * wx / ka, v0, s1 * ny / kb, -s1 * nx / kb,
+                su / abs(ka), sv / abs(kb))  # fmt: skip
+
+    def _residual(self, t1: Any, uv: tuple[Any, ...]) -> tuple[Any, Any, Any, Any, Any]:
+        """``E(t1)`` [-], ``dE/dt1`` [-], the bound on ``|E|`` of a kept root, ``u`` and ``v``."""
+        u0, uc, us, v0, vc, vs, su, sv = uv
+        c, s = np.cos(t1), np.sin(t1)
+        u = u0 + uc * c + us * s
+        v = v0 + vc * c + vs * s
+        e = u * u + v * v - 1.0
+        de = 2.0 * (u * (us * c - uc * s) + v * (vs * c - vc * s))
+        _, _, s4, _, s5, _ = self._k
+        reach = 2.0 * REACH_TOL / max(abs(s4 * self.a5), abs(s4 * s5))
+        bound = reach + 16.0 * EPS * (abs(u) * su + abs(v) * sv + 1.0)
+        return e, de, bound, u, v
+
     def _polish_batch(self, t1: np.ndarray, uv: tuple[np.ndarray, ...]) -> np.ndarray:
-        """:meth:`_polish` of (N, 4) starts: (N, 4, 3), NaN where no root."""
-        t1, (u, v), ok = polish_batch(lambda t: self._residual(t, uv, np.cos, np.sin), t1)
+        """Newton steps on ``E`` from (N, 4) starts: (N, 4, 3), NaN where no root."""
+        t1, (u, v), ok = polish_batch(lambda t: self._residual(t, uv), t1)
         size = np.hypot(u, v)
         out = np.stack((t1, v / size, u / size), axis=-1)
         out[~ok] = np.nan
