@@ -209,3 +209,15 @@ def test_bad_avoid_input_exits_2(capsys, extra, needle):
     """--avoid without a cell, or with a missing one: one line, exit 2."""
     code = call(path_command.main, _line("ur5") + extra)
     assert_one_line_error(code, capsys.readouterr().err, needle)
+
+
+def test_a_branch_that_runs_into_the_shelf_fails_where_it_would_jump(tmp_path):
+    """The first sample forced onto the shelf's branch: the next sample's free answers all jump."""
+    robot, path, checker, reference, pairs, _ = _cell(tmp_path, "ur5")
+    branch = "shoulder left, wrist up, elbow down"
+    plain = follow_path(robot, path, branch=branch)
+    assert _deepest(reference, pairs, plain.q[1]) < -CONTACT_TOL  # the branch meets the shelf
+    avoided = follow_path_avoiding(robot, path, checker, branch=branch)
+    assert not avoided.success and avoided.failure.sample == 1
+    reason = avoided.failure.reason
+    assert "would jump" in reason and "from sample 0's" in reason, reason

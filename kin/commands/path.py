@@ -43,7 +43,7 @@ import sys
 from typing import TYPE_CHECKING, Any
 
 from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
-from .collision_options import collision_checker
+from .collision_options import add_collision_options, check_padding, collision_checker
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 if TYPE_CHECKING:
@@ -143,12 +143,10 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         "--amax", type=positive_float, nargs="+", help="joint accel. limits [unit/s^2], with --time"
     )
     add("--dt", type=positive_float, help="with --time: resample the motion every DT [s]")
-    add("--scene", metavar="FILE", help="check collisions with a cell: TOML of boxes... or URDF")
-    add("--srdf", metavar="FILE", help="check collisions; a MoveIt SRDF's pairs are allowed")
-    add(
-        "--padding",
-        type=finite_float,
-        help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
+    add_collision_options(
+        parser,
+        scene="check collisions with a cell: TOML of boxes... or URDF",
+        srdf="check collisions; a MoveIt SRDF's pairs are allowed",
     )
     add(
         "--avoid",
@@ -180,8 +178,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         )
     if args.tool_axis is not None and not any("axis" in p for p in points):
         parser.error("--tool-axis needs --axis at the points")
-    if args.padding is not None and args.scene is None and args.srdf is None:
-        parser.error("--padding needs --scene or --srdf")
+    check_padding(parser, args)
     if args.avoid and args.scene is None and args.srdf is None:
         parser.error("--avoid needs --scene or --srdf (the cell to avoid)")
     return run_guarded(prog, lambda: _run(args, points, prog))

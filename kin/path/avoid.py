@@ -36,7 +36,6 @@ from .avoid_result import AvoidedPath, AvoidFailure, failure_at
 from .branch_follow import TurnUnwrapper
 from .cartesian import CartesianPath
 from .collision_check import MotionCheck, PathCollision, check_path_collisions
-from .exceptions import PathError
 from .follow import MAX_JOINT_STEP, follow_path, path_solver
 from .result import PathResult, measure_path
 
@@ -183,14 +182,8 @@ class _Search:
                 progress(index, len(self.path))
             refs = [start] if not layers else list(_cheapest(layers[-1], SEEDS_PER_SAMPLE))
             answers, labels, why = self._answers(index, refs)
-            if not layers and branch is not None:
+            if not layers and branch is not None:  # a branch of sample 0 (follow_path checked)
                 keep = [i for i, label in enumerate(labels) if label == branch]
-                if not keep and why.startswith("branches: ") and branch not in why:
-                    raise PathError(
-                        f"branch {branch!r} has no collision-free answer at the first sample; "
-                        f"its free branches: {why[len('branches: ') :]}",
-                        "branch",
-                    )
                 answers, labels = answers[keep], [labels[i] for i in keep]
             if not len(answers):
                 return _fail(self.path, index, why)
@@ -313,6 +306,6 @@ def _backtrack(layers: list[_Layer]) -> tuple[np.ndarray, list[str], None]:
 
 
 def _fail(path: CartesianPath, index: int, why: str) -> tuple[np.ndarray, list[str], AvoidFailure]:
-    if why.startswith("branches: "):  # answers there, none with the asked branch
-        why = f"no collision-free answer on the asked branch ({why})"
+    if why.startswith("branches: "):  # free answers there, none on the asked branch
+        why = f"the asked branch collides; the free ones: {why[len('branches: ') :]}"
     return np.zeros((0, 0)), [], failure_at(path, index, why)
