@@ -227,8 +227,7 @@ class _Search:
     def _join(self, last: _Layer, answers: np.ndarray, labels: list[str]) -> _Layer | None:
         """The answers joined to ``last`` (cheapest free motion within the bound), or None."""
         count = len(answers)
-        cost, previous = np.full(count, np.inf), np.full(count, -1)
-        distances: list[np.ndarray | None] = [None] * count
+        layer = _Layer(answers, labels, np.full(count, np.inf), np.full(count, -1), [None] * count)
         self.blocked = None
         for k in range(count):
             steps = np.abs(last.q - answers[k]).max(axis=1)
@@ -237,18 +236,13 @@ class _Search:
             for j in np.argsort(total):
                 if steps[j] > self.bound or not np.isfinite(total[j]):
                     continue
-                if distances[k] is None:
-                    distances[k] = self.motion.distances(answers[k])
-                hit = self.motion.between(
-                    last.q[j], answers[k], _distances(self.motion, last, j), distances[k]
-                )
+                ends = _distances(self.motion, last, j), _distances(self.motion, layer, k)
+                hit = self.motion.between(last.q[j], answers[k], *ends)
                 if hit is None:
-                    cost[k], previous[k] = total[j], j
+                    layer.cost[k], layer.previous[k] = total[j], j
                     break
                 self.blocked = self.blocked or hit
-        if not np.isfinite(cost).any():
-            return None
-        return _Layer(answers, labels, cost, previous, distances)
+        return layer if np.isfinite(layer.cost).any() else None
 
     def _why_not(self, last: _Layer, answers: np.ndarray, index: int) -> str:
         """Why no free answer of sample ``index`` joins the previous sample's."""

@@ -36,9 +36,9 @@ class AvoidFailure:
 
     def describe(self) -> str:
         """One line: the sample, where it is, and why."""
-        pose = "xyz = ({:.4g}, {:.4g}, {:.4g}) m".format(*self.position)
+        pose = "xyz = ({:.4g}, {:.4g}, {:.4g}) m".format(*(self.position + 0.0))
         if self.rpy is not None:
-            pose += ", rpy = ({:.4g}, {:.4g}, {:.4g}) rad".format(*self.rpy)
+            pose += ", rpy = ({:.4g}, {:.4g}, {:.4g}) rad".format(*(self.rpy + 0.0))
         if self.axis is not None:
             pose += ", axis = ({:.4g}, {:.4g}, {:.4g})".format(*self.axis)
         return (
