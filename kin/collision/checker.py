@@ -4,8 +4,8 @@ One checker serves many threads: each thread gets its own Pinocchio data and geo
 first use (as the IK solvers keep theirs). Points are in the world frame (the arm's base) [m].
 
 ``in_collision`` is the hot call (IK branches, path samples, reach voxels): it uses geometry data
-that asks coal for the verdict only (no contact points), the same query as a bare
-``pin.computeCollisions``, and checks a float64 vector of the right size with a few attribute
+that asks coal for the verdict only (no contact points), the same pair queries as a bare
+``pin.computeCollisions`` behind a broad phase of world boxes (:class:`_PerThread`), and checks a float64 vector of the right size with a few attribute
 tests and one sum (a non-finite sum sends ``q`` to :func:`kin.configuration.as_joint_vector`,
 which names the bad value). ``collisions`` and ``distance`` use a second geometry data that
 computes contacts.
@@ -29,6 +29,8 @@ from .model import CollisionModel
 __all__ = ["Closest", "CollisionChecker", "Contact"]
 
 _FLOAT64 = np.dtype(np.float64)
+#: GJK's stopping tolerance in every collision request (coal's default 1e-6 was too coarse).
+GJK_TOLERANCE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -96,6 +98,9 @@ class CollisionChecker:
         for request in geometry_data.collisionRequests:
             request.security_margin = padding
             request.enable_contact = contact
+            # coal's default 1e-6 let verdict-only GJK call one UR5 configuration in 10,000 free
+            # whose forearm and wrist_2 hulls overlap by 2 cm (tests/test_collision_engines.py)
+            request.gjk_tolerance = GJK_TOLERANCE
 
     def _q(self, q: npt.ArrayLike) -> np.ndarray:
         """``q`` itself when it is a finite float64 vector of size nq, else the checked copy."""
@@ -213,7 +218,11 @@ class CollisionChecker:
         # A fresh pool each call (about 1 ms): a pool reused after other batches was seen to call
         # a colliding configuration free (Panda, convex hulls: its verdict depended on what the
         # pool had computed before), which a fresh one never did.
-        pool = pin.GeometryPool(self._pin_model, self._geometry, count)
+        # coal's dynamic AABB tree as broad phase (Pinocchio binds no pool of the naive manager
+        # the single call uses); 1.5-3x faster than the plain GeometryPool on UR5 and Panda
+        pool = pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager(
+            self._pin_model, self._geometry, count
+        )
         for geometry_data in pool.getGeometryDatas():
             self._prepare(geometry_data, contact=False)
         with self._pool_lock:
@@ -234,16 +243,24 @@ class CollisionChecker:
 
 
 class _PerThread(threading.local):
-    """One thread's Pinocchio data and geometry data (verdict only, and with contacts)."""
+    """One thread's Pinocchio data and geometry data (verdict only, and with contacts).
+
+    ``check(q, stop_at_first)`` is Pinocchio's computeCollisions through coal's naive broad phase
+    over the verdict-only data: FK and the shapes' world boxes once, each box grown by half the
+    padding, and the exact (narrow-phase) test only for the pairs whose boxes overlap (the same
+    coal call as without the broad phase, so the same verdict; 3-4x faster on free UR5 and Panda
+    configurations, where every pair must be cleared). The naive manager has no state between
+    calls beyond the boxes it recomputes (the tree managers were slower for our 7-12 shapes).
+    """
 
     def __init__(self, checker: CollisionChecker):
         self.data = checker._pin_model.createData()
         self.verdict = checker._new_geometry_data(contact=False)
         self.contact = checker._new_geometry_data(contact=True)
-        #: ``check(q, stop_at_first)``: Pinocchio's computeCollisions with the verdict-only data
-        self.check = partial(
-            pin.computeCollisions, checker._pin_model, self.data, checker._geometry, self.verdict
+        self.manager = pin.BroadPhaseManager_NaiveCollisionManager(
+            checker._pin_model, checker._geometry, self.verdict
         )
+        self.check = partial(pin.computeCollisions, checker._pin_model, self.data, self.manager)
 
 
 def _cores() -> int:
