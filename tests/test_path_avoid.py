@@ -221,3 +221,21 @@ def test_a_branch_that_runs_into_the_shelf_fails_where_it_would_jump(tmp_path):
     assert not avoided.success and avoided.failure.sample == 1
     reason = avoided.failure.reason
     assert "would jump" in reason and "from sample 0's" in reason, reason
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_the_step_bound_of_revolute_arms_is_the_chain_walk(tmp_path, name):
+    """The matrix form of the motion bound (all-revolute arms) equals the joint-by-joint walk."""
+    from kin.path.collision_check import _Distances
+
+    _, _, checker, *_ = _cell(tmp_path, name)
+    helper = _Distances(checker)
+    arms, rng = helper.arms, np.random.default_rng(5)
+    assert arms is not None and arms.shape[1] == checker.model.robot.nq
+    for q0, q1 in rng.uniform(-3.0, 3.0, (20, 2, checker.model.robot.nq)):
+        matrix = helper.motion(q0, q1)
+        helper.arms = None
+        walk = helper.motion(q0, q1)
+        helper.arms = arms
+        assert walk.max() > 0.0
+        np.testing.assert_allclose(matrix, walk, rtol=1e-12, atol=1e-12, err_msg=f"{name=}")

@@ -155,6 +155,19 @@ class _Distances:
             )
             self.reach.append(float(np.linalg.norm(center) + geometry.aabb_radius + model.padding))
             self.parent.append(int(obj.parentJoint))
+        #: All revolute: the bound is linear in |dq| (object x joint arms), else None.
+        self.arms = self._arms() if all(k == "R" for k in self.kinds[1:]) else None
+
+    def _arms(self) -> np.ndarray:
+        """Per object and joint, the reach R_jk of the module's rule [m] (revolute arms)."""
+        arms = np.zeros((len(self.reach), self.pin_model.nq))
+        for index, (joint, reach) in enumerate(zip(self.parent, self.reach)):
+            arm, k = reach, joint
+            while k > 0:
+                arms[index, self.idx_q[k]] += arm
+                arm += self.links[k]
+                k = self.parents[k]
+        return arms
 
     def distances(self, q: np.ndarray) -> np.ndarray:
         """Per collision pair, the distance between the padded shapes [m] (<= 0: contact)."""
@@ -170,6 +183,8 @@ class _Distances:
     def motion(self, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
         """Per geometry object, the bound B on its points' motion along q0 -> q1 [m]."""
         dq = np.abs(q1 - q0)
+        if self.arms is not None:
+            return self.arms @ dq
         out = np.zeros(len(self.reach))
         for index, (joint, reach) in enumerate(zip(self.parent, self.reach)):
             bound = 0.0
