@@ -333,6 +333,19 @@ static void elbow_vector(const Params *P, double q5, double q6, double q7, doubl
     u[2] = P->d[3] + S[3] * y + C[3] * z;
 }
 
+/* SevenDofIK.pose_frame of a prepared pose T (frame-7 origin, R_0_7 row-major): the wrist centre W
+   [m], the x axis X7 of frame 7 and the joint-7 axis Z7 of M, in frame 0. */
+static void pose_frame(const Params *P, const double *T, double *W, double *X7, double *Z7)
+{
+    const double *R = T + 3, *w7 = P->w7, *ax = P->ax7;
+    for (int i = 0; i < 3; i++) {
+        const double *row = R + 3 * i;
+        W[i] = T[i] + row[0] * w7[0] + row[1] * w7[1] + row[2] * w7[2];
+        X7[i] = row[0];
+        Z7[i] = row[1] * ax[1] + row[2] * ax[2];
+    }
+}
+
 /* The first of the k starts Q (rows of 7) with a branch inside the limits for the target T (mode
    0: a pose, 12 values; 1: a position, 3): its branch nearest it into result, and its index; -1
    when none (result untouched). */
@@ -341,15 +354,7 @@ static long first_start(const void *params, int mode, const double *T, const dou
 {
     const Params *P = params;
     double W[3], X7[3], Z7[3];
-    if (mode == 0) {
-        const double *R = T + 3, *w7 = P->w7, *ax = P->ax7;
-        for (int i = 0; i < 3; i++) {
-            const double *row = R + 3 * i;
-            W[i] = T[i] + row[0] * w7[0] + row[1] * w7[1] + row[2] * w7[2];
-            X7[i] = row[0];
-            Z7[i] = row[1] * ax[1] + row[2] * ax[2];
-        }
-    }
+    if (mode == 0) pose_frame(P, T, W, X7, Z7);
     for (Py_ssize_t r = 0; r < k; r++) {
         double v[7], sol[8][7];
         int n = 0;
@@ -412,6 +417,16 @@ static void prepare_seeded(const Seed *S, int mode, const double *p, const doubl
         T[i] = x[i] - (r0[3 * i] * m[0] + r0[3 * i + 1] * m[1] + r0[3 * i + 2] * m[2]);
 }
 
+/* The branches at q1 of the form without limits (all_branches in _branches7.h). */
+static int branches_at_value(const Params *P, const double *T, double q1, double (*sol)[7])
+{
+    double W[3], X7[3], Z7[3];
+    pose_frame(P, T, W, X7, Z7);
+    return pose(P, q1, W, X7, Z7, sol);
+}
+
+#include "_branches7.h"
+
 static PyObject *first(PyObject *self, PyObject *args)
 {
     PyObject *objs[4];
@@ -450,6 +465,7 @@ static PyMethodDef methods[] = {
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
+    {"all_branches", (PyCFunction)(void (*)(void))all_branches, METH_FASTCALL, ALL_BRANCHES_DOC},
     {"skips", set_skips, METH_O, SKIPS_DOC},
     {NULL, NULL, 0, NULL}};
 

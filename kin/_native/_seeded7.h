@@ -129,6 +129,26 @@ static PyObject *seeded_result(PyObject *const *args, const double *q, double po
     return answer;
 }
 
+/* The Params and the Seed block of two bytes objects (exactly their sizes) into P and S: 1, else
+   0 (no error set). */
+static int read_blocks(PyObject *params, PyObject *seed_block, Params *P, Seed *S)
+{
+    if (!PyBytes_Check(params) || PyBytes_GET_SIZE(params) != sizeof *P ||
+        !PyBytes_Check(seed_block) || PyBytes_GET_SIZE(seed_block) != sizeof *S)
+        return 0;
+    memcpy(P, PyBytes_AS_STRING(params), sizeof *P);
+    memcpy(S, PyBytes_AS_STRING(seed_block), sizeof *S);
+    return 1;
+}
+
+/* Whether the n values are all finite. */
+static inline int all_finite(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
 static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
@@ -139,10 +159,10 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
         return NULL;
     }
     PyObject *steps = args[2], *solution = args[3], *result = args[4], *clock = args[8];
-    if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof(Params) ||
-        !PyBytes_Check(args[1]) || PyBytes_GET_SIZE(args[1]) != sizeof(Seed) ||
-        !PyTuple_Check(steps) || !PyType_Check(solution) || !PyType_Check(result) ||
-        !PyCallable_Check(clock)) {
+    Params P;
+    Seed S;
+    if (!read_blocks(args[0], args[1], &P, &S) || !PyTuple_Check(steps) ||
+        !PyType_Check(solution) || !PyType_Check(result) || !PyCallable_Check(clock)) {
         PyErr_SetString(PyExc_ValueError, "params, seed_block: bytes of the blocks; steps: a "
                                           "tuple; solution, result: classes; clock: a callable");
         return NULL;
@@ -150,19 +170,11 @@ static PyObject *seeded(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     double position_tol = PyFloat_AsDouble(args[11]), rotation_tol = PyFloat_AsDouble(args[12]);
     double start = PyFloat_AsDouble(args[13]);
     if (PyErr_Occurred()) return NULL;
-    Params P;
-    Seed S;
-    memcpy(&P, PyBytes_AS_STRING(args[0]), sizeof P);
-    memcpy(&S, PyBytes_AS_STRING(args[1]), sizeof S);
     double p[3], r[9] = {0.0}, seed[7], T[12], q[7];
     int mode = target_values(args[9], p, r);
     if (mode < 0 || (mode == 1 && !SEEDED_POINTS) || !copy_doubles(args[10], 7, seed))
         Py_RETURN_NONE;
-    int finite = 1;
-    for (int i = 0; i < 3; i++) finite = finite && isfinite(p[i]);
-    for (int i = 0; i < 9; i++) finite = finite && isfinite(r[i]);
-    for (int i = 0; i < 7; i++) finite = finite && isfinite(seed[i]);
-    if (!finite) Py_RETURN_NONE;
+    if (!all_finite(p, 3) || !all_finite(r, 9) || !all_finite(seed, 7)) Py_RETURN_NONE;
     double bx = p[0] - S.reach[0], by = p[1] - S.reach[1], bz = p[2] - S.reach[2];
     if (!(sqrt(bx * bx + by * by + bz * bz) <= S.reach[3])) Py_RETURN_NONE;
     prepare_seeded(&S, mode, p, r, T);

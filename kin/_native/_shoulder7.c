@@ -332,6 +332,17 @@ static void prepare_seeded(const Seed *S, int mode, const double *p, const doubl
         T[9 + j] = T[j] * g[0] + T[3 + j] * g[1] + T[6 + j] * g[2] + S->end_t[j];
 }
 
+/* The branches at q7 of the form without limits (all_branches in _branches7.h): each joint
+   into [-pi, pi] (near 0). */
+static int branches_at_value(const Params *P, const double *T, double q7, double (*sol)[7])
+{
+    static const double zero[7] = {0.0};
+    double t7 = q7 + P->off[6];
+    return branches(P, T, q7, cos(t7), sin(t7), zero, sol);
+}
+
+#include "_branches7.h"
+
 static PyObject *first(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -365,6 +376,7 @@ static PyMethodDef methods[] = {
     {"first_many", first_many, METH_VARARGS, FIRST_MANY_DOC},
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
+    {"all_branches", (PyCFunction)(void (*)(void))all_branches, METH_FASTCALL, ALL_BRANCHES_DOC},
     {"skips", set_skips, METH_O, SKIPS_DOC},
     {NULL, NULL, 0, NULL}};
 

@@ -20,12 +20,24 @@ Branches equal modulo a turn within ``DISTINCT`` are one; the rest are returned 
 first (Euclidean distance in joint space). Branches on target with no copy inside the limits are
 the result's ``rejected``.
 
+Where the form has a compiled twin (:class:`~kin.ik.analytic.seven_r.seven_dof.SevenDofIK`,
+:class:`~kin.ik.analytic.seven_r.spherical_shoulder7.SphericalShoulder7RIK` on a table of
+revolute rows turning forward), all of it after the usual answer is one C call
+(``all_branches``, ``kin/_native/_branches7.h``): the same steps in the same order, the judge's
+errors by the table's DH product; a near miss hands the target back to this module's path
+(``tests/test_all_branches_twin.py`` holds the two to the same answers).
+
 Any other arm or target (a position, a mask, an axis) gets the usual answer.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+import math
 import time
+import weakref
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -39,7 +51,7 @@ from ..analytic.seven_r.branches7 import GRID, branches_over, distinct, free_gri
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, batch_pose_errors
 from ..result import IKResult, IKSolution
 from ..target import PoseTarget
-from .free_joint import METHOD
+from .free_joint import METHOD, seed_block
 from .numeric_target import NumericTarget
 
 #: Largest pose error of a returned branch [m] and [rad] (the closed forms' rounding is far below).
@@ -86,35 +98,28 @@ def solve_all_branches(
         return result
     if result.status == "invalid_target":
         return result
-    free = int(closed.free)  # type: ignore[attr-defined]
-    near = seed_inside(ik.robot, default_seed(ik.robot) if seed is None else ik.seed_vector(seed))
+    arm = _arm(ik, closed)
+    free = arm.free
+    near = arm.near if seed is None else seed_inside(ik.robot, ik.seed_vector(seed))
     near = np.asarray(near, dtype=float)
-    if free_values is None:
-        values = [free_grid(float(ik.lower[free]), float(ik.upper[free]), GRID), near[free, None]]
-        values += [np.array([s.q[free]]) for s in result.solutions]
-        grid = np.unique(np.concatenate(values))
+    if free_values is None:  # np.unique of the grid, the seed's value and the answer's
+        grid = np.array(
+            sorted({*arm.grid, float(near[free]), *(s.q[free] for s in result.solutions)})
+        )
     else:
         grid = np.unique(np.asarray(free_values, dtype=float))
-    position: np.ndarray = np.array(getattr(target, "position"), dtype=float)
-    rotation = np.array(rotation, dtype=float)
-    found = branches_over(closed, position, rotation, grid)  # type: ignore[arg-type]
-    if found is None:
-        return result
     tolerances = (min(BRANCH_TOLERANCE, position_tol), min(BRANCH_TOLERANCE, rotation_tol))
-    on_target = distinct(_on_target(ik, found, position, rotation, tolerances))
-    inside, source = windings(on_target, ik.lower, ik.upper)
-    errors = _errors(ik, inside, position, rotation)
-    keep = (errors[0] < tolerances[0]) & (errors[1] < tolerances[1])
-    keep &= (inside >= ik.lower).all(axis=1) & (inside <= ik.upper).all(axis=1)
-    if not keep.any():
+    found = None
+    if arm.compiled is not None:
+        found = arm.compiled(target, grid, *arm.limits, near, *tolerances, NEAR_MISS, *_MADE)
+    if found is None:
+        position: np.ndarray = np.array(getattr(target, "position"), dtype=float)
+        found = _branches(
+            ik, closed, position, np.array(rotation, dtype=float), grid, near, tolerances
+        )
+    if found is None or not found[0]:
         return result
-    order = np.flatnonzero(keep)
-    order = order[np.argsort(((inside[order] - near) ** 2).sum(axis=1), kind="stable")]
-    solutions = _solutions(inside[order], errors[0][order], errors[1][order], True)
-    outside = on_target[np.setdiff1d(np.arange(on_target.shape[0]), source)]
-    rejected: tuple[IKSolution, ...] = ()
-    if outside.shape[0]:
-        rejected = _solutions(outside, *_errors(ik, outside, position, rotation), False)
+    solutions, rejected = found
     return IKResult(
         True,
         result.solver,
@@ -129,6 +134,85 @@ def solve_all_branches(
         time=time.perf_counter() - start,
         method=METHOD,
     )
+
+
+def _branches(
+    ik: Any,
+    closed: Any,
+    position: np.ndarray,
+    rotation: np.ndarray,
+    grid: np.ndarray,
+    near: np.ndarray,
+    tolerances: tuple[float, float],
+) -> tuple[tuple[IKSolution, ...], tuple[IKSolution, ...]] | None:
+    """The branches at ``grid`` inside the limits, nearest ``near`` first, and those rejected.
+
+    The reference path of :func:`solve_all_branches` (the compiled twin's ``all_branches``
+    repeats it); None when the form does not take the target.
+    """
+    found = branches_over(closed, position, rotation, grid)
+    if found is None:
+        return None
+    on_target = distinct(_on_target(ik, found, position, rotation, tolerances))
+    inside, source = windings(on_target, ik.lower, ik.upper)
+    errors = _errors(ik, inside, position, rotation)
+    keep = (errors[0] < tolerances[0]) & (errors[1] < tolerances[1])
+    keep &= (inside >= ik.lower).all(axis=1) & (inside <= ik.upper).all(axis=1)
+    order = np.flatnonzero(keep)
+    order = order[np.argsort(((inside[order] - near) ** 2).sum(axis=1), kind="stable")]
+    solutions = _solutions(inside[order], errors[0][order], errors[1][order], True)
+    outside = on_target[np.setdiff1d(np.arange(on_target.shape[0]), source)]
+    rejected: tuple[IKSolution, ...] = ()
+    if outside.shape[0]:
+        rejected = _solutions(outside, *_errors(ik, outside, position, rotation), False)
+    return solutions, rejected
+
+
+#: The classes and the array maker the compiled ``all_branches`` builds its answer with.
+_MADE = (IKSolution, np.empty)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Arm:
+    """What every call on one solver shares, made once (:func:`_arm`).
+
+    Attributes:
+        free: The free joint (0-based).
+        grid: The :func:`free_grid` values [rad] over its range.
+        near: The default seed moved inside the limits [rad].
+        limits: The lower and upper limits, C-contiguous float64 (7,) [rad].
+        compiled: The twin's ``all_branches`` bound to the Params of the same form without
+            limits (joints in ``[-pi, pi]``, as ``branches_at``) and the Seed block of the table
+            (:func:`.free_joint.seed_block`: the judge's DH product); None: the Python path.
+    """
+
+    free: int
+    grid: tuple[float, ...]
+    near: np.ndarray
+    limits: tuple[np.ndarray, np.ndarray]
+    compiled: Callable[..., Any] | None
+
+
+_ARMS: weakref.WeakKeyDictionary[Any, _Arm] = weakref.WeakKeyDictionary()
+
+
+def _arm(ik: Any, closed: Any) -> _Arm:
+    """The :class:`_Arm` of the solver ``ik`` with its free-joint closed form ``closed``."""
+    arm = _ARMS.get(ik)
+    if arm is not None and arm.free == closed.free:
+        return arm
+    free = int(closed.free)
+    grid = free_grid(float(ik.lower[free]), float(ik.upper[free]), GRID)
+    compiled = None
+    block = seed_block(closed, ik.robot.table, (0.0, 0.0, 0.0), 0.0)
+    if block is not None and hasattr(closed.twin, "all_branches"):
+        unlimited = type(closed)(closed.structure, [-math.pi] * 7, [math.pi] * 7)
+        compiled = functools.partial(closed.twin.all_branches, unlimited.c_params.tobytes(), block)
+    near = np.array(seed_inside(ik.robot, default_seed(ik.robot)), dtype=float)
+    limits = (np.ascontiguousarray(ik.lower, float), np.ascontiguousarray(ik.upper, float))
+    arm = _Arm(free, tuple(grid.tolist()), near, limits, compiled)
+    _ARMS[ik] = arm
+    return arm
 
 
 def _errors(

@@ -187,7 +187,7 @@ def compiled_seeded(
         steps: The free joint's scan steps [rad], coarse to fine.
         name: The pipeline's name (:attr:`IKResult.solver`).
     """
-    block = _seed_block(closed, table, base_origin, reach)
+    block = seed_block(closed, table, base_origin, reach)
     if block is None:
         return None
     closed = cast("SevenDofIK | SphericalShoulder7RIK", closed)
@@ -206,7 +206,7 @@ def compiled_seeded(
     )
 
 
-def _seed_block(
+def seed_block(
     closed: FreeJointClosedForm | None,
     table: DHTable,
     base_origin: Sequence[float],
@@ -284,7 +284,7 @@ def compiled_seeded_many(
     ``upper`` [rad] are the judge's; a target farther than ``reach`` [m] from ``base_origin``
     (the world frame) gets no answer there, without a scan.
     """
-    block = _seed_block(closed, table, base_origin, reach)
+    block = seed_block(closed, table, base_origin, reach)
     twin = getattr(closed, "twin", None)
     if block is None or not hasattr(twin, "seeded_many"):
         return None
