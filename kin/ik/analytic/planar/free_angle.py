@@ -90,10 +90,17 @@ def _coarse_steps() -> list[int]:
 
 
 def _first_hit(
-    solve_one: Callable[[float], list[Row]], angles: Iterable[float], bounds: Bounds
+    solve_one: Callable[[float], list[Row]],
+    inside_one: Callable[[float], bool] | None,
+    angles: Iterable[float],
+    bounds: Bounds,
 ) -> tuple[list[Row], float] | None:
     """The branches at the first of ``angles`` [rad] with one inside the limits, and that angle."""
     for angle in angles:
+        if inside_one is not None:
+            if inside_one(angle):
+                return solve_one(angle), angle
+            continue
         rows = solve_one(angle)
         for row in rows:
             if row_inside(row, bounds):
@@ -106,6 +113,8 @@ def free_angle_branches(
     start: float,
     limits: tuple[np.ndarray, np.ndarray, np.ndarray],
     solve_one: Callable[[float], list[Row]] | None = None,
+    inside_one: Callable[[float], bool] | None = None,
+    walk: Callable[[float], float] | None = None,
 ) -> tuple[np.ndarray, float, bool]:
     """The branches of a position at a stated value of the free angle that the position leaves.
 
@@ -121,13 +130,18 @@ def free_angle_branches(
         solve_one: ``solve_at`` of one value in plain floats (the same branches, faster than
             NumPy on one value): the seed's value and the 10- and 1-degree steps near it, each
             stopping at the first value with a branch inside the limits; None: ``solve_at``.
+        inside_one: With ``solve_one``, whether ``solve_one`` of a value has a branch inside the
+            limits, faster than building the branches (None: build them and check).
+        walk: With ``solve_one``, the compiled twin of the walk (:func:`compiled_walk`): from
+            ``start``, the first value of the 10- then 1-degree steps with a branch inside the
+            limits, NaN when no 10-degree step has one (None: the walk in Python).
 
     Returns:
         The branches (B, nq) (NaN rows: none), the free angle's value [rad] and whether it
         was swept to (not the seed's).
     """
     if solve_one is not None:
-        return _swept_in_floats(solve_at, start, limits, solve_one)
+        return _swept_in_floats(solve_at, start, limits, solve_one, inside_one, walk)
     q = solve_at(np.array([start]))
     if inside_limits(q, *limits).any():
         return q[0], start, False
@@ -155,6 +169,8 @@ def _swept_in_floats(
     start: float,
     limits: tuple[np.ndarray, np.ndarray, np.ndarray],
     solve_one: Callable[[float], list[Row]],
+    inside_one: Callable[[float], bool] | None,
+    walk: Callable[[float], float] | None,
 ) -> tuple[np.ndarray, float, bool]:
     """:func:`free_angle_branches` with the seed's value and the near steps in plain floats."""
     bounds: Bounds = (
@@ -165,15 +181,20 @@ def _swept_in_floats(
     rows = solve_one(start)
     if any(row_inside(row, bounds) for row in rows):
         return np.array(rows, dtype=float), start, False
+    if walk is not None:
+        angle = walk(start)
+        if math.isnan(angle):
+            return _whole_turn(solve_at, start, limits, np.array(rows, dtype=float)[None])
+        return np.array(solve_one(angle), dtype=float), angle, True
     coarse_step = 2.0 * math.pi / COARSE_STEPS
     steps = _coarse_steps()
-    hit = _first_hit(solve_one, (start + k * coarse_step for k in steps), bounds)
+    hit = _first_hit(solve_one, inside_one, (start + k * coarse_step for k in steps), bounds)
     if hit is None:
         return _whole_turn(solve_at, start, limits, np.array(rows, dtype=float)[None])
     found, angle = hit
     reach = round(abs(angle - start) / (2.0 * math.pi) * SWEEP_STEPS)
     fine_step = 2.0 * math.pi / SWEEP_STEPS
-    near = _first_hit(solve_one, (start + k * fine_step for k in _ring(reach)), bounds)
+    near = _first_hit(solve_one, inside_one, (start + k * fine_step for k in _ring(reach)), bounds)
     if near is not None:
         found, angle = near
     return np.array(found, dtype=float), float(angle), True
@@ -196,6 +217,40 @@ def _whole_turn(
     if found is not None and (inside_limits(swept[found], *limits).any() or np.isnan(q).all()):
         return swept[found], float(angles[found]), True
     return q[0], start, False
+
+
+def compiled_walk(
+    chain: tuple[float, ...], points: list[tuple[float, float]]
+) -> Callable[[float], float] | None:
+    """The compiled twin of the walk (``kin/_native/_pitch_sweep.c``) of a planar 3R chain.
+
+    Args:
+        chain: :meth:`~.plane_chain.PlaneChain.walk_data` with its joints' limits [rad].
+        points: The target in the chain's plane [m] (:meth:`~.plane_chain.PlaneChain.in_plane`),
+            one per base yaw (at most 4).
+
+    Returns:
+        ``start -> psi`` [rad] of :func:`free_angle_branches`' walk (NaN: no 10-degree step
+        has a branch inside the limits), or None: the twin is not built.
+    """
+    module = _twin()
+    if module is None:
+        return None
+    data = chain + tuple(value for point in points for value in point)
+    first_inside = module.first_inside
+    return lambda start: float(first_inside(start, data))
+
+
+_TWIN: list = []
+
+
+def _twin():  # noqa: ANN202 - a module or None
+    """The compiled walk, loaded on first use (:func:`kin._native.twin`)."""
+    if not _TWIN:
+        from kin._native import twin
+
+        _TWIN.append(twin("_pitch_sweep"))
+    return _TWIN[0]
 
 
 def free_label(word: str, angle: float, swept: bool) -> str:

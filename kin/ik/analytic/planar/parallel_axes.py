@@ -32,7 +32,7 @@ from ...exceptions import StructureError
 from ...target import PoseTarget, PositionTarget, Target
 from ..branches import REACH_TOL, Branches
 from ..closed_form_structure import BatchBranches, candidate_branches
-from .free_angle import free_angle_branches, free_label
+from .free_angle import compiled_walk, free_angle_branches, free_label
 from .plane_chain import PlaneChain, joint_axes, solve_angles
 
 
@@ -53,6 +53,8 @@ class ParallelAxes(PlaneChain):
     #: The candidates are the projection of a pose on what the arm reaches: the partial-pose
     #: solver measures them (a full pose on this arm goes there, see ``ClosedFormSolver``).
     projects: ClassVar[bool] = True
+    #: The sweep of a free yaw walked by its compiled twin when built (False: in Python).
+    compiled: bool = True
 
     def __init__(self, table: DHTable):
         directions, points, tool = joint_axes(table)
@@ -104,11 +106,13 @@ class ParallelAxes(PlaneChain):
             q = np.array(self.solve_angle(point, 0.0), dtype=float)
             q[:, last] = np.where(np.isnan(q[:, last]), np.nan, seed[last])
             return q, f"joint {last + 1} free: the seed's value"
+        data = self.walk_data(self.lower.tolist(), self.upper.tolist()) if self.compiled else None
         q, angle, swept = free_angle_branches(
             lambda psis: solve_angles(self, np.asarray(point), psis),
             self.last_angle(seed),
             (self.lower, self.upper, self.is_revolute),
             lambda psi: self.solve_angle(point, psi),
+            walk=None if data is None else compiled_walk(data, [self.in_plane(point)]),
         )
         return q, free_label("yaw", angle, swept)
 

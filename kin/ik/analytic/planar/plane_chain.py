@@ -19,6 +19,7 @@ NumPy (:func:`solve_angles`, the sweeps). The closed-form structure over it is
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import ClassVar
 
 import numpy as np
@@ -47,6 +48,10 @@ def joint_axes(table: DHTable) -> tuple[list[np.ndarray], list[np.ndarray], np.n
         directions.append(axis_frame[:3, 2].copy())
         points.append(axis_frame[:3, 3].copy())
     return directions, points, frame @ np.asarray(table.T_last_tool, dtype=float)
+
+
+#: A turn [rad].
+_TURN = 2.0 * math.pi
 
 
 def _wrapped(angle: float) -> float:
@@ -192,6 +197,17 @@ class PlaneChain:
         along = (position[0] - base[0]) * n[0] + (position[1] - base[1]) * n[1]
         return self.prismatic_sign * (along + (position[2] - base[2]) * n[2] - self.height)
 
+    def walk_data(self, lower: Sequence[float], upper: Sequence[float]) -> tuple[float, ...] | None:
+        """The chain as the compiled walk takes it (:func:`.free_angle.compiled_walk`).
+
+        ``lower``, ``upper``: the three revolute joints' limits [rad]. None: not three revolute
+        joints alone (the walk in Python).
+        """
+        if len(self.revolute) != 3 or self.prismatic:
+            return None
+        links = tuple(value for link in self._links for value in link)
+        return links + self._elbow + tuple(self.signs) + tuple(lower) + tuple(upper)
+
     def elbows(self, wx: float, wy: float, slide: float | None, psi: float | None) -> list[Row]:
         """The two branches ``q`` [rad, m] putting the end of link 2 at ``(wx, wy)`` [m].
 
@@ -215,7 +231,7 @@ class PlaneChain:
             row = [math.nan] * self.nq
             previous = 0.0
             for phi, (i, sign) in zip(phis, self._joint_order):
-                row[i] = _wrapped(sign * (phi - previous))
+                row[i] = (sign * (phi - previous) + math.pi) % _TURN - math.pi  # wrapped
                 previous = phi
             if slide is not None:
                 row[self.prismatic[0]] = slide

@@ -35,7 +35,7 @@ from ...target import PoseTarget, PositionTarget, Target
 from ..branches import Branches
 from ..closed_form_structure import BatchBranches, candidate_branches
 from .base_yaw import BaseYaw, Point, Vector, plane_yaws
-from .free_angle import Row, free_angle_branches, free_label
+from .free_angle import Row, compiled_walk, free_angle_branches, free_label, row_inside
 from .plane_chain import PlaneChain, solve_angles
 
 
@@ -48,6 +48,8 @@ class YawPlanar(BaseYaw):
     """
 
     name: ClassVar[str] = "yaw_planar"
+    #: The sweep of a free pitch walked by its compiled twin when built (False: in Python).
+    compiled: bool = True
     target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget, PoseTarget)
 
     def __init__(self, table: DHTable):
@@ -55,6 +57,8 @@ class YawPlanar(BaseYaw):
         self.chain = PlaneChain(
             table.name, directions[1:], points[1:], tool, ["revolute"] * 3
         )  # raises when joints 2-4 are not parallel
+        self._bounds = (tuple(self.lower.tolist()), tuple(self.upper.tolist()))
+        self._walk_data = self.chain.walk_data(self._bounds[0][1:], self._bounds[1][1:])
 
     @classmethod
     def recognise(cls, table: DHTable) -> YawPlanar:
@@ -123,11 +127,29 @@ class YawPlanar(BaseYaw):
         the planar 3R's wrist alone (:meth:`~.plane_chain.PlaneChain.solve_angle`).
         """
         planes = self.plane_points(position)
+        # A branch is inside the limits when its yaw is and its pitch chain's joints are: the
+        # sweep asks the chain of the yaws inside them only.
+        yaw_bounds = ((self._bounds[0][0],), (self._bounds[1][0],), (True,))
+        chain_bounds = (self._bounds[0][1:], self._bounds[1][1:], (True,) * 3)
+        points = [plane[1] for plane in planes if row_inside((plane[0],), yaw_bounds)]
+
+        def inside_at(pitch: float) -> bool:
+            return any(
+                row_inside(row, chain_bounds)
+                for point in points
+                for row in self.chain.solve_angle(point, pitch)
+            )
+
+        walk = None
+        if self.compiled and self._walk_data is not None:
+            walk = compiled_walk(self._walk_data, [self.chain.in_plane(p) for p in points])
         q, pitch, swept = free_angle_branches(
             lambda pitches: self.candidates(position, None, pitches),
             self.chain.last_angle(list(seed)[1:]),
             (self.lower, self.upper, np.ones(4, dtype=bool)),
             lambda pitch: self._at_pitch(planes, pitch),
+            inside_at,
+            walk,
         )
         return q, free_label("pitch", pitch, swept)
 
