@@ -25,12 +25,11 @@ import pinocchio as pin
 
 from ..configuration import as_joint_vector
 from .model import CollisionModel
+from .requests import prepare_requests
 
 __all__ = ["Closest", "CollisionChecker", "Contact"]
 
 _FLOAT64 = np.dtype(np.float64)
-#: GJK's stopping tolerance in every collision request (coal's default 1e-6 was too coarse).
-GJK_TOLERANCE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -94,13 +93,7 @@ class CollisionChecker:
         return geometry_data
 
     def _prepare(self, geometry_data: pin.GeometryData, contact: bool) -> None:
-        padding = self.model.padding
-        for request in geometry_data.collisionRequests:
-            request.security_margin = padding
-            request.enable_contact = contact
-            # coal's default 1e-6 let verdict-only GJK call one UR5 configuration in 10,000 free
-            # whose forearm and wrist_2 hulls overlap by 2 cm (tests/test_collision_engines.py)
-            request.gjk_tolerance = GJK_TOLERANCE
+        prepare_requests(geometry_data, self.model.padding, contact)
 
     def _q(self, q: npt.ArrayLike) -> np.ndarray:
         """``q`` itself when it is a finite float64 vector of size nq, else the checked copy."""

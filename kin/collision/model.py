@@ -6,7 +6,8 @@ q = 0, where both models agree); a DH table robot has the link cylinders the URD
 (per-row ``radius``). Scene objects hang on the world. Pairs checked: every two arm links, and
 every arm link with every scene object, but the allowed ones (:attr:`CollisionModel.disabled`):
 adjacent links (one after the other along the chain, links without shapes skipped, as MoveIt's
-setup assistant counts them), links carried by the same joint, and an SRDF's pairs.
+setup assistant counts them), links carried by the same joint, an SRDF's pairs, and on a DH table
+robot the link pairs in contact at every sampled configuration (:mod:`.always_pairs`).
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ class CollisionModel:
         scene_objects: Names of the scene objects.
         pairs: The ``(a, b)`` checked: two links (base side first), or a link and an object.
         disabled: The pairs not checked, ``(a, b) -> reason`` (``"adjacent"``, ``"rigid"``,
-            ``"srdf: <reason>"``).
+            ``"srdf: <reason>"``, ``"always"``).
         owners: Per geometry object, the link or scene object it belongs to.
         pair_owners: Per collision pair of :attr:`geometry_model`, its ``(a, b)``.
         padding: Distance added around every shape [m]: a pair is in collision closer than it.
@@ -108,6 +109,18 @@ def load_collision_model(
     candidates += [(link, name) for name in names for link in links]
     pairs = tuple(p for p in candidates if p not in disabled and p[::-1] not in disabled)
     geometry_model, owners, pair_owners = _geometry_model(robot, arm, objects, pairs)
+    always: list[tuple[str, str]] = []
+    if robot.urdf_source is None:  # a DH drawing: its links may touch at a joint (always_pairs)
+        from .always_pairs import always_in_contact
+
+        link_pairs = {p for p in pairs if p[1] in carrier}
+        always = sorted(
+            always_in_contact(robot.model, geometry_model, pair_owners, link_pairs, padding)
+        )
+    if always:
+        disabled.update(dict.fromkeys(always, "always"))
+        pairs = tuple(p for p in pairs if p not in always)
+        geometry_model, owners, pair_owners = _geometry_model(robot, arm, objects, pairs)
     return CollisionModel(
         robot=robot,
         geometry_model=geometry_model,
@@ -118,7 +131,7 @@ def load_collision_model(
         owners=owners,
         pair_owners=pair_owners,
         padding=float(padding),
-        shape_note=_note(arm, objects, padding),
+        shape_note=_note(arm, objects, padding, always),
     )
 
 
@@ -231,7 +244,12 @@ def _geometry_model(
     return geometry_model, tuple(owners), tuple(pair_owners)
 
 
-def _note(arm: list[_ArmShape], objects: tuple[Shape, ...], padding: float) -> str:
+def _note(
+    arm: list[_ArmShape],
+    objects: tuple[Shape, ...],
+    padding: float,
+    always: list[tuple[str, str]],
+) -> str:
     kinds = sorted({s.kind for s in (*arm, *objects)})
     meshes = "mesh" in kinds
     primitives = [k for k in kinds if k != "mesh"]
@@ -240,7 +258,16 @@ def _note(arm: list[_ArmShape], objects: tuple[Shape, ...], padding: float) -> s
         parts.append(f"{', '.join(primitives)} as given (exact)")
     if meshes:
         parts.append("meshes as their convex hulls (they enclose the mesh: never closer)")
-    return (
+    note = (
         f"every query uses {'; '.join(parts) or 'no shapes'}; "
         f"padding {padding:g} m around every shape"
     )
+    if always:
+        from .always_pairs import SAMPLES, SEED
+
+        note += (
+            f"; not checked, in contact at all {SAMPLES} sampled configurations "
+            f"(default_rng({SEED})), links meeting at a joint of the DH drawing: "
+            + ", ".join(f"{a}/{b}" for a, b in always)
+        )
+    return note

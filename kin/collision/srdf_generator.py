@@ -51,8 +51,9 @@ def generate_disabled_pairs(
     """Link pairs to disable, each with its reason (see the module docstring).
 
     Args:
-        model: A collision model loaded without an SRDF (every non-adjacent link pair checked);
-            its scene, if any, is ignored.
+        model: A collision model loaded without an SRDF (every non-adjacent link pair checked,
+            but a DH drawing's pairs in contact at every sample of :mod:`.always_pairs`, which
+            stay ``Always``); its scene, if any, is ignored.
         samples: Random configurations drawn [count], at least 1.
         random_seed: Seed of NumPy's ``default_rng``.
 
@@ -72,6 +73,8 @@ def generate_disabled_pairs(
     for (a, b), reason in model.disabled.items():
         if a in links and b in links and reason in ("adjacent", "rigid"):
             reasons[_key(a, b)] = "Adjacent"
+        elif reason == "always":  # a DH drawing's links meeting at a joint (.always_pairs)
+            reasons[_key(a, b)] = "Always"
     candidates = {_key(a, b) for a, b in model.pairs if a in links and b in links} - set(reasons)
     lower, upper = model.robot.lower, model.robot.upper
     default = np.clip(np.zeros_like(lower), lower, upper)

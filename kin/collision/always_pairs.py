@@ -1,0 +1,75 @@
+"""Link pairs of a DH drawing that are in contact at every configuration: not checked by default.
+
+A DH table's collision shapes are the URDF writer's link cylinders (the row's ``radius``), drawn
+from joint to joint. Where a link has no length of its own (``a = 0``, a short ``d``), the two
+links beside it meet at one joint with nothing between them, and their cylinders touch there
+whatever the joints do: pickplace3's column (``frame0``) and upper arm (``link2``) meet at the
+shoulder, 10 mm apart, in every configuration. Such a contact is the drawing, not the arm.
+
+The rule is MoveIt's setup assistant's "always in collision", applied to DH shapes when the model
+is built: a link pair in contact (padding included) at every one of :data:`SAMPLES`
+configurations drawn uniformly within the joint limits (an unbounded joint within +-pi) by NumPy's
+``default_rng(`` :data:`SEED` ``)`` is disabled with the reason ``"always"``, and the model's
+``shape_note`` names it. The draw is reproducible; a pair that leaves contact anywhere in the
+samples stays checked (scorbot's upper arm against its column, which it really crosses).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+
+from .requests import prepare_requests
+
+__all__ = ["SAMPLES", "SEED", "always_in_contact"]
+
+#: Configurations sampled [count].
+SAMPLES = 1000
+#: Seed of NumPy's ``default_rng`` for the samples.
+SEED = 0
+
+
+def always_in_contact(
+    model: pin.Model,
+    geometry_model: pin.GeometryModel,
+    pair_owners: tuple[tuple[str, str], ...],
+    candidates: set[tuple[str, str]],
+    padding: float,
+) -> set[tuple[str, str]]:
+    """The ``candidates`` in contact at every sampled configuration (see the module).
+
+    Args:
+        model: The arm's Pinocchio model (its limits bound the samples).
+        geometry_model: The shapes, with a collision pair per shape pair of :attr:`pair_owners`.
+        pair_owners: Per collision pair of ``geometry_model``, its ``(a, b)``.
+        candidates: The ``(a, b)`` to test (link pairs).
+        padding: Distance below which two shapes are in contact [m].
+
+    Returns:
+        The candidates in contact at all :data:`SAMPLES` configurations.
+    """
+    indices: dict[tuple[str, str], list[int]] = {}
+    for index, owners in enumerate(pair_owners):
+        if owners in candidates:
+            indices.setdefault(owners, []).append(index)
+    left = set(indices)
+    if not left:
+        return set()
+    data = model.createData()
+    geometry_data = pin.GeometryData(geometry_model)
+    prepare_requests(geometry_data, padding, contact=False)
+    lower = np.where(np.isfinite(model.lowerPositionLimit), model.lowerPositionLimit, -math.pi)
+    upper = np.where(np.isfinite(model.upperPositionLimit), model.upperPositionLimit, math.pi)
+    rng = np.random.default_rng(SEED)
+    for q in rng.uniform(lower, upper, (SAMPLES, model.nq)):
+        pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q)
+        left = {
+            pair
+            for pair in left
+            if any(pin.computeCollision(geometry_model, geometry_data, k) for k in indices[pair])
+        }
+        if not left:
+            break
+    return left
