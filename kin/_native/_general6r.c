@@ -7,8 +7,9 @@
  *
  * Per pose: the right side of the loop at its 9 grid points -> Q (14x9); the left null space of
  * Q's last 8 columns (LAPACK dgesvd) -> the 12x12 matrix quadratic M2 x^2 + M1 x + M0; its 24x24
- * companion matrix on the better conditioned leading matrix (dgetrf, dgesv) -> eigenpairs
- * (dgeev); each (near-)real root -> the joints, Newton-polished on the true chain, kept on
+ * companion matrix on the better conditioned leading matrix (dgetrf, dgesv) -> its eigenvalues
+ * (dgeev), each (near-)real root's vector by inverse iteration on the 12x12 quadratic (the NumPy
+ * path takes the companion's eigenvectors: the same line for a simple root) -> the joints, Newton-polished on the true chain, kept on
  * target, duplicates merged, ordered by joint 1. LAPACK comes from SciPy's cython_lapack
  * capsules at import (no link-time dependency).
  *
@@ -278,6 +279,55 @@ static double ratio_angle(const double *v, int along_y)
     return angle;
 }
 
+/* The null vector of lead mu^2 + middle mu + tail (12x12 row-major) at a root mu: two steps of
+   inverse iteration, scaled so that its largest entry is positive (the eigenvector the companion
+   matrix's eigenproblem would give, without computing the 24 of them). */
+static void null_vector(const double *lead, const double *middle, const double *tail, double mu,
+                        double *v)
+{
+    double a[144], scale = 0.0;
+    for (int k = 0; k < 144; k++) {
+        a[k] = (lead[k] * mu + middle[k]) * mu + tail[k];
+        scale = fmax(scale, fabs(a[k]));
+    }
+    int piv[12];
+    double tiny = 1e-300 + scale * 1e-18;
+    for (int c = 0; c < 12; c++) { /* LU with partial pivoting, in place */
+        int p = c;
+        for (int r = c + 1; r < 12; r++)
+            if (fabs(a[12 * r + c]) > fabs(a[12 * p + c])) p = r;
+        piv[c] = p;
+        if (p != c)
+            for (int k = 0; k < 12; k++) {
+                double t = a[12 * c + k];
+                a[12 * c + k] = a[12 * p + k], a[12 * p + k] = t;
+            }
+        if (fabs(a[13 * c]) < tiny) a[13 * c] = a[13 * c] < 0.0 ? -tiny : tiny;
+        for (int r = c + 1; r < 12; r++) {
+            double f = a[12 * r + c] /= a[13 * c];
+            for (int k = c + 1; k < 12; k++) a[12 * r + k] -= f * a[12 * c + k];
+        }
+    }
+    for (int i = 0; i < 12; i++) v[i] = 1.0 + 0.1 * i; /* a generic start */
+    for (int step = 0; step < 2; step++) {
+        for (int c = 0; c < 12; c++) { /* P b */
+            double t = v[piv[c]];
+            v[piv[c]] = v[c], v[c] = t;
+        }
+        for (int c = 0; c < 12; c++) /* L y = P b */
+            for (int r = c + 1; r < 12; r++) v[r] -= a[12 * r + c] * v[c];
+        for (int c = 11; c >= 0; c--) { /* U x = y */
+            double t = v[c];
+            for (int k = c + 1; k < 12; k++) t -= a[12 * c + k] * v[k];
+            v[c] = t / a[13 * c];
+        }
+        double big = 0.0;
+        for (int i = 0; i < 12; i++)
+            if (fabs(v[i]) > fabs(big)) big = v[i];
+        for (int i = 0; i < 12; i++) v[i] = big != 0.0 && isfinite(big) ? v[i] / big : 0.0;
+    }
+}
+
 /* The first pass of one pose: 0, or -1 when the NumPy path must answer. */
 static int one_pose(const double *arm, const double *T, double *out, double *roots)
 {
@@ -355,10 +405,10 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
             if (!isfinite(v)) return -1;
             comp[12 + i + 24 * j] = v;
         }
-    double wr[24], wi[24], vr[24 * 24], vl[1];
+    double wr[24], wi[24], vl[1];
     int one = 1;
-    char no = 'N', yes = 'V';
-    dgeev_(&no, &yes, &n24, comp, &n24, wr, wi, vl, &one, vr, &n24, work, &lwork, &info);
+    char no = 'N';
+    dgeev_(&no, &no, &n24, comp, &n24, wr, wi, vl, &one, vl, &one, work, &lwork, &info);
     if (info != 0) return -1;
     /* Each (near-)real root: the joints, polished. */
     double rows[24 * 6];
@@ -366,28 +416,8 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
     for (int e = 0; e < 24; e++) {
         double im = fabs(wi[e]) / (1.0 + hypot(wr[e], wi[e]));
         if (!(im <= IMAG_TOL)) continue;
-        /* The eigenvector (complex when wi != 0: columns re, +-im), its larger half. */
-        int base = wi[e] == 0.0 ? e : (wi[e] > 0.0 ? e : e - 1);
-        double sign = wi[e] < 0.0 ? -1.0 : 1.0;
-        double re[24], imv[24];
-        for (int i = 0; i < 24; i++) {
-            re[i] = vr[i + 24 * base];
-            imv[i] = wi[e] == 0.0 ? 0.0 : sign * vr[i + 24 * (base + 1)];
-        }
-        double top = 0.0, bottom = 0.0;
-        for (int i = 0; i < 12; i++) {
-            top += re[i] * re[i] + imv[i] * imv[i];
-            bottom += re[12 + i] * re[12 + i] + imv[12 + i] * imv[12 + i];
-        }
-        int off = top >= bottom ? 0 : 12, big = 0;
-        double bigsize = -1.0;
-        for (int i = 0; i < 12; i++) {
-            double s = hypot(re[off + i], imv[off + i]);
-            if (s > bigsize) bigsize = s, big = i;
-        }
-        double pr = re[off + big] / fmax(bigsize, 1e-300), pi = -imv[off + big] / fmax(bigsize, 1e-300);
         double v[12];
-        for (int i = 0; i < 12; i++) v[i] = re[off + i] * pr - imv[off + i] * pi;
+        null_vector(lead, M[1], tail, wr[e], v);
         double theta = tau[0] + 2.0 * (flip ? atan2(1.0, wr[e]) : atan2(wr[e], 1.0));
         double phi = tau[1] + 2.0 * ratio_angle(v, 1), psi = tau[2] + 2.0 * ratio_angle(v, 0);
         /* The right side's joints from the monomials (least squares on Q), u_a+3 from the loop. */
