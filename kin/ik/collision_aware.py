@@ -11,8 +11,11 @@ on where the arm has freedom left, bounded by work (the timeout only a cap):
   (:meth:`~kin.ik.partial_pose.PartialPoseIK.solve` with ``every_roll=True``);
 - a full pose on a 7R arm with a free-joint closed form: every branch of the all-branches grid
   (:mod:`kin.ik.numeric.all_branches`);
-- any target the numeric solver answers: :data:`EXTRA_STARTS` more solves, each from a start
-  drawn uniformly inside the limits (a fixed random seed: reproducible).
+- any target the numeric solver answers: the distance-bounded solve
+  (:mod:`kin.ik.numeric.collision_bound`: each step a QP that keeps every checked pair apart) from
+  the seed, the colliding answers and a few seeded random starts; then :data:`EXTRA_STARTS` more
+  plain solves, each from a start drawn uniformly inside the limits (a fixed random seed:
+  reproducible).
 
 A closed-form 6R pose has every branch in its first answer: the nearest free branch is the
 answer, with no search. The first free answers found win, nearest the caller's seed first.
@@ -25,8 +28,7 @@ full query of the checker).
 
 Statuses: the wrapped solver's (``out_of_reach``, ``not_found``, ...) pass through unchanged;
 ``in_collision`` when answers were found but every one collides (after the extra search);
-``timeout`` when the cap stopped the extra search first. No distance bound enters the damped
-Newton / QP iterations: the checker judges their answers only.
+``timeout`` when the cap stopped the extra search first.
 """
 
 from __future__ import annotations
@@ -240,7 +242,7 @@ class CollisionAwareSolver:
     ) -> tuple[IKResult | None, list[IKSolution], bool]:
         """(a result with free answers or None, the colliding answers met, stopped by the cap)."""
         colliding: list[IKSolution] = []
-        for solve in self._searches(target, seed):
+        for solve in self._searches(target, seed, first.solutions):
             left = cap - time.perf_counter()
             if left <= 0.0:
                 return None, colliding, True
@@ -255,8 +257,11 @@ class CollisionAwareSolver:
                 return None, colliding, True
         return None, colliding, False
 
-    def _searches(self, target: Any, seed: npt.ArrayLike | None) -> Any:
-        """The extra solves for ``target``, each ``solve(time_left) -> IKResult | None``."""
+    def _searches(self, target: Any, seed: npt.ArrayLike | None, first: Any = ()) -> Any:
+        """The extra solves for ``target``, each ``solve(time_left) -> IKResult | None``.
+
+        ``first``: the first solve's colliding answers (starts of the distance-bounded solve).
+        """
         solver = self.solver
         cls = target.__class__
         partial = cls is AxisTarget or (cls is PoseTarget and target.mask is not None)
@@ -269,6 +274,11 @@ class CollisionAwareSolver:
             yield lambda left: numeric.solve(target, seed, timeout=left, all_branches=True)
         if numeric is None:
             return
+        from .numeric.collision_bound import solve_clear
+
+        yield lambda left: solve_clear(
+            self.robot, self.checker, target, seed, first, left, numeric.name
+        )
         rng = np.random.default_rng(0)
         lower, upper = _limits(self.robot)
         for _ in range(EXTRA_STARTS):

@@ -1,0 +1,370 @@
+"""A distance bound inside the numeric solve: damped least-squares steps as QPs that keep apart.
+
+Each step solves one small QP (``daqp`` through qpsolvers, as mink's ``solve_ik``)::
+
+    min  |W (A dq - e)|^2 / 2 + lam |dq|^2 / 2
+    s.t. d_i + n_i^T (J_b - J_a) dq >= d_i - gain (d_i - margin)   per pair closer than influence
+         lower - q <= dq <= upper - q,  |dq| <= max_step
+
+``e`` and ``A`` are the task's error and rows (:class:`~kin.ik.partial_pose.PartialTask`: a full
+or masked pose, an axis target, a position), ``W`` its weights, ``lam`` Levenberg-Marquardt's
+damping. The inequalities are the velocity damper of mink's ``CollisionAvoidanceLimit`` (and of
+pink's barriers): a pair at distance ``d`` (coal's signed distance on the checker's own shapes,
+padding taken off) may close at most the fraction ``gain`` of its gap to ``margin`` per step, and a
+pair already inside ``margin`` must open by that fraction. ``n`` is the unit normal from shape a
+to shape b, ``J_a`` and ``J_b`` the world-frame Jacobians of the two witness points (the joint
+Jacobians of the shapes' joints moved to the points). Pinocchio and coal compute it all on the
+checker's :class:`~kin.collision.CollisionModel` (its geometry model and pairs, the hulls or
+primitives its queries use), so the bound and the checker's verdict measure the same shapes.
+
+Work, not time, decides the answer: a fixed number of steps per start and fixed starts (the
+given ones, then draws of a seeded generator). The cap is checked before each start only: a
+busy machine gives the answer of an idle one, or ``timeout``. Pinocchio is the judge: an answer is
+a solution when its tool is on target within the tolerances, inside the limits, and the checker
+finds it free.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pinocchio as pin
+
+from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, _tool_frame_id
+from ..partial_pose import PartialTask
+from ..result import IKResult, IKSolution
+from ..target import AxisTarget, PoseTarget, PositionTarget
+from .distance_jacobian import pair_rows
+
+__all__ = [
+    "METHOD",
+    "BoundOutcome",
+    "DistanceBound",
+    "DistanceBoundedIK",
+    "held_in_scene",
+    "solve_clear",
+]
+
+#: :attr:`IKResult.method` and the branch label of an answer of the bounded solve.
+METHOD = "collision_bound"
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_POSITION_MASK = (True, True, True, False, False, False)
+
+
+@dataclass(frozen=True)
+class DistanceBound:
+    """Settings of the distance-bounded solve.
+
+    Attributes:
+        margin: Distance kept between every checked pair, beyond the model's padding [m].
+        influence: Pairs closer than this enter the QP as inequalities [m].
+        gain: Fraction of a pair's gap to ``margin`` a step may close (or must open) [1], in (0, 1].
+        opening: Most a pair inside ``margin`` must open per step [m] (a deep one opens steadily).
+        iterations: Steps per start [1].
+        patience: A start is given up after this many steps without progress [1] (the error
+            not halved, no pair inside the padding opened by a millimeter).
+        random_starts: Starts drawn inside the limits after the given ones [1].
+        damping: Constant damping of the step [1] (added to ``error_damping |e|^2``).
+        error_damping: Damping proportional to the squared weighted error [1].
+        max_step: Largest joint change per step [rad] (or [m]).
+        qp_solver: The QP solver's name for qpsolvers.
+        random_seed: Seed of the random starts.
+    """
+
+    margin: float = 0.002
+    influence: float = 0.05
+    gain: float = 0.5
+    opening: float = 0.01
+    iterations: int = 80
+    patience: int = 15
+    random_starts: int = 8
+    damping: float = 1e-9
+    error_damping: float = 1e-3
+    max_step: float = 0.2
+    qp_solver: str = "daqp"
+    random_seed: int = 0
+
+
+@dataclass(frozen=True)
+class BoundOutcome:
+    """One bounded run.
+
+    Attributes:
+        q: Final joint vector [rad] (or [m]), inside the limits.
+        converged: On target within the tolerances and every pair beyond the padding.
+        iterations: Steps taken.
+        position_error: Of the constrained components [m].
+        rotation_error: Of the constrained components [rad].
+        distance: Smallest distance of a checked pair at ``q``, padding taken off [m].
+    """
+
+    q: np.ndarray
+    converged: bool
+    iterations: int
+    position_error: float
+    rotation_error: float
+    distance: float
+
+
+def _task(target: Any) -> PartialTask:
+    if isinstance(target, PositionTarget):
+        return PartialTask(PoseTarget(target.position, np.eye(3), _POSITION_MASK))
+    if isinstance(target, (PoseTarget, AxisTarget)):
+        return PartialTask(target)
+    raise TypeError(
+        f"the distance-bounded solve takes a pose, position or axis target, not {target!r}"
+    )
+
+
+class DistanceBoundedIK:
+    """IK whose steps keep every checked pair of a collision checker apart (see the module).
+
+    Args:
+        robot: The robot (its Pinocchio model and tool frame).
+        checker: The robot's :class:`~kin.collision.CollisionChecker` (shapes, pairs, padding).
+        bound: The settings (:class:`DistanceBound`).
+    """
+
+    def __init__(self, robot: Any, checker: Any, bound: DistanceBound | None = None):
+        self.robot = robot
+        self.checker = checker
+        self.bound = bound or DistanceBound()
+        self.model: pin.Model = robot.model
+        self.frame_id = _tool_frame_id(robot)
+        self.lower = np.asarray(self.model.lowerPositionLimit, dtype=float).copy()
+        self.upper = np.asarray(self.model.upperPositionLimit, dtype=float).copy()
+
+    def run(
+        self,
+        target: Any,
+        q0: npt.ArrayLike,
+        position_tol: float = 1e-7,
+        rotation_tol: float = 1e-6,
+    ) -> BoundOutcome:
+        """Bounded steps from ``q0`` [rad] toward ``target``, :attr:`DistanceBound.iterations` at most."""
+        from qpsolvers import solve_qp
+
+        bound, model = self.bound, self.model
+        geometry_model = self.checker.model.geometry_model
+        padding = self.checker.model.padding
+        data, geometry_data = model.createData(), pin.GeometryData(geometry_model)
+        task = _task(target)
+        weights = task.weights
+        q = np.clip(np.asarray(q0, dtype=float), self.lower, self.upper)
+        identity = np.eye(model.nv)
+        errors, smallest, steps = (math.inf, math.inf), -math.inf, 0
+        best_error, best_clearance, progress = math.inf, -math.inf, 0
+        while True:
+            pin.computeJointJacobians(model, data, q)
+            pose = pin.updateFramePlacement(model, data, self.frame_id)
+            pin.updateGeometryPlacements(model, data, geometry_model, geometry_data)
+            pin.computeDistances(geometry_model, geometry_data)
+            e = task.error(pose.translation, pose.rotation)
+            errors = task.errors(e)
+            d, rows, smallest = pair_rows(
+                model, data, geometry_model, geometry_data, padding, bound.influence
+            )
+            on_target = errors[0] < position_tol and errors[1] < rotation_tol
+            squared = errors[0] ** 2 + errors[1] ** 2
+            if squared < 0.25 * best_error or min(smallest, 0.0) > best_clearance + 1e-3:
+                best_error, best_clearance = min(best_error, squared), min(smallest, 0.0)
+                progress = steps
+            if (
+                (on_target and smallest > 0.0)
+                or steps >= bound.iterations
+                or steps - progress > bound.patience
+            ):
+                break
+            steps += 1
+            frame_jacobian = pin.getFrameJacobian(model, data, self.frame_id, _LWA)
+            a = task.jacobian(e, pose.rotation, frame_jacobian)[task.rows] * weights[:, None]
+            r = e[task.rows] * weights
+            lam = bound.damping + bound.error_damping * float(r @ r)
+            lb = np.maximum(self.lower - q, -bound.max_step)
+            ub = np.minimum(self.upper - q, bound.max_step)
+            h = np.maximum(bound.gain * (d - bound.margin), -bound.opening)
+            args = (a.T @ a + lam * identity, -(a.T @ r))
+            dq = solve_qp(*args, -rows, h, lb=lb, ub=ub, solver=bound.qp_solver)
+            if dq is None and len(h):  # too far inside to open at that rate: do not close
+                dq = solve_qp(
+                    *args, -rows, np.maximum(h, 0.0), lb=lb, ub=ub, solver=bound.qp_solver
+                )
+            if dq is None:
+                break
+            q = np.clip(q + dq, self.lower, self.upper)
+        return BoundOutcome(q, on_target and smallest > 0.0, steps, *errors, smallest)
+
+    def solve(
+        self,
+        target: Any,
+        starts: Iterable[npt.ArrayLike],
+        *,
+        timeout: float | None = None,
+        position_tol: float = POSITION_TOLERANCE,
+        rotation_tol: float = ROTATION_TOLERANCE,
+        solver: str = "numeric",
+    ) -> IKResult:
+        """Bounded runs from each of ``starts`` [rad], then from the random starts, until one is free.
+
+        Args:
+            target: A pose (masked or not), position or axis target, world frame.
+            starts: Start joint vectors, tried in order (e.g. the colliding answers, the seed).
+            timeout: Cap [s], checked before each start (None: no cap).
+            position_tol: Success tolerance on the position [m].
+            rotation_tol: Success tolerance on the rotation [rad].
+            solver: :attr:`IKResult.solver` of the result.
+
+        Returns:
+            ``ok`` with the first answer on target, inside the limits and free by the checker;
+            else ``not_found`` (the work done) or ``timeout`` (the cap first), with the run that
+            came nearest in ``rejected``.
+        """
+        begin = time.perf_counter()
+        end = math.inf if timeout is None else begin + timeout
+        best: BoundOutcome | None = None
+        iterations = 0
+        for q0 in self._starts(starts):
+            if time.perf_counter() >= end:
+                return self._failure(target, best, iterations, begin, solver, timeout=True)
+            outcome = self.run(target, q0)
+            iterations += outcome.iterations
+            within = outcome.position_error < position_tol and outcome.rotation_error < rotation_tol
+            if within and outcome.distance > 0.0 and not self.checker.in_collision(outcome.q):
+                found = IKSolution(
+                    outcome.q, METHOD, True, outcome.position_error, _rotation(target, outcome)
+                )
+                return IKResult(
+                    True,
+                    solver,
+                    "ok",
+                    f"collision-free answer of the distance-bounded solve (clearance "
+                    f"{outcome.distance:.4g} m)",
+                    (found,),
+                    (),
+                    None,
+                    iterations,
+                    time.perf_counter() - begin,
+                    METHOD,
+                )
+            if best is None or _worse(best, outcome):
+                best = outcome
+        return self._failure(target, best, iterations, begin, solver, timeout=False)
+
+    def _starts(self, given: Iterable[npt.ArrayLike]) -> Iterable[np.ndarray]:
+        yield from (np.asarray(q, dtype=float) for q in given)
+        rng = np.random.default_rng(self.bound.random_seed)
+        lower = np.where(np.isfinite(self.lower), self.lower, -math.pi)
+        upper = np.where(np.isfinite(self.upper), self.upper, math.pi)
+        for _ in range(self.bound.random_starts):
+            yield rng.uniform(lower, upper)
+
+    def _failure(
+        self,
+        target: Any,
+        best: BoundOutcome | None,
+        iterations: int,
+        begin: float,
+        solver: str,
+        timeout: bool,
+    ) -> IKResult:
+        rejected: tuple[IKSolution, ...] = ()
+        if best is not None:
+            rejected = (
+                IKSolution(best.q, METHOD, True, best.position_error, _rotation(target, best)),
+            )
+        if timeout:
+            status, message = "timeout", "the time cap stopped the distance-bounded solve"
+        else:
+            status = "not_found"
+            message = "the distance-bounded solve found no collision-free answer on target"
+            if best is not None:
+                message += (
+                    f" (nearest: {best.position_error:.3g} m, {best.rotation_error:.3g} rad off, "
+                    f"clearance {best.distance:.3g} m)"
+                )
+        return IKResult(
+            False,
+            solver,
+            status,  # type: ignore[arg-type]
+            message,
+            (),
+            rejected,
+            None,
+            iterations,
+            time.perf_counter() - begin,
+            "",
+        )
+
+
+def _rotation(target: Any, outcome: BoundOutcome) -> float | None:
+    return None if isinstance(target, PositionTarget) else outcome.rotation_error
+
+
+def _worse(best: BoundOutcome, outcome: BoundOutcome) -> bool:
+    """Whether ``outcome`` beats ``best``: free before colliding, then nearer the target."""
+    key_best = (best.distance <= 0.0, best.position_error + best.rotation_error)
+    key = (outcome.distance <= 0.0, outcome.position_error + outcome.rotation_error)
+    return key < key_best
+
+
+def solve_clear(
+    robot: Any,
+    checker: Any,
+    target: Any,
+    seed: npt.ArrayLike | None,
+    colliding: Iterable[IKSolution],
+    timeout: float | None,
+    solver: str = "numeric",
+) -> IKResult:
+    """The distance-bounded solve after answers collided: from the seed, then from each of them.
+
+    Args:
+        robot: The robot.
+        checker: Its collision checker.
+        target: The target that was solved.
+        seed: The caller's start joint vector [rad] (often free: the arm's present posture), or
+            None.
+        colliding: The answers found colliding, nearest the seed first.
+        timeout: Cap [s], checked before each start.
+        solver: :attr:`IKResult.solver` of the result.
+    """
+    colliding = list(colliding)
+    if target.__class__ is PoseTarget and target.mask is None and colliding:
+        pair = held_in_scene(robot, checker, colliding[0].q)
+        if (
+            pair
+        ):  # an answer is on target: the links the tool carries sit where the target puts them
+            return IKResult(
+                False,
+                solver,
+                "not_found",
+                f"the links the tool carries collide at the target pose itself ({pair}): no "
+                "joint vector reaching it is free",
+            )
+    starts = [] if seed is None else [np.asarray(seed, dtype=float)]  # checked by the first solve
+    starts += [np.asarray(s.q, dtype=float) for s in colliding]
+    return DistanceBoundedIK(robot, checker).solve(target, starts, timeout=timeout, solver=solver)
+
+
+def held_in_scene(robot: Any, checker: Any, q: npt.ArrayLike) -> str:
+    """A scene contact of the links on the tool frame's joint at ``q`` [rad], ``"link/object"``.
+
+    Those links are placed by the tool pose alone: at a full pose target their contact with the
+    scene is the same at every joint vector that reaches it. ``""`` when they touch nothing.
+    """
+    model = checker.model
+    joint = robot.model.frames[_tool_frame_id(robot)].parentJoint
+    objects = model.geometry_model.geometryObjects
+    held = {model.owners[i] for i, shape in enumerate(objects) if shape.parentJoint == joint}
+    scene = set(model.scene_objects)
+    for contact in checker.collisions(q):
+        if (contact.a in held and contact.b in scene) or (contact.b in held and contact.a in scene):
+            return f"{contact.a}/{contact.b}"
+    return ""

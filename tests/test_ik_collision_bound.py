@@ -1,0 +1,220 @@
+"""The distance bound inside the numeric solve (kin/ik/numeric/collision_bound.py).
+
+Judged apart from the code under test: the distance Jacobians against central differences of
+coal's distances; every answer's clearance by the direct coal check of the maker's URDF
+(tests/collision_reference.py) and its tool pose by Pinocchio's forward kinematics of that URDF
+(not the DH model the solver uses).
+"""
+
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from collision_reference import CollisionReference
+from urdf_reference import erd
+
+import kin
+from kin.collision import CollisionChecker, load_collision_model
+from kin.ik import AxisTarget, PoseTarget, get_solver
+from kin.ik.collision_aware import CollisionAwareSolver
+from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK
+from kin.ik.numeric.distance_jacobian import pair_rows
+from kin.ik.numeric.solver import NumericIK
+
+#: Overlap the reference may find at a free answer [m] (its shapes are the checker's hulls).
+CONTACT_TOL = 1e-6
+URDF, TIP, SRDF = (
+    "panda_description/urdf/panda.urdf",
+    "panda_link8",
+    "panda_description/srdf/panda.srdf",
+)
+
+
+@pytest.fixture(scope="module")
+def panda():
+    """(robot, URDF text, URDF path, base link) of the maker's Panda (example-robot-data)."""
+    robot = kin.load_robot(erd(URDF), None, TIP)
+    path, base, _ = robot.urdf_source
+    return robot, Path(path).read_text(encoding="utf-8"), Path(path), base
+
+
+def _box_scene(path: Path, center, size: float) -> Path:
+    xyz = ", ".join(repr(float(v)) for v in center)
+    path.write_text(f'[[box]]\nname = "box"\nsize = [{size}, {size}, {size}]\nxyz = [{xyz}]\n')
+    return path
+
+
+def _reference(panda, scene: Path | None) -> CollisionReference:
+    robot, text, path, base = panda
+    return CollisionReference(text, path, robot.joint_names, base, scene)
+
+
+def _clearance(reference: CollisionReference, pairs, q) -> float:
+    """The smallest signed distance of the checked pairs at ``q`` by the reference [m]."""
+    distances = reference.signed_distances(np.asarray(q, dtype=float), pairs)
+    return min(d for d, _ in distances.values())
+
+
+def _tool(reference: CollisionReference, q) -> pin.SE3:
+    """``T_world_link8`` by Pinocchio's FK of the maker's URDF at ``q``."""
+    reference.placements(np.asarray(q, dtype=float))  # runs the FK on reference.data
+    model, data = reference.model, reference.data
+    world = data.oMf[model.getFrameId(reference.base, pin.FrameType.BODY)].inverse()
+    return world * data.oMf[model.getFrameId(TIP, pin.FrameType.BODY)]
+
+
+def _blocked_case(panda, tmp_path: Path):
+    """(target, free seed, plain answer, checker, reference, pairs): a box through the forearm.
+
+    The plain solver's answer from a free seed puts panda_link5 through a 5 cm box; a free
+    answer exists (the reference finds one on the all-branches grid).
+    """
+    robot = panda[0]
+    plain = get_solver(robot)
+    probe = _reference(panda, None)
+    srdf = erd(SRDF)
+    rng = np.random.default_rng(4)
+    for k in range(60):
+        seed = rng.uniform(robot.lower, robot.upper)
+        q = np.clip(seed + rng.normal(0.0, 0.4, robot.nq), robot.lower, robot.upper)
+        T = _tool(probe, q)
+        target = PoseTarget(T.translation, T.rotation)
+        result = plain.solve(target, seed)
+        if not result.solutions:
+            continue
+        answer = result.solutions[0].q
+        center = probe.placements(answer)["panda_link5"][0][1].translation
+        scene = _box_scene(tmp_path / f"box{k}.toml", center, 0.05)
+        model = load_collision_model(robot, srdf=srdf, scene=scene)
+        reference = _reference(panda, scene)
+        pairs = [tuple(p) for p in model.pairs]
+        if (
+            _clearance(reference, pairs, seed) <= 0.0
+            or _clearance(reference, pairs, answer) > -0.005
+        ):
+            continue
+        grid = plain.solve(target, seed, all_branches=True).solutions
+        if any(_clearance(reference, pairs, s.q) > 0.0 for s in grid):
+            return target, seed, answer, CollisionChecker(model), reference, pairs
+    pytest.fail("no target whose plain answer the box blocks while a free one exists")
+
+
+def test_distance_jacobians_match_finite_differences(panda, tmp_path):
+    """d d/d q of every pair (apart and overlapping) equals central differences of coal's distance."""
+    robot = panda[0]
+    scene = _box_scene(tmp_path / "box.toml", (0.3, 0.0, 0.5), 0.3)
+    checker = CollisionChecker(load_collision_model(robot, srdf=erd(SRDF), scene=scene))
+    model, geometry_model = robot.model, checker.model.geometry_model
+
+    def distances(q):
+        data, geometry_data = model.createData(), pin.GeometryData(geometry_model)
+        pin.computeDistances(model, data, geometry_model, geometry_data, q)
+        return np.array([r.min_distance for r in geometry_data.distanceResults])
+
+    rng = np.random.default_rng(2)
+    overlapping = 0
+    for _ in range(20):
+        q = rng.uniform(robot.lower, robot.upper)
+        data, geometry_data = model.createData(), pin.GeometryData(geometry_model)
+        pin.computeJointJacobians(model, data, q)
+        pin.updateGeometryPlacements(model, data, geometry_model, geometry_data)
+        pin.computeDistances(geometry_model, geometry_data)
+        d, rows, smallest = pair_rows(model, data, geometry_model, geometry_data, 0.0, np.inf)
+        np.testing.assert_allclose(d, distances(q), atol=1e-12)
+        assert smallest == pytest.approx(d.min())
+        eps = 1e-6
+        columns = [
+            (distances(q + eps * e) - distances(q - eps * e)) / (2 * eps) for e in np.eye(robot.nq)
+        ]
+        np.testing.assert_allclose(rows, np.array(columns).T, atol=1e-5)
+        overlapping += int((d < 0).sum())
+    assert overlapping > 0  # the overlapping pairs' normals were checked too
+
+
+def test_bounded_solve_finds_a_free_answer_on_target(panda, tmp_path):
+    """Panda, a box through the plain answer's forearm: the bounded solve's answer is free and on target."""
+    target, seed, answer, checker, reference, pairs = _blocked_case(panda, tmp_path)
+    assert _clearance(reference, pairs, answer) < -0.005  # the plain answer goes through the box
+    result = DistanceBoundedIK(panda[0], checker).solve(target, [seed, answer])
+    assert result.status == "ok" and result.method == METHOD, result.message
+    q = result.solutions[0].q
+    assert _clearance(reference, pairs, q) > -CONTACT_TOL
+    T = _tool(reference, q)
+    assert np.linalg.norm(T.translation - target.position) < 1e-5
+    assert np.linalg.norm(pin.log3(T.rotation.T @ target.rotation)) < 1e-4
+    assert np.all(q >= panda[0].lower) and np.all(q <= panda[0].upper)
+
+
+def test_bounded_solve_gives_the_same_answer_under_load(panda, tmp_path):
+    """Work, not time, decides: a busy thread beside the solve changes nothing in its answer."""
+    target, seed, answer, checker, _, _ = _blocked_case(panda, tmp_path)
+    solver = DistanceBoundedIK(panda[0], checker)
+    idle = solver.solve(target, [seed, answer])
+    stop = threading.Event()
+
+    def busy() -> None:
+        x = np.random.default_rng(0).normal(size=(200, 200))
+        while not stop.is_set():
+            x = np.tanh(x @ x.T / 200.0)
+
+    thread = threading.Thread(target=busy)
+    thread.start()
+    try:
+        loaded = solver.solve(target, [seed, answer])
+    finally:
+        stop.set()
+        thread.join()
+    assert idle.status == loaded.status == "ok"
+    assert idle.iterations == loaded.iterations
+    np.testing.assert_array_equal(idle.solutions[0].q, loaded.solutions[0].q)
+
+
+def test_collision_aware_numeric_uses_the_bound(panda, tmp_path):
+    """CollisionAwareSolver over a numeric solver: the bounded solve answers, free by the reference."""
+    target, seed, answer, checker, reference, pairs = _blocked_case(panda, tmp_path)
+    numeric = NumericIK(panda[0], closed_form=False)
+    aware = CollisionAwareSolver(numeric, checker)
+    result = aware.solve(target, answer)  # the plain answer's start: the first solve collides
+    assert result.status == "ok", result.message
+    assert result.method == METHOD
+    assert any(s.reason for s in result.rejected)  # the first answer, rejected with its reason
+    for s in result.solutions:
+        assert _clearance(reference, pairs, s.q) > -CONTACT_TOL
+        T = _tool(reference, s.q)
+        assert np.linalg.norm(T.translation - target.position) < 1e-5
+
+
+def test_axis_target_through_the_bound(panda, tmp_path):
+    """An axis target whose plain answer is blocked gets a free answer with the axis kept."""
+    target, seed, answer, checker, reference, pairs = _blocked_case(panda, tmp_path)
+    axis = AxisTarget(target.position, target.rotation[:, 2])
+    result = DistanceBoundedIK(panda[0], checker).solve(axis, [seed, answer])
+    assert result.status == "ok", result.message
+    q = result.solutions[0].q
+    assert _clearance(reference, pairs, q) > -CONTACT_TOL
+    T = _tool(reference, q)
+    assert np.linalg.norm(T.translation - axis.position) < 1e-5
+    assert float(T.rotation[:, 2] @ axis.axis) > 1.0 - 1e-8
+
+
+def test_every_answer_colliding_stays_in_collision(panda, tmp_path):
+    """A ball around the tool point: the bound finds nothing free; the status stays in_collision."""
+    robot = panda[0]
+    q = np.array([0.2, -0.3, 0.1, -2.0, 0.1, 1.8, 0.6])
+    T = _tool(_reference(panda, None), q)
+    target = PoseTarget(T.translation, T.rotation)
+    path = tmp_path / "ball.toml"
+    xyz = ", ".join(repr(float(v)) for v in T.translation)
+    path.write_text(f'[[sphere]]\nname = "ball"\nradius = 0.12\nxyz = [{xyz}]\n')
+    checker = CollisionChecker(load_collision_model(robot, srdf=erd(SRDF), scene=path))
+    bounded = DistanceBoundedIK(robot, checker).solve(target, [q])
+    assert bounded.status == "not_found" and not bounded.solutions
+    aware = CollisionAwareSolver(NumericIK(robot, closed_form=False), checker)
+    result = aware.solve(target, q, timeout=30.0)
+    assert result.status == "in_collision", result.message
+    stopped = aware.solve(target, q, timeout=1e-9)
+    assert stopped.status == "timeout", stopped.message
