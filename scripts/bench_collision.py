@@ -4,12 +4,16 @@ Per robot (UR5 and Panda from example-robot-data, Panda with the maker's SRDF, h
 shapes), in the cell of tests/data/collision/cell.toml (a table, a wall, a ball), at random
 configurations within the limits:
 
-* ``check``: ``CollisionChecker.in_collision(q)`` (self and scene), median of single calls;
+* ``check``: ``CollisionChecker.in_collision(q)`` (self and scene), median of single calls; it
+  runs Pinocchio's computeCollisions through coal's naive broad phase (world boxes, the exact
+  test only where two boxes overlap);
 * ``pin``: ``pin.computeCollisions`` on the same GeometryModel (FK, placements, every active
   pair, stop at the first contact), median of single calls, alternated with ``check``: each goes
   first at every other configuration (the first call after MuJoCo's finds the shared meshes out
   of cache; always calling ``check`` first made it 1.4-1.8x ``pin`` and ``pin`` first 1.4x
-  ``check``);
+  ``check``; ``check``, ``pin`` and ``pin-bp`` now take turns going first);
+* ``pin-bp``: ``pin.computeCollisions`` through the same naive broad-phase manager, bare:
+  ``check`` / ``pin-bp`` is the wrapper's own cost (the input check of ``q``);
 * ``batch``: ``in_collision_batch`` over ``--batch`` configurations, per configuration, against
   a Python loop of ``in_collision`` over the same ones, in four alternating rounds of a quarter
   each (on a shared machine one long run of each measures the neighbours' load as much as the
@@ -90,18 +94,24 @@ def get_argument_parser() -> ArgumentParser:
     return parser
 
 
-def _alternate(functions: list[Callable[[np.ndarray], object]], qs: np.ndarray) -> list[float]:
-    """Median single-call time [us] of each function over ``qs``, alternating per configuration."""
+def _alternate(
+    functions: list[Callable[[np.ndarray], object]], qs: np.ndarray, rotated: int = 3
+) -> list[float]:
+    """Median single-call time [us] of each function over ``qs``, alternating per configuration.
+
+    The first ``rotated`` functions take turns going first (configuration i starts with function
+    i mod ``rotated``); the others come after them.
+    """
     times: list[list[float]] = [[] for _ in functions]
     clock = time.perf_counter
     for q in qs[:5]:
         for function in functions:
             function(q)
-    pair = [(functions[0], times[0]), (functions[1], times[1])]
-    rest = list(zip(functions[2:], times[2:], strict=True))
+    timed = list(zip(functions, times, strict=True))
+    turns, rest = timed[:rotated], timed[rotated:]
     for i, q in enumerate(qs):
-        # the first two swap places at every configuration; the others come after them
-        for function, bucket in (pair if i % 2 else pair[::-1]) + rest:
+        k = i % len(turns)
+        for function, bucket in turns[k:] + turns[:k] + rest:
             start = clock()
             function(q)
             bucket.append(clock() - start)
@@ -216,24 +226,36 @@ def bench_row(name: str, configurations: int, batch: int) -> tuple[float, float]
     def pinocchio(q: np.ndarray) -> bool:
         return pin.computeCollisions(pin_model, pin_data, geometry_model, geometry_data, q, True)
 
+    bp_data = pin.GeometryData(geometry_model)
+    checker._prepare(bp_data, contact=False)
+    manager = pin.BroadPhaseManager_NaiveCollisionManager(pin_model, geometry_model, bp_data)
+    bp_pin_data = pin_model.createData()
+
+    def pinocchio_bp(q: np.ndarray) -> bool:
+        return pin.computeCollisions(pin_model, bp_pin_data, manager, q, True)
+
     rng = np.random.default_rng(0)
     qs = rng.uniform(robot.lower, robot.upper, (max(configurations, batch), robot.nq))
     single = qs[:configurations]
     agree = sum(bool(pinocchio(q)) == bool(checker.in_collision(q)) for q in single[:200])
-    functions: list[Callable[[np.ndarray], object]] = [checker.in_collision, pinocchio]
+    functions: list[Callable[[np.ndarray], object]] = [
+        checker.in_collision,
+        pinocchio,
+        pinocchio_bp,
+    ]
     collide = _mujoco_collide(robot, model)
     if collide is not None:
         functions.append(collide)
     timings = _alternate(functions, single)
-    t_check, t_pin = timings[0], timings[1]
-    t_mujoco = timings[2] if collide is not None else float("nan")
+    t_check, t_pin, t_bp = timings[0], timings[1], timings[2]
+    t_mujoco = timings[3] if collide is not None else float("nan")
     t_loop, t_batch, same = _loop_and_batch(checker, qs[:batch])
     assert same, name
     colliding = float(np.mean(checker.in_collision_batch(qs[:batch])))
     print(
         f"{name:<11} {len(model.pairs):>5} {colliding:>9.0%} {t_check:>10.1f} {t_pin:>9.1f} "
-        f"{t_check / t_pin:>6.2f} {t_loop:>9.1f} {t_batch:>10.1f} {t_loop / t_batch:>6.2f} "
-        f"{t_mujoco:>11.1f}   ({agree}/200 verdicts as pin)",
+        f"{t_check / t_pin:>6.2f} {t_bp:>7.1f} {t_check / t_bp:>6.2f} {t_loop:>9.1f} "
+        f"{t_batch:>10.1f} {t_loop / t_batch:>6.2f} {t_mujoco:>11.1f}   ({agree}/200 verdicts as pin)",
         flush=True,
     )
     return t_check / t_pin, t_loop / t_batch
@@ -292,7 +314,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"cell: {CELL}; {os.cpu_count()} cores; medians of single calls [us/configuration]")
     print(
         f"{'robot':<11} {'pairs':>5} {'colliding':>9} {'check':>10} {'pin':>9} {'ratio':>6} "
-        f"{'loop':>9} {'batch':>10} {'speed':>6} {'mujoco':>11}"
+        f"{'pin-bp':>7} {'ratio':>6} {'loop':>9} {'batch':>10} {'speed':>6} {'mujoco':>11}"
     )
     worst_check, worst_batch = 0.0, float("inf")
     for name in ROWS:
