@@ -91,8 +91,9 @@ def test_every_branch_reaches_the_target_and_q_is_among_them(arm):
     + [("puma560_moved", "intersecting")],
 )
 def test_the_family_is_read_from_the_table(arm, family):
-    """Axes 1-2 meeting (a1 = 0), parallel (alpha1 = 0 or 180 deg) or neither: the family."""
-    solver = Pieper6R.recognise(arm_table(arm))
+    """Axes 1-2 meeting (a1 = 0), parallel (alpha1 = 0 or 180 deg) or neither: the family (of
+    PUMA 560 too, read without its spherical-wrist case)."""
+    solver = Pieper6R.read(arm_table(arm))
     assert solver.family == family
     assert len(solver.branch_labels) == 8 and len(set(solver.branch_labels)) == 8
     assert all(label.endswith(("wrist no flip", "wrist flip")) for label in solver.branch_labels)
@@ -123,7 +124,8 @@ def test_general_arms_come_in_ascending_q3_and_reach_8_branches():
 def test_puma_gives_the_spherical_wrist_branches_slot_by_slot():
     """PUMA 560 (a1 = 0, a2 > 0): the same 8 rows as SphericalWrist6R, under the same labels."""
     table = arm_table("puma560_moved")
-    ours, theirs = Pieper6R.recognise(table), SphericalWrist6R.recognise(table)
+    ours, theirs = Pieper6R.read(table), SphericalWrist6R.recognise(table)
+    assert ours.family == "intersecting"
     assert ours.branch_labels == SphericalWrist6R.branch_labels
     q = np.random.default_rng(9).uniform(-PI, PI, (500, 6))
     poses = kin.batch_forward_kinematics(table, q)
@@ -139,7 +141,7 @@ def test_spherical_wrist_tables_have_the_same_branches(seed):
     """Random tables of the spherical-wrist family (a1 != 0, skew twists; the general family
     here): the branches are those of SphericalWrist6R, in another order."""
     table = random_pieper_table(seed, "standard" if seed < 110 else "modified", skew=True)
-    ours, theirs = Pieper6R.recognise(table), SphericalWrist6R.recognise(table)
+    ours, theirs = Pieper6R.read(table), SphericalWrist6R.recognise(table)
     assert ours.family == "general"
     q = np.random.default_rng(seed).uniform(-PI, PI, (100, 6))
     poses = kin.batch_forward_kinematics(table, q)
@@ -221,8 +223,9 @@ def test_singular_wrist_takes_the_free_value_and_still_reaches(arm):
 )  # fmt: skip
 def test_near_family_twists_are_solved_as_given_not_rounded(table, family):
     """alpha2 = 89.9 deg (SphericalWrist6R needs 0) and alpha1 = 0.1 deg (the parallel family
-    needs 0) are solved as given: the round trip stays at 1e-9 and q is among the branches."""
-    solver = Pieper6R.recognise(table)
+    needs 0) are solved as given: the round trip stays at 1e-9 and q is among the branches
+    (read without the spherical-wrist case, which takes the alpha1 tables)."""
+    solver = Pieper6R.read(table)
     assert solver.family == family
     ref = Reference(table)
     for q in np.random.default_rng(2).uniform(-PI, PI, (20, 6)):
@@ -291,9 +294,14 @@ def test_ur5_and_prismatic_are_refused():
 # Registry and solver
 
 
-def test_registered_after_the_spherical_wrist():
-    """Pieper6R is asked after SphericalWrist6R (PUMA-like arms keep the specialised solver)."""
-    assert CLOSED_FORMS.index(Pieper6R) == CLOSED_FORMS.index(SphericalWrist6R) + 1
+def test_the_spherical_wrist_is_the_family_s_first_case():
+    """Pieper6R is registered once and gives PUMA-like arms (axes 2, 3 parallel) its
+    spherical-wrist case before its general equations (answers keep the name spherical_wrist)."""
+    assert Pieper6R in CLOSED_FORMS and SphericalWrist6R not in CLOSED_FORMS
+    assert Pieper6R.cases == (SphericalWrist6R,)
+    structure = Pieper6R.recognise(arm_table("puma560_moved"))
+    assert type(structure) is SphericalWrist6R and structure.family == "parallel23"
+    assert structure.name == "spherical_wrist"
 
 
 @pytest.mark.parametrize(

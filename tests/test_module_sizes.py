@@ -44,8 +44,6 @@ CLASSES_OVER = {
     "ik/analytic/closed_form.py::ClosedFormSolver": 394,
     "ik/analytic/seven_r/seven_dof.py::SevenDofIK": 431,
     "ik/analytic/seven_r/spherical_shoulder7.py::SphericalShoulder7RIK": 354,
-    "ik/analytic/six_r/pieper.py::Pieper6R": 306,
-    "ik/analytic/six_r/spherical_wrist.py::SphericalWrist6R": 310,
     "mimic_arm.py::MimicArm": 300,
 }
 

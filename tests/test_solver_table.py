@@ -82,7 +82,7 @@ ORDER_BEFORE = (
 
 #: A special case merged into its family (issue 34 item 3): the family is registered once, where
 #: its first case stood, and its ``recognise`` gives the case (same answers, same name).
-MERGED_INTO = {"URWrist6R": "ThreeParallel6R"}
+MERGED_INTO = {"URWrist6R": "ThreeParallel6R", "SphericalWrist6R": "Pieper6R"}
 
 
 def _merged_order(order: tuple[str, ...]) -> tuple[str, ...]:

@@ -1,10 +1,10 @@
 /*
- * Compiled twin of kin/ik/analytic/six_r/spherical_wrist.py (SphericalWrist6R.solve: the 8 branches of
- * a 6R arm with a spherical wrist and parallel axes 2-3): the same arithmetic, operation for
- * operation, for speed; with verify (each branch moved into the limits and measured by the
- * table's DH product, _six_r_twin.h). The Python module is the reference and the fallback when
- * this extension is not built; tests/test_six_r_twins.py compares the two. Angles in radians,
- * lengths in meters.
+ * Compiled twin of the Pieper family (kin/ik/analytic/six_r/pieper.py and its NumPy algorithm
+ * pieper_batch.py) for its parallel23 case, a spherical wrist and parallel axes 2-3: PUMA 560,
+ * Kinova Jaco 2 (SphericalWrist6R, "spherical_wrist"). The 8 branches of a target, for speed; with
+ * verify (each branch moved into the limits and measured by the table's DH product,
+ * _six_r_twin.h). The NumPy form is the reference and the fallback when this extension is not
+ * built; tests/test_six_r_twins.py compares the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"
 

@@ -31,7 +31,6 @@ from .planar.yaw_roll import YawPlanarRoll
 from .six_r.general_6r import General6R
 from .six_r.pieper import Pieper6R
 from .six_r.reversed_chain import Reversed6R
-from .six_r.spherical_wrist import SphericalWrist6R
 from .six_r.three_parallel import ThreeParallel6R
 
 
@@ -79,11 +78,11 @@ SHIPPED: tuple[ClosedFormEntry, ...] = (
         "compiled twin) first, as before the spherical wrist",
     ),
     ClosedFormEntry(
-        SphericalWrist6R,
+        Pieper6R,
         100,
-        "spherical wrist with parallel axes 2, 3 (compiled twin), before Pieper",
+        "spherical wrist, any first three joints; the case of parallel axes 2, 3 (spherical_wrist, "
+        "compiled twin) first",
     ),
-    ClosedFormEntry(Pieper6R, 110, "spherical wrist, any first three joints"),
     ClosedFormEntry(
         Reversed6R, 130, "the 6R families above read from the tool, before the general form"
     ),
@@ -174,14 +173,17 @@ def recognise_turned(table: DHTable) -> tuple[ClosedFormStructure, DHTable, np.n
         for structure in CLOSED_FORMS:
             if structure.dof != table.dof:
                 continue
-            try:
-                return structure.recognise(table), table, None
-            except StructureError:
-                pass
-            try:
-                return structure.recognise(turned), turned, flips
-            except StructureError:
-                pass
+            # A family's special cases (``cases``: the UR arms of the three-parallel family,
+            # the spherical wrist of Pieper's) first, each of the table, then of the turned one.
+            for asked in (*getattr(structure, "cases", ()), structure):
+                try:
+                    return asked.recognise(table), table, None
+                except StructureError:
+                    pass
+                try:
+                    return asked.recognise(turned), turned, flips
+                except StructureError:
+                    pass
     return recognise(table), table, None
 
 

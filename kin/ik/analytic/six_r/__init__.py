@@ -1,14 +1,14 @@
 """Closed forms of revolute 6R arms: every branch (8 for the families, up to 16 in general).
 
-The families, each a special geometry: ``ur_wrist`` (three parallel axes, two meeting wrist
-axes: the UR arms, Unitree Z1), ``spherical_wrist`` (a spherical wrist, axes 2 and 3 parallel:
-PUMA 560, Kinova Jaco 2), ``pieper`` (a spherical wrist, any first three joints: a quartic in
-joint 3, ``_trig_quartic``), ``three_parallel`` (axes 2-4 parallel, any other joints) and
-``reversed_chain`` (any of these read from the tool end). ``general_6r`` solves any other 6R
-arm by elimination (``_general_6r_elimination``; ``_stacked_transforms`` multiplies its stacks of
-transforms). ``_six_r`` holds the steps the families share,
-``pieper_batch`` and ``three_parallel_batch`` the batched steps of those two families,
-``pieper_quartic`` the general Pieper family's equation in joint 3 (scalar and batched); the
-compiled twins ``_ur_wrist`` and ``_spherical_wrist`` (C, optional) solve and verify a pose in one
-call, loaded by ``six_r_twin``.
+Two families, each one NumPy algorithm for N targets and a compiled twin for its special case:
+``three_parallel`` (axes 2-4 parallel, any other joints; its case of meeting wrist axes 5 and 6
+is ``ur_wrist``: the UR arms, Unitree Z1) with ``three_parallel_batch``, and ``pieper`` (a
+spherical wrist, any first three joints; its case of parallel axes 2 and 3 is
+``spherical_wrist``: PUMA 560, Kinova Jaco 2) with ``pieper_batch`` and ``pieper_quartic`` (the
+general arms' equation in joint 3); both quartics are solved by ``_trig_quartic``. The modules
+``ur_wrist`` and ``spherical_wrist`` keep the cases' import paths. ``reversed_chain`` reads
+either family from the tool end; ``general_6r`` solves any other 6R arm by elimination
+(``_general_6r_elimination``; ``_stacked_transforms`` multiplies its stacks of transforms).
+``_six_r`` holds the steps the families share; ``six_r_twin`` the families' solve and the
+compiled twins' loading and verification (``_ur_wrist``, ``_spherical_wrist``: C, optional).
 """

@@ -1,4 +1,4 @@
-"""Shared reading of a 6R table for the closed forms of :mod:`.spherical_wrist` and :mod:`.ur_wrist`.
+"""Shared reading of a 6R table for the closed forms of :mod:`.pieper` and :mod:`.three_parallel`.
 
 Both solvers work on the *standard* DH chain ``T_world_base Rz Tz Tx Rx ... Rz(t6) Tz(d6) T_tool``.
 A table in either convention is brought to that form exactly, without rounding any number:

@@ -5,7 +5,7 @@ three parallel axes) both end in this equation. With ``x = tan((t - tau) / 2)`` 
 in ``x`` whose leading coefficient is ``E(tau + pi)``; the shift ``tau`` (``tau + pi`` a multiple
 of 45 deg) is chosen where ``|E(tau + pi)|`` is the largest of the eight, so no root runs off to
 infinity. The real eigenvalues of the quartic's companion matrix give the candidate angles; the
-callers polish them by safeguarded Newton steps (:func:`polish`, :func:`polish_batch`) on their
+callers polish them by safeguarded Newton steps (:func:`polish_batch`) on their
 own, unexpanded ``E`` and keep those that reach it.
 """
 
@@ -47,42 +47,13 @@ def _first_row(h0, hc, hs, hc2, hs2, lead):  # type: ignore[no-untyped-def]
     )
 
 
-def candidates(h0: float, hc: float, hs: float, hc2: float, hs2: float) -> list[float]:
-    """Candidate roots ``t`` [rad] of ``E``, not polished (up to 4).
-
-    ``[]`` when ``E = 0`` for every ``t`` (a continuum) or a coefficient is not finite.
-    """
-    best, best_value = 0, -1.0
-    for k, (c, s, c2, s2) in enumerate(_SHIFT_TRIG):
-        value = abs(h0 + hc * c + hs * s + hc2 * c2 + hs2 * s2)
-        if value > best_value:
-            best, best_value = k, value
-    if not best_value > 0.0:
-        return []
-    tau = _SHIFTS[best] + math.pi
-    ct, st, c2t, s2t = _SHIFT_TRIG[best]
-    ct, st = -ct, -st  # tau = shift + pi: cos 2 tau, sin 2 tau unchanged
-    hc, hs = hc * ct + hs * st, hs * ct - hc * st
-    hc2, hs2 = hc2 * c2t + hs2 * s2t, hs2 * c2t - hc2 * s2t
-    companion = np.zeros((4, 4))
-    companion[0] = _first_row(h0, hc, hs, hc2, hs2, h0 - hc + hc2)
-    companion[1, 0] = companion[2, 1] = companion[3, 2] = 1.0
-    if not np.isfinite(companion).all():
-        return []
-    out = []
-    for x in np.linalg.eigvals(companion).tolist():
-        x = complex(x)
-        if abs(x.imag) <= IMAG_TOL * (1.0 + x.real * x.real):
-            out.append(tau + 2.0 * math.atan(x.real))
-    return out
-
-
 def candidates_batch(
     h0: npt.ArrayLike, hc: npt.ArrayLike, hs: npt.ArrayLike, hc2: npt.ArrayLike, hs2: npt.ArrayLike
 ) -> np.ndarray:
-    """:func:`candidates` of N equations (coefficients broadcast to (N,)): (N, 4) [rad].
+    """Candidate roots ``t`` of N equations (coefficients broadcast to (N,)): (N, 4) [rad].
 
-    NaN where an eigenvalue is not real or the equation has no finite quartic.
+    Not polished; NaN where an eigenvalue is not real or the equation has no finite quartic
+    (``E = 0`` for every ``t``, or a coefficient not finite).
     """
     e0, ec, es, ec2, es2 = np.broadcast_arrays(
         *(np.asarray(h, dtype=float) for h in (h0, hc, hs, hc2, hs2))
@@ -109,41 +80,19 @@ def candidates_batch(
     return np.where(real, tau[:, None] + 2.0 * np.arctan(x.real), np.nan)
 
 
-def polish(
-    residual: Callable[[float], tuple[float, ...]], t: float
-) -> tuple[float, tuple[float, ...]] | None:
-    """Safeguarded Newton steps on ``E`` from ``t`` [rad], at most :data:`NEWTON_STEPS`.
+def polish_batch(
+    residual: Callable[[np.ndarray], tuple[Any, ...]], t: np.ndarray
+) -> tuple[np.ndarray, list[np.ndarray], np.ndarray]:
+    """Safeguarded Newton steps on ``E`` from an array of starts [rad], at most :data:`NEWTON_STEPS`.
 
-    A step is taken only when it lowers ``|E|`` (else halved for the next try).
+    Per start, a step is taken only when it lowers ``|E|`` (else halved for the next try) and
+    not when longer than :data:`MAX_STEP`; NaN starts stay NaN.
 
     Args:
         residual: ``t -> (E, dE/dt, bound, *extra)``: the caller's unexpanded ``E``, its
             derivative, the largest ``|E|`` of a root (rounding included) and values it needs
-            at the root.
-        t: The start (a :func:`candidates` angle) [rad].
-
-    Returns:
-        ``(t, extra)`` at the polished root, or None when ``|E|`` stays above its bound.
-    """
-    e, de, bound, *extra = residual(t)
-    damping = 1.0
-    for _ in range(NEWTON_STEPS):
-        step = e / de if de != 0.0 else 0.0
-        if abs(step) > MAX_STEP or abs(step) <= CONVERGED:
-            break
-        trial = t - damping * step
-        e2, de2, bound2, *extra2 = residual(trial)
-        if abs(e2) < abs(e):
-            t, e, de, bound, extra, damping = trial, e2, de2, bound2, extra2, 1.0
-        else:
-            damping *= 0.5
-    return (t, tuple(extra)) if abs(e) <= bound else None
-
-
-def polish_batch(
-    residual: Callable[[np.ndarray], tuple[Any, ...]], t: np.ndarray
-) -> tuple[np.ndarray, list[np.ndarray], np.ndarray]:
-    """:func:`polish` of an array of starts [rad] (NaN starts stay NaN).
+            at the root, for an array of angles.
+        t: The starts (:func:`candidates_batch` angles) [rad].
 
     Returns:
         The polished angles, the extras at them, and where ``|E|`` is within its bound.

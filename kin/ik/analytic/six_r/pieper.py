@@ -2,7 +2,7 @@
 
 Structure, read from the table brought to the standard chain (:mod:`._six_r`, either convention):
 
-- joints 4, 5, 6: a spherical wrist, as in :mod:`.spherical_wrist` (``a4 = a5 = d5 = 0``,
+- joints 4, 5, 6: a spherical wrist (``a4 = a5 = d5 = 0``,
   ``sin alpha4 != 0``, ``sin alpha5 != 0``; ``d6``, ``a6``, ``alpha6`` free);
 - joints 1, 2, 3: any lengths and twists for which the wrist-centre problem has finitely many
   solutions: a forearm ``(a3, sin(alpha3) d4) != 0`` (the wrist centre is off axis 3), axes 2 and
@@ -13,7 +13,11 @@ Structure, read from the table brought to the standard chain (:mod:`._six_r`, ei
     that point (``(a2, sin(alpha2) d2) != 0``);
   * ``parallel``: ``sin alpha1 = 0``, ``a1 != 0`` (axes 1 and 2 parallel), axis 3 not parallel
     to them (``sin alpha2 != 0``);
-  * ``general``: ``a1 != 0`` and ``sin alpha1 != 0``.
+  * ``general``: ``a1 != 0`` and ``sin alpha1 != 0``;
+  * ``parallel23``: ``sin alpha1 != 0``, axes 2 and 3 parallel (``alpha2 = 0``, ``a2 != 0``), any
+    ``a1``: the spherical-wrist case (PUMA 560, Kinova Jaco 2 and most industrial arms), read
+    before the three others: :class:`SphericalWrist6R`, named ``spherical_wrist`` in answers,
+    solved by the family's algorithm and by its compiled twin (``kin/_native/_spherical_wrist.c``).
 
 Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standard DH,
 ``T_i = Rz(t_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``, ``s``/``c`` of a twist written ``sa_i``/``ca_i``):
@@ -41,57 +45,146 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standar
      (not on the expanded polynomial), are kept when ``|E|`` is below :data:`~.pieper_quartic.REACH_TOL`; they
      are ordered by ``q3`` (``arm 1 .. 4``). Then ``(cos t2, sin t2) ~ (g1 u + g2 w, g1 w - g2 u)``.
 
+   - parallel23 (``alpha2 = 0``): in frame 1 the wrist centre is ``(x1, y1, h)`` with a constant
+     ``h = d2 + d3 + ca3 d4``; frame 0 sees ``Rz(t1) (a1 + x1, ca1 y1 - sa1 h, d1 + sa1 y1 + ca1
+     h)``: the height gives ``y1``, the base radius ``a1 + x1 = +-sqrt(Wx^2 + Wy^2 - (ca1 y1 -
+     sa1 h)^2)`` (shoulder right / left) and the heading ``t1``; ``(x1, y1) = Rz(t2) ((a2, 0) +
+     Rz(t3) (a3, -sa3 d4))`` by the law of cosines (elbow up: ``-acos``, down: ``+acos``), then
+     ``t2``.
+
    Then ``t2 = atan2(h2, h1) - atan2(g2, g1)`` and
    ``t1 = atan2(Wy, Wx) - atan2(ca1 h2 - sa1 h3, a1 + h1)`` with ``h = Rz(t2) g``.
-3. ``N = R_0_3^T R_0_6 = Rz(t4) Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6)`` as in
-   :mod:`.spherical_wrist`: ``cos t5`` from its third column, two signs of ``sin t5`` (wrist no flip:
+3. ``N = R_0_3^T R_0_6 = Rz(t4) Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6)``: ``cos t5`` from its third
+   column, two signs of ``sin t5`` (wrist no flip:
    ``sin t5 >= 0``, flip: ``< 0``), ``t4``, then ``t6`` from the first column; at ``sin t5 = 0``
    (axes 4 and 6 aligned) ``q4`` takes the value ``free``.
+
+One algorithm, in NumPy, for N targets (:mod:`.pieper_batch`, the general family's equation in
+:mod:`.pieper_quartic`; one target is N = 1); the compiled twin repeats it for the parallel23
+family, target by target.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import ClassVar
+from types import ModuleType
+from typing import Any, ClassVar
 
 import numpy as np
-import numpy.typing as npt
 
 from dh2urdf import DHTable
+from kin._native import twin
 
-from ...exceptions import TargetError
+from ...exceptions import StructureError
 from ...target import PoseTarget
-from ._six_r import (
-    ANGLE_TOL,
-    LENGTH_TOL,
-    NAN_ROW,
-    SINGULAR,
-    SLACK,
-    SixRChecker,
-    TargetFrame,
-    clip_unit,
-    wrap,
-)
+from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker, TargetFrame
 from .pieper_batch import PieperBatch
+from .six_r_twin import CompiledSixR
 
+_SHOULDER_ELBOW = tuple(
+    f"shoulder {s}, elbow {e}" for s in ("right", "left") for e in ("up", "down")
+)
 _ARM_LABELS = {
-    "intersecting": tuple(
-        f"shoulder {s}, elbow {e}" for s in ("right", "left") for e in ("up", "down")
-    ),
+    "intersecting": _SHOULDER_ELBOW,
     "parallel": tuple(f"arm {s}, elbow {e}" for s in ("ccw", "cw") for e in ("up", "down")),
     "general": tuple(f"arm {k} (q3 ascending)" for k in range(1, 5)),
+    "parallel23": _SHOULDER_ELBOW,
 }
 
 
+def _labels(family: str) -> tuple[str, ...]:
+    """The meaning of the 8 rows of a family: its arm slot, then the wrist."""
+    return tuple(f"{arm}, wrist {w}" for arm in _ARM_LABELS[family] for w in ("no flip", "flip"))
+
+
+def _fields(check: SixRChecker, family: str, a1: float, alpha1: float) -> dict[str, Any]:
+    """The fields of a :class:`Pieper6R` read by ``check`` (the wrist already checked)."""
+    a, alpha, d = check.a, check.alpha, check.d
+    return {
+        "robot": check.table.name,
+        "family": family,
+        "a1": a1,
+        "d1": float(d[0]),
+        "alpha1": alpha1,
+        "a2": float(a[1]),
+        "alpha2": 0.0 if family == "parallel23" else float(alpha[1]),
+        "d2": float(d[1]),
+        "a3": float(a[2]),
+        "alpha3": float(alpha[2]),
+        "d3": float(d[2]),
+        "d4": float(d[3]),
+        "alpha4": float(alpha[3]),
+        "alpha5": float(alpha[4]),
+        "d6": float(d[5]),
+        "offsets": tuple(float(v) for v in check.theta),
+        "T_base": check.T_base,
+        "T_tool": check.T_tool,
+    }
+
+
+def _wrist(check: SixRChecker) -> None:
+    """Raise unless joints 4-6 are a spherical wrist and the wrist centre is off axis 3."""
+    check.zero(3, "a", "the wrist axes 4, 5 and 6 must meet")
+    check.zero(4, "a", "the wrist axes 4, 5 and 6 must meet")
+    check.zero(4, "d", "the wrist axes 4, 5 and 6 must meet")
+    check.skew(3, "wrist axes 4 and 5 must not be parallel")
+    check.skew(4, "wrist axes 5 and 6 must not be parallel")
+    if math.hypot(check.a[2], math.sin(check.alpha[2]) * check.d[3]) <= LENGTH_TOL:
+        raise check.fail(
+            f"{check.where(2, 'a')} and {check.where(3, 'd')}: the wrist centre is on axis 3 "
+            "(zero forearm), expected a forearm of non-zero length"
+        )
+
+
+def _read_spherical(table: DHTable) -> dict[str, Any]:
+    """The fields of the parallel23 case (:class:`SphericalWrist6R`), or StructureError."""
+    check = SixRChecker(table, "6R spherical-wrist")
+    alpha1 = check.skew(0, "axis 2 must not be parallel to axis 1")
+    check.twist(1, (0.0,), "axes 2 and 3 must be parallel")
+    check.nonzero(1, "a", "the upper arm between the parallel axes 2 and 3")
+    _wrist(check)
+    return _fields(check, "parallel23", float(check.a[0]), float(alpha1))
+
+
+def _read(table: DHTable) -> dict[str, Any]:
+    """The fields of a table of the intersecting, parallel or general family, or StructureError."""
+    check = SixRChecker(table, "6R Pieper")
+    _wrist(check)
+    a, alpha, d = check.a, check.alpha, check.d
+    if abs(a[1]) <= LENGTH_TOL and abs(math.sin(alpha[1])) <= ANGLE_TOL:
+        raise check.fail(
+            f"{check.where(1, 'a')} = 0 m and {check.where(1, 'alpha')} = "
+            f"{math.degrees(alpha[1]):.6g} deg: axes 2 and 3 are one line, expected them to "
+            "meet at an angle, be parallel at a distance, or be skew"
+        )
+    alpha1 = float(alpha[0])
+    if abs(math.sin(alpha1)) <= ANGLE_TOL:
+        check.nonzero(0, "a", "axes 1 and 2 are parallel: they must be apart")
+        check.skew(1, "axes 1 and 2 are parallel: axis 3 must not be parallel to them")
+        return _fields(check, "parallel", float(a[0]), check.twist(0, (0.0, math.pi, -math.pi), ""))
+    if abs(a[0]) > LENGTH_TOL:
+        return _fields(check, "general", float(a[0]), alpha1)
+    if math.hypot(a[1], math.sin(alpha[1]) * d[1]) <= LENGTH_TOL:
+        raise check.fail(
+            f"{check.where(0, 'a')} = 0 m, {check.where(1, 'a')} = 0 m and "
+            f"{check.where(1, 'd')} = {d[1]:g} m: axes 1, 2 and 3 meet in one point "
+            "(a spherical shoulder), expected axis 3 away from where axes 1 and 2 meet"
+        )
+    return _fields(check, "intersecting", 0.0, alpha1)
+
+
 @dataclass(frozen=True)
-class Pieper6R(PieperBatch):
+class Pieper6R(CompiledSixR, PieperBatch):
     """A 6R arm with a spherical wrist and a general 3R arm: parameters in SI, closed form (8 branches).
+
+    :meth:`recognise` gives the spherical-wrist case (axes 2 and 3 parallel) as a
+    :class:`SphericalWrist6R`.
 
     Attributes:
         robot: Robot name.
-        family: ``"intersecting"`` (axes 1, 2 meet), ``"parallel"`` (axes 1, 2 parallel) or
-            ``"general"`` (see the module).
+        family: ``"intersecting"`` (axes 1, 2 meet), ``"parallel"`` (axes 1, 2 parallel),
+            ``"general"`` or ``"parallel23"`` (axes 2, 3 parallel; see the module).
         a1: Length of the common normal of axes 1 and 2 [m].
         d1: Height of that normal along axis 1 [m].
         alpha1: Twist between axes 1 and 2 [rad] (0 or pi exactly in the parallel family).
@@ -109,6 +202,11 @@ class Pieper6R(PieperBatch):
     name: ClassVar[str] = "pieper"
     dof: ClassVar[int] = 6
     target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
+    #: The family's special cases, asked first (set below: :class:`SphericalWrist6R`).
+    cases: ClassVar[tuple[type[Pieper6R], ...]] = ()
+    #: The family's compiled twin (``kin/_native/_spherical_wrist.c``: the parallel23 family), or
+    #: None when it is not built.
+    compiled_twin: ClassVar[ModuleType | None] = twin("_spherical_wrist")
 
     robot: str
     family: str
@@ -134,6 +232,7 @@ class Pieper6R(PieperBatch):
     _e: tuple[float, ...] = field(init=False, repr=False, compare=False)
     _wrist: tuple[float, ...] = field(init=False, repr=False, compare=False)
     _classic: bool = field(init=False, repr=False, compare=False)
+    _c_params: np.ndarray | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         setattr_ = object.__setattr__
@@ -155,7 +254,13 @@ class Pieper6R(PieperBatch):
         gs = sum(2.0 * gk[0] * gk[2] for gk in g)
         setattr_(self, "_k", (self.a1, self.d1, sa1, ca1, g0, gc, gs))
         e: tuple[float, ...] = ()
-        if self.family == "intersecting":
+        if self.family == "parallel23":
+            # the forearm from axis 3 to the wrist centre in the arm plane, and the wrist
+            # centre's offset along axis 2: (lx, ly, |l|, angle of l, h)
+            lx, ly = self.a3, -sa3 * self.d4
+            lateral = self.d2 + self.d3 + ca3 * self.d4
+            e = (lx, ly, math.hypot(lx, ly), math.atan2(ly, lx), lateral)
+        elif self.family == "intersecting":
             e = (math.hypot(gc, gs), math.atan2(gs, gc))
         elif self.family == "parallel":
             e = (math.hypot(g[2][1], g[2][2]), math.atan2(g[2][2], g[2][1]))
@@ -184,213 +289,82 @@ class Pieper6R(PieperBatch):
         setattr_(self, "_wrist", wrist)
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         setattr_(self, "_classic", abs(wrist[7]) < 1e-15 and abs(wrist[9]) < 1e-15)
+        if self.family == "parallel23":
+            self._pack_twin()
+        else:  # the twin solves the parallel23 family only
+            setattr_(self, "_c_params", None)
+
+    def _c_own(self) -> dict[str, tuple[float, ...]]:
+        w = self._wrist
+        return {
+            "k": (w[0], w[1], *w[4:10], *self._e[:4]),
+            "classic": (float(self._classic),),
+            "len": (self.a1, self.d1, self.a2, self._e[4], self.d6),
+            "off": self.offsets,
+        }
 
     @property
     def branch_labels(self) -> tuple[str, ...]:
         """The meaning of the 8 rows of :meth:`solve`: the family's arm, then the wrist."""
-        return tuple(
-            f"{arm}, wrist {w}" for arm in _ARM_LABELS[self.family] for w in ("no flip", "flip")
-        )
+        return _labels(self.family)
 
     @classmethod
     def recognise(cls, table: DHTable) -> Pieper6R:
-        """The parameters of ``table``'s arm.
+        """The parameters of ``table``'s arm (a :class:`SphericalWrist6R` when axes 2, 3 are parallel).
 
         Raises:
             StructureError: The table is not a 6R arm with a spherical wrist and a 3R arm of
                 finitely many solutions; the message names the row and the parameter.
         """
-        check = SixRChecker(table, "6R Pieper")
-        check.zero(3, "a", "the wrist axes 4, 5 and 6 must meet")
-        check.zero(4, "a", "the wrist axes 4, 5 and 6 must meet")
-        check.zero(4, "d", "the wrist axes 4, 5 and 6 must meet")
-        alpha4 = check.skew(3, "wrist axes 4 and 5 must not be parallel")
-        alpha5 = check.skew(4, "wrist axes 5 and 6 must not be parallel")
-        a, alpha, d = check.a, check.alpha, check.d
-        if math.hypot(a[2], math.sin(alpha[2]) * d[3]) <= LENGTH_TOL:
-            raise check.fail(
-                f"{check.where(2, 'a')} and {check.where(3, 'd')}: the wrist centre is on axis 3 "
-                "(zero forearm), expected a forearm of non-zero length"
-            )
-        if abs(a[1]) <= LENGTH_TOL and abs(math.sin(alpha[1])) <= ANGLE_TOL:
-            raise check.fail(
-                f"{check.where(1, 'a')} = 0 m and {check.where(1, 'alpha')} = "
-                f"{math.degrees(alpha[1]):.6g} deg: axes 2 and 3 are one line, expected them to "
-                "meet at an angle, be parallel at a distance, or be skew"
-            )
-        alpha1 = float(alpha[0])
-        if abs(math.sin(alpha1)) <= ANGLE_TOL:
-            check.nonzero(0, "a", "axes 1 and 2 are parallel: they must be apart")
-            check.skew(1, "axes 1 and 2 are parallel: axis 3 must not be parallel to them")
-            family = "parallel"
-            alpha1 = check.twist(0, (0.0, math.pi, -math.pi), "")
-        elif abs(a[0]) <= LENGTH_TOL:
-            family = "intersecting"
-            if math.hypot(a[1], math.sin(alpha[1]) * d[1]) <= LENGTH_TOL:
-                raise check.fail(
-                    f"{check.where(0, 'a')} = 0 m, {check.where(1, 'a')} = 0 m and "
-                    f"{check.where(1, 'd')} = {d[1]:g} m: axes 1, 2 and 3 meet in one point "
-                    "(a spherical shoulder), expected axis 3 away from where axes 1 and 2 meet"
-                )
-        else:
-            family = "general"
-        return cls(
-            robot=table.name,
-            family=family,
-            a1=0.0 if family == "intersecting" else float(a[0]),
-            d1=float(d[0]),
-            alpha1=alpha1,
-            a2=float(a[1]),
-            alpha2=float(alpha[1]),
-            d2=float(d[1]),
-            a3=float(a[2]),
-            alpha3=float(alpha[2]),
-            d3=float(d[2]),
-            d4=float(d[3]),
-            alpha4=float(alpha4),
-            alpha5=float(alpha5),
-            d6=float(d[5]),
-            offsets=tuple(float(v) for v in check.theta),
-            T_base=check.T_base,
-            T_tool=check.T_tool,
-        )
+        try:
+            return SphericalWrist6R(**_read_spherical(table))
+        except StructureError:
+            return cls.read(table)
 
-    # -----------------------------------------------------------------------------------------
-    # One target
+    @classmethod
+    def read(cls, table: DHTable) -> Pieper6R:
+        """``table``'s arm in the intersecting, parallel or general family, never parallel23.
 
-    def solve(
-        self, position: npt.ArrayLike, rotation: npt.ArrayLike | None, free: float = 0.0
-    ) -> np.ndarray:
-        """The 8 branches reaching a tool pose.
+        What :meth:`recognise` gives when axes 2 and 3 are not parallel; of a spherical-wrist
+        table, the same arm solved by the general equations (the tests compare the two).
 
-        Args:
-            position: Tool position in the world frame [m], (3,).
-            rotation: Tool rotation ``R_world_tool``, (3, 3).
-            free: Value of ``q4`` [rad] where the wrist is singular (axes 4 and 6 aligned).
-
-        Returns:
-            Joint vectors [rad] in (-pi, pi], (8, 6), one row per :attr:`branch_labels`; a row of
-            NaN where that branch does not reach the target. Not verified, not wrapped into limits.
+        Raises:
+            StructureError: As :meth:`recognise`.
         """
-        if rotation is None:
-            raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
-        p, r = self._frame.scalar(position, rotation)  # type: ignore[arg-type]
-        d6 = self.d6
-        arms = self._arms(p[0] - d6 * r[0][2], p[1] - d6 * r[1][2], p[2] - d6 * r[2][2])
-        out: list[tuple[float, ...]] = [NAN_ROW] * 8
-        for index, arm in enumerate(arms):
-            if arm is not None:
-                out[2 * index], out[2 * index + 1] = self._wrist_scalar(arm, r, free)
-        return np.array(out)
+        return Pieper6R(**_read(table))
 
-    def _arms(self, wx: float, wy: float, wz: float) -> list[tuple[float, float, float] | None]:
-        """``(t1, t2, t3)`` [rad] of the four arm slots reaching the wrist centre ``W`` [m]."""
-        a1, d1, sa1, ca1, g0, _, _ = self._k
-        (g10, g1c, g1s), (g20, g2c, g2s), (g30, g3c, g3s) = self._g
-        z = wz - d1
-        rho2 = wx * wx + wy * wy
-        big_r = rho2 + z * z
-        heading = math.atan2(wy, wx)
-        out: list[tuple[float, float, float] | None] = [None] * 4
-        if self.family == "general":
-            roots = self._general_t3(big_r - a1 * a1, z)
-        else:
-            size, psi = self._e
-            if self.family == "intersecting":
-                cos3 = (big_r - g0) / size
-            else:
-                cos3 = (ca1 * z - g30) / size
-            if (clipped := clip_unit(cos3)) is None:
-                return out
-            cos3 = clipped
-            delta = math.acos(cos3)
-            roots = [psi - delta, psi + delta]
-        for elbow, t3 in enumerate(roots):
-            c3, s3 = math.cos(t3), math.sin(t3)
-            g1 = g10 + g1c * c3 + g1s * s3
-            g2 = g20 + g2c * c3 + g2s * s3
-            g3 = g30 + g3c * c3 + g3s * s3
-            if self.family == "general":
-                u = (big_r - a1 * a1 - (g1 * g1 + g2 * g2 + g3 * g3)) / (2.0 * a1)
-                w = (z - ca1 * g3) / sa1
-                t2 = math.atan2(g1 * w - g2 * u, g1 * u + g2 * w)
-                c2, s2 = math.cos(t2), math.sin(t2)
-                h1, h2 = c2 * g1 - s2 * g2, s2 * g1 + c2 * g2
-                t1 = heading - math.atan2(ca1 * h2 - sa1 * g3, a1 + h1)
-                out[elbow] = (t1, t2, t3)
-                continue
-            pairs = []
-            if self.family == "intersecting":
-                h2 = (z - ca1 * g3) / sa1
-                b = ca1 * h2 - sa1 * g3
-                a_sq = rho2 - b * b
-                if a_sq < 0.0:
-                    if a_sq < -SLACK * (rho2 + b * b + 1.0):
-                        continue
-                    a_sq = 0.0
-                radius = math.sqrt(a_sq)
-                pairs = [(radius - a1, h2), (-radius - a1, h2)]
-            else:
-                h1 = (big_r - a1 * a1 - (g1 * g1 + g2 * g2 + g3 * g3)) / (2.0 * a1)
-                p_sq = g1 * g1 + g2 * g2
-                h2_sq = p_sq - h1 * h1
-                if h2_sq < 0.0:
-                    if h2_sq < -SLACK * (p_sq + h1 * h1 + 1.0):
-                        continue
-                    h2_sq = 0.0
-                h2 = math.copysign(math.sqrt(h2_sq), a1 * ca1)
-                pairs = [(h1, h2), (h1, -h2)]
-            for side, (h1, h2) in enumerate(pairs):
-                t2 = math.atan2(h2, h1) - math.atan2(g2, g1)
-                t1 = heading - math.atan2(ca1 * h2 - sa1 * g3, a1 + h1)
-                out[2 * side + elbow] = (t1, t2, t3)
-        return out
 
-    def _wrist_scalar(
-        self, arm: tuple[float, float, float], r: list[list[float]], free: float
-    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        """The rows (no flip, flip) of one arm solution: ``q`` [rad] wrapped, NaN if unreached."""
-        t1, t2, t3 = arm
-        s1, c1, s2, c2, s3, c3, s4, c4, s5, c5 = self._wrist
-        o1, o2, o3, o4, o5, o6 = self.offsets
-        # N = R_0_3^T R_0_6, columns 0 (v) and 2 (n): Rx(a3)^T Rz(t3)^T ... Rx(a1)^T Rz(t1)^T
-        v = (r[0][0], r[1][0], r[2][0])
-        n = (r[0][2], r[1][2], r[2][2])
-        for angle, sa, ca in ((t1, s1, c1), (t2, s2, c2), (t3, s3, c3)):
-            ct, st = math.cos(angle), math.sin(angle)
-            vx, vy = ct * v[0] + st * v[1], -st * v[0] + ct * v[1]
-            nx, ny = ct * n[0] + st * n[1], -st * n[0] + ct * n[1]
-            v = (vx, ca * vy + sa * v[2], -sa * vy + ca * v[2])
-            n = (nx, ca * ny + sa * n[2], -sa * ny + ca * n[2])
-        vx, vy, vz = v
-        wvx, wvy, mz = n
-        cos5 = (c4 * c5 - mz) / (s4 * s5)
-        if self._classic:
-            sin5 = math.hypot(wvx, wvy)
-        else:
-            if (clipped := clip_unit(cos5)) is None:
-                return NAN_ROW, NAN_ROW
-            cos5 = clipped
-            sin5 = math.sqrt(max(0.0, 1.0 - cos5 * cos5))
-        q123 = (wrap(t1 - o1), wrap(t2 - o2), wrap(t3 - o3))
-        rows = []
-        for st5 in (sin5, -sin5):
-            t5 = math.atan2(st5, cos5)
-            mx = s5 * st5
-            my = -(c4 * s5 * cos5 + s4 * c5)
-            if math.hypot(mx, my) <= SINGULAR:
-                t4 = free + o4
-            else:
-                t4 = math.atan2(wvy, wvx) - math.atan2(my, mx)
-            ct4, st4 = math.cos(t4), math.sin(t4)
-            ex, ey = ct4 * vx + st4 * vy, -st4 * vx + ct4 * vy
-            ey, ez = c4 * ey + s4 * vz, -s4 * ey + c4 * vz
-            ct5 = math.cos(t5)
-            fx, fy = ct5 * ex + st5 * ey, -st5 * ex + ct5 * ey
-            fy = c5 * fy + s5 * ez
-            t6 = math.atan2(fy, fx)
-            rows.append((*q123, wrap(t4 - o4), wrap(t5 - o5), wrap(t6 - o6)))
-        return rows[0], rows[1]
+@dataclass(frozen=True)
+class SphericalWrist6R(Pieper6R):
+    """The spherical-wrist case of :class:`Pieper6R`: axes 2 and 3 parallel; 8 branches.
 
-    # -----------------------------------------------------------------------------------------
-    # N targets
+    PUMA 560, Kinova Jaco 2 and most industrial arms: the family's ``parallel23`` arms, named
+    ``spherical_wrist`` (in :attr:`~kin.ik.result.IKResult.method` and the solver's name), solved
+    by the family's algorithm and its compiled twin. Fields as :class:`Pieper6R`'s.
+    """
+
+    name: ClassVar[str] = "spherical_wrist"
+    branch_labels: ClassVar[tuple[str, ...]] = _labels("parallel23")  # type: ignore[misc]
+
+    @property
+    def lateral(self) -> float:
+        """Offset of the wrist centre along axis 2 in frame 1, ``d2 + d3 + cos(alpha3) d4`` [m]."""
+        return self._e[4]
+
+    @property
+    def forearm(self) -> tuple[float, float]:
+        """In-plane vector from axis 3 to the wrist centre, ``(a3, -sin(alpha3) d4)`` [m]."""
+        return self._e[0], self._e[1]
+
+    @classmethod
+    def recognise(cls, table: DHTable) -> SphericalWrist6R:
+        """The parameters of ``table``'s arm.
+
+        Raises:
+            StructureError: The table is not a 6R arm of the spherical-wrist case; the message
+                names the row and the parameter that does not fit.
+        """
+        return cls(**_read_spherical(table))
+
+
+Pieper6R.cases = (SphericalWrist6R,)

@@ -1,9 +1,9 @@
-"""The batched steps of :class:`~.pieper.Pieper6R`: N tool poses at once, in NumPy.
+"""The algorithm of :class:`~.pieper.Pieper6R`: N tool poses at once, in NumPy.
 
-The same arithmetic as the scalar steps of :mod:`.pieper` (the arm by its family's equations,
-the general family's quartic in ``t3`` polished, then the spherical wrist), array by array;
-:meth:`PieperBatch.solve_batch` of one pose equals :meth:`~.pieper.Pieper6R.solve` (the tests
-hold them to it). Angles in [rad], lengths in [m].
+The one form of the family (one target is N = 1; the compiled twin ``_spherical_wrist.c`` repeats
+it for the parallel23 family): the arm by its family's equations (the general family's quartic in
+``t3`` polished, :mod:`.pieper_quartic`), then the spherical wrist; the steps are those of
+:mod:`.pieper`'s docstring. Angles in [rad], lengths in [m].
 """
 
 from __future__ import annotations
@@ -12,19 +12,19 @@ import math
 from typing import ClassVar
 
 import numpy as np
-import numpy.typing as npt
 
-from ...exceptions import TargetError
-from ._six_r import SINGULAR, SLACK, TargetFrame, clip_cosines, in_blocks, wrap_array
+from ._six_r import SINGULAR, SLACK, TargetFrame, clip_cosines, wrap_array
 from .pieper_quartic import PieperQuartic
 
 
 class PieperBatch(PieperQuartic):
-    """:meth:`solve_batch` of a :class:`~.pieper.Pieper6R` (mixed into it: reads its fields)."""
+    """The NumPy algorithm of a :class:`~.pieper.Pieper6R` (mixed into it: reads its fields)."""
 
     name: ClassVar[str]
     family: str
     a1: float
+    d1: float
+    a2: float
     d6: float
     offsets: tuple[float, ...]
     _frame: TargetFrame
@@ -34,24 +34,8 @@ class PieperBatch(PieperQuartic):
     _wrist: tuple[float, ...]
     _classic: bool
 
-    def solve_batch(
-        self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None, free: float = 0.0
-    ) -> np.ndarray:
-        """:meth:`solve` of N tool poses at once, in NumPy.
-
-        Args:
-            positions: Tool positions in the world frame [m], (N, 3).
-            rotations: Tool rotations ``R_world_tool``, (N, 3, 3).
-            free: Value of ``q4`` [rad] where the wrist is singular.
-
-        Returns:
-            Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
-        """
-        if rotations is None:
-            raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
-        return in_blocks(self._solve_block, positions, rotations, free)
-
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
+        """The 8 branches (N, 8, 6) [rad] of N world tool poses, NaN where a branch is missing."""
         p, r = self._frame.batch(positions, rotations)
         with np.errstate(invalid="ignore", divide="ignore"):
             wx, wy, wz = (p - self.d6 * r[:, :, 2]).T
@@ -62,7 +46,12 @@ class PieperBatch(PieperQuartic):
         return out
 
     def _arms_batch(self, wx: np.ndarray, wy: np.ndarray, wz: np.ndarray) -> np.ndarray:
-        """:meth:`_arms` of N wrist centres: ``(t1, t2, t3)`` (N, 4, 3) [rad], NaN: no slot."""
+        """``(t1, t2, t3)`` (N, 4, 3) [rad] of the four arm slots reaching N wrist centres [m].
+
+        NaN: no slot.
+        """
+        if self.family == "parallel23":
+            return self._parallel23_arms(wx, wy, wz)
         a1, d1, sa1, ca1, g0, _, _ = self._k
         (g10, g1c, g1s), (g20, g2c, g2s), (g30, g3c, g3s) = self._g
         z = wz - d1
@@ -114,14 +103,46 @@ class PieperBatch(PieperQuartic):
             out[:, 2 * side : 2 * side + 2, 2] = t3
         return out
 
+    def _parallel23_arms(self, wx: np.ndarray, wy: np.ndarray, wz: np.ndarray) -> np.ndarray:
+        """:meth:`_arms_batch` of the parallel23 family (axes 2, 3 parallel): (N, 4, 3) [rad]."""
+        a1, d1, a2 = self.a1, self.d1, self.a2
+        _, _, s1, c1, *_ = self._k
+        lx, ly, l3, phi3, h = self._e
+        y1 = (wz - d1 - c1 * h) / s1
+        b = c1 * y1 - s1 * h
+        rho2 = wx * wx + wy * wy
+        a_sq = rho2 - b * b
+        a_sq = np.where((a_sq < 0.0) & (a_sq >= -SLACK * (rho2 + b * b + 1.0)), 0.0, a_sq)
+        radius = np.sqrt(a_sq)  # NaN out of reach
+        heading = np.arctan2(wy, wx)
+        out = np.empty((wx.shape[0], 4, 3))
+        for shoulder in (0, 1):
+            big_a = radius if shoulder == 0 else -radius
+            t1 = heading - np.arctan2(b, big_a)
+            x1 = big_a - a1
+            cos3 = clip_cosines((x1 * x1 + y1 * y1 - (a2 * a2 + l3 * l3)) / (2.0 * a2 * l3))
+            delta = np.arccos(cos3)
+            heading1 = np.arctan2(y1, x1)
+            for elbow in (0, 1):
+                t3 = -phi3 - delta if elbow == 0 else -phi3 + delta
+                ct3, st3 = np.cos(t3), np.sin(t3)
+                t2 = heading1 - np.arctan2(lx * st3 + ly * ct3, a2 + lx * ct3 - ly * st3)
+                out[:, 2 * shoulder + elbow] = np.stack((t1, t2, t3), axis=-1)
+        return out
+
     def _wrist_batch(self, t: np.ndarray, r: np.ndarray, free: float) -> np.ndarray:
         """The 8 rows of N targets from their arm slots ``t`` (N, 4, 3): ``q`` (N, 8, 6) [rad]."""
         s1, c1, s2, c2, s3, c3, s4, c4, s5, c5 = self._wrist
         o1, o2, o3, o4, o5, o6 = self.offsets
         vx, vy, vz = (r[:, i, 0][:, None] for i in range(3))  # broadcast to (N, 4) below
         nx, ny, nz = (r[:, i, 2][:, None] for i in range(3))
-        for joint, sa, ca in ((0, s1, c1), (1, s2, c2), (2, s3, c3)):
-            ct, st = np.cos(t[:, :, joint]), np.sin(t[:, :, joint])
+        # N = R_0_3^T R_0_6, columns 0 (v) and 2 (n): Rx(a3)^T Rz(t3)^T ... Rx(a1)^T Rz(t1)^T;
+        # with axes 2 and 3 parallel, Rz(t2 + t3) at once (as the compiled twin does)
+        stages = [(t[:, :, 0], s1, c1), (t[:, :, 1], s2, c2), (t[:, :, 2], s3, c3)]
+        if self.family == "parallel23":
+            stages[1:] = [(t[:, :, 1] + t[:, :, 2], s3, c3)]
+        for angle, sa, ca in stages:
+            ct, st = np.cos(angle), np.sin(angle)
             vx, vy = ct * vx + st * vy, -st * vx + ct * vy
             nx, ny = ct * nx + st * ny, -st * nx + ct * ny
             vy, vz = ca * vy + sa * vz, -sa * vy + ca * vz

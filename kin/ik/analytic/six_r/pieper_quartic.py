@@ -5,19 +5,17 @@ For a wrist centre ``W`` with ``rt = R - a1^2`` and ``z = Wz - d1`` (see :mod:`.
 a trigonometric polynomial of degree 2 in ``t3`` [rad], in harmonics
 (:meth:`PieperQuartic._harmonics`), whose candidate roots (:mod:`._trig_quartic`) are polished
 by Newton steps on ``E`` itself (:meth:`PieperQuartic._residual`) and kept when ``|E|`` is
-within its bound; scalar and for N wrist centres at once. Lengths in [m].
+within its bound; for N wrist centres at once. Lengths in [m].
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from ._six_r import wrap, wrap_array
-from ._trig_quartic import EPS, candidates, candidates_batch, polish, polish_batch
+from ._six_r import wrap_array
+from ._trig_quartic import EPS, candidates_batch, polish_batch
 
 #: A general-family root is kept when, after polishing, ``|E(t3)| <= 2 sqrt(g1^2 + g2^2)
 #: REACH_TOL`` (plus the rounding of ``E``): the arm then reaches the wrist centre within about
@@ -34,16 +32,6 @@ class PieperQuartic:
     _k: tuple[float, ...]
     _e: tuple[float, ...]
 
-    def _general_t3(self, rt: float, z: float) -> list[float]:
-        """The real roots ``t3`` [rad] of ``E(t3) = 0`` (general family), in ascending ``q3``."""
-        roots = []
-        for start in candidates(*self._harmonics(rt, z)):
-            t3 = self._polish(start, rt, z)
-            if t3 is not None:
-                roots.append(t3)
-        o3 = self.offsets[2]
-        return sorted(roots, key=lambda t: wrap(t - o3))
-
     def _harmonics(self, rt: Any, z: Any) -> tuple[Any, Any, Any, float, float]:
         """``E(t3) = h0 + hc cos + hs sin + hc2 cos 2t3 + hs2 sin 2t3`` for a wrist centre.
 
@@ -58,17 +46,14 @@ class PieperQuartic:
         hs = 2.0 * (u0 * us + w0 * ws) - ps
         return h0, hc, hs, hc2, hs2
 
-    def _residual(
-        self, t3: Any, rt: Any, z: Any, cos: Callable[[Any], Any], sin: Callable[[Any], Any]
-    ) -> tuple[Any, Any, Any]:
+    def _residual(self, t3: Any, rt: Any, z: Any) -> tuple[Any, Any, Any]:
         """``E(t3)`` [m^2], ``dE/dt3`` [m^2] and the bound on ``|E|`` of a kept root [m^2].
 
-        Floats with ``math.cos``, ``math.sin`` or arrays with ``np.cos``, ``np.sin``;
-        ``rt = R - a1^2`` [m^2], ``z = Wz - d1`` [m].
+        Arrays; ``rt = R - a1^2`` [m^2], ``z = Wz - d1`` [m].
         """
         a1, _, sa1, ca1, _, _, _ = self._k
         (g10, g1c, g1s), (g20, g2c, g2s), (g30, g3c, g3s) = self._g
-        c3, s3 = cos(t3), sin(t3)
+        c3, s3 = np.cos(t3), np.sin(t3)
         g1, g2, g3 = g10 + g1c * c3 + g1s * s3, g20 + g2c * c3 + g2s * s3, g30 + g3c * c3 + g3s * s3
         p_sq = g1 * g1 + g2 * g2
         g_sq = p_sq + g3 * g3
@@ -84,19 +69,17 @@ class PieperQuartic:
         bound = 2.0 * REACH_TOL * p_sq**0.5 + 16.0 * EPS * (rounding + p_sq)
         return e, de, bound
 
-    def _polish(self, t3: float, rt: float, z: float) -> float | None:
-        """:func:`~._trig_quartic.polish` on ``E(t3)``; None when ``|E|`` stays above its bound."""
-        root = polish(lambda t: self._residual(t, rt, z, math.cos, math.sin), t3)
-        return None if root is None else root[0]
-
     def _general_t3_batch(self, rt: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """:meth:`_general_t3` of N wrist centres: (N, 4) [rad], real roots first, then NaN."""
+        """The real roots ``t3`` of ``E(t3) = 0`` of N wrist centres, ascending ``q3``, then NaN.
+
+        (N, 4) [rad].
+        """
         t3 = candidates_batch(*self._harmonics(rt, z))
         t3 = self._polish_batch(t3, rt[:, None], z[:, None])
         key = np.where(np.isnan(t3), np.inf, wrap_array(t3 - self.offsets[2]))
         return np.take_along_axis(t3, np.argsort(key, axis=1), axis=1)
 
     def _polish_batch(self, t3: np.ndarray, rt: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """:meth:`_polish` of (N, 4) starts; NaN where no root."""
-        t3, _, ok = polish_batch(lambda t: self._residual(t, rt, z, np.cos, np.sin), t3)
+        """Newton steps on ``E`` from (N, 4) starts [rad]; NaN where no root."""
+        t3, _, ok = polish_batch(lambda t: self._residual(t, rt, z), t3)
         return np.where(ok, t3, np.nan)

@@ -2,8 +2,8 @@
 
 An arm with its special axes at the base (a spherical shoulder: axes 1, 2, 3 meeting; three
 parallel axes 3, 4, 5 with axes 1 and 2 meeting; ...) is, read backwards, an arm of a family of
-:mod:`.three_parallel` (the UR case among them), :mod:`.spherical_wrist` or :mod:`.pieper`. The
-reversed chain is again a DH table, built exactly (no number rounded):
+:mod:`.three_parallel` (the UR case among them) or :mod:`.pieper` (the spherical-wrist case among
+them). The reversed chain is again a DH table, built exactly (no number rounded):
 
 - a standard row ``A_i = Rz(t_i) Tz(d_i) Tx(a_i) Rx(alpha_i)`` has the inverse
   ``Rx(-alpha_i) Tx(-a_i) Rz(-t_i) Tz(-d_i)``: a *modified* row with ``-alpha_i, -a_i, -d_i``,
@@ -36,16 +36,11 @@ from ...target import PoseTarget
 from ..closed_form_structure import ClosedFormStructure
 from ._six_r import target_arrays, wrap_array
 from .pieper import Pieper6R
-from .spherical_wrist import SphericalWrist6R
 from .three_parallel import ThreeParallel6R
 
-#: The forward 6R families a reversed table is offered to, in order (the three-parallel family
-#: gives its UR case, axes 5 and 6 meeting, as :class:`~.three_parallel.URWrist6R`).
-FORWARD: tuple[type[ClosedFormStructure], ...] = (
-    ThreeParallel6R,
-    SphericalWrist6R,
-    Pieper6R,
-)
+#: The forward 6R families a reversed table is offered to, in order (each gives its special case:
+#: :class:`~.three_parallel.URWrist6R`, :class:`~.pieper.SphericalWrist6R`).
+FORWARD: tuple[type[ClosedFormStructure], ...] = (ThreeParallel6R, Pieper6R)
 
 
 def _inverse(T: np.ndarray) -> np.ndarray:

@@ -1,10 +1,10 @@
 """The compiled twins of the 6R closed forms: their parameter blocks, solve and verify.
 
 ``kin/_native/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
-when a C compiler is there) repeat, target by target, the NumPy algorithm of the three-parallel
-family (:mod:`.three_parallel_batch`) for its UR case (axes 5 and 6 meeting) and
-:meth:`SphericalWrist6R.solve <.spherical_wrist.SphericalWrist6R.solve>`; the Python forms are
-the reference and the fallback. Each twin also has ``verify``: the 8
+when a C compiler is there) repeat, target by target, the NumPy algorithm of a family for its
+special case: the three-parallel family's (:mod:`.three_parallel_batch`) for the UR arms (axes 5
+and 6 meeting), Pieper's (:mod:`.pieper_batch`) for the spherical wrist with parallel axes 2 and
+3; the NumPy forms are the reference and the fallback (:class:`CompiledSixR` chooses). Each twin also has ``verify``: the 8
 branches of one target, each moved into the joint limits (the ``2 pi`` copy nearest the seed, as
 :class:`~.closed_form.ClosedFormSolver` does) and measured by a plain DH product of the table as
 written (either convention, its base and tool): an FK independent of the closed form's algebra,

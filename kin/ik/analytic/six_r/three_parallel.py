@@ -168,6 +168,8 @@ class ThreeParallel6R(CompiledSixR, ThreeParallelBatch):
     name: ClassVar[str] = "three_parallel"
     dof: ClassVar[int] = 6
     target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
+    #: The family's special cases, asked first (set below: :class:`URWrist6R`).
+    cases: ClassVar[tuple[type[ThreeParallel6R], ...]] = ()
     #: The family's compiled twin (``kin/_native/_ur_wrist.c``: the intersecting family), or
     #: None when it is not built.
     compiled_twin: ClassVar[ModuleType | None] = twin("_ur_wrist")
@@ -255,3 +257,6 @@ class URWrist6R(ThreeParallel6R):
                 and the parameter that does not fit.
         """
         return cls(**_read(table, "6R UR-wrist (three parallel axes)", meet=True))
+
+
+ThreeParallel6R.cases = (URWrist6R,)
