@@ -16,6 +16,9 @@ Otherwise it searches the answers of every sample for a free and continuous path
 - of the joined chains, the one with the least motion is kept: the sum over the samples of the
   largest joint step [rad] / [m], from the seed (or the plain path's first sample), plus
   :data:`BRANCH_CHANGE_COST` per change of branch label (a dynamic program, sample by sample).
+  The motions are checked lazily: the cheapest chain by the step bound alone first, its motions
+  checked start first, a colliding one left out and the chain found again, so only the motions
+  the answer may use are checked (the least cost is the same as with every motion checked).
 
 When a sample has no free answer, or none joined to the previous sample's, the search fails
 there: :class:`AvoidFailure` names the sample (index, arc length, pose) and why.
@@ -166,8 +169,11 @@ class _Search:
         self.once = (closed and not partial) or grid
         self.options = {"all_branches": True} if grid else {}
         self.motion = MotionCheck(checker)
-        #: The first colliding motion met while joining the last sample, or None.
-        self.blocked: PathCollision | None = None
+        #: Per sample, the last colliding motion met into it.
+        self.blocked: dict[int, PathCollision] = {}
+        #: Motions (sample, answer before, answer) shown free, and shown colliding.
+        self.free: set[tuple[int, int, int]] = set()
+        self.colliding: set[tuple[int, int, int]] = set()
 
     def run(
         self,
@@ -175,8 +181,15 @@ class _Search:
         branch: str | None,
         progress: Callable[[int, int], None] | None,
     ) -> tuple[np.ndarray, list[str], AvoidFailure | None]:
-        """(joint path (M, nq), branch labels, None) or (empty, [], the failure)."""
+        """(joint path (M, nq), branch labels, None) or (empty, [], the failure).
+
+        The samples' answers are joined by the step bound alone first (an optimistic chain);
+        then the motions of the cheapest chain are checked, start first, and a colliding one
+        removed and the chain found again (:meth:`_verify`): only the motions the answer may
+        use are checked.
+        """
         layers: list[_Layer] = []
+        stop: tuple[int, str] | None = None
         for index in range(len(self.path)):
             if progress is not None:
                 progress(index, len(self.path))
@@ -186,16 +199,25 @@ class _Search:
                 keep = [i for i, label in enumerate(labels) if label == branch]
                 answers, labels = answers[keep], [labels[i] for i in keep]
             if not len(answers):
-                return _fail(self.path, index, why)
-            layer = self._join(layers[-1], answers, labels) if layers else None
-            if layer is None and layers:
-                return _fail(self.path, index, self._why_not(layers[-1], answers, index))
-            if layer is None:
-                cost = np.zeros(len(answers))
-                if start is not None:
-                    cost = np.abs(answers - start).max(axis=1)
-                layer = _Layer(answers, labels, cost, np.full(len(answers), -1), [None] * len(cost))
+                stop = (index, why)
+                break
+            count = len(answers)
+            layer = _Layer(answers, labels, np.zeros(count), np.full(count, -1), [None] * count)
+            if layers:
+                self._relax(layers[-1], layer, index)
+            elif start is not None:
+                layer.cost = np.abs(answers - start).max(axis=1)
+            if not np.isfinite(layer.cost).any():
+                stop = (index, self._why_not(layers[-1], answers, index))
+                break
             layers.append(_pruned(layer))
+        blocked = self._verify(layers)  # an earlier sample may be cut off by the motions
+        if blocked is not None:
+            return _fail(
+                self.path, blocked, self._why_not(layers[blocked - 1], layers[blocked].q, blocked)
+            )
+        if stop is not None:
+            return _fail(self.path, *stop)
         if progress is not None:
             progress(len(self.path), len(self.path))
         return _backtrack(layers)
@@ -224,29 +246,50 @@ class _Search:
             return [q]
         return [self.unwrap(q, ref) for ref in refs]
 
-    def _join(self, last: _Layer, answers: np.ndarray, labels: list[str]) -> _Layer | None:
-        """The answers joined to ``last`` (cheapest free motion within the bound), or None."""
-        count = len(answers)
-        layer = _Layer(answers, labels, np.full(count, np.inf), np.full(count, -1), [None] * count)
-        self.blocked = None
-        for k in range(count):
-            steps = np.abs(last.q - answers[k]).max(axis=1)
-            change = np.array([BRANCH_CHANGE_COST * (lab != labels[k]) for lab in last.labels])
-            total = last.cost + steps + change
-            for j in np.argsort(total):
-                if steps[j] > self.bound or not np.isfinite(total[j]):
+    def _relax(self, last: _Layer, layer: _Layer, index: int) -> None:
+        """Join ``layer`` (sample ``index``) to ``last``: the cheapest answer within the bound.
+
+        Motions shown colliding are left out; the others count as free until checked.
+        """
+        steps = np.abs(layer.q[:, None, :] - last.q[None, :, :]).max(axis=2)  # (K, K_last)
+        change = np.array(layer.labels)[:, None] != np.array(last.labels)[None, :]
+        total = last.cost[None, :] + steps + BRANCH_CHANGE_COST * change
+        total[steps > self.bound] = np.inf
+        for sample, j, k in self.colliding:
+            if sample == index:
+                total[k, j] = np.inf
+        layer.previous = np.argmin(total, axis=1)
+        layer.cost = total[np.arange(len(total)), layer.previous]
+
+    def _verify(self, layers: list[_Layer]) -> int | None:
+        """Check the cheapest chain's motions; the first sample no free chain reaches, or None."""
+        while layers:
+            chain = _chain(layers)
+            for index in range(1, len(layers)):
+                j, k = chain[index - 1], chain[index]
+                if (index, j, k) in self.free:
                     continue
+                last, layer = layers[index - 1], layers[index]
                 ends = _distances(self.motion, last, j), _distances(self.motion, layer, k)
-                hit = self.motion.between(last.q[j], answers[k], *ends)
+                hit = self.motion.between(last.q[j], layer.q[k], *ends)
                 if hit is None:
-                    layer.cost[k], layer.previous[k] = total[j], j
-                    break
-                self.blocked = self.blocked or hit
-        return layer if np.isfinite(layer.cost).any() else None
+                    self.free.add((index, j, k))
+                    continue
+                self.colliding.add((index, j, k))
+                self.blocked[index] = hit
+                for later in range(index, len(layers)):
+                    self._relax(layers[later - 1], layers[later], later)
+                    if not np.isfinite(layers[later].cost).any():
+                        return later
+                break
+            else:
+                return None
+        return None
 
     def _why_not(self, last: _Layer, answers: np.ndarray, index: int) -> str:
         """Why no free answer of sample ``index`` joins the previous sample's."""
-        steps = np.abs(answers[:, None, :] - last.q[None, :, :])  # (K, K_last, nq)
+        reached = last.q[np.isfinite(last.cost)]
+        steps = np.abs(answers[:, None, :] - reached[None, :, :])  # (K, K_last, nq)
         gap = steps.max(axis=2)
         k, j = np.unravel_index(int(np.argmin(gap)), gap.shape)
         if gap[k, j] > self.bound:
@@ -258,7 +301,7 @@ class _Search:
                 f"('{self.robot.joint_names[joint]}') from sample {index - 1}'s, more than the "
                 f"step bound {self.bound:.3g}: the branch change would jump"
             )
-        hit = self.blocked
+        hit = self.blocked.get(index)
         pair = "" if hit is None else f" ({hit.a} / {hit.b}, {hit.kind})"
         return (
             f"every collision-free answer within {self.bound:.3g} of sample {index - 1}'s "
@@ -289,14 +332,20 @@ def _pruned(layer: _Layer) -> _Layer:
     )
 
 
-def _backtrack(layers: list[_Layer]) -> tuple[np.ndarray, list[str], None]:
-    k = 0  # the cheapest answer of the last sample (layers are sorted, cheapest first)
-    q, labels = [], []
+def _chain(layers: list[_Layer]) -> list[int]:
+    """Per sample, the index of its answer on the cheapest chain to the last sample."""
+    k = int(np.argmin(layers[-1].cost))
+    chain = []
     for layer in reversed(layers):
-        q.append(layer.q[k])
-        labels.append(layer.labels[k])
+        chain.append(k)
         k = int(layer.previous[k])
-    return np.array(q[::-1]), labels[::-1], None
+    return chain[::-1]
+
+
+def _backtrack(layers: list[_Layer]) -> tuple[np.ndarray, list[str], None]:
+    chain = _chain(layers)
+    q = np.array([layer.q[k] for layer, k in zip(layers, chain)])
+    return q, [layer.labels[k] for layer, k in zip(layers, chain)], None
 
 
 def _fail(path: CartesianPath, index: int, why: str) -> tuple[np.ndarray, list[str], AvoidFailure]:
