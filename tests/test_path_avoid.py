@@ -239,3 +239,21 @@ def test_the_step_bound_of_revolute_arms_is_the_chain_walk(tmp_path, name):
         helper.arms = arms
         assert walk.max() > 0.0
         np.testing.assert_allclose(matrix, walk, rtol=1e-12, atol=1e-12, err_msg=f"{name=}")
+
+
+def test_a_plate_between_samples_fails_on_the_way_there(tmp_path):
+    """A thin plate across the line between samples 1 and 2: the samples are free, the motion not."""
+    plate = "[[box]]\nname = 'plate'\nsize = [0.02, 0.004, 0.02]\nxyz = [0.4, -0.05, 0.3]\n"
+    robot, _, checker, reference, pairs, _ = _cell(tmp_path, "ur5", plate)
+    down = pin.rpy.rpyToMatrix(3.14159, 0.0, 0.0)
+    path = polyline([PoseTarget(np.array(p), down) for p in ((0.4, 0.1, 0.3), (0.4, -0.3, 0.3))], 4)
+    solver = get_solver(robot)
+    for index in range(3):  # each sample up to the plate has a free answer (reference)
+        answers = solver.solve(path.target(index)).solutions
+        assert max(_deepest(reference, pairs, s.q) for s in answers) > CONTACT_TOL, f"{index=}"
+    plain = follow_path(robot, path).q
+    between = [_deepest(reference, pairs, plain[1] + t * (plain[2] - plain[1])) for t in (0.3, 0.4)]
+    assert min(between) < -CONTACT_TOL  # the plain motion goes through the plate
+    avoided = follow_path_avoiding(robot, path, checker)
+    assert not avoided.success and avoided.failure.sample == 2
+    assert "collides on the way there (frame5 / plate, scene)" in avoided.failure.reason
