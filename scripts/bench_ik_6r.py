@@ -18,13 +18,23 @@ General 6R (``general_6r``, Raghavan-Roth elimination, up to 16 branches): the n
 ``tests/data/six_r`` (xArm6, Jaco 2 6-DOF, CRX-10iA, the makers' parameters). Columns, medians
 of ``--number // 10`` calls: ``solve`` (the structure's branches, polished, not verified),
 ``verified`` (the documented call ``kin.ik.get_solver(robot).solve(PoseTarget(p, R))``: every
-branch wrapped into the limits and verified, valid and rejected), ``batch`` (``solve_batch`` of
-``min(--batch, 10000)`` targets, per target) and the peer ssik when installed (``pip install
-ssik``: ``Manipulator.from_transforms`` of the same chain, ``solve(T, respect_limits=False,
-enumerate_windings=False)``: every branch, its own verification; its first call on an arm
-prepares it, tens of seconds, not timed), ``ratio`` = verified / ssik, ``same count``: targets
-where ssik finds as many solutions as our branches. With ssik, ``verified`` and ``ssik`` are
-timed in alternation (``--repeat`` pairs of timings on the same targets).
+branch wrapped into the limits and verified, valid and rejected) and ``batch`` (``solve_batch`` of
+``min(--batch, 10000)`` targets, per target).
+
+ssik's general 6R arms (when ssik is installed, ``[bench]`` extra): each of the 18 arms of
+:data:`ssik_chains.GENERAL_6R`, ssik's own chain written as a URDF and loaded as a user's
+``--robot FILE.urdf``; ``--targets`` tool poses of random joint vectors inside the limits. Timed
+in turns target by target (the order rotated each target), one call each, medians of single
+calls: ours (``get_solver(robot).solve(PoseTarget(p, R))``), ssik's prebuilt module
+(``ssik.prebuilt.<maker>.<arm>_ik.solve(T)``: the elimination baked per arm, native backend:
+its fastest documented path), TRAC-IK (pytracik: 5 ms, Speed) and EAIK where they accept the
+arm. ``ssik x`` and ``trac x``: our median over theirs. ``batch``:
+``kin.ik.BatchSolver(robot).solve_poses`` (what ``kin.ik.solve_batch`` runs, every branch
+verified; built once: ``solve_batch`` builds it at each call, recognising the arm, a fixed 0.1
+to 0.5 s) of the same targets, per target; ``ours/batch``: the per-call time over it. Branches:
+the medians of our valid solutions and of ssik's distinct ones modulo 2 pi (ssik returns each
+``2 pi`` copy inside the limits); ``same``: the targets where the two counts are equal;
+``trac ok``: TRAC-IK's solved targets.
 """
 
 from __future__ import annotations
@@ -37,6 +47,9 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import functools
 import math
 import statistics
+import sys
+import tempfile
+import time
 import timeit
 from collections.abc import Callable
 from pathlib import Path
@@ -49,6 +62,9 @@ from kin.batch_fk import batch_forward_kinematics
 from kin.cli import ArgumentParser, positive_int
 from kin.ik.analytic.six_r.spherical_wrist import SphericalWrist6R
 from kin.ik.analytic.six_r.ur_wrist import URWrist6R
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ssik_chains import GENERAL_6R, distinct_mod_2pi, write_ssik_arm  # noqa: E402
 
 #: The arms benchmarked, in order: (label, shipped robot, structure).
 ARMS = (("UR5", "ur5", URWrist6R), ("UR10", "ur10", URWrist6R),
@@ -72,8 +88,16 @@ def get_argument_parser() -> ArgumentParser:
         "--batch", type=positive_int, default=100_000, help="targets of the batch (default 100000)"
     )
     parser.add_argument("--robot", choices=ROBOTS, help="one arm only (default: all)")
+    parser.add_argument("--no-ssik", action="store_true", help="leave the table of ssik's arms out")
     parser.add_argument(
-        "--no-ssik", action="store_true", help="general 6R: leave the peer ssik out"
+        "--ssik-arms",
+        nargs="+",
+        choices=GENERAL_6R,
+        metavar="MAKER.ARM_ik",
+        help="time these of ssik's general 6R arms only (default: all 18, after the other tables)",
+    )
+    parser.add_argument(
+        "--targets", type=positive_int, default=200, help="targets per ssik arm (default 200)"
     )
     parser.add_argument(
         "--compare",
@@ -155,10 +179,15 @@ def _same_solutions(ours: np.ndarray, theirs: np.ndarray, tol: float = 1e-9) -> 
 def main(argv: list[str] | None = None) -> int:
     """Print the benchmark table; exit 0."""
     args = get_argument_parser().parse_args(argv)
+    if args.ssik_arms:  # that table only
+        _ssik_arms(args)
+        return 0
     if args.robot is None or args.robot in {name for _, name, _ in ARMS}:
         _families(args)
     if args.robot is None or args.robot in {name for _, name in GENERAL_ARMS}:
         _general(args)
+    if args.robot is None and not args.no_ssik:
+        _ssik_arms(args)
     return 0
 
 
@@ -214,35 +243,16 @@ def _families(args) -> None:
         )
 
 
-def _ssik_peer(F: np.ndarray, use: bool) -> Callable[[np.ndarray], list] | None:
-    """The peer ssik's every-branch solve of the chain ``F`` (solutions, ``.q``), or None."""
-    if not use:
-        return None
-    try:
-        import ssik
-    except ImportError:
-        return None
-    arm = ssik.Manipulator.from_transforms(F)
-
-    def solve(pose: np.ndarray) -> list:
-        return arm.solve(pose, respect_limits=False, enumerate_windings=False)
-
-    return solve
-
-
 def _general(args) -> None:
     """The general-6R table (see the module)."""
     from kin import robot_from_table
     from kin.ik import PoseTarget, get_solver
-    from kin.ik.analytic.six_r.general_6r import General6R, chain_transforms
+    from kin.ik.analytic.six_r.general_6r import General6R
 
     number = max(1, args.number // 10)
     size = min(args.batch, 10_000)
-    print(
-        f"\n{'arm':<9} {'solver':<11} {'branches':>8} {'solve':>9} {'verified':>9} "
-        f"{'batch':>9}  {'ssik':>9} {'ratio':>6}  {'same count':>10}"
-    )
-    print(f"{'':<9} {'':<11} {'[mean]':>8} {'[us]':>9} {'[us]':>9} {'[us/tgt]':>9}  {'[us]':>9}")
+    print(f"\n{'arm':<9} {'solver':<11} {'branches':>8} {'solve':>9} {'verified':>9} {'batch':>9}")
+    print(f"{'':<9} {'':<11} {'[mean]':>8} {'[us]':>9} {'[us]':>9} {'[us/tgt]':>9}")
     for label, name in GENERAL_ARMS:
         if args.robot not in (None, name):
             continue
@@ -264,32 +274,81 @@ def _general(args) -> None:
         )
         ours = structure.solve_batch(poses[:1000, :3, 3], poses[:1000, :3, :3])
         counts = (~np.isnan(ours[..., 0])).sum(axis=1)
-        peer = _ssik_peer(chain_transforms(table)[0], not args.no_ssik)
-        if peer is None:
-            print(f"{label:<9} {solver.name.split(':')[-1]:<11} {counts.mean():8.2f} "
-                  f"{solve_us:9.1f} {verified_us:9.1f} {batch / size:9.2f}  {'-':>9} {'-':>6}  "
-                  f"{'-':>10}  ssik not installed")  # fmt: skip
-            continue
-        peer(poses[0])  # ssik prepares the arm on its first call
-        # Ours and ssik's timed in alternation on the same targets (the machine's load drifts):
-        # the medians of the interleaved timings.
-        peer_poses = list(poses[:1000])
-        ours_times, peer_times = [], []
-        for r in range(args.repeat):
-            start = (r * number) % 1000
-            chunk = [documented_targets[(start + k) % 1000] for k in range(number)]
-            poses_chunk = [peer_poses[(start + k) % 1000] for k in range(number)]
-            ours_times.append(_per_call_us(functools.partial(_each, solver.solve, chunk), number))
-            peer_times.append(_per_call_us(functools.partial(_each, peer, poses_chunk), number))
-        verified_us = statistics.median(ours_times)
-        peer_us = statistics.median(peer_times)
-        compare = min(args.compare, 1000)
-        same = sum(len(peer(poses[k])) == counts[k] for k in range(compare))
+        print(f"{label:<9} {solver.name.split(':')[-1]:<11} {counts.mean():8.2f} "
+              f"{solve_us:9.1f} {verified_us:9.1f} {batch / size:9.2f}")  # fmt: skip
+
+
+def _peers(path: Path, module) -> dict[str, tuple[Callable, Callable]]:  # noqa: ANN001
+    """TRAC-IK and EAIK on the URDF where they accept it: name -> (prepare, solve)."""
+    from bench_ik_urdf import eaik_solver, tracik
+
+    found = {}
+    for key, make in (("trac", tracik), ("eaik", eaik_solver)):
+        made = make(path, module.BASE_LINK, module.EE_LINK)
+        if isinstance(made, str):
+            print(f"  {path.stem}: {key} {made}")
+        else:
+            found[key] = made[1:]
+    return found
+
+
+def _ssik_arms(args) -> None:
+    """Ssik's general 6R arms against its prebuilt modules, TRAC-IK and EAIK (see the module)."""
+    try:
+        import pinocchio as pin
+        import ssik  # noqa: F401
+    except ImportError as err:
+        print(f"\nssik's arms: not measured ({err}; pip install ssik)")
+        return
+    from kin import load_robot
+    from kin.ik import BatchSolver, PoseTarget, get_solver
+
+    print(
+        f"\n{'ssik arm':<19} {'ours':>7} {'ssik':>7} {'ssik x':>6} {'trac':>7} {'trac x':>6} "
+        f"{'eaik':>7} {'batch':>7} {'ours/batch':>10}  {'branches':>8} {'same':>8} {'trac ok':>8}"
+    )
+    print(f"{'':<19} {'[us]':>7} {'[us]':>7} {'':>6} {'[us]':>7} {'':>6} {'[us]':>7} {'[us]':>7}")
+    folder = Path(tempfile.mkdtemp())
+    for name in args.ssik_arms or GENERAL_6R:
+        path, module = write_ssik_arm(name, folder)
+        robot = load_robot(path)
+        solver = get_solver(robot)
+        rng = np.random.default_rng(0)
+        q = rng.uniform(robot.lower, robot.upper, (args.targets, 6))
+        poses = batch_forward_kinematics(robot.table, q)
+        peers = _peers(path, module)
+        targets = {
+            "ours": [PoseTarget(T[:3, 3], T[:3, :3]) for T in poses],
+            "ssik": list(poses),
+            **{k: [prepare(pin.SE3(T[:3, :3], T[:3, 3])) for T in poses] for k, (prepare, _) in peers.items()},
+        }  # fmt: skip
+        calls = {"ours": solver.solve, "ssik": module.solve,
+                 **{k: functools.partial(solve, seed=np.zeros(6)) for k, (_, solve) in peers.items()}}  # fmt: skip
+        times: dict[str, list[float]] = {key: [] for key in calls}
+        answers: dict[str, list] = {key: [] for key in calls}
+        keys = list(calls)
+        for i in range(args.targets):
+            for key in keys[i % len(keys) :] + keys[: i % len(keys)]:  # the order rotated
+                target, call = targets[key][i], calls[key]
+                start = time.perf_counter()
+                answer = call(target)
+                times[key].append(time.perf_counter() - start)
+                answers[key].append(answer)
+        us = {key: statistics.median(values) * 1e6 for key, values in times.items()}
+        batch = BatchSolver(robot)  # built once: kin.ik.solve_batch builds it at each call
+        batch_us = _median_us(lambda: batch.solve_poses(poses), 1, 3) / args.targets
+        ours_count = [len(a.solutions) for a in answers["ours"]]
+        ssik_count = [distinct_mod_2pi([s.q for s in a]) for a in answers["ssik"]]
+        same = sum(a == b for a, b in zip(ours_count, ssik_count))
+        trac = f"{sum(bool(a) for a in answers['trac'])}/{args.targets}" if "trac" in us else "-"
         print(
-            f"{label:<9} {solver.name.split(':')[-1]:<11} {counts.mean():8.2f} {solve_us:9.1f} "
-            f"{verified_us:9.1f} {batch / size:9.2f}  {peer_us:9.1f} "
-            f"{verified_us / peer_us:6.2f}  {f'{same}/{compare}':>10}"
-        )
+            f"{name:<19} {us['ours']:7.0f} {us['ssik']:7.0f} {us['ours'] / us['ssik']:6.2f} "
+            + (f"{us['trac']:7.0f} {us['ours'] / us['trac']:6.2f} " if "trac" in us else f"{'-':>7} {'-':>6} ")
+            + (f"{us['eaik']:7.0f} " if "eaik" in us else f"{'-':>7} ")
+            + f"{batch_us:7.0f} {us['ours'] / batch_us:10.1f}  "
+            f"{statistics.median(ours_count):3.0f}/{statistics.median(ssik_count):<4.0f} "
+            f"{f'{same}/{args.targets}':>8} {trac:>8}"
+        )  # fmt: skip
 
 
 def _verified_us(

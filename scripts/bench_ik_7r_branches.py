@@ -24,6 +24,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import importlib  # noqa: E402
 import statistics  # noqa: E402
+import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -35,6 +36,9 @@ from kin import RobotModel, load_robot  # noqa: E402
 from kin.cli import ArgumentParser, positive_int  # noqa: E402
 from kin.ik import PoseTarget, get_solver  # noqa: E402
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ssik_chains import ssik_urdf  # noqa: E402
+
 #: arm -> (our shipped robot, or None: ssik's chain as a URDF; ssik's prebuilt module).
 ARMS: dict[str, tuple[str | None, str]] = {
     "fr3": (None, "franka.fr3_ik"),
@@ -43,46 +47,6 @@ ARMS: dict[str, tuple[str | None, str]] = {
     "panda": ("panda", "franka.panda_ik"),
     "xarm7": ("xarm7", "ufactory.xarm7_ik"),
 }
-
-
-def ssik_urdf(module: ModuleType, name: str) -> str:
-    """The chain ssik baked for an arm (joint origins, axes, limits, tool) as URDF text.
-
-    Joint ``i``'s origin is ``T_right(i-1) T_left(i)`` of ssik's product-of-exponentials form;
-    a joint without limits is ``continuous``; the tool is a fixed joint to ssik's ``EE_LINK``.
-    """
-    from scipy.spatial.transform import Rotation
-
-    def origin(T: np.ndarray) -> str:
-        xyz = " ".join(repr(float(v)) for v in T[:3, 3])
-        rpy = " ".join(repr(float(v)) for v in Rotation.from_matrix(T[:3, :3]).as_euler("xyz"))
-        return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
-
-    lines = [f'<robot name="{name}">', f'<link name="{module.BASE_LINK}"/>']
-    parent, before = module.BASE_LINK, np.eye(4)
-    for i, joint in enumerate(module._JOINT_NAMES):
-        child = f"{name}_link{i + 1}"
-        limits = module._JOINT_LIMITS[i]
-        kind = "continuous" if limits is None else "revolute"
-        limit = (
-            ""
-            if limits is None
-            else f'<limit lower="{limits[0]!r}" upper="{limits[1]!r}" effort="1" velocity="1"/>'
-        )
-        axis = " ".join(repr(float(v)) for v in module._JOINT_AXES[i])
-        lines += [
-            f'<link name="{child}"/>',
-            f'<joint name="{joint}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
-            f'{origin(before @ module._JOINT_T_LEFTS[i])}<axis xyz="{axis}"/>{limit}</joint>',
-        ]
-        parent, before = child, module._JOINT_T_RIGHTS[i]
-    lines += [
-        f'<link name="{module.EE_LINK}"/>',
-        f'<joint name="tool" type="fixed"><parent link="{parent}"/><child link="{module.EE_LINK}"/>'
-        f"{origin(before)}</joint>",
-        "</robot>",
-    ]
-    return "\n".join(lines) + "\n"
 
 
 def load_arm(arm: str, folder: Path) -> tuple[RobotModel, ModuleType]:
