@@ -23,23 +23,16 @@ angles, ``q_i = t_i - theta_i`` joint values [rad]; lengths in [m].
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
-from typing import Any, ClassVar
+from collections.abc import Sequence
+from typing import ClassVar
 
 import numpy as np
 
 from kin._native import twin
 
 from ..structure import SevenDof
-from .subproblems import (
-    ScanJob,
-    call_first_many,
-    harmonic_roots,
-    limit_arcs,
-    pack_params,
-    rotation_pair,
-    scan,
-)
+from .seven_dof_frames import SevenDofFrames
+from .subproblems import harmonic_roots, rotation_pair, scan
 
 _closed7 = twin("_closed7")
 
@@ -49,8 +42,10 @@ COMPILED = _closed7 is not None
 _TWO_PI = 2.0 * math.pi
 
 
-class SevenDofIK:
+class SevenDofIK(SevenDofFrames):
     """Closed-form branches of a :class:`~kin.ik.analytic.structure.SevenDof` arm for chosen free joints.
+
+    Its targets' frames and its twin's parameters: :class:`~.seven_dof_frames.SevenDofFrames`.
 
     Args:
         structure: The arm's parameters.
@@ -58,8 +53,7 @@ class SevenDofIK:
         upper: Upper joint limits [rad] (7).
     """
 
-    #: Whether the compiled twin of :meth:`first` (``_closed7``) is built.
-    compiled_twin: ClassVar[bool] = COMPILED
+    twin_module = _closed7  # its :meth:`first`'s (``compiled_twin``: whether it is built)
     #: The free joint (0-based): joint 1.
     free: ClassVar[int] = 0
 
@@ -77,7 +71,7 @@ class SevenDofIK:
         tool = structure.T_last_tool
         self._tool_r = np.array(tool[:3, :3], dtype=float)
         self._tool_t = np.array(tool[:3, 3], dtype=float)
-        self._c_params: np.ndarray | None = None
+        self._c_params = None
         self._plain = bool(np.array_equal(base, np.eye(4)) and np.array_equal(tool, np.eye(4)))
         s, c = self._sin, self._cos
         # Shoulder point in frame 3: o2 = -Rx(alpha3)^T (a3, 0, d3), whatever t3.
@@ -91,91 +85,6 @@ class SevenDofIK:
         self._axis7 = (0.0, s[6], c[6])
         self._g = (0.0, -s[5], c[5])  # Rx(alpha6) e_z
         self._unlimited: SevenDofIK | None = None
-
-    def c_fields(self) -> dict[str, tuple[float, ...]]:
-        """The compiled twin's parameters by field name (its ``CLOSED7_PARAMS``; lengths [m])."""
-        return {
-            "off": self._offsets,
-            "sin": self._sin,
-            "cos": self._cos,
-            "a": self._a,
-            "d": self._d,
-            "lo": self.lower,
-            "hi": self.upper,
-            "s3": self._shoulder3,
-            "s3_2": (self._shoulder3_2,),
-            "wu": self._wrist_u,
-            "g": self._g,
-            "tool": tuple(self._tool_t.tolist()),
-            "w7": self._wrist7,
-            "ax7": self._axis7,
-            "edge4": self._edge4(),
-            "arc": limit_arcs(self.lower, self.upper, self._offsets, range(1, 7)),
-        }
-
-    def _edge4(self) -> tuple[float, ...]:
-        """Joint 4's limits as the twin's elbow window reads them (``edge4`` in ``_closed7.c``).
-
-        ``cos t4, sin t4`` at the lower and at the upper limit (``t4 = q4 + offset``), then 1 when
-        the limits span a whole turn (every ``t4``), else 0. The Python module does not use it: the
-        twin skips, without solving, the joint-1 values whose elbow has no root in these limits.
-        """
-        low = self.lower[3] + self._offsets[3]
-        high = self.upper[3] + self._offsets[3]
-        turn = float(not high - low < _TWO_PI)
-        return (math.cos(low), math.sin(low), math.cos(high), math.sin(high), turn)
-
-    @property
-    def c_params(self) -> np.ndarray:
-        """:meth:`c_fields` packed in the order the compiled twin declares (``_closed7.LAYOUT``)."""
-        if self._c_params is None:
-            if _closed7 is None:
-                raise RuntimeError(
-                    "the compiled twin kin.ik.analytic.seven_r._closed7 is not built"
-                )
-            self._c_params = pack_params(self.c_fields(), _closed7.LAYOUT)
-        return self._c_params
-
-    @property
-    def twin(self) -> Any:
-        """The compiled twin module (``_closed7``), or None when it is not built."""
-        return _closed7
-
-    def seed_frames(self) -> dict[str, tuple[float, ...]]:
-        """The frames :meth:`prepare` goes through, as the twin's ``seeded`` reads them.
-
-        ``frame_r``, ``frame_t``: ``T_world_base`` of the structure (rotation row-major, origin
-        [m]); ``end_r``, ``end_t``: its ``T_last_tool``; ``point``: unused here (zeros).
-        """
-        return {
-            "frame_r": tuple(self._base_r.ravel().tolist()),
-            "frame_t": tuple(self._base_t.tolist()),
-            "end_r": tuple(self._tool_r.ravel().tolist()),
-            "end_t": tuple(self._tool_t.tolist()),
-            "point": (0.0, 0.0, 0.0),
-        }
-
-    def prepare(self, position: np.ndarray, rotation: np.ndarray | None) -> tuple[int, np.ndarray]:
-        """A target for :meth:`first`: ``(mode, values)`` in DH frame 0.
-
-        Args:
-            position: Tool position in the world frame [m].
-            rotation: Tool rotation ``R_world_tool``, or None for a position target.
-
-        Returns:
-            ``(1, tool point [m])`` for a position; ``(0, frame-7 origin [m] and R_0_7 row-major)``
-            for a full pose.
-        """
-        if rotation is None:
-            if self._plain:
-                return 1, np.ascontiguousarray(position, dtype=float)
-            return 1, np.array(self.frame0(position))
-        if self._plain:
-            r0, p0 = rotation, position
-        else:
-            r0 = self._base_r.T @ rotation @ self._tool_r.T
-            p0 = self._base_r.T @ (position - self._base_t) - r0 @ self._tool_t
-        return 0, np.concatenate((p0, r0.ravel()), dtype=float)
 
     def branches_at(
         self, position: np.ndarray, rotation: np.ndarray | None, values: np.ndarray
@@ -197,49 +106,6 @@ class SevenDofIK:
             if found:
                 out[k, : len(found)] = found
         return out
-
-    def first_many(
-        self,
-        positions: np.ndarray,
-        rotations: np.ndarray | None,
-        starts: np.ndarray,
-        steps: tuple[float, ...],
-        later: bool = False,
-    ) -> np.ndarray | ScanJob | None:
-        """:meth:`first` of N targets, each from its own start, the scan steps in turn.
-
-        The compiled twin in one call (its loop without the GIL); None when it is not built (the
-        caller asks :meth:`first` target by target).
-
-        Args:
-            positions: Tool positions in the world frame [m], (N, 3).
-            rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None for positions.
-            starts: Start joint vectors [rad], (N, 7).
-            steps: Joint-1 scan steps [rad] tried in turn (``0.0``: the start's joint 1 only).
-            later: Start the scan and return at once.
-
-        Returns:
-            (N, 7) the branch of each target nearest its start [rad], NaN rows where none; with
-            ``later``, a :class:`~.subproblems.ScanJob` whose ``result()`` gives them (the scan
-            runs in threads meanwhile: :func:`~.subproblems.call_first_many`).
-        """
-        if _closed7 is None:
-            return None
-        if self._plain:
-            points, frames = positions, rotations
-        else:  # DH frame 0 and frame 7 (as prepare)
-            points = (positions - self._base_t) @ self._base_r
-            frames = None if rotations is None else self._base_r.T @ rotations @ self._tool_r.T
-        mode, targets = 1, points
-        if frames is not None:  # the frame-7 origin and R_0_7
-            n = positions.shape[0]
-            mode, targets = (
-                0,
-                np.concatenate((points - frames @ self._tool_t, frames.reshape(n, 9)), 1),
-            )
-        return call_first_many(
-            _closed7.first_many, (self.c_params, mode), targets, starts, steps, later
-        )
 
     def first(
         self,
@@ -289,7 +155,7 @@ class SevenDofIK:
             clipped = [min(max(v, lo), hi) for v, lo, hi in zip(start, lows, highs)]
             u = None if mode == 0 else self.elbow_vector(*clipped[4:])
             found = []
-            for q1 in self._scan(clipped[0], step):
+            for q1 in scan(clipped[0], step, lows[0], highs[0]):
                 if mode == 0:
                     found = self.pose(q1, frame)
                 else:
@@ -301,62 +167,6 @@ class SevenDofIK:
                 out[:] = found[0]
                 return index
         return -1
-
-    def _scan(self, q1: float, step: float) -> Iterator[float]:
-        """:func:`scan` of joint 1 over its limits."""
-        return scan(q1, step, self.lower[0], self.upper[0])
-
-    def _elbow_vector(self, x: float, y: float, z: float) -> tuple[float, float, float]:
-        """``u`` with ``A4(t4) (x, y, z) = Rz(t4) u`` for a point fixed in frame 4."""
-        s, c = self._sin[3], self._cos[3]
-        return self._a[3] + x, c * y - s * z, self._d[3] + s * y + c * z
-
-    def tool_point4(self, q5: float, q6: float, q7: float) -> tuple[float, float, float]:
-        """The tool origin in frame 4 for wrist joint values ``q5, q6, q7`` [rad] -> [m]."""
-        x, y, z = self._tool_t.tolist()
-        for i in (6, 5, 4):
-            t = (q7, q6, q5)[6 - i] + self._offsets[i]
-            s, c = self._sin[i], self._cos[i]
-            x, y, z = self._a[i] + x, c * y - s * z, self._d[i] + s * y + c * z
-            ct, st = math.cos(t), math.sin(t)
-            x, y = ct * x - st * y, st * x + ct * y
-        return x, y, z
-
-    def frame0(self, position: np.ndarray) -> list[float]:
-        """A world point [m] in DH frame 0."""
-        if self._plain:
-            return position.tolist()
-        return (self._base_r.T @ (position - self._base_t)).tolist()
-
-    def pose_frame(
-        self, position: np.ndarray, rotation: np.ndarray
-    ) -> tuple[tuple[float, ...], ...]:
-        """Per-target constants of a full pose (``T_world_tool``): wrist centre, two frame-7 axes.
-
-        Returns ``(W, X, Z)`` in frame 0: the wrist centre [m], the x axis of frame 7 and the
-        direction ``R07 (0, sin alpha7, cos alpha7)`` (the joint-7 axis of ``M``).
-        """
-        if self._plain:  # DH frame 0 is the world frame, frame 7 the tool frame (no NumPy)
-            return self._frame_of(position.tolist(), rotation.tolist())
-        r0 = self._base_r.T @ rotation @ self._tool_r.T  # R_0_7
-        p0 = self._base_r.T @ (position - self._base_t) - r0 @ self._tool_t
-        return self._frame_of(p0.tolist(), r0.tolist())
-
-    def _frame_of(self, p0: list[float], r0: list[list[float]]) -> tuple[tuple[float, ...], ...]:
-        """:meth:`pose_frame` from frame 7's origin ``p0`` [m] and rotation ``R_0_7`` in frame 0."""
-        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = r0
-        px, py, pz = p0
-        wx, wy, wz = self._wrist7
-        _, ay, az = self._axis7
-        return (
-            (
-                px + r00 * wx + r01 * wy + r02 * wz,
-                py + r10 * wx + r11 * wy + r12 * wz,
-                pz + r20 * wx + r21 * wy + r22 * wz,
-            ),
-            (r00, r10, r20),
-            (r01 * ay + r02 * az, r11 * ay + r12 * az, r21 * ay + r22 * az),
-        )
 
     def _arm(
         self, q1: float, point0: Sequence[float], u: tuple[float, float, float]
@@ -453,10 +263,6 @@ class SevenDofIK:
                 if lo[6] <= q7 <= hi[6]:
                     out.append([q1, q2, q3, q4, q5, q6, q7])
         return out
-
-    def elbow_vector(self, q5: float, q6: float, q7: float) -> tuple[float, float, float]:
-        """``u`` of the tool origin for wrist values ``q5, q6, q7`` [rad] (see :meth:`position`)."""
-        return self._elbow_vector(*self.tool_point4(q5, q6, q7))
 
     def position(
         self,

@@ -12,42 +12,24 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from kin._native import twin
-
 from ...angles import wrap_array
 from ...exceptions import TargetError
-from .shoulder7_structure import SphericalShoulder7R, Vec
-from .subproblems import ScanJob, call_first_many, harmonic_roots_array, rotation_pair_array
-
-_shoulder7 = twin("_shoulder7")
+from .shoulder7_frames import Shoulder7Frames
+from .shoulder7_structure import SphericalShoulder7R
+from .subproblems import harmonic_roots_array, rotation_pair_array
 
 #: Branches per joint-7 value: 2 elbows x 2 wrists x 2 shoulders.
 BRANCHES = 8
 
 
-class Shoulder7Batch:
+class Shoulder7Batch(Shoulder7Frames):
     """:meth:`solve_batch` of a :class:`~.spherical_shoulder7.SphericalShoulder7RIK` (mixed in)."""
 
     structure: SphericalShoulder7R
-    _sin: tuple[float, ...]
-    _cos: tuple[float, ...]
-    _offsets: tuple[float, ...]
     _k_rot: np.ndarray
     _k_pos: np.ndarray
     _tool_rot: np.ndarray
     _tool_pos: np.ndarray
-    _m7_rot: tuple[tuple[float, ...], ...]
-    _c7: Vec
-    _u: Vec
-    _w4: Vec
-    _p4: float
-    _q4: float
-    _k4: float
-
-    @property
-    def c_params(self) -> np.ndarray:  # pragma: no cover - the structure's own
-        """The compiled twin's parameters (:attr:`SphericalShoulder7RIK.c_params`)."""
-        raise NotImplementedError
 
     def solve_batch(
         self, positions: npt.ArrayLike, rotations: npt.ArrayLike, q7: npt.ArrayLike
@@ -131,40 +113,17 @@ class Shoulder7Batch:
         pk = (p - self._k_pos) @ self._k_rot - rk @ self._tool_pos
         return rk, np.einsum("nji,nj->ni", rk, np.asarray(self.structure.shoulder) - pk)
 
-    def first_many(
-        self,
-        positions: np.ndarray,
-        rotations: np.ndarray | None,
-        starts: np.ndarray,
-        steps: tuple[float, ...],
-        later: bool = False,
-    ) -> np.ndarray | ScanJob | None:
-        """:meth:`first` of N targets, each from its own start, the scan steps in turn.
+    def many_targets(
+        self, positions: np.ndarray, rotations: np.ndarray | None
+    ) -> tuple[tuple[()], np.ndarray | None]:
+        """N world poses as the twin's ``first_many`` reads them: ``R_K_J7`` and ``S`` (N, 12).
 
-        The compiled twin in one call (its loop without the GIL); None when it is not built (the
-        caller asks :meth:`first` target by target).
-
-        Args:
-            positions: Tool positions in the world frame [m], (N, 3).
-            rotations: Tool rotations ``R_world_tool`` (N, 3, 3), or None (positions: no answer).
-            starts: Start joint vectors [rad], (N, 7).
-            steps: Joint-7 scan steps [rad] tried in turn (``0.0``: the start's joint 7 only).
-            later: Start the scan and return at once.
-
-        Returns:
-            (N, 7) the branch of each target nearest its start [rad], NaN rows where none; with
-            ``later``, a :class:`~.subproblems.ScanJob` whose ``result()`` gives them (the scan
-            runs in threads meanwhile: :func:`~.subproblems.call_first_many`).
+        None for positions (this form takes no point: every row of the answer NaN).
         """
-        if _shoulder7 is None:
-            return None
-        targets = None
-        if rotations is not None:
-            rk, e = self._prepare_array(positions, rotations)
-            targets = np.concatenate((rk.reshape(-1, 9), e), axis=1)
-        return call_first_many(
-            _shoulder7.first_many, (self.c_params,), targets, starts, steps, later
-        )
+        if rotations is None:
+            return (), None
+        rk, e = self._prepare_array(positions, rotations)
+        return (), np.concatenate((rk.reshape(-1, 9), e), axis=1)
 
 
 def _back_array(

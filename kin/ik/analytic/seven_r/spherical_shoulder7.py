@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -42,8 +42,6 @@ from .shoulder7_batch import BRANCHES, Shoulder7Batch
 from .shoulder7_structure import SphericalShoulder7R, inverse_point
 from .subproblems import (
     harmonic_roots,
-    limit_arcs,
-    pack_params,
     rotation_pair,
     scan,
 )
@@ -66,8 +64,7 @@ class SphericalShoulder7RIK(Shoulder7Batch):
         upper: Upper joint limits [rad] (7).
     """
 
-    #: Whether the compiled twin of :meth:`first` (``_shoulder7``) is built.
-    compiled_twin: ClassVar[bool] = COMPILED
+    twin_module = _shoulder7  # its :meth:`first`'s (``compiled_twin``: whether it is built)
     #: The free joint (0-based): joint 7.
     free: ClassVar[int] = 6
 
@@ -94,130 +91,13 @@ class SphericalShoulder7RIK(Shoulder7Batch):
         self._p4 = u[0] * w[0] + u[1] * w[1]
         self._q4 = u[1] * w[0] - u[0] * w[1]
         self._k4 = 0.5 * (sum(v * v for v in u) + sum(v * v for v in w)) - u[2] * w[2]
-        self._reach2 = self._elbow_range()
+        self._reach2 = self.elbow_range()
         self._k_flat = tuple(self._k_rot.ravel().tolist())
         self._k_t = tuple(self._k_pos.tolist())
         self._tool_flat = tuple(self._tool_rot.ravel().tolist())
         self._tool_t = tuple(self._tool_pos.tolist())
         self._shoulder_z = structure.shoulder[2]
-        self._c_params: np.ndarray | None = None
-
-    def c_fields(self) -> dict[str, tuple[float, ...]]:
-        """The compiled twin's parameters by field name (its ``SHOULDER7_PARAMS``; lengths [m])."""
-        return {
-            "off": self._offsets,
-            "sin": self._sin,
-            "cos": self._cos,
-            "lo": self.lower,
-            "hi": self.upper,
-            "c7": self._c7,
-            "u": self._u,
-            "w4": self._w4,
-            "elbow": (self._p4, self._q4, self._k4),
-            "reach2": self._reach2,
-            "m7": tuple(v for row in self._m7_rot for v in row),
-            "arc": limit_arcs(self.lower, self.upper, self._offsets, range(6)),
-        }
-
-    @property
-    def c_params(self) -> np.ndarray:
-        """:meth:`c_fields` packed in the order the compiled twin declares (``_shoulder7.LAYOUT``)."""
-        if self._c_params is None:
-            if _shoulder7 is None:
-                raise RuntimeError(
-                    "the compiled twin kin.ik.analytic.seven_r._shoulder7 is not built"
-                )
-            self._c_params = pack_params(self.c_fields(), _shoulder7.LAYOUT)
-        return self._c_params
-
-    def _elbow_range(self) -> tuple[float, float]:
-        """``|S - W|^2`` [m^2] over joint 4's limits: ``(min, max)``, widened by rounding slack.
-
-        ``|S - W|^2 = 2 (k - p cos t4 - q sin t4)``; :meth:`first` skips the joint-7 values whose
-        distance is outside this range (no branch inside joint 4's limits) before solving.
-        """
-        p, q, k = self._p4, self._q4, self._k4
-        low = self.lower[3] + self._offsets[3]
-        high = self.upper[3] + self._offsets[3]
-        values = [p * math.cos(t) + q * math.sin(t) for t in (low, high)]
-        rho, phi = math.hypot(p, q), math.atan2(q, p)
-        for peak, value in ((phi, rho), (phi + math.pi, -rho)):
-            if high - low >= _TWO_PI or low <= low + (peak - low) % _TWO_PI <= high:
-                values.append(value)
-        slack = 1e-9 * (1.0 + abs(k) + rho)
-        return 2.0 * (k - max(values)) - slack, 2.0 * (k - min(values)) + slack
-
-    @property
-    def twin(self) -> Any:
-        """The compiled twin module (``_shoulder7``), or None when it is not built."""
-        return _shoulder7
-
-    def seed_frames(self) -> dict[str, tuple[float, ...]]:
-        """The frames :meth:`prepare` goes through, as the twin's ``seeded`` reads them.
-
-        ``frame_r``, ``frame_t``: the base frame ``K`` (rotation row-major, origin [m]);
-        ``end_r``, ``end_t``: the tool ``M_8`` in joint 7's frame; ``point``: the shoulder point
-        ``S`` in ``K`` [m].
-        """
-        return {
-            "frame_r": self._k_flat,
-            "frame_t": self._k_t,
-            "end_r": self._tool_flat,
-            "end_t": self._tool_t,
-            "point": (0.0, 0.0, float(self._shoulder_z)),
-        }
-
-    def prepare(
-        self, position: np.ndarray, rotation: np.ndarray | None
-    ) -> tuple[float, ...] | None:
-        """A target for :meth:`first` and :meth:`branches`, or None for a position (not handled).
-
-        Args:
-            position: Tool position in the world frame [m].
-            rotation: Tool rotation ``R_world_tool``, or None.
-
-        Returns:
-            ``R_K_J7`` (9 values, row-major) and ``S`` seen from ``J_7`` (3 values, [m]).
-        """
-        if rotation is None:
-            return None
-        # Plain floats, unrolled (NumPy on 3 x 3, or loops, cost microseconds here).
-        k00, k01, k02, k10, k11, k12, k20, k21, k22 = self._k_flat
-        m00, m01, m02, m10, m11, m12, m20, m21, m22 = self._tool_flat
-        (w00, w01, w02), (w10, w11, w12), (w20, w21, w22) = rotation.tolist()
-        # R_K_J7 = K^T R_world_tool M_8^T; p_K_J7 = K^T (p - k) - R_K_J7 t_8. First A = K^T R.
-        a00 = k00 * w00 + k10 * w10 + k20 * w20
-        a01 = k00 * w01 + k10 * w11 + k20 * w21
-        a02 = k00 * w02 + k10 * w12 + k20 * w22
-        a10 = k01 * w00 + k11 * w10 + k21 * w20
-        a11 = k01 * w01 + k11 * w11 + k21 * w21
-        a12 = k01 * w02 + k11 * w12 + k21 * w22
-        a20 = k02 * w00 + k12 * w10 + k22 * w20
-        a21 = k02 * w01 + k12 * w11 + k22 * w21
-        a22 = k02 * w02 + k12 * w12 + k22 * w22
-        r00 = a00 * m00 + a01 * m01 + a02 * m02
-        r01 = a00 * m10 + a01 * m11 + a02 * m12
-        r02 = a00 * m20 + a01 * m21 + a02 * m22
-        r10 = a10 * m00 + a11 * m01 + a12 * m02
-        r11 = a10 * m10 + a11 * m11 + a12 * m12
-        r12 = a10 * m20 + a11 * m21 + a12 * m22
-        r20 = a20 * m00 + a21 * m01 + a22 * m02
-        r21 = a20 * m10 + a21 * m11 + a22 * m12
-        r22 = a20 * m20 + a21 * m21 + a22 * m22
-        kx, ky, kz = self._k_t
-        px, py, pz = position.tolist()
-        x, y, z = px - kx, py - ky, pz - kz
-        # S seen from J_7: R_K_J7^T (S - p_K_J7) = R_K_J7^T (S - K^T (p - k)) + t_8.
-        gx = -(k00 * x + k10 * y + k20 * z)
-        gy = -(k01 * x + k11 * y + k21 * z)
-        gz = self._shoulder_z - (k02 * x + k12 * y + k22 * z)
-        tx, ty, tz = self._tool_t
-        return (
-            r00, r01, r02, r10, r11, r12, r20, r21, r22,
-            r00 * gx + r10 * gy + r20 * gz + tx,
-            r01 * gx + r11 * gy + r21 * gz + ty,
-            r02 * gx + r12 * gy + r22 * gz + tz,
-        )  # fmt: skip
+        self._c_params = None
 
     def branches(
         self, target: tuple[float, ...], q7: float, fit: Callable[[int, float], float | None]
@@ -280,21 +160,15 @@ class SphericalShoulder7RIK(Shoulder7Batch):
             z4 = (s4 * s[4], c[5] * zy + s[5] * zz, c[5] * zz - s[5] * zy)
             x4 = (c4, -c[5] * s4, s[5] * s4)
             for w, (t5, t6) in enumerate(rotation_pair(s[6], c[6], v6x, v6y, v6z, vx, dy, dz)):
-                q5 = fit(4, t5 - off[4])
-                if q5 is None:
-                    continue
-                q6 = fit(5, t6 - off[5])
-                if q6 is None:
+                q5, q6 = fit(4, t5 - off[4]), fit(5, t6 - off[5])
+                if q5 is None or q6 is None:
                     continue
                 turn = (cos(t5), sin(t5), s[6], c[6], cos(t6), sin(t6))
                 z = _back(k6, turn, *z4)
                 x = _back(k6, turn, *x4)
                 for h, (t1, t2) in enumerate(rotation_pair(s[2], c[2], 0.0, -s[3], c[3], *z)):
-                    q1 = fit(0, t1 - off[0])
-                    if q1 is None:
-                        continue
-                    q2 = fit(1, t2 - off[1])
-                    if q2 is None:
+                    q1, q2 = fit(0, t1 - off[0]), fit(1, t2 - off[1])
+                    if q1 is None or q2 is None:
                         continue
                     # t3: Rx3^T Rz(-t2) Rx2^T Rz(-t1) x_3 = (cos t3, sin t3, 0).
                     ct, st = cos(t1), sin(t1)
