@@ -68,6 +68,7 @@ ORDER_BEFORE = (
     "ParallelAxes2",
     "Offset3R",
     "ParallelAxes3",
+    "Wrist3",  # added after the precedence field (45): a wrist alone, three axes through a point
     "ParallelAxes",
     "YawPlanar",
     "YawPlanarRoll",

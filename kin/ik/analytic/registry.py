@@ -32,6 +32,7 @@ from .six_r.general_6r import General6R
 from .six_r.pieper import Pieper6R
 from .six_r.reversed_chain import Reversed6R
 from .six_r.three_parallel import ThreeParallel6R
+from .three_joint.wrist3 import Wrist3
 
 
 @dataclass(frozen=True)
@@ -63,6 +64,7 @@ SHIPPED: tuple[ClosedFormEntry, ...] = (
     ClosedFormEntry(
         ParallelAxes3, 40, "every axis parallel, 3 joints: planar 3R, planar 2R with a slide"
     ),
+    ClosedFormEntry(Wrist3, 45, "three revolute axes through one point: a wrist alone"),
     ClosedFormEntry(
         ParallelAxes, 50, "every axis parallel, 4 joints: SCARA, before the yaw-planar arms"
     ),
