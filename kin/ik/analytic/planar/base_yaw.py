@@ -20,6 +20,7 @@ import numpy as np
 from dh2urdf import DHTable
 
 from ...exceptions import StructureError
+from ..per_target_batch import PerTargetBatch
 from .plane_chain import PARALLEL_TOL, joint_axes
 
 #: A 3-vector as an array or plain floats.
@@ -65,7 +66,17 @@ def turn(axis: Point, c: float, s: float, v: Point) -> Point:
     )
 
 
-class BaseYaw:
+def dot(u: Sequence[float], v: Sequence[float]) -> float:
+    """``u . v`` of two 3-vectors in plain floats."""
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def apply_rows(rows: Sequence[Sequence[float]], v: Sequence[float]) -> Point:
+    """``R v`` of a rotation given as rows of plain floats."""
+    return (dot(rows[0], v), dot(rows[1], v), dot(rows[2], v))
+
+
+class BaseYaw(PerTargetBatch):
     """A base yaw normal to the parallel pitch axes that follow it (see the module).
 
     Attributes:

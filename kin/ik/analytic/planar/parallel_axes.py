@@ -31,12 +31,13 @@ from dh2urdf import DHTable
 from ...exceptions import StructureError
 from ...target import PoseTarget, PositionTarget, Target
 from ..branches import REACH_TOL, Branches
-from ..closed_form_structure import BatchBranches, candidate_branches
+from ..closed_form_structure import candidate_branches
+from ..per_target_batch import PerTargetBatch
 from .free_angle import compiled_walk, free_angle_branches, free_label
 from .plane_chain import PlaneChain, joint_axes, solve_angles
 
 
-class ParallelAxes(PlaneChain):
+class ParallelAxes(PlaneChain, PerTargetBatch):
     """The closed form of an arm with every joint axis parallel (see the module).
 
     Attributes:
@@ -146,20 +147,6 @@ class ParallelAxes(PlaneChain):
         if free:
             branches.thetas = [(t, f"{label}, {free}") for t, label in branches.thetas]
         return branches
-
-    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
-        """:meth:`solve_batch` (a free yaw from ``q = 0``); no elbow side (all False)."""
-        q = self.solve_batch(positions, rotations)
-        return BatchBranches(q, np.zeros(q.shape[:2], dtype=bool))
-
-    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
-        """:meth:`solve` of N targets: (N, 2, dof)."""
-        return np.array(
-            [
-                self.solve(p, None if rotations is None else r)
-                for p, r in zip(positions, rotations if rotations is not None else positions)
-            ]
-        )
 
 
 class ParallelAxes3(ParallelAxes):

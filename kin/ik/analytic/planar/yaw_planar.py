@@ -33,7 +33,7 @@ from dh2urdf import DHTable
 
 from ...target import PoseTarget, PositionTarget, Target
 from ..branches import Branches
-from ..closed_form_structure import BatchBranches, candidate_branches
+from ..closed_form_structure import candidate_branches
 from .base_yaw import BaseYaw, Point, Vector, plane_yaws
 from .free_angle import Row, compiled_walk, free_angle_branches, free_label, row_inside
 from .plane_chain import PlaneChain, solve_angles
@@ -171,14 +171,3 @@ class YawPlanar(BaseYaw):
         branches = candidate_branches(self, q, self.offsets)
         branches.thetas = [(t, f"{label}, {free}") for t, label in branches.thetas]
         return branches
-
-    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
-        """:meth:`solve_batch`; no elbow side (all False)."""
-        q = self.solve_batch(positions, rotations)
-        return BatchBranches(q, np.zeros(q.shape[:2], dtype=bool))
-
-    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
-        """:meth:`solve` of N targets: (N, 4, 4)."""
-        if rotations is None:
-            return np.array([self.solve(p, None) for p in positions]).reshape(-1, 4, 4)
-        return np.array([self.solve(p, r) for p, r in zip(positions, rotations)]).reshape(-1, 4, 4)

@@ -32,16 +32,12 @@ from dh2urdf import DHTable
 from ...exceptions import StructureError
 from ...target import PoseTarget, PositionTarget, Target
 from ..branches import Branches
-from ..closed_form_structure import BatchBranches, candidate_branches
-from .base_yaw import BaseYaw, Point, turn
+from ..closed_form_structure import candidate_branches
+from .base_yaw import BaseYaw, Point, apply_rows, dot, turn
 from .plane_chain import PlaneChain
 
 #: Largest distance [m] of the tool point from joint 4's axis.
 ON_AXIS_TOL = 1e-9
-
-
-def _dot(u: Point, v: Point) -> float:
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
 class YawPlanarRoll(BaseYaw):
@@ -104,11 +100,9 @@ class YawPlanarRoll(BaseYaw):
         r = np.asarray(rotation, dtype=float).tolist()
         n1 = self._yaw_axes[0]
         c1, s1 = math.cos(q[0]), -math.sin(q[0])
-        back = [self._back_turned(turn(n1, c1, s1, _apply(r, b)), q) for b in self._tool_basis]
+        back = [self._back_turned(turn(n1, c1, s1, apply_rows(r, b)), q) for b in self._tool_basis]
         e1, e2 = self._basis
-        return math.atan2(
-            _dot(e2, back[0]) - _dot(e1, back[1]), _dot(e1, back[0]) + _dot(e2, back[1])
-        )
+        return math.atan2(dot(e2, back[0]) - dot(e1, back[1]), dot(e1, back[0]) + dot(e2, back[1]))
 
     def _back_turned(self, v: Point, q: np.ndarray | Sequence[float]) -> Point:
         """``R3^T R2^T v`` at the branch's ``q2, q3`` [rad]."""
@@ -146,19 +140,3 @@ class YawPlanarRoll(BaseYaw):
             (t, f"{label}, joint 4 free: the seed's value") for t, label in branches.thetas
         ]
         return branches
-
-    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
-        """:meth:`solve_batch`; no elbow side (all False)."""
-        q = self.solve_batch(positions, rotations)
-        return BatchBranches(q, np.zeros(q.shape[:2], dtype=bool))
-
-    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
-        """:meth:`solve` of N targets: (N, 4, 4)."""
-        if rotations is None:
-            return np.array([self.solve(p, None) for p in positions]).reshape(-1, 4, 4)
-        return np.array([self.solve(p, r) for p, r in zip(positions, rotations)]).reshape(-1, 4, 4)
-
-
-def _apply(rows: list[list[float]], v: Point) -> Point:
-    """``R v`` of a rotation given as rows of plain floats."""
-    return (_dot(rows[0], v), _dot(rows[1], v), _dot(rows[2], v))  # type: ignore[arg-type]

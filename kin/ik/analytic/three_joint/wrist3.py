@@ -29,16 +29,13 @@ from dh2urdf import DHTable
 from ...exceptions import StructureError
 from ...target import PoseTarget, PositionTarget, Target
 from ..branches import REACH_TOL, Branches
-from ..closed_form_structure import BatchBranches, candidate_branches
-from ..planar.base_yaw import Point, turn
+from ..closed_form_structure import candidate_branches
+from ..per_target_batch import PerTargetBatch
+from ..planar.base_yaw import Point, apply_rows, dot, turn
 from ..planar.plane_chain import PARALLEL_TOL, joint_axes
 
 #: Largest distance [m] of an axis from the common centre.
 MEET_TOL = 1e-9
-
-
-def _dot(u: Point, v: Point) -> float:
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
 def _cross(u: Point, v: Point) -> Point:
@@ -50,13 +47,13 @@ def turn_angle(axis: Point, p: Point, d: Point) -> float | None:
 
     None when either is along the axis (any angle does it).
     """
-    a = _dot(axis, p)
-    b = _dot(axis, d)
+    a = dot(axis, p)
+    b = dot(axis, d)
     pp = (p[0] - a * axis[0], p[1] - a * axis[1], p[2] - a * axis[2])
     dd = (d[0] - b * axis[0], d[1] - b * axis[1], d[2] - b * axis[2])
-    if _dot(pp, pp) < 1e-24 or _dot(dd, dd) < 1e-24:
+    if dot(pp, pp) < 1e-24 or dot(dd, dd) < 1e-24:
         return None
-    return math.atan2(_dot(axis, _cross(pp, dd)), _dot(pp, dd))
+    return math.atan2(dot(axis, _cross(pp, dd)), dot(pp, dd))
 
 
 def rotation_pair(u1: Point, u2: Point, p: Point, d: Point) -> list[tuple[float, float]]:
@@ -66,13 +63,13 @@ def rotation_pair(u1: Point, u2: Point, p: Point, d: Point) -> list[tuple[float,
     ``c = Rot(u2, q2) p = Rot(u1, -q1) d`` has ``u1 . c = u1 . d``, ``u2 . c = u2 . p`` and
     ``|c| = |p|``: two (one at a tangency, none when the cones miss each other).
     """
-    k = _dot(u1, u2)
+    k = dot(u1, u2)
     w = _cross(u1, u2)
-    ww = _dot(w, w)
-    a1, a2 = _dot(u1, d), _dot(u2, p)
+    ww = dot(w, w)
+    a1, a2 = dot(u1, d), dot(u2, p)
     alpha = (a1 - k * a2) / ww
     beta = (a2 - k * a1) / ww
-    square = (_dot(p, p) - alpha * alpha - beta * beta - 2.0 * alpha * beta * k) / ww
+    square = (dot(p, p) - alpha * alpha - beta * beta - 2.0 * alpha * beta * k) / ww
     if square < -1e-12:
         return []
     gammas = (0.0,) if square <= 0.0 else (math.sqrt(square), -math.sqrt(square))
@@ -85,7 +82,7 @@ def rotation_pair(u1: Point, u2: Point, p: Point, d: Point) -> list[tuple[float,
     return pairs
 
 
-class Wrist3:
+class Wrist3(PerTargetBatch):
     """Three revolute joints whose axes meet at one point (see the module).
 
     Attributes:
@@ -130,6 +127,7 @@ class Wrist3:
         normal3 = np.cross(units[2], helper)
         self._normal3 = tuple((normal3 / np.linalg.norm(normal3)).tolist())
         self._tool_normal3 = tuple((self.tool_rotation.T @ np.array(self._normal3)).tolist())
+        self._tool_u3 = tuple((self.tool_rotation.T @ units[2]).tolist())
 
     @classmethod
     def recognise(cls, table: DHTable) -> Wrist3:
@@ -144,8 +142,8 @@ class Wrist3:
         """The two branches ``q`` [rad] of a tool rotation ``R_world_tool`` (NaN rows: none)."""
         r = np.asarray(rotation, dtype=float).tolist()
         u1, u2, u3 = self.axes
-        m_u3 = self._apply(r, self.tool_rotation.T @ np.array(u3))  # M u3 = R R0^T u3
-        m_v = self._apply(r, self._tool_normal3)  # M v, v normal to u3
+        m_u3 = apply_rows(r, self._tool_u3)  # M u3 = R R0^T u3
+        m_v = apply_rows(r, self._tool_normal3)  # M v, v normal to u3
         rows = []
         for q1, q2 in rotation_pair(u1, u2, u3, m_u3):
             back = turn(u1, math.cos(q1), -math.sin(q1), m_v)
@@ -154,12 +152,6 @@ class Wrist3:
             rows.append((q1, q2, 0.0 if q3 is None else q3))
         rows.extend([(math.nan,) * 3] * (2 - len(rows)))
         return rows
-
-    @staticmethod
-    def _apply(rows: list[list[float]], v: Sequence[float] | np.ndarray) -> Point:
-        """``R v`` of a rotation given as rows of plain floats."""
-        x, y, z = (float(value) for value in v)
-        return tuple(row[0] * x + row[1] * y + row[2] * z for row in rows)  # type: ignore[return-value]
 
     def position_rows(self, position: np.ndarray, q3: float) -> list[tuple[float, ...]]:
         """The branches ``q`` [rad] of a tool point with joint 3 at ``q3`` (NaN rows: none)."""
@@ -200,14 +192,3 @@ class Wrist3:
         branches = candidate_branches(self, np.array(rows, dtype=float), self.offsets)
         branches.thetas = [(t, f"{label}, {free}") for t, label in branches.thetas]
         return branches
-
-    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
-        """:meth:`solve_batch`; no elbow side (all False)."""
-        q = self.solve_batch(positions, rotations)
-        return BatchBranches(q, np.zeros(q.shape[:2], dtype=bool))
-
-    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
-        """:meth:`solve` of N targets: (N, 2, 3)."""
-        if rotations is None:
-            return np.array([self.solve(p, None) for p in positions]).reshape(-1, 2, 3)
-        return np.array([self.solve(p, r) for p, r in zip(positions, rotations)]).reshape(-1, 2, 3)
