@@ -172,7 +172,7 @@ class CollisionAwareSolver:
         free: list[IKSolution] = []
         colliding: list[IKSolution] = []
         for solution in solutions:
-            q = np.asarray(solution.q, dtype=float)
+            q = solution.q  # in_collision takes a float64 vector as it is, converts the rest
             if checker.in_collision(q):
                 colliding.append(_rejected(solution, collision_reason(checker, q)))
             else:
