@@ -15,18 +15,16 @@ kind the closed form does not take goes to the numeric or the partial-pose solve
 from __future__ import annotations
 
 import logging
-import math
 import threading
 import time
 from typing import Any
 
-import numpy as np
 import numpy.typing as npt
 
 from kin import RobotModel
 from kin.configuration import default_seed, seed_inside
 
-from ..exceptions import StructureError, TargetError
+from ..exceptions import StructureError
 from ..judge import ToolJudge
 from ..result import IKResult
 from ..target import (
@@ -38,21 +36,19 @@ from ..target import (
     is_partial,
     kind_error,
 )
-from .branch_verification import BranchVerification
-from .branches import Branches
+from .closed_form_routes import ClosedFormRoutes
 from .closed_form_structure import (
     ClosedFormStructure,
     DetailedStructure,
-    candidate_branches,
 )
-from .idealised import Idealised, idealise, polish
+from .idealised import Idealised, idealise
 from .joint_directions import forward_table, mirrored_limits, reversed_joints
 from .registry import recognise_turned
 
 logger = logging.getLogger(__name__)
 
 
-class ClosedFormSolver(BranchVerification):
+class ClosedFormSolver(ClosedFormRoutes):
     """Every closed-form IK branch of one small arm, verified with Pinocchio.
 
     Args:
@@ -172,73 +168,6 @@ class ClosedFormSolver(BranchVerification):
         extra = tuple(kind for kind in (PoseTarget, AxisTarget) if kind not in kinds)
         return (*kinds, *extra)
 
-    @property
-    def partial(self) -> Any:
-        """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use.
-
-        This closed form's branches are its candidates, then weighted least squares.
-        """
-        if self._partial is None:
-            from ..partial_pose import PartialPoseIK
-
-            # The numeric solver's seed table gives starts in the right basin where the closed
-            # form's branches miss (a five-joint arm's masked poses: a thin set).
-            self._partial = PartialPoseIK(
-                self.robot,
-                self.structure,
-                self.name,
-                samples=self.numeric.nearest_samples,
-                pose_candidates=self.pose_candidates,
-            )
-        return self._partial
-
-    def pose_candidates(
-        self, position: np.ndarray, rotations: np.ndarray, seed: npt.ArrayLike
-    ) -> list[tuple[np.ndarray, str]]:
-        """The closed form's branches of full poses, as the arm's joint vectors, not yet judged.
-
-        The candidates of the partial-pose solver (:mod:`kin.ik.partial_pose`): for each tool
-        rotation of ``rotations`` (K, 3, 3) at ``position`` [m] (world frame), every branch of the
-        structure, the idealised structure's polished on the true chain (:mod:`.idealised`),
-        turned into the arm's joints (offsets and directions applied). Neither wrapped into the
-        limits nor measured: the caller judges them on the components it constrains.
-
-        Args:
-            position: Tool position [m], world frame.
-            rotations: Tool rotations (K, 3, 3), world frame.
-            seed: Joint vector [rad] inside the limits (a free joint's value at a singularity).
-        """
-        if PoseTarget not in self._kinds:
-            return []
-        forward = seed if self._directions is None else self._forward_seed(seed)
-        seed_list = self._seed_list(forward)
-        out: list[tuple[np.ndarray, str]] = []
-        with self._lock:
-            for rotation in rotations:
-                target = PoseTarget(position, rotation)
-                branches = self._branches(target, seed_list)
-                if branches.status == "out_of_reach":
-                    continue
-                if self.idealised is not None:
-                    branches = self._polished(branches, target)
-                for thetas, label in branches.thetas:
-                    q = np.subtract(thetas, self._offsets)
-                    if self._directions is not None:
-                        q = q * self._directions
-                    out.append((q, label))
-        return out
-
-    @property
-    def numeric(self) -> Any:
-        """The numeric solver of the same robot, for the target kinds the closed form lacks."""
-        if self._numeric is None:
-            from ..numeric.solver import NumericIK
-
-            # Built inside a solve: its seed table within that call's budget, or in the
-            # background for the next calls (NumericIK.solve).
-            self._numeric = NumericIK(self.robot, closed_form=False, prepare=False)
-        return self._numeric
-
     def _failure(
         self, status: str, message: str, start: float, gap: float | None = None, target: Any = None
     ) -> IKResult:
@@ -265,15 +194,6 @@ class ClosedFormSolver(BranchVerification):
             return f"{message}: the target is {text}", beyond
         text = f"{distance:.4g} m from the base, within the arm's reach of {reach.maximum:.4g} m"
         return f"{message} (the target is {text}: not with this orientation)", gap
-
-    def _branches(self, target: Target, seed: list[float]) -> Branches:
-        """Branches (DH angles) of a target of the closed form's kinds, in the world frame."""
-        structure = self.structure
-        if self._detailed:
-            return structure.branches(target, seed)  # type: ignore[attr-defined]
-        rotation = target.rotation if isinstance(target, PoseTarget) else None
-        candidates = structure.solve(target.position, rotation)
-        return candidate_branches(structure, candidates, self._offsets)
 
     def solve(
         self, target: Target, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
@@ -345,104 +265,3 @@ class ClosedFormSolver(BranchVerification):
             method = "closed_form_polished"
         valid, rejected = self._verify(target, branches, seed_list, p, r)
         return self._result(valid, rejected, branches.status, branches.message, start, method)
-
-    def _pose_from_branches(
-        self, target: PoseTarget, seed: npt.ArrayLike | None, start: float
-    ) -> IKResult | None:
-        """A full pose by its closed form's branches, measured on the whole pose.
-
-        The branches of its position (or of its projection on the arm's poses) are every joint
-        vector that can reach the pose: those that do (the judge, at the solver's tolerances)
-        are the answer. None when none does (no warning): the partial-pose solver then gives
-        the nearest pose, or the answer at its looser tolerances.
-        """
-        if self._directions is not None and seed is not None:
-            seed = self._forward_seed(seed)
-        seed_list = self._seed_list(seed)
-        if not target.finite or self.idealised is not None:
-            return None
-        if PoseTarget in self._kinds:  # the projection of the pose on the arm's poses
-            branches = self._branches(target, seed_list)
-        elif self._detailed:  # it reads the target's position
-            branches = self.structure.branches(target, seed_list)  # type: ignore[attr-defined]
-        else:
-            candidates = self.structure.solve(target.position, None)
-            branches = candidate_branches(self.structure, candidates, self._offsets)
-        if branches.status == "out_of_reach":
-            return None
-        p, r = target.position.tolist(), target.rotation.tolist()
-        valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
-        if not valid:
-            return None
-        return self._result(valid, rejected, branches.status, branches.message, start)
-
-    def _polished(self, branches: Branches, target: Target) -> Branches:
-        """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`)."""
-        judge, offsets = self._judge, self._offsets
-        rotation = target.rotation if isinstance(target, PoseTarget) else None
-        signs = 1.0 if self._directions is None else self._directions  # q' <-> q (the judge's)
-        moved = []
-        for thetas, label in branches.thetas:
-            q = np.subtract(thetas, offsets) * signs
-            q = polish(judge.model, judge.data, judge.frame_id, q, target.position, rotation)
-            moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
-        branches.thetas = moved
-        return branches
-
-    def _forward_seed(self, seed: npt.ArrayLike) -> npt.ArrayLike:
-        """The seed ``q`` [rad] as the forward table's ``q' = direction * q``.
-
-        A seed of the wrong size, or with a value that is not finite, is returned as given, for
-        :meth:`_seed_list` to name.
-        """
-        directions = self._directions
-        assert directions is not None
-        if (
-            seed.__class__ is np.ndarray
-            and seed.shape == directions.shape  # type: ignore[union-attr]
-            and seed.dtype == np.float64  # type: ignore[union-attr]
-            and math.isfinite(sum(seed.tolist()))  # type: ignore[union-attr]
-        ):
-            return seed * directions  # the common case: one check
-        values = np.asarray(seed, dtype=float).reshape(-1)
-        if values.shape != directions.shape or not np.isfinite(values).all():
-            return seed
-        return values * directions
-
-    def _seed_list(self, seed: npt.ArrayLike | None) -> list[float]:
-        """The seed as floats [rad] (zeros if None).
-
-        Raises:
-            TargetError: The seed has the wrong size or a value that is not finite.
-        """
-        if seed is None:
-            return self._zero_seed
-        nq = len(self._lower)
-        if seed.__class__ is np.ndarray and seed.shape == (nq,):  # type: ignore[union-attr]
-            seed_list = seed.tolist()  # type: ignore[union-attr]
-            if math.isfinite(sum(seed_list)):  # the common case: one check, no copy
-                return seed_list
-        seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
-        if len(seed_list) != nq:
-            raise TargetError(
-                f"the seed of '{self.robot.name}' must have {nq} values, got {len(seed_list)}"
-            )
-        if not all(math.isfinite(v) for v in seed_list):
-            raise TargetError(f"the seed must be finite, got {seed_list}")
-        return seed_list
-
-    def _solve_numeric(
-        self, target: Target, seed: npt.ArrayLike | None, timeout: float | None
-    ) -> IKResult:
-        """A target the closed form does not take, by the numeric solver.
-
-        The arm is redundant for it (a position on a five-joint arm): the seed is also the
-        preferred posture, so the answer stays near it (a path's samples do not jump).
-        """
-        from ..numeric.numeric_target import NumericTarget
-
-        if seed is None or not target.finite:
-            return self.numeric.solve(target, seed, timeout=timeout)
-        posture = np.asarray(seed, dtype=float).reshape(-1)
-        preferred = NumericTarget.from_arrays(target.position, None, posture=posture)
-        return self.numeric.solve(preferred, posture, timeout=timeout)

@@ -1,0 +1,92 @@
+"""The branches of a closed-form arm's target, in its joints (:class:`ClosedFormBranches`).
+
+What :class:`~.closed_form.ClosedFormSolver` asks before it judges: the structure's branches of
+a target (DH angles, world frame), an idealised structure's polished on the true chain
+(:mod:`.idealised`), and the caller's seed as the structure's joints (``q' = direction * q``
+when the table reverses a joint or the structure turns an axis over, :mod:`.joint_directions`),
+checked once. Angles in [rad], lengths in [m].
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+from ..exceptions import TargetError
+from ..target import PoseTarget, Target
+from .branch_verification import BranchVerification
+from .branches import Branches
+from .closed_form_structure import candidate_branches
+from .idealised import polish
+
+
+class ClosedFormBranches(BranchVerification):
+    """Branches and seeds of :class:`~.closed_form.ClosedFormSolver` (mixed in)."""
+
+    _detailed: bool
+
+    def _branches(self, target: Target, seed: list[float]) -> Branches:
+        """Branches (DH angles) of a target of the closed form's kinds, in the world frame."""
+        structure = self.structure
+        if self._detailed:
+            return structure.branches(target, seed)  # type: ignore[attr-defined]
+        rotation = target.rotation if isinstance(target, PoseTarget) else None
+        candidates = structure.solve(target.position, rotation)
+        return candidate_branches(structure, candidates, self._offsets)
+
+    def _polished(self, branches: Branches, target: Target) -> Branches:
+        """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`)."""
+        judge, offsets = self._judge, self._offsets
+        rotation = target.rotation if isinstance(target, PoseTarget) else None
+        signs = 1.0 if self._directions is None else self._directions  # q' <-> q (the judge's)
+        moved = []
+        for thetas, label in branches.thetas:
+            q = np.subtract(thetas, offsets) * signs
+            q = polish(judge.model, judge.data, judge.frame_id, q, target.position, rotation)
+            moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
+        branches.thetas = moved
+        return branches
+
+    def _forward_seed(self, seed: npt.ArrayLike) -> npt.ArrayLike:
+        """The seed ``q`` [rad] as the forward table's ``q' = direction * q``.
+
+        A seed of the wrong size, or with a value that is not finite, is returned as given, for
+        :meth:`_seed_list` to name.
+        """
+        directions = self._directions
+        assert directions is not None
+        if (
+            seed.__class__ is np.ndarray
+            and seed.shape == directions.shape  # type: ignore[union-attr]
+            and seed.dtype == np.float64  # type: ignore[union-attr]
+            and math.isfinite(sum(seed.tolist()))  # type: ignore[union-attr]
+        ):
+            return seed * directions  # the common case: one check
+        values = np.asarray(seed, dtype=float).reshape(-1)
+        if values.shape != directions.shape or not np.isfinite(values).all():
+            return seed
+        return values * directions
+
+    def _seed_list(self, seed: npt.ArrayLike | None) -> list[float]:
+        """The seed as floats [rad] (zeros if None).
+
+        Raises:
+            TargetError: The seed has the wrong size or a value that is not finite.
+        """
+        if seed is None:
+            return self._zero_seed
+        nq = len(self._lower)
+        if seed.__class__ is np.ndarray and seed.shape == (nq,):  # type: ignore[union-attr]
+            seed_list = seed.tolist()  # type: ignore[union-attr]
+            if math.isfinite(sum(seed_list)):  # the common case: one check, no copy
+                return seed_list
+        seed_list = np.asarray(seed, dtype=float).reshape(-1).tolist()
+        if len(seed_list) != nq:
+            raise TargetError(
+                f"the seed of '{self.robot.name}' must have {nq} values, got {len(seed_list)}"
+            )
+        if not all(math.isfinite(v) for v in seed_list):
+            raise TargetError(f"the seed must be finite, got {seed_list}")
+        return seed_list

@@ -1,0 +1,147 @@
+"""Where a closed-form arm sends what its closed form does not answer alone (:class:`ClosedFormRoutes`).
+
+:class:`~.closed_form.ClosedFormSolver` answers the target kinds of its structure; a partial
+pose goes to the partial-pose solver (:mod:`kin.ik.partial_pose`, whose candidates are this
+closed form's branches: :meth:`ClosedFormRoutes.pose_candidates`), a full pose on an arm that
+solves positions or projects poses is first tried on its branches
+(:meth:`ClosedFormRoutes._pose_from_branches`), and a kind the closed form does not take (a
+position on a five-joint arm) goes to the numeric solver with the seed as the preferred posture.
+Both solvers are built on first use. Angles in [rad], lengths in [m].
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ..result import IKResult
+from ..target import PoseTarget, Target
+from .closed_form_branches import ClosedFormBranches
+from .closed_form_structure import candidate_branches
+from .idealised import Idealised
+
+
+class ClosedFormRoutes(ClosedFormBranches):
+    """The partial-pose and numeric routes of :class:`~.closed_form.ClosedFormSolver` (mixed in)."""
+
+    idealised: Idealised | None
+    _kinds: tuple[type, ...]
+    _lock: threading.Lock
+    _numeric: Any
+    _partial: Any
+
+    @property
+    def partial(self) -> Any:
+        """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use.
+
+        This closed form's branches are its candidates, then weighted least squares.
+        """
+        if self._partial is None:
+            from ..partial_pose import PartialPoseIK
+
+            # The numeric solver's seed table gives starts in the right basin where the closed
+            # form's branches miss (a five-joint arm's masked poses: a thin set).
+            self._partial = PartialPoseIK(
+                self.robot,
+                self.structure,
+                self.name,
+                samples=self.numeric.nearest_samples,
+                pose_candidates=self.pose_candidates,
+            )
+        return self._partial
+
+    def pose_candidates(
+        self, position: np.ndarray, rotations: np.ndarray, seed: npt.ArrayLike
+    ) -> list[tuple[np.ndarray, str]]:
+        """The closed form's branches of full poses, as the arm's joint vectors, not yet judged.
+
+        The candidates of the partial-pose solver (:mod:`kin.ik.partial_pose`): for each tool
+        rotation of ``rotations`` (K, 3, 3) at ``position`` [m] (world frame), every branch of the
+        structure, the idealised structure's polished on the true chain (:mod:`.idealised`),
+        turned into the arm's joints (offsets and directions applied). Neither wrapped into the
+        limits nor measured: the caller judges them on the components it constrains.
+
+        Args:
+            position: Tool position [m], world frame.
+            rotations: Tool rotations (K, 3, 3), world frame.
+            seed: Joint vector [rad] inside the limits (a free joint's value at a singularity).
+        """
+        if PoseTarget not in self._kinds:
+            return []
+        forward = seed if self._directions is None else self._forward_seed(seed)
+        seed_list = self._seed_list(forward)
+        out: list[tuple[np.ndarray, str]] = []
+        with self._lock:
+            for rotation in rotations:
+                target = PoseTarget(position, rotation)
+                branches = self._branches(target, seed_list)
+                if branches.status == "out_of_reach":
+                    continue
+                if self.idealised is not None:
+                    branches = self._polished(branches, target)
+                for thetas, label in branches.thetas:
+                    q = np.subtract(thetas, self._offsets)
+                    if self._directions is not None:
+                        q = q * self._directions
+                    out.append((q, label))
+        return out
+
+    @property
+    def numeric(self) -> Any:
+        """The numeric solver of the same robot, for the target kinds the closed form lacks."""
+        if self._numeric is None:
+            from ..numeric.solver import NumericIK
+
+            # Built inside a solve: its seed table within that call's budget, or in the
+            # background for the next calls (NumericIK.solve).
+            self._numeric = NumericIK(self.robot, closed_form=False, prepare=False)
+        return self._numeric
+
+    def _pose_from_branches(
+        self, target: PoseTarget, seed: npt.ArrayLike | None, start: float
+    ) -> IKResult | None:
+        """A full pose by its closed form's branches, measured on the whole pose.
+
+        The branches of its position (or of its projection on the arm's poses) are every joint
+        vector that can reach the pose: those that do (the judge, at the solver's tolerances)
+        are the answer. None when none does (no warning): the partial-pose solver then gives
+        the nearest pose, or the answer at its looser tolerances.
+        """
+        if self._directions is not None and seed is not None:
+            seed = self._forward_seed(seed)
+        seed_list = self._seed_list(seed)
+        if not target.finite or self.idealised is not None:
+            return None
+        if PoseTarget in self._kinds:  # the projection of the pose on the arm's poses
+            branches = self._branches(target, seed_list)
+        elif self._detailed:  # it reads the target's position
+            branches = self.structure.branches(target, seed_list)  # type: ignore[attr-defined]
+        else:
+            candidates = self.structure.solve(target.position, None)
+            branches = candidate_branches(self.structure, candidates, self._offsets)
+        if branches.status == "out_of_reach":
+            return None
+        p, r = target.position.tolist(), target.rotation.tolist()
+        valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
+        if not valid:
+            return None
+        return self._result(valid, rejected, branches.status, branches.message, start)
+
+    def _solve_numeric(
+        self, target: Target, seed: npt.ArrayLike | None, timeout: float | None
+    ) -> IKResult:
+        """A target the closed form does not take, by the numeric solver.
+
+        The arm is redundant for it (a position on a five-joint arm): the seed is also the
+        preferred posture, so the answer stays near it (a path's samples do not jump).
+        """
+        from ..numeric.numeric_target import NumericTarget
+
+        if seed is None or not target.finite:
+            return self.numeric.solve(target, seed, timeout=timeout)
+        posture = np.asarray(seed, dtype=float).reshape(-1)
+        preferred = NumericTarget.from_arrays(target.position, None, posture=posture)
+        return self.numeric.solve(preferred, posture, timeout=timeout)
