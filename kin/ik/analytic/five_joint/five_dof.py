@@ -32,9 +32,9 @@ from dh2urdf import DHTable
 from ...target import PitchTarget, PoseTarget, Target
 from ..branches import REACH_TOL, Branches
 from ..closed_form_structure import BatchBranches, TableStructure
-from ..planar.offset3r import elbow_branches
+from ..planar.offset3r import elbow_branches, yaw_over_pitch
 from ..planar.planar2r import two_link_batch, without_missing
-from ..structure import LENGTH_TOL, BaseFrame, Checker, Link, near, tool_point
+from ..structure import LENGTH_TOL, BaseFrame, Link, near, tool_point
 
 #: Largest out-of-plane component of the approach axis (or target point, [m]) of a reachable pose.
 PLANE_TOL = 1e-9
@@ -97,12 +97,8 @@ class FiveDof(TableStructure):
         Raises:
             StructureError: The table does not have that structure.
         """
-        check = Checker(table, "five-joint (yaw, 3 pitch, roll)")
-        check.rows(5)
+        check, sign1 = yaw_over_pitch(table, "five-joint (yaw, 3 pitch, roll)", 5, 2)
         row1, row2, row3, row4, row5 = table.rows
-        sign1 = math.copysign(1.0, check.alpha(row1, (math.pi / 2, -math.pi / 2)))
-        check.alpha(row2, (0.0,))
-        check.alpha(row3, (0.0,))
         sign4 = math.copysign(1.0, check.alpha(row4, (math.pi / 2, -math.pi / 2)))
         lateral = row2.d + row3.d + row4.d
         if not near(lateral, 0.0, LENGTH_TOL):

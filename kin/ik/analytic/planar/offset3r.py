@@ -37,6 +37,25 @@ ELBOW_LABELS = {
 }
 
 
+def yaw_over_pitch(table: DHTable, solver: str, joints: int, pitches: int) -> tuple[Checker, float]:
+    """The checker of a base yaw over ``pitches`` parallel pitch joints (rows 2 on), its sign.
+
+    Checks the table (a standard DH table of ``joints`` rows): row 1 a twist of +-90 degrees
+    (the yaw's axis normal to the pitch axes), rows ``2 .. pitches + 1`` none. Returns the
+    checker (for the structure's further checks) and the twist's sign, +1 or -1.
+
+    Raises:
+        StructureError: A row does not fit (the checker's message, naming ``solver``).
+    """
+    check = Checker(table, solver)
+    check.rows(joints)
+    rows = table.rows
+    sign = math.copysign(1.0, check.alpha(rows[0], (math.pi / 2, -math.pi / 2)))
+    for row in rows[1 : pitches + 1]:
+        check.alpha(row, (0.0,))
+    return check, sign
+
+
 @dataclass(frozen=True)
 class Offset3R(TableStructure):
     """Base yaw and two parallel pitch joints, with a possible shoulder (lateral) offset.
@@ -70,12 +89,8 @@ class Offset3R(TableStructure):
         Raises:
             StructureError: The table does not have that structure.
         """
-        check = Checker(table, "offset 3R")
-        check.rows(3)
+        check, sign1 = yaw_over_pitch(table, "offset 3R", 3, 2)
         row1, row2, row3 = table.rows
-        sign1 = math.copysign(1.0, check.alpha(row1, (math.pi / 2, -math.pi / 2)))
-        check.alpha(row2, (0.0,))
-        check.alpha(row3, (0.0,))
         tool = tool_point(table)
         return cls(
             sign1=sign1,
