@@ -29,135 +29,48 @@ Lengths in meters, the world frame throughout.
 
 from __future__ import annotations
 
-import logging
 import math
 import time
-from collections.abc import Callable, Generator, Iterator
-from contextlib import closing, contextmanager
-from dataclasses import dataclass
+from collections.abc import Callable, Generator
+from contextlib import closing
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .exceptions import KinError
+from .reach_cluster import reach_client
+from .reach_grid import (
+    MAX_ORIENTATIONS,
+    MAX_VOXELS_PER_SIDE,
+    ReachMap,
+    smallest_voxel,
+    super_fibonacci_rotations,
+)
+from .reach_grid import voxel_grid as _grid
+from .reach_map_file import load_reach_map, save_reach_map
+from .reach_map_plot import PLOT_SLICES, plot_reach_map
 from .robot_model import RobotModel
 
+# The map's grid, file and picture live in reach_grid, reach_map_file and reach_map_plot; their
+# names stay importable from here.
 __all__ = [
+    "MAX_ORIENTATIONS",
+    "MAX_VOXELS_PER_SIDE",
+    "PLOT_SLICES",
     "ReachMap",
     "count_reached",
     "load_reach_map",
     "plot_reach_map",
     "reachability_map",
     "save_reach_map",
+    "smallest_voxel",
     "super_fibonacci_rotations",
 ]
 
 #: Poses per chunk by default (a tenth of a second to a second of closed-form batch IK: the
 #: progress bar moves at least that often).
 DEFAULT_CHUNK_POSES = 10_000
-#: Most voxels along a side of the grid.
-MAX_VOXELS_PER_SIDE = 256
-#: Most orientations per voxel.
-MAX_ORIENTATIONS = 100_000
-#: Horizontal slices drawn by :func:`plot_reach_map`.
-PLOT_SLICES = 4
-
-# Alexa's constants: sqrt(2) and the real root of psi^4 = psi + 4.
-_PHI = math.sqrt(2.0)
-_PSI = 1.533751168755204288118041
-
-
-@dataclass(frozen=True, eq=False)
-class ReachMap:
-    """The reachability map of a robot (world frame, SI units).
-
-    Attributes:
-        robot: Robot name.
-        voxel_m: Voxel edge [m].
-        centers_m: Voxel centres (n, n, n, 3) [m], indexed (x, y, z): ``centers_m[i, j, l]`` is
-            the centre of the voxel i-th along x, j-th along y, l-th along z.
-        index: Fraction of the orientations reached at each centre (n, n, n), in [0, 1].
-        orientations: K, the tool orientations tried per voxel.
-        rotations: Those orientations ``R_world_tool`` (K, 3, 3).
-        max_reach_m: The arm's maximum reach from the base origin [m] (voxels whose centre is
-            farther have index 0, unsolved).
-        time_s: Wall time of the computation [s].
-        collisions: ``""`` (poses and limits only), or what the answers were checked against:
-            ``"collision-free answers only (scene cell.toml; 42 pairs, padding 0 m)"``.
-    """
-
-    robot: str
-    voxel_m: float
-    centers_m: np.ndarray
-    index: np.ndarray
-    orientations: int
-    rotations: np.ndarray
-    max_reach_m: float
-    time_s: float
-    collisions: str = ""
-
-    def to_dict(self) -> dict[str, Any]:
-        """The map as a JSON-ready dict (SI units).
-
-        Keys ``voxel_m``, ``centers_m``, ``index``, ``orientations`` (K), ``time_s``, and
-        ``robot``, ``max_reach_m``.
-        """
-        return {
-            "robot": self.robot,
-            "voxel_m": self.voxel_m,
-            "centers_m": self.centers_m.tolist(),
-            "index": self.index.tolist(),
-            "orientations": self.orientations,
-            "max_reach_m": self.max_reach_m,
-            "time_s": self.time_s,
-            "collisions": self.collisions,
-        }
-
-
-def super_fibonacci_rotations(count: int) -> np.ndarray:
-    """``count`` rotation matrices (count, 3, 3) spread evenly over SO(3) (super-Fibonacci).
-
-    Raises:
-        KinError: ``count`` is not a positive integer.
-    """
-    if not isinstance(count, int | np.integer) or count < 1:
-        raise KinError(f"orientations must be a positive integer, got {count!r}")
-    s = np.arange(count) + 0.5
-    r = np.sqrt(s / count)
-    big_r = np.sqrt(1.0 - s / count)
-    alpha = 2.0 * math.pi * s / _PHI
-    beta = 2.0 * math.pi * s / _PSI
-    # Unit quaternions (w, x, y, z).
-    w, x = r * np.sin(alpha), r * np.cos(alpha)
-    y, z = big_r * np.sin(beta), big_r * np.cos(beta)
-    return np.stack(
-        [
-            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-        ],
-        axis=1,
-    )
-
-
-def smallest_voxel(reach: float) -> float:
-    """The smallest voxel edge [m] whose grid holds ``reach`` [m] in :data:`MAX_VOXELS_PER_SIDE`."""
-    return 2.0 * reach / (MAX_VOXELS_PER_SIDE - 1)
-
-
-def _grid(origin: np.ndarray, voxel: float, reach: float) -> np.ndarray:
-    """Voxel centres (n, n, n, 3) [m] of the cube around ``origin`` that holds ``reach``."""
-    half = max(0, math.ceil(reach / voxel - 0.5))
-    side = 2 * half + 1
-    if side > MAX_VOXELS_PER_SIDE:
-        raise KinError(
-            f"voxel {voxel:g} m needs {side} voxels per side for a reach of {reach:.4g} m; at "
-            f"most {MAX_VOXELS_PER_SIDE}: give a voxel of at least {smallest_voxel(reach):.3g} m"
-        )
-    steps = (np.arange(side) - half) * voxel
-    axes = np.meshgrid(steps, steps, steps, indexing="ij")
-    return np.stack(axes, axis=-1) + origin
 
 
 def count_reached(
@@ -319,54 +232,6 @@ def _on_dask(
             yield future.result()
 
 
-@contextmanager
-def _client(scheduler: Any) -> Iterator[Any]:
-    """The Dask client ``scheduler`` names (None for this process), closed on exit if opened."""
-    if scheduler is None or scheduler == "local":
-        yield None
-        return
-    if not isinstance(scheduler, str):
-        yield scheduler  # a distributed.Client of the caller's
-        return
-    from .workspace_run import DASK_HINT, _ignore_sigint, dask_client
-
-    if not scheduler.startswith("local-cluster:"):
-        with dask_client(scheduler) as client:
-            yield client
-        return
-    workers = scheduler.removeprefix("local-cluster:")
-    if not workers.isdigit() or int(workers) < 1:
-        raise KinError(
-            f"scheduler {scheduler!r}: give local-cluster:N with N a positive number of workers"
-        )
-    try:
-        import dask
-        from distributed import Client, LocalCluster
-    except ImportError as err:
-        raise KinError(f"--scheduler needs Dask: {DASK_HINT}") from err
-    # Dask's nannies start workers with MALLOC_TRIM_THRESHOLD_=65536, which fixes glibc's mmap
-    # threshold: every NumPy temporary of the batch IK is then mapped and faulted in afresh
-    # (measured: 3x to 6x slower chunks). The workers of this cluster keep glibc's default,
-    # and go without the statistical profiler (a sampling thread; no dashboard to show it).
-    environ = dask.config.get("distributed.nanny.pre-spawn-environ", default={})
-    kept = {k: v for k, v in environ.items() if k != "MALLOC_TRIM_THRESHOLD_"}
-    settings = {
-        "distributed.nanny.pre-spawn-environ": kept,
-        "distributed.worker.profile.enabled": False,
-    }
-    with dask.config.set(settings):
-        cluster = LocalCluster(
-            n_workers=int(workers),
-            threads_per_worker=1,
-            dashboard_address=None,
-            processes=True,
-            silence_logs=logging.CRITICAL,  # a task's error still reaches the caller
-        )
-        with cluster, Client(cluster) as client:
-            client.run(_ignore_sigint)  # Ctrl-C is the parent's: no traceback per worker
-            yield client
-
-
 def reachability_map(
     robot: RobotModel,
     voxel: float,
@@ -444,7 +309,7 @@ def reachability_map(
     total, done = len(inside) * int(orientations), 0
     if progress is not None:
         progress(0, total)  # at once: the first chunk may take seconds
-    with _client(scheduler) as client:
+    with reach_client(scheduler) as client:
         results = (
             _in_process(
                 robot,
@@ -483,138 +348,3 @@ def _collision_note(model: Any, scene: str | Path | None, srdf: str | Path | Non
         f"collision-free answers only ({', '.join(against)}; {len(model.pairs)} pairs, "
         f"padding {model.padding:g} m)"
     )
-
-
-def _write_whole(path: Path, write: Callable[[Any], object]) -> None:
-    """Put what ``write`` writes on a binary handle at ``path``, whole or not at all.
-
-    Raises:
-        OutputFileError: ``path`` is not a regular file or a new path in a writable folder.
-        OutputWriteError: The disk filled up part-way; the old file is unchanged.
-    """
-    from dh2urdf.output_file import write_atomic
-
-    from .exceptions import OutputFileError, OutputWriteError
-
-    write_atomic(path, write, OutputFileError, OutputWriteError)
-
-
-def save_reach_map(reach_map: ReachMap, path: str | Path) -> Path:
-    """Write ``reach_map`` to ``path`` as ``.npz``, never half-written (a temporary file, renamed).
-
-    The arrays: those of :meth:`ReachMap.to_dict`, and ``rotations`` (K, 3, 3).
-
-    Raises:
-        OutputFileError: ``path`` is a device, FIFO, socket or folder, or its folder is missing.
-        OutputWriteError: The disk filled up part-way; a previous file is unchanged.
-    """
-    path = Path(path)
-    arrays: dict[str, Any] = {
-        "robot": np.array(reach_map.robot),
-        "voxel_m": np.array(reach_map.voxel_m),
-        "centers_m": reach_map.centers_m,
-        "index": reach_map.index,
-        "orientations": np.array(reach_map.orientations),
-        "rotations": reach_map.rotations,
-        "max_reach_m": np.array(reach_map.max_reach_m),
-        "time_s": np.array(reach_map.time_s),
-        "collisions": np.array(reach_map.collisions),
-    }
-    _write_whole(path, lambda handle: np.savez_compressed(handle, **arrays))
-    return path
-
-
-def load_reach_map(path: str | Path) -> ReachMap:
-    """The :class:`ReachMap` written by :func:`save_reach_map`.
-
-    Raises:
-        KinError: Not such a file (missing, unreadable, or arrays missing or misshapen).
-    """
-    file = Path(path)
-    try:
-        with file.open("rb") as handle:
-            zipped = handle.read(4) == b"PK\x03\x04"
-        if not zipped:
-            raise ValueError("not a .npz file")
-        with np.load(file, allow_pickle=False) as data:
-            fields = {name: data[name] for name in data.files}
-    except FileNotFoundError as err:
-        raise KinError(f"{path}: no such file; write one with kin reach -o FILE.npz") from err
-    except (OSError, ValueError) as err:
-        raise KinError(f"{path}: not a reachability map written by kin reach ({err})") from err
-    try:
-        centers, index = fields["centers_m"], fields["index"]
-        if centers.ndim != 4 or centers.shape[3] != 3 or index.shape != centers.shape[:3]:
-            raise KeyError("centers_m/index shapes")
-        return ReachMap(
-            robot=str(fields.get("robot", "")),
-            voxel_m=float(fields["voxel_m"]),
-            centers_m=centers.astype(float),
-            index=index.astype(float),
-            orientations=int(fields["orientations"]),
-            rotations=fields.get("rotations", np.zeros((0, 3, 3))),
-            max_reach_m=float(fields.get("max_reach_m", math.nan)),
-            time_s=float(fields.get("time_s", math.nan)),
-            collisions=str(fields.get("collisions", "")),
-        )
-    except (KeyError, TypeError, ValueError) as err:
-        raise KinError(f"{path}: not a reachability map written by kin reach ({err})") from err
-
-
-def plot_reach_map(
-    reach_map: ReachMap, path: str | Path, unit: str = "m", slices: int = PLOT_SLICES
-) -> Path:
-    """Write ``slices`` horizontal (constant z) slices of the map to a figure, atomically.
-
-    The slices are evenly spaced over the z range of voxels with a nonzero index; each shows the
-    index as colour (one colour bar, 0 to 1) over x and y in ``unit``. The format follows the
-    suffix (``.png``, ``.svg``, ``.pdf``); matplotlib is imported here, drawn on its Agg canvas.
-
-    Raises:
-        KinError: matplotlib is missing.
-    """
-    try:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-    except ImportError as err:
-        raise KinError("pictures need matplotlib: pip install 'matplotlib>=3.7'") from err
-    from dh2urdf.command_line import length_scale
-
-    path = Path(path)
-    scale = length_scale(unit)
-    centers, index = reach_map.centers_m / scale, reach_map.index
-    side = index.shape[2]
-    layers = np.flatnonzero(index.reshape(-1, side).max(axis=0) > 0)
-    lo, hi = (int(layers[0]), int(layers[-1])) if len(layers) else (0, side - 1)
-    picks = sorted(set(np.linspace(lo, hi, slices + 2)[1:-1].round().astype(int).tolist()))
-    v = reach_map.voxel_m / scale
-    x, y = centers[:, 0, 0, 0], centers[0, :, 0, 1]
-    extent = (x[0] - v / 2, x[-1] + v / 2, y[0] - v / 2, y[-1] + v / 2)
-    figure = Figure(figsize=(4.2 * len(picks) + 1.2, 4.6), dpi=100, layout="constrained")
-    FigureCanvasAgg(figure)
-    image = None
-    axes_list = figure.subplots(1, len(picks), squeeze=False)[0]
-    for axes, layer in zip(axes_list, picks, strict=True):
-        image = axes.imshow(
-            index[:, :, layer].T,
-            origin="lower",
-            extent=extent,
-            vmin=0.0,
-            vmax=1.0,
-            cmap="viridis",
-            interpolation="nearest",
-        )
-        axes.set_title(f"z = {centers[0, 0, layer, 2]:.3g} {unit}")
-        axes.set_xlabel(f"x [{unit}]")
-        axes.set_ylabel(f"y [{unit}]")
-        axes.set_aspect("equal")
-    assert image is not None  # at least one slice
-    label = "reachability index" + (", collision-free" if reach_map.collisions else "")
-    figure.colorbar(image, ax=list(axes_list), shrink=0.85, label=label)
-    figure.suptitle(
-        f"{reach_map.robot}: reachability index ({reach_map.orientations} orientations, "
-        f"{v:.3g} {unit} voxels)" + (f"\n{reach_map.collisions}" if reach_map.collisions else "")
-    )
-    kind = path.suffix.lower().lstrip(".") or "png"
-    _write_whole(path, lambda handle: figure.savefig(handle, format=kind))
-    return path
