@@ -144,7 +144,7 @@ class Wrist3(PerTargetBatch):
         u1, u2, u3 = self.axes
         m_u3 = apply_rows(r, self._tool_u3)  # M u3 = R R0^T u3
         m_v = apply_rows(r, self._tool_normal3)  # M v, v normal to u3
-        rows = []
+        rows: list[tuple[float, ...]] = []
         for q1, q2 in rotation_pair(u1, u2, u3, m_u3):
             back = turn(u1, math.cos(q1), -math.sin(q1), m_v)
             back = turn(u2, math.cos(q2), -math.sin(q2), back)
@@ -158,7 +158,9 @@ class Wrist3(PerTargetBatch):
         u1, u2, u3 = self.axes
         target = tuple(float(position[i]) - self.centre[i] for i in range(3))
         offset = turn(u3, math.cos(q3), math.sin(q3), self.offset)  # type: ignore[arg-type]
-        rows = [(q1, q2, q3) for q1, q2 in rotation_pair(u1, u2, offset, target)]  # type: ignore[arg-type]
+        rows: list[tuple[float, ...]] = [
+            (q1, q2, q3) for q1, q2 in rotation_pair(u1, u2, offset, target)
+        ]  # type: ignore[arg-type]
         return rows + [(math.nan,) * 3] * (2 - len(rows))
 
     def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
