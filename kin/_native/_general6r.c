@@ -69,19 +69,17 @@ static void mul4(const double *a, const double *b, double *c)
                            a[4 * i + 3] * b[12 + j];
 }
 
-static void rz(double angle, double *out)
-{
-    double c = cos(angle), s = sin(angle);
-    memset(out, 0, 16 * sizeof(double));
-    out[0] = c, out[1] = -s, out[4] = s, out[5] = c, out[10] = 1.0, out[15] = 1.0;
-}
-
-/* x Rz(angle) into out. */
+/* x Rz(angle) into out (Rz mixes columns 0 and 1 only). */
 static void mul_rz(const double *x, double angle, double *out)
 {
-    double r[16];
-    rz(angle, r);
-    mul4(x, r, out);
+    double c = cos(angle), s = sin(angle);
+    for (int i = 0; i < 4; i++) {
+        double x0 = x[4 * i], x1 = x[4 * i + 1];
+        out[4 * i] = x0 * c + x1 * s;
+        out[4 * i + 1] = x1 * c - x0 * s;
+        out[4 * i + 2] = x[4 * i + 2];
+        out[4 * i + 3] = x[4 * i + 3];
+    }
 }
 
 static void rigid_inverse(const double *t, double *out)
@@ -345,13 +343,14 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
     int i3 = (a + 3) % 6, i4 = (a + 4) % 6, i5 = (a + 5) % 6;
     /* Right side at the 9 grid points, fitted on {1, s, c}^2: Q (14x9). */
     double values[9][14], Q[14][9];
-    for (int g = 0; g < 9; g++) {
-        double r5[16], r4[16], x[16], y[16];
-        rz(-GRID[g % 3], r5);
-        rz(-GRID[g / 3], r4);
-        mul4(Cinv[i5], r5, x);
-        mul4(x, Cinv[i4], y);
-        mul4(y, r4, x);
+    double head[3][16]; /* C_i5^-1 Rz(-u_i5) C_i4^-1 at the 3 grid angles of u_i5 */
+    for (int j = 0; j < 3; j++) {
+        mul_rz(Cinv[i5], -GRID[j], tmp);
+        mul4(tmp, Cinv[i4], head[j]);
+    }
+    for (int g = 0; g < 9; g++) { /* u_i4 = GRID[g / 3] (slow), u_i5 = GRID[g % 3] */
+        double x[16], y[16];
+        mul_rz(head[g % 3], -GRID[g / 3], x);
         mul4(x, Cinv[i3], y);
         equations(y, values[g]);
     }
@@ -410,6 +409,17 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
     char no = 'N';
     dgeev_(&no, &no, &n24, comp, &n24, wr, wi, vl, &one, vl, &one, work, &lwork, &info);
     if (info != 0) return -1;
+    /* The least squares of the right side's monomials: pinv of Q[:, 1:] (8x14), from its SVD. */
+    double pinv[8][14];
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 14; k++) {
+            double s = 0.0;
+            for (int r = 0; r < 8; r++) {
+                double inv = sv[r] > sv[0] * 1e-12 ? 1.0 / (sv[r] > 0 ? sv[r] : 1.0) : 0.0;
+                s += Vt[r + 8 * i] * inv * U[k + 14 * r];
+            }
+            pinv[i][k] = s;
+        }
     /* Each (near-)real root: the joints, polished. */
     double rows[24 * 6];
     int m = 0, count = 0;
@@ -422,8 +432,13 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
         double phi = tau[1] + 2.0 * ratio_angle(v, 1), psi = tau[2] + 2.0 * ratio_angle(v, 0);
         /* The right side's joints from the monomials (least squares on Q), u_a+3 from the loop. */
         double Lt[16], x[16], f[14], mono[8], u[6];
-        rz(theta, tmp);
-        mul4(tmp, C[a], x);
+        double ct = cos(theta), st = sin(theta);
+        for (int k = 0; k < 4; k++) {
+            x[k] = ct * C[a][k] - st * C[a][4 + k];
+            x[4 + k] = st * C[a][k] + ct * C[a][4 + k];
+            x[8 + k] = C[a][8 + k];
+            x[12 + k] = C[a][12 + k];
+        }
         mul_rz(x, phi, tmp);
         mul4(tmp, C[a + 1], x);
         mul_rz(x, psi, tmp);
@@ -432,13 +447,7 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
         for (int i = 0; i < 14; i++) f[i] -= Q[i][0];
         for (int i = 0; i < 8; i++) {
             double s = 0.0;
-            for (int r = 0; r < 8; r++) {
-                double inv = sv[r] > sv[0] * 1e-12 ? 1.0 / (sv[r] > 0 ? sv[r] : 1.0) : 0.0;
-                if (inv == 0.0) continue;
-                double uf = 0.0;
-                for (int k = 0; k < 14; k++) uf += U[k + 14 * r] * f[k];
-                s += Vt[r + 8 * i] * inv * uf;
-            }
+            for (int k = 0; k < 14; k++) s += pinv[i][k] * f[k];
             mono[i] = s;
         }
         u[a] = theta, u[(a + 1) % 6] = phi, u[(a + 2) % 6] = psi;
