@@ -266,18 +266,20 @@ class CollisionAwareSolver:
         cls = target.__class__
         partial = cls is AxisTarget or (cls is PoseTarget and target.mask is not None)
         numeric = _numeric_of(solver, partial, target)
+        swept = False  # the free-joint grid swept the self-motion: no random bounded starts
         if partial:
             sweeper = _partial_of(solver, numeric)
             if sweeper is not None:
                 yield lambda left: sweeper.solve(target, seed, timeout=left, every_roll=True)
         elif cls is PoseTarget and numeric is not None and self.robot.nq == 7:
+            swept = numeric.context.closed_form is not None
             yield lambda left: numeric.solve(target, seed, timeout=left, all_branches=True)
         if numeric is None:
             return
         from .numeric.collision_bound import solve_clear
 
         yield lambda left: solve_clear(
-            self.robot, self.checker, target, seed, first, left, numeric.name
+            self.robot, self.checker, target, seed, first, left, numeric.name, random=not swept
         )
         rng = np.random.default_rng(0)
         lower, upper = _limits(self.robot)
