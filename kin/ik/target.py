@@ -20,102 +20,40 @@ import numpy.typing as npt
 from kin._native import twin
 
 from . import angles
+from .axis_target import TOOL_AXES, AxisTarget, axis_turn
 from .exceptions import TargetError
+from .pitch_target import PitchTarget
+from .target_values import FLOAT64 as _FLOAT64
+from .target_values import ROTATION_EXACT as _ROTATION_EXACT
+from .target_values import (
+    ROTATION_SNAP,
+    checked_rotation,
+    checked_vector,
+    orthonormality,
+)
+
+# The value checks, the axis and the pitch targets live in target_values, axis_target and
+# pitch_target; their names stay importable from here.
+__all__ = [
+    "KIND_NAMES",
+    "MASK_COMPONENTS",
+    "ROTATION_SNAP",
+    "TOOL_AXES",
+    "AxisTarget",
+    "PitchTarget",
+    "PoseTarget",
+    "PositionTarget",
+    "Target",
+    "axis_turn",
+    "describe_kinds",
+    "is_partial",
+    "kind_error",
+    "orthonormality",
+    "rpy_matrix",
+]
 
 _twin = twin("_pose_check")  # the pose check on the short way in C (optional: same verdict, faster)
 _exact_pack = _twin.exact_pack if _twin is not None else None
-
-#: Largest ``max |R^T R - I|`` of a target rotation replaced by its nearest rotation matrix; a
-#: farther matrix is refused.
-ROTATION_SNAP = 1e-3
-#: Largest ``max |R^T R - I|`` taken as it is (the rounding of a product of rotations).
-_ROTATION_EXACT = 1e-12
-#: NumPy's float64, compared by identity on the short way of :func:`_checked`.
-_FLOAT64 = np.dtype(float)
-
-
-def _vector(values: npt.ArrayLike, size: int, what: str) -> np.ndarray:
-    """``values`` as a new float array of ``size`` finite numbers (a TargetError names the field)."""
-    return _checked(values, size, what)[0]
-
-
-def _checked(values: npt.ArrayLike, size: int, what: str) -> tuple[np.ndarray, list[float]]:
-    """:func:`_vector`, and its values as Python floats (row-major).
-
-    A float64 array of the right size (what a solve loop hands in) takes the short way: one
-    copy, one sum of Python floats for the finiteness check (about 0.6 us; the general way,
-    through ``np.array`` and a reshape, about 1.3 us).
-    """
-    if type(values) is np.ndarray and values.dtype is _FLOAT64 and values.size == size:
-        array = values.flatten()  # a copy, one-dimensional
-    else:
-        try:
-            array = np.array(values, dtype=float).reshape(-1)
-        except (TypeError, ValueError, OverflowError) as err:
-            raise TargetError(f"{what} must be {size} numbers, got {values!r}") from err
-        if array.size != size:
-            raise TargetError(f"{what} must be {size} numbers, got {array.size}")
-    floats = array.tolist()
-    # A finite sum means every value is finite (a NaN or an infinity makes it NaN or infinite);
-    # a sum that overflows is looked at value by value.
-    if not math.isfinite(sum(floats)) and not all(map(math.isfinite, floats)):
-        i = int(np.flatnonzero(~np.isfinite(array))[0])
-        where = f"{what}[{i}]" if size <= 3 else f"{what}[{i // 3}][{i % 3}]"
-        raise TargetError(f"{where} is {array[i]}: every target value must be a finite number")
-    array.setflags(write=False)  # checked once: it cannot change after (a copy of the input)
-    return array, floats
-
-
-def orthonormality(*entries: float) -> tuple[float, float]:
-    """``max |R^T R - I|`` and ``det R`` of a 3x3 matrix given row-major (9 finite floats).
-
-    A matrix whose entry's square overflows has deviation ``inf`` and determinant NaN.
-    """
-    a, b, c, d, e, f, g, h, i = entries
-    # The entries of R^T R - I (symmetric: six of them), the diagonal first: an entry whose
-    # square overflows makes a diagonal one infinite, and a NaN after it (inf - inf off the
-    # diagonal) does not replace that maximum.
-    deviation = max(
-        abs(a * a + d * d + g * g - 1.0),
-        abs(b * b + e * e + h * h - 1.0),
-        abs(c * c + f * f + i * i - 1.0),
-        abs(a * b + d * e + g * h),
-        abs(a * c + d * f + g * i),
-        abs(b * c + e * f + h * i),
-    )
-    if deviation == math.inf:
-        return deviation, math.nan
-    return deviation, a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
-
-
-def _rotation(values: npt.ArrayLike) -> np.ndarray:
-    """A rotation matrix from 9 numbers (row-major): checked, snapped to SO(3) when nearly one.
-
-    The check runs on Python floats (a few microseconds): a target is built once per solve.
-    """
-    if type(values) is np.ndarray and values.dtype is _FLOAT64 and values.shape == (3, 3):
-        matrix = values.copy()  # the short way of a solve loop's float64 3x3 (about 1 us less)
-        (a, b, c), (d, e, f), (g, h, i) = matrix.tolist()
-        if not math.isfinite(a + b + c + d + e + f + g + h + i):
-            matrix = _checked(values, 9, "rotation")[0].reshape(3, 3)  # names the entry
-    else:
-        flat, floats = _checked(values, 9, "rotation")
-        matrix = flat.reshape(3, 3)
-        a, b, c, d, e, f, g, h, i = floats
-    deviation, determinant = orthonormality(a, b, c, d, e, f, g, h, i)
-    if deviation <= _ROTATION_EXACT and determinant > 0.0:
-        matrix.setflags(write=False)
-        return matrix
-    if deviation <= ROTATION_SNAP and determinant > 0.0:
-        u, _, vt = np.linalg.svd(matrix)
-        snapped = u @ vt
-        snapped.setflags(write=False)
-        return snapped
-    raise TargetError(
-        f"rotation is not a rotation matrix (max |R^T R - I| = {deviation:.3g}, "
-        f"det = {determinant:.3g}): give orthonormal axes with det +1 "
-        f"(a matrix off by at most {ROTATION_SNAP:g} is rounded to the nearest rotation)"
-    )
 
 
 _EYE = np.eye(3)
@@ -138,7 +76,7 @@ class PositionTarget:
     _packed = None
 
     def __init__(self, position: npt.ArrayLike):
-        self.__dict__["position"] = _vector(position, 3, "position")  # frozen: set once here
+        self.__dict__["position"] = checked_vector(position, 3, "position")  # frozen: set once here
 
     @property
     def finite(self) -> bool:
@@ -206,8 +144,8 @@ class PoseTarget:
         short = _exact_pack
         packed = None if short is None else short(position, rotation, _ROTATION_EXACT)
         if packed is None:
-            fields["position"] = _vector(position, 3, "position")
-            fields["rotation"] = _rotation(rotation)
+            fields["position"] = checked_vector(position, 3, "position")
+            fields["rotation"] = checked_rotation(rotation)
         fields["_packed"] = packed
         fields["mask"] = None if mask is None else _mask(mask)
 
@@ -292,124 +230,7 @@ def rpy_matrix(rpy: npt.ArrayLike) -> list[list[float]]:
     Raises:
         TargetError: ``rpy`` is not three finite numbers.
     """
-    return angles.rpy_matrix(*_vector(rpy, 3, "rpy"))
-
-
-#: The tool axis an :class:`AxisTarget` may name, as a column of ``R_world_tool``.
-TOOL_AXES = {"x": 0, "y": 1, "z": 2}
-
-
-def axis_turn(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The rotation vector [rad] turning unit vector ``a`` onto unit vector ``b``, about their normal.
-
-    The shortest turn (on their great circle); opposite vectors get a half turn about an axis
-    normal to ``a`` (one chosen), equal ones none. The rotation error of an
-    :class:`AxisTarget` and the interpolation of its axis along a path.
-    """
-    cross = np.cross(a, b)
-    sine = float(np.linalg.norm(cross))
-    cosine = float(a @ b)
-    angle = math.atan2(sine, cosine)
-    if sine > 1e-12:
-        return cross * (angle / sine)
-    if cosine > 0.0:
-        return np.zeros(3)
-    normal = np.cross(a, (1.0, 0.0, 0.0) if abs(a[0]) < 0.9 else (0.0, 1.0, 0.0))
-    return normal * (math.pi / float(np.linalg.norm(normal)))
-
-
-@dataclass(frozen=True, eq=False)
-class AxisTarget:
-    """A tool position and the world direction of one tool axis; the roll about it is free.
-
-    The task of a drill, a welding torch, a spray gun or a suction cup (five constraints). A
-    joint vector's errors are the position error [m] and the angle between its tool axis and
-    :attr:`axis` [rad].
-
-    Attributes:
-        position: Tool point in the world frame [m], shape (3,).
-        axis: Unit vector in the world frame the tool axis must point along, shape (3,).
-        tool_axis: Which tool axis: ``"x"``, ``"y"`` or ``"z"`` (the default, the approach axis of
-            most flanges).
-    """
-
-    position: np.ndarray
-    axis: np.ndarray
-    tool_axis: str = "z"
-
-    def __init__(self, position: npt.ArrayLike, axis: npt.ArrayLike, tool_axis: str = "z"):
-        object.__setattr__(self, "position", _vector(position, 3, "position"))
-        direction = _vector(axis, 3, "axis")
-        scale = float(np.abs(direction).max())
-        norm = float(np.linalg.norm(direction / scale)) * scale if scale > 0.0 else 0.0
-        if not (norm > 1e-12 and math.isfinite(norm)):
-            raise TargetError(f"axis must be a nonzero direction, got {direction.tolist()}")
-        object.__setattr__(self, "axis", direction / norm)
-        if tool_axis not in TOOL_AXES:
-            raise TargetError(f"tool_axis must be 'x', 'y' or 'z', got {tool_axis!r}")
-        object.__setattr__(self, "tool_axis", tool_axis)
-
-    @property
-    def free(self) -> tuple[str, ...]:
-        """The free component: the roll about the tool axis."""
-        return (f"roll about tool {self.tool_axis}",)
-
-    @property
-    def finite(self) -> bool:
-        """Whether every value is finite."""
-        isfinite = math.isfinite
-        return all(map(isfinite, self.position.tolist())) and all(map(isfinite, self.axis.tolist()))
-
-
-@dataclass(frozen=True, eq=False)
-class PitchTarget:
-    """A tool position with the tool pitch, and optionally the wrist roll, of a five-joint arm.
-
-    ``pitch`` is the angle of the tool's approach axis (the wrist-roll axis, pointing from the
-    wrist to the tool) *below the horizontal*, measured in the vertical plane through the base
-    axis and the target, from the horizontal direction pointing away from the base axis:
-    ``approach = cos(pitch) h - sin(pitch) z0`` with ``h`` the horizontal unit vector from the base
-    axis to the target. So 0 is "pointing straight out", +pi/2 "pointing straight down", -pi/2
-    "pointing straight up". It does not depend on the branch (shoulder front or back). For the
-    Abaas et al. arm (``lab5``, 002) with the shoulder in front, ``pitch = pi/2 - (q2 + q3 + q4)``:
-    the paper's eq. (9) ``90 - theta234 = +phi``.
-
-    Attributes:
-        position: Tool point in the world frame [m], shape (3,).
-        pitch: Approach angle below the horizontal [rad].
-        roll: Wrist-roll joint value ``q5`` [rad] (as the papers pose it), or None to keep the
-            seed's.
-    """
-
-    position: np.ndarray
-    pitch: float
-    roll: float | None = None
-
-    def __init__(self, position: npt.ArrayLike, pitch: float, roll: float | None = None):
-        object.__setattr__(self, "position", _vector(position, 3, "position"))
-        object.__setattr__(self, "pitch", _angle(pitch, "pitch"))
-        object.__setattr__(self, "roll", None if roll is None else _angle(roll, "roll"))
-
-    @property
-    def finite(self) -> bool:
-        """Whether every value is finite."""
-        isfinite = math.isfinite
-        return (
-            all(map(isfinite, self.position.tolist()))
-            and isfinite(self.pitch)
-            and (self.roll is None or isfinite(self.roll))
-        )
-
-
-def _angle(value: object, what: str) -> float:
-    """``value`` as a finite float [rad] (a TargetError names the field)."""
-    try:
-        angle = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError, OverflowError) as err:
-        raise TargetError(f"{what} must be a number [rad], got {value!r}") from err
-    if not math.isfinite(angle):
-        raise TargetError(f"{what} is {angle}: every target value must be a finite number")
-    return angle
+    return angles.rpy_matrix(*checked_vector(rpy, 3, "rpy"))
 
 
 Target = PositionTarget | PoseTarget | PitchTarget | AxisTarget
