@@ -11,9 +11,10 @@ configurations within the limits:
   pair, stop at the first contact), median of single calls, alternated with ``check``: each goes
   first at every other configuration (the first call after MuJoCo's finds the shared meshes out
   of cache; always calling ``check`` first made it 1.4-1.8x ``pin`` and ``pin`` first 1.4x
-  ``check``; ``check``, ``pin`` and ``pin-bp`` now take turns going first);
-* ``pin-bp``: ``pin.computeCollisions`` through the same naive broad-phase manager, bare:
-  ``check`` / ``pin-bp`` is the wrapper's own cost (the input check of ``q``);
+  ``check``; ``check``, ``pin`` and ``bare`` now take turns going first);
+* ``bare``: ``pin.computeCollisions`` called as the checker calls it (through the same naive
+  broad-phase manager when ``checker.broad_phase``: the models with meshes), bare: ``check`` /
+  ``bare`` is the wrapper's own cost (the input check of ``q``);
 * ``batch``: ``in_collision_batch`` over ``--batch`` configurations, per configuration, against
   a Python loop of ``in_collision`` over the same ones, in four alternating rounds of a quarter
   each (on a shared machine one long run of each measures the neighbours' load as much as the
@@ -226,13 +227,15 @@ def bench_row(name: str, configurations: int, batch: int) -> tuple[float, float]
     def pinocchio(q: np.ndarray) -> bool:
         return pin.computeCollisions(pin_model, pin_data, geometry_model, geometry_data, q, True)
 
-    bp_data = pin.GeometryData(geometry_model)
-    checker._prepare(bp_data, contact=False)
-    manager = pin.BroadPhaseManager_NaiveCollisionManager(pin_model, geometry_model, bp_data)
-    bp_pin_data = pin_model.createData()
+    bare_data = pin.GeometryData(geometry_model)
+    checker._prepare(bare_data, contact=False)
+    bare_pin_data = pin_model.createData()
+    manager = pin.BroadPhaseManager_NaiveCollisionManager(pin_model, geometry_model, bare_data)
 
-    def pinocchio_bp(q: np.ndarray) -> bool:
-        return pin.computeCollisions(pin_model, bp_pin_data, manager, q, True)
+    def bare(q: np.ndarray) -> bool:
+        if checker.broad_phase:
+            return pin.computeCollisions(pin_model, bare_pin_data, manager, q, True)
+        return pin.computeCollisions(pin_model, bare_pin_data, geometry_model, bare_data, q, True)
 
     rng = np.random.default_rng(0)
     qs = rng.uniform(robot.lower, robot.upper, (max(configurations, batch), robot.nq))
@@ -241,20 +244,20 @@ def bench_row(name: str, configurations: int, batch: int) -> tuple[float, float]
     functions: list[Callable[[np.ndarray], object]] = [
         checker.in_collision,
         pinocchio,
-        pinocchio_bp,
+        bare,
     ]
     collide = _mujoco_collide(robot, model)
     if collide is not None:
         functions.append(collide)
     timings = _alternate(functions, single)
-    t_check, t_pin, t_bp = timings[0], timings[1], timings[2]
+    t_check, t_pin, t_bare = timings[0], timings[1], timings[2]
     t_mujoco = timings[3] if collide is not None else float("nan")
     t_loop, t_batch, same = _loop_and_batch(checker, qs[:batch])
     assert same, name
     colliding = float(np.mean(checker.in_collision_batch(qs[:batch])))
     print(
         f"{name:<11} {len(model.pairs):>5} {colliding:>9.0%} {t_check:>10.1f} {t_pin:>9.1f} "
-        f"{t_check / t_pin:>6.2f} {t_bp:>7.1f} {t_check / t_bp:>6.2f} {t_loop:>9.1f} "
+        f"{t_check / t_pin:>6.2f} {t_bare:>7.1f} {t_check / t_bare:>6.2f} {t_loop:>9.1f} "
         f"{t_batch:>10.1f} {t_loop / t_batch:>6.2f} {t_mujoco:>11.1f}   ({agree}/200 verdicts as pin)",
         flush=True,
     )
@@ -314,7 +317,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"cell: {CELL}; {os.cpu_count()} cores; medians of single calls [us/configuration]")
     print(
         f"{'robot':<11} {'pairs':>5} {'colliding':>9} {'check':>10} {'pin':>9} {'ratio':>6} "
-        f"{'pin-bp':>7} {'ratio':>6} {'loop':>9} {'batch':>10} {'speed':>6} {'mujoco':>11}"
+        f"{'bare':>7} {'ratio':>6} {'loop':>9} {'batch':>10} {'speed':>6} {'mujoco':>11}"
     )
     worst_check, worst_batch = 0.0, float("inf")
     for name in ROWS:

@@ -58,19 +58,43 @@ def test_fast_verdict_is_the_contact_query(name, padding):
     assert 0 < full.sum() < len(qs), f"{name=} {padding=}: {full.sum()} colliding"
 
 
+def test_broad_phase_where_a_shape_is_a_mesh():
+    """UR5's maker meshes (convex hulls) go through the broad phase; humanoid7's cylinders do not."""
+    assert checker("ur5", 0.0).broad_phase is True
+    assert checker("humanoid7", 0.0).broad_phase is False
+
+
 def test_padding_grows_the_boxes():
-    """A pair just outside contact is free without padding and colliding with more padding."""
-    check = checker("humanoid7", 0.0)
+    """A UR5 configuration just outside contact is free, and colliding with more padding."""
+    check = checker("ur5", 0.0)
     arm = check.model.robot
     qs = np.random.default_rng(5).uniform(arm.lower, arm.upper, (300, arm.nq))
     gaps = [(check.distance(q).distance, q) for q in qs if not check.in_collision(q)]
     gap, q = min((g for g in gaps if g[0] > 0.002), key=lambda g: g[0])
     assert gap < 0.05, f"closest free gap {gap} m"
-    assert check.in_collision(q) is False
-    padded = checker("humanoid7", gap + 0.001)
+    padded = checker("ur5", gap + 0.001)
     assert padded.in_collision(q) is True, f"gap {gap} m, padding {gap + 0.001} m"
     assert padded.in_collision_batch(q[None])[0]
-    assert not checker("humanoid7", gap - 0.001).in_collision(q)
+    assert not checker("ur5", gap - 0.001).in_collision(q)
+
+
+def test_verdict_does_not_depend_on_the_calls_before():
+    """lab5, 300 configurations: one checker in sequence gives each fresh checker's verdict.
+
+    With coal's GJK started from the previous call's answer (Pinocchio's default), configuration
+    25 of this draw (upper arm and wrist axes crossing, 2 cm deep) was called free in sequence.
+    """
+    arm = robot("lab5")
+    model = load_collision_model(arm)
+    lower = np.where(np.isfinite(arm.lower), arm.lower, -np.pi)
+    upper = np.where(np.isfinite(arm.upper), arm.upper, np.pi)
+    qs = np.random.default_rng(1).uniform(lower, upper, (300, arm.nq))
+    sequence = CollisionChecker(model)
+    in_sequence = [sequence.in_collision(q) for q in qs]
+    fresh = [CollisionChecker(model).in_collision(q) for q in qs]
+    assert in_sequence == fresh
+    assert in_sequence[25] is True
+    assert bool(sequence.collisions(qs[25]))
 
 
 def test_deep_ur5_overlap_is_a_collision():

@@ -5,7 +5,8 @@ first use (as the IK solvers keep theirs). Points are in the world frame (the ar
 
 ``in_collision`` is the hot call (IK branches, path samples, reach voxels): it uses geometry data
 that asks coal for the verdict only (no contact points), the same pair queries as a bare
-``pin.computeCollisions`` behind a broad phase of world boxes (:class:`_PerThread`), and checks a float64 vector of the right size with a few attribute
+``pin.computeCollisions`` (behind a broad phase of world boxes when the model has meshes:
+:class:`_PerThread`), and checks a float64 vector of the right size with a few attribute
 tests and one sum (a non-finite sum sends ``q`` to :func:`kin.configuration.as_joint_vector`,
 which names the bad value). ``collisions`` and ``distance`` use a second geometry data that
 computes contacts.
@@ -75,6 +76,12 @@ class CollisionChecker:
 
     Args:
         model: The collision model (:func:`kin.collision.load_collision_model`).
+
+    Attributes:
+        broad_phase: Whether the verdicts go through coal's broad phase (world boxes first):
+            when a shape is a mesh's hull, whose exact test (GJK, about 1-2 us a pair) costs
+            far more than a box test; primitives alone are tested exactly pair by pair, which
+            stops sooner at the first contact (see :class:`_PerThread`).
     """
 
     def __init__(self, model: CollisionModel):
@@ -83,6 +90,7 @@ class CollisionChecker:
         self._pin_model = model.robot.model
         self._geometry = model.geometry_model
         self._nq = model.robot.nq
+        self.broad_phase = any(_costly(g.geometry) for g in self._geometry.geometryObjects)
         self._local = _PerThread(self)
         self._pool_lock = threading.Lock()
 
@@ -211,11 +219,13 @@ class CollisionChecker:
         # A fresh pool each call (about 1 ms): a pool reused after other batches was seen to call
         # a colliding configuration free (Panda, convex hulls: its verdict depended on what the
         # pool had computed before), which a fresh one never did.
-        # coal's dynamic AABB tree as broad phase (Pinocchio binds no pool of the naive manager
-        # the single call uses); 1.5-3x faster than the plain GeometryPool on UR5 and Panda
-        pool = pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager(
-            self._pin_model, self._geometry, count
-        )
+        # with meshes, coal's dynamic AABB tree as broad phase (Pinocchio binds no pool of the
+        # naive manager the single call uses): 1.5-2x faster than the plain pool on UR5
+        pool = (
+            pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager
+            if self.broad_phase
+            else pin.GeometryPool
+        )(self._pin_model, self._geometry, count)
         for geometry_data in pool.getGeometryDatas():
             self._prepare(geometry_data, contact=False)
         with self._pool_lock:
@@ -238,22 +248,44 @@ class CollisionChecker:
 class _PerThread(threading.local):
     """One thread's Pinocchio data and geometry data (verdict only, and with contacts).
 
-    ``check(q, stop_at_first)`` is Pinocchio's computeCollisions through coal's naive broad phase
-    over the verdict-only data: FK and the shapes' world boxes once, each box grown by half the
-    padding, and the exact (narrow-phase) test only for the pairs whose boxes overlap (the same
-    coal call as without the broad phase, so the same verdict; 3-4x faster on free UR5 and Panda
-    configurations, where every pair must be cleared). The naive manager has no state between
-    calls beyond the boxes it recomputes (the tree managers were slower for our 7-12 shapes).
+    ``check(q, stop_at_first)`` is Pinocchio's computeCollisions over the verdict-only data. With
+    :attr:`CollisionChecker.broad_phase`, through coal's naive broad phase: FK and the shapes'
+    world boxes once, each box grown by half the padding, and the exact test only for the pairs
+    whose boxes overlap (the same coal call as without the broad phase, so the same verdict; 3-4x
+    faster on free UR5 and Panda configurations, where every pair must be cleared). The naive
+    manager keeps no state between calls but the boxes it recomputes (the tree managers were
+    slower for 7-12 shapes). Without it (primitives only), every pair in order up to the first
+    contact: on humanoid7 in the test cell the boxes cost 1.2 us a call where it collides (two
+    thirds of random configurations) and save as much where it is free.
     """
 
     def __init__(self, checker: CollisionChecker):
         self.data = checker._pin_model.createData()
         self.verdict = checker._new_geometry_data(contact=False)
         self.contact = checker._new_geometry_data(contact=True)
-        self.manager = pin.BroadPhaseManager_NaiveCollisionManager(
-            checker._pin_model, checker._geometry, self.verdict
-        )
-        self.check = partial(pin.computeCollisions, checker._pin_model, self.data, self.manager)
+        if checker.broad_phase:
+            self.manager = pin.BroadPhaseManager_NaiveCollisionManager(
+                checker._pin_model, checker._geometry, self.verdict
+            )
+            self.check = partial(pin.computeCollisions, checker._pin_model, self.data, self.manager)
+        else:
+            self.check = partial(
+                pin.computeCollisions,
+                checker._pin_model,
+                self.data,
+                checker._geometry,
+                self.verdict,
+            )
+
+
+def _costly(geometry: object) -> bool:
+    """Whether coal's exact test of ``geometry`` is GJK on many vertices (a mesh or its hull)."""
+    import coal
+
+    return (
+        geometry.getObjectType() != coal.OBJECT_TYPE.OT_GEOM  # type: ignore[attr-defined]
+        or geometry.getNodeType() == coal.NODE_TYPE.GEOM_CONVEX  # type: ignore[attr-defined]
+    )
 
 
 def _cores() -> int:
