@@ -19,9 +19,9 @@ from urdf_reference import erd
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model
-from kin.ik import AxisTarget, PoseTarget, get_solver
+from kin.ik import AxisTarget, PoseTarget, PositionTarget, get_solver
 from kin.ik.collision_aware import CollisionAwareSolver
-from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK
+from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK, held_in_scene
 from kin.ik.numeric.distance_jacobian import pair_rows
 from kin.ik.numeric.solver import NumericIK
 
@@ -188,17 +188,27 @@ def test_collision_aware_numeric_uses_the_bound(panda, tmp_path):
         assert np.linalg.norm(T.translation - target.position) < 1e-5
 
 
-def test_axis_target_through_the_bound(panda, tmp_path):
-    """An axis target whose plain answer is blocked gets a free answer with the axis kept."""
+@pytest.mark.parametrize("kind", ["axis", "mask", "position"])
+def test_partial_targets_through_the_bound(panda, tmp_path, kind):
+    """An axis target, a pose with its yaw left free and a position get a free answer on target."""
     target, seed, answer, checker, reference, pairs = _blocked_case(panda, tmp_path)
-    axis = AxisTarget(target.position, target.rotation[:, 2])
-    result = DistanceBoundedIK(panda[0], checker).solve(axis, [seed, answer])
+    if kind == "axis":
+        partial = AxisTarget(target.position, target.rotation[:, 2])
+    elif kind == "mask":
+        partial = PoseTarget(target.position, target.rotation, mask=(1, 1, 1, 1, 1, 0))
+    else:
+        partial = PositionTarget(target.position)
+    result = DistanceBoundedIK(panda[0], checker).solve(partial, [seed, answer])
     assert result.status == "ok", result.message
     q = result.solutions[0].q
     assert _clearance(reference, pairs, q) > -CONTACT_TOL
     T = _tool(reference, q)
-    assert np.linalg.norm(T.translation - axis.position) < 1e-5
-    assert float(T.rotation[:, 2] @ axis.axis) > 1.0 - 1e-8
+    assert np.linalg.norm(T.translation - target.position) < 1e-5
+    if kind == "axis":
+        assert float(T.rotation[:, 2] @ target.rotation[:, 2]) > 1.0 - 1e-8
+    elif kind == "mask":  # roll and pitch: the rotation error's world x and y components
+        error = pin.log3(target.rotation @ T.rotation.T)
+        assert np.abs(error[:2]).max() < 1e-4
 
 
 def test_every_answer_colliding_stays_in_collision(panda, tmp_path):
@@ -211,8 +221,14 @@ def test_every_answer_colliding_stays_in_collision(panda, tmp_path):
     xyz = ", ".join(repr(float(v)) for v in T.translation)
     path.write_text(f'[[sphere]]\nname = "ball"\nradius = 0.12\nxyz = [{xyz}]\n')
     checker = CollisionChecker(load_collision_model(robot, srdf=erd(SRDF), scene=path))
+    link7 = _reference(panda, path).signed_distances(q, [("panda_link7", "ball")])
+    assert link7[("panda_link7", "ball")][0] < 0.0  # the link the tool carries is in the ball
+    assert held_in_scene(robot, checker, q) == "panda_link7/ball"
+    assert held_in_scene(robot, CollisionChecker(load_collision_model(robot)), q) == ""
     bounded = DistanceBoundedIK(robot, checker).solve(target, [q])
     assert bounded.status == "not_found" and not bounded.solutions
+    assert bounded.iterations > 0 and bounded.rejected  # the work was done; the best run kept
+    assert DistanceBoundedIK(robot, checker).solve(target, [q], timeout=0.0).status == "timeout"
     aware = CollisionAwareSolver(NumericIK(robot, closed_form=False), checker)
     result = aware.solve(target, q, timeout=30.0)
     assert result.status == "in_collision", result.message
