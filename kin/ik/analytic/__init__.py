@@ -4,6 +4,7 @@ Split by arm class, the number of joints and the geometry a user looks an arm up
 a subpackage of one module per structure:
 
 - ``planar``: every axis parallel, or a base yaw over parallel pitch axes (2-4 joints);
+- ``three_joint``: three revolute axes through one point (a wrist alone);
 - ``five_joint``: a base yaw, three parallel pitch joints and a wrist roll;
 - ``six_r``: revolute 6R arms, the special families (every branch in closed form, compiled
   twins) and the general elimination for the rest;
@@ -14,5 +15,6 @@ What every class shares stays here: what a structure provides (``closed_form_str
 checks it reads a table with (``structure``), the branches it returns (``branches``), the one
 registry asked in turn (``registry``), the structure-agnostic solvers (``closed_form``, one
 target; ``batch``, N targets), reversed and antiparallel joints (``joint_directions``), rounded
-tables (``idealised``) and the C helpers of the compiled twins (``_twin.h``).
+tables (``idealised``), the batch of one-target structures (``per_target_batch``) and the C
+helpers of the compiled twins (``_twin.h``).
 """
