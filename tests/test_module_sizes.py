@@ -45,8 +45,6 @@ CIRCLES_KNOWN = (
     frozenset({"kin.robot_model", "kin.mimic_arm", "kin.ik.judge"}),
     # workspace -> workspace_run (function-local: run the chunks) -> workspace (reduce_chunk).
     frozenset({"kin.workspace", "kin.workspace_run"}),
-    # registry -> six_r.general_6r -> registry (function-local: the closed forms' list).
-    frozenset({"kin.ik.analytic.registry", "kin.ik.analytic.six_r.general_6r"}),
 )
 
 

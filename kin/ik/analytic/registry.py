@@ -96,6 +96,9 @@ _entries: list[ClosedFormEntry] = list(SHIPPED)
 #: The registered structures in the order they are asked (kept in step with :func:`entries`;
 #: updated in place by :func:`register`).
 CLOSED_FORMS: list[type[ClosedFormStructure]] = [entry.structure for entry in SHIPPED]
+# The general 6R form refuses a rounded table another family fits once idealised: it reads this
+# list (updated in place) without importing the registry.
+General6R.rivals = CLOSED_FORMS
 
 
 def entries() -> tuple[ClosedFormEntry, ...]:

@@ -31,6 +31,7 @@ then verifies each branch as for any structure.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -113,6 +114,10 @@ class General6R:
     branch_labels: ClassVar[tuple[str, ...]] = tuple(
         f"branch {k} (joints ascending)" for k in range(1, BRANCHES + 1)
     )
+    #: The registered closed forms, in the order they are asked (the registry's list, which it
+    #: sets here: this module does not import the registry): a rounded table that one of the
+    #: other 6R families fits once idealised is refused (:meth:`recognise`).
+    rivals: ClassVar[Sequence[Any]] = ()
 
     robot: str
     formulations: tuple[Formulation, ...]
@@ -151,7 +156,7 @@ class General6R:
         """
         check = Checker(table, "general 6R")
         check.revolute(6)
-        _refuse_idealised(table)
+        _refuse_idealised(table, cls.rivals)
         F, signs = chain_transforms(table)
         rng = np.random.default_rng(PROBE_SEED)
         u = rng.uniform(-math.pi, math.pi, size=(PROBES, 6))
@@ -343,15 +348,14 @@ def _found(
     return found
 
 
-def _refuse_idealised(table: DHTable) -> None:
+def _refuse_idealised(table: DHTable, rivals: Sequence[Any]) -> None:
     """Raise when the table, idealised (:mod:`.idealised`), fits one of the special families."""
     from ..idealised import idealise
-    from ..registry import CLOSED_FORMS
 
     ideal = idealise(table)
     if ideal is None:
         return
-    for structure in CLOSED_FORMS:
+    for structure in rivals:
         if structure is General6R or structure.dof != 6:
             continue
         try:
