@@ -22,6 +22,7 @@ from kin.collision import CollisionChecker, load_collision_model
 from kin.ik import AxisTarget, PoseTarget, PositionTarget, get_solver
 from kin.ik.collision_aware import CollisionAwareSolver
 from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK, held_in_scene
+from kin.ik.numeric.distance_bound import DistanceBound
 from kin.ik.numeric.distance_jacobian import pair_rows
 from kin.ik.numeric.solver import NumericIK
 
@@ -234,3 +235,20 @@ def test_every_answer_colliding_stays_in_collision(panda, tmp_path):
     assert result.status == "in_collision", result.message
     stopped = aware.solve(target, q, timeout=1e-9)
     assert stopped.status == "timeout", stopped.message
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "words"),
+    [
+        ("gain", 0.0, "DistanceBound.gain: 0.0 must be a finite number in (0, 1]"),
+        ("margin", float("nan"), "DistanceBound.margin: nan must be"),
+        ("influence", 0.001, "DistanceBound.influence: 0.001 must be a finite number > margin"),
+        ("iterations", 0, "DistanceBound.iterations: 0 must be"),
+        ("qp_solver", "cvx", "unknown QP solver 'cvx'; choose one of: daqp, osqp"),
+    ],
+)
+def test_bad_bound_settings_name_the_field(field, value, words):
+    """A bad setting raises IKError in one line naming the field, its value and its range."""
+    with pytest.raises(kin.ik.IKError) as error:
+        DistanceBound(**{field: value})
+    assert words in str(error.value) and "\n" not in str(error.value)

@@ -40,6 +40,7 @@ from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, _tool_frame_id
 from ..partial_pose import PartialTask
 from ..result import IKResult, IKSolution
 from ..target import AxisTarget, PoseTarget, PositionTarget
+from .distance_bound import DistanceBound
 from .distance_jacobian import pair_rows
 
 __all__ = [
@@ -56,40 +57,6 @@ METHOD = "collision_bound"
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _POSITION_MASK = (True, True, True, False, False, False)
-
-
-@dataclass(frozen=True)
-class DistanceBound:
-    """Settings of the distance-bounded solve.
-
-    Attributes:
-        margin: Distance kept between every checked pair, beyond the model's padding [m].
-        influence: Pairs closer than this enter the QP as inequalities [m].
-        gain: Fraction of a pair's gap to ``margin`` a step may close (or must open) [1], in (0, 1].
-        opening: Most a pair inside ``margin`` must open per step [m] (a deep one opens steadily).
-        iterations: Steps per start [1].
-        patience: A start is given up after this many steps without progress [1] (the error
-            not halved, no pair inside the padding opened by a millimeter).
-        random_starts: Starts drawn inside the limits after the given ones [1].
-        damping: Constant damping of the step [1] (added to ``error_damping |e|^2``).
-        error_damping: Damping proportional to the squared weighted error [1].
-        max_step: Largest joint change per step [rad] (or [m]).
-        qp_solver: The QP solver's name for qpsolvers.
-        random_seed: Seed of the random starts.
-    """
-
-    margin: float = 0.002
-    influence: float = 0.05
-    gain: float = 0.5
-    opening: float = 0.01
-    iterations: int = 80
-    patience: int = 15
-    random_starts: int = 8
-    damping: float = 1e-9
-    error_damping: float = 1e-3
-    max_step: float = 0.2
-    qp_solver: str = "daqp"
-    random_seed: int = 0
 
 
 @dataclass(frozen=True)
