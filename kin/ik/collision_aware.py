@@ -13,9 +13,9 @@ on where the arm has freedom left, bounded by work (the timeout only a cap):
   (:mod:`kin.ik.numeric.all_branches`);
 - any target the numeric solver answers: the distance-bounded solve
   (:mod:`kin.ik.numeric.collision_bound`: each step a QP that keeps every checked pair apart) from
-  the seed, the colliding answers and a few seeded random starts; then :data:`EXTRA_STARTS` more
-  plain solves, each from a start drawn uniformly inside the limits (a fixed random seed:
-  reproducible).
+  the seed, the colliding answers and (unless the free-joint grid swept the self-motion) a few
+  seeded random starts; then :data:`EXTRA_STARTS` more plain solves, each from a start drawn
+  uniformly inside the limits (a fixed random seed: reproducible).
 
 A closed-form 6R pose has every branch in its first answer: the nearest free branch is the
 answer, with no search. The first free answers found win, nearest the caller's seed first.
