@@ -22,7 +22,6 @@ forms read one variable per table row, refuse it in one line.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,33 +33,13 @@ from dh2urdf import DHTable
 from dh2urdf.urdf_chain import UrdfChain
 
 from .exceptions import FrameError, JointVectorError, ModelLoadError, NotWithinLimitsError
-from .ik.judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, rotation_error
+from .ik.judge import rotation_error
 from .ik.result import IKSolution
-from .robot_model import RobotModel
+from .mimic_descent import CoupledChain, MimicSearch, search
+from .robot_model import RobotModel, load_robot, robot_from_chain, robot_from_table, urdf_file
 
-#: Largest change of one joint in one descent step [rad] or [m].
-_MAX_STEP = 0.5
-#: Steps after which a descent that has not cut its residual by 10 % gives up (a local minimum).
-_STALL = 15
-
-__all__ = ["MimicArm", "MimicSearch", "load_mimic_arm", "mimic_arm_from_chain"]
-
-
-@dataclass(frozen=True, eq=False)
-class MimicSearch:
-    """What one IK search of a :class:`MimicArm` found.
-
-    Attributes:
-        answer: The first joint vector judged on target inside every joint's limits, or None.
-        best: The attempt nearest the target (by the search's own residual), as judged.
-        starts: Starts tried (the seed first, then random ones).
-        iterations: Damped least-squares steps taken, all starts together.
-    """
-
-    answer: IKSolution | None
-    best: IKSolution
-    starts: int
-    iterations: int
+# MimicSearch lives in mimic_descent (the search's stages); it stays importable from here.
+__all__ = ["MimicArm", "MimicSearch", "load_arm", "load_mimic_arm", "mimic_arm_from_chain"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -232,6 +211,8 @@ class MimicArm:
     ) -> MimicSearch:
         """Damped least squares on the coupled Jacobian, from the seed then random starts.
 
+        The stages are :mod:`kin.mimic_descent`'s (:func:`~kin.mimic_descent.search`).
+
         Args:
             position: Target position of the tip link in the base link [m], shape (3,).
             rotation: Target axes of the tip link in the base link (3x3), or None: the
@@ -248,90 +229,20 @@ class MimicArm:
             model of the URDF, :data:`~kin.ik.judge.POSITION_TOLERANCE` [m],
             :data:`~kin.ik.judge.ROTATION_TOLERANCE` [rad]), the best attempt, and the counts.
         """
-        started = time.perf_counter()
         oriented = rotation is not None
         goal = pin.SE3(
             np.asarray(rotation, dtype=float) if oriented else np.eye(3),  # type: ignore[arg-type]
             np.asarray(position, dtype=float),
         )
-        rng = np.random.default_rng(rng_seed)
         first = (
             0.5 * (self.lower + self.upper)
             if seed is None
             else np.clip(self._vector(seed), self.lower, self.upper)
         )
-        best, best_residual, iterations, starts = first, math.inf, 0, 0
-        for start in range(restarts + 1):
-            if start and timeout is not None and time.perf_counter() - started > timeout:
-                break
-            starts += 1
-            q = first if start == 0 else rng.uniform(self.lower, self.upper)
-            q, steps = self._descend(q, goal, oriented, max_iter)
-            iterations += steps
-            answer = self._judged(q, goal, oriented)
-            if (
-                answer.within_limits
-                and answer.position_error < POSITION_TOLERANCE
-                and (answer.rotation_error is None or answer.rotation_error < ROTATION_TOLERANCE)
-            ):
-                return MimicSearch(answer, answer, starts, iterations)
-            residual = answer.position_error + (answer.rotation_error or 0.0)
-            if residual < best_residual:
-                best, best_residual = q, residual
-        return MimicSearch(None, self._judged(best, goal, oriented), starts, iterations)
-
-    def _descend(
-        self, q: np.ndarray, goal: pin.SE3, oriented: bool, max_iter: int
-    ) -> tuple[np.ndarray, int]:
-        """Levenberg-Marquardt steps from ``q`` inside the limits; the last ``q`` and the steps.
-
-        The residual is the tip's pose error ``log6(T_tip^-1 T_goal)`` (LOCAL), or its position
-        error in base axes when not ``oriented``; a step is kept when it lowers the residual
-        (then the damping shrinks), else the damping grows; a step moves no joint more than
-        :data:`_MAX_STEP`. The descent stops on target, after ``max_iter`` steps, or stuck
-        (the damping past 1e8, or the residual cut by less than 10 % in :data:`_STALL` steps).
-        """
-        model = self.robot.model
-        data = model.createData()
-        tool = model.getFrameId(self.robot.tool_frame)
-        coupling = self.coupling
-        frame = pin.LOCAL if oriented else pin.LOCAL_WORLD_ALIGNED
-        rows = 6 if oriented else 3
-
-        def residual(q: np.ndarray) -> np.ndarray:
-            pin.framesForwardKinematics(model, data, self.chain.expand(q))
-            if oriented:
-                return pin.log6(data.oMf[tool].actInv(goal)).vector
-            return goal.translation - data.oMf[tool].translation
-
-        error = residual(q)
-        norm = float(np.linalg.norm(error))
-        damping = 1e-3
-        history = [norm]
-        for step_count in range(1, max_iter + 1):
-            stalled = len(history) > _STALL and norm > 0.9 * history[-_STALL - 1]
-            if norm < 1e-12 or damping > 1e8 or stalled:
-                return q, step_count - 1
-            full = self.chain.expand(q)
-            jacobian = pin.computeFrameJacobian(model, data, full, tool, frame)[:rows] @ coupling
-            normal = jacobian.T @ jacobian
-            step = np.linalg.solve(
-                normal + damping * (np.diag(np.diag(normal)) + 1e-9 * np.eye(self.nq)),
-                jacobian.T @ error,
-            )
-            largest = float(np.abs(step).max())
-            if largest > _MAX_STEP:
-                step *= _MAX_STEP / largest
-            trial = np.clip(q + step, self.lower, self.upper)
-            trial_error = residual(trial)
-            trial_norm = float(np.linalg.norm(trial_error))
-            if trial_norm < norm:
-                q, error, norm = trial, trial_error, trial_norm
-                damping = max(damping / 5.0, 1e-9)
-            else:
-                damping *= 10.0
-            history.append(norm)
-        return q, max_iter
+        chain = CoupledChain(
+            self.robot, self.chain.expand, self.coupling, self.lower, self.upper, self._judged
+        )
+        return search(chain, goal, oriented, first, restarts, max_iter, rng_seed, timeout)
 
     def _judged(self, q: np.ndarray, goal: pin.SE3, oriented: bool) -> IKSolution:
         """``q`` measured by the URDF's mimic model: errors to ``goal`` and every joint's limits.
@@ -411,8 +322,6 @@ def mimic_arm_from_chain(chain: UrdfChain) -> MimicArm:
     from dh2urdf.urdf_parse import build_pinocchio_model
     from dh2urdf.urdf_to_dh import check_table, table_from_chain
 
-    from .robot_model import robot_from_table
-
     table = table_from_chain(chain)
     check_table(chain, table)
     lower, upper = _narrowed_limits(chain)
@@ -429,3 +338,28 @@ def mimic_arm_from_chain(chain: UrdfChain) -> MimicArm:
         lower=lower,
         upper=upper,
     )
+
+
+def load_arm(
+    robot: str | Path, base: str | None = None, tip: str | None = None
+) -> RobotModel | MimicArm:
+    """:func:`~kin.robot_model.load_robot`, but a URDF chain with mimic joints: a :class:`MimicArm`.
+
+    A mimic joint in series on the chain follows its leader (``q = multiplier * q_leader +
+    offset``): the arm's joint vector holds the independent joints only
+    (:func:`load_mimic_arm`). Every other robot loads as :func:`~kin.robot_model.load_robot`
+    does.
+
+    Raises:
+        The errors of :func:`~kin.robot_model.load_robot` (but for the mimic refusal), and
+        :func:`load_mimic_arm`'s.
+    """
+    path = urdf_file(robot)
+    if path is None:
+        return load_robot(robot, base, tip)
+    from dh2urdf.urdf_chain import read_chain
+
+    chain = read_chain(path, base, tip)
+    if all(joint.mimic is None for joint in chain.joints):
+        return robot_from_chain(chain)
+    return mimic_arm_from_chain(chain)

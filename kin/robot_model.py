@@ -1,7 +1,8 @@
 """Load a robot (registry name or DH table path) into a Pinocchio model built from its URDF.
 
 A URDF chain with a mimic joint in series is refused by :func:`load_robot` (every table row is
-one independent joint) and loaded by :func:`load_arm` as a :class:`kin.mimic_arm.MimicArm`.
+one independent joint) and loaded by :func:`kin.mimic_arm.load_arm` as a
+:class:`kin.mimic_arm.MimicArm` (which imports this module, not the other way).
 """
 
 from __future__ import annotations
@@ -20,8 +21,6 @@ from .exceptions import ModelLoadError
 
 if TYPE_CHECKING:
     from dh2urdf.urdf_chain import UrdfChain
-
-    from .mimic_arm import MimicArm
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,7 +125,8 @@ def robot_from_chain(chain: UrdfChain) -> RobotModel:
     Raises:
         dh2urdf.urdf_chain.UrdfChainError: The table does not reproduce the chain.
         ModelLoadError: A joint of the chain follows another (mimic): the message names it,
-            what takes such a chain (``kin fk``, ``kin ik``, :func:`load_arm`) and the fix.
+            what takes such a chain (``kin fk``, ``kin ik``, :func:`kin.mimic_arm.load_arm`) and
+            the fix.
     """
     from dh2urdf.urdf_to_dh import check_table, table_from_chain
 
@@ -134,7 +134,7 @@ def robot_from_chain(chain: UrdfChain) -> RobotModel:
         if joint.mimic is not None:
             raise ModelLoadError(
                 f"{chain.path}: joint {joint.name!r} follows {joint.mimic.leader!r} (mimic): "
-                "kin fk and kin ik follow it (kin.robot_model.load_arm in Python); this command "
+                "kin fk and kin ik follow it (kin.mimic_arm.load_arm in Python); this command "
                 "takes one independent joint per DH row: choose a --tip before it"
             )
     table = table_from_chain(chain)
@@ -162,7 +162,7 @@ def load_robot(robot: str | Path, base: str | None = None, tip: str | None = Non
         dh2urdf.urdf_chain.UrdfChainError: The URDF gives no serial chain from base to tip, or
             the file is another kind of XML (an MJCF ``<mujoco>``...).
         ModelLoadError: The URDF cannot be read or loaded; base or tip given for a table; a
-            mimic joint on the URDF's chain (:func:`load_arm` follows it).
+            mimic joint on the URDF's chain (:func:`kin.mimic_arm.load_arm` follows it).
     """
     path = urdf_file(robot)
     if path is not None:
@@ -170,32 +170,6 @@ def load_robot(robot: str | Path, base: str | None = None, tip: str | None = Non
 
         return robot_from_chain(read_chain(path, base, tip))
     return _load_table_robot(robot, base, tip)
-
-
-def load_arm(
-    robot: str | Path, base: str | None = None, tip: str | None = None
-) -> RobotModel | MimicArm:
-    """:func:`load_robot`, except that a URDF chain with mimic joints gives a :class:`MimicArm`.
-
-    A mimic joint in series on the chain follows its leader (``q = multiplier * q_leader +
-    offset``): the arm's joint vector holds the independent joints only
-    (:func:`kin.mimic_arm.load_mimic_arm`). Every other robot loads as :func:`load_robot` does.
-
-    Raises:
-        The errors of :func:`load_robot` (but for the mimic refusal), and
-        :func:`kin.mimic_arm.load_mimic_arm`'s.
-    """
-    path = urdf_file(robot)
-    if path is None:
-        return _load_table_robot(robot, base, tip)
-    from dh2urdf.urdf_chain import read_chain
-
-    chain = read_chain(path, base, tip)
-    if all(joint.mimic is None for joint in chain.joints):
-        return robot_from_chain(chain)
-    from .mimic_arm import mimic_arm_from_chain
-
-    return mimic_arm_from_chain(chain)
 
 
 def _load_table_robot(robot: str | Path, base: str | None, tip: str | None) -> RobotModel:

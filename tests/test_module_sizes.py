@@ -28,21 +28,14 @@ CLASS_LINES = 250
 
 #: Modules over :data:`MODULE_LINES` on 2026-11-27 (path under ``kin/``: lines). Each is to be
 #: split by concept (the house style: one concept per module, roughly 50-300 lines).
-MODULES_OVER = {
-    "mimic_arm.py": 431,
-}
+MODULES_OVER: dict[str, int] = {}
 
 #: Classes over :data:`CLASS_LINES` on 2026-11-27 (``path::class``: lines): pipelines to be
 #: composed of small stages over a frozen context, as ``NumericIK`` now is.
-CLASSES_OVER = {
-    "mimic_arm.py::MimicArm": 300,
-}
+CLASSES_OVER: dict[str, int] = {}
 
 #: Import circles on 2026-11-27 (the modules of each strongly connected part of the graph).
 CIRCLES_KNOWN = (
-    # robot_model -> mimic_arm (a function-local import: a URDF with mimic joints) -> ik.judge
-    # -> kin (RobotModel) -> robot_model.
-    frozenset({"kin.robot_model", "kin.mimic_arm", "kin.ik.judge"}),
     # workspace -> workspace_run (function-local: run the chunks) -> workspace (reduce_chunk).
     frozenset({"kin.workspace", "kin.workspace_run"}),
 )

@@ -2,7 +2,7 @@
 
 A mimic joint in series on a URDF chain follows its leader (``q = multiplier * q_leader +
 offset``). These two commands load such a chain as a :class:`kin.mimic_arm.MimicArm`
-(:func:`kin.robot_model.load_arm`): the user's joint vector holds the independent joints only,
+(:func:`kin.mimic_arm.load_arm`): the user's joint vector holds the independent joints only,
 base to tip, and the output names them and says how each mimic joint follows its leader. Every
 other robot loads as the other commands load it (:func:`load_robot_argument`).
 """
@@ -28,7 +28,7 @@ MIMIC_HELP = "a URDF's mimic joints are not given: they follow their leaders"
 
 def load_arm_argument(args: argparse.Namespace) -> RobotModel | MimicArm:
     """The robot the options name, a :class:`~kin.mimic_arm.MimicArm` for a mimic chain."""
-    from ..robot_model import load_arm
+    from ..mimic_arm import load_arm
 
     return load_arm(args.robot, getattr(args, "base", None), getattr(args, "tip", None))
 
