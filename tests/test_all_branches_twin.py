@@ -1,4 +1,4 @@
-"""The compiled ``all_branches`` (kin/_native/_branches7.h) against the Python path it repeats.
+"""The compiled ``all_branches`` and ``sift_rows`` (kin/_native/_branches7.h) against the Python path.
 
 ``solve(..., all_branches=True)`` on a 7R arm with a compiled free-joint form answers in one C
 call; the NumPy path of :mod:`kin.ik.numeric.all_branches` (``branches_over``, ``distinct``,
@@ -37,7 +37,7 @@ def _solver(name: str):
 def _python_path(solver, target, seed=None):
     """The answer of the NumPy path (the compiled call switched off for this form)."""
     saved = all_branches._arm(solver, solver.closed_form)
-    all_branches._ARMS[solver] = dataclasses.replace(saved, compiled=None)
+    all_branches._ARMS[solver] = dataclasses.replace(saved, compiled=None, sift=None)
     try:
         return solver.solve(target, seed, all_branches=True)
     finally:
@@ -118,3 +118,40 @@ def test_a_target_that_is_not_a_finite_pose_is_handed_back():
     assert (
         call(Pose(), np.array([0.1]), *limits, near, 1e-9, 1e-9, 1e-3, *all_branches._MADE) is None
     )
+
+
+def test_the_general_form_is_sifted_in_c_as_in_python():
+    """A random 7R arm (the general form: no twin of its own): its branches sifted by
+    ``sift_rows`` give the Python path's answer, each on the pose by the NumPy DH product."""
+    from arm_tables import make_table, random_pose
+    from dh_reference import ReferenceTable
+
+    import kin
+    from kin.ik.analytic.seven_r.general_7r import General7RIK
+
+    rng = np.random.default_rng(3)
+    a, d = rng.uniform(-0.4, 0.4, (2, 7))
+    alpha, theta = rng.uniform(-np.pi, np.pi, (2, 7))
+    base, tool = random_pose(rng), random_pose(rng)
+    table = make_table(a, alpha, d, theta, "standard", base, tool, name="r7")
+    solver = get_solver(kin.robot_from_table(table))
+    assert isinstance(solver.closed_form, General7RIK)
+    arm = all_branches._arm(solver, solver.closed_form)
+    if arm.sift is None:
+        pytest.skip("the compiled twins are not built")
+    ones = np.ones(7)
+    reference = ReferenceTable(
+        "standard", tuple(f"j{i}" for i in range(1, 8)), np.zeros(7, dtype=bool), a, alpha, d,
+        theta, -2 * np.pi * ones, 2 * np.pi * ones, base, tool,
+    )  # fmt: skip
+    poses = fk_frames(reference, rng.uniform(-np.pi, np.pi, (3, 7)))[:, -1]
+    for pose in poses:
+        target = PoseTarget(pose[:3, 3], pose[:3, :3])
+        fast = solver.solve(target, all_branches=True)
+        slow = _python_path(solver, target)
+        q_fast = _rows(fast.solutions)
+        assert q_fast.shape[0] > 0 and q_fast.shape == _rows(slow.solutions).shape
+        np.testing.assert_allclose(q_fast, _rows(slow.solutions), rtol=0, atol=1e-10)
+        np.testing.assert_allclose(_rows(fast.rejected), _rows(slow.rejected), rtol=0, atol=1e-10)
+        reached = fk_frames(reference, q_fast)[:, -1]
+        assert np.linalg.norm(reached[:, :3, 3] - pose[:3, 3], axis=1).max() < 1e-9

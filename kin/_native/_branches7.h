@@ -25,6 +25,11 @@
  *   Returns (solutions, rejected), tuples of IKSolution: the branches inside the limits within
  *   the tolerances, nearest `near` first, and the branches on target with no 2 pi copy inside
  *   the limits; or None (a near miss, a target that is not a finite pose): the Python path.
+ *
+ * sift_rows(seed_block, target, rows, lower, upper, near, position_tol, rotation_tol, near_miss,
+ *           solution, empty): the same answer for branches already found (rows: float64[M, 7],
+ *   limits ignored, no NaN row): the general 7R form's (General7RIK.branches_at, in NumPy),
+ *   judged by the chain of a Seed block whose frames are unused (free_joint.chain_block).
  */
 #ifndef KIN_IK_ANALYTIC_SEVEN_R_BRANCHES7_H
 #define KIN_IK_ANALYTIC_SEVEN_R_BRANCHES7_H
@@ -261,6 +266,52 @@ static PyObject *sift_branches(const Seed *S, double (*rows)[7], Py_ssize_t n, c
     return answer;
 }
 
+/* What all_branches and sift_rows both read: the chain, the target, the limits and the seed, the
+   tolerances, the classes. */
+typedef struct {
+    Seed S;
+    double p[3], r[9], lo[7], hi[7], near[7], tol[2], near_miss;
+    PyObject *cls, *empty;
+} Sift;
+
+/* Sift of block (bytes of a Seed) and rest = target, (skipped), lower, upper, near, position_tol,
+   rotation_tol, near_miss, solution, empty: 1; 0 with an error; -1 when the target is not a
+   finite pose (the Python path). */
+static int sift_args(PyObject *block, PyObject *const *rest, Sift *s)
+{
+    if (!PyBytes_Check(block) || PyBytes_GET_SIZE(block) != sizeof s->S || !PyType_Check(rest[8]) ||
+        !PyCallable_Check(rest[9])) {
+        PyErr_SetString(PyExc_ValueError, "seed_block: bytes of the block; solution: a class; "
+                                          "empty: a callable");
+        return 0;
+    }
+    memcpy(&s->S, PyBytes_AS_STRING(block), sizeof s->S);
+    s->tol[0] = PyFloat_AsDouble(rest[5]);
+    s->tol[1] = PyFloat_AsDouble(rest[6]);
+    s->near_miss = PyFloat_AsDouble(rest[7]);
+    if (PyErr_Occurred()) return 0;
+    if (!copy_doubles(rest[2], 7, s->lo) || !copy_doubles(rest[3], 7, s->hi) ||
+        !copy_doubles(rest[4], 7, s->near)) {
+        PyErr_SetString(PyExc_ValueError, "lower, upper, near: float64[7]");
+        return 0;
+    }
+    s->cls = rest[8];
+    s->empty = rest[9];
+    if (target_values(rest[0], s->p, s->r) != 0) return -1;
+    return all_finite(s->p, 3) && all_finite(s->r, 9) ? 1 : -1;
+}
+
+/* The answer of the n rows (freed here): distinct, then sift_branches. */
+static PyObject *sift_answer(const Sift *s, double (*rows)[7], Py_ssize_t n)
+{
+    n = distinct_rows(rows, n, DISTINCT_TOL);
+    PyObject *answer = n < 0 ? PyErr_NoMemory()
+                             : sift_branches(&s->S, rows, n, s->p, s->r, s->lo, s->hi, s->near,
+                                             s->tol, s->near_miss, s->cls, s->empty);
+    free(rows);
+    return answer;
+}
+
 static PyObject *all_branches(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
@@ -271,24 +322,14 @@ static PyObject *all_branches(PyObject *self, PyObject *const *args, Py_ssize_t 
         return NULL;
     }
     Params P;
-    Seed S;
-    if (!read_blocks(args[0], args[1], &P, &S) || !PyType_Check(args[10]) ||
-        !PyCallable_Check(args[11])) {
-        PyErr_SetString(PyExc_ValueError, "params, seed_block: bytes of the blocks; solution: a "
-                                          "class; empty: a callable");
+    Sift s;
+    if (!PyBytes_Check(args[0]) || PyBytes_GET_SIZE(args[0]) != sizeof P) {
+        PyErr_SetString(PyExc_ValueError, "params: bytes of the block");
         return NULL;
     }
-    double tol[2] = {PyFloat_AsDouble(args[7]), PyFloat_AsDouble(args[8])};
-    double near_miss = PyFloat_AsDouble(args[9]);
-    if (PyErr_Occurred()) return NULL;
-    double p[3], r[9], lo[7], hi[7], near[7], T[12];
-    if (target_values(args[2], p, r) != 0) Py_RETURN_NONE;
-    if (!copy_doubles(args[4], 7, lo) || !copy_doubles(args[5], 7, hi) ||
-        !copy_doubles(args[6], 7, near)) {
-        PyErr_SetString(PyExc_ValueError, "lower, upper, near: float64[7]");
-        return NULL;
-    }
-    if (!all_finite(p, 3) || !all_finite(r, 9)) Py_RETURN_NONE;
+    memcpy(&P, PyBytes_AS_STRING(args[0]), sizeof P);
+    int taken = sift_args(args[1], args + 2, &s);
+    if (taken <= 0) return taken < 0 ? Py_NewRef(Py_None) : NULL;
     Py_buffer values;
     if (!get_doubles(args[3], &values, 0, "values")) return NULL;
     Py_ssize_t g = values.len / (Py_ssize_t)sizeof(double), n = 0;
@@ -297,29 +338,51 @@ static PyObject *all_branches(PyObject *self, PyObject *const *args, Py_ssize_t 
         PyBuffer_Release(&values);
         return PyErr_NoMemory();
     }
-    prepare_seeded(&S, 0, p, r, T);
+    double T[12];
+    prepare_seeded(&s.S, 0, s.p, s.r, T);
     const double *grid = values.buf;
     for (Py_ssize_t k = 0; k < g; k++) {
         double sol[8][7];
         int found = branches_at_value(&P, T, grid[k], sol);
-        for (int b = 0; b < found; b++) {
-            int ok = 1;
-            for (int j = 0; j < 7; j++) ok = ok && isfinite(sol[b][j]);
-            if (ok) memcpy(rows[n++], sol[b], sizeof sol[b]);
-        }
+        for (int b = 0; b < found; b++)
+            if (all_finite(sol[b], 7)) memcpy(rows[n++], sol[b], sizeof sol[b]);
     }
     PyBuffer_Release(&values);
-    n = distinct_rows(rows, n, DISTINCT_TOL);
-    PyObject *answer = n < 0 ? PyErr_NoMemory()
-                             : sift_branches(&S, rows, n, p, r, lo, hi, near, tol, near_miss,
-                                             args[10], args[11]);
-    free(rows);
-    return answer;
+    return sift_answer(&s, rows, n);
+}
+
+/* sift_rows(seed_block, target, rows, lower, upper, near, position_tol, rotation_tol, near_miss,
+   solution, empty): all_branches's answer for branches already found (rows: float64[M, 7], any
+   form's branches_at without its NaN rows), the Seed block's chain as the judge. */
+static PyObject *sift_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != 11) {
+        PyErr_SetString(PyExc_TypeError,
+                        "sift_rows(seed_block, target, rows, lower, upper, near, position_tol, "
+                        "rotation_tol, near_miss, solution, empty)");
+        return NULL;
+    }
+    Sift s;
+    int taken = sift_args(args[0], args + 1, &s);
+    if (taken <= 0) return taken < 0 ? Py_NewRef(Py_None) : NULL;
+    Py_buffer view;
+    if (!get_doubles(args[2], &view, 0, "rows")) return NULL;
+    Py_ssize_t n = view.len / (Py_ssize_t)(7 * sizeof(double));
+    double (*rows)[7] = malloc((size_t)(n ? n : 1) * sizeof *rows);
+    if (rows != NULL) memcpy(rows, view.buf, (size_t)n * sizeof *rows);
+    PyBuffer_Release(&view);
+    if (rows == NULL) return PyErr_NoMemory();
+    return sift_answer(&s, rows, n);
 }
 
 #define ALL_BRANCHES_DOC                                                                         \
     "all_branches(params, seed_block, target, values, lower, upper, near, position_tol, "         \
     "rotation_tol, near_miss, solution, empty) -> (solutions, rejected) or None: every branch at " \
     "the free-joint values, verified, nearest `near` first (see kin/_native/_branches7.h)."
+#define SIFT_ROWS_DOC                                                                              \
+    "sift_rows(seed_block, target, rows, lower, upper, near, position_tol, rotation_tol, "         \
+    "near_miss, solution, empty) -> (solutions, rejected) or None: all_branches's answer for "     \
+    "branches already found (see kin/_native/_branches7.h)."
 
 #endif

@@ -377,6 +377,7 @@ static PyMethodDef methods[] = {
     {"seeded", (PyCFunction)(void (*)(void))seeded, METH_FASTCALL, SEEDED_DOC},
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
     {"all_branches", (PyCFunction)(void (*)(void))all_branches, METH_FASTCALL, ALL_BRANCHES_DOC},
+    {"sift_rows", (PyCFunction)(void (*)(void))sift_rows, METH_FASTCALL, SIFT_ROWS_DOC},
     {"skips", set_skips, METH_O, SKIPS_DOC},
     {NULL, NULL, 0, NULL}};
 

@@ -48,10 +48,12 @@ from kin.configuration import default_seed, seed_inside
 
 from ..analytic.idealised import polish
 from ..analytic.seven_r.branches7 import GRID, branches_over, distinct, free_grid, windings
+from ..analytic.seven_r.general_7r import General7RIK
+from ..analytic.seven_r.seven_dof import SevenDofIK
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, batch_pose_errors
 from ..result import IKResult, IKSolution
 from ..target import PoseTarget
-from .free_joint import METHOD, seed_block
+from .free_joint import METHOD, chain_block, seed_block
 from .numeric_target import NumericTarget
 
 #: Largest pose error of a returned branch [m] and [rad] (the closed forms' rounding is far below).
@@ -112,6 +114,10 @@ def solve_all_branches(
     found = None
     if arm.compiled is not None:
         found = arm.compiled(target, grid, *arm.limits, near, *tolerances, NEAR_MISS, *_MADE)
+    elif arm.sift is not None:
+        rows = _form_rows(closed, target, grid)
+        if rows is not None:
+            found = arm.sift(target, rows, *arm.limits, near, *tolerances, NEAR_MISS, *_MADE)
     if found is None:
         position: np.ndarray = np.array(getattr(target, "position"), dtype=float)
         found = _branches(
@@ -184,6 +190,9 @@ class _Arm:
         compiled: The twin's ``all_branches`` bound to the Params of the same form without
             limits (joints in ``[-pi, pi]``, as ``branches_at``) and the Seed block of the table
             (:func:`.free_joint.seed_block`: the judge's DH product); None: the Python path.
+        sift: A form without that twin (the general 7R form): a twin's ``sift_rows`` bound to
+            the table's chain (:func:`.free_joint.chain_block`), which takes the form's own
+            branches from there; None: the Python path.
     """
 
     free: int
@@ -191,6 +200,7 @@ class _Arm:
     near: np.ndarray
     limits: tuple[np.ndarray, np.ndarray]
     compiled: Callable[..., Any] | None
+    sift: Callable[..., Any] | None
 
 
 _ARMS: weakref.WeakKeyDictionary[Any, _Arm] = weakref.WeakKeyDictionary()
@@ -203,16 +213,30 @@ def _arm(ik: Any, closed: Any) -> _Arm:
         return arm
     free = int(closed.free)
     grid = free_grid(float(ik.lower[free]), float(ik.upper[free]), GRID)
-    compiled = None
+    compiled = sift = None
     block = seed_block(closed, ik.robot.table, (0.0, 0.0, 0.0), 0.0)
     if block is not None and hasattr(closed.twin, "all_branches"):
         unlimited = type(closed)(closed.structure, [-math.pi] * 7, [math.pi] * 7)
         compiled = functools.partial(closed.twin.all_branches, unlimited.c_params.tobytes(), block)
+    elif isinstance(closed, General7RIK) and hasattr(SevenDofIK.twin_module, "sift_rows"):
+        block = chain_block(ik.robot.table, SevenDofIK.twin_module)
+        if block is not None:
+            sift = functools.partial(SevenDofIK.twin_module.sift_rows, block)  # type: ignore[union-attr]
     near = np.array(seed_inside(ik.robot, default_seed(ik.robot)), dtype=float)
     limits = (np.ascontiguousarray(ik.lower, float), np.ascontiguousarray(ik.upper, float))
-    arm = _Arm(free, tuple(grid.tolist()), near, limits, compiled)
+    arm = _Arm(free, tuple(grid.tolist()), near, limits, compiled, sift)
     _ARMS[ik] = arm
     return arm
+
+
+def _form_rows(closed: Any, target: Any, grid: np.ndarray) -> np.ndarray | None:
+    """The form's branches at ``grid`` without their NaN rows (M, 7) [rad], not yet distinct."""
+    position = np.asarray(getattr(target, "position"), dtype=float)
+    found = closed.branches_at(position, np.asarray(target.rotation, dtype=float), grid)
+    if found is None:
+        return None
+    rows = found.reshape(-1, 7)
+    return np.ascontiguousarray(rows[np.isfinite(rows).all(axis=1)])
 
 
 def _errors(
