@@ -158,7 +158,13 @@ class DistanceBoundedIK:
             ub = np.minimum(self.upper - q, bound.max_step)
             h = np.maximum(bound.gain * (d - bound.margin), -bound.opening)
             args = (a.T @ a + lam * identity, -(a.T @ r))
-            dq = solve_qp(*args, -rows, h, lb=lb, ub=ub, solver=bound.qp_solver)
+            dq = None
+            if not len(h):  # no pair close: the damped step itself when the bounds keep it
+                dq = np.linalg.solve(args[0], -args[1])
+                if not (np.all(dq >= lb) and np.all(dq <= ub)):
+                    dq = None
+            if dq is None:
+                dq = solve_qp(*args, -rows, h, lb=lb, ub=ub, solver=bound.qp_solver)
             if dq is None and len(h):  # too far inside to open at that rate: do not close
                 dq = solve_qp(
                     *args, -rows, np.maximum(h, 0.0), lb=lb, ub=ub, solver=bound.qp_solver
