@@ -1,6 +1,6 @@
 """Where the workspace chunks run: this process, a process pool, or a Dask cluster.
 
-Every way gives the same :class:`~kin.workspace.ChunkReduction` (the merge is exact and does not
+Every way gives the same :class:`~kin.workspace_chunk.ChunkReduction` (the merge is exact and does not
 depend on order). The chunk tasks come from an iterator and are submitted as workers free up, at
 most :data:`IN_FLIGHT_PER_WORKER` per worker at a time, so that any number of chunks runs in
 bounded memory. Dask is optional (``pip install "dh-kinematics[dask]"``) and imported only when a
@@ -24,6 +24,7 @@ from typing import Any
 
 from .chunk_pool import run_unordered
 from .exceptions import KinError, RunFaultError
+from .workspace_chunk import reduce_chunk
 
 #: The install hint of the optional Dask extra.
 DASK_HINT = 'pip install "dh-kinematics[dask]"'
@@ -33,8 +34,6 @@ IN_FLIGHT_PER_WORKER = 2
 
 
 def _chunk(task: tuple) -> Any:
-    from .workspace import reduce_chunk
-
     return reduce_chunk(*task)
 
 
@@ -116,7 +115,7 @@ def run_chunks(
     """Reduce every chunk task and merge the reductions.
 
     Args:
-        tasks: Arguments of :func:`kin.workspace.reduce_chunk`, one tuple per chunk; read as
+        tasks: Arguments of :func:`kin.workspace_chunk.reduce_chunk`, one tuple per chunk; read as
             workers free up (a generator keeps any number of chunks in bounded memory).
         workers: Worker processes (1: run here, one chunk after another); one that dies is
             replaced and its chunks run again.

@@ -35,10 +35,7 @@ MODULES_OVER: dict[str, int] = {}
 CLASSES_OVER: dict[str, int] = {}
 
 #: Import circles on 2026-11-27 (the modules of each strongly connected part of the graph).
-CIRCLES_KNOWN = (
-    # workspace -> workspace_run (function-local: run the chunks) -> workspace (reduce_chunk).
-    frozenset({"kin.workspace", "kin.workspace_run"}),
-)
+CIRCLES_KNOWN: tuple[frozenset[str], ...] = ()
 
 
 def _sources() -> Iterator[tuple[str, Path]]:
