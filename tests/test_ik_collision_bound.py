@@ -21,7 +21,7 @@ import kin
 from kin.collision import CollisionChecker, load_collision_model
 from kin.ik import AxisTarget, PoseTarget, PositionTarget, get_solver
 from kin.ik.collision_aware import CollisionAwareSolver
-from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK, held_in_scene
+from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK, held_in_scene, solve_clear
 from kin.ik.numeric.distance_bound import DistanceBound
 from kin.ik.numeric.distance_jacobian import pair_rows
 from kin.ik.numeric.solver import NumericIK
@@ -252,3 +252,21 @@ def test_bad_bound_settings_name_the_field(field, value, words):
     with pytest.raises(kin.ik.IKError) as error:
         DistanceBound(**{field: value})
     assert words in str(error.value) and "\n" not in str(error.value)
+
+
+def test_target_kinds(panda, tmp_path):
+    """A posture-preference target is solved as its pose; a kind the bound lacks is named."""
+    from kin.ik import PitchTarget
+    from kin.ik.numeric.numeric_target import NumericTarget
+
+    target, seed, answer, checker, reference, pairs = _blocked_case(panda, tmp_path)
+    preferred = NumericTarget.from_arrays(target.position, target.rotation, seed)
+    result = solve_clear(panda[0], checker, preferred, seed, [], None)
+    assert result is not None and result.status == "ok", result
+    q = result.solutions[0].q
+    assert _clearance(reference, pairs, q) > -CONTACT_TOL
+    assert np.linalg.norm(_tool(reference, q).translation - target.position) < 1e-5
+    pitch = PitchTarget(target.position, 0.3)
+    assert solve_clear(panda[0], checker, pitch, seed, [], None) is None
+    with pytest.raises(kin.ik.TargetError, match="pose, position or axis target"):
+        DistanceBoundedIK(panda[0], checker).solve(pitch, [seed])

@@ -36,12 +36,14 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, _tool_frame_id
 from ..partial_pose import PartialTask
 from ..result import IKResult, IKSolution
 from ..target import AxisTarget, PoseTarget, PositionTarget
 from .distance_bound import DistanceBound
 from .distance_jacobian import pair_rows
+from .numeric_target import NumericTarget
 
 __all__ = [
     "METHOD",
@@ -80,14 +82,24 @@ class BoundOutcome:
     distance: float
 
 
-def _task(target: Any) -> PartialTask:
-    if isinstance(target, PositionTarget):
-        return PartialTask(PoseTarget(target.position, np.eye(3), _POSITION_MASK))
+def _task(target: Any) -> PartialTask | None:
+    """The task of ``target``: a pose (masked or not), an axis, a position; None for another kind."""
     if isinstance(target, (PoseTarget, AxisTarget)):
         return PartialTask(target)
-    raise TypeError(
-        f"the distance-bounded solve takes a pose, position or axis target, not {target!r}"
-    )
+    if isinstance(target, (PositionTarget, NumericTarget)):  # a posture preference is not kept
+        if target.rotation is None:
+            return PartialTask(PoseTarget(target.position, np.eye(3), _POSITION_MASK))
+        return PartialTask(PoseTarget(target.position, target.rotation))
+    return None
+
+
+def _task_of(target: Any) -> PartialTask:
+    task = _task(target)
+    if task is None:
+        raise TargetError(
+            f"the distance-bounded solve takes a pose, position or axis target, not {target!r}"
+        )
+    return task
 
 
 class DistanceBoundedIK:
@@ -115,14 +127,18 @@ class DistanceBoundedIK:
         position_tol: float = 1e-7,
         rotation_tol: float = 1e-6,
     ) -> BoundOutcome:
-        """Bounded steps from ``q0`` [rad] toward ``target``, :attr:`DistanceBound.iterations` at most."""
+        """Bounded steps from ``q0`` [rad] toward ``target``, :attr:`DistanceBound.iterations` at most.
+
+        Raises:
+            TargetError: A target kind the bound does not take (a pitch target).
+        """
         from qpsolvers import solve_qp
 
         bound, model = self.bound, self.model
         geometry_model = self.checker.model.geometry_model
         padding = self.checker.model.padding
         data, geometry_data = model.createData(), pin.GeometryData(geometry_model)
-        task = _task(target)
+        task = _task_of(target)
         weights = task.weights
         q = np.clip(np.asarray(q0, dtype=float), self.lower, self.upper)
         identity = np.eye(model.nv)
@@ -296,8 +312,10 @@ def solve_clear(
     timeout: float | None,
     solver: str = "numeric",
     random: bool = True,
-) -> IKResult:
+) -> IKResult | None:
     """The distance-bounded solve after answers collided: from the seed, then from each of them.
+
+    None for a target kind the bound does not take (the caller's search goes on without it).
 
     Args:
         robot: The robot.
@@ -312,6 +330,8 @@ def solve_clear(
             where a sweep of the self-motion already ran (a 7R arm's free-joint grid: on Panda
             it left 1 free answer in 53 to the random bounded starts, at 3x the work).
     """
+    if _task(target) is None:  # a kind the bound does not take (a 5-joint arm's pitch target)
+        return None
     colliding = list(colliding)
     if target.__class__ is PoseTarget and target.mask is None and colliding:
         pair = held_in_scene(robot, checker, colliding[0].q)
