@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, fields
 from typing import Any, Literal
 
 import numpy as np
@@ -91,13 +92,18 @@ class IKSolution:
         return out
 
 
-# The slot descriptors' setters of IKSolution (past its frozen __setattr__, as dataclasses do).
-_SET_Q = IKSolution.__dict__["q"].__set__
-_SET_BRANCH = IKSolution.__dict__["branch"].__set__
-_SET_WITHIN_LIMITS = IKSolution.__dict__["within_limits"].__set__
-_SET_POSITION_ERROR = IKSolution.__dict__["position_error"].__set__
-_SET_ROTATION_ERROR = IKSolution.__dict__["rotation_error"].__set__
-_SET_REASON = IKSolution.__dict__["reason"].__set__
+def _slot_setters(cls: type) -> list[Callable[[object, object], None]]:
+    """The ``__set__`` of each field's slot descriptor, in field order.
+
+    They set a slot past the class's frozen ``__setattr__`` (as the generated ``__init__`` of a
+    frozen dataclass does, for a fraction of its cost).
+    """
+    return [cls.__dict__[item.name].__set__ for item in fields(cls)]
+
+
+_SET_Q, _SET_BRANCH, _SET_WITHIN_LIMITS, _SET_POSITION_ERROR, _SET_ROTATION_ERROR, _SET_REASON = (
+    _slot_setters(IKSolution)
+)
 
 
 @dataclass(frozen=True, eq=False, slots=True)
@@ -205,15 +211,9 @@ class IKResult:
         }
 
 
-# The slot descriptors' setters of IKResult (as IKSolution's above).
-_SET_SUCCESS = IKResult.__dict__["success"].__set__
-_SET_SOLVER = IKResult.__dict__["solver"].__set__
-_SET_STATUS = IKResult.__dict__["status"].__set__
-_SET_MESSAGE = IKResult.__dict__["message"].__set__
-_SET_SOLUTIONS = IKResult.__dict__["solutions"].__set__
-_SET_REJECTED = IKResult.__dict__["rejected"].__set__
-_SET_DISTANCE = IKResult.__dict__["distance_to_workspace"].__set__
-_SET_ITERATIONS = IKResult.__dict__["iterations"].__set__
-_SET_TIME = IKResult.__dict__["time"].__set__
-_SET_METHOD = IKResult.__dict__["method"].__set__
-_SET_FREE = IKResult.__dict__["free"].__set__
+# IKResult's, in field order (success, solver, status, message, solutions, rejected,
+# distance_to_workspace, iterations, time, method, free).
+_RESULT_SETTERS = _slot_setters(IKResult)
+_SET_SUCCESS, _SET_SOLVER, _SET_STATUS, _SET_MESSAGE, _SET_SOLUTIONS = _RESULT_SETTERS[:5]
+_SET_REJECTED, _SET_DISTANCE, _SET_ITERATIONS, _SET_TIME, _SET_METHOD = _RESULT_SETTERS[5:10]
+(_SET_FREE,) = _RESULT_SETTERS[10:]

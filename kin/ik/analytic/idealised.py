@@ -104,50 +104,40 @@ def polish(
 
     Returns the best joint vector found (``q`` itself when no step helps).
     """
-    if compiled and _pose_error is not None and rotation is not None:
-        best, best_error = _gauss_newton(model, data, frame_id, q, position, rotation, True)
-        if best_error < POLISH_TOLERANCE:
-            return best
-    return _gauss_newton(model, data, frame_id, q, position, rotation, False)[0]
-
-
-def _gauss_newton(
-    model: pin.Model,
-    data: pin.Data,
-    frame_id: int,
-    q: np.ndarray,
-    position: np.ndarray,
-    rotation: np.ndarray | None,
-    twin: bool,
-) -> tuple[np.ndarray, float]:
-    """:func:`polish`'s steps, by the twin or by NumPy: the best joint vector and its error."""
-    best, best_error = q, math.inf
-    current = np.array(q, dtype=float)
+    use_twin = compiled and _pose_error is not None and rotation is not None
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-    error = np.empty(6)
-    step = np.empty(current.shape[0])
-    for _ in range(POLISH_STEPS):
-        jacobian = pin.computeFrameJacobian(model, data, current, frame_id, world)
-        pose = data.oMf[frame_id]
-        if twin and _pose_error(position, pose.translation, rotation, pose.rotation, error):
-            size = max(map(abs, error.tolist()))
-        else:
-            if rotation is None:
-                error = position - pose.translation
-                jacobian = jacobian[:3]
+    best = q
+    for twin_steps in (True, False) if use_twin else (False,):
+        best, best_error = q, math.inf
+        current = np.array(q, dtype=float)
+        error = np.empty(6)
+        step = np.empty(current.shape[0])
+        for _ in range(POLISH_STEPS):
+            jacobian = pin.computeFrameJacobian(model, data, current, frame_id, world)
+            pose = data.oMf[frame_id]
+            if twin_steps and _pose_error(
+                position, pose.translation, rotation, pose.rotation, error
+            ):
+                size = max(map(abs, error.tolist()))
             else:
-                error = np.concatenate(
-                    (position - pose.translation, pin.log3(rotation @ pose.rotation.T))
-                )
-            size = float(np.abs(error).max())
-        if size < best_error:
-            best, best_error = current.copy(), size
-        if size < POLISH_TOLERANCE:
-            break
-        if not (twin and _damped_step(jacobian, error, 0.0, step) == 0):
-            step = np.linalg.lstsq(jacobian, error, rcond=None)[0]
-        current = current + step
-    return best, best_error
+                if rotation is None:
+                    error = position - pose.translation
+                    jacobian = jacobian[:3]
+                else:
+                    error = np.concatenate(
+                        (position - pose.translation, pin.log3(rotation @ pose.rotation.T))
+                    )
+                size = float(np.abs(error).max())
+            if size < best_error:
+                best, best_error = current.copy(), size
+            if size < POLISH_TOLERANCE:
+                break
+            if not (twin_steps and _damped_step(jacobian, error, 0.0, step) == 0):
+                step = np.linalg.lstsq(jacobian, error, rcond=None)[0]
+            current = current + step
+        if best_error < POLISH_TOLERANCE:
+            break  # the twin's steps reached the target: NumPy's are not needed
+    return best
 
 
 _twin = twin("_damped_step")  # damped Newton's compiled twin (kin/_native/_damped_step.c)
