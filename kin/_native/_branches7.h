@@ -54,13 +54,34 @@ typedef struct {
     Py_ssize_t index;
 } Keyed;
 
-/* Ascending key, then index (a stable order). */
-static int keyed_order(const void *a, const void *b)
+/* Whether x comes before y: ascending key, then index (a strict order: the same result as a
+   stable sort by key). */
+static inline int keyed_before(const Keyed *x, const Keyed *y)
 {
-    const Keyed *x = a, *y = b;
-    if (x->key < y->key) return -1;
-    if (x->key > y->key) return 1;
-    return (x->index > y->index) - (x->index < y->index);
+    return x->key < y->key || (x->key == y->key && x->index < y->index);
+}
+
+/* Sort n items of `size` bytes, each starting with a Keyed, by keyed_before: Shell's sort with
+   Ciura's gaps, the comparison inline (qsort's call per comparison and buffer cost more here,
+   a few hundred rows). */
+static void keyed_sort(void *items, Py_ssize_t n, size_t size)
+{
+    static const Py_ssize_t gaps[] = {701, 301, 132, 57, 23, 10, 4, 1};
+    char *base = items, hold[sizeof(double) * 16];
+    if (size > sizeof hold) return; /* not reached: Keyed and Kept fit */
+    for (size_t g = 0; g < sizeof gaps / sizeof gaps[0]; g++) {
+        Py_ssize_t gap = gaps[g];
+        for (Py_ssize_t i = gap; i < n; i++) {
+            memcpy(hold, base + (size_t)i * size, size);
+            Py_ssize_t j = i;
+            while (j >= gap && keyed_before((const Keyed *)hold,
+                                            (const Keyed *)(base + (size_t)(j - gap) * size))) {
+                memcpy(base + (size_t)j * size, base + (size_t)(j - gap) * size, size);
+                j -= gap;
+            }
+            memcpy(base + (size_t)j * size, hold, size);
+        }
+    }
 }
 
 /* branches7.distinct: rows (n of 7) without those equal to an earlier one modulo a turn within
@@ -79,7 +100,7 @@ static Py_ssize_t distinct_rows(double (*rows)[7], Py_ssize_t n, double tol)
         order[i].key = mod_turn(rows[i][0]);
         order[i].index = i;
     }
-    qsort(order, (size_t)n, sizeof *order, keyed_order);
+    keyed_sort(order, n, sizeof *order);
     for (Py_ssize_t i = 0; i < n; i++) {
         for (Py_ssize_t offset = 1; offset < n; offset++) {
             Py_ssize_t j = (i + offset) % n;
@@ -142,7 +163,7 @@ static inline void branch_errors(const Seed *S, const double *q, const double *p
 }
 
 /* A row (7 joints, then the position and rotation errors), ordered by its squared distance to
-   the seed (order.key), then its place (order.index): sorted by keyed_order. */
+   the seed (order.key), then its place (order.index): sorted by keyed_sort. */
 typedef struct {
     Keyed order;
     double q[9];
@@ -255,7 +276,7 @@ static PyObject *sift_branches(const Seed *S, double (*rows)[7], Py_ssize_t n, c
         }
     }
     free(on);
-    qsort(kept, (size_t)count, sizeof *kept, keyed_order); /* Kept starts with its Keyed */
+    keyed_sort(kept, count, sizeof *kept); /* Kept starts with its Keyed */
     PyObject *answer = NULL, *good = solutions_of(cls, empty, kept[0].q, sizeof *kept / sizeof(double), count, 1);
     PyObject *bad = good == NULL ? NULL : solutions_of(cls, empty, rejected[0], 9, outside, 0);
     if (bad != NULL) answer = PyTuple_Pack(2, good, bad);
