@@ -13,8 +13,10 @@
  * target, duplicates merged, ordered by joint 1. LAPACK comes from SciPy's cython_lapack
  * capsules at import (no link-time dependency).
  *
- * first_pass(arm, T, out, roots): arm the float64 block of general_6r.twin_block (layout in
- * ARM_* below), T (N, 4, 4) the tool poses [m], out (N, 16, 6) the DH joint variables [rad]
+ * first_pass(arm, T, out, roots[, polish_to]): arm the float64 block of
+ * Formulation.twin_block (layout in ARM_* below), T (N, 4, 4) the tool poses [m] solved,
+ * polish_to (N, 4, 4) the poses each root is polished onto (default T: the nudged poses of a
+ * doubtful pose are solved, their roots polished onto it), out (N, 16, 6) the DH joint variables [rad]
  * (NaN rows after the branches), roots (N,) the real roots counted per pose, or -1 where this
  * pass cannot answer (a singular leading matrix, a non-finite companion matrix): the NumPy path
  * answers that pose.
@@ -327,7 +329,8 @@ static void null_vector(const double *lead, const double *middle, const double *
 }
 
 /* The first pass of one pose: 0, or -1 when the NumPy path must answer. */
-static int one_pose(const double *arm, const double *T, double *out, double *roots)
+static int one_pose(const double *arm, const double *T, const double *target, double *out,
+                    double *roots)
 {
     int a = (int)arm[ARM_START], reverse = arm[ARM_REVERSE] != 0.0;
     const double *Cf = arm + ARM_C, *Ci = arm + ARM_CINV, *P = arm + ARM_P, *F = arm + ARM_F;
@@ -471,7 +474,7 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
         }
         if (!finite) continue;
         if (im <= ROOT_TOL) count++;
-        if (polish(F, q, T) <= KEEP_TOL) memcpy(rows + 6 * m++, q, sizeof q);
+        if (polish(F, q, target) <= KEEP_TOL) memcpy(rows + 6 * m++, q, sizeof q);
     }
     *roots = (double)count;
     distinct(rows, m, out);
@@ -494,8 +497,8 @@ static int doubles(PyObject *obj, Py_buffer *view, Py_ssize_t n, int writable, c
 
 static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
-    if (nargs != 4) {
-        PyErr_SetString(PyExc_TypeError, "first_pass(arm, T, out, roots)");
+    if (nargs != 4 && nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "first_pass(arm, T, out, roots[, polish_to])");
         return NULL;
     }
     Py_buffer arm, T, out, roots;
@@ -517,19 +520,27 @@ static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t na
         PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out);
         return NULL;
     }
-    const double *a = arm.buf, *t = T.buf;
+    Py_buffer to;
+    int other = nargs == 5 && args[4] != Py_None;
+    if (other && !doubles(args[4], &to, 16 * n, 0, "polish_to (N, 4, 4)")) {
+        PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out);
+        PyBuffer_Release(&roots);
+        return NULL;
+    }
+    const double *a = arm.buf, *t = T.buf, *g = other ? to.buf : T.buf;
     double *o = out.buf, *r = roots.buf;
     Py_BEGIN_ALLOW_THREADS
     for (Py_ssize_t k = 0; k < n; k++)
-        if (one_pose(a, t + 16 * k, o + BRANCHES * 6 * k, r + k) != 0) r[k] = -1.0;
+        if (one_pose(a, t + 16 * k, g + 16 * k, o + BRANCHES * 6 * k, r + k) != 0) r[k] = -1.0;
     Py_END_ALLOW_THREADS
+    if (other) PyBuffer_Release(&to);
     PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out), PyBuffer_Release(&roots);
     Py_RETURN_NONE;
 }
 
 static PyMethodDef methods[] = {
     {"first_pass", (PyCFunction)(void (*)(void))first_pass, METH_FASTCALL,
-     "first_pass(arm, T, out, roots): the general 6R closed form's first pass of N poses."},
+     "first_pass(arm, T, out, roots[, polish_to]): the general 6R closed form's first pass."},
     {NULL, NULL, 0, NULL},
 };
 
