@@ -37,11 +37,11 @@ def _solver(name: str):
 def _python_path(solver, target, seed=None):
     """The answer of the NumPy path (the compiled call switched off for this form)."""
     saved = all_branches._arm(solver, solver.closed_form)
-    all_branches._ARMS[solver] = dataclasses.replace(saved, compiled=None, sift=None)
+    all_branches._remember(solver, dataclasses.replace(saved, compiled=None, sift=None))
     try:
         return solver.solve(target, seed, all_branches=True)
     finally:
-        all_branches._ARMS[solver] = saved
+        all_branches._remember(solver, saved)
 
 
 def _rows(solutions) -> np.ndarray:

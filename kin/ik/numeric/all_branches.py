@@ -32,6 +32,7 @@ Any other arm or target (a position, a mask, an axis) gets the usual answer.
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import functools
 import math
@@ -105,9 +106,12 @@ def solve_all_branches(
     near = arm.near if seed is None else seed_inside(ik.robot, ik.seed_vector(seed))
     near = np.asarray(near, dtype=float)
     if free_values is None:  # np.unique of the grid, the seed's value and the answer's
-        grid = np.array(
-            sorted({*arm.grid, float(near[free]), *(s.q[free] for s in result.solutions)})
-        )
+        values = list(arm.grid)
+        for value in (float(near[free]), *(float(s.q[free]) for s in result.solutions)):
+            at = bisect.bisect_left(values, value)
+            if at == len(values) or values[at] != value:
+                values.insert(at, value)
+        grid = np.array(values)
     else:
         grid = np.unique(np.asarray(free_values, dtype=float))
     tolerances = (min(BRANCH_TOLERANCE, position_tol), min(BRANCH_TOLERANCE, rotation_tol))
@@ -203,14 +207,22 @@ class _Arm:
     sift: Callable[..., Any] | None
 
 
-_ARMS: weakref.WeakKeyDictionary[Any, _Arm] = weakref.WeakKeyDictionary()
+#: Each live solver's :class:`_Arm` by its ``id`` (with a weak reference to it: the entry leaves
+#: with the solver), a plain dict lookup per call.
+_ARMS: dict[int, tuple[weakref.ref[Any], _Arm]] = {}
+
+
+def _remember(ik: Any, arm: _Arm) -> None:
+    """Keep ``arm`` as the solver ``ik``'s, until ``ik`` is gone."""
+    key = id(ik)
+    _ARMS[key] = (weakref.ref(ik, lambda _gone: _ARMS.pop(key, None)), arm)
 
 
 def _arm(ik: Any, closed: Any) -> _Arm:
     """The :class:`_Arm` of the solver ``ik`` with its free-joint closed form ``closed``."""
-    arm = _ARMS.get(ik)
-    if arm is not None and arm.free == closed.free:
-        return arm
+    entry = _ARMS.get(id(ik))
+    if entry is not None and entry[0]() is ik and entry[1].free == closed.free:
+        return entry[1]
     free = int(closed.free)
     grid = free_grid(float(ik.lower[free]), float(ik.upper[free]), GRID)
     compiled = sift = None
@@ -225,7 +237,7 @@ def _arm(ik: Any, closed: Any) -> _Arm:
     near = np.array(seed_inside(ik.robot, default_seed(ik.robot)), dtype=float)
     limits = (np.ascontiguousarray(ik.lower, float), np.ascontiguousarray(ik.upper, float))
     arm = _Arm(free, tuple(grid.tolist()), near, limits, compiled, sift)
-    _ARMS[ik] = arm
+    _remember(ik, arm)
     return arm
 
 
