@@ -16,7 +16,6 @@ that a :class:`~kin.ik.exceptions.StructureError` names the row and the paramete
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 
 import numpy as np
 import numpy.typing as npt
@@ -227,22 +226,3 @@ def target_arrays(
             f"positions must be (N, 3) and rotations (N, 3, 3), got {p.shape} and {r.shape}"
         )
     return p, r
-
-
-def in_blocks(
-    solve_block: Callable[[np.ndarray, np.ndarray, float], np.ndarray],
-    positions: npt.ArrayLike,
-    rotations: npt.ArrayLike,
-    free: float,
-) -> np.ndarray:
-    """``solve_block`` over blocks of :data:`BLOCK` targets, stacked: (N, 8, 6).
-
-    Raises:
-        TargetError: ``positions`` is not (N, 3) or ``rotations`` not (N, 3, 3).
-    """
-    p, r = target_arrays(positions, rotations)
-    if len(p) <= BLOCK:
-        return solve_block(p, r, free)
-    return np.concatenate(
-        [solve_block(p[i : i + BLOCK], r[i : i + BLOCK], free) for i in range(0, len(p), BLOCK)]
-    )

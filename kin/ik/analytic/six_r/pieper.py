@@ -71,16 +71,12 @@ from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, ClassVar
 
-import numpy as np
-
 from dh2urdf import DHTable
 from kin._native import twin
 
 from ...exceptions import StructureError
-from ...target import PoseTarget
-from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker, TargetFrame
+from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker
 from .pieper_batch import PieperBatch
-from .six_r_twin import CompiledSixR
 
 _SHOULDER_ELBOW = tuple(
     f"shoulder {s}, elbow {e}" for s in ("right", "left") for e in ("up", "down")
@@ -175,14 +171,13 @@ def _read(table: DHTable) -> dict[str, Any]:
 
 
 @dataclass(frozen=True)
-class Pieper6R(CompiledSixR, PieperBatch):
+class Pieper6R(PieperBatch):
     """A 6R arm with a spherical wrist and a general 3R arm: parameters in SI, closed form (8 branches).
 
     :meth:`recognise` gives the spherical-wrist case (axes 2 and 3 parallel) as a
     :class:`SphericalWrist6R`.
 
-    Attributes:
-        robot: Robot name.
+    Attributes (besides :class:`~.six_r_family.SixRFamily`'s):
         family: ``"intersecting"`` (axes 1, 2 meet), ``"parallel"`` (axes 1, 2 parallel),
             ``"general"`` or ``"parallel23"`` (axes 2, 3 parallel; see the module).
         a1: Length of the common normal of axes 1 and 2 [m].
@@ -194,22 +189,13 @@ class Pieper6R(CompiledSixR, PieperBatch):
         alpha4: Twist between axes 4 and 5 [rad].
         alpha5: Twist between axes 5 and 6 [rad].
         d6: Distance from the wrist centre to standard frame 6 along axis 6 [m].
-        offsets: Joint offsets ``theta1 .. theta6`` [rad] (DH angle = q + offset).
-        T_base: World -> standard DH frame 0 (4x4) [m].
-        T_tool: Standard frame 6 (``Rz(t6) Tz(d6)``) -> tool (4x4) [m].
     """
 
     name: ClassVar[str] = "pieper"
-    dof: ClassVar[int] = 6
-    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
-    #: The family's special cases, asked first (set below: :class:`SphericalWrist6R`).
-    cases: ClassVar[tuple[type[Pieper6R], ...]] = ()
     #: The family's compiled twin (``kin/_native/_spherical_wrist.c``: the parallel23 family), or
     #: None when it is not built.
     compiled_twin: ClassVar[ModuleType | None] = twin("_spherical_wrist")
 
-    robot: str
-    family: str
     a1: float
     d1: float
     alpha1: float
@@ -223,20 +209,13 @@ class Pieper6R(CompiledSixR, PieperBatch):
     alpha4: float
     alpha5: float
     d6: float
-    offsets: tuple[float, ...]
-    T_base: np.ndarray = field(repr=False)
-    T_tool: np.ndarray = field(repr=False)
-    _frame: TargetFrame = field(init=False, repr=False, compare=False)
     _g: tuple[tuple[float, float, float], ...] = field(init=False, repr=False, compare=False)
-    _k: tuple[float, ...] = field(init=False, repr=False, compare=False)
     _e: tuple[float, ...] = field(init=False, repr=False, compare=False)
     _wrist: tuple[float, ...] = field(init=False, repr=False, compare=False)
-    _classic: bool = field(init=False, repr=False, compare=False)
-    _c_params: np.ndarray | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         setattr_ = object.__setattr__
-        setattr_(self, "_frame", TargetFrame(self.T_base, self.T_tool))
         sa2, ca2 = math.sin(self.alpha2), math.cos(self.alpha2)
         sa3, ca3 = math.sin(self.alpha3), math.cos(self.alpha3)
         f3 = self.d3 + ca3 * self.d4
@@ -289,10 +268,8 @@ class Pieper6R(CompiledSixR, PieperBatch):
         setattr_(self, "_wrist", wrist)
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         setattr_(self, "_classic", abs(wrist[7]) < 1e-15 and abs(wrist[9]) < 1e-15)
-        if self.family == "parallel23":
+        if self.family == "parallel23":  # the twin solves the parallel23 family only
             self._pack_twin()
-        else:  # the twin solves the parallel23 family only
-            setattr_(self, "_c_params", None)
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
         w = self._wrist

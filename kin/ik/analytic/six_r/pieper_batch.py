@@ -9,30 +9,20 @@ it for the parallel23 family): the arm by its family's equations (the general fa
 from __future__ import annotations
 
 import math
-from typing import ClassVar
 
 import numpy as np
 
-from ._six_r import SINGULAR, SLACK, TargetFrame, clip_cosines, wrap_array
+from ._six_r import SINGULAR, SLACK, clip_cosines, wrap_array
 from .pieper_quartic import PieperQuartic
 
 
 class PieperBatch(PieperQuartic):
-    """The NumPy algorithm of a :class:`~.pieper.Pieper6R` (mixed into it: reads its fields)."""
+    """The NumPy algorithm of a :class:`~.pieper.Pieper6R` (its base: reads its fields)."""
 
-    name: ClassVar[str]
-    family: str
-    a1: float
     d1: float
     a2: float
     d6: float
-    offsets: tuple[float, ...]
-    _frame: TargetFrame
-    _g: tuple[tuple[float, float, float], ...]
-    _k: tuple[float, ...]
-    _e: tuple[float, ...]
     _wrist: tuple[float, ...]
-    _classic: bool
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
         """The 8 branches (N, 8, 6) [rad] of N world tool poses, NaN where a branch is missing."""

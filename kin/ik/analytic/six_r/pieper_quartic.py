@@ -16,6 +16,7 @@ import numpy as np
 
 from ._six_r import wrap_array
 from ._trig_quartic import EPS, candidates_batch, polish_batch
+from .six_r_family import SixRFamily
 
 #: A general-family root is kept when, after polishing, ``|E(t3)| <= 2 sqrt(g1^2 + g2^2)
 #: REACH_TOL`` (plus the rounding of ``E``): the arm then reaches the wrist centre within about
@@ -23,13 +24,11 @@ from ._trig_quartic import EPS, candidates_batch, polish_batch
 REACH_TOL = 1e-10
 
 
-class PieperQuartic:
-    """The roots ``t3`` of ``E(t3)`` of a general-family :class:`~.pieper.Pieper6R` (mixed in)."""
+class PieperQuartic(SixRFamily):
+    """The roots ``t3`` of ``E(t3)`` of a general-family :class:`~.pieper.Pieper6R` (a base)."""
 
     a1: float
-    offsets: tuple[float, ...]
     _g: tuple[tuple[float, float, float], ...]
-    _k: tuple[float, ...]
     _e: tuple[float, ...]
 
     def _harmonics(self, rt: Any, z: Any) -> tuple[Any, Any, Any, float, float]:

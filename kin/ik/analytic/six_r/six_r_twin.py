@@ -4,7 +4,8 @@
 when a C compiler is there) repeat, target by target, the NumPy algorithm of a family for its
 special case: the three-parallel family's (:mod:`.three_parallel_batch`) for the UR arms (axes 5
 and 6 meeting), Pieper's (:mod:`.pieper_batch`) for the spherical wrist with parallel axes 2 and
-3; the NumPy forms are the reference and the fallback (:class:`CompiledSixR` chooses). Each twin also has ``verify``: the 8
+3; the NumPy forms are the reference and the fallback (:class:`~.six_r_family.SixRFamily`
+chooses). Each twin also has ``verify``: the 8
 branches of one target, each moved into the joint limits (the ``2 pi`` copy nearest the seed, as
 :class:`~.closed_form.ClosedFormSolver` does) and measured by a plain DH product of the table as
 written (either convention, its base and tool): an FK independent of the closed form's algebra,
@@ -21,16 +22,14 @@ import functools
 import time
 from collections.abc import Callable, Sequence
 from types import ModuleType
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ...exceptions import TargetError
 from ..seven_r.subproblems import chain_fields, pack_params
-from ._six_r import in_blocks, target_arrays
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
 MISSING, VALID, OUTSIDE_LIMITS, OFF_TARGET = 0, 1, 2, 3
@@ -75,24 +74,6 @@ def check_params(
         "has_offsets": (float(any(chain["theta"])),),
     }
     return pack_params(fields, twin.CHECK_LAYOUT)
-
-
-def twin_solve(
-    twin: ModuleType,
-    params: np.ndarray,
-    positions: npt.ArrayLike,
-    rotations: npt.ArrayLike,
-    free: float,
-) -> np.ndarray:
-    """The twin's 8 branches of N world targets, (N, 8, 6) [rad], NaN where a branch is missing.
-
-    Raises:
-        TargetError: ``positions`` is not (N, 3) or ``rotations`` not (N, 3, 3).
-    """
-    p, r = target_arrays(positions, rotations)
-    out = np.empty((p.shape[0], 8, 6))
-    twin.solve(params, p, r, float(free), out)
-    return out
 
 
 class TwinVerifier:
@@ -172,127 +153,3 @@ class TwinVerifier:
         found = self._verify(self._params, self._check, position, rotation, seed, free, q, info)
         q.flags.writeable = False
         return found, q, info.tolist()
-
-
-class CompiledSixR:
-    """What the 6R families with a compiled twin share: solve, the parameter block, the verifier.
-
-    Mixed into a frozen dataclass that has ``name``, ``compiled_twin`` (class attributes),
-    ``T_base``, ``T_tool``, a field ``_c_params`` (``init=False``) filled by :meth:`_pack_twin`
-    in ``__post_init__`` (None where the twin does not fit the arm), :meth:`_c_own` (its own
-    fields of the twin's ``LAYOUT``) and ``_solve_block``, the family's NumPy algorithm.
-    """
-
-    name: ClassVar[str]
-    compiled_twin: ClassVar[ModuleType | None]
-    T_base: np.ndarray
-    T_tool: np.ndarray
-    _c_params: np.ndarray | None
-    _solve_block: Callable[[np.ndarray, np.ndarray, float], np.ndarray]
-
-    def _c_own(self) -> dict[str, tuple[float, ...]]:
-        raise NotImplementedError
-
-    def solve(
-        self,
-        position: npt.ArrayLike,
-        rotation: npt.ArrayLike | None,
-        free: float = 0.0,
-        *,
-        compiled: bool = True,
-    ) -> np.ndarray:
-        """The 8 branches reaching a tool pose: :meth:`solve_batch` of one target.
-
-        Args:
-            position: Tool position in the world frame [m], (3,).
-            rotation: Tool rotation ``R_world_tool``, (3, 3).
-            free: Value of the free joint [rad] where the wrist is singular (the family's).
-            compiled: Run the compiled twin when it is built and fits the arm (False: NumPy).
-
-        Returns:
-            Joint vectors [rad] in (-pi, pi], (8, 6), one row per branch label; a row of NaN
-            where that branch does not reach the target. Not verified, not wrapped into limits.
-
-        Raises:
-            TargetError: No rotation (a 6R closed form needs a full pose).
-        """
-        if rotation is None:
-            raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
-        p1 = np.reshape(np.asarray(position, dtype=float), (1, 3))
-        r1 = np.reshape(np.asarray(rotation, dtype=float), (1, 3, 3))
-        return self.solve_batch(p1, r1, free, compiled=compiled)[0]
-
-    def solve_batch(
-        self,
-        positions: npt.ArrayLike,
-        rotations: npt.ArrayLike | None,
-        free: float = 0.0,
-        *,
-        compiled: bool = True,
-    ) -> np.ndarray:
-        """The 8 branches of N tool poses: the compiled twin when it fits, else the NumPy form.
-
-        Args:
-            positions: Tool positions in the world frame [m], (N, 3).
-            rotations: Tool rotations ``R_world_tool``, (N, 3, 3).
-            free: Value of the free joint [rad] where the wrist is singular.
-            compiled: Run the compiled twin when it is built and fits the arm (False: NumPy).
-
-        Returns:
-            Joint vectors [rad] in (-pi, pi], (N, 8, 6), NaN where a branch does not exist.
-
-        Raises:
-            TargetError: No rotations, or ``positions`` not (N, 3) or ``rotations`` not (N, 3, 3).
-        """
-        if rotations is None:
-            raise TargetError(f"{self.name}: the closed form of a 6R arm needs full poses")
-        twin, params = self.compiled_twin, self._c_params
-        if compiled and twin is not None and params is not None:
-            return twin_solve(twin, params, positions, rotations, free)
-        return in_blocks(self._solve_block, positions, rotations, free)
-
-    def _pack_twin(self) -> None:
-        twin = self.compiled_twin
-        params = None if twin is None else pack_params(self.c_fields(), twin.LAYOUT)
-        object.__setattr__(self, "_c_params", params)
-
-    def c_fields(self) -> dict[str, tuple[float, ...]]:
-        """The compiled twin's parameters by field name (its ``LAYOUT``; lengths [m], angles [rad])."""
-        return {**frame_fields(self.T_base, self.T_tool), **self._c_own()}
-
-    @property
-    def c_params(self) -> np.ndarray:
-        """:meth:`c_fields` packed in the order the compiled twin declares (its ``LAYOUT``).
-
-        Raises:
-            RuntimeError: The twin is not built.
-        """
-        if self._c_params is None:
-            raise RuntimeError(f"the compiled twin of {self.name} is not built")
-        return self._c_params
-
-    def verifier(
-        self,
-        table: DHTable,
-        lower: Sequence[float],
-        upper: Sequence[float],
-        tolerance_position: float,
-        tolerance_rotation: float,
-    ) -> TwinVerifier | None:
-        """The compiled solve-and-verify of this arm (:class:`TwinVerifier`).
-
-        Args:
-            table: The table this structure was read from.
-            lower: Lower joint limits [rad].
-            upper: Upper joint limits [rad].
-            tolerance_position: Largest position error of a valid solution [m].
-            tolerance_rotation: Largest rotation error of a valid solution [rad].
-
-        Returns:
-            None when the twin is not built.
-        """
-        twin = self.compiled_twin
-        if twin is None or self._c_params is None:
-            return None
-        check = check_params(twin, table, lower, upper, tolerance_position, tolerance_rotation)
-        return TwinVerifier(twin, self._c_params, check)

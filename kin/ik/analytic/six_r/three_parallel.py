@@ -59,18 +59,14 @@ compiled twin repeats it for the intersecting family, target by target.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import ModuleType
 from typing import Any, ClassVar
-
-import numpy as np
 
 from dh2urdf import DHTable
 from kin._native import twin
 
-from ...target import PoseTarget
-from ._six_r import LENGTH_TOL, SixRChecker, TargetFrame, sin_cos
-from .six_r_twin import CompiledSixR
+from ._six_r import LENGTH_TOL, SixRChecker, sin_cos
 from .three_parallel_batch import REACH_TOL, ThreeParallelBatch
 
 __all__ = ["NEAR_MEET", "REACH_TOL", "ThreeParallel6R", "URWrist6R"]
@@ -139,75 +135,23 @@ def _read(table: DHTable, solver: str, meet: bool) -> dict[str, Any]:
 
 
 @dataclass(frozen=True)
-class ThreeParallel6R(CompiledSixR, ThreeParallelBatch):
+class ThreeParallel6R(ThreeParallelBatch):
     """A 6R arm with axes 2, 3, 4 parallel: parameters in SI, and its closed form (8 branches).
 
     :meth:`recognise` gives the UR case (``a5 = 0``) as a :class:`URWrist6R`.
 
-    Attributes:
-        robot: Robot name.
-        family: ``"intersecting"`` (``a5 = 0``) or ``"general"`` (see the module).
-        alpha1: Twist between axis 1 and the parallel axes 2-4 [rad].
-        a1: Radial offset of axis 2 [m].
-        d1: Height of axis 2 along axis 1 [m].
-        a2: Upper-arm length [m].
-        a3: Forearm length [m].
-        lateral: ``h = d2 + d3 + d4 + cos(alpha4) d5``, offset of frame 5 along the parallel
-            axes from frame 1 at ``t5 = 0`` [m].
-        a4: Offset of axis 5 from axis 4 along ``x4`` [m].
-        alpha4: Twist between axis 4 and axis 5 [rad].
-        d5: Distance along axis 5 from axis 4 to the normal of axes 5 and 6 [m].
-        a5: Length of the common normal of axes 5 and 6 [m] (0 in the intersecting family).
-        alpha5: Twist between axis 5 and axis 6 [rad].
-        d6: Distance along axis 6 from frame 5 to standard frame 6 [m].
-        offsets: Joint offsets ``theta1 .. theta6`` [rad] (DH angle = q + offset).
-        T_base: World -> standard DH frame 0 (4x4) [m].
-        T_tool: Standard frame 6 (``Rz(t6) Tz(d6)``) -> tool (4x4) [m].
+    Fields: those of :class:`~.three_parallel_batch.ThreeParallelBatch`.
     """
 
     name: ClassVar[str] = "three_parallel"
-    dof: ClassVar[int] = 6
-    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
-    #: The family's special cases, asked first (set below: :class:`URWrist6R`).
-    cases: ClassVar[tuple[type[ThreeParallel6R], ...]] = ()
     #: The family's compiled twin (``kin/_native/_ur_wrist.c``: the intersecting family), or
     #: None when it is not built.
     compiled_twin: ClassVar[ModuleType | None] = twin("_ur_wrist")
 
-    robot: str
-    family: str
-    alpha1: float
-    a1: float
-    d1: float
-    a2: float
-    a3: float
-    lateral: float
-    a4: float
-    alpha4: float
-    d5: float
-    a5: float
-    alpha5: float
-    d6: float
-    offsets: tuple[float, ...]
-    T_base: np.ndarray = field(repr=False)
-    T_tool: np.ndarray = field(repr=False)
-    _frame: TargetFrame = field(init=False, repr=False, compare=False)
-    _k: tuple[float, ...] = field(init=False, repr=False, compare=False)
-    _classic: bool = field(init=False, repr=False, compare=False)
-    _c_params: np.ndarray | None = field(init=False, repr=False, compare=False)
-
     def __post_init__(self) -> None:
-        object.__setattr__(self, "_frame", TargetFrame(self.T_base, self.T_tool))
-        s1, c1 = sin_cos(self.alpha1)
-        s4, c4 = sin_cos(self.alpha4)
-        s5, c5 = sin_cos(self.alpha5)
-        object.__setattr__(self, "_k", (s1, c1, s4, c4, s5, c5))
-        # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
-        object.__setattr__(self, "_classic", c4 == 0.0 and c5 == 0.0)
-        if self.family == "intersecting":
+        super().__post_init__()
+        if self.family == "intersecting":  # the twin solves the intersecting family only
             self._pack_twin()
-        else:  # the twin solves the intersecting family only
-            object.__setattr__(self, "_c_params", None)
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
         s1, c1, s4, c4, s5, c5 = self._k

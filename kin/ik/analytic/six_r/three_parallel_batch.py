@@ -10,12 +10,14 @@ in [m].
 from __future__ import annotations
 
 import math
-from typing import Any, ClassVar
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from ._six_r import SINGULAR, clip_cosines, wrap_array
+from ._six_r import SINGULAR, clip_cosines, sin_cos, wrap_array
 from ._trig_quartic import EPS, candidates_batch, polish_batch
+from .six_r_family import SixRFamily
 
 #: A general-family root is kept when, after polishing, ``|E(t1)| max(|sa4 a5| [m], |sa4 sa5|)
 #: <= 2 REACH_TOL`` (plus the rounding of ``E``): ``(sin t5, cos t5)`` then meets ``A`` within
@@ -23,24 +25,50 @@ from ._trig_quartic import EPS, candidates_batch, polish_batch
 REACH_TOL = 1e-10
 
 
-class ThreeParallelBatch:
-    """The NumPy algorithm of a :class:`~.three_parallel.ThreeParallel6R` (mixed into it)."""
+@dataclass(frozen=True)
+class ThreeParallelBatch(SixRFamily):
+    """An arm of the three-parallel family: its parameters in SI and its NumPy algorithm.
 
-    name: ClassVar[str]
-    family: str
+    The base of :class:`~.three_parallel.ThreeParallel6R` (which reads a table into it).
+
+    Attributes (besides :class:`~.six_r_family.SixRFamily`'s):
+        family: ``"intersecting"`` (``a5 = 0``) or ``"general"`` (see the module).
+        alpha1: Twist between axis 1 and the parallel axes 2-4 [rad].
+        a1: Radial offset of axis 2 [m].
+        d1: Height of axis 2 along axis 1 [m].
+        a2: Upper-arm length [m].
+        a3: Forearm length [m].
+        lateral: ``h = d2 + d3 + d4 + cos(alpha4) d5``, offset of frame 5 along the parallel
+            axes from frame 1 at ``t5 = 0`` [m].
+        a4: Offset of axis 5 from axis 4 along ``x4`` [m].
+        alpha4: Twist between axis 4 and axis 5 [rad].
+        d5: Distance along axis 5 from axis 4 to the normal of axes 5 and 6 [m].
+        a5: Length of the common normal of axes 5 and 6 [m] (0 in the intersecting family).
+        alpha5: Twist between axis 5 and axis 6 [rad].
+        d6: Distance along axis 6 from frame 5 to standard frame 6 [m].
+    """
+
+    alpha1: float
     a1: float
     d1: float
     a2: float
     a3: float
     lateral: float
     a4: float
+    alpha4: float
     d5: float
     a5: float
+    alpha5: float
     d6: float
-    offsets: tuple[float, ...]
-    _frame: Any
-    _k: tuple[float, ...]
-    _classic: bool
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        s1, c1 = sin_cos(self.alpha1)
+        s4, c4 = sin_cos(self.alpha4)
+        s5, c5 = sin_cos(self.alpha5)
+        object.__setattr__(self, "_k", (s1, c1, s4, c4, s5, c5))
+        # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
+        object.__setattr__(self, "_classic", c4 == 0.0 and c5 == 0.0)
 
     def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
         """The 8 branches (N, 8, 6) [rad] of N world tool poses, NaN where a branch is missing."""
