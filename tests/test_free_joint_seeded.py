@@ -140,7 +140,8 @@ def test_hostile_seeds_and_far_targets_answer_as_the_stages_do(pair, q, seed, sc
     outcomes = []
     for solver in pair:
         try:
-            result = solver.solve(target, np.array(seed), timeout=1.0, max_attempts=3)
+            # The work bound (3 starts) decides; the cap is far above it on a loaded machine.
+            result = solver.solve(target, np.array(seed), timeout=60.0, max_attempts=3)
         except TargetError as err:
             outcomes.append(("error", str(err)))
             continue
