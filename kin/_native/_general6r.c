@@ -13,10 +13,8 @@
  * target, duplicates merged, ordered by joint 1. LAPACK comes from SciPy's cython_lapack
  * capsules at import (no link-time dependency).
  *
- * first_pass(arm, T, out, roots[, polish_to]): arm the float64 block of
- * Formulation.twin_block (layout in ARM_* below), T (N, 4, 4) the tool poses [m] solved,
- * polish_to (N, 4, 4) the poses each root is polished onto (default T: the nudged poses of a
- * doubtful pose are solved, their roots polished onto it), out (N, 16, 6) the DH joint variables [rad]
+ * first_pass(arm, T, out, roots): arm the float64 block of Formulation.twin_block (layout in
+ * ARM_* below), T (N, 4, 4) the tool poses [m], out (N, 16, 6) the DH joint variables [rad]
  * (NaN rows after the branches), roots (N,) the real roots counted per pose, or -1 where this
  * pass cannot answer (a singular leading matrix, a non-finite companion matrix): the NumPy path
  * answers that pose.
@@ -39,7 +37,8 @@ static dgetrf_t *dgetrf_;
 static dgesv_t *dgesv_;
 
 /* The arm block: start, reverse, C_fixed (5 4x4), C_inv (5 4x4), P (3x14x9), F (7 4x4),
-   F0^-1, F6^-1, FIT9 (9x9), TAU (3). */
+   F0^-1, F6^-1, FIT9 (9x9), TAU (3), m and the two deflating bases (2 24x24, row-major, the
+   first m columns used; _general_6r_deflation.py). */
 #define ARM_START 0
 #define ARM_REVERSE 1
 #define ARM_C 2
@@ -50,7 +49,9 @@ static dgesv_t *dgesv_;
 #define ARM_F6INV (ARM_F0INV + 16)
 #define ARM_FIT9 (ARM_F6INV + 16)
 #define ARM_TAU (ARM_FIT9 + 81)
-#define ARM_SIZE (ARM_TAU + 3)
+#define ARM_DEFLATED (ARM_TAU + 3)
+#define ARM_BASES (ARM_DEFLATED + 1)
+#define ARM_SIZE (ARM_BASES + 2 * 576)
 
 #define BRANCHES 16
 #define NEWTON_STEPS 8
@@ -329,8 +330,7 @@ static void null_vector(const double *lead, const double *middle, const double *
 }
 
 /* The first pass of one pose: 0, or -1 when the NumPy path must answer. */
-static int one_pose(const double *arm, const double *T, const double *target, double *out,
-                    double *roots)
+static int one_pose(const double *arm, const double *T, double *out, double *roots)
 {
     int a = (int)arm[ARM_START], reverse = arm[ARM_REVERSE] != 0.0;
     const double *Cf = arm + ARM_C, *Ci = arm + ARM_CINV, *P = arm + ARM_P, *F = arm + ARM_F;
@@ -407,10 +407,32 @@ static int one_pose(const double *arm, const double *T, const double *target, do
             if (!isfinite(v)) return -1;
             comp[12 + i + 24 * j] = v;
         }
+    /* The 8 spurious eigenvalues (x = +-i) deflated: the eigenvalues of Q2^T A Q2 (m x m). */
+    int m = (int)arm[ARM_DEFLATED];
+    double *eig = comp, B[24 * 24];
+    if (m < 24) {
+        const double *Q2 = arm + ARM_BASES + (flip ? 576 : 0);
+        double AQ[24][24];
+        for (int i = 0; i < 12; i++) /* A's top rows are [0 I] */
+            for (int j = 0; j < m; j++) AQ[i][j] = Q2[24 * (12 + i) + j];
+        for (int i = 12; i < 24; i++)
+            for (int j = 0; j < m; j++) {
+                double t = 0.0;
+                for (int l = 0; l < 24; l++) t += comp[i + 24 * l] * Q2[24 * l + j];
+                AQ[i][j] = t;
+            }
+        for (int r = 0; r < m; r++)
+            for (int j = 0; j < m; j++) {
+                double t = 0.0;
+                for (int i = 0; i < 24; i++) t += Q2[24 * i + r] * AQ[i][j];
+                B[r + m * j] = t;
+            }
+        eig = B;
+    }
     double wr[24], wi[24], vl[1];
     int one = 1;
     char no = 'N';
-    dgeev_(&no, &no, &n24, comp, &n24, wr, wi, vl, &one, vl, &one, work, &lwork, &info);
+    dgeev_(&no, &no, &m, eig, &m, wr, wi, vl, &one, vl, &one, work, &lwork, &info);
     if (info != 0) return -1;
     /* The least squares of the right side's monomials: pinv of Q[:, 1:] (8x14), from its SVD. */
     double pinv[8][14];
@@ -425,8 +447,8 @@ static int one_pose(const double *arm, const double *T, const double *target, do
         }
     /* Each (near-)real root: the joints, polished. */
     double rows[24 * 6];
-    int m = 0, count = 0;
-    for (int e = 0; e < 24; e++) {
+    int kept = 0, count = 0;
+    for (int e = 0; e < m; e++) {
         double im = fabs(wi[e]) / (1.0 + hypot(wr[e], wi[e]));
         if (!(im <= IMAG_TOL)) continue;
         double v[12];
@@ -474,10 +496,10 @@ static int one_pose(const double *arm, const double *T, const double *target, do
         }
         if (!finite) continue;
         if (im <= ROOT_TOL) count++;
-        if (polish(F, q, target) <= KEEP_TOL) memcpy(rows + 6 * m++, q, sizeof q);
+        if (polish(F, q, T) <= KEEP_TOL) memcpy(rows + 6 * kept++, q, sizeof q);
     }
     *roots = (double)count;
-    distinct(rows, m, out);
+    distinct(rows, kept, out);
     return 0;
 }
 
@@ -497,8 +519,8 @@ static int doubles(PyObject *obj, Py_buffer *view, Py_ssize_t n, int writable, c
 
 static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
-    if (nargs != 4 && nargs != 5) {
-        PyErr_SetString(PyExc_TypeError, "first_pass(arm, T, out, roots[, polish_to])");
+    if (nargs != 4) {
+        PyErr_SetString(PyExc_TypeError, "first_pass(arm, T, out, roots)");
         return NULL;
     }
     Py_buffer arm, T, out, roots;
@@ -520,27 +542,19 @@ static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t na
         PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out);
         return NULL;
     }
-    Py_buffer to;
-    int other = nargs == 5 && args[4] != Py_None;
-    if (other && !doubles(args[4], &to, 16 * n, 0, "polish_to (N, 4, 4)")) {
-        PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out);
-        PyBuffer_Release(&roots);
-        return NULL;
-    }
-    const double *a = arm.buf, *t = T.buf, *g = other ? to.buf : T.buf;
+    const double *a = arm.buf, *t = T.buf;
     double *o = out.buf, *r = roots.buf;
     Py_BEGIN_ALLOW_THREADS
     for (Py_ssize_t k = 0; k < n; k++)
-        if (one_pose(a, t + 16 * k, g + 16 * k, o + BRANCHES * 6 * k, r + k) != 0) r[k] = -1.0;
+        if (one_pose(a, t + 16 * k, o + BRANCHES * 6 * k, r + k) != 0) r[k] = -1.0;
     Py_END_ALLOW_THREADS
-    if (other) PyBuffer_Release(&to);
     PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out), PyBuffer_Release(&roots);
     Py_RETURN_NONE;
 }
 
 static PyMethodDef methods[] = {
     {"first_pass", (PyCFunction)(void (*)(void))first_pass, METH_FASTCALL,
-     "first_pass(arm, T, out, roots[, polish_to]): the general 6R closed form's first pass."},
+     "first_pass(arm, T, out, roots): the general 6R closed form's first pass of N poses."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -152,8 +152,12 @@ class Formulation:
         """The arm's float64 block of ``kin/_native/_general6r.c`` (its ``ARM_*`` layout).
 
         Start, reading, the fixed ``C_k`` and their inverses, the left side's coefficients, the
-        chain ``F0 .. F6`` [m] and ``F0^-1``, ``F6^-1``, the fit on the grid and :data:`TAU`.
+        chain ``F0 .. F6`` [m] and ``F0^-1``, ``F6^-1``, the fit on the grid, :data:`TAU` and the
+        deflation of the spurious roots (:mod:`._general_6r_deflation`).
         """
+        from ._general_6r_deflation import deflation
+
+        kept, bases = deflation(self._P)
         parts = (
             [float(self.start), float(self.reverse)],
             self._C_fixed,
@@ -164,6 +168,8 @@ class Formulation:
             inverse(self.F[6]),
             _FIT9,
             TAU,
+            [float(kept)],
+            bases,
         )
         return np.concatenate([np.ravel(np.asarray(part, dtype=float)) for part in parts])
 

@@ -128,7 +128,7 @@ class General6R:
     _F0_inv: np.ndarray = field(init=False, repr=False)
     _F6_inv: np.ndarray = field(init=False, repr=False)
     _cuts: tuple[Formulation, ...] = field(init=False, repr=False)
-    _twin: tuple[Any, np.ndarray, tuple[np.ndarray, ...]] | None = field(init=False, repr=False)
+    _twin: tuple[Any, np.ndarray] | None = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_F0_inv", inverse(self.F[0]))
@@ -141,10 +141,8 @@ class General6R:
         )
         object.__setattr__(self, "_cuts", cuts)
         module = twin("_general6r") if self.compiled and len(self.formulations) == 1 else None
-        if module is not None:  # the first elimination's block, and every cut's (the nudges)
-            blocks = tuple(cut.twin_block() for cut in cuts)
-            module = (module, self.formulations[0].twin_block(), blocks)
-        object.__setattr__(self, "_twin", module)
+        block = None if module is None else self.formulations[0].twin_block()
+        object.__setattr__(self, "_twin", None if module is None else (module, block))
 
     @classmethod
     def recognise(cls, table: DHTable) -> General6R:
@@ -265,7 +263,10 @@ class General6R:
             # nearby poses by every cut, and polish each candidate onto the pose itself (Newton
             # from about NUDGE away). The branches no longer depend on the LAPACK build.
             for nudge in NUDGES:
-                more_pose, more_u = self._nudged(T[doubtful], T[doubtful] @ nudge, inverses)
+                with np.errstate(all="ignore"):  # a degenerate cut gives NaN rows (dropped)
+                    more_pose, more_u, _ = _candidates(
+                        self.F, self._cuts, T[doubtful], *inverses, solve_at=T[doubtful] @ nudge
+                    )
                 pose = np.concatenate((pose, doubtful[more_pose]))
                 u = np.concatenate((u, more_u))
             out = distinct(n, pose, u)
@@ -282,7 +283,7 @@ class General6R:
         """
         if self._twin is None:
             return (*_candidates(self.F, self.formulations, T, *inverses), None)
-        module, block, _ = self._twin
+        module, block = self._twin
         n = T.shape[0]
         out = np.empty((n, BRANCHES, 6))
         roots = np.empty(n)
@@ -295,34 +296,6 @@ class General6R:
             return pose, u, roots, out
         more_pose, more_u, roots[failed] = _candidates(self.F, self.formulations, T[failed], *inverses)
         return np.concatenate((pose, failed[more_pose])), np.concatenate((u, more_u)), roots, None
-
-    def _nudged(
-        self, T: np.ndarray, at: np.ndarray, inverses: tuple[np.ndarray, np.ndarray]
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Pose index and DH joint variables of poses ``T`` (M, 4, 4) from the nearby ``at``.
-
-        Every cut's roots of the poses ``at``, each polished onto its pose of ``T``: in the
-        compiled twin when there is one (a pose it cannot answer by the NumPy path).
-        """
-        if self._twin is None:
-            with np.errstate(all="ignore"):  # a degenerate cut gives NaN rows (dropped)
-                return _candidates(self.F, self._cuts, T, *inverses, solve_at=at)[:2]
-        module, _, blocks = self._twin
-        T, at = np.ascontiguousarray(T), np.ascontiguousarray(at)
-        poses, rows = [], []
-        for cut, block in zip(self._cuts, blocks):
-            out, roots = np.empty((T.shape[0], BRANCHES, 6)), np.empty(T.shape[0])
-            module.first_pass(block, at, out, roots, T)
-            pose, branch = np.nonzero(~np.isnan(out[..., 0]) & (roots >= 0.0)[:, None])
-            poses.append(pose)
-            rows.append(out[pose, branch])
-            failed = np.nonzero(roots < 0.0)[0]
-            if failed.size:
-                with np.errstate(all="ignore"):
-                    more = _candidates(self.F, (cut,), T[failed], *inverses, solve_at=at[failed])
-                poses.append(failed[more[0]])
-                rows.append(more[1])
-        return np.concatenate(poses), np.concatenate(rows)
 
 
 def _candidates(
