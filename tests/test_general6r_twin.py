@@ -120,3 +120,21 @@ def test_bad_blocks_are_refused():
     block = structure._twin[1]
     with pytest.raises(TypeError, match="T"):
         TWIN.first_pass(block, np.zeros((2, 4, 4)), np.zeros((1, 16, 6)), np.zeros(1))
+
+
+def test_a_singular_pencil_goes_to_the_numpy_path():
+    """Jaco 2 at q5 = 180 deg (its 55 deg wrist makes axes 4 and 6 parallel: some solutions of
+    the pose form curves, M(x) is singular at every x and the eigenvalues depend on the BLAS
+    kernel): the twin refuses the pose (-1); the q is among the answer's 12 branches."""
+    table = load_table(SIX_R / "jaco2_6dof.toml")
+    reference = load_reference(SIX_R / "jaco2_6dof.toml")
+    structure = General6R.recognise(table)
+    q = np.radians([45.0, -60.0, -60.0, -90.0, 180.0, 90.0])
+    pose = fk_frames(reference, q[None])[:, -1]
+    module, block = structure._twin
+    out, roots = np.empty((1, 16, 6)), np.empty(1)
+    module.first_pass(block, np.ascontiguousarray(pose), out, roots)
+    assert roots[0] == -1.0
+    found = structure.solve(pose[0, :3, 3], pose[0, :3, :3])
+    found = found[~np.isnan(found[:, 0])]
+    assert len(found) == 12 and wrapped_gap(found, q).min() < 1e-6

@@ -16,8 +16,8 @@
  * first_pass(arm, T, out, roots): arm the float64 block of Formulation.twin_block (layout in
  * ARM_* below), T (N, 4, 4) the tool poses [m], out (N, 16, 6) the DH joint variables [rad]
  * (NaN rows after the branches), roots (N,) the real roots counted per pose, or -1 where this
- * pass cannot answer (a singular leading matrix, a non-finite companion matrix): the NumPy path
- * answers that pose.
+ * pass cannot answer (a singular pencil, a singular leading matrix, a non-finite companion
+ * matrix): the NumPy path answers that pose.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -280,6 +280,21 @@ static double ratio_angle(const double *v, int along_y)
     return angle;
 }
 
+/* Whether M2 x^2 + M1 x + M0 (12x12 row-major) is singular at a generic x: its LU's smallest
+   pivot below SINGULAR times the largest. */
+#define SINGULAR 1e-11
+static int singular_pencil(const double *m0, const double *m1, const double *m2)
+{
+    const double x = 0.3719; /* no arm's root in particular */
+    double a[144];
+    int n = 12, ipiv[12], info;
+    for (int k = 0; k < 144; k++) a[k] = (m2[k] * x + m1[k]) * x + m0[k];
+    dgetrf_(&n, &n, a, &n, ipiv, &info);
+    double small = INFINITY, big = 0.0;
+    for (int i = 0; i < 12; i++) small = fmin(small, fabs(a[13 * i])), big = fmax(big, fabs(a[13 * i]));
+    return !(small > SINGULAR * big);
+}
+
 /* The null vector of lead mu^2 + middle mu + tail (12x12 row-major) at a root mu: two steps of
    inverse iteration, scaled so that its largest entry is positive (the eigenvector the companion
    matrix's eigenproblem would give, without computing the 24 of them). */
@@ -386,6 +401,10 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
                 M[k][12 * r + c] = s;
                 M[k][12 * (6 + r) + 3 + c] = s;
             }
+    /* A singular pencil (M(x) singular at every x: some solutions of the pose form curves, as
+       where a 55 deg wrist makes axes 4 and 6 parallel) has eigenvalues that depend on the
+       LAPACK build: the NumPy path answers that pose (its nudged poses). */
+    if (singular_pencil(M[0], M[1], M[2])) return -1;
     /* Companion matrix on the better conditioned leading matrix. */
     int flip = hadamard_ratio(M[0]) > hadamard_ratio(M[2]);
     const double *lead = flip ? M[0] : M[2], *tail = flip ? M[2] : M[0];
