@@ -24,8 +24,13 @@ multiple root come out real depends on the LAPACK build (OpenBLAS picks its kern
 branches must not. Poses whose solutions are not isolated (singular ones) give some of them.
 
 Every candidate is polished by Newton steps on the true chain (to about 1e-13 [m], [rad]),
-kept only when on target to :data:`KEEP_TOL`, and duplicates are merged; the solvers' judge
-then verifies each branch as for any structure.
+kept only when on target to :data:`KEEP_TOL`, and duplicates are merged (:mod:`._general_6r_chain`);
+the solvers' judge then verifies each branch as for any structure.
+
+The first elimination's pass runs in the compiled twin ``kin/_native/_general6r.c`` when it is
+built (LAPACK through SciPy; the spurious roots deflated once per arm,
+:mod:`._general_6r_deflation`): a pose it does not solve cleanly (a singular pencil, fewer
+branches than real roots) takes the NumPy path above, which stays the reference.
 """
 
 from __future__ import annotations
