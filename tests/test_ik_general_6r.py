@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 from arm_tables import make_table, random_pose, wrapped_gap
 from dh_reference import ReferenceTable, fk_frames, load_reference, rotation_angle
+from least_squares_solutions import least_squares_solutions
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
@@ -164,8 +165,6 @@ def test_round_joint_angles_whatever_the_blas_kernel(kernel):
 @pytest.mark.slow
 def test_every_least_squares_solution_is_a_branch():
     """200 least-squares starts (no limits) on a few poses: each distinct solution is a branch."""
-    from scipy.optimize import least_squares
-
     arms = [random_arm(7, "standard"), random_arm(8, "modified")]
     arms.append((load_table(SIX_R / "xarm6.toml"), load_reference(SIX_R / "xarm6.toml")))
     for table, reference in arms:
@@ -179,14 +178,7 @@ def test_every_least_squares_solution_is_a_branch():
         def residual(x, pose=pose, reference=reference):
             return (reference_tool(reference, x[None])[0] - pose)[:3].ravel()
 
-        solutions: list[np.ndarray] = []
-        for _ in range(200):
-            fit = least_squares(residual, rng.uniform(-PI, PI, 6), xtol=1e-15, ftol=1e-15,
-                                gtol=1e-15)  # fmt: skip
-            if np.abs(fit.fun).max() > 1e-10:
-                continue  # a local minimum off target
-            if not solutions or wrapped_gap(np.array(solutions), fit.x).min() > 1e-5:
-                solutions.append(fit.x)
+        solutions = least_squares_solutions(residual, rng, 200)
         assert solutions, table.name
         for solution in solutions:
             assert wrapped_gap(branches, solution).min() < 1e-6, f"{table.name}: {solution=}"

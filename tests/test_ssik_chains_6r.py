@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from arm_tables import wrapped_gap
+from least_squares_solutions import least_squares_solutions
 
 from kin import load_robot
 from kin.ik import PoseTarget, get_solver
@@ -107,8 +108,6 @@ def test_branches_on_target_and_counts_match_ssik(name, folder):
 def test_every_least_squares_solution_is_a_branch(name, folder):
     """Two poses: each distinct solution of 300 least-squares starts (no limits) is a branch, and
     we have as many branches as they found distinct solutions or more."""
-    from scipy.optimize import least_squares
-
     arm = Arm(name, folder)
     rng = np.random.default_rng(5)
     for q in rng.uniform(arm.lower, arm.upper, (2, 6)):
@@ -119,14 +118,7 @@ def test_every_least_squares_solution_is_a_branch(name, folder):
         def residual(x, pose=pose):
             return arm.pin.log6(arm.tool(x).actInv(pose)).vector
 
-        solutions: list[np.ndarray] = []
-        for _ in range(300):
-            fit = least_squares(residual, rng.uniform(-PI, PI, 6), xtol=1e-15, ftol=1e-15,
-                                gtol=1e-15)  # fmt: skip
-            if np.abs(fit.fun).max() > 1e-10:
-                continue  # a local minimum off target
-            if not solutions or wrapped_gap(np.array(solutions), fit.x).min() > 1e-5:
-                solutions.append(fit.x)
+        solutions = least_squares_solutions(residual, rng, 300)
         assert solutions, name
         for solution in solutions:
             assert wrapped_gap(branches, solution).min() < 1e-6, f"{name}: {solution=}"
