@@ -571,9 +571,53 @@ static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t na
     Py_RETURN_NONE;
 }
 
+/* solve_one(arm, position, rotation, signs, out): the first pass of one world pose (position
+   (3,) [m], rotation (3, 3), contiguous float64), its branches times the joints' signs (6,)
+   into out (16, 6) when the pass answers it cleanly (as many distinct branches as real roots,
+   an even number): returns 1; else 0 (the caller takes the whole path), out anything. */
+static PyObject *solve_one(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "solve_one(arm, position, rotation, signs, out)");
+        return NULL;
+    }
+    Py_buffer v[5];
+    static const Py_ssize_t sizes[5] = {ARM_SIZE, 3, 9, 6, BRANCHES * 6};
+    static const char *const names[5] = {"arm", "position", "rotation", "signs", "out"};
+    int got = 0;
+    for (; got < 5; got++)
+        if (!doubles(args[got], &v[got], sizes[got], got == 4, names[got])) break;
+    if (got < 5) {
+        for (int k = 0; k < got; k++) PyBuffer_Release(&v[k]);
+        PyErr_Clear(); /* not the arrays this short way takes: the caller's whole path */
+        Py_RETURN_FALSE;
+    }
+    const double *p = v[1].buf, *r = v[2].buf, *signs = v[3].buf;
+    double *out = v[4].buf, T[16] = {0.0}, roots = 0.0;
+    int finite = 1;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) T[4 * i + j] = r[3 * i + j];
+        T[4 * i + 3] = p[i];
+    }
+    T[15] = 1.0;
+    for (int k = 0; k < 16; k++) finite &= isfinite(T[k]) != 0;
+    int clean = 0;
+    if (finite && one_pose(v[0].buf, T, out, &roots) == 0) {
+        int found = 0;
+        while (found < BRANCHES && !isnan(out[6 * found])) found++;
+        clean = found >= roots && found % 2 == 0;
+        for (int k = 0; k < 6 * found; k++) out[k] *= signs[k % 6];
+    }
+    for (int k = 0; k < 5; k++) PyBuffer_Release(&v[k]);
+    return PyBool_FromLong(clean);
+}
+
 static PyMethodDef methods[] = {
     {"first_pass", (PyCFunction)(void (*)(void))first_pass, METH_FASTCALL,
      "first_pass(arm, T, out, roots): the general 6R closed form's first pass of N poses."},
+    {"solve_one", (PyCFunction)(void (*)(void))solve_one, METH_FASTCALL,
+     "solve_one(arm, position, rotation, signs, out): one pose's clean first pass, or False."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -203,16 +203,15 @@ class General6R:
         """
         if rotation is None:
             raise TargetError(f"{self.name}: the closed form of a 6R arm needs a full pose")
-        if self._twin is not None and np.shape(rotation) == (3, 3) and np.shape(position) == (3,):
-            # The short way: one pose the twin solves cleanly.
-            T = np.eye(4)
-            T[:3, :3], T[:3, 3] = rotation, position
-            out, roots = np.empty((1, BRANCHES, 6)), np.empty(1)
-            if np.isfinite(T).all():
-                self._twin[0].first_pass(self._twin[1], T, out, roots)
-                found = BRANCHES - int(np.isnan(out[0, :, 0]).sum())
-                if roots[0] >= 0.0 and found >= roots[0] and found % 2 == 0:
-                    return out[0] * self.signs
+        if self._twin is not None:  # the short way: one pose the twin solves cleanly
+            try:
+                p = np.ascontiguousarray(position, dtype=float)
+                r = np.ascontiguousarray(rotation, dtype=float)
+            except (TypeError, ValueError):
+                p = r = None  # solve_batch names what is wrong
+            out = np.empty((BRANCHES, 6))
+            if p is not None and self._twin[0].solve_one(self._twin[1], p, r, self.signs, out):
+                return out
         return self.solve_batch(np.reshape(position, (1, 3)), np.reshape(rotation, (1, 3, 3)))[0]
 
     def solve_batch(self, positions: npt.ArrayLike, rotations: npt.ArrayLike | None) -> np.ndarray:
