@@ -138,3 +138,22 @@ def test_a_singular_pencil_goes_to_the_numpy_path():
     found = structure.solve(pose[0, :3, 3], pose[0, :3, :3])
     found = found[~np.isnan(found[:, 0])]
     assert len(found) == 12 and wrapped_gap(found, q).min() < 1e-6
+
+
+def test_solve_one_is_the_batch_of_one():
+    """solve() takes the twin's one-pose call (solve_one): the batch's numbers on 30 poses; a
+    pose it cannot take (wrong sizes, a NaN) answers False (the whole path)."""
+    table = load_table(SIX_R / "crx10ia.toml")
+    reference = load_reference(SIX_R / "crx10ia.toml")
+    structure = General6R.recognise(table)
+    q = np.random.default_rng(4).uniform(-PI, PI, (30, 6))
+    poses = fk_frames(reference, q)[:, -1]
+    batch = structure.solve_batch(poses[:, :3, 3], poses[:, :3, :3])
+    for k, pose in enumerate(poses):
+        one = structure.solve(list(pose[:3, 3]), pose[:3, :3])  # a list: converted
+        assert np.array_equal(np.isnan(one), np.isnan(batch[k])), k
+        assert np.nanmax(np.abs(one - batch[k])) < 1e-12, k
+    module, block = structure._twin
+    out = np.empty((16, 6))
+    assert module.solve_one(block, np.zeros(2), np.eye(3), structure.signs, out) is False
+    assert module.solve_one(block, np.full(3, np.nan), np.eye(3), structure.signs, out) is False
