@@ -208,9 +208,9 @@ class General6R:
                 p = np.ascontiguousarray(position, dtype=float)
                 r = np.ascontiguousarray(rotation, dtype=float)
             except (TypeError, ValueError):
-                p = r = None  # solve_batch names what is wrong
+                p = r = np.empty(0)  # not the short way's: solve_batch names what is wrong
             out = np.empty((BRANCHES, 6))
-            if p is not None and self._twin[0].solve_one(self._twin[1], p, r, self.signs, out):
+            if self._twin[0].solve_one(self._twin[1], p, r, self.signs, out):
                 return out
         return self.solve_batch(np.reshape(position, (1, 3)), np.reshape(rotation, (1, 3, 3)))[0]
 
