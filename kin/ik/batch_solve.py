@@ -30,7 +30,7 @@ from .analytic.batch import BatchResult, BatchSolver
 from .batch_targets import checked_array
 from .batch_targets import checked_rotations as _rotations
 from .free_joint_batch import FREE_JOINT_STAGE, free_joint_answers, start_free_joint_answers
-from .solver_table import front_end_solver, vectorized_solver
+from .solver_table import Kept, front_end_solver, kept_for, vectorized_solver
 from .target import PoseTarget, PositionTarget
 
 # The free-joint stage lives in .free_joint_batch; its names stay importable from here.
@@ -197,23 +197,17 @@ def _free_joint_first(
 
 #: The solver of each robot :func:`solve_batch` was given (building one takes about 0.7 ms),
 #: with the joint limits [rad, m] it was built with.
-_SOLVERS: weakref.WeakKeyDictionary[RobotModel, tuple[np.ndarray, np.ndarray, Any]] = (
-    weakref.WeakKeyDictionary()
-)
+_SOLVERS: Kept = weakref.WeakKeyDictionary()
 
 
 def _solver(robot: RobotModel) -> Any:
     """The solver table's ``batch`` solver of ``robot``, kept while the robot lives.
 
     Built on the robot's first batch; rebuilt when the model's joint limits are no longer those
-    it was built with. A solver serializes its solves (a lock), so threads that share a robot
-    share it safely.
+    it was built with (:func:`~.solver_table.kept_for`). A solver serializes its solves (a
+    lock), so threads that share a robot share it safely.
     """
-    kept = _SOLVERS.get(robot)
-    lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
-    if kept is None or not (np.array_equal(kept[0], lower) and np.array_equal(kept[1], upper)):
-        kept = _SOLVERS[robot] = (lower.copy(), upper.copy(), front_end_solver(robot, "batch"))
-    return kept[2]
+    return kept_for(_SOLVERS, robot, lambda robot: front_end_solver(robot, "batch"))
 
 
 def _one_by_one(

@@ -39,14 +39,18 @@ target kind; else the ``batch`` front end's solver, target by target.
 from __future__ import annotations
 
 import inspect
+import threading
+import weakref
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Protocol
+from typing import Any, Protocol, TypeVar
 
+import numpy as np
 import numpy.typing as npt
 
 from ..robot_model import RobotModel
+from .analytic import registry
 from .analytic.batch import BatchSolver
 from .analytic.closed_form import ClosedFormSolver
 from .exceptions import IKError, StructureError
@@ -219,6 +223,11 @@ def front_end_solver(
 def vectorized_solver(robot: RobotModel, kind: type) -> BatchSolver | None:
     """The batches' first row: the vectorized closed form when its structure takes ``kind``.
 
+    Built on the robot's first call (recognising the arm: up to 0.5 s for a general 6R arm) and
+    kept while the robot lives, rebuilt when its joint limits or the registered closed forms
+    change (:func:`kept_for`); a
+    :class:`~.analytic.batch.BatchSolver` keeps no state between solves, so threads share it.
+
     Args:
         robot: The robot.
         kind: :class:`~kin.ik.PoseTarget` or :class:`~kin.ik.PositionTarget`.
@@ -229,11 +238,47 @@ def vectorized_solver(robot: RobotModel, kind: type) -> BatchSolver | None:
     """
     if kind not in (PoseTarget, PositionTarget):
         return None
+    # Registering a closed form (registry.register) changes which structure fits: a new key.
+    structures = tuple(registry.CLOSED_FORMS)
+    solver = kept_for(_BATCH_SOLVERS, robot, _batch_solver, structures)
+    return solver if solver is not None and kind in solver.structure.target_kinds else None
+
+
+def _batch_solver(robot: RobotModel) -> BatchSolver | None:
+    """The vectorized closed form of ``robot``, or None when no structure fits."""
     try:
-        solver = BatchSolver(robot)
+        return BatchSolver(robot)
     except StructureError:
         return None
-    return solver if kind in solver.structure.target_kinds else None
+
+
+_Built = TypeVar("_Built")
+#: Per robot: the joint limits [rad, m] a value was built with, the value, and its other key.
+Kept = weakref.WeakKeyDictionary[RobotModel, tuple[np.ndarray, np.ndarray, Any, Any]]
+#: The vectorized closed form of each robot :func:`vectorized_solver` was asked about.
+_BATCH_SOLVERS: Kept = weakref.WeakKeyDictionary()
+_KEPT_LOCK = threading.RLock()
+
+
+def kept_for(
+    cache: Kept, robot: RobotModel, build: Callable[[RobotModel], _Built], key: Any = None
+) -> _Built:
+    """``build(robot)``, kept in ``cache`` while the robot lives, its joint limits and ``key`` stay.
+
+    A robot is a frozen value except its model's joint limits (a user may narrow them): a kept
+    value built with other limits, or another ``key`` (compared by ``==``), is built again. One thread builds at a time (a lock); the
+    others then find its value (reentrant: a build may itself ask for a kept value).
+    """
+    lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
+    with _KEPT_LOCK:
+        kept = cache.get(robot)
+        if (
+            kept is None
+            or kept[3] != key
+            or not (np.array_equal(kept[0], lower) and np.array_equal(kept[1], upper))
+        ):
+            kept = cache[robot] = (lower.copy(), upper.copy(), build(robot), key)
+    return kept[2]
 
 
 def bind_timeout(solver: object, timeout: float | None) -> Callable[[Any, Any], IKResult]:
