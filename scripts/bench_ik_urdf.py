@@ -5,9 +5,13 @@ limits; every solver gets the same URDF, base and tip, and every answer is judge
 on the original URDF (1e-5 m, 1e-4 rad, inside the URDF's limits). Timed is the call a user makes:
 ours is ``kin.ik.get_solver(kin.load_robot(urdf, base, tip)).solve(PoseTarget(p, R), seed)``
 (the solver built once, outside the loop, like each peer's). Every-branch arms (a closed form):
-our time for all branches beside ssik's and EAIK's all-branch call; redundant arms: one verified
-answer near the seed (q = 0 moved into the limits) beside TRAC-IK's. The table prints the median of single calls and
-the success rate; the solvers take turns over several passes (:func:`measure`); peers not installed (``pip install ".[bench]"``) or refusing an arm are named.
+our time for all branches beside ssik's and EAIK's all-branch call, and beside ssik's prebuilt
+module of the arm when ssik ships one (:data:`SSIK_PREBUILT`; its FK compared with the URDF's
+first, skipped with the reason when it is another arm); redundant arms: one verified answer near
+the seed (q = 0 moved into the limits) beside TRAC-IK's. The table prints the median of single
+calls, the success rate and our median over each row's (``ours x``); the solvers take turns
+target by target (:func:`measure`); peers not installed (``pip install ".[bench]"``) or
+refusing an arm are named.
 
     python scripts/bench_ik_urdf.py                  # every arm, 200 poses each
     python scripts/bench_ik_urdf.py --arms ur5 panda --poses 1000
@@ -22,6 +26,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import importlib.metadata  # noqa: E402
 import math  # noqa: E402
 import statistics  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -34,6 +39,9 @@ from dh2urdf.urdf_chain import read_chain  # noqa: E402
 from kin import load_robot  # noqa: E402
 from kin.cli import ArgumentParser, positive_int  # noqa: E402
 from kin.ik import PoseTarget, get_solver  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ssik_chains import distinct_mod_2pi  # noqa: E402
 
 #: arm -> (URDF inside example-robot-data's robots folder, base link or None, tip link or None:
 #: the chain's end).
@@ -57,6 +65,20 @@ ARMS = {
         None,
     ),
     "asr_twodof": ("asr_twodof_description/urdf/TwoDofs.urdf", None, None),
+}
+
+#: arm -> ssik's prebuilt modules (``ssik.prebuilt.<maker>.<arm>_ik``) that may be the same arm,
+#: in order: the first whose FK matches the URDF chain's (up to a fixed base and tool frame) is
+#: timed; none matching is a named reason (a UR10e is not a UR10).
+SSIK_PREBUILT = {
+    "ur3": ("universal_robots.ur3e_ik",),
+    "ur5": ("universal_robots.ur5_ik",),
+    "ur5_limited": ("universal_robots.ur5_ik",),
+    "ur10": ("universal_robots.ur10e_ik",),
+    "kinova": ("kinova.j2s6s300_ik", "kinova.jaco2_ik"),
+    "z1": ("unitree.z1_ik",),
+    "panda": ("franka.panda_ik",),
+    "xarm7": ("ufactory.xarm7_ik",),
 }
 
 #: A solver whose first timing pass over the poses took longer than this [s] runs no other.
@@ -194,6 +216,37 @@ def ssik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] |
     return name, lambda target: np.array(target.homogeneous), solve
 
 
+def _same_arm(
+    urdf: Path, base: str, tip: str, fk: Callable[[np.ndarray], np.ndarray]
+) -> tuple[np.ndarray, np.ndarray] | str:
+    """``(A^-1, B^-1)`` with ``T_urdf(q) = A fk(q) B`` over sampled joint vectors, or why not.
+
+    A peer that reads the arm with frames of its own is handed targets in its frames (converted
+    outside the timing); a chain that no fixed base and tool frame relate (other lengths, other
+    joint zeros) is not the same arm.
+    """
+    from kin.audit.se3_fit import fit_base_tool_many
+
+    chain = read_chain(urdf, base, tip)
+    judge = Judge(urdf, chain.base, chain.tip, tuple(j.name for j in chain.joints))
+    rng = np.random.default_rng(1)
+    lower = np.array([max(j.lower, -3.0) for j in chain.joints])
+    upper = np.array([min(j.upper, 3.0) for j in chain.joints])
+    q = rng.uniform(lower, upper, size=(32, len(chain.joints)))
+    ours_poses = np.array([judge.pose(v).homogeneous for v in q])
+    try:
+        theirs = np.array([fk(v) for v in q])
+    except Exception as err:  # noqa: BLE001 - its own FK refuses the chain
+        return f"refuses: {' '.join(str(err).split())[:60]}"
+    fit = next(iter(fit_base_tool_many(theirs[None], ours_poses)))
+    if not fit.position_residual_m <= 1e-6:
+        return (
+            f"its chain is not {chain.base} -> {chain.tip} "
+            f"(FK differs by {fit.position_residual_m:.1e} m)"
+        )
+    return np.linalg.inv(fit.T_ref_base), np.linalg.inv(fit.T_tool_ref)
+
+
 def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] | str:
     """EAIK's every-branch solve from the URDF (targets in its frames); or why not."""
     try:
@@ -207,27 +260,11 @@ def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] |
         return f"refuses: {' '.join(str(err).split())[:60]}"
     if not robot.hasKnownDecomposition():
         return f"refuses: {family}"
-
-    # EAIK reads the whole URDF with frames of its own: relate them to base -> tip once
-    # (T_urdf(q) = A T_eaik(q) B, fitted over sampled q) and hand it targets in its frames,
-    # converted outside the timing.
-    from kin.audit.se3_fit import fit_base_tool_many
-
-    chain = read_chain(urdf, base, tip)
-    judge = Judge(urdf, chain.base, chain.tip, tuple(j.name for j in chain.joints))
-    rng = np.random.default_rng(1)
-    lower = np.array([max(j.lower, -3.0) for j in chain.joints])
-    upper = np.array([min(j.upper, 3.0) for j in chain.joints])
-    q = rng.uniform(lower, upper, size=(32, len(chain.joints)))
-    ours_poses = np.array([judge.pose(v).homogeneous for v in q])
-    try:
-        theirs = np.array([robot.fwdKin(v) for v in q])
-    except Exception as err:  # noqa: BLE001 - its own FK refuses the chain
-        return f"refuses: {' '.join(str(err).split())[:60]}"
-    fit = next(iter(fit_base_tool_many(theirs[None], ours_poses)))
-    if fit.position_residual_m > 1e-6:
-        return f"refuses: its chain is not {chain.base} -> {chain.tip}"
-    a_inv, b_inv = np.linalg.inv(fit.T_ref_base), np.linalg.inv(fit.T_tool_ref)
+    # EAIK reads the whole URDF with frames of its own: relate them to base -> tip once.
+    frames = _same_arm(urdf, base, tip, robot.fwdKin)
+    if isinstance(frames, str):
+        return frames if frames.startswith("refuses") else f"refuses: {frames}"
+    a_inv, b_inv = frames
 
     def prepare(target: pin.SE3) -> np.ndarray:
         return a_inv @ target.homogeneous @ b_inv
@@ -237,6 +274,39 @@ def eaik_solver(urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] |
         return [q for q, least in zip(answer.Q, answer.is_LS) if not least]
 
     return f"EAIK {family}", prepare, solve
+
+
+def ssik_prebuilt(arm: str, urdf: Path, base: str, tip: str) -> tuple[str, Prepare, Solve] | str:
+    """The prebuilt ssik module of the arm, when its chain is the URDF's; or why not measured.
+
+    ``ssik.prebuilt.<maker>.<arm>_ik.solve(T)``: the peer's fastest documented path (its
+    elimination baked per arm, native backend); its FK is compared with the URDF's first
+    (:func:`_same_arm`).
+    """
+    names = SSIK_PREBUILT.get(arm)
+    if not names:
+        return "ssik ships no prebuilt module of this arm"
+    reasons = []
+    for name in names:
+        try:
+            module = importlib.import_module(f"ssik.prebuilt.{name}")
+        except ImportError as err:
+            reasons.append(f"{name}: not installed ({err})")
+            continue
+        frames = _same_arm(urdf, base, tip, module.fk)
+        if isinstance(frames, str):
+            reasons.append(f"{name}: {frames}")
+            continue
+        a_inv, b_inv = frames
+
+        def prepare(target: pin.SE3, a_inv=a_inv, b_inv=b_inv) -> np.ndarray:  # noqa: ANN001
+            return a_inv @ target.homogeneous @ b_inv
+
+        def solve(target: np.ndarray, seed: np.ndarray, module=module) -> list[np.ndarray]:  # noqa: ANN001
+            return [np.asarray(s.q) for s in module.solve(target)]
+
+        return f"ssik prebuilt {name}", prepare, solve
+    return "skipped: " + "; ".join(reasons)
 
 
 def measure(
@@ -250,10 +320,11 @@ def measure(
 ) -> dict[str, tuple[float, float, float, int] | str]:
     """Per solver: (success [%], median single-call time [us], valid answers per pose, passes).
 
-    The solvers take turns, ``passes`` times: in each pass each solver solves every target (a
-    warm loop, as a user's loop of calls is), in an order rotated from pass to pass, so that a
-    machine that speeds up or slows down during the run weighs on every solver alike. The
-    median is over all single calls; success and answers are judged on the first pass. A solver
+    The solvers take turns target by target, ``passes`` times over the targets: each target is
+    solved by every solver, one call each, in an order rotated from target to target, so that
+    a machine that speeds up or slows down during the run weighs on every solver alike. The
+    median is over all single calls; success and answers (valid joint vectors distinct modulo
+    2 pi: ssik returns every ``2 pi`` copy inside the limits) are judged on the first pass. A solver
     whose first pass took over :data:`SLOW_PASS` seconds runs no further pass; one that raises
     is reported by its error (a string instead of the figures). Each solver's targets are
     made in its own form first (its ``Prepare``), outside the timing.
@@ -273,26 +344,26 @@ def measure(
         except Exception as err:  # noqa: BLE001 - a peer failing on a pose is a row
             failed[key] = f"failed: {' '.join(str(err).split())[:50]}"
     for rep in range(passes):
-        turn = rep % len(keys) if keys else 0
-        for key in keys[turn:] + keys[:turn]:
-            if key in failed or (rep > 0 and first_pass[key] > SLOW_PASS):
-                continue
-            solve, spent = solvers[key][1], times[key]
-            try:
-                for target, given, seed in zip(targets, inputs[key], seeds, strict=True):
+        for i, (target, seed) in enumerate(zip(targets, seeds, strict=True)):
+            turn = (i + rep) % len(keys)
+            for key in keys[turn:] + keys[:turn]:
+                if key in failed or (rep > 0 and first_pass[key] > SLOW_PASS):
+                    continue
+                try:
                     start = clock()
-                    answers = solve(given, seed)
-                    spent.append(clock() - start)
-                    if rep == 0:
-                        valid = [q for q in answers if judge.on_target(q, target, lower, upper)]
-                        hits[key] += bool(valid)
-                        counts[key].append(len(valid))
-            except Exception as err:  # noqa: BLE001 - a peer failing on a pose is a row
-                failed[key] = f"failed: {' '.join(str(err).split())[:50]}"
-                continue
-            done[key] += 1
-            if rep == 0:
-                first_pass[key] = sum(times[key])
+                    answers = solvers[key][1](inputs[key][i], seed)
+                    spent = clock() - start
+                except Exception as err:  # noqa: BLE001 - a peer failing on a pose is a row
+                    failed[key] = f"failed: {' '.join(str(err).split())[:50]}"
+                    continue
+                times[key].append(spent)
+                if rep == 0:
+                    first_pass[key] += spent
+                    valid = [q for q in answers if judge.on_target(q, target, lower, upper)]
+                    hits[key] += bool(valid)
+                    counts[key].append(distinct_mod_2pi(np.array(valid)) if valid else 0)
+        for key in keys:
+            done[key] += key not in failed and (rep == 0 or first_pass[key] <= SLOW_PASS)
     return {
         key: failed[key]
         if key in failed
@@ -324,8 +395,9 @@ def main(argv: list[str] | None = None) -> int:
     """Print one row per arm and solver."""
     args = get_argument_parser().parse_args(argv)
     print(
-        f"{'arm':<12} {'solver':<40} {'success':>8} {'median':>10} {'answers':>8}"
-        "   (answers: valid branches per pose; judged on the original URDF)"
+        f"{'arm':<12} {'solver':<40} {'success':>8} {'median':>10} {'answers':>8} {'ours x':>7}"
+        "   (answers: valid branches per pose, judged on the original URDF; ours x: our median"
+        " over the row's)"
     )
     for arm in args.arms:
         relative, base, tip = ARMS[arm]
@@ -347,6 +419,7 @@ def main(argv: list[str] | None = None) -> int:
         ]
         rows += [("trac", tracik(urdf, chain.base, chain.tip))]
         rows += [("ssik", ssik_solver(urdf, chain.base, chain.tip))]
+        rows += [("prebuilt", ssik_prebuilt(arm, urdf, chain.base, chain.tip))]
         rows += [("eaik", eaik_solver(urdf, chain.base, chain.tip))]
         solvers: dict[str, tuple[Prepare, Solve]] = {}
         labels: dict[str, str] = {}
@@ -357,15 +430,17 @@ def main(argv: list[str] | None = None) -> int:
             labels[key], *pair = entry
             solvers[key] = (pair[0], pair[1])
         figures = measure(solvers, targets, seeds, judge, lower, upper, args.passes)
+        mine = figures.get("ours")
         for key, figure in figures.items():
             if isinstance(figure, str):
                 print(f"{arm:<12} {labels[key]:<40} {figure}")
                 continue
             success, median, answers, passes = figure
+            ratio = f"{mine[1] / median:>6.2f}x" if isinstance(mine, tuple) else ""
             note = "" if passes == args.passes else f"  ({passes} pass: slow)"
             print(
-                f"{arm:<12} {labels[key]:<40} {success:>7.1f}% {median:>8.1f}us {answers:>8.2f}"
-                + note
+                f"{arm:<12} {labels[key]:<40} {success:>7.1f}% {median:>8.1f}us {answers:>8.2f} "
+                f"{ratio:>7}" + note
             )
     return 0
 
