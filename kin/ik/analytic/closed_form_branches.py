@@ -36,16 +36,24 @@ class ClosedFormBranches(BranchVerification):
         candidates = structure.solve(target.position, rotation)
         return candidate_branches(structure, candidates, self._offsets)
 
-    def _polished(self, branches: Branches, target: Target) -> Branches:
-        """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`)."""
+    def _polished(self, branches: Branches, target: Target, near: float = math.inf) -> Branches:
+        """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`).
+
+        ``near``: a branch whose tool on the true chain starts farther than this [m], [rad] from
+        the target is dropped, not polished (the pose route: a branch of the pose's projection
+        that far from the pose itself cannot reach it).
+        """
         judge, offsets = self._judge, self._offsets
         rotation = target.rotation if isinstance(target, PoseTarget) else None
         signs = 1.0 if self._directions is None else self._directions  # q' <-> q (the judge's)
         moved = []
         for thetas, label in branches.thetas:
             q = np.subtract(thetas, offsets) * signs
-            q = polish(judge.model, judge.data, judge.frame_id, q, target.position, rotation)
-            moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
+            q = polish(
+                judge.model, judge.data, judge.frame_id, q, target.position, rotation, give_up=near
+            )
+            if q[0] == q[0]:  # not NaN: polished
+                moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
         branches.thetas = moved
         return branches
 

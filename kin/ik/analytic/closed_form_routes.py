@@ -21,7 +21,12 @@ from ..result import IKResult
 from ..target import PoseTarget, Target
 from .closed_form_branches import ClosedFormBranches
 from .closed_form_structure import candidate_branches
-from .idealised import Idealised
+from .idealised import FK_TOLERANCE, Idealised
+
+#: An idealised arm's branch of a pose's projection is polished onto the pose (the pose route)
+#: when its tool on the true chain is within this [m] and [rad] of the pose: ten times the
+#: largest tool displacement the idealisation may cause; farther ones cannot reach the pose.
+IDEAL_NEAR = 10.0 * FK_TOLERANCE
 
 
 class ClosedFormRoutes(ClosedFormBranches):
@@ -107,13 +112,15 @@ class ClosedFormRoutes(ClosedFormBranches):
 
         The branches of its position (or of its projection on the arm's poses) are every joint
         vector that can reach the pose: those that do (the judge, at the solver's tolerances)
-        are the answer. None when none does (no warning): the partial-pose solver then gives
-        the nearest pose, or the answer at its looser tolerances.
+        are the answer. An idealised arm's branches near the pose (:data:`IDEAL_NEAR`) are
+        polished on the true chain first (:func:`.idealised.polish`), the far ones dropped.
+        None when none does (no warning): the partial-pose solver then gives the nearest pose,
+        or the answer at its looser tolerances.
         """
         if self._directions is not None and seed is not None:
             seed = self._forward_seed(seed)
         seed_list = self._seed_list(seed)
-        if not target.finite or self.idealised is not None:
+        if not target.finite:
             return None
         if PoseTarget in self._kinds:  # the projection of the pose on the arm's poses
             branches = self._branches(target, seed_list)
@@ -124,11 +131,15 @@ class ClosedFormRoutes(ClosedFormBranches):
             branches = candidate_branches(self.structure, candidates, self._offsets)
         if branches.status == "out_of_reach":
             return None
+        method = "closed_form"
+        if self.idealised is not None:  # its branches near the pose, polished on the true chain
+            branches = self._polished(branches, target, near=IDEAL_NEAR)
+            method = "closed_form_polished"
         p, r = target.position.tolist(), target.rotation.tolist()
         valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
         if not valid:
             return None
-        return self._result(valid, rejected, branches.status, branches.message, start)
+        return self._result(valid, rejected, branches.status, branches.message, start, method)
 
     def _solve_numeric(
         self, target: Target, seed: npt.ArrayLike | None, timeout: float | None

@@ -33,6 +33,9 @@ FK_TOLERANCE = 1e-3
 #: Gauss-Newton steps of a polish, and the error it stops at [m, rad].
 POLISH_STEPS = 12
 POLISH_TOLERANCE = 1e-13
+#: A polish that no longer lowers its error once below this [m, rad] stops there (Gauss-Newton
+#: converges quadratically so near a root: the rest is a residual no step removes).
+STALL = 1e-8
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,6 +96,7 @@ def polish(
     position: np.ndarray,
     rotation: np.ndarray | None,
     compiled: bool = True,
+    give_up: float = math.inf,
 ) -> np.ndarray:
     """``q`` moved onto the target on the true chain by Gauss-Newton steps (no limits).
 
@@ -100,11 +104,18 @@ def polish(
     and ``compiled`` (:mod:`kin.ik.numeric._damped_step`: the rotation vector, the minimum-norm
     step ``J^T (J J^T)^-1 e`` by Cholesky); when that does not reach :data:`POLISH_TOLERANCE` (a
     Jacobian too near a singularity for the normal equations), the least-squares steps of NumPy
-    (SVD) run from ``q`` again.
+    (SVD) run from ``q`` again. An arm of fewer than six joints takes the least-squares steps
+    (Gauss-Newton's own) at once, its full pose's errors measured by the twin.
+
+    ``give_up`` [m], [rad]: when ``q`` starts farther from the target than this (the largest
+    component of the position error and of the rotation vector), no step is taken and the answer
+    is NaN (a branch of an idealised arm's pose projection that far cannot reach the pose).
 
     Returns the best joint vector found (``q`` itself when no step helps).
     """
-    use_twin = compiled and _pose_error is not None and rotation is not None
+    measure = compiled and _pose_error is not None and rotation is not None
+    # The twin's minimum-norm step needs J J^T invertible: six joints or more for a full pose.
+    use_twin = measure and len(q) >= 6
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
     best = q
     for twin_steps in (True, False) if use_twin else (False,):
@@ -115,7 +126,7 @@ def polish(
         for _ in range(POLISH_STEPS):
             jacobian = pin.computeFrameJacobian(model, data, current, frame_id, world)
             pose = data.oMf[frame_id]
-            if twin_steps and _pose_error(
+            if (twin_steps or (measure and not use_twin)) and _pose_error(
                 position, pose.translation, rotation, pose.rotation, error
             ):
                 size = max(map(abs, error.tolist()))
@@ -128,8 +139,12 @@ def polish(
                         (position - pose.translation, pin.log3(rotation @ pose.rotation.T))
                     )
                 size = float(np.abs(error).max())
+            if give_up < math.inf and best_error == math.inf and not size <= give_up:
+                return np.full(len(q), np.nan)
             if size < best_error:
                 best, best_error = current.copy(), size
+            elif best_error < STALL:
+                break  # a residual the chain cannot remove (a near miss of a branch): no progress
             if size < POLISH_TOLERANCE:
                 break
             if not (twin_steps and _damped_step(jacobian, error, 0.0, step) == 0):
