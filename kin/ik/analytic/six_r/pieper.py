@@ -60,8 +60,9 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standar
    (axes 4 and 6 aligned) ``q4`` takes the value ``free``.
 
 One algorithm, in NumPy, for N targets (:mod:`.pieper_batch`, the general family's equation in
-:mod:`.pieper_quartic`; one target is N = 1); the compiled twin repeats it for the parallel23
-family, target by target.
+:mod:`.pieper_quartic`; one target is N = 1); the compiled twins repeat it target by target, for
+the parallel23 family (``_spherical_wrist.c``) and the intersecting and parallel families
+(``_pieper_arms.c``).
 """
 
 from __future__ import annotations
@@ -78,6 +79,8 @@ from ...exceptions import StructureError
 from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker
 from .pieper_batch import PieperBatch
 
+#: The compiled twin of the intersecting and parallel families, or None when it is not built.
+_ARMS_TWIN = twin("_pieper_arms")
 _SHOULDER_ELBOW = tuple(
     f"shoulder {s}, elbow {e}" for s in ("right", "left") for e in ("up", "down")
 )
@@ -195,6 +198,7 @@ class Pieper6R(PieperBatch):
     #: The family's compiled twin (``kin/_native/_spherical_wrist.c``: the parallel23 family), or
     #: None when it is not built.
     compiled_twin: ClassVar[ModuleType | None] = twin("_spherical_wrist")
+    #: (an arm of the intersecting or parallel family takes ``_pieper_arms`` instead, when built)
 
     a1: float
     d1: float
@@ -268,11 +272,25 @@ class Pieper6R(PieperBatch):
         setattr_(self, "_wrist", wrist)
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         setattr_(self, "_classic", abs(wrist[7]) < 1e-15 and abs(wrist[9]) < 1e-15)
-        if self.family == "parallel23":  # the twin solves the parallel23 family only
+        if self.family == "parallel23":
+            self._pack_twin()
+        elif self.family != "general" and _ARMS_TWIN is not None:
+            # their own twin (kin/_native/_pieper_arms.c); the general family stays in NumPy
+            setattr_(self, "compiled_twin", _ARMS_TWIN)
             self._pack_twin()
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
         w = self._wrist
+        if self.family in ("intersecting", "parallel"):
+            return {
+                "family": (float(self.family == "parallel"),),
+                "k": (*self._k[2:5], *self._e),
+                "g": tuple(v for row in self._g for v in row),
+                "wrist": w,
+                "classic": (float(self._classic),),
+                "len": (self.a1, self.d1, self.d6),
+                "off": self.offsets,
+            }
         return {
             "k": (w[0], w[1], *w[4:10], *self._e[:4]),
             "classic": (float(self._classic),),

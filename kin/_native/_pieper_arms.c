@@ -1,0 +1,138 @@
+/*
+ * Compiled twin of the Pieper family (kin/ik/analytic/six_r/pieper.py and its NumPy algorithm
+ * pieper_batch.py) for its intersecting and parallel cases: a spherical wrist, axes 1-2 meeting
+ * or parallel, axes 2-3 skew. The 8 branches of a target, the same steps as the NumPy form's
+ * (_arms_batch, _wrist_batch) in the same order; with verify (_six_r_twin.h). The NumPy form is
+ * the reference and the fallback when this extension is not built; tests/test_pieper_arms_twin.py
+ * compares the two. Angles in radians, lengths in meters.
+ */
+#include "_six_r_twin.h"
+
+/* The parameter layout (Pieper6R.c_fields fills it by name from LAYOUT). X(field, size, doc) */
+#define PIEPER_ARMS_PARAMS(X)                                                                   \
+    FRAME_PARAMS(X)                                                                             \
+    X(family, 1, "0: intersecting (a1 = 0), 1: parallel (sin alpha1 = 0)")                      \
+    X(k, 5, "Pieper6R._k: sin, cos of alpha1, |g|^2's constant g0 [m^2]; _e: size, psi [rad]")  \
+    X(g, 9, "Pieper6R._g: g1, g2, g3 as (constant, cos t3, sin t3) [m]")                        \
+    X(wrist, 10, "Pieper6R._wrist: sin, cos of alpha1 .. alpha5")                               \
+    X(classic, 1, "1 when both wrist twists are +-90 deg")                                      \
+    X(len, 3, "a1, d1, d6 [m]")                                                                 \
+    X(off, 6, "theta offsets [rad]")
+
+TWIN_PARAMS(PIEPER_ARMS_PARAMS)
+
+/* x where x < 0 is within COS_SLACK (scale + 1) of 0 -> 0 (pieper_batch's np.where). */
+static inline double floor_slack(double x, double scale)
+{
+    return (x < 0.0 && x >= -COS_SLACK * (scale + 1.0)) ? 0.0 : x;
+}
+
+/* The arm slot `slot` (t1, t2, t3) [rad] -> its two rows (wrist no flip, flip). */
+static void wrist_rows(const Params *P, const double *r, const double t[3], double free,
+                       double rows[2][JOINTS])
+{
+    const double *W = P->wrist, *o = P->off;
+    const double s4 = W[6], c4 = W[7], s5 = W[8], c5 = W[9];
+    double vx = r[0], vy = r[3], vz = r[6], nx = r[2], ny = r[5], nz = r[8];
+    for (int i = 0; i < 3; i++) {
+        double ct = cos(t[i]), st = sin(t[i]), sa = W[2 * i], ca = W[2 * i + 1];
+        double x = ct * vx + st * vy, y = -st * vx + ct * vy;
+        vx = x;
+        vy = ca * y + sa * vz;
+        vz = -sa * y + ca * vz;
+        x = ct * nx + st * ny, y = -st * nx + ct * ny;
+        nx = x;
+        ny = ca * y + sa * nz;
+        nz = -sa * y + ca * nz;
+    }
+    double cos5 = (c4 * c5 - nz) / (s4 * s5), sin5;
+    if (P->classic[0] != 0.0) {
+        sin5 = sqrt(nx * nx + ny * ny);
+    } else {
+        if (!clamp_cos(&cos5)) cos5 = NAN;
+        sin5 = sqrt(fmax(0.0, 1.0 - cos5 * cos5));
+    }
+    double q1 = wrap(t[0] - o[0]), q2 = wrap(t[1] - o[1]), q3 = wrap(t[2] - o[2]);
+    double t4_regular = atan2(ny, nx);
+    for (int flip = 0; flip < 2; flip++) {
+        double st5 = flip == 0 ? sin5 : -sin5;
+        double t5 = atan2(st5, cos5);
+        double mx = s5 * st5, my = -(c4 * s5 * cos5 + s4 * c5);
+        double t4 = t4_regular - atan2(my, mx);
+        if (sqrt(mx * mx + my * my) <= 1e-12) t4 = free + o[3]; /* _six_r.SINGULAR */
+        double ct4 = cos(t4), st4 = sin(t4);
+        double ex = ct4 * vx + st4 * vy, ey = -st4 * vx + ct4 * vy;
+        double ez = -s4 * ey + c4 * vz;
+        ey = c4 * ey + s4 * vz;
+        double ct5 = cos(t5);
+        double fx = ct5 * ex + st5 * ey, fy = -st5 * ex + ct5 * ey;
+        fy = c5 * fy + s5 * ez;
+        double t6 = atan2(fy, fx);
+        double *row = rows[flip];
+        row[0] = q1;
+        row[1] = q2;
+        row[2] = q3;
+        row[3] = wrap(t4 - o[3]);
+        row[4] = wrap(t5 - o[4]);
+        row[5] = wrap(t6 - o[5]);
+        int bad = 0;
+        for (int j = 0; j < JOINTS; j++) bad |= isnan(row[j]);
+        if (bad)
+            for (int j = 0; j < JOINTS; j++) row[j] = NAN;
+    }
+}
+
+static void solve_one(const Params *P, const double *p, const double *r, double free,
+                      double out[BRANCHES][JOINTS])
+{
+    const double *K = P->k, *G = P->g;
+    const double sa1 = K[0], ca1 = K[1], g0 = K[2], size = K[3], psi = K[4];
+    const double a1 = P->len[0], d1 = P->len[1], d6 = P->len[2];
+    const int parallel = P->family[0] != 0.0;
+    double wx = p[0] - d6 * r[2], wy = p[1] - d6 * r[5], wz = p[2] - d6 * r[8];
+    double z = wz - d1, rho2 = wx * wx + wy * wy, big_r = rho2 + z * z;
+    double heading = atan2(wy, wx);
+    double cos3 = parallel ? (ca1 * z - G[6]) / size : (big_r - g0) / size;
+    double delta = clamp_cos(&cos3) ? acos(cos3) : NAN;
+    double sign = copysign(1.0, a1 * ca1);
+    for (int elbow = 0; elbow < 2; elbow++) {
+        double t3 = elbow == 0 ? psi - delta : psi + delta;
+        double c3 = cos(t3), s3 = sin(t3);
+        double g1 = G[0] + G[1] * c3 + G[2] * s3;
+        double g2 = G[3] + G[4] * c3 + G[5] * s3;
+        double g3 = G[6] + G[7] * c3 + G[8] * s3;
+        double h1s[2], h2s[2];
+        if (parallel) {
+            double h1 = (big_r - a1 * a1 - (g1 * g1 + g2 * g2 + g3 * g3)) / (2.0 * a1);
+            double p_sq = g1 * g1 + g2 * g2;
+            double h2 = sign * sqrt(floor_slack(p_sq - h1 * h1, p_sq + h1 * h1));
+            h1s[0] = h1s[1] = h1;
+            h2s[0] = h2;
+            h2s[1] = -h2;
+        } else {
+            double h2 = (z - ca1 * g3) / sa1;
+            double b = ca1 * h2 - sa1 * g3;
+            double radius = sqrt(floor_slack(rho2 - b * b, rho2 + b * b));
+            h1s[0] = radius - a1;
+            h1s[1] = -radius - a1;
+            h2s[0] = h2s[1] = h2;
+        }
+        double base = atan2(g2, g1);
+        for (int side = 0; side < 2; side++) {
+            double h1 = h1s[side], h2 = h2s[side];
+            double t[3] = {heading - atan2(ca1 * h2 - sa1 * g3, a1 + h1), atan2(h2, h1) - base,
+                           t3};
+            wrist_rows(P, r, t, free, &out[2 * (2 * side + elbow)]);
+        }
+    }
+}
+
+#include "_six_r_module.h"
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "_pieper_arms",
+    "Compiled twin of kin.ik.analytic.six_r.pieper's intersecting and parallel cases "
+    "(optional speed-up).",
+    -1, methods, NULL, NULL, NULL, NULL};
+
+PyMODINIT_FUNC PyInit__pieper_arms(void) { return six_r_module(&module); }
