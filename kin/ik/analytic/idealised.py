@@ -104,8 +104,8 @@ def polish(
     and ``compiled`` (:mod:`kin.ik.numeric._damped_step`: the rotation vector, the minimum-norm
     step ``J^T (J J^T)^-1 e`` by Cholesky); when that does not reach :data:`POLISH_TOLERANCE` (a
     Jacobian too near a singularity for the normal equations), the least-squares steps of NumPy
-    (SVD) run from ``q`` again. An arm of fewer than six joints takes the least-squares steps
-    (Gauss-Newton's own) at once, its full pose's errors measured by the twin.
+    (SVD) run from ``q`` again. A position's steps are the twin's minimum-norm steps too; a full
+    pose on fewer than six joints steps by the normal equations ``(J^T J) s = J^T e``.
 
     ``give_up`` [m], [rad]: when ``q`` starts farther from the target than this (the largest
     component of the position error and of the rotation vector), no step is taken and the answer
@@ -113,9 +113,14 @@ def polish(
 
     Returns the best joint vector found (``q`` itself when no step helps).
     """
-    measure = compiled and _pose_error is not None and rotation is not None
-    # The twin's minimum-norm step needs J J^T invertible: six joints or more for a full pose.
-    use_twin = measure and len(q) >= 6
+    use_twin = compiled and _damped_step is not None
+    # The minimum-norm step J^T (J J^T)^-1 e needs a Jacobian of full row rank: a full pose on
+    # fewer than six joints (more equations than unknowns) steps by Gauss-Newton's normal
+    # equations (J^T J) s = J^T e instead, solved by the same twin.
+    overdetermined = rotation is not None and len(q) < 6
+    # A position, or a pose on fewer joints, steps as NumPy's least squares would (full rank):
+    # a residual the twin's steps stall at is not searched again by NumPy's.
+    six_or_more = rotation is not None and not overdetermined
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
     best = q
     for twin_steps in (True, False) if use_twin else (False,):
@@ -126,8 +131,10 @@ def polish(
         for _ in range(POLISH_STEPS):
             jacobian = pin.computeFrameJacobian(model, data, current, frame_id, world)
             pose = data.oMf[frame_id]
-            if (twin_steps or (measure and not use_twin)) and _pose_error(
-                position, pose.translation, rotation, pose.rotation, error
+            if (
+                twin_steps
+                and rotation is not None
+                and _pose_error(position, pose.translation, rotation, pose.rotation, error)
             ):
                 size = max(map(abs, error.tolist()))
             else:
@@ -147,12 +154,19 @@ def polish(
                 break  # a residual the chain cannot remove (a near miss of a branch): no progress
             if size < POLISH_TOLERANCE:
                 break
-            if not (twin_steps and _damped_step(jacobian, error, 0.0, step) == 0):
+            if not (twin_steps and _twin_step(jacobian, error, step, overdetermined)):
                 step = np.linalg.lstsq(jacobian, error, rcond=None)[0]
             current = current + step
-        if best_error < POLISH_TOLERANCE:
-            break  # the twin's steps reached the target: NumPy's are not needed
+        if best_error < POLISH_TOLERANCE or (best_error < STALL and not six_or_more):
+            break  # the twin's steps reached the target (or a residual): NumPy's are not needed
     return best
+
+
+def _twin_step(jacobian: np.ndarray, error: np.ndarray, out: np.ndarray, normal: bool) -> bool:
+    """A Gauss-Newton step into ``out`` by the twin: minimum-norm, or by the normal equations."""
+    if normal:
+        return bool(_damped_step(jacobian.T @ jacobian, jacobian.T @ error, 0.0, out) == 0)
+    return bool(_damped_step(jacobian, error, 0.0, out) == 0)
 
 
 _twin = twin("_damped_step")  # damped Newton's compiled twin (kin/_native/_damped_step.c)
