@@ -276,13 +276,13 @@ class General6R:
             out = distinct(n, pose, u)
         return out * self.signs
 
-
     def _first_pass(
         self, T: np.ndarray, inverses: tuple[np.ndarray, np.ndarray]
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
         """:func:`_candidates` of the first elimination(s), and their branches (N, 16, 6) or None.
 
-        In the compiled twin when there is one; a pose it cannot answer (a singular leading
+        In the compiled twin when there is one (:data:`~..seven_r.subproblems.PARALLEL_ROWS` poses
+        or more in blocks that the processors' threads take in turn); a pose it cannot answer (a singular leading
         matrix) is answered by the NumPy path, the branches then left to :func:`distinct`.
         """
         if self._twin is None:
@@ -291,7 +291,7 @@ class General6R:
         n = T.shape[0]
         out = np.empty((n, BRANCHES, 6))
         roots = np.empty(n)
-        module.first_pass(block, T, out, roots)
+        _in_threads(module.first_pass, block, np.ascontiguousarray(T), out, roots)
         answered = roots >= 0.0
         pose, branch = np.nonzero(~np.isnan(out[..., 0]) & answered[:, None])
         failed = np.nonzero(~answered)[0]
@@ -300,6 +300,31 @@ class General6R:
             return pose, u, roots, out
         more_pose, more_u, roots[failed] = _candidates(self.F, self.formulations, T[failed], *inverses)
         return np.concatenate((pose, failed[more_pose])), np.concatenate((u, more_u)), roots, None
+
+
+def _in_threads(
+    first_pass: Any, block: np.ndarray, T: np.ndarray, out: np.ndarray, roots: np.ndarray
+) -> None:
+    """The twin's ``first_pass(block, T, out, roots)`` in row blocks over the processors.
+
+    Its loop runs without the interpreter lock and each pose's answer is its own: the answers
+    of one call. Below :data:`~..seven_r.subproblems.PARALLEL_ROWS` poses, one call.
+    """
+    from ..seven_r.subproblems import PARALLEL_ROWS, _pool, batch_threads
+
+    n, workers = T.shape[0], batch_threads()
+    if n < PARALLEL_ROWS or workers < 2:
+        first_pass(block, T, out, roots)
+        return
+    bounds = np.linspace(0, n, 4 * workers + 1).astype(int).tolist()
+    pool = _pool(workers)
+    jobs = [
+        pool.submit(first_pass, block, T[a:b], out[a:b], roots[a:b])
+        for a, b in zip(bounds[:-1], bounds[1:])
+        if b > a
+    ]
+    for job in jobs:
+        job.result()
 
 
 def _candidates(

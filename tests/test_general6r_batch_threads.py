@@ -1,0 +1,52 @@
+"""The general 6R closed form's batch in threads: from PARALLEL_ROWS poses the compiled first
+pass is cut into row blocks that the processors' threads take; each pose's branches must be
+those of one unthreaded call, and on target by the plain DH product of tests/dh_reference.py."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from dh_reference import fk_frames, load_reference, rotation_angle
+
+from dh2urdf import load_table
+from kin._native import twin, why_missing
+from kin.ik.analytic.seven_r import subproblems
+from kin.ik.analytic.six_r import general_6r
+from kin.ik.analytic.six_r.general_6r import General6R
+
+SIX_R = Path(__file__).parent / "data" / "six_r"
+pytestmark = pytest.mark.skipif(
+    twin("_general6r") is None, reason=f"{why_missing('_general6r')}"
+)
+
+
+def test_threaded_blocks_give_the_one_call_answers(monkeypatch):
+    """600 xArm6 poses on two threads: the same branches, bit for bit, as one call."""
+    path = SIX_R / "xarm6.toml"
+    table, reference = load_table(path), load_reference(path)
+    structure = General6R.recognise(table)
+    assert structure._twin is not None
+    module, block = structure._twin
+    rng = np.random.default_rng(11)
+    q = rng.uniform(-np.pi, np.pi, size=(600, 6))
+    poses = fk_frames(reference, q)[:, -1]
+    K = np.ascontiguousarray(poses)
+    alone_out, alone_roots = np.empty((600, 16, 6)), np.empty(600)
+    module.first_pass(block, K, alone_out, alone_roots)
+    monkeypatch.setattr(subproblems, "batch_threads", lambda: 2)
+    out, roots = np.empty((600, 16, 6)), np.empty(600)
+    general_6r._in_threads(module.first_pass, block, K, out, roots)
+    np.testing.assert_array_equal(roots, alone_roots)
+    np.testing.assert_array_equal(out, alone_out)
+    answers = structure.solve_batch(poses[:, :3, 3], poses[:, :3, :3])
+    found = 0
+    for k in range(600):
+        rows = answers[k][~np.isnan(answers[k, :, 0])]
+        reached = fk_frames(reference, rows)[:, -1]
+        assert (np.linalg.norm(reached[:, :3, 3] - poses[k, :3, 3], axis=1) < 1e-9).all()
+        assert (rotation_angle(reached[:, :3, :3], poses[k, :3, :3]) < 1e-9).all()
+        gap = np.abs(np.angle(np.exp(1j * (rows - q[k])))).max(axis=1)
+        found += bool((gap < 1e-6).any())
+    assert found == 600  # the joints that made each pose are among its branches
