@@ -17,9 +17,7 @@ from kin.ik.analytic.six_r import general_6r
 from kin.ik.analytic.six_r.general_6r import General6R
 
 SIX_R = Path(__file__).parent / "data" / "six_r"
-pytestmark = pytest.mark.skipif(
-    twin("_general6r") is None, reason=f"{why_missing('_general6r')}"
-)
+pytestmark = pytest.mark.skipif(twin("_general6r") is None, reason=f"{why_missing('_general6r')}")
 
 
 def test_threaded_blocks_give_the_one_call_answers(monkeypatch):
@@ -50,3 +48,32 @@ def test_threaded_blocks_give_the_one_call_answers(monkeypatch):
         gap = np.abs(np.angle(np.exp(1j * (rows - q[k])))).max(axis=1)
         found += bool((gap < 1e-6).any())
     assert found == 600  # the joints that made each pose are among its branches
+
+
+def test_merging_a_few_poses_again_leaves_the_others_and_merges_as_the_whole():
+    """distinct_again of 3 of 40 poses: their branches are those of merging the whole batch
+    (near copies dropped, ordered by joint 1: checked by hand below); the rest are untouched."""
+    from kin.ik.analytic.six_r._general_6r_chain import SAME_TOL, distinct, distinct_again
+
+    rng = np.random.default_rng(5)
+    pose = rng.integers(0, 40, size=400)
+    u = rng.uniform(-np.pi, np.pi, size=(400, 6))
+    copies = rng.integers(0, 400, size=150)  # near copies (modulo 2 pi) of some rows
+    pose = np.concatenate((pose, pose[copies]))
+    u = np.concatenate((u, u[copies] + 0.1 * SAME_TOL + 2 * np.pi * rng.integers(-1, 2, (150, 6))))
+    u = np.remainder(u + np.pi, 2 * np.pi) - np.pi
+    which = np.array([3, 17, 31])
+    out = np.full((40, 16, 6), 7.0)
+    distinct_again(out, pose, u, which)
+    np.testing.assert_array_equal(out[which], distinct(40, pose, u)[which])
+    assert (np.delete(out, which, axis=0) == 7.0).all()
+    for k in which.tolist():
+        mine = u[pose == k]
+        unique = [
+            r
+            for i, r in enumerate(mine)
+            if not any(np.abs(np.angle(np.exp(1j * (r - s)))).max() <= SAME_TOL for s in mine[:i])
+        ]
+        expected = sorted(unique, key=lambda r: r[0])[:16]
+        got = out[k][~np.isnan(out[k, :, 0])]
+        np.testing.assert_allclose(got, np.array(expected), atol=0, rtol=0)

@@ -171,3 +171,13 @@ def distinct(n: int, pose: np.ndarray, u: np.ndarray) -> np.ndarray:
     fits = rank < BRANCHES
     out[pose[fits], rank[fits]] = u[fits]
     return out
+
+
+def distinct_again(out: np.ndarray, pose: np.ndarray, u: np.ndarray, which: np.ndarray) -> None:
+    """:func:`distinct` of the poses ``which`` (sorted indices) only, written into ``out``.
+
+    The rows of the other poses are not read: a pose's branches depend on its own rows alone,
+    so a pass that adds rows to a few poses of a batch merges those poses, not the batch.
+    """
+    rows = np.isin(pose, which)
+    out[which] = distinct(which.size, np.searchsorted(which, pose[rows]), u[rows])

@@ -49,6 +49,7 @@ from kin._native import twin
 from ...exceptions import StructureError, TargetError
 from ...target import PoseTarget
 from ..structure import Checker
+from . import _general_6r_chain as _chain
 from ._general_6r_chain import BRANCHES, chain_transforms, distinct, forward, polish
 from ._general_6r_elimination import IMAG_TOL, Formulation
 from ._stacked_transforms import inverse
@@ -260,7 +261,7 @@ class General6R:
             u = np.concatenate((u, more_u))
             roots = np.zeros_like(roots)
             roots[again] = more_roots  # a pose asks the next elimination if this one failed too
-            out = distinct(n, pose, u)
+            _chain.distinct_again(out, pose, u, again)
         if doubtful is not None and doubtful.size:
             # Near a multiple root, or where this cut of the loop degenerates, the eigenvalues
             # (and which of them LAPACK's build returns as real) are ill-conditioned: solve
@@ -273,7 +274,7 @@ class General6R:
                     )
                 pose = np.concatenate((pose, doubtful[more_pose]))
                 u = np.concatenate((u, more_u))
-            out = distinct(n, pose, u)
+            _chain.distinct_again(out, pose, u, doubtful)
         return out * self.signs
 
     def _first_pass(
