@@ -13,8 +13,8 @@ on where the arm has freedom left, bounded by work (the timeout only a cap):
   (:mod:`kin.ik.numeric.all_branches`);
 - any target the numeric solver answers: the distance-bounded solve
   (:mod:`kin.ik.numeric.collision_bound`: each step a QP that keeps every checked pair apart) from
-  the seed, the colliding answers and (unless the free-joint grid swept the self-motion) a few
-  seeded random starts; then :data:`EXTRA_STARTS` more plain solves, each from a start drawn
+  the seed, the colliding answers and a few seeded random starts (from the seed alone where the
+  free-joint grid swept the self-motion); then :data:`EXTRA_STARTS` more plain solves, each from a start drawn
   uniformly inside the limits (a fixed random seed: reproducible).
 
 A closed-form 6R pose has every branch in its first answer: the nearest free branch is the
@@ -266,7 +266,7 @@ class CollisionAwareSolver:
         cls = target.__class__
         partial = cls is AxisTarget or (cls is PoseTarget and target.mask is not None)
         numeric = _numeric_of(solver, partial, target)
-        swept = False  # the free-joint grid swept the self-motion: no random bounded starts
+        swept = False  # the free-joint grid swept the self-motion: the bound from the seed alone
         if partial:
             sweeper = _partial_of(solver, numeric)
             if sweeper is not None:
@@ -279,7 +279,7 @@ class CollisionAwareSolver:
         from .numeric.collision_bound import solve_clear
 
         yield lambda left: solve_clear(
-            self.robot, self.checker, target, seed, first, left, numeric.name, random=not swept
+            self.robot, self.checker, target, seed, first, left, numeric.name, swept=swept
         )
         rng = np.random.default_rng(0)
         lower, upper = _limits(self.robot)
