@@ -104,8 +104,8 @@ def polish(
     and ``compiled`` (:mod:`kin.ik.numeric._damped_step`: the rotation vector, the minimum-norm
     step ``J^T (J J^T)^-1 e`` by Cholesky); when that does not reach :data:`POLISH_TOLERANCE` (a
     Jacobian too near a singularity for the normal equations), the least-squares steps of NumPy
-    (SVD) run from ``q`` again. A position's steps are the twin's minimum-norm steps too; a full
-    pose on fewer than six joints steps by the normal equations ``(J^T J) s = J^T e``.
+    (SVD) run from ``q`` again. A position's steps are the twin's minimum-norm steps too; fewer
+    joints than equations step by the normal equations ``(J^T J) s = J^T e``.
 
     ``give_up`` [m], [rad]: when ``q`` starts farther from the target than this (the largest
     component of the position error and of the rotation vector), no step is taken and the answer
@@ -114,10 +114,10 @@ def polish(
     Returns the best joint vector found (``q`` itself when no step helps).
     """
     use_twin = compiled and _damped_step is not None
-    # The minimum-norm step J^T (J J^T)^-1 e needs a Jacobian of full row rank: a full pose on
-    # fewer than six joints (more equations than unknowns) steps by Gauss-Newton's normal
-    # equations (J^T J) s = J^T e instead, solved by the same twin.
-    overdetermined = rotation is not None and len(q) < 6
+    # The minimum-norm step J^T (J J^T)^-1 e needs a Jacobian of full row rank: fewer joints
+    # than equations (a full pose on fewer than six, a position on fewer than three) step by
+    # Gauss-Newton's normal equations (J^T J) s = J^T e instead, solved by the same twin.
+    overdetermined = len(q) < (3 if rotation is None else 6)
     # A position, or a pose on fewer joints, steps as NumPy's least squares would (full rank):
     # a residual the twin's steps stall at is not searched again by NumPy's.
     six_or_more = rotation is not None and not overdetermined
