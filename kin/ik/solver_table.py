@@ -257,7 +257,9 @@ _Built = TypeVar("_Built")
 Kept = weakref.WeakKeyDictionary[RobotModel, tuple[np.ndarray, np.ndarray, Any, Any]]
 #: The vectorized closed form of each robot :func:`vectorized_solver` was asked about.
 _BATCH_SOLVERS: Kept = weakref.WeakKeyDictionary()
-_KEPT_LOCK = threading.RLock()
+#: One lock per robot (a robot's build does not hold up another's batches), made under this one.
+_LOCKS: weakref.WeakKeyDictionary[RobotModel, Any] = weakref.WeakKeyDictionary()
+_LOCKS_LOCK = threading.Lock()
 
 
 def kept_for(
@@ -266,11 +268,16 @@ def kept_for(
     """``build(robot)``, kept in ``cache`` while the robot lives, its joint limits and ``key`` stay.
 
     A robot is a frozen value except its model's joint limits (a user may narrow them): a kept
-    value built with other limits, or another ``key`` (compared by ``==``), is built again. One thread builds at a time (a lock); the
-    others then find its value (reentrant: a build may itself ask for a kept value).
+    value built with other limits, or another ``key`` (compared by ``==``), is built again.
+    One thread builds a robot's value at a time (the robot's lock, reentrant: a build may ask
+    for another kept value of it); the others then find it.
     """
+    with _LOCKS_LOCK:
+        lock = _LOCKS.get(robot)
+        if lock is None:
+            lock = _LOCKS[robot] = threading.RLock()
     lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
-    with _KEPT_LOCK:
+    with lock:
         kept = cache.get(robot)
         if (
             kept is None
