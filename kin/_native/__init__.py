@@ -33,6 +33,7 @@ TWINS: dict[str, str] = {
     "_pose_check": "kin.ik._pose_check",
     "_shoulder7": "kin.ik.analytic.seven_r._shoulder7",
     "_spherical_wrist": "kin.ik.analytic.six_r._spherical_wrist",
+    "_three_parallel": "kin.ik.analytic.six_r._three_parallel",
     "_ur_wrist": "kin.ik.analytic.six_r._ur_wrist",
 }
 
@@ -43,10 +44,11 @@ PARITY_TESTS: dict[str, str] = {
     "_general6r": "test_general6r_twin.py",
     "_plain_lines": "test_plain_lines.py",
     "_pitch_sweep": "test_pitch_sweep.py",
-    "_pieper_arms": "test_pieper_arms_twin.py",
+    "_pieper_arms": "test_six_r_family_twins.py",
     "_pose_check": "test_pose_check.py",
     "_shoulder7": "test_shoulder7_parity.py",
     "_spherical_wrist": "test_six_r_twins.py",
+    "_three_parallel": "test_six_r_family_twins.py",
     "_ur_wrist": "test_six_r_twins.py",
 }
 

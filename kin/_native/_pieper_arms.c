@@ -1,18 +1,23 @@
 /*
  * Compiled twin of the Pieper family (kin/ik/analytic/six_r/pieper.py and its NumPy algorithm
- * pieper_batch.py) for its intersecting and parallel cases: a spherical wrist, axes 1-2 meeting
- * or parallel, axes 2-3 skew. The 8 branches of a target, the same steps as the NumPy form's
- * (_arms_batch, _wrist_batch) in the same order; with verify (_six_r_twin.h). The NumPy form is
- * the reference and the fallback when this extension is not built; tests/test_pieper_arms_twin.py
+ * pieper_batch.py, pieper_quartic.py) for its intersecting, parallel and general cases: a
+ * spherical wrist, axes 2-3 skew (the parallel23 case is _spherical_wrist.c's). The 8 branches of
+ * a target, the same steps as the NumPy form's (_arms_batch, _general_t3_batch, _wrist_batch) in
+ * the same order, the general family's quartic by _trig_quartic.h; with verify (_six_r_twin.h).
+ * The NumPy form is
+ * the reference and the fallback when this extension is not built; tests/test_six_r_family_twins.py
  * compares the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"
 
+#include "_trig_quartic.h"
+
 /* The parameter layout (Pieper6R.c_fields fills it by name from LAYOUT). X(field, size, doc) */
 #define PIEPER_ARMS_PARAMS(X)                                                                   \
     FRAME_PARAMS(X)                                                                             \
-    X(family, 1, "0: intersecting (a1 = 0), 1: parallel (sin alpha1 = 0)")                      \
-    X(k, 5, "Pieper6R._k: sin, cos of alpha1, |g|^2's constant g0 [m^2]; _e: size, psi [rad]")  \
+    X(family, 1, "0: intersecting (a1 = 0), 1: parallel (sin alpha1 = 0), 2: general")         \
+    X(k, 3, "Pieper6R._k: sin, cos of alpha1, |g|^2's constant g0 [m^2]")                      \
+    X(e, 9, "Pieper6R._e (the family's constants), zeros after its own")                        \
     X(g, 9, "Pieper6R._g: g1, g2, g3 as (constant, cos t3, sin t3) [m]")                        \
     X(wrist, 10, "Pieper6R._wrist: sin, cos of alpha1 .. alpha5")                               \
     X(classic, 1, "1 when both wrist twists are +-90 deg")                                      \
@@ -82,16 +87,79 @@ static void wrist_rows(const Params *P, const double *r, const double t[3], doub
     }
 }
 
+/* A general-family target: rt = R - a1^2 [m^2], z = Wz - d1 [m] (pieper_quartic.py). */
+typedef struct {
+    const Params *P;
+    double rt, z;
+} Target;
+
+/* PieperQuartic._residual: E(t3), dE/dt3, the bound on |E| of a root [m^2]. */
+static void residual(const void *ctx, double t3, double out[5])
+{
+    const Target *T = ctx;
+    const double *G = T->P->g, sa1 = T->P->k[0], ca1 = T->P->k[1], a1 = T->P->len[0];
+    double rt = T->rt, z = T->z, c3 = cos(t3), s3 = sin(t3);
+    double g1 = G[0] + G[1] * c3 + G[2] * s3, g2 = G[3] + G[4] * c3 + G[5] * s3;
+    double g3 = G[6] + G[7] * c3 + G[8] * s3;
+    double p_sq = g1 * g1 + g2 * g2, g_sq = p_sq + g3 * g3;
+    double u = (rt - g_sq) / (2.0 * a1), w = (z - ca1 * g3) / sa1;
+    double d1 = G[2] * c3 - G[1] * s3, d2 = G[5] * c3 - G[4] * s3, d3 = G[8] * c3 - G[7] * s3;
+    double dp = 2.0 * (g1 * d1 + g2 * d2);
+    double du = -(dp + 2.0 * g3 * d3) / (2.0 * a1), dw = -ca1 * d3 / sa1;
+    double rounding = fabs(u) * (fabs(rt) + g_sq) / fabs(a1) + fabs(w) * (fabs(z) + fabs(g3)) / fabs(sa1);
+    out[0] = u * u + w * w - p_sq;
+    out[1] = 2.0 * (u * du + w * dw) - dp;
+    out[2] = 2.0 * 1e-10 * sqrt(p_sq) + 16.0 * QUARTIC_EPS * (rounding + p_sq); /* REACH_TOL */
+    out[3] = out[4] = 0.0;
+}
+
+/* The general family's roots t3[4] (_general_t3_batch): ascending q3, then NaN. */
+static void general_t3(const Params *P, double rt, double z, double t3[4])
+{
+    const double *E = P->e, *G = P->g, sa1 = P->k[0], ca1 = P->k[1], g0 = P->k[2];
+    double u0 = (rt - g0) / (2.0 * P->len[0]), w0 = (z - ca1 * G[6]) / sa1;
+    double h0 = u0 * u0 + w0 * w0 + E[4];
+    double hc = 2.0 * (u0 * E[0] + w0 * E[2]) - E[5], hs = 2.0 * (u0 * E[1] + w0 * E[3]) - E[6];
+    double t[4], at[4][5], key[4];
+    int ok[4], order[4];
+    Target target = {P, rt, z};
+    quartic_candidates(h0, hc, hs, E[7], E[8], t);
+    quartic_polish(residual, &target, t, at, ok);
+    for (int k = 0; k < 4; k++) {
+        if (!ok[k]) t[k] = NAN;
+        key[k] = wrap(t[k] - P->off[2]);
+    }
+    quartic_order(key, order);
+    for (int k = 0; k < 4; k++) t3[k] = t[order[k]];
+}
+
 static void solve_one(const Params *P, const double *p, const double *r, double free,
                       double out[BRANCHES][JOINTS])
 {
     const double *K = P->k, *G = P->g;
-    const double sa1 = K[0], ca1 = K[1], g0 = K[2], size = K[3], psi = K[4];
+    const double sa1 = K[0], ca1 = K[1], g0 = K[2], size = P->e[0], psi = P->e[1];
     const double a1 = P->len[0], d1 = P->len[1], d6 = P->len[2];
-    const int parallel = P->family[0] != 0.0;
+    const int family = (int)P->family[0];
     double wx = p[0] - d6 * r[2], wy = p[1] - d6 * r[5], wz = p[2] - d6 * r[8];
     double z = wz - d1, rho2 = wx * wx + wy * wy, big_r = rho2 + z * z;
     double heading = atan2(wy, wx);
+    if (family == 2) {
+        double t3s[4];
+        general_t3(P, big_r - a1 * a1, z, t3s);
+        for (int arm = 0; arm < 4; arm++) {
+            double t3 = t3s[arm], c3 = cos(t3), s3 = sin(t3);
+            double g1 = G[0] + G[1] * c3 + G[2] * s3, g2 = G[3] + G[4] * c3 + G[5] * s3;
+            double g3 = G[6] + G[7] * c3 + G[8] * s3;
+            double u = (big_r - a1 * a1 - (g1 * g1 + g2 * g2 + g3 * g3)) / (2.0 * a1);
+            double w = (z - ca1 * g3) / sa1;
+            double t2 = atan2(g1 * w - g2 * u, g1 * u + g2 * w), c2 = cos(t2), s2 = sin(t2);
+            double h1 = c2 * g1 - s2 * g2, h2 = s2 * g1 + c2 * g2;
+            double t[3] = {heading - atan2(ca1 * h2 - sa1 * g3, a1 + h1), t2, t3};
+            wrist_rows(P, r, t, free, &out[2 * arm]);
+        }
+        return;
+    }
+    const int parallel = family == 1;
     double cos3 = parallel ? (ca1 * z - G[6]) / size : (big_r - g0) / size;
     double delta = clamp_cos(&cos3) ? acos(cos3) : NAN;
     double sign = copysign(1.0, a1 * ca1);
@@ -131,8 +199,13 @@ static void solve_one(const Params *P, const double *p, const double *r, double 
 
 static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT, "_pieper_arms",
-    "Compiled twin of kin.ik.analytic.six_r.pieper's intersecting and parallel cases "
+    "Compiled twin of kin.ik.analytic.six_r.pieper's intersecting, parallel and general cases "
     "(optional speed-up).",
     -1, methods, NULL, NULL, NULL, NULL};
 
-PyMODINIT_FUNC PyInit__pieper_arms(void) { return six_r_module(&module); }
+PyMODINIT_FUNC PyInit__pieper_arms(void)
+{
+    PyObject *m = six_r_module(&module);
+    if (m != NULL && PyModule_AddFunctions(m, quartic_methods) < 0) Py_CLEAR(m);
+    return m;
+}

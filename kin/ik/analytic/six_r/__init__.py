@@ -1,6 +1,7 @@
 """Closed forms of revolute 6R arms: every branch (8 for the families, up to 16 in general).
 
-Two families, each one NumPy algorithm for N targets and a compiled twin for its special case:
+Two families, each one NumPy algorithm for N targets and compiled twins of its cases (the special
+case's, and ``_pieper_arms`` / ``_three_parallel`` for the others, their quartics by LAPACK):
 ``three_parallel`` (axes 2-4 parallel, any other joints; its case of meeting wrist axes 5 and 6
 is ``ur_wrist``: the UR arms, Unitree Z1) with ``three_parallel_batch``, and ``pieper`` (a
 spherical wrist, any first three joints; its case of parallel axes 2 and 3 is

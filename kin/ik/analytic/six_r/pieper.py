@@ -61,8 +61,7 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standar
 
 One algorithm, in NumPy, for N targets (:mod:`.pieper_batch`, the general family's equation in
 :mod:`.pieper_quartic`; one target is N = 1); the compiled twins repeat it target by target, for
-the parallel23 family (``_spherical_wrist.c``) and the intersecting and parallel families
-(``_pieper_arms.c``).
+the parallel23 family (``_spherical_wrist.c``) and the three others (``_pieper_arms.c``).
 """
 
 from __future__ import annotations
@@ -79,8 +78,27 @@ from ...exceptions import StructureError
 from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker
 from .pieper_batch import PieperBatch
 
-#: The compiled twin of the intersecting and parallel families, or None when it is not built.
+#: The compiled twin of the intersecting, parallel and general families, or None when it is not
+#: built; its families by their number in its parameters.
 _ARMS_TWIN = twin("_pieper_arms")
+_ARMS_FAMILIES = ("intersecting", "parallel", "general")
+
+
+def _arms_twin(family: str) -> ModuleType | None:
+    """The compiled twin of a family other than parallel23, or None when it is not built.
+
+    Also None for the general family when its quartic's LAPACK cannot be loaded from SciPy.
+    """
+    if _ARMS_TWIN is None:
+        return None
+    if family == "general":
+        try:
+            _ARMS_TWIN.load_lapack()
+        except ImportError:
+            return None
+    return _ARMS_TWIN
+
+
 _SHOULDER_ELBOW = tuple(
     f"shoulder {s}, elbow {e}" for s in ("right", "left") for e in ("up", "down")
 )
@@ -198,7 +216,7 @@ class Pieper6R(PieperBatch):
     #: The family's compiled twin (``kin/_native/_spherical_wrist.c``: the parallel23 family), or
     #: None when it is not built.
     compiled_twin: ClassVar[ModuleType | None] = twin("_spherical_wrist")
-    #: (an arm of the intersecting or parallel family takes ``_pieper_arms`` instead, when built)
+    #: (an arm of the other families takes ``_pieper_arms`` instead, when built)
 
     a1: float
     d1: float
@@ -274,17 +292,17 @@ class Pieper6R(PieperBatch):
         setattr_(self, "_classic", abs(wrist[7]) < 1e-15 and abs(wrist[9]) < 1e-15)
         if self.family == "parallel23":
             self._pack_twin()
-        elif self.family != "general" and _ARMS_TWIN is not None:
-            # their own twin (kin/_native/_pieper_arms.c); the general family stays in NumPy
+        elif _arms_twin(self.family) is not None:  # the other families' own twin
             setattr_(self, "compiled_twin", _ARMS_TWIN)
             self._pack_twin()
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
         w = self._wrist
-        if self.family in ("intersecting", "parallel"):
+        if self.family != "parallel23":
             return {
-                "family": (float(self.family == "parallel"),),
-                "k": (*self._k[2:5], *self._e),
+                "family": (float(_ARMS_FAMILIES.index(self.family)),),
+                "k": self._k[2:5],
+                "e": self._e + (0.0,) * (9 - len(self._e)),
                 "g": tuple(v for row in self._g for v in row),
                 "wrist": w,
                 "classic": (float(self._classic),),

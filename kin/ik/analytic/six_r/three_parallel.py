@@ -54,7 +54,8 @@ with ``h = d2 + d3 + d4 + ca4 d5`` and ``P`` the planar 2R (``a2`` at angle ``t2
    ``t2``, and ``t4 = phi - t2 - t3``.
 
 One algorithm, in NumPy, for N targets (:mod:`.three_parallel_batch`; one target is N = 1); the
-compiled twin repeats it for the intersecting family, target by target.
+compiled twins repeat it target by target, for the intersecting family (``_ur_wrist.c``) and the
+general family (``_three_parallel.c``, its quartic by LAPACK from SciPy).
 """
 
 from __future__ import annotations
@@ -74,6 +75,21 @@ __all__ = ["NEAR_MEET", "REACH_TOL", "ThreeParallel6R", "URWrist6R"]
 #: the roots of ``E`` come in pairs about ``|a5|`` apart that the companion matrix and Newton
 #: steps no longer resolve (q is then missed on more than 0.1 % of targets).
 NEAR_MEET = 1e-3
+#: The compiled twin of the general family, or None when it is not built.
+_GENERAL_TWIN = twin("_three_parallel")
+
+
+def _general_twin() -> ModuleType | None:
+    """The general family's twin, None when not built or its quartic's LAPACK (SciPy) is missing."""
+    if _GENERAL_TWIN is None:
+        return None
+    try:
+        _GENERAL_TWIN.load_lapack()
+    except ImportError:
+        return None
+    return _GENERAL_TWIN
+
+
 _ARM_LABELS = {
     "intersecting": tuple(
         f"shoulder {s}, wrist {w}" for s in ("left", "right") for w in ("up", "down")
@@ -145,16 +161,22 @@ class ThreeParallel6R(ThreeParallelBatch):
 
     name: ClassVar[str] = "three_parallel"
     #: The family's compiled twin (``kin/_native/_ur_wrist.c``: the intersecting family), or
-    #: None when it is not built.
+    #: None when it is not built (a general-family arm takes ``_three_parallel`` instead).
     compiled_twin: ClassVar[ModuleType | None] = twin("_ur_wrist")
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.family == "intersecting":  # the twin solves the intersecting family only
+        if self.family == "intersecting":
+            self._pack_twin()
+        elif _general_twin() is not None:  # the general family's own twin
+            object.__setattr__(self, "compiled_twin", _GENERAL_TWIN)
             self._pack_twin()
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
         s1, c1, s4, c4, s5, c5 = self._k
+        if self.family == "general":
+            lengths = (self.a1, self.d1, self.a2, self.a3, self.lateral, self.a4, self.d5)
+            return {"k": self._k, "len": (*lengths, self.a5, self.d6), "off": self.offsets}
         # the wrist-to-axis-3 vector in the arm plane, turned by phi: (a4, -sin(alpha4) d5)
         return {
             "k": (s1, c1, self.a4, -s4 * self.d5, s4, c4, s5, c5),
