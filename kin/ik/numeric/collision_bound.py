@@ -1,6 +1,6 @@
 """A distance bound inside the numeric solve: damped least-squares steps as QPs that keep apart.
 
-Each step solves one small QP (``daqp`` through qpsolvers, as mink's ``solve_ik``)::
+Each step solves one small QP (``daqp``, :mod:`.dense_qp`; mink's ``solve_ik`` the same)::
 
     min  |W (A dq - e)|^2 / 2 + lam |dq|^2 / 2
     s.t. d_i + n_i^T (J_b - J_a) dq >= d_i - gain (d_i - margin)   per pair closer than influence
@@ -41,6 +41,7 @@ from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, _tool_frame_id
 from ..partial_pose import PartialTask
 from ..result import IKResult, IKSolution
 from ..target import AxisTarget, PoseTarget, PositionTarget
+from .dense_qp import solve_dense_qp
 from .distance_bound import DistanceBound
 from .distance_jacobian import pair_rows
 from .numeric_target import NumericTarget
@@ -132,8 +133,6 @@ class DistanceBoundedIK:
         Raises:
             TargetError: A target kind the bound does not take (a pitch target).
         """
-        from qpsolvers import solve_qp
-
         bound, model = self.bound, self.model
         geometry_model = self.checker.model.geometry_model
         padding = self.checker.model.padding
@@ -180,11 +179,9 @@ class DistanceBoundedIK:
                 if not (np.all(dq >= lb) and np.all(dq <= ub)):
                     dq = None
             if dq is None:
-                dq = solve_qp(*args, -rows, h, lb=lb, ub=ub, solver=bound.qp_solver)
+                dq = solve_dense_qp(*args, -rows, h, lb, ub, bound.qp_solver)
             if dq is None and len(h):  # too far inside to open at that rate: do not close
-                dq = solve_qp(
-                    *args, -rows, np.maximum(h, 0.0), lb=lb, ub=ub, solver=bound.qp_solver
-                )
+                dq = solve_dense_qp(*args, -rows, np.maximum(h, 0.0), lb, ub, bound.qp_solver)
             if dq is None:
                 break
             q = np.clip(q + dq, self.lower, self.upper)
