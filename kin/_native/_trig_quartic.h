@@ -3,8 +3,10 @@
  * 6R closed forms' general families: the steps of kin/ik/analytic/six_r/_trig_quartic.py
  * (candidates_batch, polish_batch) for one equation, in the same order, so that the twins
  * (_pieper_arms.c, _three_parallel.c) give the NumPy form's roots. The companion matrix's
- * eigenvalues by LAPACK's dgeev (NumPy's eigvals calls it too), from SciPy's cython_lapack
- * capsule, loaded on demand by load_lapack() (Python: the twin's load_lapack()). Angles [rad].
+ * eigenvalues by LAPACK's dgeev (NumPy's eigvals calls it too): NumPy's own (the OpenBLAS its
+ * wheels bundle, its address found by Python's ctypes, six_r_twin.quartic_twin) or else SciPy's
+ * cython_lapack capsule, set by the twin's load_lapack() before its first general arm. Angles
+ * [rad].
  */
 #ifndef KIN_NATIVE_TRIG_QUARTIC_H
 #define KIN_NATIVE_TRIG_QUARTIC_H
@@ -12,6 +14,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
+#include <stdint.h>
 
 #define QUARTIC_IMAG_TOL 1e-6 /* _trig_quartic.IMAG_TOL */
 #define QUARTIC_STEPS 3       /* _trig_quartic.NEWTON_STEPS */
@@ -21,12 +24,15 @@
 
 typedef void quartic_dgeev_t(char *, char *, int *, double *, int *, double *, double *, double *,
                              int *, double *, int *, double *, int *, int *);
-static quartic_dgeev_t *quartic_dgeev = NULL;
+typedef void quartic_dgeev64_t(char *, char *, long long *, double *, long long *, double *,
+                               double *, double *, long long *, double *, long long *, double *,
+                               long long *, long long *);
+static quartic_dgeev_t *quartic_dgeev = NULL;     /* 32-bit integers (SciPy's, an LP64 LAPACK) */
+static quartic_dgeev64_t *quartic_dgeev64 = NULL; /* 64-bit integers (NumPy's ILP64 OpenBLAS) */
 
 /* dgeev from scipy.linalg.cython_lapack: 1, or 0 with a Python error set. Needs the GIL. */
-static int quartic_load(void)
+static int quartic_load_scipy(void)
 {
-    if (quartic_dgeev != NULL) return 1;
     PyObject *module = PyImport_ImportModule("scipy.linalg.cython_lapack");
     if (module == NULL) return 0;
     PyObject *capi = PyObject_GetAttrString(module, "__pyx_capi__");
@@ -42,18 +48,31 @@ static int quartic_load(void)
     return quartic_dgeev != NULL;
 }
 
+/* load_lapack(address=0, ilp64=False): dgeev at address (NumPy's LAPACK, found by the caller
+   with ctypes), else from SciPy. */
 static PyObject *load_lapack(PyObject *self, PyObject *args)
 {
     (void)self;
-    (void)args;
-    if (!quartic_load()) return NULL;
+    unsigned long long address = 0;
+    int ilp64 = 0;
+    if (!PyArg_ParseTuple(args, "|Kp", &address, &ilp64)) return NULL;
+    if (quartic_dgeev != NULL || quartic_dgeev64 != NULL) Py_RETURN_NONE;
+    if (address != 0) {
+        if (ilp64)
+            quartic_dgeev64 = (quartic_dgeev64_t *)(uintptr_t)address;
+        else
+            quartic_dgeev = (quartic_dgeev_t *)(uintptr_t)address;
+        Py_RETURN_NONE;
+    }
+    if (!quartic_load_scipy()) return NULL;
     Py_RETURN_NONE;
 }
 
 static PyMethodDef quartic_methods[] = {
-    {"load_lapack", load_lapack, METH_NOARGS,
-     "load_lapack() -> None: LAPACK's dgeev for the general families (ImportError without "
-     "SciPy); call before solving a general-family arm."},
+    {"load_lapack", load_lapack, METH_VARARGS,
+     "load_lapack(address=0, ilp64=False) -> None: LAPACK's dgeev for the general families' "
+     "quartic, at address (64-bit integers when ilp64), else from SciPy (ImportError without "
+     "it); call before solving a general-family arm. The first call decides."},
     {NULL, NULL, 0, NULL}};
 
 /* The candidate roots t[4] of one equation (candidates_batch): NaN where not real. */
@@ -85,9 +104,18 @@ static void quartic_candidates(double e0, double ec, double es, double ec2, doub
         m[1] = m[6] = m[11] = 1.0;
     }
     char no = 'N';
-    int n = 4, one = 1, lwork = 64, info = 0;
     double wr[4], wi[4], work[64], dummy[1];
-    quartic_dgeev(&no, &no, &n, m, &n, wr, wi, dummy, &one, dummy, &one, work, &lwork, &info);
+    long long info = 0;
+    if (quartic_dgeev64 != NULL) {
+        long long n = 4, one = 1, lwork = 64;
+        quartic_dgeev64(&no, &no, &n, m, &n, wr, wi, dummy, &one, dummy, &one, work, &lwork,
+                        &info);
+    } else {
+        int n = 4, one = 1, lwork = 64, info32 = 0;
+        quartic_dgeev(&no, &no, &n, m, &n, wr, wi, dummy, &one, dummy, &one, work, &lwork,
+                      &info32);
+        info = info32;
+    }
     if (info != 0 || !finite) return;
     for (int j = 0; j < 4; j++)
         if (fabs(wi[j]) <= QUARTIC_IMAG_TOL * (1.0 + wr[j] * wr[j])) t[j] = tau + 2.0 * atan(wr[j]);

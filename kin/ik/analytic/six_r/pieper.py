@@ -77,6 +77,7 @@ from kin._native import twin
 from ...exceptions import StructureError
 from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker
 from .pieper_batch import PieperBatch
+from .six_r_twin import quartic_twin
 
 #: The compiled twin of the intersecting, parallel and general families, or None when it is not
 #: built; its families by their number in its parameters.
@@ -87,16 +88,9 @@ _ARMS_FAMILIES = ("intersecting", "parallel", "general")
 def _arms_twin(family: str) -> ModuleType | None:
     """The compiled twin of a family other than parallel23, or None when it is not built.
 
-    Also None for the general family when its quartic's LAPACK cannot be loaded from SciPy.
+    Also None for the general family when no LAPACK can be loaded for its quartic.
     """
-    if _ARMS_TWIN is None:
-        return None
-    if family == "general":
-        try:
-            _ARMS_TWIN.load_lapack()
-        except ImportError:
-            return None
-    return _ARMS_TWIN
+    return quartic_twin(_ARMS_TWIN) if family == "general" else _ARMS_TWIN
 
 
 _SHOULDER_ELBOW = tuple(

@@ -18,9 +18,11 @@ the tolerances as a second one (``CHECK_LAYOUT``, :func:`check_params`).
 
 from __future__ import annotations
 
+import ctypes
 import functools
 import time
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from types import ModuleType
 from typing import Any
 
@@ -45,6 +47,44 @@ def frame_fields(T_base: np.ndarray, T_tool: np.ndarray) -> dict[str, tuple[floa
         "tool_t": tuple(np.asarray(T_tool, dtype=float)[:3, 3].tolist()),
         "plain": (float(np.array_equal(T_base, eye)), float(np.array_equal(T_tool, eye))),
     }
+
+
+@functools.cache
+def _numpy_dgeev() -> tuple[int, bool]:
+    """The address of the ``dgeev`` of the OpenBLAS NumPy's wheel bundles, and if it is ILP64.
+
+    ``(0, False)`` when there is none to find (a NumPy built otherwise).
+    """
+    root = Path(np.__file__).parent
+    for path in sorted(
+        [*root.parent.glob("numpy.libs/*openblas*"), *root.glob(".dylibs/*openblas*")]
+    ):
+        try:
+            library = ctypes.CDLL(str(path))
+        except OSError:
+            continue
+        for name, ilp64 in (("scipy_dgeev_64_", True), ("scipy_dgeev_", False), ("dgeev_", False)):
+            function = getattr(library, name, None)
+            if function is not None:
+                return ctypes.cast(function, ctypes.c_void_p).value or 0, ilp64
+    return 0, False
+
+
+def quartic_twin(twin: ModuleType | None) -> ModuleType | None:
+    """A general family's twin with LAPACK's ``dgeev`` set for its quartic, or None.
+
+    NumPy's own LAPACK first (the one its ``eigvals`` runs; no SciPy import), else SciPy's.
+
+    Returns:
+        None when the twin is not built or no LAPACK can be loaded.
+    """
+    if twin is None:
+        return None
+    try:
+        twin.load_lapack(*_numpy_dgeev())
+    except ImportError:
+        return None
+    return twin
 
 
 def check_params(

@@ -55,7 +55,7 @@ with ``h = d2 + d3 + d4 + ca4 d5`` and ``P`` the planar 2R (``a2`` at angle ``t2
 
 One algorithm, in NumPy, for N targets (:mod:`.three_parallel_batch`; one target is N = 1); the
 compiled twins repeat it target by target, for the intersecting family (``_ur_wrist.c``) and the
-general family (``_three_parallel.c``, its quartic by LAPACK from SciPy).
+general family (``_three_parallel.c``, its quartic by NumPy's LAPACK or SciPy's).
 """
 
 from __future__ import annotations
@@ -68,6 +68,7 @@ from dh2urdf import DHTable
 from kin._native import twin
 
 from ._six_r import LENGTH_TOL, SixRChecker, sin_cos
+from .six_r_twin import quartic_twin
 from .three_parallel_batch import REACH_TOL, ThreeParallelBatch
 
 __all__ = ["NEAR_MEET", "REACH_TOL", "ThreeParallel6R", "URWrist6R"]
@@ -80,14 +81,8 @@ _GENERAL_TWIN = twin("_three_parallel")
 
 
 def _general_twin() -> ModuleType | None:
-    """The general family's twin, None when not built or its quartic's LAPACK (SciPy) is missing."""
-    if _GENERAL_TWIN is None:
-        return None
-    try:
-        _GENERAL_TWIN.load_lapack()
-    except ImportError:
-        return None
-    return _GENERAL_TWIN
+    """The general family's twin, None when not built or no LAPACK loads for its quartic."""
+    return quartic_twin(_GENERAL_TWIN)
 
 
 _ARM_LABELS = {
