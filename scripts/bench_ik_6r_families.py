@@ -17,8 +17,9 @@ tables (``random_table(family, "standard", 0)``), 50 targets x 15, medians of si
 ``get_solver(robot).solve``, the commit before the families' merge (d001f74^: scalar Python per
 target) and this one alternated process by process, three rounds: Pieper intersecting 104, 128,
 134 -> 5, 5, 5 us; Pieper general 151, 152, 256 -> 14, 9, 9 us; three-parallel general 136, 139,
-225 -> 13, 8, 8 us. This script (``--targets 100 --tables 2``): compiled 9-19 us, NumPy 97-138 us,
-``numpy x`` 6.4-11.5, same answers on 100/100 targets of every table.
+225 -> 13, 8, 8 us. This script (``--targets 100 --tables 2``, two runs): compiled 4.5-19 us, NumPy 43-138 us,
+``numpy x`` 5.4-11.5 (the closed-form cases about 10, the quartics about 6), the same answers on
+100/100 targets of every table.
 """
 
 from __future__ import annotations
