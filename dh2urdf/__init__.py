@@ -13,7 +13,7 @@ from .exceptions import Dh2UrdfError, TableError, UnknownRobotError, UrdfBuildEr
 from .robots import ROBOTS, RobotDescription, get_robot, robot_names
 from .table_file import load_table, parse_table
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 __all__ = [
     "DHRow",

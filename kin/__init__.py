@@ -12,7 +12,7 @@ from .exceptions import (
 )
 from .robot_model import RobotModel, load_robot, robot_from_table
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 __all__ = [
     "Configuration",
