@@ -9,6 +9,7 @@
  * compares the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"
+#include "_wrist_flips.h"
 
 #include "_trig_quartic.h"
 
@@ -58,28 +59,16 @@ static void wrist_rows(const Params *P, const double *r, const double t[3], doub
         sin5 = sqrt(fmax(0.0, 1.0 - cos5 * cos5));
     }
     double q1 = wrap(t[0] - o[0]), q2 = wrap(t[1] - o[1]), q3 = wrap(t[2] - o[2]);
-    double t4_regular = atan2(ny, nx);
+    double angles[2][3];
+    wrist_flips(atan2(ny, nx), cos5, sin5, s4, c4, s5, c5, vx, vy, vz, free + o[3], angles);
     for (int flip = 0; flip < 2; flip++) {
-        double st5 = flip == 0 ? sin5 : -sin5;
-        double t5 = atan2(st5, cos5);
-        double mx = s5 * st5, my = -(c4 * s5 * cos5 + s4 * c5);
-        double t4 = t4_regular - atan2(my, mx);
-        if (sqrt(mx * mx + my * my) <= 1e-12) t4 = free + o[3]; /* _six_r.SINGULAR */
-        double ct4 = cos(t4), st4 = sin(t4);
-        double ex = ct4 * vx + st4 * vy, ey = -st4 * vx + ct4 * vy;
-        double ez = -s4 * ey + c4 * vz;
-        ey = c4 * ey + s4 * vz;
-        double ct5 = cos(t5);
-        double fx = ct5 * ex + st5 * ey, fy = -st5 * ex + ct5 * ey;
-        fy = c5 * fy + s5 * ez;
-        double t6 = atan2(fy, fx);
         double *row = rows[flip];
         row[0] = q1;
         row[1] = q2;
         row[2] = q3;
-        row[3] = wrap(t4 - o[3]);
-        row[4] = wrap(t5 - o[4]);
-        row[5] = wrap(t6 - o[5]);
+        row[3] = wrap(angles[flip][0] - o[3]);
+        row[4] = wrap(angles[flip][1] - o[4]);
+        row[5] = wrap(angles[flip][2] - o[5]);
         int bad = 0;
         for (int j = 0; j < JOINTS; j++) bad |= isnan(row[j]);
         if (bad)

@@ -7,6 +7,7 @@
  * built; tests/test_six_r_twins.py compares the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"
+#include "_wrist_flips.h"
 
 /* The parameter layout (SphericalWrist6R.c_fields fills it by name from LAYOUT).
    X(field, size, doc) */
@@ -85,30 +86,17 @@ static void solve_one(const Params *P, const double *p, const double *r, double 
             }
             double q1 = wrap(t1 - o[0]), q2 = wrap(t2 - o[1]), q3 = wrap(t3 - o[2]);
             int index = 4 * shoulder + 2 * elbow;
-            double heading4 = atan2(wvy, wvx); /* the same for both flips (computed once) */
+            double angles[2][3];
+            wrist_flips(atan2(wvy, wvx), cos5, sin5, s4, c4, s5, c5, vx, vy, vz, free + o[3],
+                        angles);
             for (int flip = 0; flip < 2; flip++) {
-                double st5 = flip == 0 ? sin5 : -sin5;
-                double t5 = atan2(st5, cos5), t4;
-                double mx = s5 * st5, my = -(c4 * s5 * cos5 + s4 * c5);
-                if (hypot(mx, my) <= 1e-12) /* _six_r.SINGULAR */
-                    t4 = free + o[3];
-                else
-                    t4 = heading4 - atan2(my, mx);
-                double ct4 = cos(t4), st4 = sin(t4);
-                double ex = ct4 * vx + st4 * vy, ey = -st4 * vx + ct4 * vy;
-                double ez = -s4 * ey + c4 * vz;
-                ey = c4 * ey + s4 * vz;
-                double ct5 = cos(t5);
-                double fx = ct5 * ex + st5 * ey, fy = -st5 * ex + ct5 * ey;
-                fy = c5 * fy + s5 * ez;
-                double t6 = atan2(fy, fx);
                 double *row = out[index + flip];
                 row[0] = q1;
                 row[1] = q2;
                 row[2] = q3;
-                row[3] = wrap(t4 - o[3]);
-                row[4] = wrap(t5 - o[4]);
-                row[5] = wrap(t6 - o[5]);
+                row[3] = wrap(angles[flip][0] - o[3]);
+                row[4] = wrap(angles[flip][1] - o[4]);
+                row[5] = wrap(angles[flip][2] - o[5]);
             }
         }
     }
