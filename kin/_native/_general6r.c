@@ -7,7 +7,7 @@
  *
  * Per pose: the right side of the loop at its 9 grid points -> Q (14x9); the left null space of
  * Q's last 8 columns (LAPACK dgesvd) -> the 12x12 matrix quadratic M2 x^2 + M1 x + M0; its 24x24
- * companion matrix on the better conditioned leading matrix (dgetrf, dgesv) -> its eigenvalues
+ * companion matrix on the better conditioned leading matrix (a 12x12 LU in C: lu12; dgesv) -> its eigenvalues
  * (dgeev), each (near-)real root's vector by inverse iteration on the 12x12 quadratic (the NumPy
  * path takes the companion's eigenvectors: the same line for a simple root) -> the joints, Newton-polished on the true chain, kept on
  * target, duplicates merged, ordered by joint 1. LAPACK comes from SciPy's cython_lapack
@@ -28,12 +28,10 @@ typedef void dgeev_t(char *, char *, int *, double *, int *, double *, double *,
                      double *, int *, double *, int *, int *);
 typedef void dgesvd_t(char *, char *, int *, int *, double *, int *, double *, double *, int *,
                       double *, int *, double *, int *, int *);
-typedef void dgetrf_t(int *, int *, double *, int *, int *, int *);
 typedef void dgesv_t(int *, int *, double *, int *, int *, double *, int *, int *);
 
 static dgeev_t *dgeev_;
 static dgesvd_t *dgesvd_;
-static dgetrf_t *dgetrf_;
 static dgesv_t *dgesv_;
 
 /* The arm block: start, reverse, C_fixed (5 4x4), C_inv (5 4x4), P (3x14x9), F (7 4x4),
@@ -205,10 +203,10 @@ static double polish(const double *F, double *u, const double *target)
             J[3 * 6 + i] = z[0], J[4 * 6 + i] = z[1], J[5 * 6 + i] = z[2];
         }
         for (int i = 0; i < 6; i++) {
-            for (int j = 0; j < 6; j++) {
+            for (int j = i; j < 6; j++) { /* symmetric: the lower triangle mirrored (same sums) */
                 double s = 0.0;
                 for (int k = 0; k < 6; k++) s += J[6 * i + k] * J[6 * j + k];
-                JJt[6 * i + j] = s + (i == j ? 1e-14 : 0.0);
+                JJt[6 * i + j] = JJt[6 * j + i] = s + (i == j ? 1e-14 : 0.0);
             }
             y[i] = e[i];
         }
@@ -262,21 +260,54 @@ static void distinct(double *rows, int m, double *out)
     for (int j = 0; j < n && j < BRANCHES; j++) memcpy(out + 6 * j, rows + 6 * kept[j], 6 * sizeof(double));
 }
 
+/* LU with partial pivoting of a 12x12 row-major matrix, in place (dgetf2's steps: the first
+   largest entry of a column as pivot, row swaps in piv): a pivot below tiny set to +-tiny
+   (tiny > 0), or an exact zero pivot left with its column not eliminated (tiny = 0). */
+static void lu12(double *a, int *piv, double tiny)
+{
+    for (int c = 0; c < 12; c++) {
+        int p = c;
+        for (int r = c + 1; r < 12; r++)
+            if (fabs(a[12 * r + c]) > fabs(a[12 * p + c])) p = r;
+        piv[c] = p;
+        if (p != c)
+            for (int k = 0; k < 12; k++) {
+                double t = a[12 * c + k];
+                a[12 * c + k] = a[12 * p + k], a[12 * p + k] = t;
+            }
+        if (fabs(a[13 * c]) < tiny) a[13 * c] = a[13 * c] < 0.0 ? -tiny : tiny;
+        if (a[13 * c] == 0.0) continue;
+        for (int r = c + 1; r < 12; r++) {
+            double f = a[12 * r + c] /= a[13 * c];
+            for (int k = c + 1; k < 12; k++) a[12 * r + k] -= f * a[12 * c + k];
+        }
+    }
+}
+
+/* The transpose of a 12x12 row-major matrix (what LAPACK's column-major view of it sees). */
+static void transpose12(const double *m, double *out)
+{
+    for (int i = 0; i < 12; i++)
+        for (int j = 0; j < 12; j++) out[12 * j + i] = m[12 * i + j];
+}
+
 /* log |det| minus the log of the row norms of a 12x12 row-major matrix; -inf if singular. */
 static double hadamard_ratio(const double *m)
 {
     double a[144], norms = 0.0;
-    int n = 12, ipiv[12], info;
+    int ipiv[12];
     for (int i = 0; i < 12; i++) {
         double s = 0.0;
         for (int j = 0; j < 12; j++) s += m[12 * i + j] * m[12 * i + j];
         norms += log(fmax(sqrt(s), 1e-300));
     }
-    memcpy(a, m, sizeof a); /* the transpose's determinant is the same */
-    dgetrf_(&n, &n, a, &n, ipiv, &info);
-    if (info > 0) return -INFINITY;
+    transpose12(m, a); /* the transpose's determinant is the same */
+    lu12(a, ipiv, 0.0);
     double logdet = 0.0;
-    for (int i = 0; i < 12; i++) logdet += log(fabs(a[13 * i]));
+    for (int i = 0; i < 12; i++) {
+        if (a[13 * i] == 0.0) return -INFINITY;
+        logdet += log(fabs(a[13 * i]));
+    }
     return logdet - norms;
 }
 
@@ -300,9 +331,13 @@ static int singular_pencil(const double *m0, const double *m1, const double *m2)
 {
     const double x = 0.3719; /* no arm's root in particular */
     double a[144];
-    int n = 12, ipiv[12], info;
-    for (int k = 0; k < 144; k++) a[k] = (m2[k] * x + m1[k]) * x + m0[k];
-    dgetrf_(&n, &n, a, &n, ipiv, &info);
+    int ipiv[12];
+    for (int i = 0; i < 12; i++) /* transposed, as LAPACK saw it */
+        for (int j = 0; j < 12; j++) {
+            int k = 12 * i + j;
+            a[12 * j + i] = (m2[k] * x + m1[k]) * x + m0[k];
+        }
+    lu12(a, ipiv, 0.0);
     double small = INFINITY, big = 0.0;
     for (int i = 0; i < 12; i++) small = fmin(small, fabs(a[13 * i])), big = fmax(big, fabs(a[13 * i]));
     return !(small > SINGULAR * big);
@@ -321,23 +356,7 @@ static void null_vector(const double *lead, const double *middle, const double *
         if (size > scale) scale = size; /* fmax, but inline (a NaN entry is skipped as by fmax) */
     }
     int piv[12];
-    double tiny = 1e-300 + scale * 1e-18;
-    for (int c = 0; c < 12; c++) { /* LU with partial pivoting, in place */
-        int p = c;
-        for (int r = c + 1; r < 12; r++)
-            if (fabs(a[12 * r + c]) > fabs(a[12 * p + c])) p = r;
-        piv[c] = p;
-        if (p != c)
-            for (int k = 0; k < 12; k++) {
-                double t = a[12 * c + k];
-                a[12 * c + k] = a[12 * p + k], a[12 * p + k] = t;
-            }
-        if (fabs(a[13 * c]) < tiny) a[13 * c] = a[13 * c] < 0.0 ? -tiny : tiny;
-        for (int r = c + 1; r < 12; r++) {
-            double f = a[12 * r + c] /= a[13 * c];
-            for (int k = c + 1; k < 12; k++) a[12 * r + k] -= f * a[12 * c + k];
-        }
-    }
+    lu12(a, piv, 1e-300 + scale * 1e-18);
     for (int i = 0; i < 12; i++) v[i] = 1.0 + 0.1 * i; /* a generic start */
     for (int step = 0; step < 2; step++) {
         for (int c = 0; c < 12; c++) { /* P b */
@@ -655,9 +674,8 @@ PyMODINIT_FUNC PyInit__general6r(void)
     if (capi == NULL) return NULL;
     dgeev_ = (dgeev_t *)lapack(capi, "dgeev");
     dgesvd_ = (dgesvd_t *)lapack(capi, "dgesvd");
-    dgetrf_ = (dgetrf_t *)lapack(capi, "dgetrf");
     dgesv_ = (dgesv_t *)lapack(capi, "dgesv");
     Py_DECREF(capi);
-    if (!dgeev_ || !dgesvd_ || !dgetrf_ || !dgesv_) return NULL;
+    if (!dgeev_ || !dgesvd_ || !dgesv_) return NULL;
     return PyModule_Create(&module);
 }
