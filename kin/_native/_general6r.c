@@ -29,10 +29,17 @@ typedef void dgeev_t(char *, char *, int *, double *, int *, double *, double *,
 typedef void dgesvd_t(char *, char *, int *, int *, double *, int *, double *, double *, int *,
                       double *, int *, double *, int *, int *);
 typedef void dgesv_t(int *, int *, double *, int *, int *, double *, int *, int *);
+typedef void dgebal_t(char *, int *, double *, int *, int *, int *, double *, int *);
+typedef void dgehd2_t(int *, int *, int *, double *, int *, double *, double *, int *);
+typedef void dlahqr_t(int *, int *, int *, int *, int *, double *, int *, double *, double *, int *,
+                      int *, double *, int *, int *);
 
 static dgeev_t *dgeev_;
 static dgesvd_t *dgesvd_;
 static dgesv_t *dgesv_;
+static dgebal_t *dgebal_;
+static dgehd2_t *dgehd2_;
+static dlahqr_t *dlahqr_;
 
 /* The arm block: start, reverse, C_fixed (5 4x4), C_inv (5 4x4), P (3x14x9), F (7 4x4),
    F0^-1, F6^-1, FIT9 (9x9), TAU (3), m and the two deflating bases (2 24x24, row-major, the
@@ -377,6 +384,46 @@ static void null_vector(const double *lead, const double *middle, const double *
     }
 }
 
+/* The eigenvalues (wr + i wi) of the n x n column-major a (overwritten): dgeev's own steps
+   without eigenvectors, called one by one (dgebal, dgehd2, dlahqr: the same numbers, without
+   the workspace queries and ilaenv look-ups that dgeev and dhseqr make on every call), or
+   dgeev itself where it would scale a or dlahqr fails. 0, or LAPACK's info. */
+#define SAFE_NORM 1e130 /* well inside dgeev's [smlnum, bignum] = [6.7e-139, 1.5e138] */
+static int eigenvalues(double *a, int n, double *wr, double *wi, double *work, int lwork)
+{
+    double copy[24 * 24], size = 0.0;
+    int info = 0, ilo, ihi, one = 1, no_vectors = 0;
+    for (int k = 0; k < n * n; k++) {
+        double x = fabs(a[k]);
+        if (!(x <= size)) size = x; /* NaN taken, as dlange does */
+    }
+    if (!(size > 1.0 / SAFE_NORM && size < SAFE_NORM)) { /* dgeev would scale (or a is 0) */
+        char no = 'N';
+        double vl[1];
+        dgeev_(&no, &no, &n, a, &n, wr, wi, vl, &one, vl, &one, work, &lwork, &info);
+        return info;
+    }
+    memcpy(copy, a, (size_t)(n * n) * sizeof(double));
+    char both = 'B';
+    dgebal_(&both, &n, a, &n, &ilo, &ihi, work, &info);
+    if (info == 0) dgehd2_(&n, &ilo, &ihi, a, &n, work + n, work + 2 * n, &info);
+    if (info != 0) return info;
+    for (int i = 0; i < n; i++) /* dhseqr: the eigenvalues dgebal isolated */
+        if (i < ilo - 1 || i >= ihi) wr[i] = a[i + n * i], wi[i] = 0.0;
+    if (ilo == ihi) {
+        wr[ilo - 1] = a[(ilo - 1) * (n + 1)], wi[ilo - 1] = 0.0;
+        return 0;
+    }
+    dlahqr_(&no_vectors, &no_vectors, &n, &ilo, &ihi, a, &n, wr, wi, &ilo, &ihi, work, &one, &info);
+    if (info > 0) { /* dhseqr would go on with dlaqr0: dgeev answers */
+        char no = 'N';
+        double vl[1];
+        memcpy(a, copy, (size_t)(n * n) * sizeof(double));
+        dgeev_(&no, &no, &n, a, &n, wr, wi, vl, &one, vl, &one, work, &lwork, &info);
+    }
+    return info;
+}
+
 /* The first pass of one pose: 0, or -1 when the NumPy path must answer. */
 static int one_pose(const double *arm, const double *T, double *out, double *roots)
 {
@@ -481,11 +528,8 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
             }
         eig = B;
     }
-    double wr[24], wi[24], vl[1];
-    int one = 1;
-    char no = 'N';
-    dgeev_(&no, &no, &m, eig, &m, wr, wi, vl, &one, vl, &one, work, &lwork, &info);
-    if (info != 0) return -1;
+    double wr[24], wi[24];
+    if (eigenvalues(eig, m, wr, wi, work, lwork) != 0) return -1;
     /* The least squares of the right side's monomials: pinv of Q[:, 1:] (8x14), from its SVD. */
     double pinv[8][14], inv[8];
     for (int r = 0; r < 8; r++) inv[r] = sv[r] > sv[0] * 1e-12 ? 1.0 / (sv[r] > 0 ? sv[r] : 1.0) : 0.0;
@@ -675,7 +719,10 @@ PyMODINIT_FUNC PyInit__general6r(void)
     dgeev_ = (dgeev_t *)lapack(capi, "dgeev");
     dgesvd_ = (dgesvd_t *)lapack(capi, "dgesvd");
     dgesv_ = (dgesv_t *)lapack(capi, "dgesv");
+    dgebal_ = (dgebal_t *)lapack(capi, "dgebal");
+    dgehd2_ = (dgehd2_t *)lapack(capi, "dgehd2");
+    dlahqr_ = (dlahqr_t *)lapack(capi, "dlahqr");
     Py_DECREF(capi);
-    if (!dgeev_ || !dgesvd_ || !dgesv_) return NULL;
+    if (!dgeev_ || !dgesvd_ || !dgesv_ || !dgebal_ || !dgehd2_ || !dlahqr_) return NULL;
     return PyModule_Create(&module);
 }
