@@ -100,6 +100,7 @@ def check_round_trips(structure, reference: ReferenceTable, q: np.ndarray, label
     return missed, found
 
 
+@pytest.mark.slow  # CI runs it; the default run stays under 5 minutes
 @pytest.mark.parametrize("convention", ["standard", "modified"])
 def test_random_tables_every_branch_on_target_and_q_among_them(convention):
     """Random tables: the registry gives General6R; every branch on target to 1e-9 (plain DH

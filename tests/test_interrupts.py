@@ -173,6 +173,7 @@ def _answers(text: str) -> list[dict]:
     return answers
 
 
+@pytest.mark.slow  # CI runs it; the default run stays under 5 minutes
 @pytest.mark.parametrize(
     ("case", "options", "count", "after"),
     [

@@ -255,6 +255,7 @@ def test_written_floats_read_back_bit_for_bit(values):
             assert ("e" in text) == ("e" in json_text(value)), (text, json_text(value))
 
 
+@pytest.mark.slow  # CI runs it; the default run stays under 5 minutes
 @needs_writer
 def test_written_floats_over_every_exponent_read_back_and_are_reprs():
     """A million random bit patterns (every exponent, subnormals) and values of the stream's

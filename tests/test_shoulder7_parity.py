@@ -94,6 +94,7 @@ def test_twin_refuses_malformed_arguments():
         ik.first(prepared[:11], home("panda")[None], out, 0.05)
 
 
+@pytest.mark.slow  # CI runs it; the default run stays under 5 minutes
 @needs_twin
 @pytest.mark.parametrize("name", ROBOTS)
 def test_first_gives_the_same_start_and_joint_vector(name):
