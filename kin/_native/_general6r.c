@@ -514,18 +514,22 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
         double AQ[24][24];
         for (int i = 0; i < 12; i++) /* A's top rows are [0 I] */
             for (int j = 0; j < m; j++) AQ[i][j] = Q2[24 * (12 + i) + j];
-        for (int i = 12; i < 24; i++)
-            for (int j = 0; j < m; j++) {
-                double t = 0.0;
-                for (int l = 0; l < 24; l++) t += comp[i + 24 * l] * Q2[24 * l + j];
-                AQ[i][j] = t;
+        /* The products row by row (each entry's sum in the same order, the j loops vectorised). */
+        for (int i = 12; i < 24; i++) {
+            for (int j = 0; j < m; j++) AQ[i][j] = 0.0;
+            for (int l = 0; l < 24; l++) {
+                double c = comp[i + 24 * l];
+                for (int j = 0; j < m; j++) AQ[i][j] += c * Q2[24 * l + j];
             }
-        for (int r = 0; r < m; r++)
-            for (int j = 0; j < m; j++) {
-                double t = 0.0;
-                for (int i = 0; i < 24; i++) t += Q2[24 * i + r] * AQ[i][j];
-                B[r + m * j] = t;
+        }
+        for (int r = 0; r < m; r++) {
+            double t[24] = {0.0};
+            for (int i = 0; i < 24; i++) {
+                double q = Q2[24 * i + r];
+                for (int j = 0; j < m; j++) t[j] += q * AQ[i][j];
             }
+            for (int j = 0; j < m; j++) B[r + m * j] = t[j];
+        }
         eig = B;
     }
     double wr[24], wi[24];
