@@ -86,7 +86,7 @@ class ClosedFormRoutes(ClosedFormBranches):
                 if branches.status == "out_of_reach":
                     continue
                 if self.idealised is not None:
-                    branches = self._polished(branches, target)
+                    branches = self._polished(branches, target, limits=False)
                 for thetas, label in branches.thetas:
                     q = np.subtract(thetas, self._offsets)
                     if self._directions is not None:
