@@ -22,8 +22,8 @@ from .branches import Branches
 from .closed_form_structure import candidate_branches
 from .idealised import polish
 
-#: A branch outside the joint limits by more than this [rad] is not polished (the polish moves
-#: a joint by far less: at most 4e-5 rad on the corpus' AL5D, within 1e-7 rad where it lands).
+#: A branch outside the joint limits by more than this [rad] is not polished when another is (the
+#: polish moves a joint by far less: at most 4e-5 rad on the corpus' AL5D, 1e-7 where it lands).
 OUTSIDE_MARGIN = 1e-2
 
 
@@ -50,28 +50,42 @@ class ClosedFormBranches(BranchVerification):
         the target is dropped, not polished (the pose route: a branch of the pose's projection
         that far from the pose itself cannot reach it).
 
-        ``limits``: a branch with a joint farther than :data:`OUTSIDE_MARGIN` [rad] outside its
-        limits (every copy ``+ 2 pi k``) is kept as it is, not polished: the judge rejects it
-        either way (the polish moves a joint by less than the margin). False for candidates
-        judged elsewhere (the partial-pose solver's).
+        ``limits``: the branches with a joint farther than :data:`OUTSIDE_MARGIN` [rad] outside
+        its limits (every copy ``+ 2 pi k``) are neither polished nor kept when another branch is
+        polished: the judge would reject them (the polish moves a joint by far less than the
+        margin), and unpolished they would miss the target by the idealisation's error. When
+        none is polished they are all polished, as without ``limits`` (the answer then names the
+        branches outside the limits). False for candidates judged elsewhere (the partial-pose
+        solver's).
         """
+        thetas = branches.thetas
+        if limits:
+            outside = self._outside
+            inside = [branch for branch in thetas if not outside(branch[0])]
+            if inside and len(inside) < len(thetas):
+                moved = self._polish_each(inside, target, near)
+                if moved:
+                    branches.thetas = moved
+                    return branches
+        branches.thetas = self._polish_each(thetas, target, near)
+        return branches
+
+    def _polish_each(
+        self, thetas: list[tuple[tuple[float, ...], str]], target: Target, near: float
+    ) -> list[tuple[tuple[float, ...], str]]:
+        """Each branch (DH angles [rad], label) polished; those that give up (``near``) dropped."""
         judge, offsets = self._judge, self._offsets
         rotation = target.rotation if isinstance(target, PoseTarget) else None
         signs = 1.0 if self._directions is None else self._directions  # q' <-> q (the judge's)
-        outside = self._outside if limits else None
         moved = []
-        for thetas, label in branches.thetas:
-            if outside is not None and outside(thetas):
-                moved.append((thetas, label))
-                continue
-            q = np.subtract(thetas, offsets) * signs
+        for branch, label in thetas:
+            q = np.subtract(branch, offsets) * signs
             q = polish(
                 judge.model, judge.data, judge.frame_id, q, target.position, rotation, give_up=near
             )
             if q[0] == q[0]:  # not NaN: polished
                 moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
-        branches.thetas = moved
-        return branches
+        return moved
 
     def _outside(self, thetas: tuple[float, ...] | list[float]) -> bool:
         """Whether a joint of ``thetas`` (DH angles [rad]) is far outside its limits.
