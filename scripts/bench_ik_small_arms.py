@@ -198,8 +198,9 @@ def main(argv: list[str] | None = None) -> int:
     """Print one row per arm and solver: success, median single call, answers, ratio."""
     args = get_argument_parser().parse_args(argv)
     print(
-        f"{'arm':<14} {'solver':<46} {'success':>8} {'median':>10} {'answers':>8} {'ratio':>6}"
-        "   (answers: valid per target; ratio: median over TRAC-IK's)"
+        f"{'arm':<14} {'solver':<46} {'success':>8} {'median':>10} {'answers':>8} {'false':>6} "
+        f"{'ratio':>6}   (answers: valid per target; false: answers off target or outside the "
+        "limits; ratio: median over TRAC-IK's)"
     )
     print(
         "TRAC-IK returns one answer per call; ours returns every branch of the closed form, "
@@ -239,6 +240,7 @@ def main(argv: list[str] | None = None) -> int:
         times: dict[str, list[float]] = {key: [] for key in calls}
         hits = dict.fromkeys(calls, 0)
         answers = dict.fromkeys(calls, 0)
+        false = dict.fromkeys(calls, 0)
         keys = list(calls)
         clock = time.perf_counter
         for i, target in enumerate(targets):
@@ -253,6 +255,7 @@ def main(argv: list[str] | None = None) -> int:
                 ]
                 hits[key] += bool(valid)
                 answers[key] += len(valid)
+                false[key] += len(found) - len(valid)
         peer_median = next(
             (statistics.median(times[k]) for k in keys if not k.startswith("ours")), None
         )
@@ -261,7 +264,7 @@ def main(argv: list[str] | None = None) -> int:
             ratio = f"{median / peer_median:>6.2f}" if peer_median else f"{'-':>6}"
             print(
                 f"{arm:<14} {key:<46} {100.0 * hits[key] / len(targets):>7.1f}% "
-                f"{median * 1e6:>8.1f}us {answers[key] / len(targets):>8.2f} {ratio}"
+                f"{median * 1e6:>8.1f}us {answers[key] / len(targets):>8.2f} {false[key]:>6} {ratio}"
             )
     return 0
 
