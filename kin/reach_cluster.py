@@ -57,4 +57,10 @@ def reach_client(scheduler: Any) -> Iterator[Any]:
         )
         with cluster, Client(cluster) as client:
             client.run(_ignore_sigint)  # Ctrl-C is the parent's: no traceback per worker
-            yield client
+            try:
+                yield client
+            except KeyboardInterrupt:
+                # The scheduler lives in this process: torn down mid-run it logs, at CRITICAL, a
+                # traceback for each message it can no longer send to the closed client.
+                logging.getLogger("distributed").setLevel(logging.CRITICAL + 1)
+                raise

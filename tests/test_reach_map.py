@@ -235,12 +235,7 @@ def test_cli_ctrl_c_leaves_no_file(tmp_path, capsys, monkeypatch):
     "scheduler",
     [
         "local",
-        pytest.param(
-            "local-cluster:2",
-            marks=pytest.mark.skipif(
-                not os.environ.get("KIN_REACH_SLOW"), reason="KIN_REACH_SLOW=1 runs it (~12 s)"
-            ),
-        ),
+        pytest.param("local-cluster:2", marks=pytest.mark.slow),
     ],
 )
 def test_sigint_to_a_running_command_leaves_no_file(tmp_path, scheduler):
