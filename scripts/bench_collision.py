@@ -13,8 +13,9 @@ configurations within the limits:
   of cache; always calling ``check`` first made it 1.4-1.8x ``pin`` and ``pin`` first 1.4x
   ``check``; ``check``, ``pin`` and ``bare`` now take turns going first);
 * ``bare``: ``pin.computeCollisions`` called as the checker calls it (through the same naive
-  broad-phase manager when ``checker.broad_phase``: the models with meshes), bare: ``check`` /
-  ``bare`` is the wrapper's own cost (the input check of ``q``);
+  broad-phase manager when ``checker.broad_phase``: the models with meshes; else on the
+  checker's own pairs, the most often in contact first: kin.collision.pair_order), bare:
+  ``check`` / ``bare`` is the wrapper's own cost (the input check of ``q``);
 * ``batch``: ``in_collision_batch`` over ``--batch`` configurations, per configuration, against
   a Python loop of ``in_collision`` over the same ones, in four alternating rounds of a quarter
   each (on a shared machine one long run of each measures the neighbours' load as much as the
@@ -227,7 +228,8 @@ def bench_row(name: str, configurations: int, batch: int) -> tuple[float, float]
     def pinocchio(q: np.ndarray) -> bool:
         return pin.computeCollisions(pin_model, pin_data, geometry_model, geometry_data, q, True)
 
-    bare_data = pin.GeometryData(geometry_model)
+    verdict_model = checker._verdict_geometry  # the pairs (and their order) the checker tests
+    bare_data = pin.GeometryData(verdict_model)
     checker._prepare(bare_data, contact=False)
     bare_pin_data = pin_model.createData()
     manager = pin.BroadPhaseManager_NaiveCollisionManager(pin_model, geometry_model, bare_data)
@@ -235,7 +237,7 @@ def bench_row(name: str, configurations: int, batch: int) -> tuple[float, float]
     def bare(q: np.ndarray) -> bool:
         if checker.broad_phase:
             return pin.computeCollisions(pin_model, bare_pin_data, manager, q, True)
-        return pin.computeCollisions(pin_model, bare_pin_data, geometry_model, bare_data, q, True)
+        return pin.computeCollisions(pin_model, bare_pin_data, verdict_model, bare_data, q, True)
 
     rng = np.random.default_rng(0)
     qs = rng.uniform(robot.lower, robot.upper, (max(configurations, batch), robot.nq))

@@ -2,9 +2,11 @@
 
 Seen on Panda (maker's URDF to panda_link8, tests/data/collision/cell.toml): a pool of geometry data
 reused across batches called a configuration free whose links 5 and 7 overlap by 2.9 cm, after
-other batches had run on it; the single call and a fresh pool called it colliding. Each batch now
-gets a fresh pool. The verdicts here are compared with single calls, which tests/
-test_collision_engines.py compares with coal called directly.
+other batches had run on it; the single call and a fresh pool called it colliding (GJK then
+started from the previous call's answer: kin/collision/requests.py). The checker now keeps its
+pool from batch to batch, so this runs batches after batches on one. The verdicts here are
+compared with single calls, which tests/test_collision_engines.py compares with coal called
+directly.
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from .requests import prepare_requests
 
-__all__ = ["SAMPLES", "SEED", "always_in_contact"]
+__all__ = ["SAMPLES", "SEED", "always_in_contact", "sample_configurations"]
 
 #: Configurations sampled [count].
 SAMPLES = 1000
@@ -60,10 +60,7 @@ def always_in_contact(
     data = model.createData()
     geometry_data = pin.GeometryData(geometry_model)
     prepare_requests(geometry_data, padding, contact=False)
-    lower = np.where(np.isfinite(model.lowerPositionLimit), model.lowerPositionLimit, -math.pi)
-    upper = np.where(np.isfinite(model.upperPositionLimit), model.upperPositionLimit, math.pi)
-    rng = np.random.default_rng(SEED)
-    for q in rng.uniform(lower, upper, (SAMPLES, model.nq)):
+    for q in sample_configurations(model, SAMPLES):
         pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q)
         left = {
             pair
@@ -73,3 +70,13 @@ def always_in_contact(
         if not left:
             break
     return left
+
+
+def sample_configurations(model: pin.Model, count: int) -> np.ndarray:
+    """``count`` joint vectors drawn uniformly within the limits by ``default_rng(SEED)``.
+
+    An unbounded joint is drawn within +-pi [rad]. Returns shape (count, nq).
+    """
+    lower = np.where(np.isfinite(model.lowerPositionLimit), model.lowerPositionLimit, -math.pi)
+    upper = np.where(np.isfinite(model.upperPositionLimit), model.upperPositionLimit, math.pi)
+    return np.random.default_rng(SEED).uniform(lower, upper, (count, model.nq))

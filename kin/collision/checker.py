@@ -6,10 +6,11 @@ first use (as the IK solvers keep theirs). Points are in the world frame (the ar
 ``in_collision`` is the hot call (IK branches, path samples, reach voxels): it uses geometry data
 that asks coal for the verdict only (no contact points), the same pair queries as a bare
 ``pin.computeCollisions`` (behind a broad phase of world boxes when the model has meshes:
-:class:`_PerThread`), and checks a float64 vector of the right size with a few attribute
-tests and one sum (a non-finite sum sends ``q`` to :func:`kin.configuration.as_joint_vector`,
-which names the bad value). ``collisions`` and ``distance`` use a second geometry data that
-computes contacts.
+:class:`_PerThread`; else pair by pair, the pairs most often in contact first:
+:mod:`.pair_order`), and passes an array whose values sum to a finite number straight to it
+(anything else, or Pinocchio's size error, sends ``q`` to
+:func:`kin.configuration.as_joint_vector`, which converts it or names the bad value).
+``collisions`` and ``distance`` use a second geometry data that computes contacts.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import threading
 from dataclasses import dataclass
 from functools import partial
 from math import isfinite
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -81,7 +83,8 @@ class CollisionChecker:
         broad_phase: Whether the verdicts go through coal's broad phase (world boxes first):
             when a shape is a mesh's hull, whose exact test (GJK, about 1-2 us a pair) costs
             far more than a box test; primitives alone are tested exactly pair by pair, which
-            stops sooner at the first contact (see :class:`_PerThread`).
+            stops sooner at the first contact (see :class:`_PerThread`), in the order of
+            :mod:`.pair_order` (the pairs most often in contact first).
     """
 
     def __init__(self, model: CollisionModel):
@@ -91,12 +94,23 @@ class CollisionChecker:
         self._geometry = model.geometry_model
         self._nq = model.robot.nq
         self.broad_phase = any(_costly(g.geometry) for g in self._geometry.geometryObjects)
+        self._verdict_geometry = self._geometry
+        if not self.broad_phase:
+            from .pair_order import verdict_geometry_model
+
+            self._verdict_geometry = verdict_geometry_model(
+                self._pin_model, self._geometry, model.padding
+            )
         self._local = _PerThread(self)
         self._pool_lock = threading.Lock()
+        self._pools: dict[int, Any] = {}
 
     def _new_geometry_data(self, contact: bool) -> pin.GeometryData:
-        """Geometry data with the model's padding; ``contact``: coal computes contact points."""
-        geometry_data = pin.GeometryData(self._geometry)
+        """Geometry data with the model's padding; ``contact``: coal computes contact points.
+
+        Verdict-only data (``contact`` False) is that of the verdicts' own geometry model.
+        """
+        geometry_data = pin.GeometryData(self._geometry if contact else self._verdict_geometry)
         self._prepare(geometry_data, contact)
         return geometry_data
 
@@ -121,16 +135,17 @@ class CollisionChecker:
         Raises:
             kin.JointVectorError: Wrong size or non-finite values.
         """
-        # _q inlined: a method call is a fifth of what this wrapper may add to Pinocchio's call
-        if not (
-            q.__class__ is np.ndarray
-            and q.dtype is _FLOAT64  # type: ignore[union-attr]
-            and q.ndim == 1  # type: ignore[union-attr]
-            and len(q) == self._nq  # type: ignore[arg-type]
-            and isfinite(sum(q.tolist()))  # type: ignore[union-attr]
-        ):
-            q = as_joint_vector(self._robot, q)  # converts, or raises the detailed error
-        return self._local.check(q, True)  # type: ignore[no-any-return]
+        # The input check costs a fifth of Pinocchio's call on a small arm: an array whose values
+        # sum to a finite float goes to Pinocchio as it is; anything else (a list, a string, a
+        # 2-D array, complex or object values: no tolist, a sum or isfinite that fails, or
+        # Pinocchio's size or type error) to as_joint_vector, which converts it or raises the
+        # detailed error. Pinocchio takes an int, bool or float32 array as its float64 values.
+        try:
+            if isfinite(sum(q.tolist())):  # type: ignore[union-attr]
+                return self._local.check(q, True)  # type: ignore[no-any-return]
+        except (AttributeError, TypeError, ValueError):
+            pass
+        return self._local.check(as_joint_vector(self._robot, q), True)  # type: ignore[no-any-return]
 
     def collisions(self, q: npt.ArrayLike) -> tuple[Contact, ...]:
         """The pairs in contact at ``q`` [rad, m], the deepest contact of each, deepest first.
@@ -216,21 +231,33 @@ class CollisionChecker:
         if len(values) == 0:
             return np.zeros(0, dtype=bool)
         count = threads or _cores()
-        # A fresh pool each call (about 1 ms): a pool reused after other batches was seen to call
-        # a colliding configuration free (Panda, convex hulls: its verdict depended on what the
-        # pool had computed before), which a fresh one never did.
-        # with meshes, coal's dynamic AABB tree as broad phase (Pinocchio binds no pool of the
-        # naive manager the single call uses): 1.5-2x faster than the plain pool on UR5
-        pool = (
-            pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager
-            if self.broad_phase
-            else pin.GeometryPool
-        )(self._pin_model, self._geometry, count)
-        for geometry_data in pool.getGeometryDatas():
-            self._prepare(geometry_data, contact=False)
         with self._pool_lock:
-            result = pin.computeCollisionsInParallel(count, pool, np.asfortranarray(values.T), True)
+            result = pin.computeCollisionsInParallel(
+                count, self._pool(count), np.asfortranarray(values.T), True
+            )
         return np.asarray(result, dtype=bool).reshape(len(values))
+
+    def _pool(self, count: int) -> Any:
+        """The batches' pool of ``count`` threads' data, made at the first batch (under the lock).
+
+        With meshes, coal's dynamic AABB tree as broad phase (Pinocchio binds no pool of the naive
+        manager the single call uses): 1.5-2x faster than the plain pool on UR5. Kept from batch
+        to batch (making one costs 1-1.5 ms on Panda): its verdicts do not depend on what it
+        computed before, since GJK starts from its default guess (:mod:`.requests`; a pool once
+        called a Panda configuration free after other batches, when GJK started from the
+        previous answer: tests/test_collision_batch_history.py).
+        """
+        pool = self._pools.get(count)
+        if pool is None:
+            pool = (
+                pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager
+                if self.broad_phase
+                else pin.GeometryPool
+            )(self._pin_model, self._verdict_geometry, count)
+            for geometry_data in pool.getGeometryDatas():
+                self._prepare(geometry_data, contact=False)
+            self._pools[count] = pool
+        return pool
 
     def distances_batch(self, qs: npt.ArrayLike) -> np.ndarray:
         """:meth:`distance` of each row of ``qs`` (N, nq) [rad, m].
@@ -273,7 +300,7 @@ class _PerThread(threading.local):
                 pin.computeCollisions,
                 checker._pin_model,
                 self.data,
-                checker._geometry,
+                checker._verdict_geometry,
                 self.verdict,
             )
 

@@ -9,6 +9,13 @@ from the previous call's answer (``enable_cached_gjk_guess``), and from such a s
 GJK called lab5's upper arm and wrist free where their axes cross (3 of 5,000 random
 configurations; from the default start, none). That history is also what made a reused batch
 pool call a Panda configuration free whose links overlap by 2.9 cm.
+
+GJK stops as soon as it proves a pair farther apart than the padding (coal's
+``distance_upper_bound``, set to the padding plus :data:`EARLY_STOP_SLACK`): a request asks
+whether the pair is in contact, not how far apart it is. The proof is a separating plane (the
+support point's distance along GJK's direction, a lower bound of the true distance), so no pair
+in contact can be called free by it; where GJK would go on to the nearest points it stops after a
+step or two (Panda's hull pairs in the batch: 9.8 -> 8.3 us a configuration).
 """
 
 from __future__ import annotations
@@ -18,12 +25,15 @@ import warnings
 import coal
 import pinocchio as pin
 
-__all__ = ["GJK_TOLERANCE", "prepare_requests"]
+__all__ = ["EARLY_STOP_SLACK", "GJK_TOLERANCE", "prepare_requests"]
 
 #: GJK's stopping tolerance in every collision request. coal's default 1e-6 let a verdict-only
 #: query call one UR5 configuration in 10,000 free whose forearm and wrist_2 hulls overlap by 2 cm
 #: (tests/test_collision_broad_phase.py); 1e-8 costs no measurable time.
 GJK_TOLERANCE = 1e-8
+#: How far beyond the padding a pair must be proven apart for GJK to stop early [m]: above coal's
+#: contact threshold (1e-12 m), so a pair stopped early is never one coal would call in contact.
+EARLY_STOP_SLACK = 1e-9
 
 
 def prepare_requests(geometry_data: pin.GeometryData, padding: float, contact: bool) -> None:
@@ -42,3 +52,4 @@ def prepare_requests(geometry_data: pin.GeometryData, padding: float, contact: b
             request.gjk_tolerance = GJK_TOLERANCE
             request.gjk_initial_guess = coal.GJKInitialGuess.DefaultGuess
             request.enable_cached_gjk_guess = False
+            request.distance_upper_bound = padding + EARLY_STOP_SLACK
