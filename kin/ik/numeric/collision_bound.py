@@ -18,8 +18,9 @@ checker's :class:`~kin.collision.CollisionModel` (its geometry model and pairs, 
 primitives its queries use), so the bound and the checker's verdict measure the same shapes.
 
 Work, not time, decides the answer: a fixed number of steps per start and fixed starts (the
-given ones, then draws of a seeded generator). The cap is checked before each start only: a
-busy machine gives the answer of an idle one, or ``timeout``. Pinocchio is the judge: an answer is
+given ones, then draws of a seeded generator). The cap is checked before each start and before
+each step (a call overruns it by one step, about a millisecond, not a start): a run the cap
+stops gives no answer, so a busy machine gives the answer of an idle one, or ``timeout``. Pinocchio is the judge: an answer is
 a solution when its tool is on target within the tolerances, inside the limits, and the checker
 finds it free.
 """
@@ -73,6 +74,7 @@ class BoundOutcome:
         position_error: Of the constrained components [m].
         rotation_error: Of the constrained components [rad].
         distance: Smallest distance of a checked pair at ``q``, padding taken off [m].
+        stopped: The time cap stopped the run before its work was done.
     """
 
     q: np.ndarray
@@ -81,6 +83,7 @@ class BoundOutcome:
     position_error: float
     rotation_error: float
     distance: float
+    stopped: bool = False
 
 
 def _task(target: Any) -> PartialTask | None:
@@ -127,8 +130,12 @@ class DistanceBoundedIK:
         q0: npt.ArrayLike,
         position_tol: float = 1e-7,
         rotation_tol: float = 1e-6,
+        end: float = math.inf,
     ) -> BoundOutcome:
         """Bounded steps from ``q0`` [rad] toward ``target``, :attr:`DistanceBound.iterations` at most.
+
+        ``end``: the cap, a ``time.perf_counter()`` value checked before each step; a run it
+        stops says ``stopped`` (``math.inf``: never).
 
         Raises:
             TargetError: A target kind the bound does not take (a pitch target).
@@ -143,6 +150,7 @@ class DistanceBoundedIK:
         identity = np.eye(model.nv)
         errors, smallest, steps = (math.inf, math.inf), -math.inf, 0
         best_error, best_clearance, progress = math.inf, -math.inf, 0
+        stopped = False
         while True:
             pin.computeJointJacobians(model, data, q)
             pose = pin.updateFramePlacement(model, data, self.frame_id)
@@ -163,6 +171,9 @@ class DistanceBoundedIK:
                 or steps >= bound.iterations
                 or steps - progress > bound.patience
             ):
+                break
+            if time.perf_counter() >= end:
+                stopped = True
                 break
             steps += 1
             frame_jacobian = pin.getFrameJacobian(model, data, self.frame_id, _LWA)
@@ -185,7 +196,7 @@ class DistanceBoundedIK:
             if dq is None:
                 break
             q = np.clip(q + dq, self.lower, self.upper)
-        return BoundOutcome(q, on_target and smallest > 0.0, steps, *errors, smallest)
+        return BoundOutcome(q, on_target and smallest > 0.0, steps, *errors, smallest, stopped)
 
     def solve(
         self,
@@ -202,7 +213,7 @@ class DistanceBoundedIK:
         Args:
             target: A pose (masked or not), position or axis target, world frame.
             starts: Start joint vectors, tried in order (e.g. the colliding answers, the seed).
-            timeout: Cap [s], checked before each start (None: no cap).
+            timeout: Cap [s], checked before each start and each step (None: no cap).
             position_tol: Success tolerance on the position [m].
             rotation_tol: Success tolerance on the rotation [rad].
             solver: :attr:`IKResult.solver` of the result.
@@ -219,8 +230,11 @@ class DistanceBoundedIK:
         for q0 in self._starts(starts):
             if time.perf_counter() >= end:
                 return self._failure(target, best, iterations, begin, solver, timeout=True)
-            outcome = self.run(target, q0)
+            outcome = self.run(target, q0, end=end)
             iterations += outcome.iterations
+            if outcome.stopped:  # unfinished work gives no answer: the cap's answer is timeout
+                best = outcome if best is None or _worse(best, outcome) else best
+                return self._failure(target, best, iterations, begin, solver, timeout=True)
             within = outcome.position_error < position_tol and outcome.rotation_error < rotation_tol
             if within and outcome.distance > 0.0 and not self.checker.in_collision(outcome.q):
                 found = IKSolution(
@@ -321,7 +335,7 @@ def solve_clear(
         seed: The caller's start joint vector [rad] (often free: the arm's present posture), or
             None.
         colliding: The answers found colliding, nearest the seed first.
-        timeout: Cap [s], checked before each start.
+        timeout: Cap [s], checked before each start and each step.
         solver: :attr:`IKResult.solver` of the result.
         swept: The first search swept the self-motion (a 7R arm's free-joint grid: every
             branch at every grid value): the bounded solve then runs from the seed alone. The

@@ -1,0 +1,89 @@
+"""The time cap of the distance-bounded solve (kin/ik/numeric/collision_bound.py) and of the
+collision-aware search over it: checked inside a run too, a run it stops gives ``timeout`` (never
+an answer), the time reported is the time the call took, and no cap that does not fire changes an
+answer. A clock of the test's own (1 ms a reading) stops a run at a known step; the real clock
+only checks the reported time against the call's own measure.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from test_ik_collision_bound import TIP, URDF, _blocked_case
+from urdf_reference import erd
+
+import kin
+from kin.ik.collision_aware import CollisionAwareSolver
+from kin.ik.numeric import collision_bound
+from kin.ik.numeric.collision_bound import DistanceBoundedIK
+from kin.ik.numeric.solver import NumericIK
+
+
+@pytest.fixture(scope="module")
+def case(tmp_path_factory):
+    """(robot, target, seed, plain answer, checker): Panda, a box through the plain answer's forearm."""
+    robot = kin.load_robot(erd(URDF), None, TIP)
+    path, base, _ = robot.urdf_source
+    panda = (robot, Path(path).read_text(encoding="utf-8"), Path(path), base)
+    target, seed, answer, checker, _, _ = _blocked_case(panda, tmp_path_factory.mktemp("cap"))
+    return robot, target, seed, answer, checker
+
+
+class _Clock:
+    """A clock that reads 1 ms later at every reading [s]."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        self.now += 1e-3
+        return self.now
+
+
+def test_the_cap_stops_a_run_between_steps(case, monkeypatch):
+    """A cap of 5.5 readings: timeout after a few steps of the first run, not at its end."""
+    robot, target, seed, answer, checker = case
+    solver = DistanceBoundedIK(robot, checker)
+    idle = solver.solve(target, [answer, seed])
+    assert idle.status == "ok", idle.message
+    first_run = solver.run(target, answer).iterations
+    assert first_run > 5  # the idle run takes more steps than the cap lets it
+    clock = _Clock()
+    monkeypatch.setattr(collision_bound, "time", SimpleNamespace(perf_counter=clock))
+    stopped = solver.solve(target, [answer, seed], timeout=0.0055)
+    assert stopped.status == "timeout", stopped.message
+    assert not stopped.solutions and stopped.rejected  # the run so far kept as the nearest
+    # readings at 1 ms (the start: cap at 6.5 ms), 2 (before the first run), then one before
+    # each step: 3, 4, 5 and 6 ms let four steps go, 7 ms stops the run
+    assert stopped.iterations == 4
+    assert stopped.time == pytest.approx(clock.now - 1e-3)  # the reported time is the clock's
+
+
+def test_a_cap_that_does_not_fire_changes_no_answer(case):
+    """No cap, or one far above the work's time: the same answer, steps and status."""
+    robot, target, seed, answer, checker = case
+    solver = DistanceBoundedIK(robot, checker)
+    free = solver.solve(target, [answer, seed])
+    capped = solver.solve(target, [answer, seed], timeout=600.0)
+    assert free.status == capped.status == "ok"
+    assert free.iterations == capped.iterations
+    np.testing.assert_array_equal(free.solutions[0].q, capped.solutions[0].q)
+
+
+@pytest.mark.parametrize("cap", [0.0, 1e-4, 2e-3])
+def test_collision_aware_tiny_cap_says_timeout_with_its_real_time(case, cap):
+    """A tiny cap on the collision-aware numeric call: timeout, reported time within the call's."""
+    robot, target, seed, answer, checker = case
+    aware = CollisionAwareSolver(NumericIK(robot, closed_form=False), checker)
+    aware.solve(target, answer, timeout=30.0)  # warm: the seed table and the first loads
+    begin = time.perf_counter()
+    result = aware.solve(target, answer, timeout=cap)
+    wall = time.perf_counter() - begin
+    assert result.status == "timeout", f"{cap=}: {result.message}"
+    assert not result.solutions
+    assert cap <= result.time <= wall, f"{cap=}"
+    assert wall < 5.0  # a sanity bound only: the cap is checked before every step
