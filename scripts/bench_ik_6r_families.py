@@ -1,12 +1,14 @@
-"""Benchmark one target of the 6R families' cases without a UR or spherical wrist (issue 34 item 3).
+"""Benchmark one target of every case of the two 6R families (issue 34 item 3).
 
 Random tables of each case (the recipes of ``tests/test_ik_pieper.py`` and
 ``tests/test_ik_three_parallel.py``, standard convention, seeds 0..``--tables - 1``, random base
 and tool): Pieper ``intersecting`` (axes 1, 2 meet), ``parallel`` (axes 1, 2 parallel),
-``general`` (a quartic in q3), and three-parallel ``general`` (``a5 != 0``, a quartic in q1).
+``general`` (a quartic in q3) and ``parallel23`` (axes 2, 3 parallel: the spherical-wrist case),
+three-parallel ``general`` (``a5 != 0``, a quartic in q1) and ``intersecting`` (``a5 = 0``: the
+UR case).
 Targets: the FK of seeded random q. The documented call ``kin.ik.get_solver(robot).solve(
 PoseTarget(p, R))`` (every branch wrapped into the limits and verified) is timed two ways,
-alternated target by target, one call each: ``compiled``, the family's compiled twin
+alternated target by target, one call each: ``compiled``, the family's one compiled twin
 (``_pieper_arms.c``, ``_three_parallel.c``: the branches and the verify in C), and ``numpy``, the
 same solver with ``compiled=False`` (the family's NumPy algorithm at N = 1, Pinocchio as the
 judge). Columns: medians of single calls [us] and ``numpy x``, the NumPy median over the compiled
@@ -47,7 +49,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from arm_tables import make_table, random_pose  # noqa: E402  (the tests' table builders)
 
 PI = math.pi
-CASES = ("pieper intersecting", "pieper parallel", "pieper general", "three_parallel general")
+CASES = ("pieper intersecting", "pieper parallel", "pieper general", "pieper parallel23",
+         "three_parallel general", "three_parallel intersecting")  # fmt: skip
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -74,11 +77,16 @@ def random_table(case: str, seed: int) -> DHTable:
             a[0] = 0.0
         elif case.endswith("parallel"):
             alpha[0] = rng.choice([0.0, PI])
+        elif case.endswith("parallel23"):
+            alpha[1] = 0.0
     else:
         a, d = rng.uniform(-0.5, 0.5, 6), rng.uniform(-0.3, 0.3, 6)
         alpha, theta = rng.uniform(-PI, PI, 6), rng.uniform(-PI, PI, 6)
         alpha[1] = alpha[2] = 0.0
-        a[4] = rng.choice([-1.0, 1.0]) * rng.uniform(0.05, 0.5)
+        if not case.endswith("intersecting"):
+            a[4] = rng.choice([-1.0, 1.0]) * rng.uniform(0.05, 0.5)
+        else:
+            a[4] = 0.0
     name = f"{case} {seed}"
     return make_table(a, alpha, d, theta, "standard", random_pose(rng), random_pose(rng), name)
 

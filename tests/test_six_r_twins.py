@@ -1,4 +1,5 @@
-"""The compiled twins of the 6R closed forms (``_ur_wrist.c``, ``_spherical_wrist.c``) against Python.
+"""The 6R families' twins on their special cases (``_three_parallel.c``'s UR case, ``_pieper_arms.c``'s
+spherical wrist) against Python.
 
 - ``solve``: the twin's 8 branches equal the Python module's (``compiled=False``) to 1e-12 rad,
   NaN rows alike, on the shipped arms and on random tables of each family in both conventions

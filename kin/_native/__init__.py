@@ -32,9 +32,7 @@ TWINS: dict[str, str] = {
     "_pieper_arms": "kin.ik.analytic.six_r._pieper_arms",
     "_pose_check": "kin.ik._pose_check",
     "_shoulder7": "kin.ik.analytic.seven_r._shoulder7",
-    "_spherical_wrist": "kin.ik.analytic.six_r._spherical_wrist",
     "_three_parallel": "kin.ik.analytic.six_r._three_parallel",
-    "_ur_wrist": "kin.ik.analytic.six_r._ur_wrist",
 }
 
 #: Each twin's name -> the test file (under ``tests/``) that compares it with its NumPy form.
@@ -47,9 +45,7 @@ PARITY_TESTS: dict[str, str] = {
     "_pieper_arms": "test_six_r_family_twins.py",
     "_pose_check": "test_pose_check.py",
     "_shoulder7": "test_shoulder7_parity.py",
-    "_spherical_wrist": "test_six_r_twins.py",
     "_three_parallel": "test_six_r_family_twins.py",
-    "_ur_wrist": "test_six_r_twins.py",
 }
 
 #: Why a twin asked for is not there (its name -> the import error's text).

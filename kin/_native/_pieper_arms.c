@@ -1,12 +1,14 @@
 /*
  * Compiled twin of the Pieper family (kin/ik/analytic/six_r/pieper.py and its NumPy algorithm
- * pieper_batch.py, pieper_quartic.py) for its intersecting, parallel and general cases: a
- * spherical wrist, axes 2-3 skew (the parallel23 case is _spherical_wrist.c's). The 8 branches of
- * a target, the same steps as the NumPy form's (_arms_batch, _general_t3_batch, _wrist_batch) in
- * the same order, the general family's quartic by _trig_quartic.h; with verify (_six_r_twin.h).
- * The NumPy form is
- * the reference and the fallback when this extension is not built; tests/test_six_r_family_twins.py
- * compares the two. Angles in radians, lengths in meters.
+ * pieper_batch.py, pieper_quartic.py), all four of its cases: a spherical wrist after axes 1-2
+ * meeting (intersecting), parallel (parallel), skew (general), or axes 2-3 parallel (parallel23:
+ * PUMA 560, Kinova Jaco 2; SphericalWrist6R, "spherical_wrist"). The 8 branches of a target, the
+ * same steps as the NumPy form's (_arms_batch, _general_t3_batch, _wrist_batch) in the same order,
+ * the general case's quartic by _trig_quartic.h, the wrist's flips by _wrist_flips.h; with verify
+ * (each branch moved into the limits and measured by the table's DH product, _six_r_twin.h). The
+ * NumPy form is the reference and the fallback when this extension is not built;
+ * tests/test_six_r_twins.py (the parallel23 case) and tests/test_six_r_family_twins.py (the three
+ * others) compare the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"
 #include "_wrist_flips.h"
@@ -16,9 +18,9 @@
 /* The parameter layout (Pieper6R.c_fields fills it by name from LAYOUT). X(field, size, doc) */
 #define PIEPER_ARMS_PARAMS(X)                                                                   \
     FRAME_PARAMS(X)                                                                             \
-    X(family, 1, "0: intersecting (a1 = 0), 1: parallel (sin alpha1 = 0), 2: general")         \
+    X(family, 1, "0: intersecting (a1 = 0), 1: parallel (sin alpha1 = 0), 2: general, 3: parallel23") \
     X(k, 3, "Pieper6R._k: sin, cos of alpha1, |g|^2's constant g0 [m^2]")                      \
-    X(e, 9, "Pieper6R._e (the family's constants), zeros after its own")                        \
+    X(e, 9, "Pieper6R._e (the case's constants), zeros after its own")                          \
     X(g, 9, "Pieper6R._g: g1, g2, g3 as (constant, cos t3, sin t3) [m]")                        \
     X(wrist, 10, "Pieper6R._wrist: sin, cos of alpha1 .. alpha5")                               \
     X(classic, 1, "1 when both wrist twists are +-90 deg")                                      \
@@ -58,22 +60,9 @@ static void wrist_rows(const Params *P, const double *r, const double t[3], doub
         if (!clamp_cos(&cos5)) cos5 = NAN;
         sin5 = sqrt(fmax(0.0, 1.0 - cos5 * cos5));
     }
-    double q1 = wrap(t[0] - o[0]), q2 = wrap(t[1] - o[1]), q3 = wrap(t[2] - o[2]);
     double angles[2][3];
     wrist_flips(atan2(ny, nx), cos5, sin5, s4, c4, s5, c5, vx, vy, vz, free + o[3], angles);
-    for (int flip = 0; flip < 2; flip++) {
-        double *row = rows[flip];
-        row[0] = q1;
-        row[1] = q2;
-        row[2] = q3;
-        row[3] = wrap(angles[flip][0] - o[3]);
-        row[4] = wrap(angles[flip][1] - o[4]);
-        row[5] = wrap(angles[flip][2] - o[5]);
-        int bad = 0;
-        for (int j = 0; j < JOINTS; j++) bad |= isnan(row[j]);
-        if (bad)
-            for (int j = 0; j < JOINTS; j++) row[j] = NAN;
-    }
+    wrist_rows_fill(wrap(t[0] - o[0]), wrap(t[1] - o[1]), wrap(t[2] - o[2]), angles, o, rows);
 }
 
 /* A general-family target: rt = R - a1^2 [m^2], z = Wz - d1 [m] (pieper_quartic.py). */
@@ -122,9 +111,83 @@ static void general_t3(const Params *P, double rt, double z, double t3[4])
     for (int k = 0; k < 4; k++) t3[k] = t[order[k]];
 }
 
+/* The parallel23 case (_parallel23_arms, then _wrist_batch): the wrist centre's height gives y1, the
+   base radius the shoulder, the law of cosines in the plane of axes 2-3 the elbow; rows 4
+   shoulder + 2 elbow + flip. */
+static void parallel23_rows(const Params *P, const double *p, const double *r, double free,
+                            double out[BRANCHES][JOINTS])
+{
+    const double *W = P->wrist, *E = P->e;
+    const double s1 = W[0], c1 = W[1], sa3 = W[4], ca3 = W[5], s4 = W[6], c4 = W[7];
+    const double s5 = W[8], c5 = W[9], lx = E[0], ly = E[1], l3 = E[2], phi3 = E[3], h = E[4];
+    const int classic = P->classic[0] != 0.0;
+    const double a1 = P->len[0], d1 = P->len[1], a2 = P->g[0], d6 = P->len[2];
+    const double *o = P->off;
+    for (int b = 0; b < BRANCHES; b++)
+        for (int j = 0; j < JOINTS; j++) out[b][j] = NAN;
+    /* 1. wrist centre, 2. joint 1 */
+    double wx = p[0] - d6 * r[2], wy = p[1] - d6 * r[5], wz = p[2] - d6 * r[8];
+    double y1 = (wz - d1 - c1 * h) / s1;
+    double b = c1 * y1 - s1 * h;
+    double rho2 = wx * wx + wy * wy;
+    double a_sq = rho2 - b * b;
+    if (a_sq < 0.0) {
+        if (a_sq < -COS_SLACK * (rho2 + b * b + 1.0)) return;
+        a_sq = 0.0;
+    }
+    double radius = sqrt(a_sq), heading = atan2(wy, wx);
+    const double u0[3] = {r[0], r[3], r[6]}, n0[3] = {r[2], r[5], r[8]};
+    double two_a2_l3 = 2.0 * a2 * l3, base_sq = a2 * a2 + l3 * l3;
+    for (int shoulder = 0; shoulder < 2; shoulder++) {
+        double big_a = shoulder == 0 ? radius : -radius;
+        double t1 = heading - atan2(b, big_a);
+        double x1 = big_a - a1;
+        /* 3. elbow */
+        double cos3 = (x1 * x1 + y1 * y1 - base_sq) / two_a2_l3;
+        if (!clamp_cos(&cos3)) continue;
+        double delta = acos(cos3), ct1 = cos(t1), st1 = sin(t1);
+        double ux = ct1 * u0[0] + st1 * u0[1], uy = -st1 * u0[0] + ct1 * u0[1];
+        double uz = -s1 * uy + c1 * u0[2];
+        uy = c1 * uy + s1 * u0[2];
+        double nx = ct1 * n0[0] + st1 * n0[1], ny = -st1 * n0[0] + ct1 * n0[1];
+        double nz = -s1 * ny + c1 * n0[2];
+        ny = c1 * ny + s1 * n0[2];
+        double heading1 = atan2(y1, x1);
+        for (int elbow = 0; elbow < 2; elbow++) {
+            double t3 = elbow == 0 ? -phi3 - delta : -phi3 + delta;
+            double ct3 = cos(t3), st3 = sin(t3);
+            double t2 = heading1 - atan2(lx * st3 + ly * ct3, a2 + lx * ct3 - ly * st3);
+            double t23 = t2 + t3, c23 = cos(t23), s23 = sin(t23);
+            double vx = c23 * ux + s23 * uy, vy = -s23 * ux + c23 * uy;
+            double wvx = c23 * nx + s23 * ny, wvy = -s23 * nx + c23 * ny;
+            double vz = -sa3 * vy + ca3 * uz;
+            vy = ca3 * vy + sa3 * uz;
+            double mz = -sa3 * wvy + ca3 * nz;
+            wvy = ca3 * wvy + sa3 * nz;
+            /* 4. wrist */
+            double cos5 = (c4 * c5 - mz) / (s4 * s5), sin5;
+            if (classic) {
+                sin5 = hypot(wvx, wvy);
+            } else {
+                if (!clamp_cos(&cos5)) continue;
+                sin5 = sqrt(fmax(0.0, 1.0 - cos5 * cos5));
+            }
+            double angles[2][3];
+            wrist_flips(atan2(wvy, wvx), cos5, sin5, s4, c4, s5, c5, vx, vy, vz, free + o[3],
+                        angles);
+            wrist_rows_fill(wrap(t1 - o[0]), wrap(t2 - o[1]), wrap(t3 - o[2]), angles, o,
+                            &out[4 * shoulder + 2 * elbow]);
+        }
+    }
+}
+
 static void solve_one(const Params *P, const double *p, const double *r, double free,
                       double out[BRANCHES][JOINTS])
 {
+    if (P->family[0] == 3.0) {
+        parallel23_rows(P, p, r, free, out);
+        return;
+    }
     const double *K = P->k, *G = P->g;
     const double sa1 = K[0], ca1 = K[1], g0 = K[2], size = P->e[0], psi = P->e[1];
     const double a1 = P->len[0], d1 = P->len[1], d6 = P->len[2];
@@ -188,8 +251,7 @@ static void solve_one(const Params *P, const double *p, const double *r, double 
 
 static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT, "_pieper_arms",
-    "Compiled twin of kin.ik.analytic.six_r.pieper's intersecting, parallel and general cases "
-    "(optional speed-up).",
+    "Compiled twin of kin.ik.analytic.six_r.pieper, all four of its cases (optional speed-up).",
     -1, methods, NULL, NULL, NULL, NULL};
 
 PyMODINIT_FUNC PyInit__pieper_arms(void)

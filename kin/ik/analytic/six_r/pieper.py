@@ -17,7 +17,7 @@ Structure, read from the table brought to the standard chain (:mod:`._six_r`, ei
   * ``parallel23``: ``sin alpha1 != 0``, axes 2 and 3 parallel (``alpha2 = 0``, ``a2 != 0``), any
     ``a1``: the spherical-wrist case (PUMA 560, Kinova Jaco 2 and most industrial arms), read
     before the three others: :class:`SphericalWrist6R`, named ``spherical_wrist`` in answers,
-    solved by the family's algorithm and by its compiled twin (``kin/_native/_spherical_wrist.c``).
+    solved by the family's algorithm and by its compiled twin (``kin/_native/_pieper_arms.c``).
 
 Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standard DH,
 ``T_i = Rz(t_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``, ``s``/``c`` of a twist written ``sa_i``/``ca_i``):
@@ -60,8 +60,8 @@ Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standar
    (axes 4 and 6 aligned) ``q4`` takes the value ``free``.
 
 One algorithm, in NumPy, for N targets (:mod:`.pieper_batch`, the general family's equation in
-:mod:`.pieper_quartic`; one target is N = 1); the compiled twins repeat it target by target, for
-the parallel23 family (``_spherical_wrist.c``) and the three others (``_pieper_arms.c``).
+:mod:`.pieper_quartic`; one target is N = 1); one compiled twin repeats it target by target for
+the four families (``_pieper_arms.c``, the general family's quartic by NumPy's LAPACK or SciPy's).
 """
 
 from __future__ import annotations
@@ -79,18 +79,18 @@ from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker
 from .pieper_batch import PieperBatch
 from .six_r_twin import quartic_twin
 
-#: The compiled twin of the intersecting, parallel and general families, or None when it is not
-#: built; its families by their number in its parameters.
-_ARMS_TWIN = twin("_pieper_arms")
-_ARMS_FAMILIES = ("intersecting", "parallel", "general")
+#: The family's compiled twin (its four families), or None when it is not built; the families by
+#: their number in its parameters.
+_TWIN = twin("_pieper_arms")
+_FAMILIES = ("intersecting", "parallel", "general", "parallel23")
 
 
 def _arms_twin(family: str) -> ModuleType | None:
-    """The compiled twin of a family other than parallel23, or None when it is not built.
+    """The compiled twin for an arm of ``family``, or None when it is not built.
 
     Also None for the general family when no LAPACK can be loaded for its quartic.
     """
-    return quartic_twin(_ARMS_TWIN) if family == "general" else _ARMS_TWIN
+    return quartic_twin(_TWIN) if family == "general" else _TWIN
 
 
 _SHOULDER_ELBOW = tuple(
@@ -207,10 +207,9 @@ class Pieper6R(PieperBatch):
     """
 
     name: ClassVar[str] = "pieper"
-    #: The family's compiled twin (``kin/_native/_spherical_wrist.c``: the parallel23 family), or
-    #: None when it is not built.
-    compiled_twin: ClassVar[ModuleType | None] = twin("_spherical_wrist")
-    #: (an arm of the other families takes ``_pieper_arms`` instead, when built)
+    #: The family's compiled twin (``kin/_native/_pieper_arms.c``, its four families), or None
+    #: when it is not built; a general-family arm uses it only when LAPACK loads for its quartic.
+    compiled_twin: ClassVar[ModuleType | None] = _TWIN
 
     a1: float
     d1: float
@@ -284,29 +283,18 @@ class Pieper6R(PieperBatch):
         setattr_(self, "_wrist", wrist)
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
         setattr_(self, "_classic", abs(wrist[7]) < 1e-15 and abs(wrist[9]) < 1e-15)
-        if self.family == "parallel23":
-            self._pack_twin()
-        elif _arms_twin(self.family) is not None:  # the other families' own twin
-            setattr_(self, "compiled_twin", _ARMS_TWIN)
+        if _arms_twin(self.family) is not None:
             self._pack_twin()
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
-        w = self._wrist
-        if self.family != "parallel23":
-            return {
-                "family": (float(_ARMS_FAMILIES.index(self.family)),),
-                "k": self._k[2:5],
-                "e": self._e + (0.0,) * (9 - len(self._e)),
-                "g": tuple(v for row in self._g for v in row),
-                "wrist": w,
-                "classic": (float(self._classic),),
-                "len": (self.a1, self.d1, self.d6),
-                "off": self.offsets,
-            }
         return {
-            "k": (w[0], w[1], *w[4:10], *self._e[:4]),
+            "family": (float(_FAMILIES.index(self.family)),),
+            "k": self._k[2:5],
+            "e": self._e + (0.0,) * (9 - len(self._e)),
+            "g": tuple(v for row in self._g for v in row),
+            "wrist": self._wrist,
             "classic": (float(self._classic),),
-            "len": (self.a1, self.d1, self.a2, self._e[4], self.d6),
+            "len": (self.a1, self.d1, self.d6),
             "off": self.offsets,
         }
 

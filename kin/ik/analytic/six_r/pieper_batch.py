@@ -1,8 +1,8 @@
 """The algorithm of :class:`~.pieper.Pieper6R`: N tool poses at once, in NumPy.
 
-The one form of the family (one target is N = 1; the compiled twin ``_spherical_wrist.c`` repeats
-it for the parallel23 family): the arm by its family's equations (the general family's quartic in
-``t3`` polished, :mod:`.pieper_quartic`), then the spherical wrist; the steps are those of
+The one form of the family (one target is N = 1; the compiled twin ``_pieper_arms.c`` repeats it
+for every case): the arm by its family's equations (the general family's quartic in ``t3``
+polished, :mod:`.pieper_quartic`), then the spherical wrist; the steps are those of
 :mod:`.pieper`'s docstring. Angles in [rad], lengths in [m].
 """
 

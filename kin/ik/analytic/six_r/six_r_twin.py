@@ -1,11 +1,11 @@
 """The compiled twins of the 6R closed forms: their parameter blocks, solve and verify.
 
-``kin/_native/_ur_wrist.c`` and ``_spherical_wrist.c`` (optional extensions, built at install
-when a C compiler is there) repeat, target by target, the NumPy algorithm of a family for its
-special case: the three-parallel family's (:mod:`.three_parallel_batch`) for the UR arms (axes 5
-and 6 meeting), Pieper's (:mod:`.pieper_batch`) for the spherical wrist with parallel axes 2 and
-3; the NumPy forms are the reference and the fallback (:class:`~.six_r_family.SixRFamily`
-chooses). Each twin also has ``verify``: the 8
+``kin/_native/_three_parallel.c`` and ``_pieper_arms.c`` (optional extensions, built at install
+when a C compiler is there) repeat, target by target, the NumPy algorithm of a family for all its
+cases: the three-parallel family's (:mod:`.three_parallel_batch`; its UR case, axes 5 and 6
+meeting, among them), Pieper's (:mod:`.pieper_batch`; its spherical wrist with parallel axes 2
+and 3 among them); the NumPy forms are the reference and the fallback
+(:class:`~.six_r_family.SixRFamily` chooses). Each twin also has ``verify``: the 8
 branches of one target, each moved into the joint limits (the ``2 pi`` copy nearest the seed, as
 :class:`~.closed_form.ClosedFormSolver` does) and measured by a plain DH product of the table as
 written (either convention, its base and tool): an FK independent of the closed form's algebra,

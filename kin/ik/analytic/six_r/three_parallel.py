@@ -11,7 +11,7 @@ Structure, read from the table brought to the standard chain (:mod:`._six_r`, ei
   * ``intersecting``: ``a5 = 0``, axes 5 and 6 meet: quadratics. This is the UR case (UR3, UR5,
     UR10 and the e-series: ``alpha = (90, 0, 0, 90, -90, 0) deg``, ``a = (0, a2, a3, 0, 0, 0)``,
     ``d = (d1, 0, 0, d4, d5, d6)``; Unitree Z1): :class:`URWrist6R`, named ``ur_wrist`` in answers,
-    solved by the family's algorithm and by its compiled twin (``kin/_native/_ur_wrist.c``);
+    solved by the family's algorithm and by its compiled twin (``kin/_native/_three_parallel.c``);
   * ``general``: ``a5 != 0``: a quartic (IK-Geo solves it with its subproblem 6); refused when
     ``0 < |a5| < NEAR_MEET (|a2| + |a3|)`` (:data:`NEAR_MEET`: nearly meeting axes 5 and 6
     make the quartic's roots pair up too closely; such tables go to the numeric solver).
@@ -53,9 +53,9 @@ with ``h = d2 + d3 + d4 + ca4 d5`` and ``P`` the planar 2R (``a2`` at angle ``t2
    plane of ``x1, y1`` by the law of cosines (elbow up: ``sin t3 >= 0``, down: ``< 0``); then
    ``t2``, and ``t4 = phi - t2 - t3``.
 
-One algorithm, in NumPy, for N targets (:mod:`.three_parallel_batch`; one target is N = 1); the
-compiled twins repeat it target by target, for the intersecting family (``_ur_wrist.c``) and the
-general family (``_three_parallel.c``, its quartic by NumPy's LAPACK or SciPy's).
+One algorithm, in NumPy, for N targets (:mod:`.three_parallel_batch`; one target is N = 1); one
+compiled twin repeats it target by target for both families (``_three_parallel.c``, the general
+family's quartic by NumPy's LAPACK or SciPy's).
 """
 
 from __future__ import annotations
@@ -76,13 +76,13 @@ __all__ = ["NEAR_MEET", "REACH_TOL", "ThreeParallel6R", "URWrist6R"]
 #: the roots of ``E`` come in pairs about ``|a5|`` apart that the companion matrix and Newton
 #: steps no longer resolve (q is then missed on more than 0.1 % of targets).
 NEAR_MEET = 1e-3
-#: The compiled twin of the general family, or None when it is not built.
-_GENERAL_TWIN = twin("_three_parallel")
+#: The family's compiled twin (both families), or None when it is not built.
+_TWIN = twin("_three_parallel")
 
 
 def _general_twin() -> ModuleType | None:
-    """The general family's twin, None when not built or no LAPACK loads for its quartic."""
-    return quartic_twin(_GENERAL_TWIN)
+    """The twin for a general-family arm: None when not built or no LAPACK loads for its quartic."""
+    return quartic_twin(_TWIN)
 
 
 _ARM_LABELS = {
@@ -155,28 +155,22 @@ class ThreeParallel6R(ThreeParallelBatch):
     """
 
     name: ClassVar[str] = "three_parallel"
-    #: The family's compiled twin (``kin/_native/_ur_wrist.c``: the intersecting family), or
-    #: None when it is not built (a general-family arm takes ``_three_parallel`` instead).
-    compiled_twin: ClassVar[ModuleType | None] = twin("_ur_wrist")
+    #: The family's compiled twin (``kin/_native/_three_parallel.c``, both families), or None
+    #: when it is not built; a general-family arm uses it only when LAPACK loads for its quartic.
+    compiled_twin: ClassVar[ModuleType | None] = _TWIN
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.family == "intersecting":
-            self._pack_twin()
-        elif _general_twin() is not None:  # the general family's own twin
-            object.__setattr__(self, "compiled_twin", _GENERAL_TWIN)
+        if self.family == "intersecting" or _general_twin() is not None:
             self._pack_twin()
 
     def _c_own(self) -> dict[str, tuple[float, ...]]:
-        s1, c1, s4, c4, s5, c5 = self._k
-        if self.family == "general":
-            lengths = (self.a1, self.d1, self.a2, self.a3, self.lateral, self.a4, self.d5)
-            return {"k": self._k, "len": (*lengths, self.a5, self.d6), "off": self.offsets}
-        # the wrist-to-axis-3 vector in the arm plane, turned by phi: (a4, -sin(alpha4) d5)
+        lengths = (self.a1, self.d1, self.a2, self.a3, self.lateral, self.a4, self.d5)
         return {
-            "k": (s1, c1, self.a4, -s4 * self.d5, s4, c4, s5, c5),
+            "family": (float(self.family == "general"),),
+            "k": self._k,
             "classic": (float(self._classic),),
-            "len": (self.a1, self.d1, self.a2, self.a3, self.lateral, self.d6),
+            "len": (*lengths, self.a5, self.d6),
             "off": self.offsets,
         }
 

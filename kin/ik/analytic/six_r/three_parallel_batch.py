@@ -1,7 +1,7 @@
 """The algorithm of :class:`~.three_parallel.ThreeParallel6R`: N tool poses at once, in NumPy.
 
-The one form of the family (one target is N = 1; the compiled twin ``_ur_wrist.c`` repeats it
-for the intersecting family): joint 1 from the wrist centre, in closed form when axes 5 and 6
+The one form of the family (one target is N = 1; the compiled twin ``_three_parallel.c`` repeats
+it, both cases): joint 1 from the wrist centre, in closed form when axes 5 and 6
 meet, else a quartic polished (:mod:`._trig_quartic`); the three parallel axes as a planar 2R;
 the wrist. The steps are those of :mod:`.three_parallel`'s docstring. Angles in [rad], lengths
 in [m].
