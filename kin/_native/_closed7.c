@@ -148,9 +148,18 @@ static int q1_may_fit(const Params *P, double c1, double s1, const double *dv, d
     return 0;
 }
 
-/* SevenDofIK._arm: branches putting Rz(t4) u (frame 3) on the point pt (frame 0). */
+/* subproblems.fold_distance of p cos t + q sin t = k, kept in *fold when less (fold: NULL, none). */
+static inline void fold_min(double *fold, double p, double q, double k)
+{
+    if (fold == NULL) return;
+    double rho = hypot(p, q), f = rho >= 1e-15 ? fabs(1.0 - fabs(k) / rho) : 0.0;
+    if (f < *fold) *fold = f;
+}
+
+/* SevenDofIK._arm: branches putting Rz(t4) u (frame 3) on the point pt (frame 0); with fold, the
+   least fold_distance of its equations (the elbow's, each elbow's shoulder equation), no skip. */
 static int arm(const Params *P, double q1, const double *pt, const double *u, const double *X7,
-               const double *Z7, Arm *out)
+               const double *Z7, Arm *out, double *fold)
 {
     const double *S = P->sin, *C = P->cos, *off = P->off, *s3v = P->s3;
     double t1 = q1 + off[0];
@@ -165,7 +174,8 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, co
     double k = 0.5 * (ux * ux + uy * uy + uz * uz + P->s3_2[0] - dx * dx - dy * dy - dz * dz);
     double s3 = S[2], c3 = C[2], t4s[2];
     double pe = sx * ux + sy * uy, qe = sy * ux - sx * uy, ke = k - sz * uz;
-    if (directions_on && !q1_may_fit(P, c1, s1, dv, pe, qe, ke, u, X7, Z7)) return 0;
+    fold_min(fold, pe, qe, ke);
+    if (fold == NULL && directions_on && !q1_may_fit(P, c1, s1, dv, pe, qe, ke, u, X7, Z7)) return 0;
     int n4 = harmonic_roots(pe, qe, ke, t4s), count = 0;
     for (int i = 0; i < n4; i++) {
         double t4 = t4s[i];
@@ -175,6 +185,7 @@ static int arm(const Params *P, double q1, const double *pt, const double *u, co
         double vy0 = ux * s4 + uy * c4 - sy, vz0 = uz - sz;
         double v[3] = {ux * c4 - uy * s4 - sx, c3 * vy0 - s3 * vz0, s3 * vy0 + c3 * vz0};
         double t2s[2], t3s[2], c3s[2], s3s[2];
+        fold_min(fold, S[1] * v[1], S[1] * v[0], dv[2] - C[1] * v[2]);
         int n3 = rotation_pair_fit(S[1], C[1], v, dv, t2s, t3s, c3s, s3s, off[2], P->lo[2],
                                    P->hi[2]);
         for (int j = 0; j < n3; j++) {
@@ -252,12 +263,13 @@ static inline int elbow_admits(const ElbowWindow *w, double t1)
     return w->inner <= delta && delta <= w->outer;
 }
 
-/* SevenDofIK.pose: joint vectors inside the limits (up to 8) for joint 1 at q1. */
+/* SevenDofIK.pose: joint vectors inside the limits (up to 8) for joint 1 at q1; with fold, the
+   least fold_distance of its equations (arm's, then each arm's wrist equation). */
 static int pose(const Params *P, double q1, const double *W, const double *X7, const double *Z7,
-                double (*sol)[7])
+                double (*sol)[7], double *fold)
 {
     Arm arms[4];
-    int n = arm(P, q1, W, P->wu, X7, Z7, arms), count = 0;
+    int n = arm(P, q1, W, P->wu, X7, Z7, arms, fold), count = 0;
     const double *S = P->sin, *C = P->cos, *off = P->off, *g = P->g;
     for (int b = 0; b < n; b++) {
         const Arm *a = &arms[b];
@@ -281,6 +293,7 @@ static int pose(const Params *P, double q1, const double *W, const double *X7, c
         /* Rz(t5) Rx(alpha5) Rz(t6) g = z4. */
         double s5 = S[4], c5 = C[4], s6 = S[5], c6 = C[5];
         double z4[3] = {zx, zy, zz}, t5s[2], t6s[2], c6s[2], s6s[2];
+        fold_min(fold, s5 * g[1], s5 * g[0], z4[2] - c5 * g[2]);
         int n6 = rotation_pair_fit(s5, c5, g, z4, t5s, t6s, c6s, s6s, off[5], P->lo[5], P->hi[5]);
         for (int j = 0; j < n6; j++) {
             double t5 = t5s[j], t6 = t6s[j];
@@ -373,10 +386,10 @@ static long first_start(const void *params, int mode, const double *T, const dou
                 inside_limits = 1;
                 if (!elbow_admits(&window, q1 + P->off[0])) continue; /* no elbow: no branch */
                 if (mode == 0) {
-                    n = pose(P, q1, W, X7, Z7, sol);
+                    n = pose(P, q1, W, X7, Z7, sol, NULL);
                 } else {
                     Arm arms[4];
-                    n = arm(P, q1, T, u, NULL, NULL, arms);
+                    n = arm(P, q1, T, u, NULL, NULL, arms, NULL);
                     for (int b = 0; b < n; b++) {
                         sol[b][0] = q1;
                         sol[b][1] = arms[b].q2;
@@ -417,15 +430,24 @@ static void prepare_seeded(const Seed *S, int mode, const double *p, const doubl
         T[i] = x[i] - (r0[3 * i] * m[0] + r0[3 * i + 1] * m[1] + r0[3 * i + 2] * m[2]);
 }
 
-/* The branches at q1 of the form without limits (all_branches in _branches7.h). */
-static int branches_at_value(const Params *P, const double *T, double q1, double (*sol)[7])
+/* The branches at q1 of the form without limits (held_rows in _held7.h), and with fold the
+   least fold_distance of the equations solved (*fold: infinity when none). */
+static int branches_folds(const Params *P, const double *T, double q1, double (*sol)[7],
+                          double *fold)
 {
     double W[3], X7[3], Z7[3];
     pose_frame(P, T, W, X7, Z7);
-    return pose(P, q1, W, X7, Z7, sol);
+    return pose(P, q1, W, X7, Z7, sol, fold);
+}
+
+/* The branches at q1 of the form without limits (all_branches in _branches7.h). */
+static int branches_at_value(const Params *P, const double *T, double q1, double (*sol)[7])
+{
+    return branches_folds(P, T, q1, sol, NULL);
 }
 
 #include "_branches7.h"
+#include "_held7.h"
 
 static PyObject *first(PyObject *self, PyObject *args)
 {
@@ -467,6 +489,7 @@ static PyMethodDef methods[] = {
     {"seeded_many", seeded_many, METH_VARARGS, SEEDED_MANY_DOC},
     {"all_branches", (PyCFunction)(void (*)(void))all_branches, METH_FASTCALL, ALL_BRANCHES_DOC},
     {"sift_rows", (PyCFunction)(void (*)(void))sift_rows, METH_FASTCALL, SIFT_ROWS_DOC},
+    {"held_rows", (PyCFunction)(void (*)(void))held_rows, METH_FASTCALL, HELD_ROWS_DOC},
     {"skips", set_skips, METH_O, SKIPS_DOC},
     {NULL, NULL, 0, NULL}};
 

@@ -51,6 +51,7 @@ from ..analytic.idealised import polish
 from ..analytic.seven_r.branches7 import GRID, branches_over, distinct, free_grid, windings
 from ..analytic.seven_r.general_7r import General7RIK
 from ..analytic.seven_r.seven_dof import SevenDofIK
+from ..analytic.six_r.general_6r import KEEP_TOL
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, batch_pose_errors
 from ..result import IKResult, IKSolution
 from ..target import PoseTarget
@@ -119,7 +120,7 @@ def solve_all_branches(
     if arm.compiled is not None:
         found = arm.compiled(target, grid, *arm.limits, near, *tolerances, NEAR_MISS, *_MADE)
     elif arm.sift is not None:
-        rows = _form_rows(closed, target, grid)
+        rows = _form_rows(closed, target, grid) if arm.rows is None else arm.rows(target, grid)
         if rows is not None:
             found = arm.sift(target, rows, *arm.limits, near, *tolerances, NEAR_MISS, *_MADE)
     if found is None:
@@ -197,6 +198,9 @@ class _Arm:
         sift: A form without that twin (the general 7R form): a twin's ``sift_rows`` bound to
             the table's chain (:func:`.free_joint.chain_block`), which takes the form's own
             branches from there; None: the Python path.
+        rows: The general 7R form on a snapped arm's form (``General7RIK.ideal``): its twin's
+            ``held_rows`` (:func:`_held_rows`), the form's branches without the NaN rows (as
+            :func:`_form_rows`); None: :func:`_form_rows`.
     """
 
     free: int
@@ -205,6 +209,7 @@ class _Arm:
     limits: tuple[np.ndarray, np.ndarray]
     compiled: Callable[..., Any] | None
     sift: Callable[..., Any] | None
+    rows: Callable[[Any, np.ndarray], np.ndarray | None] | None = None
 
 
 #: Each live solver's :class:`_Arm` by its ``id`` (with a weak reference to it: the entry leaves
@@ -225,20 +230,79 @@ def _arm(ik: Any, closed: Any) -> _Arm:
         return entry[1]
     free = int(closed.free)
     grid = free_grid(float(ik.lower[free]), float(ik.upper[free]), GRID)
-    compiled = sift = None
+    compiled = sift = rows = None
     block = seed_block(closed, ik.robot.table, (0.0, 0.0, 0.0), 0.0)
     if block is not None and hasattr(closed.twin, "all_branches"):
-        unlimited = type(closed)(closed.structure, [-math.pi] * 7, [math.pi] * 7)
+        unlimited = _unlimited(closed)
         compiled = functools.partial(closed.twin.all_branches, unlimited.c_params.tobytes(), block)
     elif isinstance(closed, General7RIK) and hasattr(SevenDofIK.twin_module, "sift_rows"):
         block = chain_block(ik.robot.table, SevenDofIK.twin_module)
         if block is not None:
             sift = functools.partial(SevenDofIK.twin_module.sift_rows, block)  # type: ignore[union-attr]
+            rows = _held_call(closed, ik.robot.table, block)
     near = np.array(seed_inside(ik.robot, default_seed(ik.robot)), dtype=float)
     limits = (np.ascontiguousarray(ik.lower, float), np.ascontiguousarray(ik.upper, float))
-    arm = _Arm(free, tuple(grid.tolist()), near, limits, compiled, sift)
+    arm = _Arm(free, tuple(grid.tolist()), near, limits, compiled, sift, rows)
     _remember(ik, arm)
     return arm
+
+
+def _unlimited(closed: Any) -> Any:
+    """The same free-joint form without limits (joints in ``[-pi, pi]``, as ``branches_at``)."""
+    return type(closed)(closed.structure, [-math.pi] * 7, [math.pi] * 7)
+
+
+def _held_call(
+    closed: General7RIK, table: Any, block: bytes
+) -> Callable[[Any, np.ndarray], np.ndarray | None] | None:
+    """:func:`_held_rows` bound to the general form's snapped arm, or None (none, or no twin)."""
+    ideal = closed.ideal
+    if ideal is None or not hasattr(ideal.twin, "held_rows"):
+        return None
+    frames = seed_block(ideal, table, (0.0, 0.0, 0.0), 0.0)  # its frames: where targets go
+    if frames is None:
+        return None
+    params = _unlimited(ideal).c_params.tobytes()
+    return functools.partial(_held_rows, closed, ideal.twin.held_rows, params, frames, block)
+
+
+def _held_rows(
+    closed: General7RIK,
+    call: Callable[..., int],
+    params: bytes,
+    frames: bytes,
+    block: bytes,
+    target: Any,
+    grid: np.ndarray,
+) -> np.ndarray | None:
+    """:func:`_form_rows` of a general form on a snapped arm: its twin's ``held_rows``.
+
+    The values it leaves (near a double root of the snapped arm) are solved by the 6R closed
+    form (``branches_at(..., exact=True)``), their rows put in their place: the same rows in the
+    same order as the form's :meth:`~General7RIK.branches_at`. None when the target is not a
+    finite pose (the Python path says what is wrong).
+    """
+    out = np.empty((grid.size * 8, 7))
+    counts = np.empty(grid.size)
+    total = call(params, frames, block, target, grid, closed.free, KEEP_TOL, closed.fold_margin,
+                 out, counts)  # fmt: skip
+    if total < 0:
+        return None
+    left = np.flatnonzero(counts < 0)
+    if not left.size:
+        return out[:total]
+    position = np.asarray(getattr(target, "position"), dtype=float)
+    exact = closed.branches_at(position, np.asarray(target.rotation, dtype=float), grid[left], True)
+    assert exact is not None
+    pieces, start, extra = [], 0, iter(exact)
+    for count in counts.astype(int).tolist():
+        if count < 0:
+            rows = next(extra)
+            pieces.append(rows[np.isfinite(rows).all(axis=1)])
+        else:
+            pieces.append(out[start : start + count])
+            start += count
+    return np.ascontiguousarray(np.concatenate(pieces))
 
 
 def _form_rows(closed: Any, target: Any, grid: np.ndarray) -> np.ndarray | None:

@@ -36,7 +36,10 @@ from ...exceptions import StructureError
 from ...limit_rule import nearest_copies
 from ..closed_form_structure import ClosedFormStructure
 from ..registry import recognise_turned
-from ..six_r.general_6r import General6R
+from ..six_r._general_6r_chain import BRANCHES, chain_transforms, polish
+from ..six_r.general_6r import KEEP_TOL, General6R
+from .ideal_7r import ideal_form
+from .seven_dof import SevenDofIK
 
 #: Sampled joint vectors by which the free joint is chosen, and their seed.
 PROBES = 16
@@ -46,6 +49,10 @@ PROBE_SEED = 3
 SCAN_STEP = 0.05
 #: Values of a scan solved in the first batch after the start's own (the nearest ones).
 NEAR_VALUES = 16
+#: A held value where an equation of the snapped arm (:attr:`General7RIK.ideal`) is nearer a
+#: double root than this times its deviation [1/m] (:func:`~.subproblems.fold_distance`) is
+#: solved by the 6R closed form (Kinova Gen3: deviation 0.35 mm, branches lost up to 0.0034).
+FOLD_PER_METER = 60.0
 _TWO_PI = 2.0 * math.pi
 
 
@@ -100,6 +107,10 @@ class General7RIK:
     Attributes:
         free: The held joint (0-based: 0 or 6).
         structure: The 6R closed form of the rest of the arm.
+        ideal: The snapped arm's form (:mod:`.ideal_7r`) whose branches, polished with joint 1
+            held, answer in place of ``structure`` (joint 1 is then the held one), or None.
+        fold_margin: Within this of a double root of ``ideal`` (its
+            :func:`~.subproblems.fold_distance`), ``structure`` answers the value.
 
     Raises:
         StructureError: Not seven revolute joints, or no 6R closed form fits the arm left by
@@ -123,12 +134,16 @@ class General7RIK:
         poses = batch_forward_kinematics(table, probes)
         best: tuple | None = None
         failures = []
+        fits = {}
+        self.ideal: SevenDofIK | None = None
+        self.fold_margin = 0.0
         for free in (6, 0):
             try:
                 structure, _, flips = recognise_turned(_six_r_table(table, free))
             except StructureError as err:
                 failures.append(err.mismatch)
                 continue
+            fits[free] = structure, flips
             self._use(free, structure, flips)
             found = self.branches(poses, probes[:, free])
             gap = np.abs(np.remainder(found - probes[:, None, :] + math.pi, _TWO_PI) - math.pi)
@@ -139,6 +154,16 @@ class General7RIK:
         if best is None:
             raise StructureError(table.name, "general 7R", "; ".join(failures))
         self._use(*best[1:])
+        snapped = ideal_form(table, self.lower, self.upper)
+        if snapped is not None and 0 in fits:  # the snapped arm's form, if it recovers
+            kept = self.free, self.structure, self._flips
+            self._use(0, *fits[0])
+            self.ideal, self.fold_margin = snapped[0], FOLD_PER_METER * snapped[1]
+            found = self.branches(poses, probes[:, 0])
+            gap = np.abs(np.remainder(found - probes[:, None, :] + math.pi, _TWO_PI) - math.pi)
+            if not (np.nan_to_num(gap, nan=np.inf).max(axis=2).min(axis=1) < 1e-6).all():
+                self.ideal = None
+                self._use(*kept)
 
     def _use(self, free: int, structure: ClosedFormStructure, flips: np.ndarray | None) -> None:
         self.free = free
@@ -147,6 +172,7 @@ class General7RIK:
         self._others = [i for i in range(7) if i != free]
         table = self.table
         self._outer = table.T_world_base if free == 0 else table.T_last_tool
+        self._chain = chain_transforms(_six_r_table(table, free))[0]
 
     @property
     def costly(self) -> bool:
@@ -166,32 +192,77 @@ class General7RIK:
         T[:3, :3], T[:3, 3] = rotation, position
         return T
 
-    def branches(self, targets: np.ndarray, values: np.ndarray) -> np.ndarray:
-        """Every branch (n, B, 7) [rad] of targets (n, 4, 4) at free-joint values (n,), NaN rows."""
+    def branches(self, targets: np.ndarray, values: np.ndarray, exact: bool = False) -> np.ndarray:
+        """Every branch (n, B, 7) [rad] of targets (n, 4, 4) at free-joint values (n,), NaN rows.
+
+        ``exact``: by the 6R closed form (:attr:`structure`) even where :attr:`ideal` answers.
+        """
         held = dh_transforms(self.table, self.free, values)
         if self.free == 6:
             sub = targets @ _inverse(held @ self._outer)
         else:
             sub = _inverse(self._outer @ held) @ targets
-        q6 = self.structure.solve_batch(sub[:, :3, 3], sub[:, :3, :3])
-        if self._flips is not None:
-            q6 = q6 * self._flips
+        if self.ideal is not None and not exact:
+            q6 = self._held(targets, np.asarray(values, dtype=float), sub)
+        else:
+            q6 = self._six_r(sub)
         out = np.empty(q6.shape[:2] + (7,))
         out[..., self._others] = q6
         out[..., self.free] = np.asarray(values, dtype=float)[:, None]
         return out
 
+    def _held(self, targets: np.ndarray, values: np.ndarray, sub: np.ndarray) -> np.ndarray:
+        """The snapped arm's branches (n, 16, 6) [rad] polished with the free joint held, NaN rows.
+
+        Its branches at each target's value (:attr:`ideal`, limits ignored), the other six
+        joints moved onto the 6R left (targets ``sub`` (n, 4, 4): :meth:`branches`) by
+        :func:`~..six_r._general_6r_chain.polish`, kept within :data:`KEEP_TOL`, in their order.
+        A value where one of the snapped arm's equations is within :attr:`fold_margin` of a
+        double root (:func:`~.subproblems.fold_distance`: the true arm may have a pair of
+        branches more or fewer there) is solved by the 6R closed form instead.
+        """
+        assert self.ideal is not None
+        n = values.shape[0]
+        folds = np.full(n, np.inf)
+        found = np.full((n, BRANCHES, 7), np.nan)
+        for k, T in enumerate(targets):
+            found[k, :8] = self.ideal.branches_at(T[:3, 3], T[:3, :3], values[k : k + 1], folds[k : k + 1])[0]  # fmt: skip
+        doubt = folds < self.fold_margin
+        found[doubt] = np.nan
+        pose, branch = np.nonzero(np.isfinite(found).all(axis=2))
+        u, error = polish(self._chain, found[pose, branch][:, self._others], sub[pose])
+        keep = error <= KEEP_TOL
+        out = np.full((n, BRANCHES, 6), np.nan)
+        pose, u = pose[keep], u[keep]
+        slot = np.zeros(pose.size, dtype=int)  # each kept row's place among its pose's
+        if pose.size:
+            start = np.flatnonzero(np.r_[True, pose[1:] != pose[:-1]])
+            slot = np.arange(pose.size) - np.repeat(start, np.diff(np.r_[start, pose.size]))
+        out[pose, slot] = u
+        if doubt.any():
+            out[doubt] = self._six_r(sub[doubt])
+        return out
+
+    def _six_r(self, sub: np.ndarray) -> np.ndarray:
+        """The 6R closed form's branches (n, 16, 6) [rad] of targets ``sub`` (n, 4, 4), NaN rows."""
+        q6 = self.structure.solve_batch(sub[:, :3, 3], sub[:, :3, :3])
+        return q6 if self._flips is None else q6 * self._flips
+
     def branches_at(
-        self, position: np.ndarray, rotation: np.ndarray | None, values: np.ndarray
+        self,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        values: np.ndarray,
+        exact: bool = False,
     ) -> np.ndarray | None:
         """Every branch (G, B, 7) [rad] of a tool pose at free-joint values (G,), NaN rows.
 
-        Limits ignored; None for a position (full poses only).
+        Limits ignored; None for a position (full poses only). ``exact``: as :meth:`branches`.
         """
         target = self.prepare(position, rotation)
         if target is None:
             return None
-        return self.branches(np.broadcast_to(target, (values.shape[0], 4, 4)), values)
+        return self.branches(np.broadcast_to(target, (values.shape[0], 4, 4)), values, exact)
 
     def _nearest_inside(self, branches: np.ndarray, start: np.ndarray) -> np.ndarray | None:
         """The branch (7,) inside the limits nearest ``start``, or None.

@@ -32,7 +32,7 @@ from kin._native import twin
 
 from ..structure import SevenDof
 from .seven_dof_frames import SevenDofFrames
-from .subproblems import harmonic_roots, rotation_pair, scan
+from .subproblems import fold_distance, harmonic_roots, rotation_pair, scan
 
 _closed7 = twin("_closed7")
 
@@ -87,12 +87,17 @@ class SevenDofIK(SevenDofFrames):
         self._unlimited: SevenDofIK | None = None
 
     def branches_at(
-        self, position: np.ndarray, rotation: np.ndarray | None, values: np.ndarray
+        self,
+        position: np.ndarray,
+        rotation: np.ndarray | None,
+        values: np.ndarray,
+        folds: np.ndarray | None = None,
     ) -> np.ndarray | None:
         """Every branch (G, 8, 7) [rad] of a tool pose at joint-1 values (G,), limits ignored.
 
         :meth:`pose` at each value, of the same arm without limits (joints 2-7 in [-pi, pi]),
-        NaN rows where there is none; None for a position (its wrist is free too).
+        NaN rows where there is none; None for a position (its wrist is free too). ``folds``
+        (G,): receives each value's :meth:`pose` folds' least (inf: no equation).
         """
         if rotation is None:
             return None
@@ -102,7 +107,10 @@ class SevenDofIK(SevenDofFrames):
         frame = self.pose_frame(position, rotation)
         out = np.full((values.shape[0], 8, 7), np.nan)
         for k, q1 in enumerate(values.tolist()):
-            found = self._unlimited.pose(q1, frame)
+            seen: list[float] | None = None if folds is None else []
+            found = self._unlimited.pose(q1, frame, seen)
+            if seen is not None and folds is not None:
+                folds[k] = min(seen, default=math.inf)
             if found:
                 out[k, : len(found)] = found
         return out
@@ -169,12 +177,17 @@ class SevenDofIK(SevenDofFrames):
         return -1
 
     def _arm(
-        self, q1: float, point0: Sequence[float], u: tuple[float, float, float]
+        self,
+        q1: float,
+        point0: Sequence[float],
+        u: tuple[float, float, float],
+        folds: list[float] | None = None,
     ) -> list[tuple[float, ...]]:
         """Branches putting the point ``Rz(t4) u`` of frame 3 on ``point0`` (frame 0), joint 1 at ``q1``.
 
         Returns ``(t1, q2, q3, q4, t2, t3, t4)`` (DH angles ``t``, joint values ``q`` inside the
-        limits [rad]) of each branch.
+        limits [rad]) of each branch. ``folds``: receives the :func:`~.subproblems.fold_distance`
+        of the elbow's equation and of each elbow's shoulder equation.
         """
         s, c, off, lo, hi = self._sin, self._cos, self._offsets, self.lower, self.upper
         # The point seen from the shoulder point, in frame 1: R01^T (P - o1) - (0, 0, d2).
@@ -193,6 +206,8 @@ class SevenDofIK(SevenDofFrames):
         sx, sy, sz = self._shoulder3
         k = 0.5 * (ux * ux + uy * uy + uz * uz + self._shoulder3_2 - dx * dx - dy * dy - dz * dz)
         elbows = harmonic_roots(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz)
+        if folds is not None:
+            folds.append(fold_distance(sx * ux + sy * uy, sy * ux - sx * uy, k - sz * uz))
         s2, c2, s3, c3 = s[1], c[1], s[2], c[2]
         remainder = math.remainder
         out: list[tuple[float, ...]] = []
@@ -206,6 +221,8 @@ class SevenDofIK(SevenDofFrames):
             vz = uz - sz
             vy, vz = c3 * vy - s3 * vz, s3 * vy + c3 * vz  # Rx(alpha3) v
             # Rz(t2) Rx(alpha2) Rz(t3) v = d.
+            if folds is not None:
+                folds.append(fold_distance(s2 * vy, s2 * vx, dz - c2 * vz))
             for t2, t3 in rotation_pair(s2, c2, vx, vy, vz, dx, dy, dz):
                 q3 = remainder(t3 - off[2], _TWO_PI)
                 if not lo[2] <= q3 <= hi[2]:
@@ -215,7 +232,9 @@ class SevenDofIK(SevenDofFrames):
                     out.append((t1, q2, q3, q4, t2, t3, t4))
         return out
 
-    def pose(self, q1: float, frame: tuple[tuple[float, ...], ...]) -> list[list[float]]:
+    def pose(
+        self, q1: float, frame: tuple[tuple[float, ...], ...], folds: list[float] | None = None
+    ) -> list[list[float]]:
         """Joint vectors [rad] inside the limits (up to 8) reaching a full pose with joint 1 at ``q1``.
 
         Branches leave as soon as one of their joints is outside its limits.
@@ -223,9 +242,11 @@ class SevenDofIK(SevenDofFrames):
         Args:
             q1: Joint-1 value [rad].
             frame: :meth:`pose_frame` of the target.
+            folds: Receives the :func:`~.subproblems.fold_distance` of each equation solved
+                (the elbow's, each elbow's shoulder equation, each arm's wrist equation).
         """
         wrist, x7, z7 = frame
-        arms = self._arm(q1, wrist, self._wrist_u)
+        arms = self._arm(q1, wrist, self._wrist_u, folds)
         if not arms:
             return []
         s, c, off, lo, hi = self._sin, self._cos, self._offsets, self.lower, self.upper
@@ -247,6 +268,8 @@ class SevenDofIK(SevenDofFrames):
                 xy, xz = ca * xy + sa * xz, ca * xz - sa * xy
                 zx, zy = ct * zx + st * zy, ct * zy - st * zx
                 zy, zz = ca * zy + sa * zz, ca * zz - sa * zy
+            if folds is not None:
+                folds.append(fold_distance(s5 * gy, s5 * gx, zz - c5 * gz))
             for t5, t6 in rotation_pair(s5, c5, gx, gy, gz, zx, zy, zz):
                 q5 = remainder(t5 - off[4], _TWO_PI)
                 q6 = remainder(t6 - off[5], _TWO_PI)

@@ -38,6 +38,17 @@ def harmonic_roots(p: float, q: float, k: float) -> tuple[float, ...]:
     return (phi + delta, phi - delta) if delta > 0.0 else (phi,)
 
 
+def fold_distance(p: float, q: float, k: float) -> float:
+    """How far ``p cos t + q sin t = k`` is from a double root: ``| 1 - |k| / hypot(p, q) |``.
+
+    0 for an equation too weak to solve (``hypot(p, q) < 1e-15``, as :func:`harmonic_roots`).
+    Near 0 its two roots are near each other (or nearly exist): a small change of the arm
+    adds or removes both.
+    """
+    rho = math.hypot(p, q)
+    return abs(1.0 - abs(k) / rho) if rho >= 1e-15 else 0.0
+
+
 def rotation_pair(
     sa: float, ca: float, vx: float, vy: float, vz: float, dx: float, dy: float, dz: float
 ) -> list[tuple[float, float]]:
