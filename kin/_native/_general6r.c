@@ -13,11 +13,14 @@
  * target, duplicates merged, ordered by joint 1. LAPACK comes from SciPy's cython_lapack
  * capsules at import (no link-time dependency).
  *
- * first_pass(arm, T, out, roots): arm the float64 block of Formulation.twin_block (layout in
- * ARM_* below), T (N, 4, 4) the tool poses [m], out (N, 16, 6) the DH joint variables [rad]
- * (NaN rows after the branches), roots (N,) the real roots counted per pose, or -1 where this
- * pass cannot answer (a singular pencil, a singular leading matrix, a non-finite companion
- * matrix): the NumPy path answers that pose.
+ * first_pass(arm, T, out, roots[, targets]): arm the float64 block of Formulation.twin_block
+ * (layout in ARM_* below), T (N, 4, 4) the tool poses [m], out (N, 16, 6) the DH joint variables
+ * [rad] (NaN rows after the branches), roots (N,) the real roots counted per pose, or -1 where
+ * this pass cannot answer (a singular pencil, a singular leading matrix, a non-finite companion
+ * matrix), or -2 where it is unclean (fewer branches than real roots, or odd) at a multiple root
+ * (the NumPy path's careful pass reads those): the NumPy path answers that pose. targets
+ * (N, 4, 4) [m], optional: the roots taken
+ * at T (nearby poses) are polished onto these instead (general_6r.NUDGES).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -353,8 +356,14 @@ static int singular_pencil(const double *m0, const double *m1, const double *m2)
 /* The null vector of lead mu^2 + middle mu + tail (12x12 row-major) at a root mu: two steps of
    inverse iteration, scaled so that its largest entry is positive (the eigenvector the companion
    matrix's eigenproblem would give, without computing the 24 of them). */
-static void null_vector(const double *lead, const double *middle, const double *tail, double mu,
-                        double *v)
+/* A root whose matrix has two LU pivots below MULTIPLE times the largest: a null space of two
+   dimensions (solutions sharing the eliminated joint's angle, which the NumPy path's careful
+   pass reads: _general_6r_elimination._multiple_roots). Exact multiple roots (round joint
+   angles) give 1e-15; the near-double roots of random poses 1e-11 or more (PiPER), which the
+   fallbacks and the nudged poses resolve with the NumPy path's branches. */
+#define MULTIPLE 1e-12
+static int null_vector(const double *lead, const double *middle, const double *tail, double mu,
+                       double *v)
 {
     double a[144], scale = 0.0;
     for (int k = 0; k < 144; k++) {
@@ -364,6 +373,10 @@ static void null_vector(const double *lead, const double *middle, const double *
     }
     int piv[12];
     lu12(a, piv, 1e-300 + scale * 1e-18);
+    double largest = 0.0;
+    int small = 0;
+    for (int i = 0; i < 12; i++) largest = fmax(largest, fabs(a[13 * i]));
+    for (int i = 0; i < 12; i++) small += !(fabs(a[13 * i]) > MULTIPLE * largest);
     for (int i = 0; i < 12; i++) v[i] = 1.0 + 0.1 * i; /* a generic start */
     for (int step = 0; step < 2; step++) {
         for (int c = 0; c < 12; c++) { /* P b */
@@ -382,6 +395,7 @@ static void null_vector(const double *lead, const double *middle, const double *
             if (fabs(v[i]) > fabs(big)) big = v[i];
         for (int i = 0; i < 12; i++) v[i] = big != 0.0 && isfinite(big) ? v[i] / big : 0.0;
     }
+    return small >= 2;
 }
 
 /* The eigenvalues (wr + i wi) of the n x n column-major a (overwritten): dgeev's own steps
@@ -424,8 +438,10 @@ static int eigenvalues(double *a, int n, double *wr, double *wi, double *work, i
     return info;
 }
 
-/* The first pass of one pose: 0, or -1 when the NumPy path must answer. */
-static int one_pose(const double *arm, const double *T, double *out, double *roots)
+/* The first pass of one pose T, its candidates polished onto target (T itself, or the pose a
+   nudged T was taken near): 0, or -1 when the NumPy path must answer. */
+static int one_pose(const double *arm, const double *T, const double *target, double *out,
+                    double *roots)
 {
     int a = (int)arm[ARM_START], reverse = arm[ARM_REVERSE] != 0.0;
     const double *Cf = arm + ARM_C, *Ci = arm + ARM_CINV, *P = arm + ARM_P, *F = arm + ARM_F;
@@ -545,12 +561,12 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
         }
     /* Each (near-)real root: the joints, polished. */
     double rows[24 * 6];
-    int kept = 0, count = 0;
+    int kept = 0, count = 0, multiple = 0;
     for (int e = 0; e < m; e++) {
         double im = fabs(wi[e]) / (1.0 + hypot(wr[e], wi[e]));
         if (!(im <= IMAG_TOL)) continue;
         double v[12];
-        null_vector(lead, M[1], tail, wr[e], v);
+        multiple |= null_vector(lead, M[1], tail, wr[e], v);
         double theta = tau[0] + 2.0 * (flip ? atan2(1.0, wr[e]) : atan2(wr[e], 1.0));
         double phi = tau[1] + 2.0 * ratio_angle(v, 1), psi = tau[2] + 2.0 * ratio_angle(v, 0);
         /* The right side's joints from the monomials (least squares on Q), u_a+3 from the loop. */
@@ -594,10 +610,15 @@ static int one_pose(const double *arm, const double *T, double *out, double *roo
         }
         if (!finite) continue;
         if (im <= ROOT_TOL) count++;
-        if (polish(F, q, T) <= KEEP_TOL) memcpy(rows + 6 * kept++, q, sizeof q);
+        if (polish(F, q, target) <= KEEP_TOL) memcpy(rows + 6 * kept++, q, sizeof q);
     }
     *roots = (double)count;
     distinct(rows, kept, out);
+    if (multiple) { /* unclean at a multiple root: -2 (the NumPy path's careful pass answers) */
+        int found = 0;
+        while (found < BRANCHES && !isnan(out[6 * found])) found++;
+        if (found < count || found % 2 == 1) *roots = -2.0;
+    }
     return 0;
 }
 
@@ -617,11 +638,11 @@ static int doubles(PyObject *obj, Py_buffer *view, Py_ssize_t n, int writable, c
 
 static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
-    if (nargs != 4) {
-        PyErr_SetString(PyExc_TypeError, "first_pass(arm, T, out, roots)");
+    if (nargs != 4 && nargs != 5) {
+        PyErr_SetString(PyExc_TypeError, "first_pass(arm, T, out, roots[, targets])");
         return NULL;
     }
-    Py_buffer arm, T, out, roots;
+    Py_buffer arm, T, out, roots, targets;
     if (!doubles(args[0], &arm, ARM_SIZE, 0, "arm")) return NULL;
     Py_ssize_t n = PyObject_Length(args[3]);
     if (n < 0) {
@@ -640,13 +661,19 @@ static PyObject *first_pass(PyObject *self, PyObject *const *args, Py_ssize_t na
         PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out);
         return NULL;
     }
-    const double *a = arm.buf, *t = T.buf;
+    if (nargs == 5 && !doubles(args[4], &targets, 16 * n, 0, "targets (N, 4, 4)")) {
+        PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out);
+        PyBuffer_Release(&roots);
+        return NULL;
+    }
+    const double *a = arm.buf, *t = T.buf, *g = nargs == 5 ? targets.buf : T.buf;
     double *o = out.buf, *r = roots.buf;
     Py_BEGIN_ALLOW_THREADS
     for (Py_ssize_t k = 0; k < n; k++)
-        if (one_pose(a, t + 16 * k, o + BRANCHES * 6 * k, r + k) != 0) r[k] = -1.0;
+        if (one_pose(a, t + 16 * k, g + 16 * k, o + BRANCHES * 6 * k, r + k) != 0) r[k] = -1.0;
     Py_END_ALLOW_THREADS
     PyBuffer_Release(&arm), PyBuffer_Release(&T), PyBuffer_Release(&out), PyBuffer_Release(&roots);
+    if (nargs == 5) PyBuffer_Release(&targets);
     Py_RETURN_NONE;
 }
 
@@ -682,10 +709,10 @@ static PyObject *solve_one(PyObject *self, PyObject *const *args, Py_ssize_t nar
     T[15] = 1.0;
     for (int k = 0; k < 16; k++) finite &= isfinite(T[k]) != 0;
     int clean = 0;
-    if (finite && one_pose(v[0].buf, T, out, &roots) == 0) {
+    if (finite && one_pose(v[0].buf, T, T, out, &roots) == 0) {
         int found = 0;
         while (found < BRANCHES && !isnan(out[6 * found])) found++;
-        clean = found >= roots && found % 2 == 0;
+        clean = roots >= 0.0 && found >= roots && found % 2 == 0;
         for (int k = 0; k < 6 * found; k++) out[k] *= signs[k % 6];
     }
     for (int k = 0; k < 5; k++) PyBuffer_Release(&v[k]);
@@ -694,7 +721,8 @@ static PyObject *solve_one(PyObject *self, PyObject *const *args, Py_ssize_t nar
 
 static PyMethodDef methods[] = {
     {"first_pass", (PyCFunction)(void (*)(void))first_pass, METH_FASTCALL,
-     "first_pass(arm, T, out, roots): the general 6R closed form's first pass of N poses."},
+     "first_pass(arm, T, out, roots[, targets]): the general 6R closed form's first pass of N "
+     "poses (polished onto targets when given)."},
     {"solve_one", (PyCFunction)(void (*)(void))solve_one, METH_FASTCALL,
      "solve_one(arm, position, rotation, signs, out): one pose's clean first pass, or False."},
     {NULL, NULL, 0, NULL},

@@ -27,10 +27,11 @@ Every candidate is polished by Newton steps on the true chain (to about 1e-13 [m
 kept only when on target to :data:`KEEP_TOL`, and duplicates are merged (:mod:`._general_6r_chain`);
 the solvers' judge then verifies each branch as for any structure.
 
-The first elimination's pass runs in the compiled twin ``kin/_native/_general6r.c`` when it is
-built (LAPACK through SciPy; the spurious roots deflated once per arm,
-:mod:`._general_6r_deflation`): a pose it does not solve cleanly (a singular pencil, fewer
-branches than real roots) takes the NumPy path above, which stays the reference.
+The eliminations run in the compiled twin ``kin/_native/_general6r.c`` when it is built (LAPACK
+through SciPy; the spurious roots deflated once per arm, :mod:`._general_6r_deflation`): the
+first pass, and for a pose it does not solve cleanly the fallbacks and the nudged poses by every
+cut (:mod:`._general_6r_compiled`). A pose the twin cannot answer (a singular pencil), or that
+is still short of branches after them, takes the NumPy path above, which stays the reference.
 """
 
 from __future__ import annotations
@@ -50,6 +51,7 @@ from ...exceptions import StructureError, TargetError
 from ...target import PoseTarget
 from ..structure import Checker
 from . import _general_6r_chain as _chain
+from . import _general_6r_compiled as _compiled
 from ._general_6r_chain import BRANCHES, chain_transforms, distinct, forward, polish
 from ._general_6r_elimination import IMAG_TOL, Formulation
 from ._stacked_transforms import inverse
@@ -135,6 +137,7 @@ class General6R:
     _F6_inv: np.ndarray = field(init=False, repr=False)
     _cuts: tuple[Formulation, ...] = field(init=False, repr=False)
     _twin: tuple[Any, np.ndarray] | None = field(init=False, repr=False)
+    _blocks: dict[str, tuple[np.ndarray, ...]] = field(init=False, repr=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_F0_inv", inverse(self.F[0]))
@@ -241,11 +244,47 @@ class General6R:
         T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = r, p, 1.0
         finite = np.asarray(np.isfinite(T).all(axis=(1, 2)))
         T = np.where(finite[:, None, None], T, np.eye(4))
+        out = self._numpy_path(T, finite) if self._twin is None else self._compiled(T, finite)
+        return out * self.signs
+
+    def _compiled(self, T: np.ndarray, finite: np.ndarray) -> np.ndarray:
+        """The branches (N, 16, 6) [rad] of poses ``T`` in the twin (:mod:`._general_6r_compiled`).
+
+        The first pass of every pose (in threads from
+        :data:`~..seven_r.subproblems.PARALLEL_ROWS` poses), the poses it leaves unclean solved
+        again in the twin; a pose it cannot answer (a singular leading matrix) by the NumPy path.
+        """
+        assert self._twin is not None
+        module, block = self._twin
+        n = T.shape[0]
+        T = np.ascontiguousarray(T)
+        out, roots = np.empty((n, BRANCHES, 6)), np.empty(n)
+        _compiled.in_threads(module.first_pass, block, T, out, roots)
+        answered = roots >= 0.0
+        again = np.nonzero(answered & finite & _compiled.unclean(out, roots))[0]
+        if again.size:
+            if "cuts" not in self._blocks:  # the arm's further blocks, made once
+                self._blocks["fallbacks"] = tuple(f.twin_block() for f in self.fallbacks)
+                self._blocks["cuts"] = tuple(f.twin_block() for f in self._cuts)
+            more, more_roots = out[again], roots[again]
+            blocks = (self._blocks["fallbacks"], self._blocks["cuts"])
+            _compiled.resolve(module.first_pass, T[again], more, more_roots, *blocks, NUDGES)
+            out[again] = more
+            still = _compiled.unclean(more, more_roots) | (more_roots < 0.0)
+            answered[again[still]] = False  # a multiple root, or still unclean: the NumPy path
+        failed = np.nonzero(~answered & finite)[0]
+        if failed.size:
+            out[failed] = self._numpy_path(T[failed], np.ones(failed.size, dtype=bool))
+        out[~finite] = np.nan
+        return out
+
+    def _numpy_path(self, T: np.ndarray, finite: np.ndarray) -> np.ndarray:
+        """The branches (N, 16, 6) [rad] of poses ``T`` by the NumPy path alone (the reference)."""
         inverses = (self._F0_inv, self._F6_inv)
         n = T.shape[0]
-        pose, u, roots, out = self._first_pass(T, inverses)
+        pose, u, roots = _candidates(self.F, self.formulations, T, *inverses)
         pose, u = pose[finite[pose]], u[finite[pose]]
-        out = distinct(n, pose, u) if out is None or not finite.all() else out
+        out = distinct(n, pose, u)
         doubtful = None  # the poses the first elimination did not solve cleanly
         for extra in self.formulations[:1] + self.fallbacks:
             found = (~np.isnan(out[..., 0])).sum(axis=1)
@@ -275,57 +314,11 @@ class General6R:
                 pose = np.concatenate((pose, doubtful[more_pose]))
                 u = np.concatenate((u, more_u))
             _chain.distinct_again(out, pose, u, doubtful)
-        return out * self.signs
-
-    def _first_pass(
-        self, T: np.ndarray, inverses: tuple[np.ndarray, np.ndarray]
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
-        """:func:`_candidates` of the first elimination(s), and their branches (N, 16, 6) or None.
-
-        In the compiled twin when there is one (:data:`~..seven_r.subproblems.PARALLEL_ROWS` poses
-        or more in blocks that the processors' threads take in turn); a pose it cannot answer (a singular leading
-        matrix) is answered by the NumPy path, the branches then left to :func:`distinct`.
-        """
-        if self._twin is None:
-            return (*_candidates(self.F, self.formulations, T, *inverses), None)
-        module, block = self._twin
-        n = T.shape[0]
-        out = np.empty((n, BRANCHES, 6))
-        roots = np.empty(n)
-        _in_threads(module.first_pass, block, np.ascontiguousarray(T), out, roots)
-        answered = roots >= 0.0
-        pose, branch = np.nonzero(~np.isnan(out[..., 0]) & answered[:, None])
-        failed = np.nonzero(~answered)[0]
-        u = out[pose, branch]
-        if not failed.size:
-            return pose, u, roots, out
-        more_pose, more_u, roots[failed] = _candidates(self.F, self.formulations, T[failed], *inverses)
-        return np.concatenate((pose, failed[more_pose])), np.concatenate((u, more_u)), roots, None
+        return out
 
 
-def _in_threads(
-    first_pass: Any, block: np.ndarray, T: np.ndarray, out: np.ndarray, roots: np.ndarray
-) -> None:
-    """The twin's ``first_pass(block, T, out, roots)`` in row blocks over the processors.
-
-    Its loop runs without the interpreter lock and each pose's answer is its own: the answers
-    of one call. Below :data:`~..seven_r.subproblems.PARALLEL_ROWS` poses, one call.
-    """
-    from ..seven_r.subproblems import PARALLEL_ROWS, _pool, batch_threads
-
-    n, workers = T.shape[0], batch_threads()
-    if n < PARALLEL_ROWS or workers < 2:
-        first_pass(block, T, out, roots)
-        return
-    bounds = np.linspace(0, n, 4 * workers + 1).astype(int).tolist()
-    pool = _pool(workers)
-    jobs = [
-        pool.submit(first_pass, block, T[a:b], out[a:b], roots[a:b])
-        for a, b in zip(bounds[:-1], bounds[1:])
-        if b > a
-    ]
-    for job in jobs:
-        job.result()
+#: The twin's row blocks in threads (kept under this name: tests call it).
+_in_threads = _compiled.in_threads
 
 
 def _candidates(
