@@ -6,7 +6,9 @@ configurations within the limits:
 
 * ``check``: ``CollisionChecker.in_collision(q)`` (self and scene), median of single calls; it
   runs Pinocchio's computeCollisions through coal's naive broad phase (world boxes, the exact
-  test only where two boxes overlap);
+  test only where two boxes overlap) on the models with meshes, else pair by pair on the
+  checker's own pairs (the most often in contact first: kin.collision.pair_order), GJK stopped
+  once a pair is proven beyond the padding (kin.collision.requests);
 * ``pin``: ``pin.computeCollisions`` on the same GeometryModel (FK, placements, every active
   pair, stop at the first contact), median of single calls, alternated with ``check``: each goes
   first at every other configuration (the first call after MuJoCo's finds the shared meshes out
