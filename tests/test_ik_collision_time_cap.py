@@ -7,6 +7,8 @@ only checks the reported time against the call's own measure.
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -87,3 +89,22 @@ def test_collision_aware_tiny_cap_says_timeout_with_its_real_time(case, cap):
     assert not result.solutions
     assert cap <= result.time <= wall, f"{cap=}"
     assert wall < 5.0  # a sanity bound only: the cap is checked before every step
+
+
+def test_the_bounded_solve_is_loaded_with_the_solver_not_in_a_capped_call():
+    """Building a collision-aware solver imports the bounded solve (10-15 ms cold), not its first call."""
+    code = (
+        "import sys, kin\n"
+        "from kin.collision import CollisionChecker, load_collision_model\n"
+        "from kin.ik import get_solver\n"
+        "name = 'kin.ik.numeric.collision_bound'\n"
+        "robot = kin.load_robot('humanoid7')\n"
+        "checker = CollisionChecker(load_collision_model(robot))\n"
+        "before = name in sys.modules\n"
+        "get_solver(robot, collisions=checker)\n"
+        "print(before, name in sys.modules)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    assert done.stdout.split() == ["False", "True"], done.stderr

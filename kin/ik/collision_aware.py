@@ -108,6 +108,10 @@ class CollisionAwareSolver:
         self.every = every
         self.robot = solver.robot
         self.name = solver.name
+        # imported here, not in the first capped call that needs it (10-15 ms cold)
+        from .numeric.collision_bound import solve_clear
+
+        self._solve_clear = solve_clear
 
     @property
     def target_kinds(self) -> tuple[type, ...]:
@@ -116,7 +120,7 @@ class CollisionAwareSolver:
 
     def __getattr__(self, name: str) -> Any:
         # The rest of the wrapped solver (structure, numeric, partial, ...), read-only.
-        if name in ("solver", "checker"):
+        if name in ("solver", "checker", "_solve_clear"):
             raise AttributeError(name)
         return getattr(self.solver, name)
 
@@ -276,8 +280,7 @@ class CollisionAwareSolver:
             yield lambda left: numeric.solve(target, seed, timeout=left, all_branches=True)
         if numeric is None:
             return
-        from .numeric.collision_bound import solve_clear
-
+        solve_clear = self._solve_clear
         yield lambda left: solve_clear(
             self.robot, self.checker, target, seed, first, left, numeric.name, swept=swept
         )
