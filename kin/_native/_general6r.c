@@ -27,6 +27,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "_six_r_twin.h" /* check_branches_n: the 6R twins' verifier, here of 16 branches */
+#undef BRANCHES          /* its 8 are the two families' */
+
 typedef void dgeev_t(char *, char *, int *, double *, int *, double *, double *, double *, int *,
                      double *, int *, double *, int *, int *);
 typedef void dgesvd_t(char *, char *, int *, int *, double *, int *, double *, double *, int *,
@@ -630,7 +633,7 @@ static int doubles(PyObject *obj, Py_buffer *view, Py_ssize_t n, int writable, c
     if (view->itemsize != sizeof(double) || view->format == NULL || strcmp(view->format, "d") != 0 ||
         view->len != n * (Py_ssize_t)sizeof(double)) {
         PyBuffer_Release(view);
-        PyErr_Format(PyExc_TypeError, "first_pass: %s must be %zd contiguous float64 values", what, n);
+        PyErr_Format(PyExc_TypeError, "%s must be %zd contiguous float64 values", what, n);
         return 0;
     }
     return 1;
@@ -719,12 +722,53 @@ static PyObject *solve_one(PyObject *self, PyObject *const *args, Py_ssize_t nar
     return PyBool_FromLong(clean);
 }
 
+/* verify(check, q, seeds, positions, rotations, info): the 16 branches of each of N targets
+   moved into the limits (in place) and measured, as the 6R twins' verify does for 8
+   (check_branches_n in _six_r_twin.h: the limit rule, a plain DH product of the table as the
+   judge): check the block of kin.ik.analytic.six_r.six_r_twin.check_params (CHECK_LAYOUT), q
+   (N, 16, 6) [rad] (NaN rows: no branch), seeds (N, 6) [rad], positions (N, 3) [m], rotations
+   (N, 3, 3), info (N, 16, 4) per branch: status (0 no branch, 1 valid, 2 outside the limits,
+   3 off target), position error [m], rotation error [rad], distance to the seed [rad]. */
+static PyObject *verify(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError, "verify(check, q, seeds, positions, rotations, info)");
+        return NULL;
+    }
+    Py_ssize_t n = PyObject_Length(args[3]);
+    if (n < 0) return NULL;
+    Py_buffer v[6];
+    const Py_ssize_t sizes[6] = {CHECK_COUNT, BRANCHES * 6 * n, 6 * n, 3 * n, 9 * n, BRANCHES * 4 * n};
+    static const char *const names[6] = {"check", "q (N, 16, 6)", "seeds (N, 6)", "positions (N, 3)",
+                                         "rotations (N, 3, 3)", "info (N, 16, 4)"};
+    int got = 0;
+    for (; got < 6; got++)
+        if (!doubles(args[got], &v[got], sizes[got], got == 1 || got == 5, names[got])) break;
+    if (got < 6) {
+        for (int k = 0; k < got; k++) PyBuffer_Release(&v[k]);
+        return NULL;
+    }
+    const Check *C = v[0].buf;
+    double(*q)[BRANCHES][JOINTS] = v[1].buf, (*info)[BRANCHES][4] = v[5].buf;
+    const double *seeds = v[2].buf, *p = v[3].buf, *r = v[4].buf;
+    Py_BEGIN_ALLOW_THREADS
+    for (Py_ssize_t k = 0; k < n; k++)
+        check_branches_n(C, p + 3 * k, r + 9 * k, seeds + 6 * k, BRANCHES, q[k], info[k]);
+    Py_END_ALLOW_THREADS
+    for (int k = 0; k < 6; k++) PyBuffer_Release(&v[k]);
+    Py_RETURN_NONE;
+}
+
 static PyMethodDef methods[] = {
     {"first_pass", (PyCFunction)(void (*)(void))first_pass, METH_FASTCALL,
      "first_pass(arm, T, out, roots[, targets]): the general 6R closed form's first pass of N "
      "poses (polished onto targets when given)."},
     {"solve_one", (PyCFunction)(void (*)(void))solve_one, METH_FASTCALL,
      "solve_one(arm, position, rotation, signs, out): one pose's clean first pass, or False."},
+    {"verify", (PyCFunction)(void (*)(void))verify, METH_FASTCALL,
+     "verify(check, q, seeds, positions, rotations, info): N targets' 16 branches moved into the "
+     "limits and measured (see kin/_native/_general6r.c)."},
     {NULL, NULL, 0, NULL},
 };
 
@@ -756,5 +800,12 @@ PyMODINIT_FUNC PyInit__general6r(void)
     dlahqr_ = (dlahqr_t *)lapack(capi, "dlahqr");
     Py_DECREF(capi);
     if (!dgeev_ || !dgesvd_ || !dgesv_ || !dgebal_ || !dgehd2_ || !dlahqr_) return NULL;
-    return PyModule_Create(&module);
+    PyObject *m = PyModule_Create(&module);
+    if (m == NULL) return NULL;
+    if (add_layout(m, "CHECK_LAYOUT", CHECK_FIELDS, sizeof CHECK_FIELDS / sizeof CHECK_FIELDS[0]) < 0 ||
+        PyModule_AddIntConstant(m, "CHECK_COUNT", CHECK_COUNT) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
 }

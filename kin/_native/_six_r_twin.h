@@ -177,21 +177,26 @@ static inline double wrap_into(double value, double seed, double lower, double u
     return base;
 }
 
-/* Each branch q[b] that exists (q[b][0] not NaN) moved into the limits in place, then its
-   status, errors and distance to the seed into info[b] (a missing branch: zeros). The tool pose
-   of each is the plain product of the table's rows; a branch whose first joints equal (bit for
-   bit) those of an earlier one starts from that one's product after them (the same operations
-   on the same values: the same pose), so that the wrist branches of one arm pose share it. */
-static inline void check_branches(const Check *C, const double *p, const double *r,
-                                  const double *seed, double q[BRANCHES][JOINTS],
-                                  double info[BRANCHES][4])
+/* The most branches check_branches_n takes (the general 6R closed form's 16). */
+#define CHECK_MAX_BRANCHES 16
+
+/* Each of the `count` (at most CHECK_MAX_BRANCHES) branches q[b] that exists (q[b][0] not NaN)
+   moved into the limits in place, then its status, errors and distance to the seed into info[b]
+   (a missing branch: zeros). The tool pose of each is the plain product of the table's rows; a
+   branch whose first joints equal (bit for bit) those of an earlier one starts from that one's
+   product after them (the same operations on the same values: the same pose), so that the wrist
+   branches of one arm pose share it. */
+static inline void check_branches_n(const Check *C, const double *p, const double *r,
+                                    const double *seed, int count, double q[][JOINTS],
+                                    double info[][4])
 {
-    double after[BRANCHES][JOINTS][12]; /* the products through each row, of each branch */
-    const double *through[BRANCHES][JOINTS]; /* branch b's product through row j (its own or
-                                                 that of the branch it shares row j with) */
-    int present[BRANCHES], n = 0;
+    double after[CHECK_MAX_BRANCHES][JOINTS][12]; /* the products through each row, per branch */
+    const double *through[CHECK_MAX_BRANCHES][JOINTS]; /* branch b's product through row j (its
+                                                          own or that of the branch it shares
+                                                          row j with) */
+    int present[CHECK_MAX_BRANCHES], n = 0;
     const int modified = C->modified[0] != 0.0;
-    for (int b = 0; b < BRANCHES; b++) {
+    for (int b = 0; b < count; b++) {
         if (isnan(q[b][0])) {
             memset(info[b], 0, sizeof info[b]);
             continue;
@@ -240,6 +245,14 @@ static inline void check_branches(const Check *C, const double *p, const double 
         info[b][2] = rotation_error;
         info[b][3] = sqrt(distance2);
     }
+}
+
+/* check_branches_n of the BRANCHES (8) branches of the two 6R families' twins. */
+static inline void check_branches(const Check *C, const double *p, const double *r,
+                                  const double *seed, double q[BRANCHES][JOINTS],
+                                  double info[BRANCHES][4])
+{
+    check_branches_n(C, p, r, seed, BRANCHES, q, info);
 }
 
 #endif

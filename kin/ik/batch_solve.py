@@ -139,7 +139,7 @@ def _vectorized(
     else:
         poses = np.zeros((n, 4, 4))
         poses[:, :3, :3], poses[:, :3, 3], poses[:, 3, 3] = frames, points, 1.0
-        result = solver.solve_poses(poses, seeds)
+        result = _compiled_poses(solver, poses, seeds) or solver.solve_poses(poses, seeds)
     valid = result.valid
     # The valid branch nearest the seed (Euclidean joint distance), as the per-call solver orders.
     distance = np.where(valid, np.linalg.norm(result.q - seeds[:, None, :], axis=2), math.inf)
@@ -154,6 +154,26 @@ def _vectorized(
     return BatchIKResult(
         q, success, position_error, rotation_error, stage, result if all_branches else None
     )
+
+
+#: The compiled verifier's ``check`` block of each batch solver that has one (None: none).
+_CHECKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _compiled_poses(
+    solver: BatchSolver, poses: np.ndarray, seeds: np.ndarray
+) -> BatchResult | None:
+    """``solver.solve_poses(poses, seeds)`` verified in the structure's compiled twin, or None.
+
+    A general 6R arm whose twin is built (:mod:`.analytic.six_r._general_6r_verify`: the same
+    limit rule and judge, in C); None for the others.
+    """
+    from .analytic.six_r._general_6r_verify import check_block, verified_batch
+
+    if solver not in _CHECKS:
+        _CHECKS[solver] = check_block(solver)
+    check = _CHECKS[solver]
+    return None if check is None else verified_batch(solver, check, poses, seeds)
 
 
 def _free_joint_first(
