@@ -1,10 +1,12 @@
 """An idealised arm polishes only the branches inside or near the joint limits.
 
 A branch outside its limits by more than :data:`OUTSIDE_MARGIN` in every copy ``+ 2 pi k`` is
-rejected by the judge whether it is polished or not, so the closed form skips its polish. The
-check is compared with the limit rule's own :func:`~kin.ik.limit_rule.nearest_copy`, and the
-answers inside the limits with those of polishing every branch, each measured by the plain NumPy
-DH product of the rounded table (:mod:`dh_reference`), an independent FK.
+rejected whether it is polished or not, so the closed form judges it unpolished
+(:mod:`kin.ik.analytic.branch_verification`; its listing in ``rejected``:
+``test_idealised_rejected.py``). The check is compared with the limit rule's own
+:func:`~kin.ik.limit_rule.nearest_copy`, and the answers inside the limits with those of
+polishing every branch, each measured by the plain NumPy DH product of the rounded table
+(:mod:`dh_reference`), an independent FK.
 """
 
 from __future__ import annotations
@@ -18,8 +20,8 @@ from dh_reference import fk_frames, load_reference, rotation_angle
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver
 from kin.ik.analytic import closed_form_branches
+from kin.ik.analytic.branch_verification import OUTSIDE_MARGIN
 from kin.ik.analytic.closed_form import ClosedFormSolver
-from kin.ik.analytic.closed_form_branches import OUTSIDE_MARGIN, ClosedFormBranches
 from kin.ik.limit_rule import nearest_copy
 
 AL5D = Path(__file__).parent / "data" / "toolbox" / "al5d.toml"
@@ -37,7 +39,7 @@ def rounded(tmp_path_factory):
 
 
 def test_outside_agrees_with_the_limit_rule(rounded):
-    """``_outside`` is True exactly when no copy is within the margin of the limits."""
+    """``_far_outside`` is True exactly when no copy is within the margin of the limits."""
     solver = get_solver(load_robot(rounded))
     assert isinstance(solver, ClosedFormSolver) and solver.idealised is not None
     offsets, lower, upper = solver._offsets, solver._lower, solver._upper
@@ -47,15 +49,17 @@ def test_outside_agrees_with_the_limit_rule(rounded):
         q = rng.uniform(np.subtract(lower, 4.0), np.add(upper, 4.0))
         # some joints just inside or outside the margin
         k = rng.integers(len(q))
-        q[k] = (lower[k], upper[k])[rng.integers(2)] + rng.choice((-1, 1)) * OUTSIDE_MARGIN * (
-            1.0 + rng.choice((-1e-3, 1e-3))
-        ) + 2 * np.pi * rng.integers(-2, 3)
+        q[k] = (
+            (lower[k], upper[k])[rng.integers(2)]
+            + rng.choice((-1, 1)) * OUTSIDE_MARGIN * (1.0 + rng.choice((-1e-3, 1e-3)))
+            + 2 * np.pi * rng.integers(-2, 3)
+        )
         expected = not all(
             nearest_copy(v, 0.0, lo - OUTSIDE_MARGIN, hi + OUTSIDE_MARGIN)[1]
             for v, lo, hi in zip(q.tolist(), lower, upper)
         )
         thetas = tuple(np.add(q, offsets).tolist())
-        assert solver._outside(thetas) is expected, f"{q=}"
+        assert solver._far_outside(thetas) is expected, f"{q=}"
         seen[expected] += 1
     assert min(seen.values()) > 100, seen
 
@@ -80,14 +84,13 @@ def test_skipping_the_polish_keeps_every_answer(rounded, monkeypatch, caplog, ki
     seed = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
     skipped = [solver.solve(target, seed) for target in targets]
     assert not [r for r in caplog.records if "misses the target" in r.getMessage()]
-    polished = ClosedFormBranches._polished
     calls = {"skipped": 0}
 
-    def every_branch(self, branches, target, near=np.inf, limits=True):  # noqa: ANN001
-        calls["skipped"] += sum(bool(self._outside(t)) for t, _ in branches.thetas)
-        return polished(self, branches, target, near, limits=False)
+    def every_branch(self, target, branches, seed, p, r, quiet=False, near=np.inf):  # noqa: ANN001
+        calls["skipped"] += sum(bool(self._far_outside(t)) for t, _ in branches.thetas)
+        return self._verify(target, self._polished(branches, target, near), seed, p, r, quiet)
 
-    monkeypatch.setattr(closed_form_branches.ClosedFormBranches, "_polished", every_branch)
+    monkeypatch.setattr(closed_form_branches.ClosedFormBranches, "_verify_polished", every_branch)
     full = [solver.solve(target, seed) for target in targets]
     assert calls["skipped"] > 50, calls  # the skip is exercised
     for target, a, b in zip(targets, skipped, full):

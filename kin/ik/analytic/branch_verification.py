@@ -10,6 +10,17 @@ For each branch of :class:`~.closed_form.ClosedFormSolver` (mixed into it: reads
 3. the branch is valid (inside the limits, on target), rejected (on target, outside) or dropped
    (off target: never returned, logged).
 
+An idealised arm's branch (:mod:`.idealised`) far outside the limits is judged as it is, not
+polished onto the true chain (:meth:`UnpolishedVerification._verify_far`): with a joint farther than
+:data:`OUTSIDE_MARGIN` outside its limits in every copy ``+ 2 pi k`` and a miss of at most the
+idealisation's bounds plus :data:`UNPOLISHED_MISS`, it is rejected, without the miss warning
+(off target by more than the tolerances, its ``reason`` names the joint). The rule: the polish moves a branch by about ``J^+ e`` (Gauss-Newton from a miss ``e``),
+at most ``|e| / sigma_min(J)``; with ``|e|`` below 1e-6 that reaches the 1e-2 rad margin only
+where ``sigma_min < 1e-4`` [m/rad], within about 1e-4 rad of a singular configuration (on the
+corpus AL5D the polish of such branches moves a joint by at most 1.2e-6 rad). A solve with no
+valid branch polishes them all and judges them again (:mod:`.closed_form_branches`), so a "no"
+never rests on this rule.
+
 A structure with a compiled twin that verifies (the 6R closed forms, :mod:`.six_r.six_r_twin`)
 does the three steps for a pose in one C call, which also makes the solutions and, when one
 is valid and none off target, the result (:meth:`.six_r.six_r_twin.TwinVerifier.solutions`;
@@ -32,7 +43,7 @@ import numpy.typing as npt
 from kin import RobotModel
 
 from ..judge import ToolJudge, axis_error, rotation_error
-from ..limit_rule import FAST_COPY, FAST_SEED, wrap_into
+from ..limit_rule import FAST_COPY, FAST_SEED, LIMIT_TOL, TWO_PI, wrap_into
 from ..result import IKResult, IKSolution, Status
 from ..target import PitchTarget, PoseTarget, PositionTarget, Target
 from .branches import Branches, BranchStatus
@@ -42,6 +53,42 @@ logger = logging.getLogger("kin.ik.analytic.closed_form")
 
 #: Sort key of the (distance to the seed, solution) pairs.
 _DISTANCE = operator.itemgetter(0)
+
+#: An idealised arm's branch with a joint farther than this [rad] outside its limits (in every
+#: copy ``+ 2 pi k``) is judged without its polish (see the module).
+OUTSIDE_MARGIN = 1e-2
+#: Slack [m], [rad] over the idealisation's bounds on an unpolished branch's miss: a pose's
+#: projection on a 4-joint arm misses by up to 2.5e-7 rad on the corpus AL5D where the polish
+#: reaches the pose.
+UNPOLISHED_MISS = 1e-6
+
+
+def far_spans(
+    offsets: list[float], lower: list[float], upper: list[float]
+) -> tuple[tuple[int, float, float], ...]:
+    """Per joint whose limits span less than a turn: (index, start, span) [rad].
+
+    A DH angle ``theta`` has no copy ``+ 2 pi k`` within :data:`OUTSIDE_MARGIN` (and
+    :data:`~kin.ik.limit_rule.LIMIT_TOL`) of the joint's limits when
+    ``(theta - start) % 2 pi > span`` (``start``: the offset plus the lower limit, widened).
+    """
+    tolerance = LIMIT_TOL + OUTSIDE_MARGIN
+    return tuple(
+        (i, offset + low - tolerance, high - low + 2.0 * tolerance)
+        for i, (offset, low, high) in enumerate(zip(offsets, lower, upper))
+        if high - low + 2.0 * tolerance < TWO_PI
+    )
+
+
+def _log_miss(robot: str, label: str, position_error: float, angle: float | None) -> None:
+    """Log a branch dropped off target, with its errors [m], [rad]."""
+    logger.warning(
+        "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
+        robot,
+        label,
+        position_error,
+        angle or 0.0,
+    )
 
 
 class BranchVerification:
@@ -135,13 +182,7 @@ class BranchVerification:
         if answer.__class__ is tuple:
             valid, rejected, off = answer
             for label, position_error, angle in off:
-                logger.warning(
-                    "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
-                    self.robot.name,
-                    label,
-                    position_error,
-                    angle,
-                )
+                _log_miss(self.robot.name, label, position_error, angle)
             if valid:
                 return IKResult(
                     True,
@@ -230,15 +271,8 @@ class BranchVerification:
                     )
                     angle = axis_error(u, approach)
             if position_error > tol_p or (angle is not None and angle > tol_r):
-                if quiet:
-                    continue
-                logger.warning(
-                    "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
-                    self.robot.name,
-                    label,
-                    position_error,
-                    angle or 0.0,
-                )
+                if not quiet:
+                    _log_miss(self.robot.name, label, position_error, angle)
                 continue
             solution = IKSolution(q, label, inside, position_error, angle)
             if inside:
@@ -246,3 +280,83 @@ class BranchVerification:
             else:
                 rejected.append(solution)
         return valid, rejected
+
+
+class UnpolishedVerification(BranchVerification):
+    """An idealised arm's branches far outside the limits, judged unpolished (see the module)."""
+
+    #: An idealised arm's bounds on an unpolished branch's miss ([m], [rad]); None: exact arm.
+    _miss_bound: tuple[float, float] | None
+    _joint_names: tuple[str, ...]
+    #: :func:`far_spans` of the limits.
+    _far_spans: tuple[tuple[int, float, float], ...]
+
+    def _far_outside(self, thetas: tuple[float, ...] | list[float]) -> bool:
+        """Whether a joint of ``thetas`` (DH angles [rad]) is far outside its limits.
+
+        Farther than :data:`OUTSIDE_MARGIN` (and :data:`~kin.ik.limit_rule.LIMIT_TOL`) in every
+        copy ``+ 2 pi k`` (:func:`far_spans`).
+        """
+        for i, start, span in self._far_spans:
+            if (thetas[i] - start) % TWO_PI > span:
+                return True
+        return False
+
+    def _verify_far(
+        self,
+        branches: list[tuple[tuple[float, ...], str]],
+        seed: list[float],
+        p: list[float],
+        r: list[list[float]] | None,
+        quiet: bool = False,
+    ) -> list[IKSolution]:
+        """An idealised arm's branches far outside the limits, judged unpolished: the rejected.
+
+        Each (DH angles [rad]) is moved to the copies of :func:`wrap_into` (the least outside,
+        nearest the seed) and measured as it is (a position or pose target: ``p`` [m], ``r``):
+        one off target by at most :attr:`_miss_bound` ([m], [rad]) is rejected, with a reason
+        when off by more than the tolerances; farther ones are dropped (logged unless ``quiet``).
+        """
+        judge, directions = self._judge, self._directions
+        joints = list(zip(self._offsets, seed, self._lower, self._upper))
+        assert self._miss_bound is not None
+        bound_p, bound_r = self._miss_bound
+        tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
+        r_target = None if r is None else r[0] + r[1] + r[2]
+        rejected = []
+        for thetas, label in branches:
+            q_list = []
+            for theta, (offset, s, low, high) in zip(thetas, joints):
+                v = theta - offset
+                if not (
+                    low <= v <= high
+                    and -FAST_COPY < v - s < FAST_COPY
+                    and -FAST_SEED < s < FAST_SEED
+                ):
+                    v = wrap_into(v, s, low, high)[0]  # else inside, the copy nearest the seed
+                q_list.append(v)
+            q = np.array(q_list) if directions is None else np.array(q_list) * directions
+            angle: float | None = None
+            if r_target is None:
+                position_error = math.dist(judge.tool_position(q), p)
+            else:
+                p_fk, r_fk = judge.tool(q)
+                position_error, angle = math.dist(p_fk, p), rotation_error(r_fk, r_target)
+            if position_error > bound_p or (angle or 0.0) > bound_r:
+                if not quiet:
+                    _log_miss(self.robot.name, label, position_error, angle)
+                continue
+            on_target = position_error <= tol_p and (angle or 0.0) <= tol_r
+            reason = "" if on_target else self._far_reason(q_list)
+            rejected.append(IKSolution(q, label, False, position_error, angle, reason))
+        return rejected
+
+    def _far_reason(self, q_list: list[float]) -> str:
+        """Why an unpolished branch off target is rejected: the joint farthest outside its limits.
+
+        ``q_list``: the structure's ``q'`` moved toward the limits [rad], [m] (the arm's ``q``
+        has the same joint farthest outside; its value is the solution's).
+        """
+        beyond = [max(low - v, v - high) for v, low, high in zip(q_list, self._lower, self._upper)]
+        name = self._joint_names[beyond.index(max(beyond))]
+        return f"outside the joint limits (joint '{name}'), not polished onto the true chain"

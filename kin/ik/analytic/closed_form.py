@@ -8,7 +8,8 @@ the seed). A structure with a compiled twin that verifies (the 6R closed forms,
 :mod:`.six_r.six_r_twin`) does that for a pose target in one C call: the same wrapping, and the
 table's plain DH product in C as the judge instead of Pinocchio (``tests/test_six_r_twins.py``
 checks that both paths return the same solutions and errors). A rounded table is solved on its
-idealised geometry and every branch polished on the true chain (:mod:`.idealised`); a target
+idealised geometry and every branch polished on the true chain (:mod:`.idealised`), but those far
+outside the limits, judged as they are (:mod:`.branch_verification`); a target
 kind the closed form does not take goes to the numeric or the partial-pose solver.
 """
 
@@ -36,6 +37,7 @@ from ..target import (
     is_partial,
     kind_error,
 )
+from .branch_verification import UNPOLISHED_MISS, far_spans
 from .closed_form_routes import ClosedFormRoutes
 from .closed_form_structure import (
     ClosedFormStructure,
@@ -90,6 +92,14 @@ class ClosedFormSolver(ClosedFormRoutes):
                 raise exact from None
             self.idealised = ideal
             compiled = False  # the twins measure with the table they solve: the ideal one
+        self._miss_bound = (
+            None
+            if self.idealised is None
+            else (
+                self.idealised.position_bound + UNPOLISHED_MISS,
+                self.idealised.rotation_bound + UNPOLISHED_MISS,
+            )
+        )
         if flips is not None:
             directions = flips if directions is None else directions * flips
         #: Per joint 1 or -1 when the table reverses a joint or the structure fits it with
@@ -105,6 +115,7 @@ class ClosedFormSolver(ClosedFormRoutes):
         # One solve at a time: the judge's Pinocchio data is shared (threads get the answers
         # one thread would).
         self._lock = threading.Lock()
+        self._joint_names = robot.joint_names
         self._lower = robot.model.lowerPositionLimit.tolist()
         self._upper = robot.model.upperPositionLimit.tolist()
         if self._directions is not None:  # the limits of q' (those of the forward table)
@@ -112,6 +123,7 @@ class ClosedFormSolver(ClosedFormRoutes):
             self._lower, self._upper = lower.tolist(), upper.tolist()
         self._offsets = [row.theta for row in table.rows]
         self._has_offsets = any(self._offsets)
+        self._far_spans = far_spans(self._offsets, self._lower, self._upper)
         # Everything below depends only on the table: computed once, as floats and tuples, so that
         # a solve runs on the math module rather than on small NumPy arrays.
         self._kinds = self.closed_form_kinds
@@ -259,9 +271,10 @@ class ClosedFormSolver(ClosedFormRoutes):
         branches = self._branches(target, seed_list)
         if branches.status == "out_of_reach":
             return self._failure("out_of_reach", branches.message, start, branches.gap, target)
-        method = "closed_form"
         if self.idealised is not None and not isinstance(target, PitchTarget):
-            branches = self._polished(branches, target)
+            valid, rejected = self._verify_polished(target, branches, seed_list, p, r)
             method = "closed_form_polished"
-        valid, rejected = self._verify(target, branches, seed_list, p, r)
+        else:
+            valid, rejected = self._verify(target, branches, seed_list, p, r)
+            method = "closed_form"
         return self._result(valid, rejected, branches.status, branches.message, start, method)

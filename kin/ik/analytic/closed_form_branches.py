@@ -2,7 +2,8 @@
 
 What :class:`~.closed_form.ClosedFormSolver` asks before it judges: the structure's branches of
 a target (DH angles, world frame), an idealised structure's polished on the true chain
-(:mod:`.idealised`), and the caller's seed as the structure's joints (``q' = direction * q``
+(:mod:`.idealised`; those far outside the limits judged unpolished, :mod:`.branch_verification`),
+and the caller's seed as the structure's joints (``q' = direction * q``
 when the table reverses a joint or the structure turns an axis over, :mod:`.joint_directions`),
 checked once. Angles in [rad], lengths in [m].
 """
@@ -15,19 +16,15 @@ import numpy as np
 import numpy.typing as npt
 
 from ..exceptions import TargetError
-from ..limit_rule import LIMIT_TOL, TWO_PI
+from ..result import IKSolution
 from ..target import PoseTarget, Target
-from .branch_verification import BranchVerification
+from .branch_verification import UnpolishedVerification
 from .branches import Branches
 from .closed_form_structure import candidate_branches
 from .idealised import polish
 
-#: A branch outside the joint limits by more than this [rad] is not polished when another is (the
-#: polish moves a joint by far less: at most 4e-5 rad on the corpus' AL5D, 1e-7 where it lands).
-OUTSIDE_MARGIN = 1e-2
 
-
-class ClosedFormBranches(BranchVerification):
+class ClosedFormBranches(UnpolishedVerification):
     """Branches and seeds of :class:`~.closed_form.ClosedFormSolver` (mixed in)."""
 
     _detailed: bool
@@ -41,64 +38,73 @@ class ClosedFormBranches(BranchVerification):
         candidates = structure.solve(target.position, rotation)
         return candidate_branches(structure, candidates, self._offsets)
 
-    def _polished(
-        self, branches: Branches, target: Target, near: float = math.inf, limits: bool = True
-    ) -> Branches:
+    def _polished(self, branches: Branches, target: Target, near: float = math.inf) -> Branches:
         """The idealised structure's branches moved onto the true chain (:func:`.idealised.polish`).
 
         ``near``: a branch whose tool on the true chain starts farther than this [m], [rad] from
         the target is dropped, not polished (the pose route: a branch of the pose's projection
         that far from the pose itself cannot reach it).
-
-        ``limits``: the branches with a joint farther than :data:`OUTSIDE_MARGIN` [rad] outside
-        its limits (every copy ``+ 2 pi k``) are neither polished nor kept when another branch is
-        polished: the judge would reject them (the polish moves a joint by far less than the
-        margin), and unpolished they would miss the target by the idealisation's error. When
-        none is polished they are all polished, as without ``limits`` (the answer then names the
-        branches outside the limits). False for candidates judged elsewhere (the partial-pose
-        solver's).
         """
-        thetas = branches.thetas
-        if limits:
-            outside = self._outside
-            inside = [branch for branch in thetas if not outside(branch[0])]
-            if inside and len(inside) < len(thetas):
-                moved = self._polish_each(inside, target, near)
-                if moved:
-                    branches.thetas = moved
-                    return branches
-        branches.thetas = self._polish_each(thetas, target, near)
+        branches.thetas = self._polish_each(branches.thetas, target, near)[0]
         return branches
 
+    def _verify_polished(
+        self,
+        target: Target,
+        branches: Branches,
+        seed: list[float],
+        p: list[float],
+        r: list[list[float]] | None,
+        quiet: bool = False,
+        near: float = math.inf,
+    ) -> tuple[list[tuple[float, IKSolution]], list[IKSolution]]:
+        """An idealised arm's branches polished and verified (:meth:`_verify`'s answer).
+
+        The branches far outside the limits (:meth:`_far_outside`) are set aside, the others
+        polished and judged. When one is valid, those set aside are judged unpolished
+        (:meth:`_verify_far`: rejected, with a reason when off target by at most the bound);
+        else they are polished and judged as every branch was before the rule (a "no"
+        rests on polished branches only). Rejected ones follow the others.
+        """
+        branches.thetas, far = self._polish_each(branches.thetas, target, near, keep_far=True)
+        valid, rejected = self._verify(target, branches, seed, p, r, quiet)
+        if not far:
+            return valid, rejected
+        if valid:
+            rejected += self._verify_far(far, seed, p, r, quiet)
+            return valid, rejected
+        polished = Branches(self._polish_each(far, target, near)[0])
+        valid, more = self._verify(target, polished, seed, p, r, quiet)
+        return valid, rejected + more
+
     def _polish_each(
-        self, thetas: list[tuple[tuple[float, ...], str]], target: Target, near: float
-    ) -> list[tuple[tuple[float, ...], str]]:
-        """Each branch (DH angles [rad], label) polished; those that give up (``near``) dropped."""
+        self,
+        thetas: list[tuple[tuple[float, ...], str]],
+        target: Target,
+        near: float,
+        keep_far: bool = False,
+    ) -> tuple[list[tuple[tuple[float, ...], str]], list[tuple[tuple[float, ...], str]]]:
+        """Each branch (DH angles [rad], label) polished; those that give up (``near``) dropped.
+
+        ``keep_far``: a branch far outside the limits (:meth:`_far_outside`) is set aside as it
+        is. Returns the polished branches in their order, and those set aside.
+        """
         judge, offsets = self._judge, self._offsets
         rotation = target.rotation if isinstance(target, PoseTarget) else None
         signs = 1.0 if self._directions is None else self._directions  # q' <-> q (the judge's)
-        moved = []
+        far_outside = self._far_outside if keep_far else None
+        moved, kept = [], []
         for branch, label in thetas:
+            if far_outside is not None and far_outside(branch):
+                kept.append((branch, label))
+                continue
             q = np.subtract(branch, offsets) * signs
             q = polish(
                 judge.model, judge.data, judge.frame_id, q, target.position, rotation, give_up=near
             )
             if q[0] == q[0]:  # not NaN: polished
                 moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
-        return moved
-
-    def _outside(self, thetas: tuple[float, ...] | list[float]) -> bool:
-        """Whether a joint of ``thetas`` (DH angles [rad]) is far outside its limits.
-
-        Farther than :data:`OUTSIDE_MARGIN` (and :data:`~kin.ik.limit_rule.LIMIT_TOL`) in every
-        copy ``+ 2 pi k``.
-        """
-        tolerance = LIMIT_TOL + OUTSIDE_MARGIN
-        for theta, offset, lower, upper in zip(thetas, self._offsets, self._lower, self._upper):
-            span = upper - lower + 2.0 * tolerance
-            if span < TWO_PI and (theta - offset - lower + tolerance) % TWO_PI > span:
-                return True
-        return False
+        return moved, kept
 
     def _forward_seed(self, seed: npt.ArrayLike) -> npt.ArrayLike:
         """The seed ``q`` [rad] as the forward table's ``q' = direction * q``.

@@ -86,7 +86,7 @@ class ClosedFormRoutes(ClosedFormBranches):
                 if branches.status == "out_of_reach":
                     continue
                 if self.idealised is not None:
-                    branches = self._polished(branches, target, limits=False)
+                    branches = self._polished(branches, target)
                 for thetas, label in branches.thetas:
                     q = np.subtract(thetas, self._offsets)
                     if self._directions is not None:
@@ -113,7 +113,8 @@ class ClosedFormRoutes(ClosedFormBranches):
         The branches of its position (or of its projection on the arm's poses) are every joint
         vector that can reach the pose: those that do (the judge, at the solver's tolerances)
         are the answer. An idealised arm's branches near the pose (:data:`IDEAL_NEAR`) are
-        polished on the true chain first (:func:`.idealised.polish`), the far ones dropped.
+        polished on the true chain first (:func:`.idealised.polish`), the far ones dropped, those
+        far outside the limits judged unpolished (:meth:`_verify_polished`).
         None when none does (no warning): the partial-pose solver then gives the nearest pose,
         or the answer at its looser tolerances.
         """
@@ -131,12 +132,15 @@ class ClosedFormRoutes(ClosedFormBranches):
             branches = candidate_branches(self.structure, candidates, self._offsets)
         if branches.status == "out_of_reach":
             return None
-        method = "closed_form"
-        if self.idealised is not None:  # its branches near the pose, polished on the true chain
-            branches = self._polished(branches, target, near=IDEAL_NEAR)
-            method = "closed_form_polished"
         p, r = target.position.tolist(), target.rotation.tolist()
-        valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
+        if self.idealised is not None:  # its branches near the pose, polished on the true chain
+            valid, rejected = self._verify_polished(
+                target, branches, seed_list, p, r, quiet=True, near=IDEAL_NEAR
+            )
+            method = "closed_form_polished"
+        else:
+            valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
+            method = "closed_form"
         if not valid:
             return None
         return self._result(valid, rejected, branches.status, branches.message, start, method)

@@ -46,11 +46,16 @@ class Idealised:
         table: The table with its twists and small lengths snapped.
         deviation: Largest tool displacement from the true table over sampled q [m].
         changes: One line per snapped value (``"row 2 alpha 1.5708 -> pi/2"``).
+        position_bound: Bound on the tool displacement from the true table at every q [m]
+            (:func:`snap_bounds`).
+        rotation_bound: Bound on the tool rotation from the true table at every q [rad].
     """
 
     table: DHTable
     deviation: float
     changes: tuple[str, ...]
+    position_bound: float
+    rotation_bound: float
 
 
 def idealise(table: DHTable) -> Idealised | None:
@@ -77,7 +82,29 @@ def idealise(table: DHTable) -> Idealised | None:
     deviation = float(np.linalg.norm(true - snapped, axis=1).max())
     if not deviation <= FK_TOLERANCE:
         return None
-    return Idealised(ideal, deviation, tuple(changes))
+    return Idealised(ideal, deviation, tuple(changes), *snap_bounds(table, ideal))
+
+
+def snap_bounds(true: DHTable, ideal: DHTable) -> tuple[float, float]:
+    """Bounds on how far the ideal table's tool is from the true one, at any joint vector.
+
+    Snap one value at a time: a twist changed by ``e`` [rad] turns the rest of the chain by
+    ``e`` about an axis no farther from the tool than the arm's reach ``R`` (every ``|a|`` and
+    ``|d|``, a prismatic joint's travel and the tool offset), so the tool moves at most ``e R``
+    and turns at most ``e``; a length changed by ``e`` [m] moves it at most ``e``. Summed over
+    the snapped values (the triangle inequality): ``sum(e R) + sum(e)`` [m], ``sum(e)`` [rad].
+
+    Returns:
+        The position bound [m] and the rotation bound [rad].
+    """
+    reach = float(np.linalg.norm(true.T_last_tool[:3, 3]))
+    turned = moved = 0.0
+    for row, snapped in zip(true.rows, ideal.rows):
+        travel = max(abs(row.lower), abs(row.upper)) if row.joint_type == "prismatic" else 0.0
+        reach += abs(row.a) + abs(row.d) + travel
+        turned += abs(math.remainder(row.alpha - snapped.alpha, 2.0 * math.pi))
+        moved += abs(row.a - snapped.a) + abs(row.d - snapped.d)
+    return turned * reach + moved, turned
 
 
 def _snap_angle(angle: float) -> float:
@@ -145,7 +172,7 @@ def polish(
                     error = np.concatenate(
                         (position - pose.translation, pin.log3(rotation @ pose.rotation.T))
                     )
-                size = float(np.abs(error).max())
+                size = max(map(abs, error.tolist()))
             if give_up < math.inf and best_error == math.inf and not size <= give_up:
                 return np.full(len(q), np.nan)
             if size < best_error:
