@@ -441,6 +441,46 @@ static int eigenvalues(double *a, int n, double *wr, double *wi, double *work, i
     return info;
 }
 
+/* Householder QR of the 14x8 column-major a (overwritten): q the full 14x14 orthogonal factor
+   (column-major), r the 8x8 triangle (row-major, upper). 1, or 0 (q, r anything) when a diagonal
+   of r is below QR_RANK times the largest (near rank-deficient: the caller takes the SVD). */
+#define QR_RANK 1e-10
+static int qr14x8(double *a, double *q, double *r)
+{
+    double v[8][14], beta[8], big = 0.0, least = INFINITY;
+    for (int j = 0; j < 8; j++) {
+        double norm = 0.0;
+        for (int i = j; i < 14; i++) norm += a[i + 14 * j] * a[i + 14 * j];
+        norm = sqrt(norm);
+        double alpha = a[j + 14 * j] > 0.0 ? -norm : norm, vv = 0.0;
+        for (int i = 0; i < 14; i++) {
+            v[j][i] = i < j ? 0.0 : (i == j ? a[j + 14 * j] - alpha : a[i + 14 * j]);
+            vv += v[j][i] * v[j][i];
+        }
+        beta[j] = vv > 0.0 ? 2.0 / vv : 0.0;
+        for (int k = j; k < 8; k++) { /* H_j on the columns left */
+            double t = 0.0;
+            for (int i = j; i < 14; i++) t += v[j][i] * a[i + 14 * k];
+            t *= beta[j];
+            for (int i = j; i < 14; i++) a[i + 14 * k] -= t * v[j][i];
+        }
+        big = fmax(big, fabs(a[j + 14 * j]));
+        least = fmin(least, fabs(a[j + 14 * j]));
+    }
+    if (!(least > QR_RANK * big)) return 0;
+    for (int i = 0; i < 8; i++)
+        for (int j = 0; j < 8; j++) r[8 * i + j] = j < i ? 0.0 : a[i + 14 * j];
+    for (int k = 0; k < 196; k++) q[k] = k % 15 == 0 ? 1.0 : 0.0; /* the identity */
+    for (int j = 7; j >= 0; j--) /* q = H_0 ... H_7 I */
+        for (int k = 0; k < 14; k++) {
+            double t = 0.0;
+            for (int i = j; i < 14; i++) t += v[j][i] * q[i + 14 * k];
+            t *= beta[j];
+            for (int i = j; i < 14; i++) q[i + 14 * k] -= t * v[j][i];
+        }
+    return 1;
+}
+
 /* The first pass of one pose T, its candidates polished onto target (T itself, or the pose a
    nudged T was taken near): 0, or -1 when the NumPy path must answer. */
 static int one_pose(const double *arm, const double *T, const double *target, double *out,
@@ -477,14 +517,21 @@ static int one_pose(const double *arm, const double *T, const double *target, do
             for (int j = 0; j < 9; j++) s += fit[9 * i + j] * values[j][k];
             Q[k][i] = s;
         }
-    /* SVD of Q[:, 1:] (column-major 14x8). */
+    /* Q[:, 1:] (column-major 14x8): its Householder QR (U the full Q, its last 6 columns the
+       left null space), or where R is near-singular its SVD (LAPACK dgesvd). */
     double A[14 * 8], U[14 * 14], sv[8], Vt[8 * 8], work[1024];
     int m14 = 14, n8 = 8, lwork = 1024, info;
     for (int j = 0; j < 8; j++)
         for (int i = 0; i < 14; i++) A[i + 14 * j] = Q[i][j + 1];
-    char all = 'A';
-    dgesvd_(&all, &all, &m14, &n8, A, &m14, sv, U, &m14, Vt, &n8, work, &lwork, &info);
-    if (info != 0) return -1;
+    double R[8 * 8];
+    int by_qr = qr14x8(A, U, R);
+    if (!by_qr) {
+        for (int j = 0; j < 8; j++)
+            for (int i = 0; i < 14; i++) A[i + 14 * j] = Q[i][j + 1];
+        char all = 'A';
+        dgesvd_(&all, &all, &m14, &n8, A, &m14, sv, U, &m14, Vt, &n8, work, &lwork, &info);
+        if (info != 0) return -1;
+    }
     /* M_k (12x12 row-major): [S 0; 0 S] shifted, S = null P_k. */
     double M[3][144];
     memset(M, 0, sizeof M);
@@ -553,15 +600,26 @@ static int one_pose(const double *arm, const double *T, const double *target, do
     }
     double wr[24], wi[24];
     if (eigenvalues(eig, m, wr, wi, work, lwork) != 0) return -1;
-    /* The least squares of the right side's monomials: pinv of Q[:, 1:] (8x14), from its SVD. */
+    /* The least squares of the right side's monomials: pinv of Q[:, 1:] (8x14), R^-1 Q1^T from
+       its QR, else from its SVD (singular values below 1e-12 of the largest dropped). */
     double pinv[8][14], inv[8];
-    for (int r = 0; r < 8; r++) inv[r] = sv[r] > sv[0] * 1e-12 ? 1.0 / (sv[r] > 0 ? sv[r] : 1.0) : 0.0;
-    for (int i = 0; i < 8; i++)
-        for (int k = 0; k < 14; k++) {
-            double s = 0.0;
-            for (int r = 0; r < 8; r++) s += Vt[r + 8 * i] * inv[r] * U[k + 14 * r];
-            pinv[i][k] = s;
-        }
+    if (by_qr) {
+        for (int k = 0; k < 14; k++)
+            for (int i = 7; i >= 0; i--) { /* R x = (row k of Q1)^T */
+                double t = U[k + 14 * i];
+                for (int j = i + 1; j < 8; j++) t -= R[8 * i + j] * pinv[j][k];
+                pinv[i][k] = t / R[9 * i];
+            }
+    } else {
+        for (int r = 0; r < 8; r++)
+            inv[r] = sv[r] > sv[0] * 1e-12 ? 1.0 / (sv[r] > 0 ? sv[r] : 1.0) : 0.0;
+        for (int i = 0; i < 8; i++)
+            for (int k = 0; k < 14; k++) {
+                double s = 0.0;
+                for (int r = 0; r < 8; r++) s += Vt[r + 8 * i] * inv[r] * U[k + 14 * r];
+                pinv[i][k] = s;
+            }
+    }
     /* Each (near-)real root: the joints, polished. */
     double rows[24 * 6];
     int kept = 0, count = 0, multiple = 0;

@@ -120,10 +120,32 @@ def resolve(
             break
     nudged = np.nonzero(roots >= 0.0)[0]
     targets = T[nudged]
-    for nudge in nudges:
-        for block in cuts:
-            more, more_roots = _pass(first_pass, block, targets @ nudge, targets)
-            pose, u = _rows(more, more_roots >= 0.0)
-            poses.append(nudged[pose])
-            rows.append(u)
+    aims = np.ascontiguousarray(np.tile(targets, (len(nudges), 1, 1)))
+    which = np.tile(nudged, len(nudges))
+    stacked = np.concatenate([targets @ nudge for nudge in nudges])  # every nudge, one pass a cut
+    for more, more_roots in _passes(first_pass, cuts, stacked, aims):
+        pose, u = _rows(more, more_roots >= 0.0)
+        poses.append(which[pose])
+        rows.append(u)
     distinct_again(out, np.concatenate(poses), np.concatenate(rows), nudged)
+
+
+def _passes(
+    first_pass: Any, blocks: Sequence[np.ndarray], T: np.ndarray, targets: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`_pass` of each block over the same poses, the blocks in the batch threads.
+
+    In turn instead in one of those threads (a batch solved inside another's block) or on one
+    processor.
+    """
+    import threading
+
+    from ..seven_r.subproblems import _pool, batch_threads
+
+    workers = batch_threads()
+    inside = threading.current_thread().name.startswith("kin-batch")
+    if workers < 2 or len(blocks) < 2 or inside:
+        return [_pass(first_pass, block, T, targets) for block in blocks]
+    pool = _pool(workers)
+    jobs = [pool.submit(_pass, first_pass, block, T, targets) for block in blocks]
+    return [job.result() for job in jobs]
