@@ -11,9 +11,9 @@
  * micrometres of the true one) at a held value starts Newton steps on the TRUE chain (the Seed
  * block's DH product, chain_step in _twin.h) over the six other joints, the held one fixed:
  * the steps of kin/ik/analytic/six_r/_general_6r_chain.polish (J^T (J J^T + 1e-14 I)^-1 e,
- * each joint's step clipped to 0.5 rad; at most 8 steps; a row stops on target to 1e-12 or off
- * it by 1 or more), the error vector in the world frame (the Python form's in the frame after
- * the held joint: the same steps up to rounding). A row kept has its largest error at most
+ * here J^-1 e where J is regular, each joint's step clipped to 0.5 rad; at most 8 steps; a row
+ * stops on target to 1e-12 or off it by 1 or more), the error vector in the world frame (the
+ * Python form's in the frame after the held joint: the same steps up to rounding). A row kept has its largest error at most
  * keep_tol; its six polished joints wrapped into [-pi, pi). A value whose least fold distance is
  * below fold_margin (the true arm may have a pair of branches more or fewer there) gets no rows:
  * its count is -1, for the caller's 6R elimination. Angles [rad], lengths [m].
@@ -40,14 +40,16 @@
 #define HELD_CLIP 0.5     /* the largest step of a joint [rad] */
 #define HELD_DAMPING 1e-14 /* _general_6r_chain._DAMPING */
 
-/* The tool pose (3x4) of the chain at q, and each joint's axis and a point on it (world). */
-static void held_frames(const Seed *S, const double *q, double *T, double (*axis)[3],
-                        double (*origin)[3])
+/* The tool pose (3x4) of the chain at q, and the axis and a point on it (world) of each joint
+   from `first` on; start: the pose (3x4) before row `first` (the base, or the held first joint's
+   frame: the same at every step). */
+static void held_frames(const Seed *S, const double *start, int first, const double *q, double *T,
+                        double (*axis)[3], double (*origin)[3])
 {
     double a[12], b[12];
-    const double *previous = S->base;
+    const double *previous = start;
     const int modified = S->modified[0] != 0.0;
-    for (int j = 0; j < 7; j++) {
+    for (int j = first; j < 7; j++) {
         double *next = j % 2 ? b : a;
         chain_step(modified, S->a[j], S->cos_alpha[j], S->sin_alpha[j], S->d[j], q[j] + S->theta[j],
                    previous, next);
@@ -77,43 +79,56 @@ static double held_error(const double *T, const double *p, const double *r, doub
 }
 
 /* x = A^-1 b for a 6x6 A (row-major, overwritten) by Gaussian elimination with partial
-   pivoting; 0 when singular. */
+   pivoting, b overwritten by x; 0 when a pivot is 0 (singular). */
 static int held_solve6(double *A, double *b)
 {
     for (int c = 0; c < 6; c++) {
         int pivot = c;
+        double best = fabs(A[6 * c + c]);
         for (int i = c + 1; i < 6; i++)
-            if (fabs(A[6 * i + c]) > fabs(A[6 * pivot + c])) pivot = i;
-        if (A[6 * pivot + c] == 0.0) return 0;
+            if (fabs(A[6 * i + c]) > best) best = fabs(A[6 * i + c]), pivot = i;
+        if (!(best > 0.0)) return 0;
         if (pivot != c) {
-            for (int j = 0; j < 6; j++) {
+            for (int j = c; j < 6; j++) {
                 double t = A[6 * c + j];
                 A[6 * c + j] = A[6 * pivot + j], A[6 * pivot + j] = t;
             }
             double t = b[c];
             b[c] = b[pivot], b[pivot] = t;
         }
+        double inverse = 1.0 / A[6 * c + c];
+        A[6 * c + c] = inverse;
         for (int i = c + 1; i < 6; i++) {
-            double f = A[6 * i + c] / A[6 * c + c];
-            for (int j = c; j < 6; j++) A[6 * i + j] -= f * A[6 * c + j];
+            double f = A[6 * i + c] * inverse;
+            for (int j = c + 1; j < 6; j++) A[6 * i + j] -= f * A[6 * c + j];
             b[i] -= f * b[c];
         }
     }
     for (int i = 5; i >= 0; i--) {
-        double s = b[i];
-        for (int j = i + 1; j < 6; j++) s -= A[6 * i + j] * b[j];
-        b[i] = s / A[6 * i + i];
+        double sum = b[i];
+        for (int j = i + 1; j < 6; j++) sum -= A[6 * i + j] * b[j];
+        b[i] = sum * A[6 * i + i];
     }
     return 1;
 }
 
-/* Newton steps of q (7) on the chain towards p, r, joint `free` held; the last error size. */
+/* Newton steps of q (7) on the chain towards p, r, joint `free` held; the last error size. Each
+   step solves J s = e (6x6, partial pivoting): the minimum-norm step of the Python form, which
+   damps J J^T by 1e-14, where J is regular; else that damped step. */
 static double held_polish(const Seed *S, double *q, int free, const double *p, const double *r)
 {
-    double size = INFINITY;
+    double size = INFINITY, held[12];
+    const double *start = S->base;
+    int first = 0;
+    if (free == 0) { /* the held first joint's frame, once */
+        chain_step(S->modified[0] != 0.0, S->a[0], S->cos_alpha[0], S->sin_alpha[0], S->d[0],
+                   q[0] + S->theta[0], S->base, held);
+        start = held;
+        first = 1;
+    }
     for (int step = 0; step <= HELD_STEPS; step++) {
-        double T[12], axis[7][3], origin[7][3], e[6], J[6][6];
-        held_frames(S, q, T, axis, origin);
+        double T[12], axis[7][3], origin[7][3], e[6], J[6][6], A[36], s[6];
+        held_frames(S, start, first, q, T, axis, origin);
         size = held_error(T, p, r, e);
         if (step == HELD_STEPS || !(size > HELD_TOL && size < 1.0)) break;
         int moving[6];
@@ -128,18 +143,23 @@ static double held_polish(const Seed *S, double *q, int free, const double *p, c
             J[3][c] = z[0], J[4][c] = z[1], J[5][c] = z[2];
             c++;
         }
-        double JJt[36];
-        for (int i = 0; i < 6; i++)
-            for (int k = 0; k < 6; k++) {
-                double s = i == k ? HELD_DAMPING : 0.0;
-                for (int c = 0; c < 6; c++) s += J[i][c] * J[k][c];
-                JJt[6 * i + k] = s;
+        memcpy(A, J, sizeof A);
+        memcpy(s, e, sizeof s);
+        if (!held_solve6(A, s)) { /* J singular: J^T (J J^T + 1e-14 I)^-1 e */
+            for (int i = 0; i < 6; i++)
+                for (int k = 0; k < 6; k++) {
+                    double sum = i == k ? HELD_DAMPING : 0.0;
+                    for (int c = 0; c < 6; c++) sum += J[i][c] * J[k][c];
+                    A[6 * i + k] = sum;
+                }
+            if (!held_solve6(A, e)) return INFINITY;
+            for (int c = 0; c < 6; c++) {
+                s[c] = 0.0;
+                for (int i = 0; i < 6; i++) s[c] += J[i][c] * e[i];
             }
-        if (!held_solve6(JJt, e)) return INFINITY;
+        }
         for (int c = 0; c < 6; c++) {
-            double delta = 0.0;
-            for (int i = 0; i < 6; i++) delta += J[i][c] * e[i];
-            delta = delta < -HELD_CLIP ? -HELD_CLIP : delta > HELD_CLIP ? HELD_CLIP : delta;
+            double delta = s[c] < -HELD_CLIP ? -HELD_CLIP : s[c] > HELD_CLIP ? HELD_CLIP : s[c];
             q[moving[c]] += delta;
         }
     }
