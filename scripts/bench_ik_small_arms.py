@@ -10,7 +10,8 @@ Valkyrie forearm). TRAC-IK returns one answer; we return every branch, each veri
 with the free joint stated) and on the full pose (``ours: pose``); TRAC-IK solves the full pose
 (it takes no position-only target). Seed: ``q = 0`` moved into the limits. The solvers take
 turns target by target, in an order rotated each target; the medians are of single calls,
-success is judged by Pinocchio on that URDF (1e-5 m, 1e-4 rad for poses, inside the limits).
+success is judged by Pinocchio on that URDF (1e-5 m, 1e-4 rad for poses, inside the limits), and
+so is each rejected answer (on target, outside the limits: a rounded arm's are listed unpolished).
 ``ratio`` is our median over TRAC-IK's.
 
     python scripts/bench_ik_small_arms.py
@@ -134,8 +135,9 @@ def corpus_file(corpus: Path, relative: str) -> Path:
     return Path(name)
 
 
-#: One timed call: (target pose, seed) -> joint vectors it returns.
-Call = Callable[[pin.SE3, np.ndarray], list[np.ndarray]]
+#: One timed call: (target pose, seed) -> the joint vectors it returns as answers, and those it
+#: returns as rejected (outside the limits; TRAC-IK: none).
+Call = Callable[[pin.SE3, np.ndarray], tuple[list[np.ndarray], list[np.ndarray]]]
 
 
 def urdf_of(robot: RobotModel, source: Path) -> tuple[Path, str, str]:
@@ -153,23 +155,30 @@ def ours(robot: RobotModel, position_only: bool) -> Call:
     """Our documented call on a position or a full pose (the target built in the call)."""
     solver = get_solver(robot)
 
-    def call(target: pin.SE3, seed: np.ndarray) -> list[np.ndarray]:
+    def call(target: pin.SE3, seed: np.ndarray) -> tuple[list[np.ndarray], list[np.ndarray]]:
         goal = (
             PositionTarget(target.translation)
             if position_only
             else PoseTarget(target.translation, target.rotation)
         )
-        return [s.q for s in solver.solve(goal, seed).solutions]
+        result = solver.solve(goal, seed)
+        return [s.q for s in result.solutions], [s.q for s in result.rejected]
 
     return call
 
 
 def on_target(
-    judge: Judge, q: np.ndarray, target: pin.SE3, position_only: bool, lower, upper
-) -> bool:  # noqa: ANN001
-    """Whether ``q`` is inside the limits and reaches the position (or the pose)."""
+    judge: Judge,
+    q: np.ndarray,
+    target: pin.SE3,
+    position_only: bool,
+    lower,  # noqa: ANN001
+    upper,  # noqa: ANN001
+    inside: bool = True,
+) -> bool:
+    """Whether ``q`` reaches the position (or the pose) and is inside the limits (or outside)."""
     q = np.asarray(q, dtype=float)
-    if not (np.all(q >= lower - 1e-9) and np.all(q <= upper + 1e-9)):
+    if bool(np.all(q >= lower - 1e-9) and np.all(q <= upper + 1e-9)) != inside:
         return False
     reached = judge.pose(q)
     if np.linalg.norm(reached.translation - target.translation) >= POSITION_TOL:
@@ -195,12 +204,13 @@ def get_argument_parser() -> ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Print one row per arm and solver: success, median single call, answers, ratio."""
+    """Print one row per arm and solver: success, median single call, answers, rejected, ratio."""
     args = get_argument_parser().parse_args(argv)
     print(
         f"{'arm':<14} {'solver':<46} {'success':>8} {'median':>10} {'answers':>8} {'false':>6} "
-        f"{'ratio':>6}   (answers: valid per target; false: answers off target or outside the "
-        "limits; ratio: median over TRAC-IK's)"
+        f"{'rejected':>8} {'ratio':>6}   (answers: valid per target; false: answers off target or "
+        "outside the limits, or rejected ones off target or inside; rejected: per target, on "
+        "target outside the limits; ratio: median over TRAC-IK's)"
     )
     print(
         "TRAC-IK returns one answer per call; ours returns every branch of the closed form, "
@@ -230,7 +240,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{arm:<14} TRAC-IK: {peer}")
         else:
             label, prepare, solve = peer
-            calls[label] = ((lambda t, s, p=prepare, f=solve: f(p(t), s)), False)
+            calls[label] = ((lambda t, s, p=prepare, f=solve: (f(p(t), s), [])), False)
         rng = np.random.default_rng(11)
         qs = rng.uniform(
             np.maximum(lower, -np.pi), np.minimum(upper, np.pi), (args.targets, robot.nq)
@@ -241,6 +251,7 @@ def main(argv: list[str] | None = None) -> int:
         hits = dict.fromkeys(calls, 0)
         answers = dict.fromkeys(calls, 0)
         false = dict.fromkeys(calls, 0)
+        rejected = dict.fromkeys(calls, 0)
         keys = list(calls)
         clock = time.perf_counter
         for i, target in enumerate(targets):
@@ -248,7 +259,7 @@ def main(argv: list[str] | None = None) -> int:
             for key in keys[turn:] + keys[:turn]:
                 call, position_only = calls[key]
                 start = clock()
-                found = call(target, seed)
+                found, outside = call(target, seed)
                 times[key].append(clock() - start)
                 valid = [
                     q for q in found if on_target(judge, q, target, position_only, lower, upper)
@@ -256,6 +267,13 @@ def main(argv: list[str] | None = None) -> int:
                 hits[key] += bool(valid)
                 answers[key] += len(valid)
                 false[key] += len(found) - len(valid)
+                shown = [
+                    q
+                    for q in outside
+                    if on_target(judge, q, target, position_only, lower, upper, inside=False)
+                ]
+                rejected[key] += len(shown)
+                false[key] += len(outside) - len(shown)
         peer_median = next(
             (statistics.median(times[k]) for k in keys if not k.startswith("ours")), None
         )
@@ -264,7 +282,8 @@ def main(argv: list[str] | None = None) -> int:
             ratio = f"{median / peer_median:>6.2f}" if peer_median else f"{'-':>6}"
             print(
                 f"{arm:<14} {key:<46} {100.0 * hits[key] / len(targets):>7.1f}% "
-                f"{median * 1e6:>8.1f}us {answers[key] / len(targets):>8.2f} {false[key]:>6} {ratio}"
+                f"{median * 1e6:>8.1f}us {answers[key] / len(targets):>8.2f} {false[key]:>6} "
+                f"{rejected[key] / len(targets):>8.2f} {ratio}"
             )
     return 0
 

@@ -89,21 +89,24 @@ class ClosedFormBranches(UnpolishedVerification):
         ``keep_far``: a branch far outside the limits (:meth:`_far_outside`) is set aside as it
         is. Returns the polished branches in their order, and those set aside.
         """
-        judge, offsets = self._judge, self._offsets
+        judge, offsets, directions = self._judge, self._offsets, self._directions
         rotation = target.rotation if isinstance(target, PoseTarget) else None
-        signs = 1.0 if self._directions is None else self._directions  # q' <-> q (the judge's)
         far_outside = self._far_outside if keep_far else None
         moved, kept = [], []
         for branch, label in thetas:
             if far_outside is not None and far_outside(branch):
                 kept.append((branch, label))
                 continue
-            q = np.subtract(branch, offsets) * signs
+            q = np.array([theta - offset for theta, offset in zip(branch, offsets)])
+            if directions is not None:  # q' -> q (the judge's)
+                q = q * directions
             q = polish(
                 judge.model, judge.data, judge.frame_id, q, target.position, rotation, give_up=near
             )
             if q[0] == q[0]:  # not NaN: polished
-                moved.append((tuple(np.add(q * signs, offsets).tolist()), label))
+                if directions is not None:
+                    q = q * directions
+                moved.append((tuple([v + offset for v, offset in zip(q.tolist(), offsets)]), label))
         return moved, kept
 
     def _forward_seed(self, seed: npt.ArrayLike) -> npt.ArrayLike:

@@ -176,7 +176,7 @@ def polish(
             if give_up < math.inf and best_error == math.inf and not size <= give_up:
                 return np.full(len(q), np.nan)
             if size < best_error:
-                best, best_error = current.copy(), size
+                best, best_error = current, size  # current is replaced, never changed in place
             elif best_error < STALL:
                 break  # a residual the chain cannot remove (a near miss of a branch): no progress
             if size < POLISH_TOLERANCE:
