@@ -154,7 +154,7 @@ class General7RIK:
         if best is None:
             raise StructureError(table.name, "general 7R", "; ".join(failures))
         self._use(*best[1:])
-        snapped = ideal_form(table, self.lower, self.upper)
+        snapped = ideal_form(table, self.lower.tolist(), self.upper.tolist())
         if snapped is not None and 0 in fits:  # the snapped arm's form, if it recovers
             kept = self.free, self.structure, self._flips
             self._use(0, *fits[0])
@@ -226,7 +226,9 @@ class General7RIK:
         folds = np.full(n, np.inf)
         found = np.full((n, BRANCHES, 7), np.nan)
         for k, T in enumerate(targets):
-            found[k, :8] = self.ideal.branches_at(T[:3, 3], T[:3, :3], values[k : k + 1], folds[k : k + 1])[0]  # fmt: skip
+            at = self.ideal.branches_at(T[:3, 3], T[:3, :3], values[k : k + 1], folds[k : k + 1])
+            assert at is not None  # a full pose
+            found[k, :8] = at[0]
         doubt = folds < self.fold_margin
         found[doubt] = np.nan
         pose, branch = np.nonzero(np.isfinite(found).all(axis=2))
