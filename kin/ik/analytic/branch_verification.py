@@ -224,7 +224,8 @@ class BranchVerification:
         solver then).
         """
         tool, tool_position = self._judge.tool, self._judge.tool_position
-        lows, highs = self._joints_zero_seed if seed is self._zero_seed else self._joints(seed)
+        zero = seed is self._zero_seed or seed == self._zero_seed  # a zero seed's, computed once
+        lows, highs = self._joints_zero_seed if zero else self._joints(seed)
         offsets, lower, upper = self._offsets, self._lower, self._upper
         sub, lt, dist, array = operator.sub, operator.lt, math.dist, np.array
         tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
@@ -315,29 +316,20 @@ class UnpolishedVerification(BranchVerification):
     ) -> list[IKSolution]:
         """An idealised arm's branches far outside the limits, judged unpolished: the rejected.
 
-        Each (DH angles [rad]) is moved to the copies of :func:`wrap_into` (the least outside,
-        nearest the seed) and measured as it is (a position or pose target: ``p`` [m], ``r``):
-        one off target by at most :attr:`_miss_bound` ([m], [rad]) is rejected, with a reason
-        when off by more than the tolerances; farther ones are dropped (logged unless ``quiet``).
+        Each (DH angles [rad]) is measured as it is (a position or pose target: ``p`` [m], ``r``):
+        one off target by at most :attr:`_miss_bound` ([m], [rad]) is rejected, moved to the
+        copies of :func:`wrap_into` (the least outside, nearest the seed), with a reason when off
+        by more than the tolerances; farther ones are dropped (logged unless ``quiet``).
         """
-        judge, directions = self._judge, self._directions
-        joints = list(zip(self._offsets, seed, self._lower, self._upper))
+        judge, directions, offsets = self._judge, self._directions, self._offsets
+        limits = list(zip(seed, self._lower, self._upper))
         assert self._miss_bound is not None
         bound_p, bound_r = self._miss_bound
         tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
         r_target = None if r is None else r[0] + r[1] + r[2]
         rejected = []
         for thetas, label in branches:
-            q_list = []
-            for theta, (offset, s, low, high) in zip(thetas, joints):
-                v = theta - offset
-                if not (
-                    low <= v <= high
-                    and -FAST_COPY < v - s < FAST_COPY
-                    and -FAST_SEED < s < FAST_SEED
-                ):
-                    v = wrap_into(v, s, low, high)[0]  # else inside, the copy nearest the seed
-                q_list.append(v)
+            q_list = [theta - offset for theta, offset in zip(thetas, offsets)]
             q = np.array(q_list) if directions is None else np.array(q_list) * directions
             angle: float | None = None
             if r_target is None:
@@ -349,6 +341,17 @@ class UnpolishedVerification(BranchVerification):
                 if not quiet:
                     _log_miss(self.robot.name, label, position_error, angle)
                 continue
+            # Each angle's copy of wrap_into (the tool's pose is the same to round-off): an angle
+            # inside its limits and within FAST_COPY of the seed is its own.
+            wrapped = [
+                v
+                if low <= v <= high and -FAST_COPY < v - s < FAST_COPY
+                else wrap_into(v, s, low, high)[0]
+                for v, (s, low, high) in zip(q_list, limits)
+            ]
+            if wrapped != q_list:
+                q_list = wrapped
+                q = np.array(q_list) if directions is None else np.array(q_list) * directions
             on_target = position_error <= tol_p and (angle or 0.0) <= tol_r
             reason = "" if on_target else self._far_reason(q_list)
             rejected.append(IKSolution(q, label, False, position_error, angle, reason))
