@@ -6,12 +6,13 @@
  * the two to the same branches.
  *
  * Per pose: the right side of the loop at its 9 grid points -> Q (14x9); the left null space of
- * Q's last 8 columns (LAPACK dgesvd) -> the 12x12 matrix quadratic M2 x^2 + M1 x + M0; its 24x24
- * companion matrix on the better conditioned leading matrix (a 12x12 LU in C: lu12; dgesv) -> its eigenvalues
- * (dgeev), each (near-)real root's vector by inverse iteration on the 12x12 quadratic (the NumPy
- * path takes the companion's eigenvectors: the same line for a simple root) -> the joints, Newton-polished on the true chain, kept on
- * target, duplicates merged, ordered by joint 1. LAPACK comes from SciPy's cython_lapack
- * capsules at import (no link-time dependency).
+ * Q's last 8 columns (a Householder QR in C; LAPACK dgesvd where it is near rank-deficient) ->
+ * the 12x12 matrix quadratic M2 x^2 + M1 x + M0; its 24x24 companion matrix on the better
+ * conditioned leading matrix (a 12x12 LU in C: lu12; dgesv) -> its eigenvalues (dgeev's
+ * steps), each (near-)real root's vector by inverse iteration on the 12x12 quadratic (the NumPy
+ * path takes the companion's eigenvectors: the same line for a simple root) -> the joints,
+ * Newton-polished on the true chain, kept on target, duplicates merged, ordered by joint 1.
+ * LAPACK comes from SciPy's cython_lapack capsules at import (no link-time dependency).
  *
  * first_pass(arm, T, out, roots[, targets]): arm the float64 block of Formulation.twin_block
  * (layout in ARM_* below), T (N, 4, 4) the tool poses [m], out (N, 16, 6) the DH joint variables

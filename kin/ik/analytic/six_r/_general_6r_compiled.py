@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ._general_6r_chain import BRANCHES, distinct_again
+from ._general_6r_chain import BRANCHES, distinct, distinct_again
 
 
 def in_threads(
@@ -57,6 +57,13 @@ def unclean(out: np.ndarray, roots: np.ndarray) -> np.ndarray:
     """(N,) the poses a pass did not solve cleanly: fewer branches than real roots, or odd."""
     found = branch_count(out)
     return np.asarray((found < roots) | (found % 2 == 1))
+
+
+def merged(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """The distinct branches (n, 16, 6) [rad] of two answers (n, 16, 6) of the same n poses."""
+    both = np.concatenate((first, second), axis=1)
+    pose, branch = np.nonzero(~np.isnan(both[..., 0]))
+    return distinct(first.shape[0], pose, both[pose, branch])
 
 
 def _rows(out: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

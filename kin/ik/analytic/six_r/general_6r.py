@@ -97,6 +97,9 @@ NUDGES = tuple(
     )
 )
 
+#: The twin's nudges, one of each size: all six's branch counts (12,000 PiPER, M0609 poses).
+TWIN_NUDGES = (NUDGES[0], NUDGES[3], NUDGES[4])
+
 
 @dataclass(frozen=True, eq=False)
 class General6R:
@@ -252,7 +255,8 @@ class General6R:
 
         The first pass of every pose (in threads from
         :data:`~..seven_r.subproblems.PARALLEL_ROWS` poses), the poses it leaves unclean solved
-        again in the twin; a pose it cannot answer (a singular leading matrix) by the NumPy path.
+        again in the twin; a pose it cannot answer (a singular leading matrix) by the NumPy path,
+        one still unclean (or at a multiple root) by the NumPy path too, the twin's branches kept.
         """
         assert self._twin is not None
         module, block = self._twin
@@ -260,21 +264,23 @@ class General6R:
         T = np.ascontiguousarray(T)
         out, roots = np.empty((n, BRANCHES, 6)), np.empty(n)
         _compiled.in_threads(module.first_pass, block, T, out, roots)
-        answered = roots >= 0.0
+        answered, refused = roots >= 0.0, roots == -1.0  # refused: out's rows are not answers
         again = np.nonzero(answered & finite & _compiled.unclean(out, roots))[0]
         if again.size:
             if "cuts" not in self._blocks:  # the arm's further blocks, made once
                 self._blocks["fallbacks"] = tuple(f.twin_block() for f in self.fallbacks)
                 self._blocks["cuts"] = tuple(f.twin_block() for f in self._cuts)
             more, more_roots = out[again], roots[again]
-            blocks = (self._blocks["fallbacks"], self._blocks["cuts"])
-            _compiled.resolve(module.first_pass, T[again], more, more_roots, *blocks, NUDGES)
+            blocks = self._blocks["fallbacks"], self._blocks["cuts"]
+            _compiled.resolve(module.first_pass, T[again], more, more_roots, *blocks, TWIN_NUDGES)
             out[again] = more
             still = _compiled.unclean(more, more_roots) | (more_roots < 0.0)
             answered[again[still]] = False  # a multiple root, or still unclean: the NumPy path
         failed = np.nonzero(~answered & finite)[0]
         if failed.size:
-            out[failed] = self._numpy_path(T[failed], np.ones(failed.size, dtype=bool))
+            mine = np.where(refused[failed, None, None], np.nan, out[failed])
+            found = self._numpy_path(T[failed], np.ones(failed.size, dtype=bool))
+            out[failed] = _compiled.merged(found, mine)
         out[~finite] = np.nan
         return out
 
