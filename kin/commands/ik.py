@@ -385,7 +385,10 @@ def _print_result(
         values = "  ".join(f"{v:>{w}.4f}" for v, w in zip(units.from_si(solution.q), widths))
         error = None if free_rotation else solution.rotation_error
         rotation = "-" if error is None else f"{error:.3g}"
-        reason = f"  collides: {solution.reason}" if solution.reason else ""
+        reason = solution.reason
+        if reason.startswith(("self:", "scene:")):  # a collision-aware solve's reason
+            reason = f"collides: {reason}"
+        reason = f"  {reason}" if reason else ""
         print(
             f"{solution.branch:<{label}} {values}  {'ok' if solution.within_limits else 'OUT':>6}  "
             f"{solution.position_error / length:.3g}  {rotation}{reason}"

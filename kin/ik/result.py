@@ -35,8 +35,11 @@ class IKSolution:
         position_error: ``|p_fk(q) - p_target|`` [m].
         rotation_error: Angle of ``R_fk(q)^T R_target`` [rad]; None when the target does not
             constrain the orientation (a position target).
-        reason: Why a collision-aware solve (:mod:`kin.ik.collision_aware`) rejected it, e.g.
-            ``"self: forearm/base"`` or ``"scene: table"``; ``""`` otherwise.
+        reason: Why it is rejected, where more than the limits and errors say: a collision-aware
+            solve's (:mod:`kin.ik.collision_aware`) ``"self: forearm/base"`` or
+            ``"scene: table"``; a rounded arm's branch far outside the limits, judged without
+            its polish (:mod:`kin.ik.analytic.branch_verification`), names the joint farthest
+            out; ``""`` otherwise.
     """
 
     q: np.ndarray
@@ -130,8 +133,9 @@ class IKResult:
             :mod:`kin.ik.collision_aware`; the colliding answers are ``rejected``).
         message: One sentence for a person (e.g. how far out of reach the target is).
         solutions: Valid solutions (on target, within limits), closest to the seed first.
-        rejected: Solutions on target but outside the limits (or the best off-target attempt of a
-            numeric solver).
+        rejected: Solutions on target but outside the limits (a rounded arm's branch far outside
+            them judged unpolished, its ``reason`` set when it misses the target), colliding ones
+            with their ``reason``, or the best off-target attempt of a numeric solver.
         distance_to_workspace: For ``"out_of_reach"``, how far the target is from the reachable
             set [m]; else None.
         iterations: Iterations used (numeric solvers), 0 for closed form.
