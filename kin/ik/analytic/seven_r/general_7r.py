@@ -1,9 +1,7 @@
 """Closed form of any 7R arm for chosen values of a free end joint, over the 6R closed forms.
 
 Holding joint 1 or joint 7 of a seven-joint revolute arm leaves a 6R arm whose rows do not depend
-on the held value: only the target moves, ``T' = (B A_1(q_1))^-1 T`` (joint 1 held, ``B`` the
-base) or ``T' = T (A_7(q_7) M)^-1`` (joint 7 held, ``M`` the tool), with ``A_i`` the row's DH
-transform. That 6R arm is recognised once by the closed-form registry
+on the held value: only the target moves (:mod:`.held_end`). That 6R arm is recognised once by the closed-form registry
 (:func:`~kin.ik.analytic.registry.recognise_turned`): a special family where one fits (every
 branch in closed form), else the general elimination of :mod:`..six_r.general_6r`
 (Raghavan-Roth / Manocha-Canny). So every 7R table the humanoid7 and spherical-shoulder forms do
@@ -19,7 +17,9 @@ whose closed form recovers more of :data:`PROBES` sampled joint vectors from the
 forms when the 6R left is a special family's (tens of microseconds a solve); when it takes the
 general elimination (about 1 ms a solve, :attr:`General7RIK.costly`), after the seed-table
 stage, whose damped Newton answers such arms in a fraction of that. Starts are solved together
-and a scan of the free joint is one batched solve of its values (nearest to the start first).
+and a scan of the free joint is one batched solve of its values, nearest to the start first
+(:mod:`.free_value_scan`). An arm a snapped special form fits takes that form's branches,
+polished onto the arm (:mod:`.ideal_7r`).
 """
 
 from __future__ import annotations
@@ -33,66 +33,17 @@ import numpy.typing as npt
 from dh2urdf import DHTable
 
 from ...exceptions import StructureError
-from ...limit_rule import nearest_copies
-from ..closed_form_structure import ClosedFormStructure
 from ..registry import recognise_turned
-from ..six_r._general_6r_chain import BRANCHES, chain_transforms, polish
-from ..six_r.general_6r import KEEP_TOL, General6R
-from .ideal_7r import ideal_form
+from ..six_r.general_6r import General6R
+from . import free_value_scan
+from .held_end import HeldEnd, held_end, six_r_table
+from .ideal_7r import FOLD_PER_METER, held_branches, ideal_form
 from .seven_dof import SevenDofIK
 
 #: Sampled joint vectors by which the free joint is chosen, and their seed.
 PROBES = 16
 PROBE_SEED = 3
-#: The coarsest scan step [rad]: a finer one repeats a scan at this step value for value, each a
-#: 6R solve, so it is not run (the first free-joint scan of a call is at this step or coarser).
-SCAN_STEP = 0.05
-#: Values of a scan solved in the first batch after the start's own (the nearest ones).
-NEAR_VALUES = 16
-#: A held value where an equation of the snapped arm (:attr:`General7RIK.ideal`) is nearer a
-#: double root than this times its deviation [1/m] (:func:`~.subproblems.fold_distance`) is
-#: solved by the 6R closed form (Kinova Gen3: deviation 0.35 mm, branches lost up to 0.0034).
-FOLD_PER_METER = 60.0
 _TWO_PI = 2.0 * math.pi
-
-
-def dh_transforms(table: DHTable, row: int, values: np.ndarray) -> np.ndarray:
-    """The DH transforms (n, 4, 4) of one row (0-based) at joint values ``values`` (n,) [rad]."""
-    r = table.rows[row]
-    theta = r.theta + np.asarray(values, dtype=float)
-    ct, st = np.cos(theta), np.sin(theta)
-    ca, sa = math.cos(r.alpha), math.sin(r.alpha)
-    out = np.zeros((theta.size, 4, 4))
-    out[:, 3, 3] = 1.0
-    if table.convention == "standard":  # Rz(theta) Tz(d) Tx(a) Rx(alpha)
-        out[:, 0, 0], out[:, 0, 1], out[:, 0, 2], out[:, 0, 3] = ct, -st * ca, st * sa, r.a * ct
-        out[:, 1, 0], out[:, 1, 1], out[:, 1, 2], out[:, 1, 3] = st, ct * ca, -ct * sa, r.a * st
-        out[:, 2, 1], out[:, 2, 2], out[:, 2, 3] = sa, ca, r.d
-    else:  # Rx(alpha) Tx(a) Rz(theta) Tz(d)
-        out[:, 0, 0], out[:, 0, 1], out[:, 0, 3] = ct, -st, r.a
-        out[:, 1, 0], out[:, 1, 1], out[:, 1, 2], out[:, 1, 3] = st * ca, ct * ca, -sa, -r.d * sa
-        out[:, 2, 0], out[:, 2, 1], out[:, 2, 2], out[:, 2, 3] = st * sa, ct * sa, ca, r.d * ca
-    return out
-
-
-def _inverse(T: np.ndarray) -> np.ndarray:
-    """Inverses of rigid transforms (..., 4, 4)."""
-    out = np.zeros_like(T)
-    R = np.swapaxes(T[..., :3, :3], -1, -2)
-    out[..., :3, :3] = R
-    out[..., :3, 3] = -(R @ T[..., :3, 3:4])[..., 0]
-    out[..., 3, 3] = 1.0
-    return out
-
-
-def _six_r_table(table: DHTable, free: int) -> DHTable:
-    """The 6R arm left when end joint ``free`` (0 or 6) is held: its rows do not depend on it."""
-    import dataclasses
-
-    eye = np.eye(4)
-    if free == 6:
-        return dataclasses.replace(table, rows=table.rows[:6], T_last_tool=eye, name=table.name)
-    return dataclasses.replace(table, rows=table.rows[1:], T_world_base=eye, name=table.name)
 
 
 class General7RIK:
@@ -107,10 +58,11 @@ class General7RIK:
     Attributes:
         free: The held joint (0-based: 0 or 6).
         structure: The 6R closed form of the rest of the arm.
+        end: The arm with that joint held (:class:`~.held_end.HeldEnd`).
         ideal: The snapped arm's form (:mod:`.ideal_7r`) whose branches, polished with joint 1
             held, answer in place of ``structure`` (joint 1 is then the held one), or None.
         fold_margin: Within this of a double root of ``ideal`` (its
-            :func:`~.subproblems.fold_distance`), ``structure`` answers the value.
+            :func:`~.subproblems.fold_distance`), ``structure`` answers the value [m].
 
     Raises:
         StructureError: Not seven revolute joints, or no 6R closed form fits the arm left by
@@ -134,45 +86,42 @@ class General7RIK:
         poses = batch_forward_kinematics(table, probes)
         best: tuple | None = None
         failures = []
-        fits = {}
+        ends = {}
         self.ideal: SevenDofIK | None = None
         self.fold_margin = 0.0
         for free in (6, 0):
             try:
-                structure, _, flips = recognise_turned(_six_r_table(table, free))
+                structure, _, flips = recognise_turned(six_r_table(table, free))
             except StructureError as err:
                 failures.append(err.mismatch)
                 continue
-            fits[free] = structure, flips
-            self._use(free, structure, flips)
-            found = self.branches(poses, probes[:, free])
-            gap = np.abs(np.remainder(found - probes[:, None, :] + math.pi, _TWO_PI) - math.pi)
-            recovered = int((np.nan_to_num(gap, nan=np.inf).max(axis=2).min(axis=1) < 1e-6).sum())
+            ends[free] = held_end(table, free, structure, flips)
+            self._use(ends[free])
+            recovered = self._recovered(poses, probes)
             score = (not isinstance(structure, General6R), recovered, free == 6)
             if best is None or score > best[0]:
-                best = (score, free, structure, flips)
+                best = (score, ends[free])
         if best is None:
             raise StructureError(table.name, "general 7R", "; ".join(failures))
-        self._use(*best[1:])
+        self._use(best[1])
         snapped = ideal_form(table, self.lower.tolist(), self.upper.tolist())
-        if snapped is not None and 0 in fits:  # the snapped arm's form, if it recovers
-            kept = self.free, self.structure, self._flips
-            self._use(0, *fits[0])
+        if snapped is not None and 0 in ends:  # the snapped arm's form, if it recovers
+            self._use(ends[0])
             self.ideal, self.fold_margin = snapped[0], FOLD_PER_METER * snapped[1]
-            found = self.branches(poses, probes[:, 0])
-            gap = np.abs(np.remainder(found - probes[:, None, :] + math.pi, _TWO_PI) - math.pi)
-            if not (np.nan_to_num(gap, nan=np.inf).max(axis=2).min(axis=1) < 1e-6).all():
+            if self._recovered(poses, probes) < PROBES:
                 self.ideal = None
-                self._use(*kept)
+                self._use(best[1])
 
-    def _use(self, free: int, structure: ClosedFormStructure, flips: np.ndarray | None) -> None:
-        self.free = free
-        self.structure = structure
-        self._flips = flips
-        self._others = [i for i in range(7) if i != free]
-        table = self.table
-        self._outer = table.T_world_base if free == 0 else table.T_last_tool
-        self._chain = chain_transforms(_six_r_table(table, free))[0]
+    def _use(self, end: HeldEnd) -> None:
+        self.end = end
+        self.free = end.free
+        self.structure = end.structure
+
+    def _recovered(self, poses: np.ndarray, probes: np.ndarray) -> int:
+        """How many joint vectors ``probes`` (k, 7) [rad] are among their poses' branches."""
+        found = self.branches(poses, probes[:, self.free])
+        gap = np.abs(np.remainder(found - probes[:, None, :] + math.pi, _TWO_PI) - math.pi)
+        return int((np.nan_to_num(gap, nan=np.inf).max(axis=2).min(axis=1) < 1e-6).sum())
 
     @property
     def costly(self) -> bool:
@@ -197,58 +146,13 @@ class General7RIK:
 
         ``exact``: by the 6R closed form (:attr:`structure`) even where :attr:`ideal` answers.
         """
-        held = dh_transforms(self.table, self.free, values)
-        if self.free == 6:
-            sub = targets @ _inverse(held @ self._outer)
-        else:
-            sub = _inverse(self._outer @ held) @ targets
+        values = np.asarray(values, dtype=float)
+        sub = self.end.targets(targets, values)
         if self.ideal is not None and not exact:
-            q6 = self._held(targets, np.asarray(values, dtype=float), sub)
+            q6 = held_branches(self.ideal, self.fold_margin, self.end, targets, values, sub)
         else:
-            q6 = self._six_r(sub)
-        out = np.empty(q6.shape[:2] + (7,))
-        out[..., self._others] = q6
-        out[..., self.free] = np.asarray(values, dtype=float)[:, None]
-        return out
-
-    def _held(self, targets: np.ndarray, values: np.ndarray, sub: np.ndarray) -> np.ndarray:
-        """The snapped arm's branches (n, 16, 6) [rad] polished with the free joint held, NaN rows.
-
-        Its branches at each target's value (:attr:`ideal`, limits ignored), the other six
-        joints moved onto the 6R left (targets ``sub`` (n, 4, 4): :meth:`branches`) by
-        :func:`~..six_r._general_6r_chain.polish`, kept within :data:`KEEP_TOL`, in their order.
-        A value where one of the snapped arm's equations is within :attr:`fold_margin` of a
-        double root (:func:`~.subproblems.fold_distance`: the true arm may have a pair of
-        branches more or fewer there) is solved by the 6R closed form instead.
-        """
-        assert self.ideal is not None
-        n = values.shape[0]
-        folds = np.full(n, np.inf)
-        found = np.full((n, BRANCHES, 7), np.nan)
-        for k, T in enumerate(targets):
-            at = self.ideal.branches_at(T[:3, 3], T[:3, :3], values[k : k + 1], folds[k : k + 1])
-            assert at is not None  # a full pose
-            found[k, :8] = at[0]
-        doubt = folds < self.fold_margin
-        found[doubt] = np.nan
-        pose, branch = np.nonzero(np.isfinite(found).all(axis=2))
-        u, error = polish(self._chain, found[pose, branch][:, self._others], sub[pose])
-        keep = error <= KEEP_TOL
-        out = np.full((n, BRANCHES, 6), np.nan)
-        pose, u = pose[keep], u[keep]
-        slot = np.zeros(pose.size, dtype=int)  # each kept row's place among its pose's
-        if pose.size:
-            start = np.flatnonzero(np.r_[True, pose[1:] != pose[:-1]])
-            slot = np.arange(pose.size) - np.repeat(start, np.diff(np.r_[start, pose.size]))
-        out[pose, slot] = u
-        if doubt.any():
-            out[doubt] = self._six_r(sub[doubt])
-        return out
-
-    def _six_r(self, sub: np.ndarray) -> np.ndarray:
-        """The 6R closed form's branches (n, 16, 6) [rad] of targets ``sub`` (n, 4, 4), NaN rows."""
-        q6 = self.structure.solve_batch(sub[:, :3, 3], sub[:, :3, :3])
-        return q6 if self._flips is None else q6 * self._flips
+            q6 = self.end.six_r(sub)
+        return self.end.joint_vectors(q6, values)
 
     def branches_at(
         self,
@@ -266,23 +170,10 @@ class General7RIK:
             return None
         return self.branches(np.broadcast_to(target, (values.shape[0], 4, 4)), values, exact)
 
-    def _nearest_inside(self, branches: np.ndarray, start: np.ndarray) -> np.ndarray | None:
-        """The branch (7,) inside the limits nearest ``start``, or None.
-
-        Each joint goes to its 2 pi copy inside the limits nearest the start's value (the limit
-        rule, :func:`kin.ik.limit_rule.nearest_copies`).
-        """
-        chosen, inside = nearest_copies(branches, start, self.lower, self.upper)
-        ok = inside.all(axis=-1)
-        if not ok.any():
-            return None
-        rows = chosen[ok]
-        return rows[((rows - start) ** 2).sum(axis=1).argmin()]
-
     def first_each(self, targets: np.ndarray, starts: np.ndarray) -> np.ndarray:
         """Per target its start's branch, at the start's free value, inside the limits (no scan).
 
-        The batched :meth:`first` of one start per target: one 6R solve of all N targets.
+        One 6R solve of all N targets: :func:`.free_value_scan.first_each`.
 
         Args:
             targets: ``T_world_tool`` (N, 4, 4).
@@ -292,18 +183,7 @@ class General7RIK:
             (N, 7) [rad]: the branch nearest each start, NaN rows where there is none (or the
             start is not finite).
         """
-        starts = np.asarray(starts, dtype=float).reshape(-1, 7)
-        out = np.full(starts.shape, np.nan)
-        rows = np.flatnonzero(np.isfinite(starts).all(axis=1) & np.isfinite(targets).all((1, 2)))
-        if not rows.size:
-            return out
-        clipped = np.clip(starts[rows], self.lower, self.upper)
-        branches = self.branches(targets[rows], clipped[:, self.free])
-        for k, row in enumerate(rows.tolist()):
-            found = self._nearest_inside(branches[k], clipped[k])
-            if found is not None:
-                out[row] = found
-        return out
+        return free_value_scan.first_each(self, targets, starts)
 
     def first(
         self,
@@ -315,17 +195,16 @@ class General7RIK:
     ) -> int:
         """The first start from which a branch inside the limits reaches the target.
 
-        A start keeps its free joint's value (clipped into its limits); with ``step > 0`` and no
-        branch there, the free joint is scanned outward, ``v +- step``, ``v +- 2 step``, ...,
-        inside its limits, solved in batches (the nearest :data:`NEAR_VALUES` first), and the
-        nearest value with a branch is taken. A step finer than :data:`SCAN_STEP` scans nothing.
+        Each start at its own free value, or scanned outward from there by ``step``
+        (:func:`.free_value_scan.first`).
 
         Args:
             target: :meth:`prepare` of the target (None: no start reaches it).
             starts: Start joint vectors [rad] (k, 7); a row with a value that is not finite is
                 skipped.
             out: Receives the branch nearest that start [rad] (7,).
-            step: Free-joint scan step [rad] (0: no scan).
+            step: Free-joint scan step [rad] (0: no scan; finer than
+                :data:`~.free_value_scan.SCAN_STEP`: nothing).
             compiled: Unused (no compiled twin).
 
         Returns:
@@ -333,44 +212,4 @@ class General7RIK:
         """
         if target is None:
             return -1
-        starts = np.asarray(starts, dtype=float).reshape(-1, 7)
-        finite = np.isfinite(starts).all(axis=1)
-        clipped = np.clip(starts, self.lower, self.upper)
-        if not step > 0.0:  # every start at its own free value: one batched solve
-            rows = np.flatnonzero(finite)
-            if not rows.size:
-                return -1
-            targets = np.broadcast_to(target, (rows.size, 4, 4))
-            branches = self.branches(targets, clipped[rows, self.free])
-            for k, row in enumerate(rows.tolist()):
-                found = self._nearest_inside(branches[k], clipped[row])
-                if found is not None:
-                    out[:] = found
-                    return row
-            return -1
-        if step < SCAN_STEP:
-            return -1
-        for row in np.flatnonzero(finite).tolist():
-            found = self._scan(target, clipped[row], step)
-            if found is not None:
-                out[:] = found
-                return row
-        return -1
-
-    def _scan(self, target: np.ndarray, start: np.ndarray, step: float) -> np.ndarray | None:
-        """The branch nearest ``start`` at the free value nearest its own that has one, or None."""
-        low, high = self.lower[self.free], self.upper[self.free]
-        value = start[self.free]
-        count = int(max(value - low, high - value) // step)
-        ring = np.arange(1, count + 1) * step
-        values = np.concatenate(([value], np.stack((value + ring, value - ring), 1).ravel()))
-        values = values[(values >= low) & (values <= high)]
-        for chunk in (values[:1], values[1 : NEAR_VALUES + 1], values[NEAR_VALUES + 1 :]):
-            if not chunk.size:
-                continue
-            branches = self.branches(np.broadcast_to(target, (chunk.size, 4, 4)), chunk)
-            for k in range(chunk.size):
-                found = self._nearest_inside(branches[k], start)
-                if found is not None:
-                    return found
-        return None
+        return free_value_scan.first(self, target, starts, out, step)

@@ -7,7 +7,7 @@ of :func:`~kin.ik.analytic.idealised.idealise`, then every length below :data:`I
 the arm may be humanoid7's (:class:`~.seven_dof.SevenDofIK`, joint 1 free), whose branches at a
 free value are closed form (and compiled: ``held_rows``, ``kin/_native/_held7.h``).
 :class:`~.general_7r.General7RIK` then holds joint 1 and polishes each of those branches onto the
-true arm with joint 1 fixed (Newton on the 6R left,
+true arm with joint 1 fixed (:func:`held_branches`: Newton on the 6R left,
 :func:`~kin.ik.analytic.six_r._general_6r_chain.polish`), as ssik's ``srs_polished`` does for such
 arms; a value where the snapped arm is near a double root (within a margin proportional to the
 deviation: a pair of branches the true arm has there may be missing) is solved by the 6R
@@ -28,7 +28,10 @@ from kin.batch_fk import batch_forward_kinematics
 
 from ...exceptions import StructureError
 from ..idealised import FK_TOLERANCE, idealise
+from ..six_r._general_6r_chain import BRANCHES, polish
+from ..six_r.general_6r import KEEP_TOL
 from ..structure import seven_dof
+from .held_end import HeldEnd
 from .seven_dof import SevenDofIK
 
 #: Largest ``|a|`` or ``|d|`` snapped to zero [m] (the tool then strays at most
@@ -37,6 +40,10 @@ IDEAL_LENGTH = 1e-3
 #: Sampled joint vectors of the tool's deviation check, and their seed.
 SAMPLES = 256
 SAMPLE_SEED = 0
+#: A held value where an equation of the snapped arm is nearer a double root than this times its
+#: deviation [1/m] (:func:`~.subproblems.fold_distance`) is solved by the 6R closed form (Kinova
+#: Gen3: deviation 0.35 mm, branches lost up to 0.0034).
+FOLD_PER_METER = 60.0
 
 
 def ideal_table(table: DHTable) -> tuple[DHTable, float] | None:
@@ -87,3 +94,53 @@ def ideal_form(
         return SevenDofIK(seven_dof(snapped[0]), lower, upper), snapped[1]
     except StructureError:
         return None
+
+
+def held_branches(
+    ideal: SevenDofIK,
+    fold_margin: float,
+    end: HeldEnd,
+    targets: np.ndarray,
+    values: np.ndarray,
+    sub: np.ndarray,
+) -> np.ndarray:
+    """The snapped arm's branches (n, 16, 6) [rad] polished with joint 1 held, NaN rows.
+
+    The branches of ``ideal`` (:func:`ideal_form`, limits ignored) at each target's value, the
+    other six joints moved onto the true arm's 6R left (``end``, joint 1 held) by
+    :func:`~..six_r._general_6r_chain.polish`, kept within
+    :data:`~..six_r.general_6r.KEEP_TOL`, in their order. A value where one of the snapped
+    arm's equations is within ``fold_margin`` [m] of a double root
+    (:func:`~.subproblems.fold_distance`: the true arm may have a pair of branches more or
+    fewer there) is solved by the 6R closed form (:meth:`~.held_end.HeldEnd.six_r`) instead.
+
+    Args:
+        ideal: The snapped arm's form.
+        fold_margin: :data:`FOLD_PER_METER` times the snapped arm's deviation [m].
+        end: The true arm with joint 1 held.
+        targets: ``T_world_tool`` (n, 4, 4).
+        values: Joint-1 values [rad] (n,).
+        sub: ``end``'s targets (:meth:`~.held_end.HeldEnd.targets`) (n, 4, 4).
+    """
+    n = values.shape[0]
+    folds = np.full(n, np.inf)
+    found = np.full((n, BRANCHES, 7), np.nan)
+    for k, T in enumerate(targets):
+        at = ideal.branches_at(T[:3, 3], T[:3, :3], values[k : k + 1], folds[k : k + 1])
+        assert at is not None  # a full pose
+        found[k, :8] = at[0]
+    doubt = folds < fold_margin
+    found[doubt] = np.nan
+    pose, branch = np.nonzero(np.isfinite(found).all(axis=2))
+    u, error = polish(end.chain, found[pose, branch][:, end.others], sub[pose])
+    keep = error <= KEEP_TOL
+    out = np.full((n, BRANCHES, 6), np.nan)
+    pose, u = pose[keep], u[keep]
+    slot = np.zeros(pose.size, dtype=int)  # each kept row's place among its pose's
+    if pose.size:
+        start = np.flatnonzero(np.r_[True, pose[1:] != pose[:-1]])
+        slot = np.arange(pose.size) - np.repeat(start, np.diff(np.r_[start, pose.size]))
+    out[pose, slot] = u
+    if doubt.any():
+        out[doubt] = end.six_r(sub[doubt])
+    return out
