@@ -22,6 +22,10 @@ import numpy as np
 
 from ._general_6r_chain import BRANCHES, distinct, distinct_again
 
+#: Poses from which the first pass runs in threads (a pose costs about 0.1 ms: a block of 16
+#: outweighs a thread's hand-over many times).
+THREAD_ROWS = 32
+
 
 def in_threads(
     first_pass: Any, block: np.ndarray, T: np.ndarray, out: np.ndarray, roots: np.ndarray
@@ -29,12 +33,15 @@ def in_threads(
     """The twin's ``first_pass(block, T, out, roots)`` in row blocks over the processors.
 
     Its loop runs without the interpreter lock and each pose's answer is its own: the answers
-    of one call. Below :data:`~..seven_r.subproblems.PARALLEL_ROWS` poses, one call.
+    of one call. Below :data:`THREAD_ROWS` poses, or inside a batch thread, one call.
     """
-    from ..seven_r.subproblems import PARALLEL_ROWS, _pool, batch_threads
+    import threading
+
+    from ..seven_r.subproblems import _pool, batch_threads
 
     n, workers = T.shape[0], batch_threads()
-    if n < PARALLEL_ROWS or workers < 2:
+    inside = threading.current_thread().name.startswith("kin-batch")
+    if n < THREAD_ROWS or workers < 2 or inside:
         first_pass(block, T, out, roots)
         return
     bounds = np.linspace(0, n, 4 * workers + 1).astype(int).tolist()

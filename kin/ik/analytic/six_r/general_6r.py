@@ -254,7 +254,7 @@ class General6R:
         """The branches (N, 16, 6) [rad] of poses ``T`` in the twin (:mod:`._general_6r_compiled`).
 
         The first pass of every pose (in threads from
-        :data:`~..seven_r.subproblems.PARALLEL_ROWS` poses), the poses it leaves unclean solved
+        :data:`._general_6r_compiled.THREAD_ROWS` poses), the poses it leaves unclean solved
         again in the twin; a pose it cannot answer (a singular leading matrix) by the NumPy path,
         one still unclean (or at a multiple root) by the NumPy path too, the twin's branches kept.
         """
