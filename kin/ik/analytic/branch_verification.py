@@ -112,6 +112,8 @@ class BranchVerification:
     _joints_zero_seed: tuple[tuple[float, ...], tuple[float, ...]]
     _twin: Any
     _solutions: Any
+    #: The smallest error [m] or [rad] of the branches the last :meth:`_verify` dropped (inf: none).
+    _nearest_miss: float = math.inf
     _seed_list: Callable[[npt.ArrayLike | None], list[float]]
     _failure: Callable[..., IKResult]
 
@@ -221,7 +223,8 @@ class BranchVerification:
         """Per branch: the joint vector, the judge's errors, and where it goes (valid, rejected, dropped).
 
         ``quiet``: a branch off target is dropped without a warning (the caller asks another
-        solver then).
+        solver then). The smallest error of those dropped ([m] or [rad], inf: none) is kept in
+        :attr:`_nearest_miss`.
         """
         tool, tool_position = self._judge.tool, self._judge.tool_position
         zero = seed is self._zero_seed or seed == self._zero_seed  # a zero seed's, computed once
@@ -239,6 +242,7 @@ class BranchVerification:
             tx, ty, tz = structure.approach_in_tool
         valid: list[tuple[float, IKSolution]] = []
         rejected: list[IKSolution] = []
+        nearest_miss = math.inf
         has_offsets = self._has_offsets
         directions = self._directions
         for thetas, label in branches.thetas:
@@ -277,12 +281,14 @@ class BranchVerification:
             if position_error > tol_p or (angle is not None and angle > tol_r):
                 if not quiet:
                     _log_miss(self.robot.name, label, position_error, angle)
+                nearest_miss = min(nearest_miss, max(position_error, angle or 0.0))
                 continue
             solution = IKSolution(q, label, inside, position_error, angle)
             if inside:
                 valid.append((dist(q_list, seed), solution))
             else:
                 rejected.append(solution)
+        self._nearest_miss = nearest_miss
         return valid, rejected
 
 

@@ -44,6 +44,7 @@ from .closed_form_structure import (
     DetailedStructure,
 )
 from .idealised import Idealised, idealise
+from .idealised_fallback import UnprovedCall
 from .joint_directions import forward_table, mirrored_limits, reversed_joints
 from .registry import recognise_turned
 
@@ -257,10 +258,18 @@ class ClosedFormSolver(ClosedFormRoutes):
                 return self._solve_numeric(target, seed, timeout)
             raise kind_error(self.robot.name, self.target_kinds, target)
         with self._lock:
-            return self._solve_closed(target, seed, start)
+            return self._solve_closed(target, seed, start, timeout)
 
-    def _solve_closed(self, target: Target, seed: npt.ArrayLike | None, start: float) -> IKResult:
-        """:meth:`solve` of a target the closed form takes (under the solver's lock)."""
+    def _solve_closed(
+        self, target: Target, seed: npt.ArrayLike | None, start: float, timeout: float | None
+    ) -> IKResult:
+        """:meth:`solve` of a target the closed form takes (under the solver's lock).
+
+        A rounded arm's target none of whose polished branches is valid is answered by
+        :meth:`~.idealised_fallback.IdealisedFallback._unproved` (``timeout``: its numeric
+        search's cap [s]).
+        """
+        arm_seed = seed
         if self._directions is not None and seed is not None:
             seed = self._forward_seed(seed)
         seed_list = self._seed_list(seed)
@@ -269,10 +278,15 @@ class ClosedFormSolver(ClosedFormRoutes):
         p = target.position.tolist()
         r = target.rotation.tolist() if isinstance(target, PoseTarget) else None
         branches = self._branches(target, seed_list)
-        if branches.status == "out_of_reach":
+        rounded = self.idealised is not None and not isinstance(target, PitchTarget)
+        if branches.status == "out_of_reach" and not rounded:
             return self._failure("out_of_reach", branches.message, start, branches.gap, target)
-        if self.idealised is not None and not isinstance(target, PitchTarget):
+        if rounded:
+            found = bool(branches.thetas)  # before the polish takes those far outside away
             valid, rejected = self._verify_polished(target, branches, seed_list, p, r)
+            if not valid:
+                call = UnprovedCall(seed_list, arm_seed, start, timeout)
+                return self._unproved(target, branches, found, rejected, call)
             method = "closed_form_polished"
         else:
             valid, rejected = self._verify(target, branches, seed_list, p, r)

@@ -73,8 +73,10 @@ class ClosedFormBranches(UnpolishedVerification):
         if valid:
             rejected += self._verify_far(far, seed, p, r, quiet)
             return valid, rejected
+        missed = self._nearest_miss
         polished = Branches(self._polish_each(far, target, near)[0])
         valid, more = self._verify(target, polished, seed, p, r, quiet)
+        self._nearest_miss = min(missed, self._nearest_miss)  # of both calls
         return valid, rejected + more
 
     def _polish_each(

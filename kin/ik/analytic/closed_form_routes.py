@@ -19,9 +19,9 @@ import numpy.typing as npt
 
 from ..result import IKResult
 from ..target import PoseTarget, Target
-from .closed_form_branches import ClosedFormBranches
 from .closed_form_structure import candidate_branches
 from .idealised import FK_TOLERANCE, Idealised
+from .idealised_fallback import IdealisedFallback
 
 #: An idealised arm's branch of a pose's projection is polished onto the pose (the pose route)
 #: when its tool on the true chain is within this [m] and [rad] of the pose: ten times the
@@ -29,7 +29,7 @@ from .idealised import FK_TOLERANCE, Idealised
 IDEAL_NEAR = 10.0 * FK_TOLERANCE
 
 
-class ClosedFormRoutes(ClosedFormBranches):
+class ClosedFormRoutes(IdealisedFallback):
     """The partial-pose and numeric routes of :class:`~.closed_form.ClosedFormSolver` (mixed in)."""
 
     idealised: Idealised | None
@@ -116,7 +116,9 @@ class ClosedFormRoutes(ClosedFormBranches):
         polished on the true chain first (:func:`.idealised.polish`), the far ones dropped, those
         far outside the limits judged unpolished (:meth:`_verify_polished`).
         None when none does (no warning): the partial-pose solver then gives the nearest pose,
-        or the answer at its looser tolerances.
+        or the answer at its looser tolerances. A rounded arm's branches all on target outside
+        the limits, each isolated (:meth:`~.idealised_fallback.IdealisedFallback._isolated`),
+        give ``outside_limits`` here, as the partial-pose solver gives an exact arm's.
         """
         if self._directions is not None and seed is not None:
             seed = self._forward_seed(seed)
@@ -138,6 +140,8 @@ class ClosedFormRoutes(ClosedFormBranches):
                 target, branches, seed_list, p, r, quiet=True, near=IDEAL_NEAR
             )
             method = "closed_form_polished"
+            if not valid and self._outside_proved(rejected, target):
+                return self._result([], rejected, branches.status, branches.message, start)
         else:
             valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
             method = "closed_form"
