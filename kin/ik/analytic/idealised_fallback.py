@@ -18,10 +18,12 @@ branches give no valid solution, before saying "no" the solver:
    ``acos(1/sqrt 3)`` of the boundary's normal.
 2. **The answer when it is proved.** No branch at the target nor at any of the six: the ideal
    arm's set misses the target by more than the bound (the premise above): ``out_of_reach``
-   (with the distance to the reach when the target lies beyond it). Only branches on target
-   outside the limits, each isolated (:meth:`IdealisedFallback._isolated`: a square or taller
-   Jacobian whose polish moves a joint less than :data:`~.branch_verification.OUTSIDE_MARGIN`,
-   or a redundant target's branch farther than that margin outside): ``outside_limits``.
+   (with the distance to the reach when the target lies beyond it; beyond the reach plus the
+   nudge, without trying the nudges). Only branches on target outside the limits, each
+   isolated (:meth:`IdealisedFallback._isolated`: the polish moves a joint less than
+   :data:`~.branch_verification.OUTSIDE_MARGIN` there; a redundant target's branch also lies
+   farther than that margin outside), and none dropped near the target: ``outside_limits``
+   (checked first when the target itself has branches; the nudges then cannot add a valid one).
 3. **Else a numeric search** (:class:`~kin.ik.numeric.solver.NumericIK`, bounded by its work:
    the same answer on a busy machine), its answers polished and judged at the closed form's
    tolerances (its own answer when the polish does not reach them); none found: the branches
@@ -105,6 +107,8 @@ class IdealisedFallback(ClosedFormBranches):
         seed, start = call.seed, call.start
         if had_branches and self._outside_proved(rejected, target):
             return self._result([], rejected, branches.status, branches.message, start)
+        if not had_branches and self._beyond(target):
+            return self._failure("out_of_reach", self._no_branch(branches), start, None, target)
         p = target.position.tolist()
         r = target.rotation.tolist() if isinstance(target, PoseTarget) else None
         valid, more, found = self._nudged(target, seed, p, r)
@@ -112,12 +116,29 @@ class IdealisedFallback(ClosedFormBranches):
             return self._result(valid, rejected, "ok", "", start, "closed_form_polished")
         if not had_branches:  # the nudges' branches are the only ones
             if not found:
-                message = branches.message or f"no {self.structure.name} branch reaches the target"
+                message = self._no_branch(branches)
                 return self._failure("out_of_reach", message, start, branches.gap, target)
             rejected = more
             if self._outside_proved(rejected, target):
                 return self._result([], rejected, "ok", "", start)
         return self._searched(target, rejected, call)
+
+    def _no_branch(self, branches: Branches) -> str:
+        """Why the ideal arm has no branch (its structure's words, else the default)."""
+        return branches.message or f"no {self.structure.name} branch reaches the target"
+
+    def _beyond(self, target: Target) -> bool:
+        """Whether the target is farther from the base than the arm reaches and the nudges go.
+
+        The reach (:func:`kin.ik.reach.arm_reach`, the true arm's) plus :data:`NUDGE` times the
+        position bound [m]: no nudged target there has a branch; the nudges are not tried.
+        """
+        from ..reach import arm_reach
+
+        assert self.idealised is not None
+        reach = arm_reach(self.robot)
+        margin = NUDGE * self.idealised.position_bound
+        return reach.distance(target.position) > reach.maximum + margin
 
     def _nudged(
         self, target: Target, seed: list[float], p: list[float], r: list[list[float]] | None
