@@ -9,8 +9,9 @@ the seed). A structure with a compiled twin that verifies (the 6R closed forms,
 table's plain DH product in C as the judge instead of Pinocchio (``tests/test_six_r_twins.py``
 checks that both paths return the same solutions and errors). A rounded table is solved on its
 idealised geometry and every branch polished on the true chain (:mod:`.idealised`), but those far
-outside the limits, judged as they are (:mod:`.branch_verification`); a target
-kind the closed form does not take goes to the numeric or the partial-pose solver.
+outside the limits, judged as they are (:mod:`.branch_verification`); when none is valid,
+:mod:`.idealised_fallback` looks further before it says "no" (``out_of_reach`` only when proved).
+A target kind the closed form does not take goes to the numeric or the partial-pose solver.
 """
 
 from __future__ import annotations
