@@ -1,6 +1,6 @@
 /*
  * The Python side of a 6R twin (solve, verify, the module set-up; see _six_r_twin.h), included
- * by _ur_wrist.c and _spherical_wrist.c after their Params and solve_one.
+ * by _three_parallel.c and _pieper_arms.c after their Params and solve_one.
  */
 #ifndef KIN_IK_ANALYTIC_SIX_R_MODULE_H
 #define KIN_IK_ANALYTIC_SIX_R_MODULE_H

@@ -1,6 +1,7 @@
 /*
- * What the compiled twins of the two 6R closed forms share (_ur_wrist.c, _spherical_wrist.c): the
- * tool pose brought to standard frame 6 in frame 0 (_six_r.TargetFrame.scalar), the wrap to
+ * What the compiled twins of the 6R closed forms share (_three_parallel.c, _pieper_arms.c,
+ * _general6r.c, its verifier only): the tool pose brought to standard frame 6 in frame 0
+ * (_six_r.TargetFrame.scalar), the wrap to
  * (-pi, pi] (_six_r.wrap), and the Python functions of the module:
  *
  * solve(params, positions, rotations, free, out) -> None
