@@ -32,20 +32,35 @@ MAX_LOSSES = 3
 
 @contextmanager
 def _sigint_held() -> Iterator[None]:
-    """SIGINT blocked meanwhile, delivered on exit: a process forked inside starts with it blocked.
+    """SIGINT held meanwhile and delivered on exit: a process forked inside starts with it blocked.
 
     Without it a Ctrl-C that lands while the pool forks a worker reaches the worker before the
-    worker ignores it.
+    worker ignores it, or interrupts the parent between the fork and the worker's entry in the
+    pool. Blocking the signal in this thread is not enough: the kernel then delivers it to
+    another thread of the process (OpenBLAS's, say) and Python still runs the handler here, at
+    once; so the handler only notes it meanwhile, and the previous one runs on exit.
     """
     main = threading.current_thread() is threading.main_thread()
-    if not (main and hasattr(signal, "pthread_sigmask")):
+    if not main:
         yield
         return
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    noted: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
+    mask = (
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        if hasattr(signal, "pthread_sigmask")
+        else None
+    )
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        if mask is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a pending one is noted here
+        signal.signal(signal.SIGINT, previous)
+        if noted and callable(previous):
+            previous(signal.SIGINT, None)  # Python's default raises KeyboardInterrupt
+        elif noted and previous == signal.SIG_DFL:
+            signal.raise_signal(signal.SIGINT)  # the default action, now
 
 
 def _serve(conn: Any, function: Callable[[Any], Any]) -> None:

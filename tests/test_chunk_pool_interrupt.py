@@ -45,3 +45,45 @@ def test_a_ctrl_c_right_after_a_fork_kills_that_worker_too(monkeypatch):
         child.kill()
         child.join()
     assert left == []
+
+
+@pytest.mark.skipif(
+    "fork" not in multiprocessing.get_all_start_methods()
+    or threading.current_thread() is not threading.main_thread(),
+    reason="needs fork and the main thread (signals)",
+)
+def test_a_ctrl_c_taken_by_another_thread_right_after_a_fork_kills_that_worker_too(monkeypatch):
+    """The same Ctrl-C, received by another thread of the process (the kernel's choice when this
+    one blocks SIGINT: OpenBLAS's threads, say): Python runs the handler in this thread at once.
+    KeyboardInterrupt after the worker is in the pool, no child left; on 20 runs."""
+    go, sent = threading.Event(), threading.Event()
+
+    def ctrl_c_from_another_thread() -> None:  # its signal mask is this test's: SIGINT open
+        while go.wait():
+            go.clear()
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+            os.kill(os.getpid(), signal.SIGINT)
+            sent.set()
+
+    threading.Thread(target=ctrl_c_from_another_thread, daemon=True).start()
+    start = multiprocessing.context.ForkProcess.start
+
+    def start_then_ctrl_c(self):  # noqa: ANN001
+        start(self)
+        sent.clear()
+        go.set()
+        sent.wait(5.0)
+        for _ in range(1000):  # give the main thread's eval loop the chance to run a handler
+            pass
+
+    monkeypatch.setattr(multiprocessing.context.ForkProcess, "start", start_then_ctrl_c)
+    for _ in range(20):
+        before = set(multiprocessing.active_children())
+        with pytest.raises(KeyboardInterrupt):
+            for _ in run_unordered(_square, iter(range(100)), workers=2):
+                pass
+        left = [child for child in multiprocessing.active_children() if child not in before]
+        for child in left:
+            child.kill()
+            child.join()
+        assert left == []
