@@ -19,7 +19,7 @@ from dh_reference import fk_frames, load_reference, rotation_angle
 import dh2urdf
 from kin import load_robot
 from kin.ik import PoseTarget, get_solver
-from kin.ik.numeric import all_branches
+from kin.ik.numeric import all_branches, branch_arm
 
 TABLES = Path(dh2urdf.__file__).resolve().parent / "tables"  # the installed package's
 #: The shipped 7R arms with a compiled free-joint form (spherical shoulder, SevenDof).
@@ -29,19 +29,19 @@ TARGETS = 12
 
 def _solver(name: str):
     solver = get_solver(load_robot(name))
-    if all_branches._arm(solver, solver.closed_form).compiled is None:
+    if branch_arm.branch_arm(solver, solver.closed_form).compiled is None:
         pytest.skip(f"{name}: the compiled twin of its closed form is not built")
     return solver
 
 
 def _python_path(solver, target, seed=None):
     """The answer of the NumPy path (the compiled call switched off for this form)."""
-    saved = all_branches._arm(solver, solver.closed_form)
-    all_branches._remember(solver, dataclasses.replace(saved, compiled=None, sift=None))
+    saved = branch_arm.branch_arm(solver, solver.closed_form)
+    branch_arm._remember(solver, dataclasses.replace(saved, compiled=None, sift=None))
     try:
         return solver.solve(target, seed, all_branches=True)
     finally:
-        all_branches._remember(solver, saved)
+        branch_arm._remember(solver, saved)
 
 
 def _rows(solutions) -> np.ndarray:
@@ -91,7 +91,7 @@ def test_the_twin_gives_the_python_paths_branches_in_its_order(name):
 def test_a_near_miss_hands_the_target_back_to_the_python_path():
     """Every branch a near miss (tolerances below rounding): the twin answers None."""
     solver = _solver("panda")
-    call = all_branches._arm(solver, solver.closed_form).compiled
+    call = branch_arm.branch_arm(solver, solver.closed_form).compiled
     q = np.array([0.3, -0.4, 0.2, -1.9, 0.1, 1.6, 0.5])
     pose = fk_frames(load_reference(TABLES / "panda.toml"), q[None])[0, -1]
     target = PoseTarget(pose[:3, 3], pose[:3, :3])
@@ -107,7 +107,7 @@ def test_a_near_miss_hands_the_target_back_to_the_python_path():
 def test_a_target_that_is_not_a_finite_pose_is_handed_back():
     """A NaN in the target: None (the Python path says what is wrong)."""
     solver = _solver("panda")
-    call = all_branches._arm(solver, solver.closed_form).compiled
+    call = branch_arm.branch_arm(solver, solver.closed_form).compiled
 
     class Pose:
         position = np.array([np.nan, 0.0, 0.5])
@@ -136,7 +136,7 @@ def test_the_general_form_is_sifted_in_c_as_in_python():
     table = make_table(a, alpha, d, theta, "standard", base, tool, name="r7")
     solver = get_solver(kin.robot_from_table(table))
     assert isinstance(solver.closed_form, General7RIK)
-    arm = all_branches._arm(solver, solver.closed_form)
+    arm = branch_arm.branch_arm(solver, solver.closed_form)
     if arm.sift is None:
         pytest.skip("the compiled twins are not built")
     ones = np.ones(7)

@@ -79,10 +79,16 @@ def test_every_branch_reaches_the_pose_and_the_seed_is_among_them(name):
 
 
 @pytest.mark.parametrize("name", SHIPPED_7R)
-def test_without_all_branches_the_answer_is_unchanged_and_among_the_branches(name):
-    """The default call gives one answer, the same as all_branches=False, and every branch has it."""
+def test_without_all_branches_the_answer_is_unchanged_and_among_its_value_s_branches(name):
+    """The default call gives one answer, the same as all_branches=False; at its free value, a branch.
+
+    The branches at the seed's free value are all there (every one the form gives at that value,
+    judged by the NumPy DH product), nearest the seed first.
+    """
     robot = load_robot(name)
     solver = get_solver(robot)
+    free = solver.closed_form.free
+    reference = load_reference(TABLES / f"{robot.name}.toml")
     q_all, poses = _targets(robot, 3, seed=7)
     seed = np.clip(np.zeros(7), robot.lower, robot.upper)
     for pose in poses:
@@ -91,10 +97,22 @@ def test_without_all_branches_the_answer_is_unchanged_and_among_the_branches(nam
         assert len(usual.solutions) == 1
         again = solver.solve(target, seed, all_branches=False)
         np.testing.assert_array_equal(usual.solutions[0].q, again.solutions[0].q)
+        at_its_value = solve_all_branches(
+            solver, target, seed, free_values=[usual.solutions[0].q[free]]
+        )
+        rows = np.array([s.q for s in at_its_value.solutions])
+        assert np.abs(rows - usual.solutions[0].q).max(axis=1).min() < 1e-5, f"{name=}"
         every = solver.solve(target, seed, all_branches=True)
         rows = np.array([s.q for s in every.solutions])
-        assert len(rows) >= 1
-        assert np.abs(rows - usual.solutions[0].q).max(axis=1).min() < 1e-5, f"{name=}"
+        distance = np.linalg.norm(rows - seed, axis=1)
+        assert (np.diff(distance) >= 0).all(), f"{name=}: not nearest the seed first"
+        at_seed = solve_all_branches(solver, target, seed, free_values=[seed[free]])
+        for branch in at_seed.solutions:
+            if branch.q[free] != seed[free]:
+                continue  # none at the seed's value: the usual answer instead
+            assert np.abs(rows - branch.q).max(axis=1).min() < 1e-12, f"{name=}: lost at the seed"
+            reached = fk_frames(reference, branch.q[None])[0, -1]
+            assert np.abs(reached - pose).max() < 1e-9
 
 
 def test_a_position_target_gets_the_usual_answer():

@@ -28,7 +28,7 @@ from kin.ik import PoseTarget, get_solver
 from kin.ik.analytic.seven_r.general_7r import General7RIK
 from kin.ik.analytic.seven_r.ideal_7r import ideal_form
 from kin.ik.analytic.seven_r.seven_dof import SevenDofIK
-from kin.ik.numeric import all_branches
+from kin.ik.numeric import branch_arm
 
 GEN3 = Path(__file__).resolve().parent / "data" / "seven_r" / "gen3.toml"
 POSES = 12
@@ -102,7 +102,7 @@ def test_all_branches_through_the_twin_is_the_python_paths(gen3):
     solver = get_solver(kin.robot_from_table(table))
     closed = solver.closed_form
     assert isinstance(closed, General7RIK) and closed.ideal is not None
-    arm = all_branches._arm(solver, closed)
+    arm = branch_arm.branch_arm(solver, closed)
     if arm.rows is None:
         pytest.skip("the compiled twins are not built")
     rng = np.random.default_rng(8)
@@ -111,11 +111,11 @@ def test_all_branches_through_the_twin_is_the_python_paths(gen3):
     for pose, seed in zip(poses, seeds):
         target = PoseTarget(pose[:3, 3], pose[:3, :3])
         fast = solver.solve(target, seed, all_branches=True)
-        all_branches._remember(solver, dataclasses.replace(arm, sift=None, rows=None))
+        branch_arm._remember(solver, dataclasses.replace(arm, sift=None, rows=None))
         try:
             slow = solver.solve(target, seed, all_branches=True)
         finally:
-            all_branches._remember(solver, arm)
+            branch_arm._remember(solver, arm)
         q_fast = np.array([s.q for s in fast.solutions]).reshape(-1, 7)
         q_slow = np.array([s.q for s in slow.solutions]).reshape(-1, 7)
         assert fast.message == slow.message and q_fast.shape[0] > 1

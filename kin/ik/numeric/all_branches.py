@@ -1,14 +1,18 @@
 """``NumericIK.solve(..., all_branches=True)``: the redundancy of a 7R arm exposed, branch by branch.
 
-The usual answer is solved first (:meth:`~.solver.NumericIK.solve`, unchanged). Then, on an arm
-with a free-joint closed form (:mod:`.free_joint`: Panda, FR3, xArm7, humanoid7, iiwa, Gen3, any
+On an arm with a free-joint closed form (:mod:`.free_joint`: Panda, FR3, xArm7, humanoid7, iiwa, Gen3, any
 7R URDF it fits) and a full-pose target, every branch of the closed form at a stated set of
 free-joint values:
 
 - :data:`~kin.ik.analytic.seven_r.branches7.GRID` values evenly spaced over the free joint's
   range (:func:`~kin.ik.analytic.seven_r.branches7.free_grid`: the midpoints of equal cells, over
   one turn at most, the other turns as copies);
-- the seed's value (the seed moved inside the limits first) and the usual answer's.
+- the seed's value (the seed moved inside the limits first).
+
+The usual answer (:meth:`~.solver.NumericIK.solve`) is not solved: it may lie at another value
+of the free joint (a seed-table sample's, a scan's), and it is one of the branches at its own
+value (``free_values=[q[free]]``). With no branch at these values, the call is the usual one
+(an answer elsewhere, or its status says why there is none: ``out_of_reach``, ``timeout``, ...).
 
 Each branch goes into the limits in every ``2 pi`` copy of its joints
 (:func:`~kin.ik.analytic.seven_r.branches7.windings`) and is measured by the judge's batched
@@ -22,7 +26,7 @@ the result's ``rejected``.
 
 Where the form has a compiled twin (:class:`~kin.ik.analytic.seven_r.seven_dof.SevenDofIK`,
 :class:`~kin.ik.analytic.seven_r.spherical_shoulder7.SphericalShoulder7RIK` on a table of
-revolute rows turning forward), all of it after the usual answer is one C call
+revolute rows turning forward), each set of values is one C call
 (``all_branches``, ``kin/_native/_branches7.h``): the same steps in the same order, the judge's
 errors by the table's DH product; a near miss hands the target back to this module's path
 (``tests/test_all_branches_twin.py`` holds the two to the same answers).
@@ -32,31 +36,25 @@ Any other arm or target (a position, a mask, an axis) gets the usual answer.
 
 from __future__ import annotations
 
-import bisect
-import dataclasses
 import functools
-import math
 import time
-import weakref
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from kin.batch_fk import batch_forward_kinematics
-from kin.configuration import default_seed, seed_inside
+from kin.configuration import seed_inside
 
 from ..analytic.idealised import polish
-from ..analytic.seven_r.branches7 import GRID, branches_over, distinct, free_grid, windings
-from ..analytic.seven_r.general_7r import General7RIK
-from ..analytic.seven_r.seven_dof import SevenDofIK
-from ..analytic.six_r.general_6r import KEEP_TOL
+from ..analytic.seven_r.branches7 import GRID, branches_over, distinct, windings
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, batch_pose_errors
 from ..result import IKResult, IKSolution
 from ..target import PoseTarget
-from .free_joint import METHOD, chain_block, seed_block
+from .branch_arm import BranchArm, branch_arm, form_rows
+from .free_joint import METHOD
 from .numeric_target import NumericTarget
+from .search import PIPELINE
 
 #: Largest pose error of a returned branch [m] and [rad] (the closed forms' rounding is far below).
 BRANCH_TOLERANCE = 1e-9
@@ -81,10 +79,10 @@ def solve_all_branches(
         target: Tool target (a :class:`~kin.ik.PoseTarget` without mask or a
             :class:`NumericTarget` with a rotation gets every branch; any other the usual answer).
         seed: Start joint vector [rad], moved into the limits; None: the solver's default.
-        free_values: The free-joint values [rad] instead of the grid, the seed's and the usual
-            answer's (the peer comparison asks at the values of ssik's answers).
-        position_tol: Success tolerance of the usual answer [m].
-        rotation_tol: Success tolerance of the usual answer [rad].
+        free_values: The free-joint values [rad] instead of the grid and the seed's (the peer
+            comparison asks at the values of ssik's answers).
+        position_tol: Success tolerance [m] (a branch's is at most :data:`BRANCH_TOLERANCE`).
+        rotation_tol: Success tolerance [rad] (a branch's is at most :data:`BRANCH_TOLERANCE`).
         **options: The rest of :meth:`NumericIK.solve`'s options (``timeout``, ...).
 
     Returns:
@@ -92,35 +90,75 @@ def solve_all_branches(
         answer's result when the arm or target has none (or none verifies).
     """
     start = time.perf_counter()
-    result = ik.solve(target, seed, position_tol=position_tol, rotation_tol=rotation_tol, **options)
     closed = ik.closed_form
     rotation = getattr(target, "rotation", None)
     full_pose = (target.__class__ is PoseTarget and target.mask is None) or isinstance(  # type: ignore[attr-defined]
         target, NumericTarget
     )
+    usual = functools.partial(
+        ik.solve, target, seed, position_tol=position_tol, rotation_tol=rotation_tol, **options
+    )
     if closed is None or not hasattr(closed, "branches_at") or rotation is None or not full_pose:
-        return result
-    if result.status == "invalid_target":
-        return result
-    arm = _arm(ik, closed)
+        return usual()
+    if not getattr(target, "finite", True):
+        return usual()  # its invalid_target
+    arm = branch_arm(ik, closed)
     free = arm.free
     near = arm.near if seed is None else seed_inside(ik.robot, ik.seed_vector(seed))
     near = np.asarray(near, dtype=float)
-    if free_values is None:  # np.unique of the grid, the seed's value and the answer's
-        values = list(arm.grid)
-        for value in (float(near[free]), *(float(s.q[free]) for s in result.solutions)):
-            at = bisect.bisect_left(values, value)
-            if at == len(values) or values[at] != value:
-                values.insert(at, value)
-        grid = np.array(values)
+    tolerances = (min(BRANCH_TOLERANCE, position_tol), min(BRANCH_TOLERANCE, rotation_tol))
+    if free_values is None:
+        grid = _with(np.array(arm.grid), float(near[free]))
     else:
         grid = np.unique(np.asarray(free_values, dtype=float))
-    tolerances = (min(BRANCH_TOLERANCE, position_tol), min(BRANCH_TOLERANCE, rotation_tol))
+    found = _found(ik, arm, closed, target, rotation, grid, near, tolerances)
+    if not found[0]:
+        return usual()  # none at these values: the usual answer, or why there is none
+    solutions, rejected = found
+    return IKResult(
+        True,
+        PIPELINE,
+        "ok",
+        f"{len(solutions)} branches at {grid.size} values of joint {free + 1} (a grid of "
+        f"{GRID} over its range, the seed's), each verified"
+        if free_values is None
+        else f"{len(solutions)} branches at {grid.size} given values of joint {free + 1}",
+        solutions,
+        rejected,
+        time=time.perf_counter() - start,
+        method=METHOD,
+    )
+
+
+def _with(grid: np.ndarray, value: float) -> np.ndarray:
+    """The sorted ``grid`` [rad] with ``value`` [rad] in its place (once)."""
+    at = int(np.searchsorted(grid, value))
+    if at < grid.size and grid[at] == value:
+        return grid
+    return np.insert(grid, at, value)
+
+
+def _found(
+    ik: Any,
+    arm: BranchArm,
+    closed: Any,
+    target: Any,
+    rotation: Any,
+    grid: np.ndarray,
+    near: np.ndarray,
+    tolerances: tuple[float, float],
+) -> tuple[tuple[IKSolution, ...], tuple[IKSolution, ...]]:
+    """The branches at ``grid`` inside the limits, nearest ``near`` first, and those rejected.
+
+    The compiled twin's when the form has one (a near miss hands the target back), else the
+    general form's sifted rows, else :func:`_branches`; ``((), ())`` when the form does not
+    take the target.
+    """
     found = None
     if arm.compiled is not None:
         found = arm.compiled(target, grid, *arm.limits, near, *tolerances, NEAR_MISS, *_MADE)
     elif arm.sift is not None:
-        rows = _form_rows(closed, target, grid) if arm.rows is None else arm.rows(target, grid)
+        rows = form_rows(closed, target, grid) if arm.rows is None else arm.rows(target, grid)
         if rows is not None:
             found = arm.sift(target, rows, *arm.limits, near, *tolerances, NEAR_MISS, *_MADE)
     if found is None:
@@ -128,23 +166,7 @@ def solve_all_branches(
         found = _branches(
             ik, closed, position, np.array(rotation, dtype=float), grid, near, tolerances
         )
-    if found is None or not found[0]:
-        return result
-    solutions, rejected = found
-    return IKResult(
-        True,
-        result.solver,
-        "ok",
-        f"{len(solutions)} branches at {grid.size} values of joint {free + 1} (a grid of "
-        f"{GRID} over its range, the seed's, the answer's), each verified"
-        if free_values is None
-        else f"{len(solutions)} branches at {grid.size} given values of joint {free + 1}",
-        solutions,
-        rejected,
-        iterations=result.iterations,
-        time=time.perf_counter() - start,
-        method=METHOD,
-    )
+    return ((), ()) if found is None else found
 
 
 def _branches(
@@ -181,138 +203,6 @@ def _branches(
 
 #: The classes and the array maker the compiled ``all_branches`` builds its answer with.
 _MADE = (IKSolution, np.empty)
-
-
-@dataclasses.dataclass(frozen=True)
-class _Arm:
-    """What every call on one solver shares, made once (:func:`_arm`).
-
-    Attributes:
-        free: The free joint (0-based).
-        grid: The :func:`free_grid` values [rad] over its range.
-        near: The default seed moved inside the limits [rad].
-        limits: The lower and upper limits, C-contiguous float64 (7,) [rad].
-        compiled: The twin's ``all_branches`` bound to the Params of the same form without
-            limits (joints in ``[-pi, pi]``, as ``branches_at``) and the Seed block of the table
-            (:func:`.free_joint.seed_block`: the judge's DH product); None: the Python path.
-        sift: A form without that twin (the general 7R form): a twin's ``sift_rows`` bound to
-            the table's chain (:func:`.free_joint.chain_block`), which takes the form's own
-            branches from there; None: the Python path.
-        rows: The general 7R form on a snapped arm's form (``General7RIK.ideal``): its twin's
-            ``held_rows`` (:func:`_held_rows`), the form's branches without the NaN rows (as
-            :func:`_form_rows`); None: :func:`_form_rows`.
-    """
-
-    free: int
-    grid: tuple[float, ...]
-    near: np.ndarray
-    limits: tuple[np.ndarray, np.ndarray]
-    compiled: Callable[..., Any] | None
-    sift: Callable[..., Any] | None
-    rows: Callable[[Any, np.ndarray], np.ndarray | None] | None = None
-
-
-#: Each live solver's :class:`_Arm` by its ``id`` (with a weak reference to it: the entry leaves
-#: with the solver), a plain dict lookup per call.
-_ARMS: dict[int, tuple[weakref.ref[Any], _Arm]] = {}
-
-
-def _remember(ik: Any, arm: _Arm) -> None:
-    """Keep ``arm`` as the solver ``ik``'s, until ``ik`` is gone."""
-    key = id(ik)
-    _ARMS[key] = (weakref.ref(ik, lambda _gone: _ARMS.pop(key, None)), arm)
-
-
-def _arm(ik: Any, closed: Any) -> _Arm:
-    """The :class:`_Arm` of the solver ``ik`` with its free-joint closed form ``closed``."""
-    entry = _ARMS.get(id(ik))
-    if entry is not None and entry[0]() is ik and entry[1].free == closed.free:
-        return entry[1]
-    free = int(closed.free)
-    grid = free_grid(float(ik.lower[free]), float(ik.upper[free]), GRID)
-    compiled = sift = rows = None
-    block = seed_block(closed, ik.robot.table, (0.0, 0.0, 0.0), 0.0)
-    if block is not None and hasattr(closed.twin, "all_branches"):
-        unlimited = _unlimited(closed)
-        compiled = functools.partial(closed.twin.all_branches, unlimited.c_params.tobytes(), block)
-    elif isinstance(closed, General7RIK) and hasattr(SevenDofIK.twin_module, "sift_rows"):
-        block = chain_block(ik.robot.table, SevenDofIK.twin_module)
-        if block is not None:
-            sift = functools.partial(SevenDofIK.twin_module.sift_rows, block)  # type: ignore[union-attr]
-            rows = _held_call(closed, ik.robot.table, block)
-    near = np.array(seed_inside(ik.robot, default_seed(ik.robot)), dtype=float)
-    limits = (np.ascontiguousarray(ik.lower, float), np.ascontiguousarray(ik.upper, float))
-    arm = _Arm(free, tuple(grid.tolist()), near, limits, compiled, sift, rows)
-    _remember(ik, arm)
-    return arm
-
-
-def _unlimited(closed: Any) -> Any:
-    """The same free-joint form without limits (joints in ``[-pi, pi]``, as ``branches_at``)."""
-    return type(closed)(closed.structure, [-math.pi] * 7, [math.pi] * 7)
-
-
-def _held_call(
-    closed: General7RIK, table: Any, block: bytes
-) -> Callable[[Any, np.ndarray], np.ndarray | None] | None:
-    """:func:`_held_rows` bound to the general form's snapped arm, or None (none, or no twin)."""
-    ideal = closed.ideal
-    if ideal is None or not hasattr(ideal.twin, "held_rows"):
-        return None
-    frames = seed_block(ideal, table, (0.0, 0.0, 0.0), 0.0)  # its frames: where targets go
-    if frames is None:
-        return None
-    params = _unlimited(ideal).c_params.tobytes()
-    return functools.partial(_held_rows, closed, ideal.twin.held_rows, params, frames, block)
-
-
-def _held_rows(
-    closed: General7RIK,
-    call: Callable[..., int],
-    params: bytes,
-    frames: bytes,
-    block: bytes,
-    target: Any,
-    grid: np.ndarray,
-) -> np.ndarray | None:
-    """:func:`_form_rows` of a general form on a snapped arm: its twin's ``held_rows``.
-
-    The values it leaves (near a double root of the snapped arm) are solved by the 6R closed
-    form (``branches_at(..., exact=True)``), their rows put in their place: the same rows in the
-    same order as the form's :meth:`~General7RIK.branches_at`. None when the target is not a
-    finite pose (the Python path says what is wrong).
-    """
-    out = np.empty((grid.size * 8, 7))
-    counts = np.empty(grid.size)
-    total = call(params, frames, block, target, grid, closed.free, KEEP_TOL, closed.fold_margin,
-                 out, counts)  # fmt: skip
-    if total < 0:
-        return None
-    left = np.flatnonzero(counts < 0)
-    if not left.size:
-        return out[:total]
-    position = np.asarray(getattr(target, "position"), dtype=float)
-    exact = closed.branches_at(position, np.asarray(target.rotation, dtype=float), grid[left], True)
-    assert exact is not None
-    pieces, start, extra = [], 0, iter(exact)
-    for count in counts.astype(int).tolist():
-        if count < 0:
-            rows = next(extra)
-            pieces.append(rows[np.isfinite(rows).all(axis=1)])
-        else:
-            pieces.append(out[start : start + count])
-            start += count
-    return np.ascontiguousarray(np.concatenate(pieces))
-
-
-def _form_rows(closed: Any, target: Any, grid: np.ndarray) -> np.ndarray | None:
-    """The form's branches at ``grid`` without their NaN rows (M, 7) [rad], not yet distinct."""
-    position = np.asarray(getattr(target, "position"), dtype=float)
-    found = closed.branches_at(position, np.asarray(target.rotation, dtype=float), grid)
-    if found is None:
-        return None
-    rows = found.reshape(-1, 7)
-    return np.ascontiguousarray(rows[np.isfinite(rows).all(axis=1)])
 
 
 def _errors(
