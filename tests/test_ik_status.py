@@ -13,7 +13,7 @@ from arm_tables import make_table
 from kin import load_robot, robot_from_table
 from kin.commands import ik
 from kin.configuration import default_seed, seed_inside
-from kin.ik import AxisTarget, PoseTarget, get_solver
+from kin.ik import AxisTarget, PoseTarget, PositionTarget, get_solver
 from kin.ik.numeric.solver import NumericIK
 from kin.ik.partial_pose import RANDOM_STARTS
 
@@ -92,6 +92,17 @@ def test_a_target_beyond_reach_is_out_of_reach():
     result = get_solver(_four_joint_arm()).solve(PoseTarget(np.array([5.0, 0, 0]), np.eye(3)))
     assert (result.success, result.status) == (False, "out_of_reach")
     assert result.distance_to_workspace > 3.0
+
+
+@pytest.mark.parametrize("kind", ["position", "pose"])
+def test_out_of_reach_within_the_reach_names_the_orientation_only_for_a_pose(kind):
+    """A closed form's "no" within the reach: "not with this orientation" only when one was given."""
+    solver = get_solver(load_robot("ur5"))
+    point = np.array([0.0, 0.0, 0.05])  # 0.05 m from the base, within UR5's 1 m reach
+    target = PositionTarget(point) if kind == "position" else PoseTarget(point, np.eye(3))
+    message, gap = solver._how_far("no branch reaches the target", target, None)
+    assert "within the arm's reach" in message and gap is None
+    assert ("not with this orientation" in message) == (kind == "pose"), message
 
 
 def test_an_orientation_a_four_joint_arm_lacks_is_not_found_after_every_start():

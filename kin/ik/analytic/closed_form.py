@@ -207,6 +207,8 @@ class ClosedFormSolver(ClosedFormRoutes):
             text = f"{beyond:.4g} m beyond the arm's reach ({reach.maximum:.4g} m from its base)"
             return f"{message}: the target is {text}", beyond
         text = f"{distance:.4g} m from the base, within the arm's reach of {reach.maximum:.4g} m"
+        if isinstance(target, PositionTarget):  # the reach's hollows, the structure's plane
+            return f"{message} (the target is {text})", gap
         return f"{message} (the target is {text}: not with this orientation)", gap
 
     def solve(
