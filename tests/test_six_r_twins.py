@@ -20,6 +20,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import subprocess
+import sys
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -32,6 +35,7 @@ from test_ik_ur_wrist import arm_table as ur_table
 
 import kin
 from dh2urdf import get_robot, load_table
+from kin._native import twin as built_twin
 from kin.ik import ClosedFormSolver, PoseTarget
 from kin.ik.analytic.six_r.six_r_twin import OFF_TARGET, OUTSIDE_LIMITS, TwinVerifier, check_params
 from kin.ik.analytic.six_r.spherical_wrist import SphericalWrist6R
@@ -384,3 +388,43 @@ def test_solutions_made_in_c_pickle_copy_and_stay_frozen():
         assert twin.rotation_error == solution.rotation_error
     with pytest.raises(dataclasses.FrozenInstanceError):
         solution.q = np.zeros(6)  # type: ignore[misc]
+
+
+@pytest.mark.parametrize(
+    ("module", "family", "tests", "arm"),
+    [
+        ("_pieper_arms", "pieper.Pieper6R", "test_ik_pieper", "general_standard_0"),
+        ("_three_parallel", "three_parallel.ThreeParallel6R", "test_ik_three_parallel",
+         "general_standard_0"),
+    ],
+)  # fmt: skip
+def test_a_twin_called_before_its_lapack_is_loaded_raises_instead_of_crashing(
+    module, family, tests, arm
+):
+    """A general arm's quartic met before ``load_lapack``: a RuntimeError, not a jump to NULL.
+
+    In a fresh process whose twin never loads LAPACK (its ``load_lapack`` replaced), the family's
+    solve of a pose of a general arm (one with a quartic) raises.
+    """
+    if built_twin(module) is None:
+        pytest.skip("the compiled twin is not built")
+    structure_module, structure = family.split(".")
+    code = f"""
+import sys
+sys.path.insert(0, {str(Path(__file__).parent)!r})
+import numpy as np
+import kin
+from kin.ik.analytic.six_r import {module} as twin
+twin.load_lapack = lambda *args: None  # never loaded
+from kin.ik.analytic.six_r.{structure_module} import {structure}
+from {tests} import arm_table
+table = arm_table({arm!r})
+pose = kin.batch_forward_kinematics(table, np.full((1, 6), 0.3))[0]
+try:
+    {structure}.recognise(table).solve(pose[:3, 3], pose[:3, :3])
+except RuntimeError as error:
+    assert "load_lapack" in str(error), error
+    print("raised")
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert (done.returncode, done.stdout.strip()) == (0, "raised"), done.stderr

@@ -50,6 +50,7 @@ static PyObject *solve(PyObject *self, PyObject *args)
         PyErr_SetString(PyExc_ValueError, error);
         return NULL;
     }
+    if (!quartic_ready()) return NULL;
     Py_RETURN_NONE;
 }
 
@@ -166,6 +167,7 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
     int valid[BRANCHES], rejected[BRANCHES], off[BRANCHES], n_valid = 0, n_rejected = 0,
                                                              n_off = 0, found = 0;
     solve_world(&P, pw, rw, 0.0, q);
+    if (!quartic_ready()) return NULL;
     check_branches(&C, pw, rw, seed, q, info);
     for (int b = 0; b < BRANCHES; b++) {
         if (isnan(q[b][0])) continue;

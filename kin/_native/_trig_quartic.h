@@ -48,6 +48,19 @@ static int quartic_load_scipy(void)
     return quartic_dgeev != NULL;
 }
 
+/* Set when quartic_candidates ran before load_lapack() (no dgeev: no candidates); cleared by
+   load_lapack(). */
+static volatile int quartic_missed = 0;
+
+/* 1, or 0 with a RuntimeError when a quartic was met before load_lapack() (its roots were not
+   found: the answer is void). Call after the work, with the GIL. */
+static int quartic_ready(void)
+{
+    if (!quartic_missed) return 1;
+    PyErr_SetString(PyExc_RuntimeError, "LAPACK's dgeev is not loaded: call load_lapack() first");
+    return 0;
+}
+
 /* load_lapack(address=0, ilp64=False): dgeev at address (NumPy's LAPACK, found by the caller
    with ctypes), else from SciPy. */
 static PyObject *load_lapack(PyObject *self, PyObject *args)
@@ -56,6 +69,7 @@ static PyObject *load_lapack(PyObject *self, PyObject *args)
     unsigned long long address = 0;
     int ilp64 = 0;
     if (!PyArg_ParseTuple(args, "|Kp", &address, &ilp64)) return NULL;
+    quartic_missed = 0;
     if (quartic_dgeev != NULL || quartic_dgeev64 != NULL) Py_RETURN_NONE;
     if (address != 0) {
         if (ilp64)
@@ -106,6 +120,10 @@ static void quartic_candidates(double e0, double ec, double es, double ec2, doub
     char no = 'N';
     double wr[4], wi[4], work[64], dummy[1];
     long long info = 0;
+    if (quartic_dgeev64 == NULL && quartic_dgeev == NULL) {
+        quartic_missed = 1; /* the caller raises (quartic_ready) */
+        return;
+    }
     if (quartic_dgeev64 != NULL) {
         long long n = 4, one = 1, lwork = 64;
         quartic_dgeev64(&no, &no, &n, m, &n, wr, wi, dummy, &one, dummy, &one, work, &lwork,
