@@ -12,6 +12,13 @@ from dh_reference import load_reference, random_configurations
 from dh2urdf import get_robot
 
 
+def pytest_collection_modifyitems(items):
+    """The browser tests in one pytest-xdist group: one worker runs them, one Chromium at a time."""
+    for item in items:
+        if item.get_closest_marker("browser") is not None:
+            item.add_marker(pytest.mark.xdist_group("browser"))
+
+
 @pytest.fixture(autouse=True, scope="session")
 def _private_seed_cache(tmp_path_factory):
     """The seed-table cache of the solvers goes to a temporary folder, not the user's cache."""
