@@ -7,7 +7,7 @@ worker. At most ``per_worker`` chunks are handed to each worker at a time, read 
 as workers free up, so that any number of chunks runs in bounded memory.
 
 Workers are forked with SIGINT blocked and ignore it once started: Ctrl-C is the parent's, even
-when it lands while the pool starts. On Ctrl-C, an error or the generator's close, the workers are
+when it lands while the pool starts; tasks are made with it held too (:func:`_next_task`). On Ctrl-C, an error or the generator's close, the workers are
 killed at once, not waited for.
 """
 
@@ -109,6 +109,18 @@ def _start(context: Any, function: Callable[[Any], Any], pool: list[_Worker]) ->
         child_end.close()  # the worker's death then reads as EOF here, never as a wait
 
 
+def _next_task(tasks: Iterator[Any]) -> Any:
+    """The next task (None: no more), made with SIGINT held.
+
+    A task made lazily may import a module on the way (NumPy imports ``numpy.random`` at its
+    first use), and a Ctrl-C raised inside a Cython module's import is swallowed by Cython's
+    ``collections.abc`` patch (printed as unraisable): the run would go on, its workers
+    ignoring Ctrl-C. Held, it is raised here, after the task is made.
+    """
+    with _sigint_held():
+        return next(tasks, None)
+
+
 def _kill(pool: list[_Worker]) -> None:
     """Kill every worker at once; a second Ctrl-C meanwhile is ignored (the run ends anyway)."""
     main = threading.current_thread() is threading.main_thread()
@@ -164,7 +176,7 @@ def run_unordered(
                 _start(context, function, pool)
             for worker in list(pool):
                 while len(worker.tasks) < per_worker:
-                    entry = again.popleft() if again else (next(tasks, None), 0)
+                    entry = again.popleft() if again else (_next_task(tasks), 0)
                     if entry[0] is None:
                         break
                     try:
