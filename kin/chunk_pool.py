@@ -113,9 +113,9 @@ def _next_task(tasks: Iterator[Any]) -> Any:
     """The next task (None: no more), made with SIGINT held.
 
     A task made lazily may import a module on the way (NumPy imports ``numpy.random`` at its
-    first use), and a Ctrl-C raised inside a Cython module's import is swallowed by Cython's
-    ``collections.abc`` patch (printed as unraisable): the run would go on, its workers
-    ignoring Ctrl-C. Held, it is raised here, after the task is made.
+    first use), and a KeyboardInterrupt raised at some moments of that import is lost (the
+    import completes, no exception, nothing printed): the run would go on, its workers ignoring
+    Ctrl-C. Held, it is raised here, after the task is made.
     """
     with _sigint_held():
         return next(tasks, None)
