@@ -19,9 +19,9 @@ configurations within the limits:
   checker's own pairs, the most often in contact first: kin.collision.pair_order), bare:
   ``check`` / ``bare`` is the wrapper's own cost (the input check of ``q``);
 * ``batch``: ``in_collision_batch`` over ``--batch`` configurations, per configuration, against
-  a Python loop of ``in_collision`` over the same ones, in four alternating rounds of a quarter
-  each (on a shared machine one long run of each measures the neighbours' load as much as the
-  code);
+  a Python loop of ``in_collision`` over the same ones, in seven alternating rounds of a
+  seventh each, each side's median round (on a shared machine one long run of each measures the
+  neighbours' load as much as the code; a sum of rounds, one slowed round);
 * ``mujoco``: ``mj_kinematics`` + ``mj_collision`` on the maker's URDF (meshes: MuJoCo's convex
   hulls, the same as the checker's) with the cell's geoms added, the checker's disabled pairs
   excluded; MuJoCo finds every contact (no early stop).
@@ -122,23 +122,25 @@ def _alternate(
     return [statistics.median(bucket) * 1e6 for bucket in times]
 
 
-def _loop_and_batch(checker, qs: np.ndarray, rounds: int = 4) -> tuple[float, float, bool]:
+def _loop_and_batch(checker, qs: np.ndarray, rounds: int = 7) -> tuple[float, float, bool]:
     """Time [us/configuration] of a loop of ``in_collision`` and of ``in_collision_batch``.
 
-    Alternating rounds over quarters of ``qs``; the third value: the verdicts agree.
+    Alternating rounds over sevenths of ``qs``, each side's median round (as the other figures,
+    a median: one round slowed by other work does not decide); the third value: the verdicts
+    agree.
     """
     clock = time.perf_counter
-    t_loop = t_batch = 0.0
+    loops, batches = [], []
     agree = True
     for chunk in np.array_split(qs, rounds):
         start = clock()
         looped = [checker.in_collision(q) for q in chunk]
-        t_loop += clock() - start
+        loops.append((clock() - start) / len(chunk))
         start = clock()
         batched = checker.in_collision_batch(chunk)
-        t_batch += clock() - start
+        batches.append((clock() - start) / len(chunk))
         agree &= list(map(bool, batched)) == list(map(bool, looped))
-    return t_loop / len(qs) * 1e6, t_batch / len(qs) * 1e6, agree
+    return statistics.median(loops) * 1e6, statistics.median(batches) * 1e6, agree
 
 
 def _mujoco_collide(robot, model) -> Callable[[np.ndarray], object] | None:
