@@ -22,6 +22,18 @@ def _square(x: int) -> int:
     return x * x
 
 
+def _interrupted_without_a_child_left(tasks, before: set) -> None:
+    """The pool over ``tasks`` raises KeyboardInterrupt and leaves no child beyond ``before``."""
+    with pytest.raises(KeyboardInterrupt):
+        for _ in run_unordered(_square, tasks, workers=2):
+            pass
+    left = [child for child in multiprocessing.active_children() if child not in before]
+    for child in left:  # do not leak them into the other tests
+        child.kill()
+        child.join()
+    assert left == []
+
+
 @pytest.mark.skipif(
     "fork" not in multiprocessing.get_all_start_methods()
     or threading.current_thread() is not threading.main_thread(),
@@ -37,14 +49,7 @@ def test_a_ctrl_c_right_after_a_fork_kills_that_worker_too(monkeypatch):
 
     monkeypatch.setattr(multiprocessing.context.ForkProcess, "start", start_then_ctrl_c)
     before = set(multiprocessing.active_children())
-    with pytest.raises(KeyboardInterrupt):
-        for _ in run_unordered(_square, iter(range(100)), workers=2):
-            pass
-    left = [child for child in multiprocessing.active_children() if child not in before]
-    for child in left:  # do not leak them into the other tests
-        child.kill()
-        child.join()
-    assert left == []
+    _interrupted_without_a_child_left(iter(range(100)), before)
 
 
 @pytest.mark.skipif(
@@ -79,14 +84,7 @@ def test_a_ctrl_c_taken_by_another_thread_right_after_a_fork_kills_that_worker_t
     monkeypatch.setattr(multiprocessing.context.ForkProcess, "start", start_then_ctrl_c)
     for _ in range(20):
         before = set(multiprocessing.active_children())
-        with pytest.raises(KeyboardInterrupt):
-            for _ in run_unordered(_square, iter(range(100)), workers=2):
-                pass
-        left = [child for child in multiprocessing.active_children() if child not in before]
-        for child in left:
-            child.kill()
-            child.join()
-        assert left == []
+        _interrupted_without_a_child_left(iter(range(100)), before)
 
 
 def _tasks_that_swallow_a_ctrl_c():
@@ -111,11 +109,4 @@ def _tasks_that_swallow_a_ctrl_c():
 def test_a_ctrl_c_while_a_task_is_made_is_not_lost_to_code_that_swallows_it():
     """Tasks are made with SIGINT held: the Ctrl-C is raised after the task, not inside it."""
     before = set(multiprocessing.active_children())
-    with pytest.raises(KeyboardInterrupt):
-        for _ in run_unordered(_square, _tasks_that_swallow_a_ctrl_c(), workers=2):
-            pass
-    left = [child for child in multiprocessing.active_children() if child not in before]
-    for child in left:
-        child.kill()
-        child.join()
-    assert left == []
+    _interrupted_without_a_child_left(_tasks_that_swallow_a_ctrl_c(), before)
