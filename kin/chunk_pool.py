@@ -7,8 +7,8 @@ worker. At most ``per_worker`` chunks are handed to each worker at a time, read 
 as workers free up, so that any number of chunks runs in bounded memory.
 
 Workers are forked with SIGINT blocked and ignore it once started: Ctrl-C is the parent's, even
-when it lands while the pool starts; tasks are made with it held too (:func:`_next_task`). On Ctrl-C, an error or the generator's close, the workers are
-killed at once, not waited for.
+when it lands while the pool starts; tasks are made with it held too (:func:`_next_task`). On
+Ctrl-C, an error or the generator's close, the workers are killed at once, not waited for.
 """
 
 from __future__ import annotations

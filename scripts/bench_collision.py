@@ -21,7 +21,7 @@ configurations within the limits:
 * ``batch``: ``in_collision_batch`` over ``--batch`` configurations, per configuration, against
   a Python loop of ``in_collision`` over the same ones, in seven alternating rounds of a
   seventh each, each side's median round (on a shared machine one long run of each measures the
-  neighbours' load as much as the code; a sum of rounds, one slowed round);
+  neighbours' load as much as the code, and a sum of rounds lets one slowed round decide);
 * ``mujoco``: ``mj_kinematics`` + ``mj_collision`` on the maker's URDF (meshes: MuJoCo's convex
   hulls, the same as the checker's) with the cell's geoms added, the checker's disabled pairs
   excluded; MuJoCo finds every contact (no early stop).

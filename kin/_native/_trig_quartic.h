@@ -53,10 +53,12 @@ static int quartic_load_scipy(void)
 static volatile int quartic_missed = 0;
 
 /* 1, or 0 with a RuntimeError when a quartic was met before load_lapack() (its roots were not
-   found: the answer is void). Call after the work, with the GIL. */
+   found: the answer is void); the flag is cleared, so a later call that meets no quartic (the UR
+   case) answers. Call after the work, with the GIL. */
 static int quartic_ready(void)
 {
     if (!quartic_missed) return 1;
+    quartic_missed = 0;
     PyErr_SetString(PyExc_RuntimeError, "LAPACK's dgeev is not loaded: call load_lapack() first");
     return 0;
 }

@@ -1,8 +1,8 @@
 """``NumericIK.solve(..., all_branches=True)``: the redundancy of a 7R arm exposed, branch by branch.
 
-On an arm with a free-joint closed form (:mod:`.free_joint`: Panda, FR3, xArm7, humanoid7, iiwa, Gen3, any
-7R URDF it fits) and a full-pose target, every branch of the closed form at a stated set of
-free-joint values:
+On an arm with a free-joint closed form (:mod:`.free_joint`: Panda, FR3, xArm7, humanoid7, iiwa,
+Gen3, any 7R URDF it fits) and a full-pose target, every branch of the closed form at a stated
+set of free-joint values:
 
 - :data:`~kin.ik.analytic.seven_r.branches7.GRID` values evenly spaced over the free joint's
   range (:func:`~kin.ik.analytic.seven_r.branches7.free_grid`: the midpoints of equal cells, over
@@ -108,7 +108,7 @@ def solve_all_branches(
     near = np.asarray(near, dtype=float)
     tolerances = (min(BRANCH_TOLERANCE, position_tol), min(BRANCH_TOLERANCE, rotation_tol))
     if free_values is None:
-        grid = _with(np.array(arm.grid), float(near[free]))
+        grid = _with(arm.grid, float(near[free]))
     else:
         grid = np.unique(np.asarray(free_values, dtype=float))
     found = _found(ik, arm, closed, target, rotation, grid, near, tolerances)
@@ -131,7 +131,7 @@ def solve_all_branches(
 
 
 def _with(grid: np.ndarray, value: float) -> np.ndarray:
-    """The sorted ``grid`` [rad] with ``value`` [rad] in its place (once)."""
+    """The sorted ``grid`` [rad] with ``value`` [rad] in its place (once; a new array if added)."""
     at = int(np.searchsorted(grid, value))
     if at < grid.size and grid[at] == value:
         return grid

@@ -34,7 +34,7 @@ class BranchArm:
 
     Attributes:
         free: The free joint (0-based).
-        grid: The :func:`free_grid` values [rad] over its range.
+        grid: The :func:`free_grid` values [rad] over its range, sorted, read-only.
         near: The default seed moved inside the limits [rad].
         limits: The lower and upper limits, C-contiguous float64 (7,) [rad].
         compiled: The twin's ``all_branches`` bound to the Params of the same form without
@@ -49,7 +49,7 @@ class BranchArm:
     """
 
     free: int
-    grid: tuple[float, ...]
+    grid: np.ndarray
     near: np.ndarray
     limits: tuple[np.ndarray, np.ndarray]
     compiled: Callable[..., Any] | None
@@ -87,7 +87,8 @@ def branch_arm(ik: Any, closed: Any) -> BranchArm:
             rows = _held_call(closed, ik.robot.table, block)
     near = np.array(seed_inside(ik.robot, default_seed(ik.robot)), dtype=float)
     limits = (np.ascontiguousarray(ik.lower, float), np.ascontiguousarray(ik.upper, float))
-    arm = BranchArm(free, tuple(grid.tolist()), near, limits, compiled, sift, rows)
+    grid.setflags(write=False)
+    arm = BranchArm(free, grid, near, limits, compiled, sift, rows)
     _remember(ik, arm)
     return arm
 
