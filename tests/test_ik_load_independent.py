@@ -1,11 +1,15 @@
-"""The answer does not depend on the machine's load (issue 32 item 3): the numeric pipeline and the
-mimic solver bound their search by work (starts, steps), and the timeout is only a cap.
+"""The answer does not depend on the machine's load (issue 32 item 3, issue 42 item 1): the
+numeric pipeline and the mimic solver bound their search by work (starts, steps), and the timeout
+is only a cap.
 
-A busy machine is played by a clock that runs several times faster than the real one
-(``time.perf_counter`` monkeypatched): every elapsed time the solvers measure is that many times
-longer, as on a machine that many times slower. The reference is a run on the real clock, with
-fresh solvers both times (their cold loads, the seed table and the MuJoCo model, fall inside the
-calls).
+A busy machine is played by a clock that moves a fixed step at each reading
+(``time.perf_counter`` monkeypatched): the time a solver measures counts its readings, the work
+done, and stands for a machine many times slower than this one, the same on every run whatever
+the real machine's load. The reference is a run on the real clock, with fresh solvers both times
+(their cold loads, the seed table and the MuJoCo model, fall inside the calls). Both runs are
+compared under a cap that neither reaches (:data:`NO_CAP`: tens of thousands of readings on the
+played clock, minutes on the real one), so no cap a loaded machine can reach enters the
+comparison; that a cap reached says ``timeout`` is tested apart, on the played clock.
 """
 
 from __future__ import annotations
@@ -28,23 +32,23 @@ from kin.ik.analytic.closed_form import ClosedFormSolver
 from kin.ik.numeric.search import MAX_ATTEMPTS
 from kin.ik.numeric.solver import DEFAULT_TIMEOUT, NumericIK
 from kin.mimic_arm import load_mimic_arm
+from kin.mimic_solver import DEFAULT_TIMEOUT as MIMIC_TIMEOUT
 from kin.mimic_solver import MimicSolver
 
 sys.path.insert(0, str(Path(__file__).parent))
 from test_urdf_mimic import _urdf  # noqa: E402  (the mimic 6R arm of the mimic tests)
 
-#: How many times slower the played machine is.
-SLOWDOWN = 5.0
+#: A cap no run here reaches [s]: the played clock would need 60,000 readings of
+#: :data:`NUMERIC_STEP` (the most a call here takes is under 2,000), the real clock ten minutes.
+NO_CAP = 600.0
 
+#: The played clock's step per reading for the numeric pipeline [s]: its longest calls here (over
+#: a thousand readings, well under a second on an idle machine) seem to take over ten seconds.
+NUMERIC_STEP = 0.01
 
-@contextmanager
-def slow_clock(monkeypatch: pytest.MonkeyPatch, factor: float):
-    """``time.perf_counter`` running ``factor`` times faster than the real clock."""
-    real = time.perf_counter
-    origin = real()
-    with monkeypatch.context() as patch:
-        patch.setattr(time, "perf_counter", lambda: origin + factor * (real() - origin))
-        yield
+#: The played clock's step for the mimic solver [s]: it reads the clock once per start (41 at
+#: most), so its longest calls seem to take about four seconds.
+MIMIC_STEP = 0.1
 
 
 @contextmanager
@@ -133,29 +137,43 @@ def _run(cases, **options) -> list:
     return answers
 
 
+def _same_or_capped(labels, idle, capped) -> int:
+    """How many of ``capped`` the cap stopped (each says so); each other one is its ``idle``
+    answer (``labels`` name the cases in a failure)."""
+    stopped = 0
+    for label, first, second in zip(labels, idle, capped, strict=True):
+        if second.status == "timeout":  # the cap came first: allowed, and it says so
+            assert "--timeout" in second.message and second.rejected, f"{label}: {second.message}"
+            stopped += 1
+        else:
+            assert _answer(second) == _answer(first), f"{label}: {second.message}"
+    return stopped
+
+
 def test_a_slow_machine_gets_the_answers_of_an_idle_one(monkeypatch):
     """80 targets (Panda poses and positions, humanoid7 near its limits, puma560 positions, some
-    not reachable): on a clock five times fast, every call the cap does not stop gives the same
-    status, stage and joint vectors as on the real clock; hardly any is stopped."""
+    not reachable): on a clock that moves 10 ms at each reading, with no cap in the way, every
+    call gives the status, stage and joint vectors of the real clock, the longest seeming to take
+    five times the default cap; under the default cap on that clock, each call gives the same
+    answer or says ``timeout``."""
     cases = _cases()
-    idle = _run(cases, timeout=600.0)  # no cap worth naming: a loaded test machine is not idle
+    labels = [f"{name} {target}" for name, _, target in cases]
+    idle = _run(cases, timeout=NO_CAP)
     assert all(result.status != "timeout" for result in idle), [r.message for r in idle]
     statuses = {result.status for result in idle}
     methods = {result.method for result in idle}
     # The targets reach every stage and both verdicts (else the test would prove little).
     assert {"ok", "not_found"} <= statuses, statuses
     assert {"closed_form_free_joint", "seed_table", "mink_qp"} <= methods, methods
-    with slow_clock(monkeypatch, SLOWDOWN):
-        busy = _run(cases)
-    capped = 0
-    for (name, _, target), first, second in zip(cases, idle, busy, strict=True):
-        if second.status == "timeout":  # the cap came first: allowed, and it says so
-            assert not first.success, f"{name=} {target=}: a solved target reached the cap"
-            capped += 1
-            assert "--timeout" in second.message
-            continue
-        assert _answer(second) == _answer(first), f"{name=} {target=} {second.message}"
-    assert capped < len(cases), "every call reached the cap"
+    with ticking_clock(monkeypatch, NUMERIC_STEP):
+        busy = _run(cases, timeout=NO_CAP)
+    assert _same_or_capped(labels, idle, busy) == 0
+    # The played machine is slow: the default cap would have stopped its longest calls.
+    assert max(result.time for result in busy) > 5 * DEFAULT_TIMEOUT
+    with ticking_clock(monkeypatch, NUMERIC_STEP):
+        capped = _run(cases)
+    stopped = _same_or_capped(labels, idle, capped)
+    assert 0 < stopped < len(cases), stopped  # both kinds, the same ones on every run
 
 
 def test_a_call_that_reaches_the_cap_says_timeout_with_its_best():
@@ -195,8 +213,11 @@ def test_a_search_stopped_by_a_slow_clock_says_timeout(monkeypatch, kind):
 
 
 def test_the_mimic_solver_answers_alike_on_a_slow_machine(tmp_path, monkeypatch):
-    """A 6R arm with a mimic joint: 12 reached poses and 4 turned ones give the same answers on a
-    clock five times fast; a 1 us cap on a far target says timeout with the hint."""
+    """A 6R arm with a mimic joint, 12 reached poses and 4 with turned tools: on a clock that
+    moves 0.1 s at each reading, with no cap in the way, the same answers as on the real clock,
+    those that run every start seeming to take twice the default cap; under the default cap on
+    that clock, these say timeout and the others give the same answer; a 1 us cap on a far
+    target says timeout with the hint."""
     path = tmp_path / "mimic6r.urdf"
     path.write_text(_urdf(1.0), encoding="utf-8")
     arm = load_mimic_arm(path)
@@ -206,17 +227,20 @@ def test_the_mimic_solver_answers_alike_on_a_slow_machine(tmp_path, monkeypatch)
         tool = arm.fk(rng.uniform(arm.lower, arm.upper))
         rotation = tool[:3, :3] if k < 12 else pin.exp3(rng.normal(size=3))
         targets.append(PoseTarget(tool[:3, 3] * (1.0 if k < 12 else 1.3), rotation))
-    # The idle run without a cap worth naming (a loaded test machine must not cap it).
-    idle = [MimicSolver(arm).solve(target, timeout=600.0) for target in targets]
-    assert {result.status for result in idle} == {"ok", "not_found"}
-    with slow_clock(monkeypatch, SLOWDOWN):
-        busy = [MimicSolver(arm).solve(target) for target in targets]
-    for first, second in zip(idle, busy, strict=True):
-        if second.status != "timeout":
-            assert _answer(second) == _answer(first), second.message
-    # The reached poses end well inside the cap even on the fast clock: compared, not excused.
-    assert sum(result.status != "timeout" for result in busy[:12]) == 12
+    labels = [f"target {k}" for k in range(len(targets))]
+    idle = [MimicSolver(arm).solve(target, timeout=NO_CAP) for target in targets]
+    unfound = [k for k, result in enumerate(idle) if result.status == "not_found"]
+    assert {result.status for result in idle} == {"ok", "not_found"}, unfound
+    with ticking_clock(monkeypatch, MIMIC_STEP):
+        busy = [MimicSolver(arm).solve(target, timeout=NO_CAP) for target in targets]
+    assert _same_or_capped(labels, idle, busy) == 0
+    # The played machine is slow: the default cap would have stopped every search not found.
+    assert min(busy[k].time for k in unfound) > 2 * MIMIC_TIMEOUT
+    with ticking_clock(monkeypatch, MIMIC_STEP):
+        capped = [MimicSolver(arm).solve(target) for target in targets]
+    assert _same_or_capped(labels, idle, capped) < len(targets)
+    assert all(capped[k].status == "timeout" for k in unfound), [capped[k].message for k in unfound]
     far = PoseTarget(np.array([5.0, 0.0, 0.0]), np.eye(3))
-    capped = MimicSolver(arm).solve(far, timeout=1e-6)
-    assert (capped.success, capped.status) == (False, "timeout"), capped.message
-    assert "--timeout" in capped.message and capped.rejected
+    capped_far = MimicSolver(arm).solve(far, timeout=1e-6)
+    assert (capped_far.success, capped_far.status) == (False, "timeout"), capped_far.message
+    assert "--timeout" in capped_far.message and capped_far.rejected
