@@ -3,6 +3,7 @@ processes at once, and a timeout that bounds the whole call, cold caches include
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -14,6 +15,9 @@ from kin import Configuration, load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver
 from kin.ik.numeric import seed_cache
 from kin.ik.numeric.solver import NumericIK
+
+#: Nothing here overflows or divides by zero: NumPy's warnings fail the test (issue 42).
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
 
 
 def _targets(name: str, count: int, full: bool, seed: int) -> list:
@@ -40,8 +44,8 @@ def _answer(result) -> tuple:
 def test_one_solver_shared_by_four_threads_answers_as_one_thread(name, full):
     """4,000 poses split over 4 threads sharing one get_solver(): the answers of one thread.
 
-    A generous time budget and an attempt cap make each answer independent of the machine's
-    speed (the numeric stages stop on the cap, not the clock).
+    A time cap no load reaches (600 s) and an attempt cap make each answer independent of the
+    machine's speed (the numeric stages stop on the attempt cap, not the clock).
     """
     count = 4000 if name == "humanoid7" else 1000
     robot = load_robot(name)
@@ -50,8 +54,8 @@ def test_one_solver_shared_by_four_threads_answers_as_one_thread(name, full):
 
     cap = {"max_attempts": 60} if isinstance(solver, NumericIK) else {}
 
-    def solve(target):
-        return _answer(solver.solve(target, timeout=10.0, **cap))
+    def solve(target):  # a cap no load reaches: the threads' verdicts are compared
+        return _answer(solver.solve(target, timeout=600.0, **cap))
 
     alone = [solve(target) for target in targets]
     with ThreadPoolExecutor(max_workers=4) as pool:
@@ -104,13 +108,17 @@ def test_a_tiny_timeout_with_cold_caches_says_what_stopped_it(name, monkeypatch,
     solver = NumericIK(robot, prepare=False)  # nothing loaded: the first solve meets it all
     configuration = Configuration(robot)
     reachable = configuration.fk(np.zeros(robot.nq) + 0.1).translation
-    reach = float(np.linalg.norm(reachable)) + sum(abs(row.a) + abs(row.d) for row in robot.table.rows)
+    reach = float(np.linalg.norm(reachable)) + sum(
+        abs(row.a) + abs(row.d) for row in robot.table.rows
+    )
     positions = [reachable, reachable * 1.05 + 0.02, [0.0, 0.0, 0.0], [1e308, 0, 0], [3.0, 0, 0]]
     for position in positions:
         result = solver.solve(PositionTarget(position), timeout=0.005)
-        far = float(np.linalg.norm(position)) > reach
+        far = math.hypot(*position) > reach  # no overflow at 1e308 m (np.linalg.norm squares)
         if result.success:
-            error = np.linalg.norm(configuration.fk(result.best.q).translation - np.asarray(position))
+            error = np.linalg.norm(
+                configuration.fk(result.best.q).translation - np.asarray(position)
+            )
             assert error < 1e-6, f"{name=} {position=} {error=}"
         elif far:
             assert result.status == "out_of_reach", f"{name=} {position=} {result.message}"

@@ -7,7 +7,7 @@ A busy machine is played by a clock that moves a fixed step at each reading
 done, and stands for a machine many times slower than this one, the same on every run whatever
 the real machine's load. The reference is a run on the real clock, with fresh solvers both times
 (their cold loads, the seed table and the MuJoCo model, fall inside the calls). Both runs are
-compared under a cap that neither reaches (:data:`NO_CAP`: tens of thousands of readings on the
+compared under a cap that neither reaches (:data:`NO_CAP`: thousands of readings on the
 played clock, minutes on the real one), so no cap a loaded machine can reach enters the
 comparison; that a cap reached says ``timeout`` is tested apart, on the played clock.
 """
