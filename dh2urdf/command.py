@@ -79,7 +79,9 @@ def _export(args: argparse.Namespace) -> int:
     if output != "-":
         from .output_file import checked_output
 
-        checked_output(output, "-o")  # a regular file or a new path, before any work
+        # a regular file or a new path, before any work; never the table itself
+        read = get_robot(args.robot).table_path if args.robot else args.table
+        checked_output(output, "-o", inputs=[("--robot" if args.robot else "the table", read)])
     table = get_robot(args.robot).load_table() if args.robot else load_table(args.table)
     kind = output_format(output, args.format)
     if kind == "mjcf":

@@ -57,7 +57,8 @@ def _run(args: argparse.Namespace) -> int:
     if output != "-":
         from .output_file import checked_output
 
-        checked_output(output, "-o", (".toml",))  # a regular file or a new path, before any work
+        # a regular file or a new path, before any work; never the URDF itself
+        checked_output(output, "-o", (".toml",), [("the URDF", args.urdf)])
     table = table_from_urdf(args.urdf, args.base, args.tip, args.convention)
     header = (
         f"Read from {Path(args.urdf).name} by dh2urdf from-urdf ({table.convention} DH): the chain\n"

@@ -1,8 +1,9 @@
 """Output files: only a regular file (or a new path) is written, and whole or not at all.
 
 :func:`output_problem` says, before any work, why a path cannot take a command's output: a
-folder, a device (``/dev/full``, ``/dev/null``), a FIFO or a socket at the path, an unknown
-suffix, a missing or unwritable folder. :func:`write_atomic` writes a temporary file in the
+folder, a device (``/dev/full``, ``/dev/null``), a FIFO or a socket at the path, one of the
+command's input files (:func:`same_file_problem`), an unknown suffix, a missing or unwritable
+folder. :func:`write_atomic` writes a temporary file in the
 target's folder, flushes and syncs it, then renames it over the target; a full disk (ENOSPC,
 EDQUOT, EFBIG, EIO at write, flush, fsync, close or rename) removes the temporary file, leaves a
 previous file unchanged and raises :class:`~dh2urdf.exceptions.OutputWriteError` (exit 1).
@@ -11,6 +12,10 @@ Choices:
 
 * A symbolic link to a regular file is written through: the file it points to is replaced and
   the link stays a link, as the shell's ``>`` does. A link to a device is a device.
+* An output is never one of the command's inputs: ``kin collisions --robot arm.xml
+  --write-srdf arm.xml`` would replace the URDF by its SRDF. The same file is the same path
+  once links are resolved (``realpath``), or the same ``(st_dev, st_ino)``: a symbolic link,
+  a hard link, a bind mount.
 * ``/dev/null`` is refused like any device (the rename would replace the device node when run as
   root). To discard an output, write it to a temporary file, or use ``-o -`` where a command
   prints to stdout.
@@ -21,13 +26,24 @@ from __future__ import annotations
 import os
 import stat
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import BinaryIO
 
 from .exceptions import OutputFileError, OutputWriteError
 
-__all__ = ["checked_output", "output_problem", "write_atomic", "write_text_atomic"]
+__all__ = [
+    "InputFiles",
+    "checked_output",
+    "output_problem",
+    "same_file_problem",
+    "write_atomic",
+    "write_text_atomic",
+]
+
+#: The files a command reads, as ``(option, path)`` (``("--robot", "arm.urdf")``, ``("the
+#: table", "arm.toml")``); a path None (not given) or ``"-"`` (standard input) is no file.
+InputFiles = Iterable[tuple[str, "str | os.PathLike[str] | None"]]
 
 #: What a non-regular file at an output path is, by the ``stat`` test that finds it.
 _KINDS = (
@@ -47,8 +63,52 @@ def _not_regular(mode: int) -> str:
     return "is not a regular file; give a file name"
 
 
+def _identity(path: str | os.PathLike[str]) -> tuple[int, int] | None:
+    """The ``(st_dev, st_ino)`` of the file at ``path`` (links followed), or None (no file)."""
+    try:
+        found = os.stat(path)
+    except (OSError, ValueError):  # missing, unreadable folder, a NUL in the name
+        return None
+    return found.st_dev, found.st_ino
+
+
+def _real(path: str | os.PathLike[str]) -> str | None:
+    """``path`` with every link resolved, or None when it cannot be resolved."""
+    try:
+        return os.path.realpath(path)
+    except (OSError, ValueError):
+        return None
+
+
+def same_file_problem(path: str | os.PathLike[str], inputs: InputFiles) -> str | None:
+    """Why ``path`` cannot take an output because it is one of ``inputs``, or None.
+
+    The same file: the same real path (a new path is compared so), or the same device and inode
+    (a symbolic link, a hard link). Nothing is opened.
+
+    Returns:
+        A reason that completes ``"-o FILE: ..."`` and names the input, or None.
+    """
+    real = _real(path)
+    identity = _identity(path)
+    for option, given in inputs:
+        if given is None or str(given) == "-":
+            continue
+        same = real is not None and _real(given) == real
+        if not same and identity is not None:
+            same = _identity(given) == identity
+        if same:
+            return (
+                f"is the same file as {option} {given}, which it would overwrite; "
+                "give another file name"
+            )
+    return None
+
+
 def output_problem(
-    path: str | os.PathLike[str], suffixes: tuple[str, ...] | None = None
+    path: str | os.PathLike[str],
+    suffixes: tuple[str, ...] | None = None,
+    inputs: InputFiles = (),
 ) -> str | None:
     """Why ``path`` cannot take an output, or None when it is a regular file or a new path.
 
@@ -57,6 +117,7 @@ def output_problem(
     Args:
         path: The file to write.
         suffixes: Allowed suffixes of the name given (lower case, with the dot), or None for any.
+        inputs: The files the command reads (:data:`InputFiles`): ``path`` must be none of them.
 
     Returns:
         A reason that completes ``"-o FILE: ..."``, or None.
@@ -73,6 +134,9 @@ def output_problem(
         if str(target) == os.devnull:
             return _not_regular(mode) + " (to discard the output, write it to a temporary file)"
         return _not_regular(mode)
+    same = same_file_problem(given, inputs)
+    if same is not None:
+        return same
     if suffixes is not None and given.suffix.lower() not in suffixes:
         return f"unknown file type {given.suffix or '(no suffix)'!r}; use " + ", ".join(suffixes)
     folder = target.parent
@@ -156,19 +220,27 @@ def write_text_atomic(
     return write_atomic(path, lambda handle: handle.write(data), file_error, write_error)
 
 
-def checked_output(path: str, option: str, suffixes: tuple[str, ...] | None = None) -> Path:
+def checked_output(
+    path: str,
+    option: str,
+    suffixes: tuple[str, ...] | None = None,
+    inputs: InputFiles = (),
+    file_error: Callable[[str, str, str], Exception] = OutputFileError,
+) -> Path:
     """``path`` as a :class:`~pathlib.Path` once :func:`output_problem` finds nothing wrong.
 
     Args:
         path: The file a command is to write.
         option: The option that named it, for the message (``"-o"``).
         suffixes: Allowed suffixes (lower case, with the dot), or None for any.
+        inputs: The files the command reads: ``path`` must be none of them.
+        file_error: Raised as ``file_error(path, option, reason)``.
 
     Raises:
-        OutputFileError: A folder, device, FIFO or socket at the path, a missing or unwritable
-            folder, or another suffix.
+        OutputFileError: A folder, device, FIFO or socket at the path, one of ``inputs``, a
+            missing or unwritable folder, or another suffix (or ``file_error``).
     """
-    problem = output_problem(path, suffixes)
+    problem = output_problem(path, suffixes, inputs)
     if problem is not None:
-        raise OutputFileError(path, option, problem)
+        raise file_error(path, option, problem)
     return Path(path)

@@ -61,10 +61,11 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     def body() -> int:
         from ..collision import load_collision_model
         from ..collision.srdf_generator import REASONS, generate_disabled_pairs, srdf_text
-        from .output_file import checked_output, write_text_atomic
+        from .output_file import checked_output, input_files, write_text_atomic
         from .robot_argument import load_robot_argument
 
-        checked_output(args.write_srdf, "--write-srdf", SRDF_SUFFIXES)
+        inputs = input_files(args, "--robot")  # the URDF is never replaced by its SRDF
+        checked_output(args.write_srdf, "--write-srdf", SRDF_SUFFIXES, inputs)
         robot = load_robot_argument(args)
         model = load_collision_model(robot)
         disabled = generate_disabled_pairs(model, args.samples, args.random_seed)

@@ -196,13 +196,14 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
     )
     from ..path.follow import MAX_JOINT_STEP
     from .joint_units import JointUnits
-    from .output_file import checked_output
+    from .output_file import checked_output, input_files
     from .path_output import print_text, write_csv
     from .progress import ProgressBar
     from .targets import build_target, check_kind
 
     if args.csv:
-        checked_output(args.csv, "--csv", (".csv",))  # before the path is computed
+        inputs = input_files(args, "--robot", "--scene", "--srdf")  # never written over
+        checked_output(args.csv, "--csv", (".csv",), inputs)  # before the path is computed
     robot = load_robot_argument(args)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     length, angle = length_scale(args.unit), angle_scale(args.deg)

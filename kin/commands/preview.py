@@ -139,9 +139,10 @@ def _run(args: argparse.Namespace, prog: str) -> int:
     from .targets import build_target
 
     if args.html is not None:
-        from .output_file import checked_output
+        from .output_file import checked_output, input_files
 
-        checked_output(args.html, "--html", (".html", ".htm"))
+        inputs = input_files(args, "--robot", "--path", "--reach", "--scene", "--srdf")
+        checked_output(args.html, "--html", (".html", ".htm"), inputs)
     robot = load_robot_argument(args)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     if args.q is None:

@@ -90,12 +90,13 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             save_reach_map,
             smallest_voxel,
         )
-        from .output_file import FIGURE_SUFFIXES, checked_output
+        from .output_file import FIGURE_SUFFIXES, checked_output, input_files
         from .progress import ProgressBar
 
-        output = checked_output(args.output, "-o", (".npz",))  # before minutes of solving
+        inputs = input_files(args, "--robot", "--scene", "--srdf")  # never written over
+        output = checked_output(args.output, "-o", (".npz",), inputs)  # before minutes of solving
         if args.png:
-            checked_output(args.png, "--png", FIGURE_SUFFIXES)
+            checked_output(args.png, "--png", FIGURE_SUFFIXES, [*inputs, ("-o", args.output)])
         robot = load_robot_argument(args)
         scale = length_scale(args.unit)
         reach = arm_reach(robot).maximum

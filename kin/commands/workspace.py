@@ -136,9 +136,10 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         from .progress import ProgressBar
 
         if args.output:
-            from .output_file import FIGURE_SUFFIXES, checked_output
+            from .output_file import FIGURE_SUFFIXES, checked_output, input_files
 
-            checked_output(args.output, "-o", FIGURE_SUFFIXES)  # before minutes of sampling
+            # before minutes of sampling; never over the robot's file
+            checked_output(args.output, "-o", FIGURE_SUFFIXES, input_files(args, "--robot"))
         table = load_robot_argument(args).table
         scale = length_scale(args.unit)
         voxel = None if args.voxel is None else args.voxel * scale
