@@ -275,7 +275,8 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
             record["avoid"] = avoided.to_dict()
         print(json.dumps(record))
     else:
-        print_text(robot.name, units, args.unit, length, result, timed)
+        collides = check is not None and check.first is not None
+        print_text(robot.name, units, args.unit, length, result, timed, collides)
         if avoided is not None:
             plain = avoided.plain
             why = "stops before the end" if plain is None else f"collides ({plain.describe()})"
@@ -284,10 +285,10 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
             )
             print(f"avoid: {done}")
         if check is not None:
-            verdict = "free" if check.free else "IN COLLISION"
+            verdict = "free" if check.first is None else f"IN COLLISION: {check.describe()}"
             print(f"collisions: {verdict} ({len(result.q)} samples; {check.rule})")
     if check is not None and check.first is not None:
-        print(f"{prog}: the path collides: {check.first.describe()}", file=sys.stderr)
+        print(f"{prog}: the path collides: {check.describe()}", file=sys.stderr)
         return EXIT_STOPPED
     return 0 if result.success else EXIT_STOPPED
 

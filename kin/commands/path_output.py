@@ -50,10 +50,17 @@ def print_text(
     length: float,
     result: PathResult,
     timed: TimedPath | None,
+    collides: bool = False,
 ) -> None:
-    """A summary, then one line per sample in command-line units."""
+    """A summary, then one line per sample in command-line units.
+
+    ``collides``: the collision check found contact (the summary says so; the ``collisions:``
+    line after the samples says where).
+    """
     out = sys.stdout.write
     status = "followed" if result.success else result.message
+    if collides:
+        status += ", IN COLLISION (see the collisions line)"
     out(f"{robot} ({result.method}): {len(result.path)} samples, {status}\n")
     if len(result.q):
         out(f"max deviation from the path: {result.max_deviation / length:.3g} {unit}\n")

@@ -16,10 +16,18 @@ to a bound of ``tolerance`` [m]: a pair that cannot be shown apart at that scale
 collision (closer than ``tolerance``). The samples themselves are judged by
 :meth:`kin.collision.CollisionChecker.in_collision`, the distances by Pinocchio's
 ``computeDistances`` on the same shapes.
+
+Where contact begins on the way into the first colliding sample: bisection on the segment from
+the last free sample (on the sample verdict) until the links' motion bound between a free point and
+a colliding one is at most ``tolerance`` [m] (1e-6 m by default), the colliding one named; the
+motion before the free point is checked by the rule above, so an earlier contact on the segment
+is named instead. Between two free samples the halving names the first contact the same way (the
+earlier half first).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -47,7 +55,8 @@ class PathCollision:
     Attributes:
         segment: Index ``i`` of the segment from sample ``i`` to ``i + 1``; for a colliding
             sample ``i``, the segment that ends there (``i - 1``, or 0 for the first sample).
-        fraction: Where along the segment, 0 (sample ``i``) to 1 (sample ``i + 1``).
+        fraction: Where along the segment contact begins, 0 (sample ``i``) to 1 (sample
+            ``i + 1``), to the module's resolution (``tolerance`` of link motion).
         q: The joint vector there [rad] / [m].
         a: Link (base side) of the pair.
         b: Link or scene object.
@@ -72,10 +81,16 @@ class PathCollision:
             place = f"sample {sample}"
         else:
             place = (
-                f"between samples {self.segment} and {self.segment + 1} (t = {self.fraction:.4g})"
+                f"between samples {self.segment} and {self.segment + 1} (t = {self.fraction:.6g})"
+            )
+        pair = f"{self.a} / {self.b} ({self.kind})"
+        if not self.at_sample and self.proven:
+            return (
+                f"contact begins between samples {self.segment} and {self.segment + 1} at "
+                f"t = {self.fraction:.6g} of the segment: {pair}"
             )
         verdict = "collides" if self.proven else "comes closer than 1e-6 m"
-        return f"{place} {verdict}: {self.a} / {self.b} ({self.kind})"
+        return f"{place} {verdict}: {pair}"
 
 
 @dataclass(frozen=True)
@@ -95,6 +110,24 @@ class PathCollisionCheck:
     sample_collisions: np.ndarray
     checks: int
     rule: str = RULE
+    resolution: float = TOLERANCE
+
+    @property
+    def first_sample(self) -> int | None:
+        """Index of the first colliding sample, or None (every sample free)."""
+        colliding = np.flatnonzero(self.sample_collisions)
+        return int(colliding[0]) if colliding.size else None
+
+    def describe(self) -> str:
+        """One line: ``"free"``, or the first colliding sample and where contact begins."""
+        if self.first is None:
+            return "free"
+        sample = self.first_sample
+        samples = "no sample collides" if sample is None else f"first colliding sample {sample}"
+        return (
+            f"{samples}; {self.first.describe()} "
+            f"(resolution {self.resolution:.3g} m of link motion)"
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict, SI."""
@@ -102,6 +135,8 @@ class PathCollisionCheck:
         return {
             "free": self.free,
             "rule": self.rule,
+            "resolution_m": self.resolution,
+            "first_colliding_sample": self.first_sample,
             "colliding_samples": np.flatnonzero(self.sample_collisions).tolist(),
             "checks_between_samples": self.checks,
             "first": None
@@ -233,22 +268,61 @@ def check_path_collisions(
     at_samples = checker.in_collision_batch(path)
     motion = MotionCheck(checker, tolerance)
     if motion.helper is None:
-        return PathCollisionCheck(True, None, at_samples, 0)
+        return PathCollisionCheck(True, None, at_samples, 0, resolution=tolerance)
     ends = [motion.distances(path[0])]
     for i in range(len(path)):
         if at_samples[i]:
-            a, b, kind = _colliding_pair(checker, path[i])
-            first = PathCollision(
-                max(i - 1, 0), 1.0 if i else 0.0, path[i].copy(), a, b, kind, True, True
-            )
-            return PathCollisionCheck(False, first, at_samples, motion.checks)
+            first = _entry(checker, motion, path, i, ends[-1], max_checks)
+            return PathCollisionCheck(False, first, at_samples, motion.checks, resolution=tolerance)
         if i + 1 == len(path) or at_samples[i + 1]:
             continue
         ends.append(motion.distances(path[i + 1]))
         found = motion.between(path[i], path[i + 1], ends[-2], ends[-1], i, max_checks)
         if found is not None:
-            return PathCollisionCheck(False, found, at_samples, motion.checks)
-    return PathCollisionCheck(True, None, at_samples, motion.checks)
+            return PathCollisionCheck(False, found, at_samples, motion.checks, resolution=tolerance)
+    return PathCollisionCheck(True, None, at_samples, motion.checks, resolution=tolerance)
+
+
+def _entry(
+    checker: CollisionChecker,
+    motion: MotionCheck,
+    path: np.ndarray,
+    index: int,
+    before: np.ndarray,
+    max_checks: int,
+) -> PathCollision:
+    """Where contact begins on the way into the colliding sample ``index``.
+
+    Bisection between sample ``index - 1`` (free, :meth:`MotionCheck.distances` ``before``) and
+    sample ``index`` (in contact) on the verdict of
+    :meth:`~kin.collision.CollisionChecker.in_collision`, until the links' motion bound between
+    the free end and the colliding one is at most the rule's tolerance [m]; then the motion from
+    sample ``index - 1`` to that free end is checked by the rule, so an earlier contact on the
+    segment is named instead (a place only closer than the tolerance there is the approach to
+    this contact, or a near miss: not named). The first sample is named itself.
+    """
+    if index == 0 or motion.helper is None:
+        a, b, kind = _colliding_pair(checker, path[index])
+        return PathCollision(0, 0.0, path[index].copy(), a, b, kind, True, True)
+    q0, q1 = path[index - 1], path[index]
+    bound = 2.0 * float(motion.helper.motion(q0, q1).max())  # two shapes close at most this
+    low, high = 0.0, 1.0
+    while bound * (high - low) > motion.tolerance and high - low > 1e-15:
+        middle = 0.5 * (low + high)
+        if checker.in_collision(q0 + middle * (q1 - q0)):
+            high = middle
+        else:
+            low = middle
+    q_free = q0 + low * (q1 - q0)
+    if low > 0.0:
+        earlier = motion.between(
+            q0, q_free, before, motion.distances(q_free), index - 1, max_checks
+        )
+        if earlier is not None and earlier.proven:
+            return dataclasses.replace(earlier, fraction=earlier.fraction * low)
+    q_contact = q0 + high * (q1 - q0)
+    a, b, kind = _colliding_pair(checker, q_contact)
+    return PathCollision(index - 1, high, q_contact, a, b, kind, high >= 1.0, True)
 
 
 class MotionCheck:
