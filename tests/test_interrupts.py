@@ -6,6 +6,8 @@ import os
 import signal
 import subprocess
 import time
+from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 from cli_helper import kin_command
@@ -19,6 +21,50 @@ HANG_GUARD = 60.0
 def _group_alive(pgid: int) -> list[str]:
     found = subprocess.run(["pgrep", "-g", str(pgid)], capture_output=True, text=True)
     return found.stdout.split()
+
+
+def _children(pid: int) -> list[int]:
+    found = subprocess.run(["pgrep", "-P", str(pid)], capture_output=True, text=True)
+    return [int(child) for child in found.stdout.split()]
+
+
+def _holds_sigint(pid: int, field: str) -> bool:
+    """Whether SIGINT is in ``field`` (``SigIgn``, ``SigCgt``, ``SigBlk``) of the process's
+    /proc status (False once the process is gone)."""
+    try:
+        lines = Path(f"/proc/{pid}/status").read_text().splitlines()
+    except OSError:
+        return False
+    masks = dict(line.split(":\t", 1) for line in lines if line.startswith("Sig"))
+    return bool(int(masks[field], 16) >> (signal.SIGINT - 1) & 1)
+
+
+def _wait_until(ready: Callable[[], bool], process: subprocess.Popen, what: str) -> None:
+    """Poll ``ready`` while ``process`` lives: a state, not a time, says when to go on (a slow
+    or loaded machine only waits longer; :data:`HANG_GUARD` fails a run that never gets there)."""
+    deadline = time.monotonic() + HANG_GUARD
+    while not ready():
+        assert process.poll() is None, f"ended before {what}: exit {process.returncode}"
+        assert time.monotonic() < deadline, f"not {what} after {HANG_GUARD} s"
+        time.sleep(0.01)
+
+
+def _cpu_seconds(pid: int) -> float:
+    """The process's CPU time so far (user and system) [s]: its work, whatever the load."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime
+
+
+def _pool_working(pid: int) -> bool:
+    """Both workers forked and started: each ignores SIGINT and no longer blocks it."""
+    workers = _children(pid)
+    return len(workers) == 2 and all(
+        _holds_sigint(worker, "SigIgn") and not _holds_sigint(worker, "SigBlk")
+        for worker in workers
+    )
 
 
 @pytest.mark.parametrize("signals", [1, 2])
@@ -35,7 +81,7 @@ def test_ctrl_c_stops_a_workspace_run_with_two_workers(signals, tmp_path):
         start_new_session=True,
     )
     try:
-        time.sleep(4.0)  # started, and the pool is working
+        _wait_until(lambda: _pool_working(process.pid), process, "the pool working")
         os.killpg(process.pid, signal.SIGINT)
         if signals == 2:
             time.sleep(0.3)
@@ -63,8 +109,8 @@ def test_ctrl_c_while_the_pool_starts_stops_the_run(attempt):
         start_new_session=True,
     )
     try:
-        deadline = time.monotonic() + 60
-        while not subprocess.run(["pgrep", "-P", str(process.pid)], capture_output=True).stdout:
+        deadline = time.monotonic() + HANG_GUARD
+        while not _children(process.pid):  # polled fast: the first worker, not yet started
             assert process.poll() is None and time.monotonic() < deadline
             time.sleep(0.002)
         os.killpg(process.pid, signal.SIGINT)
@@ -88,15 +134,16 @@ def test_kill_int_stops_a_run_started_with_sigint_ignored():
         stderr=subprocess.PIPE,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
     )
-    try:
-        time.sleep(3)
+    try:  # the command puts SIGINT's handler back (before, an ignored SIGINT would be lost)
+        _wait_until(lambda: _holds_sigint(process.pid, "SigCgt"), process, "catching SIGINT")
+        then = _cpu_seconds(process.pid)  # then computes a while: inside the command's guard
+        _wait_until(lambda: _cpu_seconds(process.pid) > then + 0.2, process, "computing")
         process.send_signal(signal.SIGINT)
         _, err = process.communicate(timeout=HANG_GUARD)
         assert process.returncode == 130, err
     finally:
         if process.poll() is None:
             process.kill()
-
 
 
 def test_a_sigint_while_held_waits_for_the_release():
@@ -123,6 +170,7 @@ def test_a_sigint_while_held_waits_for_the_release():
             os.kill(os.getpid(), signal.SIGINT)
             time.sleep(0.05)
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
 
 #: An eight-joint arm (no closed form: every line goes to the numeric solver, about 5000 lines/s).
 SNAKE8_TOML = """
@@ -196,16 +244,17 @@ def test_ctrl_c_on_the_stream_keeps_the_answers_solved(case, options, count, aft
     env.pop("DH_KINEMATICS_NO_CACHE", None)
     first = tmp_path / "first.jsonl"
     first.write_text(source.read_text().split("\n", 1)[0] + "\n")
-    begin = time.monotonic()  # start-up and one line, the seed table cached for the run below
+    # One line first: the seed table cached for the run below.
     subprocess.run(command, stdin=first.open("rb"), capture_output=True, env=env, check=True)
-    startup = time.monotonic() - begin
     out = tmp_path / "out.jsonl"
     with source.open("rb") as stdin, out.open("wb") as stdout:
         process = subprocess.Popen(
             command, stdin=stdin, stdout=stdout, stderr=subprocess.PIPE, env=env
         )
         try:
-            time.sleep(startup + after)  # answering, in the middle of a read batch
+            # Answering (its first answers written), then ``after`` [s] more: in a read batch.
+            _wait_until(lambda: out.stat().st_size > 0, process, "answering")
+            time.sleep(after)
             process.send_signal(signal.SIGINT)
             _, err = process.communicate(timeout=60)
         finally:
