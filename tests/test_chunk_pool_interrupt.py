@@ -77,7 +77,7 @@ def test_a_ctrl_c_taken_by_another_thread_right_after_a_fork_kills_that_worker_t
         start(self)
         sent.clear()
         go.set()
-        sent.wait(5.0)
+        sent.wait(60.0)  # a guard against a hang only: a loaded machine may be slow to run it
         for _ in range(1000):  # give the main thread's eval loop the chance to run a handler
             pass
 
