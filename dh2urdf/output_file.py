@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import BinaryIO
 
 from .exceptions import OutputFileError, OutputWriteError
+from .input_file import file_kind
 
 __all__ = [
     "InputFiles",
@@ -45,22 +46,13 @@ __all__ = [
 #: table", "arm.toml")``); a path None (not given) or ``"-"`` (standard input) is no file.
 InputFiles = Iterable[tuple[str, "str | os.PathLike[str] | None"]]
 
-#: What a non-regular file at an output path is, by the ``stat`` test that finds it.
-_KINDS = (
-    (stat.S_ISDIR, "a folder, not a file; give a file name"),
-    (stat.S_ISCHR, "a character device, not a regular file; give a file name"),
-    (stat.S_ISBLK, "a block device, not a regular file; give a file name"),
-    (stat.S_ISFIFO, "a FIFO (named pipe), not a regular file; give a file name"),
-    (stat.S_ISSOCK, "a socket, not a regular file; give a file name"),
-)
-
 
 def _not_regular(mode: int) -> str:
     """Why a file of ``mode`` (``st_mode``) cannot be an output."""
-    for test, text in _KINDS:
-        if test(mode):
-            return f"is {text}"
-    return "is not a regular file; give a file name"
+    kind = file_kind(mode)
+    if kind == "a folder":
+        return "is a folder, not a file; give a file name"
+    return f"is {kind or 'a special file'}, not a regular file; give a file name"
 
 
 def _identity(path: str | os.PathLike[str]) -> tuple[int, int] | None:

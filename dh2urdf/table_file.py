@@ -53,6 +53,7 @@ import numpy as np
 from .dh_table import DHRow, DHTable, dh_link_transform
 from .drive_section import parse_drives
 from .exceptions import TableError, UnitWarning
+from .input_file import read_input
 from .joint_cap import MAX_JOINTS
 from .quoted_input import quoted
 from .table_values import MAX_ANGLE, MAX_LENGTH, MAX_MASS
@@ -537,7 +538,7 @@ def load_table(path: str | Path) -> DHTable:
     """
     path = Path(path)
     try:
-        raw = path.read_bytes()
+        raw = read_input(path)
     except OSError as err:
         raise TableError(str(path), f"cannot read the file ({err.strerror})") from err
     if raw.startswith(_UTF16_BOMS):

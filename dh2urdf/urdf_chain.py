@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from .exceptions import UrdfChainError
+from .input_file import read_input
 from .joint_cap import urdf_joint_count_problem
 from .urdf_parse import build_pinocchio_model, parse_urdf_xml
 
@@ -147,11 +148,15 @@ def urdf_text(path: str | Path) -> str:
                 '[xacro]" (or expand it first: xacro FILE > robot.urdf)',
             ) from None
         try:
+            read_input(path)  # a regular file of bounded size, as any other input
+        except OSError as err:
+            raise UrdfChainError(str(path), f"cannot read the file ({err.strerror})") from err
+        try:
             return str(XacroDoc.from_file(str(path)).to_urdf_string())
         except Exception as err:  # noqa: BLE001 - any xacro failure is the file's
             raise UrdfChainError(str(path), f"xacro expansion failed: {_one_line(err)}") from err
     try:
-        raw = path.read_bytes()
+        raw = read_input(path)
     except OSError as err:
         raise UrdfChainError(str(path), f"cannot read the file ({err.strerror})") from err
     try:

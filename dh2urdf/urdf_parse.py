@@ -30,9 +30,11 @@ from pathlib import Path
 from typing import Any
 
 from .exceptions import UrdfChainError
+from .input_file import open_input
 
 __all__ = [
     "build_pinocchio_model",
+    "captured_stderr",
     "declare_prefixes",
     "is_urdf_file",
     "parse_urdf_xml",
@@ -145,7 +147,7 @@ def is_urdf_file(path: str | Path) -> bool:
     if suffix == ".toml":
         return False
     try:
-        with path.open("rb") as stream:
+        with open_input(path) as stream:
             head = stream.read(SNIFF_BYTES).decode("utf-8", errors="replace")
     except OSError:
         return False
@@ -159,7 +161,7 @@ def is_urdf_file(path: str | Path) -> bool:
     raise UrdfChainError(str(path), _not_urdf(tag or "?"))
 
 
-def _captured_stderr(call: Callable[[], Any]) -> tuple[Any, BaseException | None, str]:
+def captured_stderr(call: Callable[[], Any]) -> tuple[Any, BaseException | None, str]:
     """Run ``call`` with file descriptor 2 sent to a temporary file.
 
     Returns:
@@ -195,7 +197,7 @@ def build_pinocchio_model(text: str, where: str, mimic: bool = False) -> Any:
     """
     import pinocchio as pin
 
-    model, error, written = _captured_stderr(lambda: pin.buildModelFromXML(text, mimic=mimic))
+    model, error, written = captured_stderr(lambda: pin.buildModelFromXML(text, mimic=mimic))
     if error is None:
         return model
     said = " ".join(line.strip() for line in written.splitlines() if line.strip())

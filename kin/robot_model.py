@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from dh2urdf import ROBOTS, DHTable, get_robot, load_table
+from dh2urdf.input_file import read_input
 
 from .exceptions import ModelLoadError
 
@@ -76,7 +77,7 @@ def _load_by_name(name: str) -> RobotModel:
     table = description.load_table()
     path = description.urdf_path
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_input(path).decode("utf-8")
     except OSError as err:
         raise ModelLoadError(
             f"{path}: cannot read the URDF of '{name}' ({err.strerror}); "

@@ -12,6 +12,7 @@ else:  # Python 3.10
     import tomli as tomllib
 
 from dh2urdf import DHTable, get_robot, load_table
+from dh2urdf.input_file import read_input
 from dh2urdf.units import ANGLE_UNITS, LENGTH_UNITS
 
 
@@ -76,5 +77,5 @@ def load_audited_table(
         return AuditedTable(table_from_urdf(text, base, tip), "m", "rad", text)
     path = Path(text) if (text.endswith(".toml") or "/" in text) else get_robot(text).table_path
     loaded = load_table(path)  # validates, with errors naming file, row and field
-    header = tomllib.loads(path.read_text(encoding="utf-8"))
+    header = tomllib.loads(read_input(path).decode("utf-8-sig"))  # as load_table read it
     return AuditedTable(loaded, header["length_unit"], header["angle_unit"], str(path))

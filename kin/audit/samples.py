@@ -33,6 +33,8 @@ from typing import Literal
 
 import numpy as np
 
+from dh2urdf.input_file import read_input
+
 from .exceptions import AuditError
 
 Orientation = Literal["none", "rpy", "matrix"]
@@ -131,8 +133,10 @@ def read_samples(path: str | Path, dof: int) -> SampleSet:
     """
     where = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")  # a spreadsheet's BOM is no header
-    except (OSError, UnicodeDecodeError) as err:
+        text = read_input(path).decode("utf-8-sig")  # a spreadsheet's BOM is no header
+    except OSError as err:
+        raise AuditError(f"cannot read the sample file ({err.strerror})", where) from err
+    except UnicodeDecodeError as err:
         raise AuditError(f"cannot read the sample file ({err})", where) from err
     rows = [(n, _cells(raw)) for n, raw in enumerate(text.splitlines(), start=1)]
     rows = [(n, cells) for n, cells in rows if cells != [""]]

@@ -52,7 +52,9 @@ def read_scene(path: str | Path) -> tuple[Shape, ...]:
         import tomli as tomllib
 
     try:
-        raw = Path(where).read_bytes()
+        from dh2urdf.input_file import read_input
+
+        raw = read_input(where)
     except OSError as err:
         raise CollisionModelError(where, f"cannot read the scene ({err.strerror})") from err
     try:

@@ -12,6 +12,8 @@ from collections.abc import Collection
 from pathlib import Path
 from xml.etree import ElementTree
 
+from dh2urdf.input_file import read_input
+
 from ..exceptions import CollisionModelError
 
 __all__ = ["read_srdf"]
@@ -36,7 +38,7 @@ def read_srdf(
     """
     where = str(path)
     try:
-        root = ElementTree.fromstring(Path(where).read_bytes())
+        root = ElementTree.fromstring(read_input(where))
     except OSError as err:
         raise CollisionModelError(where, f"cannot read the SRDF ({err.strerror})") from err
     except ElementTree.ParseError as err:

@@ -1,7 +1,8 @@
 """The ``<collision>`` shapes of a URDF's links as coal geometries, each in its link's frame.
 
 Boxes, cylinders and spheres are kept as coal primitives (exact); a mesh (STL, DAE, OBJ: what
-coal's assimp loader reads) enters as its convex hull (coal's qhull), which encloses it. Mesh file
+coal's assimp loader reads) enters as its convex hull (coal's qhull), which encloses it, once
+:mod:`kin.collision.mesh_file` has checked its vertices (qhull crashes on degenerate ones). Mesh file
 names are resolved as the preview resolves them: ``package://NAME/rest`` as ``NAME/rest`` in the
 URDF's folder or one of its parents (:data:`PACKAGE_LEVELS` levels), ``file://`` and absolute
 paths as they are, relative ones from the URDF's folder.
@@ -20,6 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import CollisionModelError
+from .mesh_file import loader_reason, mesh_vertices
 
 __all__ = ["PACKAGE_LEVELS", "Shape", "link_shapes", "load_mesh", "origin_of", "resolve_mesh"]
 
@@ -64,25 +66,34 @@ def resolve_mesh(filename: str, folder: Path) -> Path:
 
 
 def load_mesh(path: Path, scale: np.ndarray) -> coal.CollisionGeometry:
-    """The convex hull of the mesh file ``path`` scaled by ``scale`` (3,).
+    """The convex hull of the mesh file ``path`` scaled by ``scale`` (3,) [m per file unit].
+
+    The vertices are read and checked first (:func:`~kin.collision.mesh_file.mesh_vertices`):
+    a file that is not a regular one, larger than ``MAX_MESH_BYTES``, with more than
+    ``MAX_MESH_VERTICES`` distinct vertices (refused, not simplified), a vertex that is not finite
+    or beyond ``MAX_COORDINATE`` after scaling, or flat, collinear or a point never reaches qhull.
 
     Raises:
-        OSError: The file is missing or coal cannot read it (no triangles, unknown format).
+        OSError: One line naming the file and the reason: missing, not a regular file, too
+            large, not a mesh coal reads, or vertices a convex hull cannot be built from.
     """
-    if not path.is_file():
-        raise OSError(f"mesh not found: {path}")
     try:
-        mesh = coal.MeshLoader().load(str(path), np.asarray(scale, dtype=float))
-    except (RuntimeError, ValueError) as err:
-        raise OSError(f"cannot read the mesh {path} ({' '.join(str(err).split())[:120]})") from err
-    if mesh.num_vertices < 4:
-        raise OSError(f"cannot read the mesh {path} (fewer than 4 vertices)")
+        vertices = mesh_vertices(path, scale)
+    except FileNotFoundError:
+        raise OSError(f"mesh not found: {path}") from None
+    except OSError as err:
+        raise OSError(f"cannot read the mesh {path} ({err.strerror or err})") from err
+    points = coal.StdVec_Vec3s()
+    points.extend(list(vertices))
     # the hull itself (qhull): a convex over the mesh's own triangles, which
     # buildConvexRepresentation gives, misleads GJK's hill climbing on a concave mesh
-    mesh.buildConvexHull(True, "Qt")
-    if mesh.convex is None:
-        raise OSError(f"cannot read the mesh {path} (qhull found no hull: flat or degenerate)")
-    return mesh.convex
+    try:
+        hull = coal.Convex.convexHull(points, True, "Qt")
+    except (RuntimeError, ValueError) as err:
+        raise OSError(f"cannot read the mesh {path} (qhull: {loader_reason(str(err))})") from err
+    if hull is None:
+        raise OSError(f"cannot read the mesh {path} (qhull found no hull)")
+    return hull
 
 
 def _floats(text: str | None, count: int, where: str, field: str) -> np.ndarray:

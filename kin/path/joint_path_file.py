@@ -11,9 +11,10 @@ import json
 import math
 import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
+
+from dh2urdf.input_file import read_input
 
 from .exceptions import PathError
 
@@ -49,7 +50,7 @@ def read_joint_path(path: str | os.PathLike[str], dof: int) -> JointPath:
     """
     name = os.fspath(path)
     try:
-        document = json.loads(Path(path).read_text(encoding="utf-8"))
+        document = json.loads(read_input(path).decode("utf-8"))
     except OSError as err:
         raise PathError(f"{name}: cannot read the path file ({err.strerror})", "path") from err
     except (UnicodeDecodeError, ValueError) as err:
