@@ -12,9 +12,8 @@ pitch, yaw or r11..r33, optionally label; # starts a comment; values in the tabl
 
 from __future__ import annotations
 
-import json
-
 from ..cli import ArgumentParser, positive_float, positive_int, run_guarded
+from ..commands.json_output import dumps
 
 PROG = "dh2urdf audit"
 
@@ -88,7 +87,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 table, args.samples, pairs=not args.singles, refit=not args.no_refit
             )
             text = (
-                json.dumps(report.sample_audit_json(audit))
+                dumps(report.sample_audit_json(audit))
                 if args.json
                 else report.sample_audit_text(audit, args.top)
             )
@@ -105,7 +104,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 rotation_tol=args.rotation_tol,
             )
             text = (
-                json.dumps(report.urdf_audit_json(audit_u))
+                dumps(report.urdf_audit_json(audit_u))
                 if args.json
                 else report.urdf_audit_text(audit_u, args.top)
             )

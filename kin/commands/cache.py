@@ -7,10 +7,9 @@ It is kept under a fixed size, the least recently used tables removed first.
 
 from __future__ import annotations
 
-import json
-
 from ..cli import ArgumentParser, run_guarded
 from ..exceptions import KinError
+from .json_output import dumps
 
 PROG = "kin cache"
 
@@ -47,7 +46,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 ) from err
             if args.json:
                 record = {"folder": str(removed.folder), "removed_files": removed.files}
-                print(json.dumps({**record, "removed_bytes": removed.size}))
+                print(dumps({**record, "removed_bytes": removed.size}))
             else:
                 size = _megabytes(removed.size)
                 print(f"removed {removed.files} files ({size}) from {removed.folder}")
@@ -56,7 +55,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         enabled = seed_cache.enabled()
         if args.json:
             record = {"folder": str(usage.folder), "files": usage.files, "bytes": usage.size}
-            print(json.dumps({**record, "max_bytes": limit, "enabled": enabled}))
+            print(dumps({**record, "max_bytes": limit, "enabled": enabled}))
             return 0
         print(f"folder: {usage.folder}")
         print(f"files:  {usage.files} ({_megabytes(usage.size)}; kept under {_megabytes(limit)})")

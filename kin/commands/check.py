@@ -10,10 +10,11 @@ and the closest pair. --json is SI. Exit 0: free; 1: in collision; 2: bad input.
 
 from __future__ import annotations
 
-import json
+from dh2urdf.output_text import counted, shown_name
 
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
 from .collision_options import add_collision_options
+from .json_output import dumps
 from .robot_argument import add_robot_arguments
 
 PROG = "kin check"
@@ -101,7 +102,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 "pairs_allowed": len(model.disabled),
                 "shapes": model.shape_note,
             }
-            print(json.dumps(record))
+            print(dumps(record))
             return EXIT_IN_COLLISION if contacts else 0
         unit = args.unit
 
@@ -109,22 +110,25 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             return " ".join(f"{v / scale:.4f}" for v in values)  # type: ignore[attr-defined]
 
         verdict = "IN COLLISION" if contacts else "collision-free"
-        print(f"{robot.name}: {verdict}")
+        print(f"{shown_name(robot.name)}: {verdict}")
         print(
-            f"pairs checked: {len(model.pairs)} ({len(model.links)} links with shapes, "
-            f"{len(model.scene_objects)} scene objects; {len(model.disabled)} pairs allowed)"
+            f"pairs checked: {len(model.pairs)} ({counted(len(model.links), 'link')} with "
+            f"shapes, {counted(len(model.scene_objects), 'scene object')}; "
+            f"{counted(len(model.disabled), 'pair')} allowed)"
         )
         print(f"shapes: {model.shape_note}")
         for c in contacts:
             kind = "scene" if c.b in model.scene_objects else "self"
             print(
-                f"contact ({kind}): {c.a} / {c.b}  depth {c.depth / scale:.4f} {unit}  "
-                f"points [{unit}] ({point(c.point_a)}) ({point(c.point_b)})"
+                f"contact ({kind}): {shown_name(c.a)} / {shown_name(c.b)}  depth "
+                f"{c.depth / scale:.4f} {unit}  points [{unit}] ({point(c.point_a)}) "
+                f"({point(c.point_b)})"
             )
         if closest is not None:
             print(
-                f"closest: {closest.a} / {closest.b}  distance {closest.distance / scale:.4f} "
-                f"{unit}  points [{unit}] ({point(closest.point_a)}) ({point(closest.point_b)})"
+                f"closest: {shown_name(closest.a)} / {shown_name(closest.b)}  distance "
+                f"{closest.distance / scale:.4f} {unit}  points [{unit}] "
+                f"({point(closest.point_a)}) ({point(closest.point_b)})"
             )
         return EXIT_IN_COLLISION if contacts else 0
 

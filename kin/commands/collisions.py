@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import sys
 
+from dh2urdf.output_text import counted, shown_name
+
 from ..cli import ArgumentParser, positive_int, run_guarded
 from .robot_argument import add_robot_arguments
 
@@ -75,8 +77,9 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         summary = ", ".join(f"{n} {r}" for r, n in counts.items())
         total = len({*model.pairs, *model.disabled})
         print(
-            f"{prog}: {robot.name}: {len(disabled)} of {total} link pairs disabled ({summary}); "
-            f"{args.samples} samples, seed {args.random_seed} -> {args.write_srdf}",
+            f"{prog}: {shown_name(robot.name)}: {len(disabled)} of "
+            f"{counted(total, 'link pair')} disabled{f' ({summary})' if summary else ''}; "
+            f"{counted(args.samples, 'sample')}, seed {args.random_seed} -> {args.write_srdf}",
             file=sys.stderr,
         )
         return 0

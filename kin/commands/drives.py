@@ -8,11 +8,10 @@ pulses -> angles reached and tool position. --json is SI (rad, m) with unit-name
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
+from .json_output import dumps
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin drives"
@@ -73,7 +72,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             units.to_si(args.pulses, "--pulses")  # one value per joint, or a one-line error
             result = from_pulses(robot.table, args.pulses)
         if args.json:
-            print(json.dumps(_record(robot, result, drives)))
+            print(dumps(_record(robot, result, drives)))
             return 0
         scale = length_scale(args.unit)
         angle = units.labels[0]

@@ -15,11 +15,11 @@ Pinocchio's of the original URDF with mimic joints.
 from __future__ import annotations
 
 import functools
-import json
 import sys
 
 from ..cli import ArgumentParser, angle_scale, finite_float, length_scale, run_guarded
 from .arm_route import MIMIC_HELP
+from .json_output import dumps
 from .robot_argument import add_robot_arguments
 
 PROG = "kin fk"
@@ -99,7 +99,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             mimic = mimic_records(robot)
             if mimic:
                 record["mimic"] = mimic
-            print(json.dumps(record))
+            print(dumps(record))
             return 0
         position = pose.translation / length_scale(args.unit)
         q_shown = units.from_si(q)

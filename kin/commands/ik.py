@@ -47,7 +47,6 @@ once the input ends: 1 when any line had an error or no valid solution, else 0.
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import sys
 from typing import TYPE_CHECKING, Any
@@ -61,6 +60,7 @@ from ..cli import (
     run_guarded,
 )
 from .collision_options import add_collision_options, check_padding
+from .json_output import dumps
 from .robot_argument import add_robot_arguments
 
 if TYPE_CHECKING:
@@ -262,7 +262,7 @@ def _run(args: argparse.Namespace) -> int:
         mimic = mimic_records(robot)
         if mimic:
             record["mimic"] = mimic
-        print(json.dumps(record))
+        print(dumps(record))
     else:
         free_rotation = isinstance(target, PositionTarget)
         _print_result(result, robot.name, units, args.unit, args.all, free_rotation)

@@ -31,7 +31,6 @@ plainest lines' reading and writing (``kin/_native/_plain_lines.c``, if built).
 from __future__ import annotations
 
 import functools
-import json
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -45,6 +44,7 @@ from ..ik.result import IKResult
 from ..ik.target import PoseTarget, PositionTarget, Target
 from .interrupt_gate import InterruptGate, interrupt_gate
 from .joint_units import JointUnits
+from .json_output import dumps
 from .stream_batch import BatchRoute, BatchStage
 from .stream_batch import rpy_matrices as rpy_matrices
 from .stream_reader import CHUNK, KEYS, READ, LineReader, plain_groups
@@ -159,8 +159,6 @@ class StreamSolver:
             1 when any line had an error or no valid solution, else 0.
         """
         q_units = list(self.units.si_labels)
-        # the records are fresh trees of dicts and lists: no need to look for cycles
-        dumps = json.JSONEncoder(check_circular=False).encode
         batches = line_batches(source)
         number = 0  # lines read so far
         failed = False

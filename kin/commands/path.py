@@ -38,12 +38,12 @@ path collides, 2 for bad input.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from typing import TYPE_CHECKING, Any
 
 from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
 from .collision_options import add_collision_options, check_padding, collision_checker
+from .json_output import dumps
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 if TYPE_CHECKING:
@@ -273,7 +273,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
             record["collisions"] = check.to_dict()
         if avoided is not None:
             record["avoid"] = avoided.to_dict()
-        print(json.dumps(record))
+        print(dumps(record))
     else:
         collides = check is not None and check.first is not None
         print_text(robot.name, units, args.unit, length, result, timed, collides)

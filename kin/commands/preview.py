@@ -29,6 +29,8 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
+from dh2urdf.output_text import shown_name
+
 from ..cli import (
     ArgumentParser,
     angle_scale,
@@ -205,7 +207,7 @@ def _run(args: argparse.Namespace, prog: str) -> int:
         if args.html is not None:
             page = viewer.static_html()
             written = write_page(args.html, page if title is None else titled(page, title))
-            print(f"{robot.name}: preview written to {written}")
+            print(f"{shown_name(robot.name)}: preview written to {written}")
             return EXIT_NO_SOLUTION if args.ik and q_goal is None else 0
         print(viewer.url, flush=True)
         signal.signal(signal.SIGTERM, _interrupt)
@@ -243,7 +245,7 @@ def _solve(
     q_goal = result.solutions[0].q
     shown = ", ".join(f"{v:.4g} {u}" for v, u in zip(units.from_si(q_goal), units.labels))
     branch = result.solutions[0].branch or result.method or result.solver
-    print(f"{robot.name}: IK ({branch}): q = {shown}")
+    print(f"{shown_name(robot.name)}: IK ({branch}): q = {shown}")
     return q_goal
 
 
@@ -268,10 +270,10 @@ def _show_collisions(viewer: RobotViewer, args: argparse.Namespace) -> str:
     contacts = checker.collisions(viewer.q)
     links = sorted({name for c in contacts for name in (c.a, c.b)} & set(model.links))
     show_colliding_links(viewer, links)
-    pairs = ", ".join(f"{c.a} / {c.b}" for c in contacts)
+    pairs = ", ".join(f"{shown_name(c.a)} / {shown_name(c.b)}" for c in contacts)
     verdict = f"IN COLLISION ({pairs})" if contacts else "collision-free"
-    print(f"{robot.name}: {verdict}")
-    title = f"{robot.name}: {verdict}"
+    title = f"{shown_name(robot.name)}: {verdict}"
+    print(title)
     if model.pairs:
         label = show_closest(viewer, checker.distance(viewer.q), args.unit, scale)
         print(label)

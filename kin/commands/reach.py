@@ -18,8 +18,6 @@ terminal, unless --quiet); Ctrl-C stops with one line and exit 130, leaving no f
 
 from __future__ import annotations
 
-import json
-
 from ..cli import (
     ArgumentParser,
     length_scale,
@@ -29,6 +27,7 @@ from ..cli import (
 )
 from ..exceptions import KinError
 from .collision_options import add_collision_options, check_padding
+from .json_output import dumps
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin reach"
@@ -122,7 +121,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         if args.png:
             plot_reach_map(reach_map, args.png, args.unit)
         if args.json:
-            print(json.dumps(reach_map.to_dict()))
+            print(dumps(reach_map.to_dict()))
         else:
             solved = int((reach_map.index > 0).sum())
             print(

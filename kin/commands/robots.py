@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import json
-
 from ..cli import ArgumentParser, run_guarded
+from .json_output import dumps
 
 PROG = "kin robots"
 
@@ -50,7 +49,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     def body() -> int:
         records = robot_records()
         if args.json:
-            print(json.dumps(records))
+            print(dumps(records))
             return 0
         width = max(len(str(record["name"])) for record in records)
         print(f"{'robot':<{width}}  {'joints':<7} source")

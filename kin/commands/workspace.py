@@ -9,9 +9,8 @@ half-written PNG.
 
 from __future__ import annotations
 
-import json
-
 from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
+from .json_output import dumps
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 PROG = "kin workspace"
@@ -162,7 +161,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
 
             plot_workspace(work, args.output, args.unit)
         if args.json:
-            print(json.dumps(work.stats.to_dict()))
+            print(dumps(work.stats.to_dict()))
         else:
             _print_text(work.stats, args.unit)
             if args.output:

@@ -40,6 +40,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from dh2urdf.output_text import shown_name
+
 from .result import IKResult, IKSolution
 from .target import AxisTarget, PoseTarget
 
@@ -59,12 +61,13 @@ def collision_reason(checker: Any, q: np.ndarray) -> str:
     scene = set(checker.model.scene_objects)
     parts: list[str] = []
     for contact in checker.collisions(q):
+        a, b = shown_name(contact.a), shown_name(contact.b)  # one line, whatever the names
         if contact.b in scene:
-            part = f"scene: {contact.b}"
+            part = f"scene: {b}"
         elif contact.a in scene:
-            part = f"scene: {contact.a}"
+            part = f"scene: {a}"
         else:
-            part = f"self: {contact.b}/{contact.a}"
+            part = f"self: {b}/{a}"
         if part not in parts:
             parts.append(part)
     return "; ".join(parts)

@@ -34,6 +34,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from dh2urdf.output_text import shown_name
+
 if TYPE_CHECKING:
     from ..collision import CollisionChecker
 
@@ -83,7 +85,7 @@ class PathCollision:
             place = (
                 f"between samples {self.segment} and {self.segment + 1} (t = {self.fraction:.6g})"
             )
-        pair = f"{self.a} / {self.b} ({self.kind})"
+        pair = f"{shown_name(self.a)} / {shown_name(self.b)} ({self.kind})"
         if not self.at_sample and self.proven:
             return (
                 f"contact begins between samples {self.segment} and {self.segment + 1} at "

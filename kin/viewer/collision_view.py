@@ -17,6 +17,8 @@ import numpy as np
 import pinocchio as pin
 from pinocchio.visualize.meshcat_visualizer import loadPrimitive
 
+from dh2urdf.output_text import shown_name
+
 from .markers import draw_sphere, hex_color
 from .robot_viewer import RobotViewer, _local_box
 
@@ -139,7 +141,8 @@ def show_closest(viewer: RobotViewer, closest: Closest, unit: str = "m", scale: 
         draw_sphere(node[name], radius, CLOSEST_RGB)
         node[name].set_transform(_translation(point))
     distance = float(closest.distance)
-    return f"closest: {closest.a} / {closest.b} {distance / scale:.4f} {unit}"
+    pair = f"{shown_name(closest.a)} / {shown_name(closest.b)}"
+    return f"closest: {pair} {distance / scale:.4f} {unit}"
 
 
 def _drawable(obj: pin.GeometryObject) -> object | None:
