@@ -10,6 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
+from solver_caps import NO_CAP
 
 from kin import Configuration, load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver
@@ -44,7 +45,7 @@ def _answer(result) -> tuple:
 def test_one_solver_shared_by_four_threads_answers_as_one_thread(name, full):
     """4,000 poses split over 4 threads sharing one get_solver(): the answers of one thread.
 
-    A time cap no load reaches (600 s) and an attempt cap make each answer independent of the
+    A time cap no load reaches (NO_CAP) and an attempt cap make each answer independent of the
     machine's speed (the numeric stages stop on the attempt cap, not the clock).
     """
     count = 4000 if name == "humanoid7" else 1000
@@ -55,7 +56,7 @@ def test_one_solver_shared_by_four_threads_answers_as_one_thread(name, full):
     cap = {"max_attempts": 60} if isinstance(solver, NumericIK) else {}
 
     def solve(target):  # a cap no load reaches: the threads' verdicts are compared
-        return _answer(solver.solve(target, timeout=600.0, **cap))
+        return _answer(solver.solve(target, timeout=NO_CAP, **cap))
 
     alone = [solve(target) for target in targets]
     with ThreadPoolExecutor(max_workers=4) as pool:

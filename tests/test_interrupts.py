@@ -6,16 +6,11 @@ import os
 import signal
 import subprocess
 import time
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 from cli_helper import kin_command
-
-#: How long a stopped command may take to exit before the test calls it a hang [s]: a guard
-#: against a process that never ends, far above any stop on a loaded machine (no test asserts a
-#: wall-clock time; the figures belong in the benchmarks).
-HANG_GUARD = 60.0
+from process_state import HANG_GUARD, cpu_seconds, wait_until
 
 
 def _group_alive(pgid: int) -> list[str]:
@@ -37,25 +32,6 @@ def _holds_sigint(pid: int, field: str) -> bool:
         return False
     masks = dict(line.split(":\t", 1) for line in lines if line.startswith("Sig"))
     return bool(int(masks[field], 16) >> (signal.SIGINT - 1) & 1)
-
-
-def _wait_until(ready: Callable[[], bool], process: subprocess.Popen, what: str) -> None:
-    """Poll ``ready`` while ``process`` lives: a state, not a time, says when to go on (a slow
-    or loaded machine only waits longer; :data:`HANG_GUARD` fails a run that never gets there)."""
-    deadline = time.monotonic() + HANG_GUARD
-    while not ready():
-        assert process.poll() is None, f"ended before {what}: exit {process.returncode}"
-        assert time.monotonic() < deadline, f"not {what} after {HANG_GUARD} s"
-        time.sleep(0.01)
-
-
-def _cpu_seconds(pid: int) -> float:
-    """The process's CPU time so far (user and system) [s]: its work, whatever the load."""
-    try:
-        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    except OSError:
-        return 0.0
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime
 
 
 def _pool_working(pid: int) -> bool:
@@ -81,7 +57,7 @@ def test_ctrl_c_stops_a_workspace_run_with_two_workers(signals, tmp_path):
         start_new_session=True,
     )
     try:
-        _wait_until(lambda: _pool_working(process.pid), process, "the pool working")
+        wait_until(lambda: _pool_working(process.pid), process, "the pool working")
         os.killpg(process.pid, signal.SIGINT)
         if signals == 2:
             time.sleep(0.3)
@@ -135,9 +111,9 @@ def test_kill_int_stops_a_run_started_with_sigint_ignored():
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
     )
     try:  # the command puts SIGINT's handler back (before, an ignored SIGINT would be lost)
-        _wait_until(lambda: _holds_sigint(process.pid, "SigCgt"), process, "catching SIGINT")
-        then = _cpu_seconds(process.pid)  # then computes a while: inside the command's guard
-        _wait_until(lambda: _cpu_seconds(process.pid) > then + 0.2, process, "computing")
+        wait_until(lambda: _holds_sigint(process.pid, "SigCgt"), process, "catching SIGINT")
+        then = cpu_seconds(process.pid)  # then computes a while: inside the command's guard
+        wait_until(lambda: cpu_seconds(process.pid) > then + 0.2, process, "computing")
         process.send_signal(signal.SIGINT)
         _, err = process.communicate(timeout=HANG_GUARD)
         assert process.returncode == 130, err
@@ -253,7 +229,7 @@ def test_ctrl_c_on_the_stream_keeps_the_answers_solved(case, options, count, aft
         )
         try:
             # Answering (its first answers written), then ``after`` [s] more: in a read batch.
-            _wait_until(lambda: out.stat().st_size > 0, process, "answering")
+            wait_until(lambda: out.stat().st_size > 0, process, "answering")
             time.sleep(after)
             process.send_signal(signal.SIGINT)
             _, err = process.communicate(timeout=60)
