@@ -20,9 +20,9 @@ def _table(tmp_path, old: str, new: str):
 
 
 def _one_warning(err: str, *needles: str) -> None:
-    # A joint value beyond a turn is beyond the limits too: that warning is its own line.
-    lines = [line for line in err.splitlines() if "warning:" in line and "limits" not in line]
-    assert len(lines) == 1, err
+    """Exactly one line on stderr, a warning holding every needle (a slip and its limits too)."""
+    lines = err.splitlines()
+    assert len(lines) == 1 and "warning:" in lines[0], err
     assert all(needle in lines[0] for needle in needles), lines[0]
 
 
@@ -42,21 +42,70 @@ def test_millimeters_in_a_meter_table(tmp_path, capsys):
     _one_warning(capsys.readouterr().err, "952 m", 'length_unit = "mm"')
 
 
+def test_degrees_without_deg(capsys):
+    """--q 6.5 without --deg (outside ur5's wrist limits, inside as degrees): one warning line
+    that says --deg; the command runs."""
+    assert fk.main(["--robot", "ur5", "--q", "0", "0", "0", "0", "6.5", "0"]) == 0
+    _one_warning(capsys.readouterr().err, "--q value 6.5", "--deg")
+
+
 @pytest.mark.parametrize(
-    ("main", "argv", "needle"),
+    ("argv", "needle"),
     [
-        (
-            ik.main,
-            ["--robot", "ur5", "--target", "0.4", "0.1", "0.3", "--rpy", "180", "0", "0"],
-            "--rpy value 180",
-        ),
-        (fk.main, ["--robot", "ur5", "--q", "0", "0", "0", "0", "6.5", "0"], "--q value 6.5"),
+        (["ik", "--target", "0.4", "0.1", "0.3", "--rpy", "180", "0", "0"], "--rpy value 180"),
+        (["ik", "--target", "0.4", "0.1", "0.3", "--rpy", "0", "-7", "0"], "--rpy value -7"),
+        (["path", "--from", "0.4", "0", "0.3", "--rpy", "180", "0", "0", "--to", "0.4", "0.2",
+          "0.3", "--rpy", "180", "0", "0", "--steps", "4"], "--rpy value 180"),
+        (["preview", "--target", "0.4", "0.1", "0.3", "--rpy", "180", "0", "0", "--html",
+          "{tmp}/p.html"], "--rpy value 180"),
     ],
-)
-def test_degrees_without_deg(main, argv, needle, capsys):
-    """--rpy 180 or --q 7 without --deg: one warning line that says --deg; the command runs."""
-    assert main(argv) in (0, 1)
-    _one_warning(capsys.readouterr().err, needle, "--deg")
+)  # fmt: skip
+def test_target_angles_beyond_a_turn_without_deg_are_refused(argv, needle, tmp_path, capsys):
+    """--rpy 180 0 0 without --deg solved 180 rad (another pose) with exit 0: now exit 2, one
+    line naming --rpy and the fix --deg, and nothing written."""
+    from cli_helper import assert_one_line_error, call
+
+    from kin.commands import main
+
+    argv = [argv[0], "--robot", "ur5", *(a.replace("{tmp}", str(tmp_path)) for a in argv[1:])]
+    code = call(main, argv)
+    err = capsys.readouterr().err
+    assert_one_line_error(code, err, needle)
+    assert "then add --deg" in err
+    assert not (tmp_path / "p.html").exists()
+
+
+def test_target_angles_within_a_turn_or_with_deg_are_solved(capsys):
+    """The same target with --deg, or pi given in radians: solved, no warning."""
+    target = ["--robot", "ur5", "--target", "0.4", "0.1", "0.3"]
+    assert ik.main([*target, "--rpy", "180", "0", "0", "--deg"]) == 0
+    assert ik.main([*target, "--rpy", "3.14159", "0", "0"]) == 0
+    assert ik.main([*target, "--rpy", "-6.28", "0", "0"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_pitch_beyond_a_turn_without_deg_is_refused(capsys):
+    """--pitch 90 without --deg (a five-joint arm's approach angle): exit 2, one line."""
+    from cli_helper import assert_one_line_error, call
+
+    code = call(ik.main, ["--robot", "lab5", "--target", "0.3", "0", "0.2", "--pitch", "90"])
+    assert_one_line_error(code, capsys.readouterr().err, "--pitch value 90 rad")
+
+
+def test_stream_line_with_degrees_without_deg_is_an_error_line():
+    """kin ik --stdin: an "rpy" beyond a turn without --deg is that line's error (with --deg
+    the same line is solved), the other lines answered."""
+    import json
+
+    from cli_helper import run
+
+    lines = '{"target": [0.4, 0.1, 0.3], "rpy": [180, 0, 0]}\n{"target": [0.4, 0.1, 0.3]}\n'
+    done = run(["ik", "--robot", "ur5", "--stdin"], stdin=lines)
+    first, second = (json.loads(line) for line in done.stdout.splitlines())
+    assert "--rpy value 180 rad" in first["error"] and "--deg" in first["error"]
+    assert second["success"] is True and done.returncode == 1
+    done = run(["ik", "--robot", "ur5", "--stdin", "--deg"], stdin=lines.splitlines()[0] + "\n")
+    assert json.loads(done.stdout)["success"] is True, done.stdout
 
 
 def test_shipped_tables_and_radian_values_warn_nothing(capsys):
@@ -210,3 +259,32 @@ def test_revolute_limits_warn_beyond_four_turns(limit, warned):
     assert bool(messages) == warned, messages
     if warned:
         assert "more than four turns" in messages[0] and "field 'limits'" in messages[0]
+
+
+@pytest.mark.parametrize(
+    ("q", "needles"),
+    [
+        (["0", "90", "0", "0", "0", "0"], ["--q value 90 rad", "shoulder_lift_joint", "--deg"]),
+        (["90", "90", "90", "90", "90", "90"], ["--q value 90 rad", "--deg", "6 joints"]),
+        (
+            ["0", "0", "4", "500", "0", "0"],
+            ["2 joints are outside their limits", "'elbow_joint' 4"],
+        ),
+    ],
+)
+def test_fk_warns_in_one_line(q, needles, capsys):
+    """kin fk on degree-looking values without --deg printed a line per joint outside its limits
+    and one for the slip (four and more lines): one line now, the slip first, the count after;
+    joints outside their limits without a slip are one line too."""
+    assert fk.main(["--robot", "ur5", "--q", *q]) == 0
+    _one_warning(capsys.readouterr().err, *needles)
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")  # pyzmq's, shown under pytest only
+def test_preview_warns_in_one_line(tmp_path, capsys):
+    """kin preview --q 90 ... without --deg: one warning line, as kin fk."""
+    from kin.commands import preview
+
+    argv = ["--robot", "ur5", "--q", "90", "90", "0", "0", "0", "0", "--html", str(tmp_path / "p.html")]  # fmt: skip
+    assert preview.main(argv) == 0
+    _one_warning(capsys.readouterr().err, "--q value 90 rad", "--deg", "2 joints")

@@ -61,20 +61,23 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         from ..configuration import Configuration, limit_violations
         from ..robot_model import RobotModel
         from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
+        from .joint_units import limits_line
 
         robot = load_arm_argument(args)
         units = arm_units(robot, args.unit, args.deg)
+        q_si = units.to_si(args.q, "--q", warn_units=False)
         if isinstance(robot, RobotModel):
-            configuration = Configuration(robot, units.to_si(args.q, "--q"))
+            configuration = Configuration(robot, q_si)
             q = configuration.q
             violations = limit_violations(robot, q)
             pose_of = configuration.transform_frame_to_world
         else:  # a URDF chain with mimic joints: q holds the independent joints
-            q = units.to_si(args.q, "--q")
+            q = q_si
             violations = robot.limit_violations(q)
             pose_of = functools.partial(robot.frame_pose, q)
-        for violation in violations:
-            print(f"{prog}: warning: {violation}", file=sys.stderr)
+        warning = limits_line(violations, units.unit_slip(args.q, "--q"))
+        if warning is not None:  # a unit slip and the joints outside their limits: one line
+            print(f"{prog}: warning: {warning}", file=sys.stderr)
         pose = pose_of(args.frame)
         angle = angle_scale(args.deg)
         rpy = [v / angle for v in pin.rpy.matrixToRpy(pose.rotation).tolist()]

@@ -13,15 +13,17 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from dh2urdf import DHTable
 from dh2urdf.command_line import angle_scale, length_scale
 from dh2urdf.exceptions import UnitWarning
+from dh2urdf.output_text import shown_name
 from dh2urdf.quoted_input import quoted
 from dh2urdf.table_file import RADIAN_SUSPECT
 from dh2urdf.table_values import MAX_LENGTH
 
-from ..exceptions import JointVectorError
+from ..exceptions import JointVectorError, NotWithinLimitsError
 
 
 def joint_types_code(table: DHTable) -> str:
@@ -80,13 +82,21 @@ class JointUnits:
         """``"name [unit], ..."`` of every joint, for messages and headers."""
         return ", ".join(f"{n} [{u}]" for n, u in zip(self.joint_names, self.labels))
 
-    def to_si(self, values: Sequence[float], option: str = "--q") -> np.ndarray:
+    def to_si(
+        self, values: Sequence[float], option: str = "--q", *, warn_units: bool = True
+    ) -> np.ndarray:
         """Joint values given in command-line units, in SI ([rad] or [m]).
 
         Revolute values may be any finite number (a warning when, without ``--deg``, one is
-        more than a turn, outside its joint's limits and inside them read as degrees);
-        prismatic ones at most ``MAX_LENGTH`` (1e6 m) in magnitude, the bound of a table's lengths,
-        so that forward kinematics stays finite.
+        more than a turn, outside its joint's limits and inside them read as degrees: see
+        :meth:`unit_slip`); prismatic ones at most ``MAX_LENGTH`` (1e6 m) in magnitude, the bound
+        of a table's lengths, so that forward kinematics stays finite.
+
+        Args:
+            values: One value per joint, in command-line units.
+            option: The option that gave them, for messages.
+            warn_units: Give :meth:`unit_slip`'s line as a :class:`UnitWarning` (False: the
+                caller folds it into its own warning line).
 
         Raises:
             JointVectorError: Not one value per joint, a value not finite or a prismatic value
@@ -110,8 +120,10 @@ class JointUnits:
             raise JointVectorError(
                 f"{option} values must be finite, got {quoted(array.tolist())}", nq, array.size
             )
-        if self.labels and "rad" in self.labels:
-            self._warn_degrees(option, array)
+        if warn_units:
+            slip = self.unit_slip(array, option)
+            if slip is not None:
+                warnings.warn(slip, UnitWarning, stacklevel=2)
         si = array * self.scales
         for name, value, given, unit, si_unit in zip(
             self.joint_names, si.tolist(), array.tolist(), self.labels, self.si_labels
@@ -126,43 +138,78 @@ class JointUnits:
                 )
         return si
 
-    def _warn_degrees(self, option: str, values: np.ndarray) -> None:
-        """A :class:`~dh2urdf.exceptions.UnitWarning` for the first radian value like degrees.
+    def unit_slip(self, values: npt.ArrayLike, option: str = "--q") -> str | None:
+        """The line that says the first radian value looks like degrees, or None.
 
         Like degrees: more than a turn, outside its joint's limits, inside them read as degrees.
         A value inside the limits is what the arm does (ABB and FANUC joint 6 turn +-400 to
-        450 deg): no warning. Without limits (``lower`` None), more than a turn is enough.
+        450 deg): no line. Without limits (``lower`` None), more than a turn is enough.
+
+        Args:
+            values: One value per joint, in command-line units.
+            option: The option that gave them.
         """
+        given = np.asarray(values, dtype=float).reshape(-1).tolist()
+        if "rad" not in self.labels:
+            return None
         if self.lower is None or self.upper is None:
-            warn_radians(option, [v for v, u in zip(values.tolist(), self.labels) if u == "rad"])
-            return
+            return radian_slip(option, [v for v, u in zip(given, self.labels) if u == "rad"])
         for value, unit, name, low, high in zip(
-            values.tolist(), self.labels, self.joint_names, self.lower, self.upper
+            given, self.labels, self.joint_names, self.lower, self.upper
         ):
             if unit != "rad" or abs(value) <= RADIAN_SUSPECT or low <= value <= high:
                 continue
             if low <= math.radians(value) <= high:
-                warnings.warn(
-                    f"{option} value {value:g} rad of joint '{name}' is outside its range "
-                    f"[{low:.6g}, {high:.6g}] rad, inside it as {value:g} deg: degrees? then "
-                    "add --deg",
-                    UnitWarning,
-                    stacklevel=4,
+                return (
+                    f"{option} value {value:g} rad of joint '{shown_name(name)}' is outside its "
+                    f"range [{low:.6g}, {high:.6g}] rad, inside it as {value:g} deg: degrees? "
+                    "then add --deg"
                 )
-                return
+        return None
 
     def from_si(self, q: np.ndarray) -> np.ndarray:
         """SI joint values ([rad] or [m]) in command-line units."""
         return np.asarray(q, dtype=float) / self.scales
 
 
-def warn_radians(option: str, values: Sequence[float]) -> None:
-    """A :class:`~dh2urdf.exceptions.UnitWarning` when a value in radians exceeds a turn."""
-    for value in values:
-        if abs(value) > RADIAN_SUSPECT:
-            warnings.warn(
-                f"{option} value {value:g} rad is more than a turn: degrees? then add --deg",
-                UnitWarning,
-                stacklevel=3,
-            )
-            return
+def beyond_a_turn(values: Sequence[float]) -> float | None:
+    """The first of ``values`` [rad] more than a turn in magnitude (degrees?), or None."""
+    return next((value for value in values if abs(value) > RADIAN_SUSPECT), None)
+
+
+def radian_slip(option: str, values: Sequence[float]) -> str | None:
+    """The line that says a value in radians exceeds a turn (degrees?), or None."""
+    value = beyond_a_turn(values)
+    if value is None:
+        return None
+    return f"{option} value {value:g} rad is more than a turn: degrees? then add --deg"
+
+
+def limits_line(violations: Sequence[NotWithinLimitsError], slip: str | None = None) -> str | None:
+    """One warning line for the joints outside their limits and a unit slip, or None.
+
+    A unit slip (:meth:`JointUnits.unit_slip`) is the line, with the number of joints outside
+    their limits when it is more than the slip's one; else the one joint outside, or the count
+    and every joint (name, value and limits, in SI).
+
+    Args:
+        violations: The joints outside their limits (:func:`kin.configuration.limit_violations`).
+        slip: The unit slip's line, or None.
+    """
+    if slip is not None:
+        if len(violations) <= 1:  # the slip's joint
+            return slip
+        return f"{slip}; as given, {len(violations)} joints are outside their limits"
+    if not violations:
+        return None
+    if len(violations) == 1:
+        v = violations[0]
+        return (
+            f"joint '{shown_name(v.joint)}' value {v.value:.6g} {v.unit} is outside its limits "
+            f"[{v.lower:.6g}, {v.upper:.6g}] {v.unit}"
+        )
+    joints = "; ".join(
+        f"'{shown_name(v.joint)}' {v.value:.6g} {v.unit} [{v.lower:.6g}, {v.upper:.6g}]"
+        for v in violations
+    )
+    return f"{len(violations)} joints are outside their limits: {joints}"

@@ -136,7 +136,7 @@ def _run(args: argparse.Namespace, prog: str) -> int:
     import numpy as np
 
     from ..configuration import limit_violations
-    from .joint_units import JointUnits
+    from .joint_units import JointUnits, limits_line
     from .robot_argument import load_robot_argument
     from .targets import build_target
 
@@ -150,9 +150,11 @@ def _run(args: argparse.Namespace, prog: str) -> int:
     if args.q is None:
         q_start = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
     else:
-        q_start = units.to_si(args.q, "--q")
-    for violation in limit_violations(robot, q_start):
-        print(f"{prog}: warning: {violation}", file=sys.stderr)
+        q_start = units.to_si(args.q, "--q", warn_units=False)
+    slip = None if args.q is None else units.unit_slip(args.q, "--q")
+    warning = limits_line(limit_violations(robot, q_start), slip)
+    if warning is not None:  # one line
+        print(f"{prog}: warning: {warning}", file=sys.stderr)
     target = None
     if args.target is not None:
         length = length_scale(args.unit)

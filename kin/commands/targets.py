@@ -19,7 +19,7 @@ from dh2urdf.units import angle_to_radians
 from ..ik.angles import quaternion_matrix as unit_quaternion_matrix
 from ..ik.exceptions import TargetError
 from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
-from .joint_units import warn_radians
+from .joint_units import beyond_a_turn
 
 #: What each target class is called on the command line.
 KIND_TERMS: dict[type, str] = {
@@ -43,6 +43,24 @@ def _finite(values: object, size: int, what: str) -> list[float]:
     if not all(map(math.isfinite, items)):
         raise TargetError(f"{what} must be finite, got {quoted(values)}")
     return [float(v) for v in items]  # type: ignore[arg-type]  # checked above
+
+
+def _refuse_degrees(option: str, values: list[float]) -> None:
+    """Refuse a target angle in radians beyond a turn: degrees given without ``--deg``.
+
+    A joint may turn more than once (a warning, :meth:`~.joint_units.JointUnits.unit_slip`);
+    an orientation angle of a target never needs to: ``--rpy 180 0 0`` is 180 degrees meant,
+    and solving 180 rad (a different pose) would answer another question.
+
+    Raises:
+        TargetError: A value beyond 2 pi; the message names the option and the fix.
+    """
+    value = beyond_a_turn(values)
+    if value is not None:
+        raise TargetError(
+            f"{option} value {value:g} rad is more than a turn: degrees? then add --deg "
+            "(in radians it is at most 2 pi)"
+        )
 
 
 def quaternion_matrix(w: float, x: float, y: float, z: float) -> list[list[float]]:
@@ -136,12 +154,12 @@ def build_target(
     if rpy is not None:
         rpy_values = _finite(rpy, 3, "--rpy")
         if angle == 1.0:
-            warn_radians("--rpy", rpy_values)
+            _refuse_degrees("--rpy", rpy_values)
         rpy_si = [angle_to_radians(v, angle) for v in rpy_values]  # any size: reduced first
         return PoseTarget.from_rpy(p, rpy_si, mask), "--rpy"
     if pitch is not None:
         if angle == 1.0:
-            warn_radians("--pitch", _finite(pitch, 1, "--pitch"))
+            _refuse_degrees("--pitch", _finite(pitch, 1, "--pitch"))
         pitch_si = angle_to_radians(_finite(pitch, 1, "--pitch")[0], angle)
         roll_si = None if roll is None else _finite(roll, 1, "--roll")[0] * angle
         return PitchTarget(p, pitch_si, roll_si), "--pitch"
