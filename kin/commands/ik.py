@@ -60,6 +60,7 @@ from ..cli import (
     run_guarded,
 )
 from .collision_options import add_collision_options, check_padding
+from .ik_counts import hidden_note, shown_rows
 from .json_output import dumps
 from .robot_argument import add_robot_arguments
 
@@ -204,7 +205,8 @@ def _run(args: argparse.Namespace) -> int:
     if checker is not None:
         from ..ik.collision_aware import CollisionAwareSolver
 
-        solver = CollisionAwareSolver(solver, checker, every=args.all)
+        # every answer judged: the counts of free and rejected ones do not depend on --all
+        solver = CollisionAwareSolver(solver, checker, every=True)
         if solve_all is not None:
             aware = solver
             solve_all = lambda t, s: aware.solve(t, s, timeout=timeout, all_branches=True)  # noqa: E731
@@ -365,15 +367,15 @@ def _print_result(
     length = length_scale(unit)
     method = f", {result.method}" if result.method else ""
     message = message_in_unit(result.message, length, unit)
-    print(f"{robot} ({result.solver}{method}): {result.status}: {message}")
+    shown = shown_rows(result, show_all)
+    print(
+        f"{robot} ({result.solver}{method}): {result.status}: {message}{hidden_note(result, shown)}"
+    )
     if result.free:
         print(f"free: {', '.join(result.free)} (verified on the other components)")
     if result.distance_to_workspace is not None:
         print(f"distance to the workspace: {result.distance_to_workspace / length:.6g} {unit}")
     print(f"iterations: {result.iterations}, time: {result.time * 1e3:.3f} ms")
-    shown = list(result.solutions) + (list(result.rejected) if show_all else [])
-    if not show_all:
-        shown = shown[:1] or list(result.rejected[:1])  # else the best configuration found
     if not shown:
         return
     columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]

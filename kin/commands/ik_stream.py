@@ -8,8 +8,10 @@ input line is an object: ``"target": [x, y, z]`` [--unit], optionally one of ``"
 
 An answer is :meth:`kin.ik.IKResult.to_dict` (SI: q in rad / m, errors in m and rad, time in s)
 with ``"line"`` (the 1-based input line number) and ``"q_units"``; ``"rejected"`` (solutions
-outside the limits) is filled only with --all or when there is no valid solution (then it holds
-the best attempt). A bad line gives ``{"line": n, "error": "..."}`` and the run goes on; so does
+outside the limits, or colliding with --scene/--srdf) is filled only with --all, ``"all": true``
+or when there is no valid solution (then it holds the best attempt); ``"counts"`` says how many
+answers of each kind there are and how many rejected ones are listed, whatever is listed
+(:mod:`.ik_counts`). A bad line gives ``{"line": n, "error": "..."}`` and the run goes on; so does
 a line whose solve fails in a way nobody foresaw (``"error": "internal error: ..."``, logged with
 its traceback at debug level). A blank line gives ``{"line": n, "skipped": "blank line"}``. A unit slip of a line (an angle
 beyond a turn without --deg) is listed in its answer's ``"warnings"``, not on stderr.

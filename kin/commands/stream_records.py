@@ -21,7 +21,7 @@ import numpy as np
 from ..exceptions import KinError
 from ..ik.batch_solve import FREE_JOINT_STAGE
 from ..ik.numeric.free_joint import FROM_SEED
-from ..ik.result import IKResult
+from ..ik.result import IKResult, counts_record
 from ..ik.target import PositionTarget, Target
 
 logger = logging.getLogger(__name__)
@@ -79,6 +79,7 @@ def batch_record(
         "iterations": 0,
         "time_s": each,
         "free": [],
+        "counts": counts_record(1, 0, 0),
     }
 
 
@@ -114,7 +115,8 @@ def encode_found(
     )
     tail = (
         f'"rejected": [], "method": "{FREE_JOINT_STAGE}", "distance_to_workspace_m": null, '
-        f'"iterations": 0, "time_s": {each!r}, "free": [], "line": '
+        f'"iterations": 0, "time_s": {each!r}, "free": [], '
+        f'"counts": {json.dumps(counts_record(1, 0, 0))}, "line": '
     )
     units = json.dumps(list(si_labels))
     after = ', "position_error_m": '

@@ -158,7 +158,8 @@ class CollisionAwareSolver:
         if free:
             if not colliding and len(free) == len(first.solutions):
                 return first
-            return self._result(first, free, colliding, start)
+            unchecked = len(first.solutions) - len(free) - len(colliding)
+            return self._result(first, free, colliding, start, unchecked=unchecked)
         cap = start + (DEFAULT_TIMEOUT if timeout is None else timeout)
         found, more, stopped = self._search(target, seed, first, cap)
         colliding += [c for c in more if not _known(c, colliding)]
@@ -195,13 +196,16 @@ class CollisionAwareSolver:
         colliding: list[IKSolution],
         start: float,
         method: str | None = None,
+        unchecked: int = 0,
     ) -> IKResult:
+        """The result of free answers; ``unchecked``: answers after the first free one, not judged."""
+        skipped = f"; {unchecked} farther answer(s) not checked" if unchecked else ""
         return IKResult(
             True,
             base.solver,
             "ok",
             f"{len(free)} collision-free solution(s) (nearest first); {len(colliding)} colliding "
-            "rejected",
+            f"rejected{skipped}",
             free,
             tuple(colliding) + tuple(base.rejected),
             base.distance_to_workspace,

@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, fields
+from operator import mul
 from typing import Any, Literal
 
 import numpy as np
+
+from .angles import wrap
 
 Status = Literal[
     "ok",
@@ -185,6 +189,44 @@ class IKResult:
         _SET_METHOD(self, method)
         _SET_FREE(self, free)
 
+    def without_repeats(self, revolute: Sequence[bool] | None = None) -> IKResult:
+        """This result with each joint vector once (:func:`distinct_solutions`), self if none repeats.
+
+        At a singularity two branches can be one joint vector (a wrist flip with the wrist
+        straight, an elbow stretched): the first keeps its place and label, the message counts
+        the answers left and says how many repeats were merged.
+
+        Args:
+            revolute: Per joint, whether it is revolute (its difference taken modulo a turn);
+                None: every joint.
+        """
+        solutions = distinct_solutions(self.solutions, revolute)
+        rejected = distinct_solutions(self.rejected, revolute)
+        if solutions is self.solutions and rejected is self.rejected:
+            return self
+        merged = len(self.solutions) + len(self.rejected) - len(solutions) - len(rejected)
+        message = self.message
+        valid = f"{len(self.solutions)} valid solution(s)"  # the closed forms' counts
+        outside = f"({len(self.rejected)} branch(es))"
+        if message.startswith(valid):
+            message = f"{len(solutions)} valid solution(s)" + message[len(valid) :]
+        elif message.endswith(outside):
+            message = message[: -len(outside)] + f"({len(rejected)} branch(es))"
+        message += f"; {merged} repeated branch(es) merged (the same joint vector)"
+        return IKResult(
+            self.success,
+            self.solver,
+            self.status,
+            message,
+            solutions,
+            rejected,
+            self.distance_to_workspace,
+            self.iterations,
+            self.time,
+            self.method,
+            self.free,
+        )
+
     @property
     def best(self) -> IKSolution | None:
         """The first valid solution, else the first rejected one, else None."""
@@ -200,6 +242,7 @@ class IKResult:
                 ``"rejected"`` is filled only when ``solutions`` is empty, with the best attempts).
         """
         keep = rejected or not self.solutions
+        listed = len(self.rejected) if keep else 0
         return {
             "success": bool(self.success),
             "solver": self.solver,
@@ -212,7 +255,74 @@ class IKResult:
             "iterations": int(self.iterations),
             "time_s": float(self.time),
             "free": list(self.free),
+            "counts": counts_record(len(self.solutions), len(self.rejected), listed),
         }
+
+
+def counts_record(solutions: int, rejected: int, rejected_listed: int) -> dict[str, int]:
+    """The ``"counts"`` of an answer's record: what it holds, and what it leaves out.
+
+    Every valid solution is listed; the rejected ones only with ``--all`` (``"all": true``) or
+    when there is no valid one.
+    """
+    return {"solutions": solutions, "rejected": rejected, "rejected_listed": rejected_listed}
+
+
+#: Two answers are one branch when every joint differs by at most this [rad] / [m], a revolute
+#: joint's difference taken modulo a turn (:func:`kin.ik.angles.wrap`).
+SAME_BRANCH = 1e-6
+_TWO_PI = 2.0 * math.pi
+remainder = math.remainder
+
+
+def distinct_solutions(
+    solutions: tuple[IKSolution, ...],
+    revolute: Sequence[bool] | None = None,
+    tolerance: float = SAME_BRANCH,
+) -> tuple[IKSolution, ...]:
+    """``solutions`` without the ones whose joint vector repeats an earlier one's, in order.
+
+    Args:
+        solutions: Answers of one solve.
+        revolute: Per joint, whether it is revolute; None: every joint.
+        tolerance: Largest joint difference of one joint vector [rad] / [m] (:data:`SAME_BRANCH`).
+
+    Returns:
+        ``solutions`` itself when no joint vector repeats, else a new tuple. The usual case costs
+        one key per answer, ``sum_j j q_j`` modulo a turn (not the plain sum: parallel joints
+        keep theirs on every branch), which two equal vectors share to
+        ``nq (nq + 1) / 2 * tolerance``: no two keys that close (sorted, round the circle), no
+        pair compared.
+    """
+    count = len(solutions)
+    if count < 2:
+        return solutions
+    rows = [s.q.tolist() if s.q.__class__ is np.ndarray else list(s.q) for s in solutions]
+    weights = range(1, len(rows[0]) + 1)  # whole numbers: a turn of a joint turns the key
+    keys = sorted([remainder(sum(map(mul, row, weights)), _TWO_PI) for row in rows])
+    span = sum(weights) * tolerance
+    if keys[0] + _TWO_PI - keys[-1] > span and all(b - a > span for a, b in zip(keys, keys[1:])):
+        return solutions
+    repeats: set[int] = set()
+    for i in range(1, count):
+        for j in range(i):
+            if j not in repeats and _same(rows[i], rows[j], revolute, tolerance):
+                repeats.add(i)
+                break
+    if not repeats:
+        return solutions
+    return tuple(s for i, s in enumerate(solutions) if i not in repeats)
+
+
+def _same(
+    a: list[float], b: list[float], revolute: Sequence[bool] | None, tolerance: float
+) -> bool:
+    """Whether the joint vectors ``a`` and ``b`` are one (:func:`distinct_solutions`)."""
+    for index, (u, v) in enumerate(zip(a, b)):
+        gap = wrap(u - v) if revolute is None or revolute[index] else u - v
+        if abs(gap) > tolerance:
+            return False
+    return True
 
 
 # IKResult's, in field order (success, solver, status, message, solutions, rejected,

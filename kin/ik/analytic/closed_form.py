@@ -118,6 +118,9 @@ class ClosedFormSolver(ClosedFormRoutes):
         # one thread would).
         self._lock = threading.Lock()
         self._joint_names = robot.joint_names
+        #: Per joint, revolute (compared modulo a turn by IKResult.without_repeats); None: all.
+        revolute = tuple(row.joint_type == "revolute" for row in robot.table.rows)
+        self._revolute = None if all(revolute) else revolute
         self._lower = robot.model.lowerPositionLimit.tolist()
         self._upper = robot.model.upperPositionLimit.tolist()
         if self._directions is not None:  # the limits of q' (those of the forward table)
@@ -242,8 +245,9 @@ class ClosedFormSolver(ClosedFormRoutes):
                 # result when a branch is valid and none is off target.
                 answer = self._solutions(target, seed, start)
                 if answer.__class__ is IKResult:
-                    return answer  # type: ignore[no-any-return]
-                return self._twin_answer(answer, target, seed, start)  # type: ignore[arg-type]
+                    return answer.without_repeats(self._revolute)  # type: ignore[no-any-return]
+                twin = self._twin_answer(answer, target, seed, start)  # type: ignore[arg-type]
+                return twin.without_repeats(self._revolute)
         if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
             if is_partial(target, self._partial_below):
                 if (
@@ -261,7 +265,7 @@ class ClosedFormSolver(ClosedFormRoutes):
                 return self._solve_numeric(target, seed, timeout)
             raise kind_error(self.robot.name, self.target_kinds, target)
         with self._lock:
-            return self._solve_closed(target, seed, start, timeout)
+            return self._solve_closed(target, seed, start, timeout).without_repeats(self._revolute)
 
     def _solve_closed(
         self, target: Target, seed: npt.ArrayLike | None, start: float, timeout: float | None
