@@ -1,7 +1,8 @@
 """The pairs a verdict tests and their order (kin/collision/pair_order.py).
 
 Judged against Pinocchio's own ``computeCollisions`` on the collision model's geometry model (its
-pairs in the model's order, a fresh GeometryData with Pinocchio's default requests): the order
+pairs in the model's order, a fresh GeometryData with Pinocchio's default requests but the
+contact tolerance as security margin): the order
 changes the cost, never the verdict.
 """
 
@@ -15,6 +16,7 @@ import pytest
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model
+from kin.collision.requests import CONTACT_TOLERANCE
 
 CELL = Path(__file__).parent / "data" / "collision" / "cell.toml"
 
@@ -23,6 +25,8 @@ def _pinocchio(checker: CollisionChecker, qs: np.ndarray, stop: bool = True) -> 
     """Pinocchio's verdicts on the model's own pairs (``stop`` False: every pair's, (N, pairs))."""
     model, geometry = checker.model.robot.model, checker.model.geometry_model
     data, geometry_data = model.createData(), pin.GeometryData(geometry)
+    for request in geometry_data.collisionRequests:  # in contact closer than the tolerance
+        request.security_margin = CONTACT_TOLERANCE
     if stop:
         return np.array(
             [pin.computeCollisions(model, data, geometry, geometry_data, q, True) for q in qs]

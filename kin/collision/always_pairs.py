@@ -7,11 +7,16 @@ whatever the joints do: pickplace3's column (``frame0``) and upper arm (``link2`
 shoulder, 10 mm apart, in every configuration. Such a contact is the drawing, not the arm.
 
 The rule is MoveIt's setup assistant's "always in collision", applied to DH shapes when the model
-is built: a link pair in contact (padding included) at every one of :data:`SAMPLES`
+is built: a link pair in contact without padding (closer than
+:data:`~kin.collision.requests.CONTACT_TOLERANCE`) at every one of :data:`SAMPLES`
 configurations drawn uniformly within the joint limits (an unbounded joint within +-pi) by NumPy's
 ``default_rng(`` :data:`SEED` ``)`` is disabled with the reason ``"always"``, and the model's
 ``shape_note`` names it. The draw is reproducible; a pair that leaves contact anywhere in the
 samples stays checked (scorbot's upper arm against its column, which it really crosses).
+
+The padding plays no part: a safety margin never removes a pair from the check. With a padding of
+1 m every link pair of a DH arm touches in every sample, and the model then reports them all as
+in collision instead of dropping them (a larger margin checked less before).
 """
 
 from __future__ import annotations
@@ -36,7 +41,6 @@ def always_in_contact(
     geometry_model: pin.GeometryModel,
     pair_owners: tuple[tuple[str, str], ...],
     candidates: set[tuple[str, str]],
-    padding: float,
 ) -> set[tuple[str, str]]:
     """The ``candidates`` in contact at every sampled configuration (see the module).
 
@@ -45,7 +49,6 @@ def always_in_contact(
         geometry_model: The shapes, with a collision pair per shape pair of :attr:`pair_owners`.
         pair_owners: Per collision pair of ``geometry_model``, its ``(a, b)``.
         candidates: The ``(a, b)`` to test (link pairs).
-        padding: Distance below which two shapes are in contact [m].
 
     Returns:
         The candidates in contact at all :data:`SAMPLES` configurations.
@@ -59,7 +62,7 @@ def always_in_contact(
         return set()
     data = model.createData()
     geometry_data = pin.GeometryData(geometry_model)
-    prepare_requests(geometry_data, padding, contact=False)
+    prepare_requests(geometry_data, 0.0)
     for q in sample_configurations(model, SAMPLES):
         pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q)
         left = {

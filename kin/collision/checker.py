@@ -5,12 +5,19 @@ first use (as the IK solvers keep theirs). Points are in the world frame (the ar
 
 ``in_collision`` is the hot call (IK branches, path samples, reach voxels): it uses geometry data
 that asks coal for the verdict only (no contact points), the same pair queries as a bare
-``pin.computeCollisions`` (behind a broad phase of world boxes when the model has meshes:
-:class:`_PerThread`; else pair by pair, the pairs most often in contact first:
+``pin.computeCollisions`` (behind a broad phase of world boxes when the model has meshes or many
+pairs: :class:`_PerThread`; else pair by pair, the pairs most often in contact first:
 :mod:`.pair_order`), and passes an array whose values sum to a finite number straight to it
 (anything else, or Pinocchio's size error, sends ``q`` to
 :func:`kin.configuration.as_joint_vector`, which converts it or names the bad value).
-``collisions`` and ``distance`` use a second geometry data that computes contacts.
+
+**One verdict** (:mod:`.requests`): a pair is in contact when coal's verdict-only query finds it
+closer than the padding plus :data:`~kin.collision.requests.CONTACT_TOLERANCE`. ``in_collision``,
+``in_collision_batch`` and ``collisions`` ask that same query of every pair (``collisions`` of all
+of them, on a second geometry data), so they agree at every configuration; ``collisions`` then
+measures each pair it lists with coal's distance query (depth and points). ``distance`` is that
+distance query's smallest value: a configuration where it is below 0 is in collision, one where it
+is above the tolerance is free, and in between it is in collision with depth 0.
 """
 
 from __future__ import annotations
@@ -28,11 +35,14 @@ import pinocchio as pin
 
 from ..configuration import as_joint_vector
 from .model import CollisionModel
-from .requests import prepare_requests
+from .requests import CONTACT_TOLERANCE, prepare_requests
 
-__all__ = ["Closest", "CollisionChecker", "Contact"]
+__all__ = ["BROAD_PHASE_PAIRS", "Closest", "CollisionChecker", "Contact"]
 
 _FLOAT64 = np.dtype(np.float64)
+#: Pairs above which the verdicts go through the broad phase even without meshes [count]: a large
+#: scene's pairs are mostly far apart, and their boxes clear them faster than a test each.
+BROAD_PHASE_PAIRS = 256
 
 
 @dataclass(frozen=True)
@@ -42,9 +52,11 @@ class Contact:
     Attributes:
         a: Link (base side) or link of a scene pair.
         b: Link or scene object.
-        depth: Penetration depth [m], >= 0 (padding included).
-        point_a: Witness point on ``a``, world frame [m], shape (3,).
-        point_b: Witness point on ``b``, world frame [m], shape (3,).
+        depth: How far the padded shapes overlap [m], >= 0: the padding minus coal's signed
+            distance of the pair; 0 for a pair within
+            :data:`~kin.collision.requests.CONTACT_TOLERANCE` of touching.
+        point_a: Nearest (or deepest) point on ``a``, world frame [m], shape (3,).
+        point_b: Nearest (or deepest) point on ``b``, world frame [m], shape (3,).
     """
 
     a: str
@@ -61,7 +73,9 @@ class Closest:
     Attributes:
         a: Link (base side) or link of a scene pair.
         b: Link or scene object.
-        distance: Distance between the padded shapes [m]; negative when they overlap.
+        distance: Distance between the padded shapes [m]; negative when they overlap. Below 0
+            the configuration is in collision; above
+            :data:`~kin.collision.requests.CONTACT_TOLERANCE` it is free by every query.
         point_a: Nearest point on ``a``, world frame [m], shape (3,).
         point_b: Nearest point on ``b``, world frame [m], shape (3,).
     """
@@ -82,9 +96,10 @@ class CollisionChecker:
     Attributes:
         broad_phase: Whether the verdicts go through coal's broad phase (world boxes first):
             when a shape is a mesh's hull, whose exact test (GJK, about 1-2 us a pair) costs
-            far more than a box test; primitives alone are tested exactly pair by pair, which
-            stops sooner at the first contact (see :class:`_PerThread`), in the order of
-            :mod:`.pair_order` (the pairs most often in contact first).
+            far more than a box test, or the model has more than :data:`BROAD_PHASE_PAIRS`
+            pairs; a few primitives are tested exactly pair by pair, which stops sooner at the
+            first contact (see :class:`_PerThread`), in the order of :mod:`.pair_order` (the
+            pairs most often in contact first).
     """
 
     def __init__(self, model: CollisionModel):
@@ -93,7 +108,9 @@ class CollisionChecker:
         self._pin_model = model.robot.model
         self._geometry = model.geometry_model
         self._nq = model.robot.nq
-        self.broad_phase = any(_costly(g.geometry) for g in self._geometry.geometryObjects)
+        self.broad_phase = len(model.pair_owners) > BROAD_PHASE_PAIRS or any(
+            _costly(g.geometry) for g in self._geometry.geometryObjects
+        )
         self._verdict_geometry = self._geometry
         if not self.broad_phase:
             from .pair_order import verdict_geometry_model
@@ -105,17 +122,14 @@ class CollisionChecker:
         self._pool_lock = threading.Lock()
         self._pools: dict[int, Any] = {}
 
-    def _new_geometry_data(self, contact: bool) -> pin.GeometryData:
-        """Geometry data with the model's padding; ``contact``: coal computes contact points.
-
-        Verdict-only data (``contact`` False) is that of the verdicts' own geometry model.
-        """
-        geometry_data = pin.GeometryData(self._geometry if contact else self._verdict_geometry)
-        self._prepare(geometry_data, contact)
+    def _new_geometry_data(self, every: bool) -> pin.GeometryData:
+        """Geometry data with the model's padding: of every pair (``every``), else the verdicts'."""
+        geometry_data = pin.GeometryData(self._geometry if every else self._verdict_geometry)
+        self._prepare(geometry_data)
         return geometry_data
 
-    def _prepare(self, geometry_data: pin.GeometryData, contact: bool) -> None:
-        prepare_requests(geometry_data, self.model.padding, contact)
+    def _prepare(self, geometry_data: pin.GeometryData) -> None:
+        prepare_requests(geometry_data, self.model.padding)
 
     def _q(self, q: npt.ArrayLike) -> np.ndarray:
         """``q`` itself when it is a finite float64 vector of size nq, else the checked copy."""
@@ -150,22 +164,25 @@ class CollisionChecker:
     def collisions(self, q: npt.ArrayLike) -> tuple[Contact, ...]:
         """The pairs in contact at ``q`` [rad, m], the deepest contact of each, deepest first.
 
+        A pair is listed exactly when :meth:`in_collision` counts it (the same verdict-only
+        query, of every pair); its depth and points are coal's distance query's.
+
         Raises:
             kin.JointVectorError: Wrong size or non-finite values.
         """
         local = self._local
-        data, geometry_data = local.data, local.contact
+        geometry_data = local.every
         pin.computeCollisions(
-            self._pin_model, data, self._geometry, geometry_data, self._q(q), False
+            self._pin_model, local.data, self._geometry, geometry_data, self._q(q), False
         )
         deepest: dict[tuple[str, str], Contact] = {}
         padding = self.model.padding
         for index, result in enumerate(geometry_data.collisionResults):
             if not result.isCollision():
                 continue
-            contact = result.getContact(0)
-            # coal's penetration_depth is the signed distance (negative inside): depth >= 0
-            depth = max(0.0, padding - float(contact.penetration_depth))
+            measured = pin.computeDistance(self._geometry, geometry_data, index)
+            # the signed distance (negative inside) against the padding: depth >= 0
+            depth = max(0.0, padding - float(measured.min_distance))
             a, b = self.model.pair_owners[index]
             known = deepest.get((a, b))
             if known is None or depth > known.depth:
@@ -173,13 +190,16 @@ class CollisionChecker:
                     a,
                     b,
                     depth,
-                    np.array(contact.getNearestPoint1()),
-                    np.array(contact.getNearestPoint2()),
+                    np.array(measured.getNearestPoint1()),
+                    np.array(measured.getNearestPoint2()),
                 )
         return tuple(sorted(deepest.values(), key=lambda c: -c.depth))
 
     def distance(self, q: npt.ArrayLike) -> Closest:
         """The closest checked pair at ``q`` [rad, m] and its distance [m] (padding taken off).
+
+        Below 0, :meth:`in_collision` is True at ``q``; above
+        :data:`~kin.collision.requests.CONTACT_TOLERANCE`, False.
 
         Raises:
             kin.JointVectorError: Wrong size or non-finite values.
@@ -188,9 +208,9 @@ class CollisionChecker:
         if not self.model.pair_owners:
             raise ValueError("the collision model checks no pair: no distance to give")
         local = self._local
-        data, geometry_data = local.data, local.contact
+        geometry_data = local.every
         index = pin.computeDistances(
-            self._pin_model, data, self._geometry, geometry_data, self._q(q)
+            self._pin_model, local.data, self._geometry, geometry_data, self._q(q)
         )
         result = geometry_data.distanceResults[index]
         a, b = self.model.pair_owners[index]
@@ -255,7 +275,7 @@ class CollisionChecker:
                 else pin.GeometryPool
             )(self._pin_model, self._verdict_geometry, count)
             for geometry_data in pool.getGeometryDatas():
-                self._prepare(geometry_data, contact=False)
+                self._prepare(geometry_data)
             self._pools[count] = pool
         return pool
 
@@ -273,7 +293,7 @@ class CollisionChecker:
 
 
 class _PerThread(threading.local):
-    """One thread's Pinocchio data and geometry data (verdict only, and with contacts).
+    """One thread's Pinocchio data and geometry data (the verdicts' pairs, and every pair).
 
     ``check(q, stop_at_first)`` is Pinocchio's computeCollisions over the verdict-only data. With
     :attr:`CollisionChecker.broad_phase`, through coal's naive broad phase: FK and the shapes'
@@ -288,8 +308,8 @@ class _PerThread(threading.local):
 
     def __init__(self, checker: CollisionChecker):
         self.data = checker._pin_model.createData()
-        self.verdict = checker._new_geometry_data(contact=False)
-        self.contact = checker._new_geometry_data(contact=True)
+        self.verdict = checker._new_geometry_data(every=False)
+        self.every = checker._new_geometry_data(every=True)
         if checker.broad_phase:
             self.manager = pin.BroadPhaseManager_NaiveCollisionManager(
                 checker._pin_model, checker._geometry, self.verdict

@@ -7,12 +7,12 @@ q = 0, where both models agree); a DH table robot has the link cylinders the URD
 every arm link with every scene object, but the allowed ones (:attr:`CollisionModel.disabled`):
 adjacent links (one after the other along the chain, links without shapes skipped, as MoveIt's
 setup assistant counts them), links carried by the same joint, an SRDF's pairs, and on a DH table
-robot the link pairs in contact at every sampled configuration (:mod:`.always_pairs`).
+robot the link pairs in contact at every sampled configuration without padding
+(:mod:`.always_pairs`): a pair in contact only through the padding stays checked.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,6 +21,8 @@ import pinocchio as pin
 
 from ..exceptions import CollisionModelError
 from ..robot_model import RobotModel
+from .bounds import MAX_COORDINATE
+from .requests import CONTACT_TOLERANCE
 from .urdf_shapes import Shape, link_shapes
 
 __all__ = ["CollisionModel", "load_collision_model"]
@@ -41,7 +43,8 @@ class CollisionModel:
             ``"srdf: <reason>"``, ``"always"``).
         owners: Per geometry object, the link or scene object it belongs to.
         pair_owners: Per collision pair of :attr:`geometry_model`, its ``(a, b)``.
-        padding: Distance added around every shape [m]: a pair is in collision closer than it.
+        padding: Distance added around every shape [m]: a pair is in collision closer than it
+            plus :data:`~kin.collision.requests.CONTACT_TOLERANCE`.
         shape_note: One line: which geometry the queries use and how far it is from the meshes.
     """
 
@@ -70,14 +73,16 @@ def load_collision_model(
         robot: A robot from :func:`kin.load_robot`.
         srdf: A MoveIt SRDF whose ``disable_collisions`` pairs are not checked.
         scene: A scene TOML or a URDF of the cell (:mod:`kin.collision.scene`).
-        padding: Margin around every shape [m], >= 0.
+        padding: Margin around every shape [m], 0 to :data:`~kin.collision.bounds.MAX_COORDINATE`.
 
     Raises:
         CollisionModelError: A bad scene, SRDF or padding (the message names file and field).
         kin.ModelLoadError: The robot's URDF can no longer be read.
     """
-    if not (math.isfinite(padding) and padding >= 0.0):
-        raise CollisionModelError("", f"padding: {padding!r} m must be a finite number >= 0")
+    if not 0.0 <= padding <= MAX_COORDINATE:  # NaN fails too
+        raise CollisionModelError(
+            "", f"padding: {padding!r} m must be a number from 0 to {MAX_COORDINATE:g} m"
+        )
     arm, chain, all_links, robot_name = _arm_shapes(robot)
     objects: tuple[Shape, ...] = ()
     if scene is not None:
@@ -113,10 +118,9 @@ def load_collision_model(
     if robot.urdf_source is None:  # a DH drawing: its links may touch at a joint (always_pairs)
         from .always_pairs import always_in_contact
 
+        # decided without the padding: a pair that touches only through it stays checked
         link_pairs = {p for p in pairs if p[1] in carrier}
-        always = sorted(
-            always_in_contact(robot.model, geometry_model, pair_owners, link_pairs, padding)
-        )
+        always = sorted(always_in_contact(robot.model, geometry_model, pair_owners, link_pairs))
     if always:
         disabled.update(dict.fromkeys(always, "always"))
         pairs = tuple(p for p in pairs if p not in always)
@@ -260,13 +264,14 @@ def _note(
         parts.append("meshes as their convex hulls (they enclose the mesh: never closer)")
     note = (
         f"every query uses {'; '.join(parts) or 'no shapes'}; "
-        f"padding {padding:g} m around every shape"
+        f"padding {padding:g} m around every shape; in contact below the padding "
+        f"+ {CONTACT_TOLERANCE:g} m (coal's accuracy)"
     )
     if always:
         from .always_pairs import SAMPLES, SEED
 
         note += (
-            f"; not checked, in contact at all {SAMPLES} sampled configurations "
+            f"; not checked, in contact without padding at all {SAMPLES} sampled configurations "
             f"(default_rng({SEED})), links meeting at a joint of the DH drawing: "
             + ", ".join(f"{a}/{b}" for a, b in always)
         )

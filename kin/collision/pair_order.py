@@ -47,7 +47,7 @@ def verdict_geometry_model(
     """
     data = model.createData()
     geometry_data = pin.GeometryData(geometry_model)
-    prepare_requests(geometry_data, padding, contact=False)
+    prepare_requests(geometry_data, padding)
     objects = geometry_model.geometryObjects
     pairs = list(geometry_model.collisionPairs)
     fixed = [

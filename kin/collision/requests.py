@@ -1,21 +1,33 @@
-"""The coal collision requests of a Pinocchio ``GeometryData``: padding, contacts, GJK settings.
+"""The coal requests of a Pinocchio ``GeometryData``: padding, contact tolerance, GJK settings.
 
-Every query of a collision model (the checker's verdicts, contacts and batches, and the sampling
-of :mod:`kin.collision.always_pairs`) asks coal through requests set here, so that they all give
-the same verdict, whatever ran before on the same data.
+Every query of a collision model (the checker's verdicts, contacts, distances and batches, and the
+sampling of :mod:`kin.collision.always_pairs` and :mod:`kin.collision.pair_order`) asks coal
+through requests set here, so that they all give the same verdict, whatever ran before on the
+same data.
+
+**One verdict.** A pair is in contact when coal's distance between its shapes is below the
+padding plus :data:`CONTACT_TOLERANCE` (coal's ``security_margin``). The tolerance is what makes
+the verdict-only query (no contact points, GJK stopped as soon as it proves the pair farther than
+the margin) agree with the distance query near contact. coal's GJK is exact only up to its
+tolerance, and its support functions of boxes, cylinders and capsules compare the components of
+an unnormalised direction with 1e-12 absolutely: where GJK's direction is short (micrometers, near
+contact) they return a point off the extreme one, and the early stop overstates the distance.
+Measured with coal 3.0.3 on random and nearly axis-aligned pairs of boxes, spheres, cylinders,
+capsules and hulls up to 10 m (tests/test_collision_one_verdict.py): without the tolerance the
+verdict called overlaps of up to 4.3 um free (10 um with GJK's tolerance at 1e-7), and coal's
+distance erred by up to 2.2 um; with it, no overlap is called free and no pair closer than half
+the tolerance.
+
+So at every configuration: a pair whose distance (padding taken off) is below 0 is in contact, one
+above :data:`CONTACT_TOLERANCE` is not, and one in between is in contact with depth 0 (within the
+tolerance of touching). The shapes' sizes are bounded (:mod:`kin.collision.bounds`) so that coal's
+error stays below the tolerance.
 
 GJK starts from coal's default guess at every call: Pinocchio's geometry data asks coal to start
 from the previous call's answer (``enable_cached_gjk_guess``), and from such a start the verdict-only
 GJK called lab5's upper arm and wrist free where their axes cross (3 of 5,000 random
 configurations; from the default start, none). That history is also what made a reused batch
 pool call a Panda configuration free whose links overlap by 2.9 cm.
-
-GJK stops as soon as it proves a pair farther apart than the padding (coal's
-``distance_upper_bound``, set to the padding plus :data:`EARLY_STOP_SLACK`): a request asks
-whether the pair is in contact, not how far apart it is. The proof is a separating plane (the
-support point's distance along GJK's direction, a lower bound of the true distance), so no pair
-in contact can be called free by it; where GJK would go on to the nearest points it stops after a
-step or two (Panda's hull pairs in the batch: 9.8 -> 8.3 us a configuration).
 """
 
 from __future__ import annotations
@@ -25,31 +37,44 @@ import warnings
 import coal
 import pinocchio as pin
 
-__all__ = ["EARLY_STOP_SLACK", "GJK_TOLERANCE", "prepare_requests"]
+__all__ = ["CONTACT_TOLERANCE", "GJK_TOLERANCE", "prepare_requests"]
 
-#: GJK's stopping tolerance in every collision request. coal's default 1e-6 let a verdict-only
-#: query call one UR5 configuration in 10,000 free whose forearm and wrist_2 hulls overlap by 2 cm
-#: (tests/test_collision_broad_phase.py); 1e-8 costs no measurable time.
+#: GJK's stopping tolerance in every request [m]. coal's default 1e-6 let a verdict-only query call
+#: one UR5 configuration in 10,000 free whose forearm and wrist_2 hulls overlap by 2 cm (GJK's
+#: estimate stopped below its tolerance, above a zero margin: tests/test_collision_broad_phase.py);
+#: 1e-8 costs no measurable time. Larger values make the support-function error above larger
+#: (coal 3.0.3 also returned a distance of 1.8e308 at 1e-7 and 1e-6 for some touching pairs).
 GJK_TOLERANCE = 1e-8
-#: How far beyond the padding a pair must be proven apart for GJK to stop early [m]: above coal's
-#: contact threshold (1e-12 m), so a pair stopped early is never one coal would call in contact.
-EARLY_STOP_SLACK = 1e-9
+#: Distance beyond the padding below which two shapes are in contact [m] (see the module): five
+#: times coal's largest error measured on shapes within the size bound.
+CONTACT_TOLERANCE = 1e-5
 
 
-def prepare_requests(geometry_data: pin.GeometryData, padding: float, contact: bool) -> None:
-    """Set every collision request of ``geometry_data``.
+def prepare_requests(geometry_data: pin.GeometryData, padding: float) -> None:
+    """Set every collision and distance request of ``geometry_data``.
+
+    Collision requests ask for the verdict only (no contact points: the distance query measures
+    the pairs in contact), so that every verdict is the same query.
 
     Args:
         geometry_data: Pinocchio's geometry data of the model.
-        padding: Distance below which a pair is in collision [m] (coal's security margin).
-        contact: Whether coal computes contact points and depths (else the verdict only).
+        padding: Margin around every shape [m]; a pair closer than ``padding`` +
+            :data:`CONTACT_TOLERANCE` is in contact (coal's security margin).
     """
+    margin = padding + CONTACT_TOLERANCE
     with warnings.catch_warnings():  # coal marks the cached-guess switch deprecated, not gone
         warnings.simplefilter("ignore", DeprecationWarning)
         for request in geometry_data.collisionRequests:
-            request.security_margin = padding
-            request.enable_contact = contact
+            request.security_margin = margin
+            request.enable_contact = False
             request.gjk_tolerance = GJK_TOLERANCE
             request.gjk_initial_guess = coal.GJKInitialGuess.DefaultGuess
             request.enable_cached_gjk_guess = False
-            request.distance_upper_bound = padding + EARLY_STOP_SLACK
+            # Pinocchio's computeCollision sets this to the margin + 1e-6 itself: GJK stops as soon
+            # as a separating plane proves the pair farther apart (see the module for its error)
+            request.distance_upper_bound = margin
+        for request in geometry_data.distanceRequests:
+            request.gjk_tolerance = GJK_TOLERANCE
+            request.gjk_initial_guess = coal.GJKInitialGuess.DefaultGuess
+            request.enable_cached_gjk_guess = False
+            request.enable_signed_distance = True

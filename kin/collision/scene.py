@@ -4,7 +4,8 @@ TOML: arrays of tables ``[[box]]`` (``size`` = [x, y, z]), ``[[sphere]]`` (``rad
 ``[[cylinder]]`` (``radius``, ``length``, along its z axis) and ``[[mesh]]`` (``file``, relative
 to the scene file's folder, and ``scale``: one number or three), each with an optional ``name``
 (default ``box1``, ``sphere2``...), ``xyz`` [m] and ``rpy`` [rad] (URDF roll-pitch-yaw) placing
-it in the world frame (the arm's base frame). Every length is in meters.
+it in the world frame (the arm's base frame). Every length is in meters; sizes are at most 10 m,
+positions within 1 km, at most 1,000 shapes (:mod:`kin.collision.bounds` says why).
 
 A URDF of the cell: the collision shapes of all its links, placed at its joints' zero values
 from its root at the world origin; each link is one scene object.
@@ -21,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import CollisionModelError
+from .bounds import check_coordinates, check_count, check_sizes
 from .urdf_shapes import Shape, link_shapes, load_mesh
 
 __all__ = ["read_scene"]
@@ -40,8 +42,9 @@ def read_scene(path: str | Path) -> tuple[Shape, ...]:
 
     Raises:
         CollisionModelError: The file cannot be read, is not TOML (or XML for a URDF), has an
-            unknown key or kind, a size that is not a finite number > 0, a position or angle
-            that is not finite, a duplicate name, or a mesh that cannot be read.
+            unknown key or kind, a size that is not a number in (0, 10 m], a position beyond
+            1 km or an angle that is not finite (:mod:`.bounds`), more than 1,000 shapes, a
+            duplicate name, or a mesh that cannot be read.
     """
     where = str(path)
     if Path(where).suffix.lower() in (".urdf", ".xml", ".xacro"):
@@ -61,8 +64,14 @@ def read_scene(path: str | Path) -> tuple[Shape, ...]:
         document = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise CollisionModelError(where, f"not a TOML scene: {err}") from None
+    except ValueError as err:  # Python's integer-string limit (a 5000-digit integer)
+        from dh2urdf.long_numbers import long_integer_problem
+
+        said = long_integer_problem(raw.decode("utf-8"), err) or str(err)
+        raise CollisionModelError(where, said) from None
     except RecursionError:  # tomllib recurses once per nested array or inline table
         raise CollisionModelError(where, "not a TOML scene: arrays nested too deep") from None
+    check_count(where, sum(len(e) for e in document.values() if isinstance(e, list)))
     shapes: list[Shape] = []
     for kind, entries in document.items():
         if kind not in _KINDS:
@@ -73,10 +82,11 @@ def read_scene(path: str | Path) -> tuple[Shape, ...]:
             raise CollisionModelError(where, f"{kind}: write it as [[{kind}]] tables")
         for index, entry in enumerate(entries):
             shapes.append(_object(where, kind, index, entry))
-    names = [shape.owner for shape in shapes]
-    for name in names:
-        if names.count(name) > 1:
-            raise CollisionModelError(where, f"name {name!r} is given to two objects")
+    seen: set[str] = set()
+    for shape in shapes:
+        if shape.owner in seen:
+            raise CollisionModelError(where, f"name {shape.owner!r} is given to two objects")
+        seen.add(shape.owner)
     return tuple(shapes)
 
 
@@ -93,8 +103,8 @@ def _object(where: str, kind: str, index: int, entry: dict[str, Any]) -> Shape:
     name = entry.get("name", f"{kind}{index + 1}")
     if not isinstance(name, str) or not name:
         raise CollisionModelError(where, f"{field}.name: {name!r} is not a non-empty string")
-    xyz = _vector(where, f"{field}.xyz", entry.get("xyz", [0.0, 0.0, 0.0]), positive=False)
-    rpy = _vector(where, f"{field}.rpy", entry.get("rpy", [0.0, 0.0, 0.0]), positive=False)
+    xyz = _vector(where, f"{field}.xyz", entry.get("xyz", [0.0, 0.0, 0.0]), _coordinate)
+    rpy = _vector(where, f"{field}.rpy", entry.get("rpy", [0.0, 0.0, 0.0]), _number)
     placement = pin.SE3(pin.rpy.rpyToMatrix(*rpy), xyz)
     import coal
 
@@ -112,9 +122,9 @@ def _object(where: str, kind: str, index: int, entry: dict[str, Any]) -> Shape:
             raise CollisionModelError(where, f"{field}.file: {file!r} is not a file name")
         scale_value = entry.get("scale", 1.0)
         if isinstance(scale_value, list):
-            scale = _vector(where, f"{field}.scale", scale_value)
+            scale = _vector(where, f"{field}.scale", scale_value, _factor)
         else:
-            scale = np.full(3, _length(where, f"{field}.scale", scale_value))
+            scale = np.full(3, _factor(where, f"{field}.scale", scale_value))
         mesh = Path(file) if Path(file).is_absolute() else Path(where).resolve().parent / file
         try:
             geometry = load_mesh(mesh, scale)
@@ -124,24 +134,44 @@ def _object(where: str, kind: str, index: int, entry: dict[str, Any]) -> Shape:
 
 
 def _number(where: str, field: str, value: Any) -> float:
+    """A finite number (an angle [rad] or a scale factor)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise CollisionModelError(where, f"{field}: {value!r} is not a number")
-    if not math.isfinite(value):
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond float range
+        raise CollisionModelError(where, f"{field}: the number is not finite") from None
+    if not math.isfinite(number):
         raise CollisionModelError(where, f"{field}: {value!r} is not finite")
-    return float(value)
-
-
-def _length(where: str, field: str, value: Any) -> float:
-    number = _number(where, field, value)
-    if number <= 0.0:
-        raise CollisionModelError(where, f"{field}: {number!r} m must be > 0")
     return number
 
 
-def _vector(where: str, field: str, value: Any, positive: bool = True) -> np.ndarray:
+def _length(where: str, field: str, value: Any) -> float:
+    """A size [m] in (0, MAX_SIZE] (:mod:`.bounds`)."""
+    number = _number(where, field, value)
+    check_sizes(where, field, (number,))
+    return number
+
+
+def _factor(where: str, field: str, value: Any) -> float:
+    """A scale factor > 0."""
+    number = _number(where, field, value)
+    if number <= 0.0:
+        raise CollisionModelError(where, f"{field}: {number!r} must be > 0")
+    return number
+
+
+def _coordinate(where: str, field: str, value: Any) -> float:
+    """A coordinate [m] within +-MAX_COORDINATE (:mod:`.bounds`)."""
+    number = _number(where, field, value)
+    check_coordinates(where, field, (number,))
+    return number
+
+
+def _vector(where: str, field: str, value: Any, check: Any = _length) -> np.ndarray:
+    """Three values, each read by ``check`` (:func:`_length`, :func:`_coordinate`, :func:`_number`)."""
     if not isinstance(value, list) or len(value) != 3:
         raise CollisionModelError(where, f"{field}: {value!r} is not a list of 3 numbers")
-    check = _length if positive else _number
     return np.array([check(where, f"{field}[{i}]", v) for i, v in enumerate(value)])
 
 
@@ -160,8 +190,8 @@ def _urdf_scene(where: str) -> tuple[Shape, ...]:
     links = [link.get("name", "") for link in root.iter("link")]
     shapes = []
     for shape in link_shapes(root, links, where, strict_meshes=True):
-        world = data.oMf[model.getFrameId(shape.owner, pin.FrameType.BODY)]
-        shapes.append(
-            Shape(shape.owner, shape.name, shape.geometry, world * shape.placement, shape.kind)
-        )
+        world = data.oMf[model.getFrameId(shape.owner, pin.FrameType.BODY)] * shape.placement
+        check_coordinates(where, f"link {shape.owner!r}: its shape's place", world.translation)
+        shapes.append(Shape(shape.owner, shape.name, shape.geometry, world, shape.kind))
+    check_count(where, len(shapes))
     return tuple(shapes)
