@@ -5,7 +5,7 @@ the project's exceptions alike), never a traceback; a closed output pipe (``kin 
 or a closed stdout (``>&-``) is ignored quietly and the command keeps its own exit code (1 stays 1
 under ``set -o pipefail``); stdout on a full device (``> /dev/full``, ENOSPC, EIO...) and an output
 file that cannot be written to the end are one line and exit 1; Ctrl-C prints one line and exits
-130.
+130, SIGTERM the same with 143 (:mod:`dh2urdf.stop_signals`).
 """
 
 from __future__ import annotations
@@ -28,6 +28,9 @@ EXIT_BAD_INPUT = 2
 
 #: Exit code after Ctrl-C (128 + SIGINT).
 EXIT_INTERRUPTED = 130
+
+#: Exit code after SIGTERM (128 + SIGTERM), which stops a command as Ctrl-C does.
+EXIT_TERMINATED = 143
 
 #: Most characters of an error message on the one error line (then "...").
 ERROR_LINE_LIMIT = 2000
@@ -62,8 +65,24 @@ class ArgumentParser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+def _plain_number(text: str) -> None:
+    """Refuse what Python's ``float`` and ``int`` read but a number on a command line is not.
+
+    ``1_000`` (Python's digit grouping, read as 1000: a typo of ``1.000`` or ``1,000`` as likely)
+    and digits of other scripts (``float("\u0661")`` is 1.0) are refused with the fix.
+
+    Raises:
+        argparse.ArgumentTypeError: ``text`` holds ``_`` or a character outside ASCII.
+    """
+    if "_" in text or not text.isascii():
+        raise argparse.ArgumentTypeError(
+            f"not a number: {text!r}; write it with the digits 0-9, without '_' (1000, not 1_000)"
+        )
+
+
 def finite_float(text: str) -> float:
-    """Argparse type: a finite float (rejects nan, inf and non-numbers)."""
+    """Argparse type: a finite float (rejects nan, inf, non-numbers, ``1_000``)."""
+    _plain_number(text)
     try:
         value = float(text)
     except ValueError:
@@ -73,8 +92,18 @@ def finite_float(text: str) -> float:
     return value
 
 
+def whole_number(text: str) -> int:
+    """Argparse type: a whole number of any sign (rejects ``1_000`` and ``1.5``)."""
+    _plain_number(text)
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+
+
 def positive_int(text: str) -> int:
-    """Argparse type: a whole number >= 1."""
+    """Argparse type: a whole number >= 1 (rejects ``1_000``)."""
+    _plain_number(text)
     try:
         value = int(text)
     except ValueError:
@@ -139,20 +168,6 @@ def _silence_stdout() -> None:
         pass
     finally:
         os.close(devnull)
-
-
-def _listen_to_ctrl_c() -> None:
-    """Take SIGINT even when started with it ignored (``cmd &`` in a script, ``timeout -s INT``).
-
-    Python leaves an inherited SIG_IGN in place; a command that computes for minutes must stop
-    on ``kill -INT`` (exit 130), so the default handler (KeyboardInterrupt) is put back.
-    """
-    import signal
-    import threading
-
-    if threading.current_thread() is threading.main_thread():
-        if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 class PipeGuard:
@@ -222,9 +237,12 @@ def run_guarded(
     Standard output is a :class:`PipeGuard` meanwhile: a closed output pipe is ignored without a
     word and ``body``'s own exit code is returned; a full stdout (``> /dev/full``) and an
     :class:`~dh2urdf.exceptions.OutputWriteError` are one line and :data:`EXIT_FAULT`. Ctrl-C
-    prints ``prog: interrupted`` and returns 130.
+    prints ``prog: interrupted`` and returns 130; SIGTERM stops it the same way (workers ended,
+    what is done kept: :mod:`dh2urdf.stop_signals`), ``prog: terminated`` and 143.
     """
-    _listen_to_ctrl_c()
+    from .stop_signals import listen_to_stops, terminated
+
+    restore_sigterm = listen_to_stops()
     previous = sys.stdout
     guard = PipeGuard(previous) if not isinstance(previous, PipeGuard) else previous
     sys.stdout = guard  # type: ignore[assignment]
@@ -253,8 +271,12 @@ def run_guarded(
     except errors as err:
         return report_error(prog, err)
     except KeyboardInterrupt:
-        print(f"{prog}: interrupted", file=sys.stderr)
+        if terminated():
+            _say(f"{prog}: terminated")
+            return EXIT_TERMINATED
+        _say(f"{prog}: interrupted")
         return EXIT_INTERRUPTED
     finally:
         sys.stdout = previous
         warnings.showwarning = show
+        restore_sigterm()

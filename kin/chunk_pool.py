@@ -6,21 +6,34 @@ worker that dies (killed, out of memory) costs only its own chunks: they run aga
 worker. At most ``per_worker`` chunks are handed to each worker at a time, read from an iterator
 as workers free up, so that any number of chunks runs in bounded memory.
 
-Workers are forked with SIGINT blocked and ignore it once started: Ctrl-C is the parent's, even
-when it lands while the pool starts; tasks are made with it held too (:func:`_next_task`). On
-Ctrl-C, an error or the generator's close, the workers are killed at once, not waited for.
+Workers are forked with SIGINT and SIGTERM blocked, ignore SIGINT once started and die of
+SIGTERM: Ctrl-C (and a SIGTERM to the command, :mod:`dh2urdf.stop_signals`) is the parent's, even
+when it lands while the pool starts; tasks are made with both held too (:func:`_next_task`). On
+Ctrl-C, SIGTERM, an error or the generator's close, the workers are killed at once, not waited
+for.
+
+A worker never outlives its parent, however the parent ends (even SIGKILL): it closes the
+parent's ends of every pipe it inherited by the fork (its own included), so that the parent's
+death reads as end of file, and on Linux the kernel kills it when the thread that forked it ends
+(``PR_SET_PDEATHSIG``; the pool is used from the main thread by the commands). Otherwise a worker
+left waiting on a pipe it holds both ends of waits forever, and keeps the command's standard
+output open (``kin workspace --workers 2 | cat`` never ended).
 """
 
 from __future__ import annotations
 
 import logging
+import os
 import signal
+import sys
 import threading
 from collections import deque
 from collections.abc import Callable, Generator, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
 from typing import Any
+
+from dh2urdf.stop_signals import STOP_SIGNALS
 
 from .exceptions import RunFaultError
 
@@ -31,23 +44,27 @@ MAX_LOSSES = 3
 
 
 @contextmanager
-def _sigint_held() -> Iterator[None]:
-    """SIGINT held meanwhile and delivered on exit: a process forked inside starts with it blocked.
+def _stops_held() -> Iterator[None]:
+    """SIGINT and SIGTERM held meanwhile, delivered on exit: a process forked inside starts so.
 
     Without it a Ctrl-C that lands while the pool forks a worker reaches the worker before the
     worker ignores it, or interrupts the parent between the fork and the worker's entry in the
     pool. Blocking the signal in this thread is not enough: the kernel then delivers it to
     another thread of the process (OpenBLAS's, say) and Python still runs the handler here, at
-    once; so the handler only notes it meanwhile, and the previous one runs on exit.
+    once; so the handler only notes it meanwhile, and the previous one runs on exit (a SIGTERM
+    left to its default action ends the process then: its workers follow, see the module).
     """
     main = threading.current_thread() is threading.main_thread()
     if not main:
         yield
         return
     noted: list[int] = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
+    previous = {
+        signum: signal.signal(signum, lambda signum, frame: noted.append(signum))
+        for signum in STOP_SIGNALS
+    }
     mask = (
-        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
         if hasattr(signal, "pthread_sigmask")
         else None
     )
@@ -56,22 +73,62 @@ def _sigint_held() -> Iterator[None]:
     finally:
         if mask is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a pending one is noted here
-        signal.signal(signal.SIGINT, previous)
-        if noted and callable(previous):
-            previous(signal.SIGINT, None)  # Python's default raises KeyboardInterrupt
-        elif noted and previous == signal.SIG_DFL:
-            signal.raise_signal(signal.SIGINT)  # the default action, now
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        for number in dict.fromkeys(noted):
+            handler = previous[signal.Signals(number)]
+            if callable(handler):
+                handler(number, None)  # Python's default and the commands' raise KeyboardInterrupt
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(number)  # the default action, now
 
 
-def _serve(conn: Any, function: Callable[[Any], Any]) -> None:
-    """A worker's loop: ``function`` of each task received, its result (or error) sent back."""
+#: ``prctl`` option: the signal the kernel sends this process when its parent thread ends.
+_PR_SET_PDEATHSIG = 1
+
+
+def _die_with_parent(parent: int) -> bool:
+    """Linux: be killed when the thread that forked this process ends; False: it already has.
+
+    Elsewhere (or without a C library to call) only the end of file on the pipe tells.
+    """
+    if not sys.platform.startswith("linux"):
+        return True
+    import ctypes
+
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+    except (OSError, AttributeError):
+        return True
+    return os.getppid() == parent  # the parent died before prctl: nobody would send it
+
+
+def _serve(
+    conn: Any, function: Callable[[Any], Any], inherited: list[Any], parent: int | None
+) -> None:
+    """A worker's loop: ``function`` of each task received, its result (or error) sent back.
+
+    Args:
+        conn: The worker's end of its pipe.
+        function: What each task is given to.
+        inherited: The parent's ends of the pipes (the worker's own, earlier workers'), copied
+            by the fork: closed here, so that the parent's death reads as end of file.
+        parent: The parent's process id when the worker is to die with the thread that forked
+            it (the main thread), else None.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # the parent's _kill, or the pool's SIGTERM
+    for end in inherited:
+        end.close()
+    if parent is not None and not _die_with_parent(parent):
+        return
     if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
     while True:
         try:
             task = conn.recv()
-        except EOFError:  # the parent is gone
+        except (EOFError, OSError):  # the parent is gone
             return
         if task is None:
             return
@@ -81,8 +138,11 @@ def _serve(conn: Any, function: Callable[[Any], Any]) -> None:
             reply = (False, err)
         try:
             conn.send(reply)
-        except Exception as err:  # an error that does not pickle
-            conn.send((False, RuntimeError(f"{type(err).__name__}: {err}")))
+        except OSError:  # the parent is gone (a broken pipe)
+            return
+        except Exception as err:  # an error that does not pickle: its text instead
+            with suppress(OSError):
+                conn.send((False, RuntimeError(f"{type(err).__name__}: {err}")))
 
 
 @dataclass(eq=False)
@@ -102,8 +162,13 @@ def _start(context: Any, function: Callable[[Any], Any], pool: list[_Worker]) ->
     keep the command's output open).
     """
     parent_end, child_end = context.Pipe()
-    with _sigint_held():
-        process = context.Process(target=_serve, args=(child_end, function), daemon=True)
+    inherited = [parent_end, *(worker.conn for worker in pool)]
+    main = threading.current_thread() is threading.main_thread()
+    parent = os.getpid() if main else None
+    with _stops_held():
+        process = context.Process(
+            target=_serve, args=(child_end, function, inherited, parent), daemon=True
+        )
         process.start()
         pool.append(_Worker(process, parent_end))
         child_end.close()  # the worker's death then reads as EOF here, never as a wait
@@ -117,14 +182,14 @@ def _next_task(tasks: Iterator[Any]) -> Any:
     import completes, no exception, nothing printed): the run would go on, its workers ignoring
     Ctrl-C. Held, it is raised here, after the task is made.
     """
-    with _sigint_held():
+    with _stops_held():
         return next(tasks, None)
 
 
 def _kill(pool: list[_Worker]) -> None:
-    """Kill every worker at once; a second Ctrl-C meanwhile is ignored (the run ends anyway)."""
+    """Kill every worker at once; a Ctrl-C or SIGTERM meanwhile is ignored (the run ends anyway)."""
     main = threading.current_thread() is threading.main_thread()
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    previous = {s: signal.signal(s, signal.SIG_IGN) for s in STOP_SIGNALS} if main else {}
     try:
         for worker in pool:
             worker.process.terminate()
@@ -132,8 +197,8 @@ def _kill(pool: list[_Worker]) -> None:
             worker.process.join()
             worker.conn.close()
     finally:
-        if main:
-            signal.signal(signal.SIGINT, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 def _received(worker: _Worker) -> tuple[bool, Any] | None:
