@@ -12,6 +12,8 @@ pitch, yaw or r11..r33, optionally label; # starts a comment; values in the tabl
 
 from __future__ import annotations
 
+from dh2urdf.command_line import whole_number
+
 from ..cli import ArgumentParser, positive_float, positive_int, run_guarded
 from ..commands.json_output import dumps
 
@@ -49,7 +51,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     parser.add_argument(
         "--count", type=positive_int, default=64, help="--urdf: joint vectors sampled (64)"
     )
-    parser.add_argument("--seed", type=int, default=0, help="--urdf: sampling seed (0)")
+    parser.add_argument("--seed", type=whole_number, default=0, help="--urdf: sampling seed (0)")
     parser.add_argument(
         "--position-tol", type=positive_float, default=1e-6, help="--urdf: [m] (1e-6)"
     )

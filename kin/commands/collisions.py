@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import sys
 
+from dh2urdf.command_line import whole_number
 from dh2urdf.output_text import counted, shown_name
 
 from ..cli import ArgumentParser, positive_int, run_guarded
@@ -25,10 +26,7 @@ def _seed(text: str) -> int:
     """A random seed: an integer >= 0."""
     import argparse
 
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    value = whole_number(text)
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {value}")
     return value

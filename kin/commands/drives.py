@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from dh2urdf.command_line import whole_number
+
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
 from .json_output import dumps
 from .robot_argument import add_robot_arguments, load_robot_argument
@@ -26,7 +28,10 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         "--q", type=finite_float, nargs="+", help="joint angles, base to tip [rad, deg with --deg]"
     )
     given.add_argument(
-        "--pulses", type=int, nargs="+", help="pulses per joint counted from the drives' home"
+        "--pulses",
+        type=whole_number,
+        nargs="+",
+        help="pulses per joint counted from the drives' home",
     )
     parser.add_argument("--deg", action="store_true", help="angles in degrees (default radians)")
     parser.add_argument(

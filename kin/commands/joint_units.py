@@ -104,6 +104,10 @@ class JointUnits:
         """
         nq = len(self.joint_names)
         try:
+            if isinstance(values, (list, tuple)) and any(
+                isinstance(v, (str, bytes, bool)) for v in values
+            ):  # NumPy reads "1_000" as 1000 and true as 1 (JSON "seed_q")
+                raise TypeError("a text or boolean value")
             array = np.array(values, dtype=float).reshape(-1)
         except (TypeError, ValueError) as err:
             raise JointVectorError(

@@ -29,6 +29,7 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
+from dh2urdf.command_line import whole_number
 from dh2urdf.output_text import shown_name
 
 from ..cli import (
@@ -90,7 +91,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add("--path", metavar="FILE", help="animate a joint path written by kin path --json")
     add(
         "--workspace",
-        type=int,
+        type=whole_number,
         nargs="?",
         const=WORKSPACE_POINTS,
         metavar="N",

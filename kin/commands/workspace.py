@@ -9,6 +9,8 @@ half-written PNG.
 
 from __future__ import annotations
 
+from dh2urdf.command_line import whole_number
+
 from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
 from .json_output import dumps
 from .robot_argument import add_robot_arguments, load_robot_argument
@@ -23,7 +25,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     parser.add_argument(
         "--n", type=positive_int, default=1_000_000, help="joint vectors (default 1000000)"
     )
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--seed", type=whole_number, default=0, help="random seed (default 0)")
     parser.add_argument(
         "-o", "--output", help="write the views to this file (.png, .svg or .pdf, by its suffix)"
     )
