@@ -7,6 +7,10 @@ It is kept under a fixed size, the least recently used tables removed first.
 
 from __future__ import annotations
 
+from collections import Counter
+
+from dh2urdf.output_text import counted
+
 from ..cli import ArgumentParser, run_guarded
 from ..exceptions import KinError
 from .json_output import dumps
@@ -46,10 +50,14 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 ) from err
             if args.json:
                 record = {"folder": str(removed.folder), "removed_files": removed.files}
-                print(dumps({**record, "removed_bytes": removed.size}))
+                others = {"removed_not_regular": list(removed.others)} if removed.others else {}
+                print(dumps({**record, "removed_bytes": removed.size, **others}))
             else:
-                size = _megabytes(removed.size)
-                print(f"removed {removed.files} files ({size}) from {removed.folder}")
+                note = _megabytes(removed.size)
+                if removed.others:  # a FIFO or a link put at a cache file's name
+                    kinds = ", ".join(counted(n, k) for k, n in Counter(removed.others).items())
+                    note += f"; {kinds} among them"
+                print(f"removed {counted(removed.files, 'file')} ({note}) from {removed.folder}")
             return 0
         usage = seed_cache.usage()
         enabled = seed_cache.enabled()

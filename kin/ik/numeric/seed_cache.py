@@ -55,13 +55,15 @@ class CacheUsage:
 
     Attributes:
         folder: The cache folder.
-        files: Number of files.
-        size: Their total size [B].
+        files: Number of files (of :func:`clear`: every entry removed, whatever its kind).
+        size: Their total size [B] (of the regular files).
+        others: What those that are not regular files are (``"FIFO"``, ``"symbolic link"``...).
     """
 
     folder: Path
     files: int
     size: int
+    others: tuple[str, ...] = ()
 
 
 def cache_dir() -> Path:
@@ -170,6 +172,8 @@ def _short(err: Exception) -> str:
 
 def _kind(mode: int) -> str:
     """What a non-regular file of ``mode`` is, in words."""
+    if stat.S_ISLNK(mode):
+        return "symbolic link"
     if stat.S_ISFIFO(mode):
         return "FIFO"
     if stat.S_ISDIR(mode):
@@ -231,18 +235,21 @@ def store(key: str, arrays: dict[str, np.ndarray]) -> None:
     trim()
 
 
-def _files(directory: Path) -> list[tuple[Path, os.stat_result]]:
-    """The cache's regular files in ``directory`` (links and others left alone), with their stats."""
+def _entries(directory: Path) -> list[tuple[Path, os.stat_result]]:
+    """Every entry of ``directory`` named as the cache's files, of any kind, with its ``lstat``."""
     found = []
     for pattern in _PATTERNS:
         for path in directory.glob(pattern):
             try:
-                status = path.lstat()
+                found.append((path, path.lstat()))
             except OSError:  # removed meanwhile
                 continue
-            if stat.S_ISREG(status.st_mode):
-                found.append((path, status))
     return found
+
+
+def _files(directory: Path) -> list[tuple[Path, os.stat_result]]:
+    """The cache's regular files in ``directory`` (links and others left alone), with their stats."""
+    return [item for item in _entries(directory) if stat.S_ISREG(item[1].st_mode)]
 
 
 def usage() -> CacheUsage:
@@ -286,21 +293,33 @@ def trim(max_bytes: int | None = None) -> int:
 
 
 def clear() -> CacheUsage:
-    """Remove the cache's files (tables and temporaries; nothing else in the folder).
+    """Remove what holds the cache's names: tables, temporaries, and whatever was put there.
+
+    A FIFO, socket, device node or symbolic link at a cache file's name is removed too (the
+    entry only: a link's target is left), counted and named by kind; a directory at such a name
+    is left, with one :class:`CacheWarning` naming it. Nothing else in the folder is touched.
 
     Returns:
-        What was removed: the folder, the number of files and their total size [B].
+        What was removed: the folder, the number of entries, the regular files' total size [B]
+        and the kinds of the others.
 
     Raises:
-        OSError: A file that could not be removed (no permission).
+        OSError: An entry that could not be removed (no permission).
     """
     directory = cache_dir()
     files = removed = 0
-    for path, status in _files(directory):
+    others: list[str] = []
+    for path, status in _entries(directory):
+        if stat.S_ISDIR(status.st_mode):
+            _warn(f"{path} is a directory, not a seed table: left as it is")
+            continue
         try:
             path.unlink()
         except FileNotFoundError:
             continue
         files += 1
-        removed += status.st_size
-    return CacheUsage(directory, files, removed)
+        if stat.S_ISREG(status.st_mode):
+            removed += status.st_size
+        else:
+            others.append(_kind(status.st_mode))
+    return CacheUsage(directory, files, removed, tuple(others))
