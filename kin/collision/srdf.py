@@ -46,13 +46,7 @@ def read_srdf(
     if root.tag != "robot":
         raise CollisionModelError(where, f"not an SRDF: the root element is <{root.tag}>")
     name = root.get("name")
-    if name is not None and name != robot_name:
-        logger.warning(
-            "%s: written for the robot %r, not %r: its link names are used as they are",
-            where,
-            name,
-            robot_name,
-        )
+    other = name is not None and name != robot_name  # a warning once its links are all known
     disabled: dict[tuple[str, str], str] = {}
     for index, element in enumerate(root.iter("disable_collisions")):
         pair = []
@@ -62,14 +56,21 @@ def read_srdf(
             if not link:
                 raise CollisionModelError(where, f"{field}: missing")
             if link not in known:
+                written = f"written for the robot {name!r}" if other else "for another robot?"
                 raise CollisionModelError(
                     where,
-                    f"{field}: the robot {robot_name!r} has no link {link!r} "
-                    "(an SRDF written for another robot?)",
+                    f"{field}: the robot {robot_name!r} has no link {link!r} (an SRDF {written})",
                 )
             pair.append(link)
         a, b = pair
         if a in used and b in used and a != b:
             key = (a, b) if (b, a) not in disabled else (b, a)
             disabled[key] = f"srdf: {element.get('reason') or 'no reason given'}"
+    if other:  # not before: an SRDF naming links the robot lacks is one error line, no more
+        logger.warning(
+            "%s: written for the robot %r, not %r: its link names are used as they are",
+            where,
+            name,
+            robot_name,
+        )
     return disabled

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from dh2urdf.command_line import whole_number
+from dh2urdf.output_text import shown_name
 
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
 from .json_output import dumps
@@ -87,7 +88,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         shown = (units.from_si(result.q_asked[0]), units.from_si(result.q_reached[0]))
         error = units.from_si(result.joint_error[0])
         step = units.from_si(result.step_size)
-        for j, name in enumerate(units.joint_names):
+        for j, name in enumerate(map(shown_name, units.joint_names)):
             print(
                 f"{name:<12}{int(result.pulses[0, j]):>9d}{shown[0][j]:>13.6f}"
                 f"{shown[1][j]:>13.6f}{error[j]:>11.2e}{step[j]:>10.6f}"

@@ -17,6 +17,8 @@ from __future__ import annotations
 import functools
 import sys
 
+from dh2urdf.output_text import shown_name
+
 from ..cli import ArgumentParser, angle_scale, finite_float, length_scale, run_guarded
 from .arm_route import MIMIC_HELP
 from .json_output import dumps
@@ -107,7 +109,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         position = pose.translation / length_scale(args.unit)
         q_shown = units.from_si(q)
         print(f"{robot.name}: pose of '{args.frame}' in the world frame")
-        shown = (f"{n} {v:.6g} {u}" for n, v, u in zip(units.joint_names, q_shown, units.labels))
+        names = map(shown_name, units.joint_names)
+        shown = (f"{n} {v:.6g} {u}" for n, v, u in zip(names, q_shown, units.labels))
         print("q: " + ", ".join(shown))
         note = mimic_line(robot)
         if note is not None:

@@ -378,7 +378,7 @@ def _print_result(
     print(f"iterations: {result.iterations}, time: {result.time * 1e3:.3f} ms")
     if not shown:
         return
-    columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]
+    columns = units.columns()
     widths = [max(10, len(c)) for c in columns]
     header = "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths))
     label = max([len("branch"), *(len(solution.branch) for solution in shown)])

@@ -78,9 +78,13 @@ class JointUnits:
             upper=table.upper,
         )
 
+    def columns(self) -> list[str]:
+        """``"name [unit]"`` of every joint, the names as text output shows them (escaped)."""
+        return [f"{shown_name(n)} [{u}]" for n, u in zip(self.joint_names, self.labels)]
+
     def describe(self) -> str:
         """``"name [unit], ..."`` of every joint, for messages and headers."""
-        return ", ".join(f"{n} [{u}]" for n, u in zip(self.joint_names, self.labels))
+        return ", ".join(self.columns())
 
     def to_si(
         self, values: Sequence[float], option: str = "--q", *, warn_units: bool = True

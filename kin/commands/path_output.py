@@ -7,6 +7,8 @@ import sys
 from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
+from dh2urdf.output_text import shown_name
+
 if TYPE_CHECKING:
     from ..path import PathResult, TimedPath
     from .joint_units import JointUnits
@@ -67,14 +69,14 @@ def print_text(
     if result.max_step_joint >= 0:
         j = result.max_step_joint
         step = result.max_joint_step / units.scales[j]
-        out(f"max joint step: {step:.4g} {units.labels[j]} ({units.joint_names[j]})\n")
+        out(f"max joint step: {step:.4g} {units.labels[j]} ({shown_name(units.joint_names[j])})\n")
     changes = ", ".join(map(str, result.branch_changes)) or "none"
     out(f"branch changes at samples: {changes}\n")
     times = None
     if timed is not None:
         out(f"duration: {timed.duration:.4g} s\n")
         times = timed.waypoint_times
-    columns = [f"{n} [{u}]" for n, u in zip(units.joint_names, units.labels)]
+    columns = units.columns()
     widths = [max(10, len(c)) for c in columns]
     head = "sample" + ("     t [s]" if times is not None else "")
     out(head + "  " + "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths)) + "  branch\n")
