@@ -35,7 +35,7 @@ import pinocchio as pin
 
 from ..configuration import as_joint_vector
 from .model import CollisionModel
-from .requests import CONTACT_TOLERANCE, prepare_requests
+from .requests import prepare_requests
 
 __all__ = ["BROAD_PHASE_PAIRS", "Closest", "CollisionChecker", "Contact"]
 

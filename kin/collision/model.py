@@ -264,8 +264,8 @@ def _note(
         parts.append("meshes as their convex hulls (they enclose the mesh: never closer)")
     note = (
         f"every query uses {'; '.join(parts) or 'no shapes'}; "
-        f"padding {padding:g} m around every shape; in contact below the padding "
-        f"+ {CONTACT_TOLERANCE:g} m (coal's accuracy)"
+        f"padding {padding:g} m around every shape; a pair closer than the padding "
+        f"+ {CONTACT_TOLERANCE:g} m collides (coal's accuracy)"
     )
     if always:
         from .always_pairs import SAMPLES, SEED
