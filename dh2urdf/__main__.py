@@ -1,5 +1,5 @@
 """``python -m dh2urdf``: the ``dh2urdf`` command (see :mod:`dh2urdf.command`)."""
 
-from .command import main
+from .command import console
 
-raise SystemExit(main())
+raise SystemExit(console())

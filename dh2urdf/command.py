@@ -116,3 +116,14 @@ def main(argv: list[str] | None = None) -> int:
         return _subcommand(argv[0], argv[1:])
     args = get_argument_parser().parse_args(argv)
     return run_guarded(PROG, lambda: _export(args), (Dh2UrdfError, OSError))
+
+
+def console() -> int:
+    """The ``dh2urdf`` program (console script, ``python -m dh2urdf``): :func:`main` for life.
+
+    A stop signal after the command has stopped or returned is ignored, not a traceback while
+    the interpreter ends (:func:`dh2urdf.stop_signals.run_process`).
+    """
+    from .stop_signals import run_process
+
+    return run_process(main)

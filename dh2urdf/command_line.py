@@ -240,7 +240,7 @@ def run_guarded(
     prints ``prog: interrupted`` and returns 130; SIGTERM stops it the same way (workers ended,
     what is done kept: :mod:`dh2urdf.stop_signals`), ``prog: terminated`` and 143.
     """
-    from .stop_signals import listen_to_stops, terminated
+    from .stop_signals import hold_stops, listen_to_stops, terminated
 
     restore_sigterm = listen_to_stops()
     previous = sys.stdout
@@ -271,6 +271,7 @@ def run_guarded(
     except errors as err:
         return report_error(prog, err)
     except KeyboardInterrupt:
+        hold_stops()  # a second Ctrl-C while the process ends is not a traceback
         if terminated():
             _say(f"{prog}: terminated")
             return EXIT_TERMINATED

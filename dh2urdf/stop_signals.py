@@ -12,6 +12,11 @@ SIGINT inherited as ignored, ``cmd &`` in a script, is taken back; a SIGTERM ign
 caller stays ignored); code that holds a signal for a while (:mod:`kin.chunk_pool`,
 :mod:`kin.commands.interrupt_gate`) notes a SIGTERM with :func:`note_stop` so that the exit
 code still says which signal came.
+
+:func:`run_process` runs a command as the process's whole life (``python -m kin``, the console
+scripts): once the command has been stopped, or has returned, a further SIGINT or SIGTERM is
+ignored, so that a second Ctrl-C landing while the interpreter shuts down cannot end the
+process by the signal (exit -2, a traceback) after its line was written.
 """
 
 from __future__ import annotations
@@ -24,8 +29,10 @@ from typing import Any
 
 __all__ = [
     "STOP_SIGNALS",
+    "hold_stops",
     "listen_to_stops",
     "note_stop",
+    "run_process",
     "stop_handler",
     "stop_on_sigterm",
     "terminated",
@@ -39,6 +46,8 @@ class _Seen:
     """Whether a SIGTERM came since :func:`listen_to_stops` (one command run per process)."""
 
     terminated = False
+    #: Whether the command is the process's whole life (:func:`run_process`).
+    process = False
 
 
 def note_stop(signum: int) -> None:
@@ -61,6 +70,33 @@ def stop_on_sigterm(signum: int, frame: FrameType | None) -> None:
 def stop_handler(signum: int) -> Callable[[int, FrameType | None], Any]:
     """The handler that stops a command on ``signum`` (one of :data:`STOP_SIGNALS`)."""
     return signal.default_int_handler if signum == signal.SIGINT else stop_on_sigterm
+
+
+def hold_stops() -> None:
+    """Once a command has stopped, in a process that ends with it: ignore every stop signal.
+
+    Sets SIGINT and SIGTERM to ``SIG_IGN`` for the rest of the process when the command runs
+    under :func:`run_process` (in the main thread); does nothing when it is called in-process (a
+    test, a script), whose later signals are its caller's. Ignored, not blocked: a blocked
+    signal sent to the process is delivered to any thread that does not block it (OpenBLAS's
+    worker threads), whose default action for SIGTERM ends the process.
+    """
+    if _Seen.process and threading.current_thread() is threading.main_thread():
+        for signum in STOP_SIGNALS:
+            signal.signal(signum, signal.SIG_IGN)
+
+
+def run_process(main: Callable[[], int]) -> int:
+    """Run ``main`` as the process's command; stop signals are ignored once it returns.
+
+    Returns:
+        ``main``'s exit code.
+    """
+    _Seen.process = True
+    try:
+        return main()
+    finally:
+        hold_stops()
 
 
 def listen_to_stops() -> Callable[[], None]:

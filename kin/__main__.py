@@ -1,6 +1,6 @@
 """``python -m kin ...``: the ``kin`` command."""
 
-from kin.commands import main
+from kin.commands import console
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(console())

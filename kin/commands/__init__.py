@@ -14,7 +14,7 @@ import sys
 
 from dh2urdf.command_line import EXIT_BAD_INPUT, ArgumentParser
 
-__all__ = ["COMMANDS", "get_argument_parser", "main"]
+__all__ = ["COMMANDS", "console", "get_argument_parser", "main"]
 
 #: Subcommand -> one-line summary (the module is ``kin.commands.<name>``).
 COMMANDS: dict[str, str] = {
@@ -64,3 +64,14 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_BAD_INPUT
     parser.parse_args(argv)  # --help, --version, or a one-line error (exit 2)
     return EXIT_BAD_INPUT  # not reached: argv[0] was not a command
+
+
+def console() -> int:
+    """The ``kin`` program (console script, ``python -m kin``): :func:`main` as the process's life.
+
+    A stop signal after the command has stopped or returned is ignored, not a traceback while the
+    interpreter ends (:func:`dh2urdf.stop_signals.run_process`).
+    """
+    from dh2urdf.stop_signals import run_process
+
+    return run_process(main)
