@@ -24,9 +24,9 @@ input.
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from dh2urdf.command_line import whole_number
@@ -129,11 +129,30 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("give --path or --ik, not both (each is an animation)")
     if args.workspace is not None and not 1 <= args.workspace <= MAX_WORKSPACE_POINTS:
         parser.error(f"--workspace: expected 1 to {MAX_WORKSPACE_POINTS:,} points")
-    return run_guarded(prog, lambda: _run(args, prog), extra=(ModuleNotFoundError,))
+    return run_guarded(prog, lambda: _run_held(args, prog), extra=(ModuleNotFoundError,))
 
 
-def _run(args: argparse.Namespace, prog: str) -> int:
-    """Build the scene, then write the page or serve it."""
+def _run_held(args: argparse.Namespace, prog: str) -> int:
+    """:func:`_run` with Ctrl-C (and SIGTERM) held while the scene is built, raised after.
+
+    The build imports meshcat, pyzmq, trimesh and networkx on first use; trimesh wraps its
+    optional imports in ``except BaseException``, so a ``KeyboardInterrupt`` raised inside one
+    was swallowed (the server then served until a second Ctrl-C), and one raised inside a
+    finalizer (pyzmq's ``Socket.__del__``) printed an "Exception ignored" traceback. Held, the
+    signal is only noted (:class:`~.interrupt_gate.InterruptGate`) and raised once the page is
+    written or the server is about to wait; a second one raises at once.
+    """
+    from .interrupt_gate import interrupt_gate
+
+    with interrupt_gate() as gate:
+        gate.hold()
+        code = _run(args, prog, gate.release)
+        gate.release()  # a Ctrl-C while the page was written: 130 (the page is whole)
+        return code
+
+
+def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> int:
+    """Build the scene, then write the page or serve it (``release``: Ctrl-C raises again)."""
     import numpy as np
 
     from ..configuration import limit_violations
@@ -212,10 +231,10 @@ def _run(args: argparse.Namespace, prog: str) -> int:
             written = write_page(args.html, page if title is None else titled(page, title))
             print(f"{shown_name(robot.name)}: preview written to {written}")
             return EXIT_NO_SOLUTION if args.ik and q_goal is None else 0
+        release()  # raises a Ctrl-C (SIGTERM) that came while the scene was built
         print(viewer.url, flush=True)
-        signal.signal(signal.SIGTERM, _interrupt)
-        while True:
-            time.sleep(3600.0)
+        while True:  # short naps: a signal taken by another thread is seen within one
+            time.sleep(0.5)
     finally:
         viewer.close()
 
@@ -342,8 +361,3 @@ def _height_colors(points: np.ndarray) -> np.ndarray:
     s = (z - z.min()) / span if span > 0.0 else np.zeros_like(z)
     low, high = np.array([0.15, 0.35, 0.9]), np.array([0.95, 0.5, 0.1])
     return low + s[:, None] * (high - low)
-
-
-def _interrupt(signum: int, frame: object) -> None:
-    """SIGTERM stops the server like Ctrl-C."""
-    raise KeyboardInterrupt

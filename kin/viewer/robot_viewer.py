@@ -27,6 +27,7 @@ import meshcat.transformations as tf
 import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
+import zmq
 from pinocchio.visualize import MeshcatVisualizer
 
 from ..configuration import as_joint_vector
@@ -275,7 +276,14 @@ class RobotViewer:
         return self.viewer.static_html()
 
     def close(self) -> None:
-        """Stop the meshcat server, if this viewer started one."""
+        """Close the connection to the meshcat server and stop it, if this viewer started one.
+
+        The socket is closed here, not left to pyzmq's finalizer at interpreter exit (where a
+        second Ctrl-C printed an "Exception ignored" traceback); unsent messages are dropped.
+        """
+        socket = getattr(self.viewer.window, "zmq_socket", None)
+        if isinstance(socket, zmq.Socket) and not socket.closed:
+            socket.close(linger=0)
         process = getattr(self.viewer.window, "server_proc", None)
         if process is not None and process.poll() is None:
             process.kill()
