@@ -24,6 +24,7 @@ from pathlib import Path
 from . import __version__
 from .command_line import EXIT_BAD_INPUT, ArgumentParser, run_guarded
 from .exceptions import Dh2UrdfError
+from .output_text import counted, shown_name
 from .robots import get_robot, robot_names
 from .table_file import load_table
 
@@ -95,7 +96,10 @@ def _export(args: argparse.Namespace) -> int:
     from .urdf_writer import write_text_atomic
 
     write_text_atomic(text, output)
-    print(f"wrote {output} ({kind.upper()}, {table.name}, {table.dof} joints, meters/radians)")
+    print(
+        f"wrote {output} ({kind.upper()}, {shown_name(table.name)}, {counted(table.dof, 'joint')}, "
+        "meters/radians)"
+    )
     return 0
 
 

@@ -22,6 +22,7 @@ from pathlib import Path
 
 from .command_line import ArgumentParser, run_guarded
 from .exceptions import Dh2UrdfError
+from .output_text import counted
 
 PROG = "dh2urdf from-urdf"
 
@@ -71,7 +72,7 @@ def _run(args: argparse.Namespace) -> int:
         return 0
     write_table(table, output, header)
     print(
-        f"wrote {output} ({table.dof} joints {''.join('R' if r.joint_type == 'revolute' else 'P' for r in table.rows)}, "
+        f"wrote {output} ({counted(table.dof, 'joint')} {''.join('R' if r.joint_type == 'revolute' else 'P' for r in table.rows)}, "
         f"{table.convention} DH, m/rad)"
     )
     return 0

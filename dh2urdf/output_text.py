@@ -31,11 +31,11 @@ def shown_name(name: str) -> str:
 
 
 def counted(count: int, noun: str, plural: str | None = None) -> str:
-    """``count`` and ``noun`` in the number it takes: ``"1 pair"``, ``"0 pairs"``, ``"2 pairs"``.
+    """``count`` and ``noun`` in the number it takes: ``"1 pair"``, ``"0 pairs"``, ``"2,000 pairs"``.
 
     Args:
         count: How many.
         noun: The singular (``"scene object"``, ``"link pair"``).
         plural: The plural when it is not ``noun + "s"``.
     """
-    return f"{count} {noun if count == 1 else plural or noun + 's'}"
+    return f"{count:,} {noun if count == 1 else plural or noun + 's'}"

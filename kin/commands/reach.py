@@ -18,6 +18,8 @@ terminal, unless --quiet); Ctrl-C stops with one line and exit 130, leaving no f
 
 from __future__ import annotations
 
+from dh2urdf.output_text import counted, shown_name
+
 from ..cli import (
     ArgumentParser,
     length_scale,
@@ -125,9 +127,9 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         else:
             solved = int((reach_map.index > 0).sum())
             print(
-                f"{reach_map.robot}: {reach_map.index.size:,} voxels of "
+                f"{shown_name(reach_map.robot)}: {counted(reach_map.index.size, 'voxel')} of "
                 f"{args.voxel:g} {args.unit}, {solved:,} with an index above 0, "
-                f"best {reach_map.index.max():.3g}; {reach_map.orientations} orientations; "
+                f"best {reach_map.index.max():.3g}; {counted(reach_map.orientations, 'orientation')}; "
                 f"{reach_map.time_s:.3g} s; wrote {output}"
                 + (f" and {args.png}" if args.png else "")
             )

@@ -10,6 +10,7 @@ half-written PNG.
 from __future__ import annotations
 
 from dh2urdf.command_line import whole_number
+from dh2urdf.output_text import counted, shown_name
 
 from ..cli import ArgumentParser, length_scale, positive_float, positive_int, run_guarded
 from .json_output import dumps
@@ -94,7 +95,8 @@ def _volume(volume_m3: float, unit: str) -> str:
 def _print_text(stats, unit: str) -> None:  # noqa: ANN001
     s = length_scale(unit)
     print(
-        f"{stats.robot}: workspace of the tool from {stats.n_samples:,} joint vectors "
+        f"{shown_name(stats.robot)}: workspace of the tool from "
+        f"{counted(stats.n_samples, 'joint vector')} "
         f"(seed {stats.seed}), lengths in {unit}"
     )
     print(
@@ -110,7 +112,7 @@ def _print_text(stats, unit: str) -> None:  # noqa: ANN001
     v = stats.voxel_size_m / s
     growth = stats.volume_error_m3 / max(stats.volume_m3, 1e-300)
     print(
-        f"volume ({stats.occupied_voxels:,} voxels of {v:.4g} {unit} hit): "
+        f"volume ({counted(stats.occupied_voxels, 'voxel')} of {v:.4g} {unit} hit): "
         f"{_volume(stats.volume_m3, unit)}; +{100 * growth:.2g}% from N/2 to N samples, "
         + ("converged" if stats.volume_converged else "NOT converged")
     )
