@@ -243,3 +243,20 @@ def _subprocess(argv: list[str]):  # noqa: ANN202
     from cli_helper import run
 
     return run(argv)
+
+
+def test_counts_of_one_are_singular(tmp_path, capsys):
+    """'1 scene objects', '1 samples', '1 joints' were printed: the singular now."""
+    from dh2urdf import command as dh2urdf_command
+
+    argv = ["--robot", "planar2", "--samples", "1", "--write-srdf", str(tmp_path / "p.srdf")]
+    assert collisions.main(argv) == 0
+    assert "of 1 link pair disabled (1 Adjacent); 1 sample, seed 0" in capsys.readouterr().err
+    table = tmp_path / "one.toml"
+    table.write_text(
+        'name = "one"\nconvention = "standard"\nlength_unit = "m"\nangle_unit = "deg"\n'
+        '[[joints]]\ntype = "revolute"\na = 0.3\nalpha = 0.0\nd = 0.1\ntheta = 0.0\n'
+        "limits = [-90.0, 90.0]\n"
+    )
+    assert dh2urdf_command.main([str(table), "-o", str(tmp_path / "one.urdf")]) == 0
+    assert "(URDF, one, 1 joint, meters/radians)" in capsys.readouterr().out
