@@ -1,5 +1,14 @@
 """Collision check of a joint path: every sample, and the motion between samples.
 
+**One verdict** (:mod:`kin.collision.requests`): a pair is in contact when its distance (padding
+taken off) is below :data:`~kin.collision.requests.CONTACT_TOLERANCE` (10 um), and every
+configuration this module calls in contact, a sample or a point between two, is one where
+:meth:`kin.collision.CollisionChecker.in_collision` says so (the samples by its batch, the points
+between them by itself), so a path is never called colliding at a place the checker calls free,
+nor free through a place it calls colliding. The distances are coal's, asked through the same
+requests as the checker's (:func:`~kin.collision.requests.prepare_requests`: GJK to 1e-8 m from
+its default guess, signed).
+
 The rule between two samples (a step bound, conservative advancement): on the straight joint
 segment from ``q0`` to ``q1``, a point of a shape carried by joint ``k`` moves at most
 
@@ -10,12 +19,13 @@ where ``R_jk`` bounds the distance of the shape's (padded) points from joint j's
 of the joint origins' links from j to k (a prismatic joint's travel taken at its larger end value
 on the segment) plus the shape's bounding-sphere reach from joint k's origin. Two shapes close by
 at most ``B_a + B_b`` (a scene object does not move), so a pair whose distances at the two ends
-satisfy ``d0 + d1 > B_a + B_b`` cannot touch in between (the lower bounds ``d0 - B t`` and
-``d1 - B (1 - t)`` stay positive). Otherwise the segment is halved and the midpoint checked, down
-to a bound of ``tolerance`` [m]: a pair that cannot be shown apart at that scale is reported as in
-collision (closer than ``tolerance``). The samples themselves are judged by
-:meth:`kin.collision.CollisionChecker.in_collision`, the distances by Pinocchio's
-``computeDistances`` on the same shapes.
+satisfy ``(d0 - tol) + (d1 - tol) > B_a + B_b``, ``tol`` the contact tolerance, stays beyond the
+tolerance in between (the lower bounds ``d0 - B t`` and ``d1 - B (1 - t)`` stay above ``tol``):
+no point between is in contact. Otherwise the segment is halved and the midpoint judged by
+``in_collision`` (a colliding midpoint is named, after the earlier half is searched for an earlier
+contact), down to a bound of ``tolerance`` [m]: a pair that cannot be shown beyond the contact
+tolerance at that scale is reported as a collision not proven (``proven`` False: closer than the
+contact tolerance plus ``tolerance``, every point checked free).
 
 Where contact begins on the way into the first colliding sample: bisection on the segment from
 the last free sample (on the sample verdict) until the links' motion bound between a free point and
@@ -33,6 +43,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from ..collision.requests import CONTACT_TOLERANCE, prepare_requests
 from .path_collision import TOLERANCE, PathCollision, PathCollisionCheck
 
 if TYPE_CHECKING:
@@ -54,6 +65,7 @@ class _Distances:
         self.pin_model = model.robot.model
         self.data = self.pin_model.createData()
         self.geometry_data = pin.GeometryData(model.geometry_model)
+        prepare_requests(self.geometry_data, model.padding)  # the checker's distance queries
         self.pairs = [(p.first, p.second) for p in model.geometry_model.collisionPairs]
         nj = self.pin_model.njoints
         self.parents = list(self.pin_model.parents)
@@ -92,7 +104,10 @@ class _Distances:
         return arms
 
     def distances(self, q: np.ndarray) -> np.ndarray:
-        """Per collision pair, the distance between the padded shapes [m] (<= 0: contact)."""
+        """Per collision pair, the distance between the padded shapes [m].
+
+        Below :data:`~kin.collision.requests.CONTACT_TOLERANCE`: contact.
+        """
         pin = self._pin
         pin.computeDistances(
             self.pin_model, self.data, self.model.geometry_model, self.geometry_data, q
@@ -230,7 +245,10 @@ class MotionCheck:
         self.checks = 0
 
     def distances(self, q: np.ndarray) -> np.ndarray:
-        """Per collision pair, the distance at ``q`` [m] (<= 0: contact); empty without pairs."""
+        """Per collision pair, the distance at ``q`` [m] (contact below the contact tolerance).
+
+        Empty without pairs.
+        """
         return np.zeros(0) if self.helper is None else self.helper.distances(q)
 
     def between(
@@ -291,7 +309,8 @@ def _segment(
         t0, t1, qa, qb, da, db, open_pairs = stack.pop()
         motion = helper.motion(qa, qb)
         bound = motion[first_object[open_pairs]] + motion[second_object[open_pairs]]
-        unresolved = da[open_pairs] + db[open_pairs] <= bound
+        # apart beyond the contact tolerance all along: (da - tol) + (db - tol) > bound
+        unresolved = da[open_pairs] + db[open_pairs] - 2.0 * CONTACT_TOLERANCE <= bound
         if not unresolved.any():
             continue
         open_pairs = open_pairs[unresolved]
@@ -303,9 +322,8 @@ def _segment(
             return (tm, qm, index, False), checks
         checks += 1
         dm = helper.distances(qm)
-        hit = open_pairs[dm[open_pairs] <= 0.0]
-        if hit.size and helper.checker.in_collision(qm):
-            index = int(hit[np.argmin(dm[hit])])
+        if helper.checker.in_collision(qm):  # the checker's verdict, whatever the distances
+            index = int(open_pairs[np.argmin(dm[open_pairs])])
             # the earlier half may hold an earlier contact: look there first
             found, used = _segment(helper, qa, qm, da, dm, tolerance, budget - checks)
             checks += used

@@ -13,6 +13,8 @@ import numpy as np
 
 from dh2urdf.output_text import shown_name
 
+from ..collision.requests import CONTACT_TOLERANCE
+
 __all__ = ["RULE", "TOLERANCE", "PathCollision", "PathCollisionCheck"]
 
 #: Default scale below which a pair is not shown apart between samples [m].
@@ -20,7 +22,8 @@ TOLERANCE = 1e-6
 #: The rule in one line (printed by ``kin path``).
 RULE = (
     "between samples: free when d0 + d1 > the links' largest motion bound (sum of |dq_j| times "
-    "the reach from joint j), else halved down to 1e-6 m"
+    f"the reach from joint j) + twice the contact tolerance {CONTACT_TOLERANCE:g} m, else halved "
+    "down to 1e-6 m, each midpoint judged as a sample"
 )
 
 
@@ -38,7 +41,9 @@ class PathCollision:
         b: Link or scene object.
         kind: ``"self"`` or ``"scene"``.
         at_sample: The place is a sample (not the motion between two).
-        proven: In contact there (False: closer than the tolerance, not shown apart).
+        proven: In contact there by :meth:`~kin.collision.CollisionChecker.in_collision`
+            (False: every point checked is free, but the pair is not shown beyond the contact
+            tolerance at the module's resolution).
     """
 
     segment: int
@@ -65,7 +70,11 @@ class PathCollision:
                 f"contact begins between samples {self.segment} and {self.segment + 1} at "
                 f"t = {self.fraction:.6g} of the segment: {pair}"
             )
-        verdict = "collides" if self.proven else "comes closer than 1e-6 m"
+        verdict = (
+            "collides"
+            if self.proven
+            else f"comes within the contact tolerance {CONTACT_TOLERANCE:g} m + 1e-6 m (not proven)"
+        )
         return f"{place} {verdict}: {pair}"
 
 

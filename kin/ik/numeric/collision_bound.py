@@ -3,19 +3,23 @@
 Each step solves one small QP (``daqp``, :mod:`.dense_qp`; mink's ``solve_ik`` the same)::
 
     min  |W (A dq - e)|^2 / 2 + lam |dq|^2 / 2
-    s.t. d_i + n_i^T (J_b - J_a) dq >= d_i - gain (d_i - margin)   per pair closer than influence
+    s.t. d_i + n_i^T (J_b - J_a) dq >= d_i - gain (d_i - tol - margin)  (pairs within influence)
          lower - q <= dq <= upper - q,  |dq| <= max_step
 
 ``e`` and ``A`` are the task's error and rows (:class:`~kin.ik.partial_pose.PartialTask`: a full
 or masked pose, an axis target, a position), ``W`` its weights, ``lam`` Levenberg-Marquardt's
 damping. The inequalities are the velocity damper of mink's ``CollisionAvoidanceLimit`` (and of
 pink's barriers): a pair at distance ``d`` (coal's signed distance on the checker's own shapes,
-padding taken off) may close at most the fraction ``gain`` of its gap to ``margin`` per step, and a
-pair already inside ``margin`` must open by that fraction. ``n`` is the unit normal from shape a
+padding taken off) may close at most the fraction ``gain`` of its gap to ``tol + margin`` per step
+(``tol`` the contact tolerance below), and a pair already inside must open by that fraction. ``n`` is the unit normal from shape a
 to shape b, ``J_a`` and ``J_b`` the world-frame Jacobians of the two witness points (the joint
 Jacobians of the shapes' joints moved to the points). Pinocchio and coal compute it all on the
 checker's :class:`~kin.collision.CollisionModel` (its geometry model and pairs, the hulls or
-primitives its queries use), so the bound and the checker's verdict measure the same shapes.
+primitives its queries use), so the bound and the checker's verdict measure the same shapes, with
+the checker's requests (:func:`~kin.collision.requests.prepare_requests`: GJK to 1e-8 m from its
+default guess, signed). One verdict: a run is clear when every pair is farther than
+:data:`~kin.collision.requests.CONTACT_TOLERANCE` (the distance below which the checker counts
+contact), and an answer is given only where ``in_collision`` also says free.
 
 Work, not time, decides the answer: a fixed number of steps per start and fixed starts (the
 given ones, then draws of a seeded generator). The cap is checked before each start and before
@@ -37,6 +41,7 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from ...collision.requests import CONTACT_TOLERANCE, prepare_requests
 from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, _tool_frame_id
 from ..partial_pose import PartialTask
@@ -69,7 +74,8 @@ class BoundOutcome:
 
     Attributes:
         q: Final joint vector [rad] (or [m]), inside the limits.
-        converged: On target within the tolerances and every pair beyond the padding.
+        converged: On target within the tolerances and every pair farther than the padding
+            plus :data:`~kin.collision.requests.CONTACT_TOLERANCE`.
         iterations: Steps taken.
         position_error: Of the constrained components [m].
         rotation_error: Of the constrained components [rad].
@@ -144,6 +150,7 @@ class DistanceBoundedIK:
         geometry_model = self.checker.model.geometry_model
         padding = self.checker.model.padding
         data, geometry_data = model.createData(), pin.GeometryData(geometry_model)
+        prepare_requests(geometry_data, padding)  # the checker's distance queries
         task = _task_of(target)
         weights = task.weights
         q = np.clip(np.asarray(q0, dtype=float), self.lower, self.upper)
@@ -167,7 +174,7 @@ class DistanceBoundedIK:
                 best_error, best_clearance = min(best_error, squared), min(smallest, 0.0)
                 progress = steps
             if (
-                (on_target and smallest > 0.0)
+                (on_target and smallest > CONTACT_TOLERANCE)
                 or steps >= bound.iterations
                 or steps - progress > bound.patience
             ):
@@ -182,7 +189,8 @@ class DistanceBoundedIK:
             lam = bound.damping + bound.error_damping * float(r @ r)
             lb = np.maximum(self.lower - q, -bound.max_step)
             ub = np.minimum(self.upper - q, bound.max_step)
-            h = np.maximum(bound.gain * (d - bound.margin), -bound.opening)
+            kept = CONTACT_TOLERANCE + bound.margin  # the margin beyond contact
+            h = np.maximum(bound.gain * (d - kept), -bound.opening)
             args = (a.T @ a + lam * identity, -(a.T @ r))
             dq = None
             if not len(h):  # no pair close: the damped step itself when the bounds keep it
@@ -196,7 +204,8 @@ class DistanceBoundedIK:
             if dq is None:
                 break
             q = np.clip(q + dq, self.lower, self.upper)
-        return BoundOutcome(q, on_target and smallest > 0.0, steps, *errors, smallest, stopped)
+        clear = on_target and smallest > CONTACT_TOLERANCE
+        return BoundOutcome(q, clear, steps, *errors, smallest, stopped)
 
     def solve(
         self,
@@ -236,7 +245,8 @@ class DistanceBoundedIK:
                 best = outcome if best is None or _worse(best, outcome) else best
                 return self._failure(target, best, iterations, begin, solver, timeout=True)
             within = outcome.position_error < position_tol and outcome.rotation_error < rotation_tol
-            if within and outcome.distance > 0.0 and not self.checker.in_collision(outcome.q):
+            clear = outcome.distance > CONTACT_TOLERANCE
+            if within and clear and not self.checker.in_collision(outcome.q):
                 found = IKSolution(
                     outcome.q, METHOD, True, outcome.position_error, _rotation(target, outcome)
                 )
@@ -309,9 +319,14 @@ def _rotation(target: Any, outcome: BoundOutcome) -> float | None:
 
 def _worse(best: BoundOutcome, outcome: BoundOutcome) -> bool:
     """Whether ``outcome`` beats ``best``: free before colliding, then nearer the target."""
-    key_best = (best.distance <= 0.0, best.position_error + best.rotation_error)
-    key = (outcome.distance <= 0.0, outcome.position_error + outcome.rotation_error)
+    key_best = (_in_contact(best), best.position_error + best.rotation_error)
+    key = (_in_contact(outcome), outcome.position_error + outcome.rotation_error)
     return key < key_best
+
+
+def _in_contact(outcome: BoundOutcome) -> bool:
+    """Whether a pair of ``outcome`` is within the checker's contact tolerance (one verdict)."""
+    return outcome.distance < CONTACT_TOLERANCE
 
 
 def solve_clear(

@@ -20,7 +20,8 @@ class DistanceBound:
     """Settings of the distance-bounded solve.
 
     Attributes:
-        margin: Distance kept between every checked pair, beyond the model's padding [m].
+        margin: Distance kept between every checked pair, beyond the model's padding and the
+            contact tolerance (:data:`~kin.collision.requests.CONTACT_TOLERANCE`) [m].
         influence: Pairs closer than this enter the QP as inequalities [m].
         gain: Fraction of a pair's gap to ``margin`` a step may close (or must open) [1], in (0, 1].
         opening: Most a pair inside ``margin`` must open per step [m] (a deep one opens steadily).
