@@ -22,7 +22,7 @@ import os
 import stat
 from typing import BinaryIO
 
-__all__ = ["MAX_INPUT_BYTES", "file_kind", "open_input", "read_input"]
+__all__ = ["MAX_INPUT_BYTES", "TOO_LARGE_FIX", "file_kind", "open_input", "read_input"]
 
 #: Most bytes of a text input (DH table, URDF, SRDF, scene, path JSON) [bytes]: 64 MiB. The
 #: largest URDF of example-robot-data is under 1 MiB; a file beyond 64 MiB is not a robot or a
@@ -50,25 +50,32 @@ def file_kind(mode: int) -> str | None:
     return None if stat.S_ISREG(mode) else "a special file"
 
 
-def _checked(name: str, result: os.stat_result, limit: int) -> None:
+#: The fix said after "larger than the cap", unless a reader knows a better one.
+TOO_LARGE_FIX = "is it the right file?"
+
+
+def _checked(name: str, result: os.stat_result, limit: int, fix: str) -> None:
     kind = file_kind(result.st_mode)
     if kind is not None:
         code = errno.EISDIR if stat.S_ISDIR(result.st_mode) else errno.EINVAL
         raise OSError(code, f"{kind}, not a regular file; give the file itself", name)
     if result.st_size > limit:
-        raise OSError(errno.EFBIG, _too_large(result.st_size, limit), name)
+        raise OSError(errno.EFBIG, _too_large(result.st_size, limit, fix), name)
 
 
-def _too_large(size: int, limit: int) -> str:
-    return f"{size:,} bytes, more than the {limit / 2**20:g} MiB an input file may have; is it the right file?"
+def _too_large(size: int, limit: int, fix: str) -> str:
+    return f"{size:,} bytes, more than the {limit / 2**20:g} MiB read from such a file; {fix}"
 
 
-def open_input(path: str | os.PathLike[str], limit: int = MAX_INPUT_BYTES) -> BinaryIO:
+def open_input(
+    path: str | os.PathLike[str], limit: int = MAX_INPUT_BYTES, fix: str = TOO_LARGE_FIX
+) -> BinaryIO:
     """The regular file ``path`` opened for binary reading, after the checks above.
 
     Args:
         path: The input file (links are followed).
         limit: Largest size accepted [bytes].
+        fix: What the message of a larger file tells the user to do.
 
     Raises:
         OSError: Missing, a link loop, not a regular file, larger than ``limit``, or unreadable;
@@ -76,7 +83,7 @@ def open_input(path: str | os.PathLike[str], limit: int = MAX_INPUT_BYTES) -> Bi
     """
     name = os.fspath(path)
     try:
-        _checked(name, os.stat(name), limit)
+        _checked(name, os.stat(name), limit, fix)
     except OSError as err:
         if err.errno == errno.ELOOP:
             raise OSError(errno.ELOOP, "a loop of symbolic links; link a real file", name) from None
@@ -84,21 +91,23 @@ def open_input(path: str | os.PathLike[str], limit: int = MAX_INPUT_BYTES) -> Bi
     flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
     fd = os.open(name, flags | getattr(os, "O_CLOEXEC", 0))
     try:
-        _checked(name, os.fstat(fd), limit)  # what was opened, should the path have changed
+        _checked(name, os.fstat(fd), limit, fix)  # what was opened, should the path have changed
         return io.open(fd, "rb", closefd=True)  # noqa: UP020 - a descriptor, not a path
     except BaseException:
         os.close(fd)
         raise
 
 
-def read_input(path: str | os.PathLike[str], limit: int = MAX_INPUT_BYTES) -> bytes:
+def read_input(
+    path: str | os.PathLike[str], limit: int = MAX_INPUT_BYTES, fix: str = TOO_LARGE_FIX
+) -> bytes:
     """The bytes of the regular file ``path``, at most ``limit`` of them (see :func:`open_input`).
 
     Raises:
         OSError: As :func:`open_input`, or the file grew beyond ``limit`` while it was read.
     """
-    with open_input(path, limit) as handle:
+    with open_input(path, limit, fix) as handle:
         data = handle.read(limit + 1)
     if len(data) > limit:
-        raise OSError(errno.EFBIG, _too_large(len(data), limit), os.fspath(path))
+        raise OSError(errno.EFBIG, _too_large(len(data), limit, fix), os.fspath(path))
     return data

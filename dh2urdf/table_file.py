@@ -55,6 +55,7 @@ from .drive_section import parse_drives
 from .exceptions import TableError, UnitWarning
 from .input_file import read_input
 from .joint_cap import MAX_JOINTS
+from .long_numbers import long_integer_problem
 from .quoted_input import quoted
 from .table_values import MAX_ANGLE, MAX_LENGTH, MAX_MASS
 from .table_values import length as _length
@@ -558,6 +559,8 @@ def load_table(path: str | Path) -> DHTable:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise TableError(str(path), f"not valid TOML: {_toml_error(raw, text, err)}") from err
+    except ValueError as err:  # Python's integer-string limit (a 5000-digit integer)
+        raise TableError(str(path), long_integer_problem(text, err) or str(err)) from None
     except RecursionError:  # tomllib recurses once per nested array or inline table
         raise TableError(
             str(path), "not a DH table: arrays or inline tables nested too deep for TOML's reader"

@@ -192,18 +192,24 @@ def build_pinocchio_model(text: str, where: str, mimic: bool = False) -> Any:
         mimic: Build mimic joints as Pinocchio mimic joints (their value follows their leader).
 
     Raises:
-        UrdfChainError: Pinocchio (urdfdom) cannot load it; the message holds the parser's
-            messages, joined on one line and cut to :data:`PARSER_TEXT` characters.
+        UrdfChainError: Pinocchio (urdfdom) cannot load it, or loads it after writing an
+            ``Error:`` line (a number it cannot read, such as a 5000-digit one, makes urdfdom
+            drop the element: no shipped or example-robot-data URDF does that); the message
+            holds the parser's messages, joined on one line and cut to :data:`PARSER_TEXT`
+            characters.
     """
     import pinocchio as pin
 
     model, error, written = captured_stderr(lambda: pin.buildModelFromXML(text, mimic=mimic))
-    if error is None:
+    if error is None and not re.search(r"^\s*Error:", written, re.MULTILINE):
         return model
     said = " ".join(line.strip() for line in written.splitlines() if line.strip())
     said = re.sub(r"\s*at line \d+ in \S+", "", said)  # the C++ source line: not the user's
+    said = re.sub(r"(\S{24})\S{16,}", r"\1...", said)  # a 5000-digit value, shortened
     if len(said) > PARSER_TEXT:
         said = said[: PARSER_TEXT - 3] + "..."
-    detail = " ".join(str(error).split())
+    if error is None:
+        raise UrdfChainError(where, f"Pinocchio's URDF parser rejects part of it: {said}")
+    detail = re.sub(r"(\S{24})\S{16,}", r"\1...", " ".join(str(error).split()))
     message = f"Pinocchio cannot load the URDF: {detail}" + (f" ({said})" if said else "")
     raise UrdfChainError(where, message) from error

@@ -65,6 +65,7 @@ MIN_THICKNESS = 1e-9
 # A binary STL: an 80-byte header, a triangle count, then 50 bytes per triangle.
 _STL_TRIANGLE = np.dtype([("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("flags", "<u2")])
 _STL_VERTEX = re.compile(rb"^[ \t]*vertex[ \t]+(\S+)[ \t]+(\S+)[ \t]+(\S+)", re.MULTILINE)
+_DECIMATE = "simplify (decimate) the mesh: a convex hull needs few vertices"
 _SHAPES = ("at one point", "on one line", "in one plane")
 
 
@@ -83,9 +84,9 @@ def mesh_vertices(path: Path, scale: np.ndarray) -> np.ndarray:
             or its vertices are not finite, too far, too many, or do not span a solid.
     """
     if path.suffix.lower() == ".stl":
-        vertices = _stl_vertices(read_input(path, MAX_MESH_BYTES))
+        vertices = _stl_vertices(read_input(path, MAX_MESH_BYTES, _DECIMATE))
     else:
-        open_input(path, MAX_MESH_BYTES).close()  # a regular file of bounded size
+        open_input(path, MAX_MESH_BYTES, _DECIMATE).close()  # a regular file of bounded size
         vertices = _loaded_vertices(path)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is found as not finite
         scaled = vertices * np.asarray(scale, dtype=float)
@@ -114,7 +115,7 @@ def checked_vertices(vertices: np.ndarray) -> np.ndarray:
     if len(distinct) > MAX_MESH_VERTICES:
         raise OSError(
             f"{len(distinct):,} distinct vertices, more than the {MAX_MESH_VERTICES:,} a "
-            "convex hull is built from; simplify the mesh (decimate it) first"
+            f"convex hull is built from; {_DECIMATE}"
         )
     centred = distinct - distinct.mean(axis=0)
     axes = np.linalg.svd(centred, full_matrices=False)[2]

@@ -93,7 +93,11 @@ class LineReader:
             text = line.decode() if isinstance(line, bytes) else line
             request = _decode(text)
         except (ValueError, RecursionError) as err:  # RecursionError: nested too deep
-            raise ValueError(f"not JSON: {err}") from None
+            from dh2urdf.long_numbers import long_integer_problem
+
+            whole = line.decode(errors="replace") if isinstance(line, bytes) else line
+            too_long = long_integer_problem(whole, err) if isinstance(err, ValueError) else None
+            raise ValueError(too_long or f"not JSON: {err}") from None
         if not isinstance(request, dict):
             raise ValueError(f"a line must be a JSON object, got {type(request).__name__}")
         if not request.keys() <= _KEYS:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from dh2urdf.input_file import read_input
+from dh2urdf.long_numbers import long_integer_problem
 
 from .exceptions import PathError
 
@@ -49,11 +50,15 @@ def read_joint_path(path: str | os.PathLike[str], dof: int) -> JointPath:
             message names the file and the field.
     """
     name = os.fspath(path)
+    text = ""
     try:
-        document = json.loads(read_input(path).decode("utf-8"))
+        text = read_input(path).decode("utf-8")
+        document = json.loads(text)
     except OSError as err:
         raise PathError(f"{name}: cannot read the path file ({err.strerror})", "path") from err
     except (UnicodeDecodeError, ValueError) as err:
+        if (too_long := long_integer_problem(text, err)) is not None:
+            raise PathError(f"{name}: {too_long}", "path") from None
         raise PathError(f"{name}: not JSON ({err}); write it with kin path --json", "path") from err
     if not isinstance(document, dict) or "q" not in document:
         raise PathError(f"{name}: no 'q' list of joint vectors (kin path --json output)", "q")
