@@ -165,3 +165,14 @@ def test_stdin_all_lists_the_free_and_the_rejected_as_all_does():
     assert every["counts"] == {"solutions": 4, "rejected": 4, "rejected_listed": 4}
     assert len(every["solutions"]) == 4 and len(every["rejected"]) == 4
     assert all(r["reason"].startswith(("scene:", "self:")) for r in every["rejected"])
+
+
+def test_the_twins_rule_of_one_branch_is_the_library_s():
+    """The 6R twins' C check of repeated branches uses kin.ik.result.SAME_BRANCH."""
+    from pathlib import Path
+
+    from kin import _native
+
+    header = Path(_native.__file__).resolve().parent / "_six_r_module.h"  # the wheel ships it
+    match = re.search(r"#define SAME_BRANCH (\S+)", header.read_text(encoding="utf-8"))
+    assert match is not None and float(match[1]) == SAME_BRANCH

@@ -98,6 +98,16 @@ static PyObject *verify(PyObject *self, PyObject *args)
    dtype, the shapes (k, 6) for k = 0 .. BRANCHES, and the string "closed_form". */
 static PyObject *np_ndarray, *np_float64, *row_shapes[BRANCHES + 1], *method_closed_form;
 
+/* Whether two joint vectors are one branch: every joint within SAME_BRANCH [rad] modulo a turn
+   (kin.ik.result.SAME_BRANCH; the 6R twins' joints are revolute). */
+#define SAME_BRANCH 1e-6
+static int same_branch(const double *a, const double *b)
+{
+    for (int i = 0; i < JOINTS; i++)
+        if (fabs(remainder(a[i] - b[i], TWO_PI)) > SAME_BRANCH) return 0;
+    return 1;
+}
+
 /*
  * solutions(params, check, directions, solution, labels, result, name, messages, clock, target,
  * seed, start): verify()'s work on the target's position and rotation (target_values in
@@ -189,6 +199,12 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
     int kept = n_valid + n_rejected, order[BRANCHES];
     memcpy(order, valid, (size_t)n_valid * sizeof(int));
     memcpy(order + n_valid, rejected, (size_t)n_rejected * sizeof(int));
+    /* Two kept branches that are one joint vector (a wrist flip with the wrist straight): the
+       answer goes back as (valid, rejected, off), whose result kin.ik.result merges and says so
+       (IKResult.without_repeats: every joint within SAME_BRANCH, modulo a turn). */
+    int repeats = 0;
+    for (int k = 1; k < kept && !repeats; k++)
+        for (int j = 0; j < k && !repeats; j++) repeats = same_branch(q[order[k]], q[order[j]]);
     /* The rows, written into a bytes object: the array on it is read-only (its buffer is). */
     PyObject *data = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)(kept * JOINTS * sizeof(double)));
     if (data == NULL) return NULL;
@@ -220,7 +236,7 @@ static PyObject *solutions(PyObject *self, PyObject *const *args, Py_ssize_t nar
         if (entry == NULL) goto end;
         PyTuple_SET_ITEM(off_t, k, entry);
     }
-    if (n_valid > 0 && n_off == 0) {
+    if (n_valid > 0 && n_off == 0 && !repeats) {
         PyObject *now = PyObject_CallNoArgs(clock);
         double elapsed = now == NULL ? -1.0 : PyFloat_AsDouble(now) - start;
         Py_XDECREF(now);

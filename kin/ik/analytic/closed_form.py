@@ -242,10 +242,10 @@ class ClosedFormSolver(ClosedFormRoutes):
         if target.__class__ is PoseTarget and self._solutions is not None:
             if target.mask is None:  # type: ignore[attr-defined]
                 # One C call (no lock: the twin shares no state between calls), which makes the
-                # result when a branch is valid and none is off target.
+                # result when a branch is valid, none is off target and none repeats another.
                 answer = self._solutions(target, seed, start)
                 if answer.__class__ is IKResult:
-                    return answer.without_repeats(self._revolute)  # type: ignore[no-any-return]
+                    return answer  # type: ignore[no-any-return]
                 twin = self._twin_answer(answer, target, seed, start)  # type: ignore[arg-type]
                 return twin.without_repeats(self._revolute)
         if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
