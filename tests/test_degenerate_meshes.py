@@ -236,6 +236,27 @@ def test_more_vertices_than_the_cap_are_refused(tmp_path, monkeypatch):
     assert load_mesh(tmp_path / "many.stl", np.ones(3)).num_points >= 4
 
 
+def check_non_finite_obj(folder: str) -> None:
+    """In the child: OBJ meshes with a NaN or 1e308 vertex (coal's loader reads them)."""
+    from kin.collision.urdf_shapes import load_mesh
+
+    for value in ("nan", "1e308"):
+        path = Path(folder) / f"{value}.obj"
+        corners = "v 0 0 0\nv 1 0 0\nv 0 1 0\n" + f"v {value} 0 1\n"
+        path.write_text(corners + "f 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n")
+        with pytest.raises(OSError, match=r"vertex 4 of 4 is not finite after scaling"):
+            load_mesh(path, np.ones(3))
+
+
+def test_a_non_finite_obj_is_one_line_and_coal_says_nothing(tmp_path):
+    """A NaN or 1e308 OBJ (through coal's loader): refused, and Eigen's "too many iterations"
+    lines that the loader printed on stderr are not shown (in a child: its hull crashed)."""
+    done = run_child(
+        f"from test_degenerate_meshes import *\ncheck_non_finite_obj({str(tmp_path)!r})", tmp_path
+    )
+    assert done.returncode == 0 and done.stderr == "", (done.returncode, done.stderr[-3000:])
+
+
 def test_coal_loader_messages_lose_the_source_location(tmp_path):
     """A mesh coal's loader refuses (OBJ): its reason kept, its C++ file and line dropped."""
     from kin.collision.urdf_shapes import load_mesh
