@@ -21,6 +21,7 @@ from collections.abc import Callable
 from typing import Any, NoReturn, TextIO
 
 from .exceptions import Dh2UrdfError, OutputWriteError
+from .quoted_input import quoted
 from .units import ANGLE_UNITS, LENGTH_UNITS
 
 #: Exit code for bad input.
@@ -76,7 +77,7 @@ def _plain_number(text: str) -> None:
     """
     if "_" in text or not text.isascii():
         raise argparse.ArgumentTypeError(
-            f"not a number: {text!r}; write it with the digits 0-9, without '_' (1000, not 1_000)"
+            f"not a number: {quoted(text)}; write it with the digits 0-9, without '_' (1000, not 1_000)"
         )
 
 
@@ -86,9 +87,9 @@ def finite_float(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        raise argparse.ArgumentTypeError(f"not a number: {quoted(text)}") from None
     if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+        raise argparse.ArgumentTypeError(f"not a finite number: {quoted(text)}")
     return value
 
 
@@ -98,7 +99,7 @@ def whole_number(text: str) -> int:
     try:
         return int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+        raise argparse.ArgumentTypeError(f"not a whole number: {quoted(text)}") from None
 
 
 def positive_int(text: str) -> int:
@@ -114,7 +115,7 @@ def positive_int(text: str) -> int:
             number = math.nan
         if math.isfinite(number) and number == int(number):  # 1e6: write the digits out
             hint = f"; write it with digits only, e.g. {int(number)}"
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}{hint}") from None
+        raise argparse.ArgumentTypeError(f"not a whole number: {quoted(text)}{hint}") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
     return value
@@ -124,7 +125,7 @@ def positive_float(text: str) -> float:
     """Argparse type: a finite number > 0."""
     value = finite_float(text)
     if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be positive, got {quoted(text)}")
     return value
 
 
