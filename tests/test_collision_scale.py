@@ -105,3 +105,24 @@ def test_a_scene_at_the_cap_loads_and_answers(ur5, tmp_path):
     assert bool(checker.collisions(q)) == checker.in_collision(q)
     assert np.isfinite(checker.distance(q).distance)
     assert time.perf_counter() - start < 30.0
+
+
+@pytest.mark.parametrize(
+    ("geometry", "origin", "field"),
+    [
+        ('<box size="0.1 20 0.1"/>', "0 0 0", "collision[0].size"),
+        ('<cylinder radius="0.1" length="1e308"/>', "0 0 0", "collision[0].length"),
+        ('<sphere radius="0.1"/>', "1e308 0 0", "collision[0].origin.xyz"),
+    ],
+)
+def test_a_cell_urdf_beyond_the_bounds_is_bad_input(ur5, tmp_path, geometry, origin, field):
+    """A URDF scene's shape obeys the bounds of a TOML scene's: one error naming the field."""
+    cell = tmp_path / "cell.urdf"
+    cell.write_text(
+        '<robot name="cell"><link name="post"><collision>'
+        f'<origin xyz="{origin}"/><geometry>{geometry}</geometry>'
+        "</collision></link></robot>",
+        encoding="utf-8",
+    )
+    with pytest.raises(CollisionModelError, match=re.escape(field)):
+        load_collision_model(ur5, scene=cell)

@@ -28,7 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from dh2urdf.input_file import open_input, read_input
-from dh2urdf.table_values import MAX_LENGTH
+
+from . import bounds
 
 __all__ = [
     "MAX_COORDINATE",
@@ -50,8 +51,8 @@ MAX_MESH_BYTES = 32 * 2**20
 #: Most distinct vertices of a mesh [vertices], above that 175,000: qhull of 200,000 points
 #: on a sphere (its worst case, every point on the hull) takes about 2 s.
 MAX_MESH_VERTICES = 200_000
-#: Largest vertex coordinate after scaling [m]: the project's length bound (DH tables' too).
-MAX_COORDINATE = MAX_LENGTH
+#: Largest vertex coordinate after scaling, from the mesh's origin [m]: a shape's placement bound.
+MAX_COORDINATE = bounds.MAX_COORDINATE
 #: Thinnest extent of a mesh, relative to its longest [-]. qhull crashed on slabs of 1e-7 in
 #: trials and built hulls from 1e-6 on: 1e-5 leaves a margin of a hundred.
 THICKNESS_RATIO = 1e-5
@@ -121,6 +122,11 @@ def checked_vertices(vertices: np.ndarray) -> np.ndarray:
     axes = np.linalg.svd(centred, full_matrices=False)[2]
     extents = np.ptp(centred @ axes.T, axis=0)  # along the principal axes, longest first
     tolerance = flatness_tolerance(float(extents.max()), float(np.abs(distinct).max()))
+    if extents[0] > bounds.MAX_SIZE:
+        raise OSError(
+            f"{extents[0]:.6g} m long after scaling, more than the {bounds.MAX_SIZE:g} m a "
+            "collision shape may measure (kin.collision.bounds); check the scale"
+        )
     rank = int((extents > tolerance).sum())
     if rank < 3:  # (fewer than 4 distinct vertices are always so)
         raise OSError(

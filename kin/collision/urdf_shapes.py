@@ -21,6 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import CollisionModelError
+from .bounds import check_coordinates, check_sizes
 from .mesh_file import loader_reason, mesh_vertices
 
 __all__ = ["PACKAGE_LEVELS", "Shape", "link_shapes", "load_mesh", "origin_of", "resolve_mesh"]
@@ -112,6 +113,7 @@ def origin_of(element: ElementTree.Element, where: str, field: str) -> pin.SE3:
     if origin is None:
         return pin.SE3.Identity()
     xyz = _floats(origin.get("xyz", "0 0 0"), 3, where, f"{field}.origin.xyz")
+    check_coordinates(where, f"{field}.origin.xyz", xyz)
     rpy = _floats(origin.get("rpy", "0 0 0"), 3, where, f"{field}.origin.rpy")
     return pin.SE3(pin.rpy.rpyToMatrix(*rpy), xyz)
 
@@ -120,6 +122,8 @@ def _positive(element: ElementTree.Element, attribute: str, count: int, where: s
     values = _floats(element.get(attribute), count, where, f"{field}.{attribute}")
     if not (values > 0.0).all():
         raise CollisionModelError(where, f"{field}.{attribute}: {values.tolist()} must be > 0 m")
+    if attribute != "scale":  # a mesh's extent is checked on its vertices (mesh_file)
+        check_sizes(where, f"{field}.{attribute}", values)
     return values
 
 

@@ -10,23 +10,22 @@ Each step solves one small QP (``daqp``, :mod:`.dense_qp`; mink's ``solve_ik`` t
 or masked pose, an axis target, a position), ``W`` its weights, ``lam`` Levenberg-Marquardt's
 damping. The inequalities are the velocity damper of mink's ``CollisionAvoidanceLimit`` (and of
 pink's barriers): a pair at distance ``d`` (coal's signed distance on the checker's own shapes,
-padding taken off) may close at most the fraction ``gain`` of its gap to ``tol + margin`` per step
-(``tol`` the contact tolerance below), and a pair already inside must open by that fraction. ``n`` is the unit normal from shape a
-to shape b, ``J_a`` and ``J_b`` the world-frame Jacobians of the two witness points (the joint
-Jacobians of the shapes' joints moved to the points). Pinocchio and coal compute it all on the
-checker's :class:`~kin.collision.CollisionModel` (its geometry model and pairs, the hulls or
-primitives its queries use), so the bound and the checker's verdict measure the same shapes, with
-the checker's requests (:func:`~kin.collision.requests.prepare_requests`: GJK to 1e-8 m from its
-default guess, signed). One verdict: a run is clear when every pair is farther than
-:data:`~kin.collision.requests.CONTACT_TOLERANCE` (the distance below which the checker counts
-contact), and an answer is given only where ``in_collision`` also says free.
+padding taken off) may close at most the fraction ``gain`` of its gap to ``tol + margin`` per
+step (``tol`` the contact tolerance below), and a pair already inside must open by that fraction.
+``n`` is the unit normal from shape a to shape b, ``J_a`` and ``J_b`` the world-frame Jacobians
+of the two witness points (the joint Jacobians of the shapes' joints moved to the points).
+Pinocchio and coal compute it all on the checker's :class:`~kin.collision.CollisionModel` (its
+geometry model and pairs, the hulls or primitives its queries use), so the bound and the
+checker's verdict measure the same shapes, with the checker's requests
+(:func:`~kin.collision.requests.prepare_requests`: GJK to 1e-8 m from its default guess,
+signed). One verdict: a run is clear when every pair is farther than
+:data:`~kin.collision.requests.CONTACT_TOLERANCE` (below it the checker counts contact), and an
+answer is given only where ``in_collision`` also says free.
 
-Work, not time, decides the answer: a fixed number of steps per start and fixed starts (the
-given ones, then draws of a seeded generator). The cap is checked before each start and before
-each step (a call overruns it by one step, about a millisecond, not a start): a run the cap
-stops gives no answer, so a busy machine gives the answer of an idle one, or ``timeout``. Pinocchio is the judge: an answer is
-a solution when its tool is on target within the tolerances, inside the limits, and the checker
-finds it free.
+Work, not time, decides the answer: fixed steps per start, fixed starts (the given ones, then
+a seeded generator's). The cap, checked before each start and step (an overrun of one step),
+stops a run with no answer: a busy machine gives an idle one's answer, or ``timeout``. Pinocchio
+judges: a solution is on target within the tolerances, inside the limits, and checked free.
 """
 
 from __future__ import annotations
