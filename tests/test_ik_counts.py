@@ -176,3 +176,15 @@ def test_the_twins_rule_of_one_branch_is_the_library_s():
     header = Path(_native.__file__).resolve().parent / "_six_r_module.h"  # the wheel ships it
     match = re.search(r"#define SAME_BRANCH (\S+)", header.read_text(encoding="utf-8"))
     assert match is not None and float(match[1]) == SAME_BRANCH
+
+
+def test_the_general_6r_rule_of_one_branch_is_the_library_s():
+    """The general 6R solve (NumPy and C) merges branches by kin.ik.result.SAME_BRANCH."""
+    from pathlib import Path
+
+    from kin import _native
+    from kin.ik.analytic.six_r._general_6r_chain import SAME_TOL
+
+    source = Path(_native.__file__).resolve().parent / "_general6r.c"
+    match = re.search(r"#define SAME_TOL (\S+)", source.read_text(encoding="utf-8"))
+    assert match is not None and float(match[1]) == SAME_TOL == SAME_BRANCH

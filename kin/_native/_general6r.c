@@ -71,7 +71,7 @@ static dlahqr_t *dlahqr_;
 #define KEEP_TOL 1e-10
 #define ROOT_TOL 1e-7
 #define IMAG_TOL 1e-3
-#define SAME_TOL 1e-7
+#define SAME_TOL 1e-6 /* kin.ik.result.SAME_BRANCH */
 
 static const double GRID[3] = {0.0, 2.0 * M_PI / 3.0, 4.0 * M_PI / 3.0};
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from dh2urdf import DHTable
 
+from ...result import SAME_BRANCH
 from ._stacked_transforms import SMALL_STACK, rot_z, times, times_rz
 
 #: Number of branches (columns of :meth:`.General6R.solve`): a 6R arm has at most 16.
@@ -21,8 +22,10 @@ BRANCHES = 16
 #: Newton steps of the polish, and the error it stops at [m, rad] (most roots start below it).
 NEWTON_STEPS = 8
 NEWTON_TOL = 1e-12
-#: Two branches closer than this in every joint (modulo 2 pi) [rad] are one.
-SAME_TOL = 1e-7
+#: Two branches closer than this in every joint (modulo 2 pi) [rad] are one: the library's rule
+#: of one branch (:data:`kin.ik.result.SAME_BRANCH`). 1e-7 kept two polished copies of one PiPER
+#: branch 1.4e-7 rad apart on one machine (a ninth branch where the spherical-wrist family has 8).
+SAME_TOL = SAME_BRANCH
 
 
 def _rot_x(angle: float) -> np.ndarray:
