@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import os
+import signal
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -57,10 +60,17 @@ def reach_client(scheduler: Any) -> Iterator[Any]:
         )
         with cluster, Client(cluster) as client:
             client.run(_ignore_sigint)  # Ctrl-C is the parent's: no traceback per worker
+            pids = list(client.run(os.getpid).values())
             try:
                 yield client
             except KeyboardInterrupt:
                 # The scheduler lives in this process: torn down mid-run it logs, at CRITICAL, a
                 # traceback for each message it can no longer send to the closed client.
                 logging.getLogger("distributed").setLevel(logging.CRITICAL + 1)
+                # A stop does not wait for the chunks at work (a closing cluster does: a minute
+                # and more for a reach map's chunks): their workers are ended, their nannies
+                # then closed with the cluster.
+                for pid in pids:
+                    with contextlib.suppress(OSError):
+                        os.kill(pid, signal.SIGKILL)
                 raise
