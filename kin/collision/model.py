@@ -6,7 +6,8 @@ q = 0, where both models agree); a DH table robot has the link cylinders the URD
 (per-row ``radius``). Scene objects hang on the world. Pairs checked: every two arm links, and
 every arm link with every scene object, but the allowed ones (:attr:`CollisionModel.disabled`):
 adjacent links (one after the other along the chain, links without shapes skipped, as MoveIt's
-setup assistant counts them), links carried by the same joint, an SRDF's pairs, and on a DH table
+setup assistant counts them), links carried by the same joint, an SRDF's pairs, a PlanningScene's
+allowed collision matrix (:mod:`.planning_scene`), and on a DH table
 robot the link pairs in contact at every sampled configuration without padding
 (:mod:`.always_pairs`): a pair in contact only through the padding stays checked.
 """
@@ -40,7 +41,7 @@ class CollisionModel:
         scene_objects: Names of the scene objects.
         pairs: The ``(a, b)`` checked: two links (base side first), or a link and an object.
         disabled: The pairs not checked, ``(a, b) -> reason`` (``"adjacent"``, ``"rigid"``,
-            ``"srdf: <reason>"``, ``"always"``).
+            ``"srdf: <reason>"``, ``"acm"``, ``"always"``).
         owners: Per geometry object, the link or scene object it belongs to.
         pair_owners: Per collision pair of :attr:`geometry_model`, its ``(a, b)``.
         padding: Distance added around every shape [m]: a pair is in collision closer than it
@@ -72,7 +73,8 @@ def load_collision_model(
     Args:
         robot: A robot from :func:`kin.load_robot`.
         srdf: A MoveIt SRDF whose ``disable_collisions`` pairs are not checked.
-        scene: A scene TOML or a URDF of the cell (:mod:`kin.collision.scene`).
+        scene: A scene TOML, a MoveIt PlanningScene (JSON, YAML) or a URDF of the cell
+            (:mod:`kin.collision.scene`).
         padding: Margin around every shape [m], 0 to :data:`~kin.collision.bounds.MAX_COORDINATE`.
 
     Raises:
@@ -85,10 +87,12 @@ def load_collision_model(
         )
     arm, chain, all_links, robot_name = _arm_shapes(robot)
     objects: tuple[Shape, ...] = ()
+    cell = None
     if scene is not None:
-        from .scene import read_scene
+        from .scene import load_scene
 
-        objects = read_scene(scene)
+        cell = load_scene(scene)
+        objects = cell.objects
         clash = sorted({s.owner for s in objects} & set(all_links))
         if clash:
             raise CollisionModelError(str(scene), f"name {clash[0]!r} is a link of the robot")
@@ -102,12 +106,15 @@ def load_collision_model(
         for b in links[i + 1 :]:
             if (a, b) not in disabled and carrier[a] == carrier[b]:
                 disabled[(a, b)] = "rigid"
+    granted = []  # an SRDF's pairs, then a PlanningScene's allowed collision matrix ("acm")
     if srdf is not None:
         from .srdf import read_srdf
 
-        for (a, b), reason in read_srdf(
-            srdf, robot_name, {*all_links, *names}, {*links, *names}
-        ).items():
+        granted.append(read_srdf(srdf, robot_name, {*all_links, *names}, {*links, *names}))
+    if cell is not None:
+        granted.append(cell.for_robot(chain[0], {*all_links, *names}, links))
+    for source in granted:
+        for (a, b), reason in source.items():
             if (a, b) not in disabled and (b, a) not in disabled:
                 disabled[_ordered(a, b, links)] = reason
     candidates = [(a, b) for i, a in enumerate(links) for b in links[i + 1 :]]

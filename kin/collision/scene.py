@@ -1,31 +1,51 @@
-"""A cell's fixed objects, from a scene TOML or a URDF of the cell, in the world frame [m].
+"""A cell's fixed objects, from a scene file or a URDF of the cell, in the world frame [m].
+
+Every key of a scene file, its unit and an example: ``docs/scenes.md``.
 
 TOML: arrays of tables ``[[box]]`` (``size`` = [x, y, z]), ``[[sphere]]`` (``radius``),
 ``[[cylinder]]`` (``radius``, ``length``, along its z axis) and ``[[mesh]]`` (``file``, relative
-to the scene file's folder, and ``scale``: one number or three), each with an optional ``name``
-(default ``box1``, ``sphere2``...), ``xyz`` [m] and ``rpy`` [rad] (URDF roll-pitch-yaw) placing
-it in the world frame (the arm's base frame). Every length is in meters; sizes are at most 10 m,
-positions within 1 km, at most 1,000 shapes (:mod:`kin.collision.bounds` says why).
+to the scene file's folder, and ``scale``: one number or three, file units to meters), each with
+an optional ``name`` (default ``box1``, ``sphere2``...), ``xyz`` and ``rpy`` (URDF roll-pitch-yaw)
+placing it in the world frame (the arm's base frame). Top-level ``length_unit`` (``m``, the
+default, ``cm``, ``mm``) and ``angle_unit`` (``rad``, the default, or ``deg``) say the units of
+every length and angle, as a DH table's keys do; the same slips warn (:mod:`.scene_units`).
+Sizes are at most 10 m, positions within 1 km, at most 1,000 shapes (:mod:`kin.collision.bounds`
+says why).
 
-A URDF of the cell: the collision shapes of all its links, placed at its joints' zero values
-from its root at the world origin; each link is one scene object.
+A MoveIt PlanningScene, JSON or YAML (:mod:`.planning_scene`): its collision objects and its
+allowed collision matrix. A URDF of the cell: the collision shapes of all its links, placed at its
+joints' zero values from its root at the world origin; each link is one scene object.
+
+The format is chosen by the suffix (``.toml``; ``.json``; ``.yaml``, ``.yml``; ``.urdf``,
+``.xml``, ``.xacro``), else by the content: ``{`` first is JSON, a ``world:`` line is YAML,
+anything else TOML.
 """
 
 from __future__ import annotations
 
-import math
+import re
 import sys
+from collections.abc import Collection
+from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
 
+from dh2urdf.units import ANGLE_UNITS, LENGTH_UNITS, angle_to_radians
+
 from ..exceptions import CollisionModelError
-from .bounds import check_coordinates, check_count, check_sizes
+from .bounds import check_coordinates, check_count
+from .scene_units import UNIT_KEYS, UnitSlips, read_unit
+from .scene_values import coordinate, factor, length, number, vector
 from .urdf_shapes import Shape, link_shapes, load_mesh
 
-__all__ = ["read_scene"]
+if TYPE_CHECKING:
+    from .planning_scene import AllowedMatrix
+
+__all__ = ["Scene", "load_scene", "read_scene"]
 
 #: Kind -> (required keys, optional keys besides name, xyz, rpy).
 _KINDS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
@@ -37,23 +57,66 @@ _KINDS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 _COMMON = ("name", "xyz", "rpy")
 
 
+@dataclass(frozen=True)
+class Scene:
+    """What a scene file holds.
+
+    Attributes:
+        path: The file.
+        objects: Its shapes, each placed in the world (the arm's base frame) [m].
+        frames: Per object of a PlanningScene, ``(field, frame_id)``: the frame its pose is in.
+        allowed: A PlanningScene's allowed collision matrix (None: none given).
+    """
+
+    path: str
+    objects: tuple[Shape, ...]
+    frames: tuple[tuple[str, str], ...] = ()
+    allowed: AllowedMatrix | None = None
+
+    def for_robot(
+        self, base: str, known: Collection[str], links: Collection[str]
+    ) -> dict[tuple[str, str], str]:
+        """The pairs the scene allows (``"acm"``), once its frames are checked against ``base``.
+
+        Args:
+            base: The robot's base link, the world of the scene.
+            known: Every link of the robot's URDF and every scene object name.
+            links: The links that have shapes in the model.
+
+        Raises:
+            CollisionModelError: An object's frame is neither ``base`` nor ``world``, or the
+                matrix names what is neither a link nor an object.
+        """
+        from .planning_scene import check_frames
+
+        check_frames(self.path, self.frames, base)
+        if self.allowed is None:
+            return {}
+        objects = {shape.owner for shape in self.objects}
+        return self.allowed.pairs(self.path, known, links, objects)
+
+
 def read_scene(path: str | Path) -> tuple[Shape, ...]:
-    """The scene objects of a TOML or URDF file, each shape's placement in the world [m].
+    """The scene objects of a scene file (:func:`load_scene`), each placed in the world [m]."""
+    return load_scene(path).objects
+
+
+def load_scene(path: str | Path) -> Scene:
+    """The scene of a TOML, PlanningScene (JSON, YAML) or URDF file (the module docstring).
+
+    Warns:
+        UnitWarning: An angle beyond a turn in a radian scene; a coordinate beyond 20 m.
 
     Raises:
-        CollisionModelError: The file cannot be read, is not TOML (or XML for a URDF), has an
-            unknown key or kind, a size that is not a number in (0, 10 m], a position beyond
-            1 km or an angle that is not finite (:mod:`.bounds`), more than 1,000 shapes, a
-            duplicate name, or a mesh that cannot be read.
+        CollisionModelError: The file cannot be read, is not of its format, has an unknown key
+            or kind, a size that is not a number in (0, 10 m], a position beyond 1 km or an
+            angle that is not finite (:mod:`.bounds`), more than 1,000 shapes, a duplicate
+            name, or a mesh that cannot be read; one line naming the file and the field.
     """
     where = str(path)
-    if Path(where).suffix.lower() in (".urdf", ".xml", ".xacro"):
-        return _urdf_scene(where)
-    if sys.version_info >= (3, 11):
-        import tomllib
-    else:  # Python 3.10
-        import tomli as tomllib
-
+    suffix = Path(where).suffix.lower()
+    if suffix in (".urdf", ".xml", ".xacro"):
+        return Scene(where, _urdf_scene(where))
     try:
         from dh2urdf.input_file import read_input
 
@@ -61,36 +124,79 @@ def read_scene(path: str | Path) -> tuple[Shape, ...]:
     except OSError as err:
         raise CollisionModelError(where, f"cannot read the scene ({err.strerror})") from err
     try:
-        document = tomllib.loads(raw.decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise CollisionModelError(where, f"not a scene: not UTF-8 text ({err.reason})") from None
+    if suffix in (".json", ".yaml", ".yml") or (
+        suffix != ".toml" and (text.lstrip().startswith("{") or _YAML_WORLD.search(text))
+    ):
+        from .planning_scene import read_planning_scene
+
+        as_yaml = suffix in (".yaml", ".yml") or (
+            suffix != ".json" and not text.lstrip().startswith("{")
+        )
+        return read_planning_scene(where, text, as_yaml)
+    return _toml_scene(where, text)
+
+
+#: A YAML document's top-level ``world:`` key (a PlanningScene).
+_YAML_WORLD = re.compile(r"^world\s*:", re.M)
+
+
+def _toml_scene(where: str, text: str) -> Scene:
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # Python 3.10
+        import tomli as tomllib
+
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
         raise CollisionModelError(where, f"not a TOML scene: {err}") from None
     except ValueError as err:  # Python's integer-string limit (a 5000-digit integer)
         from dh2urdf.long_numbers import long_integer_problem
 
-        said = long_integer_problem(raw.decode("utf-8"), err) or str(err)
+        said = long_integer_problem(text, err) or str(err)
         raise CollisionModelError(where, said) from None
     except RecursionError:  # tomllib recurses once per nested array or inline table
         raise CollisionModelError(where, "not a TOML scene: arrays nested too deep") from None
+    angle_unit, length_unit = (read_unit(where, document, key) for key in UNIT_KEYS)
+    slips = UnitSlips.of_toml(where, angle_unit, length_unit)
+    units = (LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit], slips)
     check_count(where, sum(len(e) for e in document.values() if isinstance(e, list)))
     shapes: list[Shape] = []
     for kind, entries in document.items():
+        if kind in UNIT_KEYS:
+            continue
         if kind not in _KINDS:
             raise CollisionModelError(
-                where, f"unknown key {kind!r}; choose [[box]], [[cylinder]], [[mesh]], [[sphere]]"
+                where,
+                f"unknown key {kind!r}; choose [[box]], [[cylinder]], [[mesh]], [[sphere]], "
+                "angle_unit, length_unit",
             )
         if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
             raise CollisionModelError(where, f"{kind}: write it as [[{kind}]] tables")
         for index, entry in enumerate(entries):
-            shapes.append(_object(where, kind, index, entry))
+            shapes.append(_object(where, kind, index, entry, *units))
     seen: set[str] = set()
     for shape in shapes:
         if shape.owner in seen:
             raise CollisionModelError(where, f"name {shape.owner!r} is given to two objects")
         seen.add(shape.owner)
-    return tuple(shapes)
+    slips.warn()
+    return Scene(where, tuple(shapes))
 
 
-def _object(where: str, kind: str, index: int, entry: dict[str, Any]) -> Shape:
+def _object(
+    where: str,
+    kind: str,
+    index: int,
+    entry: dict[str, Any],
+    meters: float,
+    radians: float,
+    slips: UnitSlips,
+) -> Shape:
+    """One TOML object: lengths [length_unit] times ``meters``, angles [angle_unit] ``radians``."""
     field = f"{kind}[{index}]"
     required, optional = _KINDS[kind]
     for key in entry:
@@ -103,76 +209,49 @@ def _object(where: str, kind: str, index: int, entry: dict[str, Any]) -> Shape:
     name = entry.get("name", f"{kind}{index + 1}")
     if not isinstance(name, str) or not name:
         raise CollisionModelError(where, f"{field}.name: {name!r} is not a non-empty string")
-    xyz = _vector(where, f"{field}.xyz", entry.get("xyz", [0.0, 0.0, 0.0]), _coordinate)
-    rpy = _vector(where, f"{field}.rpy", entry.get("rpy", [0.0, 0.0, 0.0]), _number)
+    size = partial(length, meters=meters, slip=slips.hint)
+    place = partial(coordinate, meters=meters, slip=slips.hint)
+    xyz = vector(where, f"{field}.xyz", entry.get("xyz", [0.0, 0.0, 0.0]), place)
+    written = vector(where, f"{field}.rpy", entry.get("rpy", [0.0, 0.0, 0.0]), number)
+    for axis, value in enumerate(xyz.tolist()):
+        slips.place(f"{field}.xyz[{axis}]", value)
+    for axis, value in enumerate(written.tolist()):
+        slips.angle(f"{field}.rpy[{axis}]", value)
+    rpy = [angle_to_radians(value, radians) for value in written.tolist()]
     placement = pin.SE3(pin.rpy.rpyToMatrix(*rpy), xyz)
     import coal
 
     geometry: coal.CollisionGeometry
     if kind == "box":
-        geometry = coal.Box(*_vector(where, f"{field}.size", entry["size"]).tolist())
+        geometry = coal.Box(*vector(where, f"{field}.size", entry["size"], size).tolist())
     elif kind == "sphere":
-        geometry = coal.Sphere(_length(where, f"{field}.radius", entry["radius"]))
+        geometry = coal.Sphere(size(where, f"{field}.radius", entry["radius"]))
     elif kind == "cylinder":
-        radius = _length(where, f"{field}.radius", entry["radius"])
-        geometry = coal.Cylinder(radius, _length(where, f"{field}.length", entry["length"]))
+        radius = size(where, f"{field}.radius", entry["radius"])
+        geometry = coal.Cylinder(radius, size(where, f"{field}.length", entry["length"]))
     else:
-        file = entry["file"]
-        if not isinstance(file, str) or not file:
-            raise CollisionModelError(where, f"{field}.file: {file!r} is not a file name")
         scale_value = entry.get("scale", 1.0)
         if isinstance(scale_value, list):
-            scale = _vector(where, f"{field}.scale", scale_value, _factor)
+            scale = vector(where, f"{field}.scale", scale_value, factor)
         else:
-            scale = np.full(3, _factor(where, f"{field}.scale", scale_value))
-        mesh = Path(file) if Path(file).is_absolute() else Path(where).resolve().parent / file
-        try:
-            geometry = load_mesh(mesh, scale)
-        except OSError as err:
-            raise CollisionModelError(where, f"{field}.file: {err}") from err
+            scale = np.full(3, factor(where, f"{field}.scale", scale_value))
+        geometry = mesh_file(where, f"{field}.file", entry["file"], scale)
     return Shape(name, name, geometry, placement, kind)
 
 
-def _number(where: str, field: str, value: Any) -> float:
-    """A finite number (an angle [rad] or a scale factor)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise CollisionModelError(where, f"{field}: {value!r} is not a number")
+def mesh_file(where: str, field: str, file: Any, scale: np.ndarray) -> Any:
+    """The convex hull of the mesh ``file`` (relative to the scene's folder), scaled [m/unit].
+
+    Raises:
+        CollisionModelError: ``file`` is not a file name, or the mesh cannot be read.
+    """
+    if not isinstance(file, str) or not file or "\0" in file:
+        raise CollisionModelError(where, f"{field}: {file!r} is not a file name")
+    mesh = Path(file) if Path(file).is_absolute() else Path(where).resolve().parent / file
     try:
-        number = float(value)
-    except OverflowError:  # an integer beyond float range
-        raise CollisionModelError(where, f"{field}: the number is not finite") from None
-    if not math.isfinite(number):
-        raise CollisionModelError(where, f"{field}: {value!r} is not finite")
-    return number
-
-
-def _length(where: str, field: str, value: Any) -> float:
-    """A size [m] in (0, MAX_SIZE] (:mod:`.bounds`)."""
-    number = _number(where, field, value)
-    check_sizes(where, field, (number,))
-    return number
-
-
-def _factor(where: str, field: str, value: Any) -> float:
-    """A scale factor > 0."""
-    number = _number(where, field, value)
-    if number <= 0.0:
-        raise CollisionModelError(where, f"{field}: {number!r} must be > 0")
-    return number
-
-
-def _coordinate(where: str, field: str, value: Any) -> float:
-    """A coordinate [m] within +-MAX_COORDINATE (:mod:`.bounds`)."""
-    number = _number(where, field, value)
-    check_coordinates(where, field, (number,))
-    return number
-
-
-def _vector(where: str, field: str, value: Any, check: Any = _length) -> np.ndarray:
-    """Three values, each read by ``check`` (:func:`_length`, :func:`_coordinate`, :func:`_number`)."""
-    if not isinstance(value, list) or len(value) != 3:
-        raise CollisionModelError(where, f"{field}: {value!r} is not a list of 3 numbers")
-    return np.array([check(where, f"{field}[{i}]", v) for i, v in enumerate(value)])
+        return load_mesh(mesh, scale)
+    except OSError as err:
+        raise CollisionModelError(where, f"{field}: {err}") from err
 
 
 def _urdf_scene(where: str) -> tuple[Shape, ...]:

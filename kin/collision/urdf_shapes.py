@@ -24,7 +24,15 @@ from ..exceptions import CollisionModelError
 from .bounds import check_coordinates, check_sizes
 from .mesh_file import loader_reason, mesh_vertices
 
-__all__ = ["PACKAGE_LEVELS", "Shape", "link_shapes", "load_mesh", "origin_of", "resolve_mesh"]
+__all__ = [
+    "PACKAGE_LEVELS",
+    "Shape",
+    "convex_hull",
+    "link_shapes",
+    "load_mesh",
+    "origin_of",
+    "resolve_mesh",
+]
 
 logger = logging.getLogger("kin.collision")
 
@@ -84,6 +92,15 @@ def load_mesh(path: Path, scale: np.ndarray) -> coal.CollisionGeometry:
         raise OSError(f"mesh not found: {path}") from None
     except OSError as err:
         raise OSError(f"cannot read the mesh {path} ({err.strerror or err})") from err
+    return convex_hull(vertices, f"the mesh {path}")
+
+
+def convex_hull(vertices: np.ndarray, what: str) -> coal.CollisionGeometry:
+    """The convex hull (qhull) of ``vertices`` (n, 3) [m] checked by ``mesh_file.checked_vertices``.
+
+    Raises:
+        OSError: qhull found no hull; the line names ``what`` (``the mesh FILE``).
+    """
     points = coal.StdVec_Vec3s()
     points.extend(list(vertices))
     # the hull itself (qhull): a convex over the mesh's own triangles, which
@@ -91,9 +108,9 @@ def load_mesh(path: Path, scale: np.ndarray) -> coal.CollisionGeometry:
     try:
         hull = coal.Convex.convexHull(points, True, "Qt")
     except (RuntimeError, ValueError) as err:
-        raise OSError(f"cannot read the mesh {path} (qhull: {loader_reason(str(err))})") from err
+        raise OSError(f"cannot read {what} (qhull: {loader_reason(str(err))})") from err
     if hull is None:
-        raise OSError(f"cannot read the mesh {path} (qhull found no hull)")
+        raise OSError(f"cannot read {what} (qhull found no hull)")
     return hull
 
 
