@@ -24,8 +24,6 @@ octomaps and objects to remove or move are refused, each in one line naming the 
 from __future__ import annotations
 
 import json
-from collections.abc import Collection
-from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
@@ -35,8 +33,10 @@ import pinocchio as pin
 from dh2urdf.quoted_input import quoted
 
 from ..exceptions import CollisionModelError
+from .allowed_matrix import AllowedMatrix, read_matrix
 from .bounds import check_count
-from .scene import Scene, mesh_file
+from .message_fields import field_list, field_mapping, known_keys
+from .scene_content import Scene, check_frames, mesh_file
 from .scene_units import ROS_METERS, UnitSlips
 from .scene_values import coordinate, factor, length, number, vector
 from .urdf_shapes import Shape
@@ -72,75 +72,11 @@ _OBJECT = (
     "subframe_poses",
     "type",
 )
-_MATRIX = ("default_entry_names", "default_entry_values", "entry_names", "entry_values")
 #: shape_msgs/SolidPrimitive types read, and the names of their dimensions in order.
 _PRIMITIVES = {1: "box", 2: "sphere", 3: "cylinder"}
 _DIMENSIONS = {"box": ("x", "y", "z"), "sphere": ("radius",), "cylinder": ("height", "radius")}
 #: moveit_msgs/CollisionObject operations other than ADD (0).
 _OPERATIONS = {1: "REMOVE", 2: "APPEND", 3: "MOVE"}
-
-
-@dataclass(frozen=True)
-class AllowedMatrix:
-    """A PlanningScene's allowed collision matrix.
-
-    Attributes:
-        entries: ``(a, b) -> allowed`` for every pair the matrix holds, both orders.
-        defaults: ``name -> allowed`` for pairs the matrix leaves out.
-        fields: ``name -> field`` where the file names it (for errors).
-    """
-
-    entries: dict[tuple[str, str], bool]
-    defaults: dict[str, bool]
-    fields: dict[str, str]
-
-    def allows(self, a: str, b: str) -> bool:
-        """Whether ``a`` and ``b`` may touch (MoveIt's rule for pairs the matrix leaves out)."""
-        if (a, b) in self.entries:
-            return self.entries[(a, b)]
-        if a in self.defaults and b in self.defaults:
-            return self.defaults[a] and self.defaults[b]
-        return self.defaults.get(a, self.defaults.get(b, False))
-
-    def pairs(
-        self, where: str, known: Collection[str], links: Collection[str], objects: Collection[str]
-    ) -> dict[tuple[str, str], str]:
-        """The allowed pairs of two ``links``, or a link and one of ``objects``: ``"acm"``.
-
-        Raises:
-            CollisionModelError: The matrix names what is in ``known`` (the robot's links, the
-                scene's objects) not.
-        """
-        for name, field in self.fields.items():
-            if name not in known:
-                raise CollisionModelError(
-                    where,
-                    f"{field}: {quoted(name)} is neither a link of the robot nor an object of "
-                    "the scene",
-                )
-        used = [*links, *objects]
-        return {
-            (a, b): "acm"
-            for i, a in enumerate(used)
-            for b in used[i + 1 :]
-            if (a in links or b in links) and self.allows(a, b)
-        }
-
-
-def check_frames(where: str, frames: tuple[tuple[str, str], ...], base: str) -> None:
-    """Raise unless every ``(field, frame_id)`` is ``base`` or ``world`` (a leading / aside).
-
-    Raises:
-        CollisionModelError: Names the field, the frame and the frames accepted.
-    """
-    for field, frame in frames:
-        if frame.lstrip("/") not in (base, "world"):
-            raise CollisionModelError(
-                where,
-                f"{field}: frame {quoted(frame)} is neither the robot's base {base!r} nor "
-                f"'world'; only objects placed in the base frame are read: give their poses "
-                f"in {base!r}",
-            )
 
 
 def read_planning_scene(where: str, text: str, as_yaml: bool) -> Scene:
@@ -153,17 +89,17 @@ def read_planning_scene(where: str, text: str, as_yaml: bool) -> Scene:
     document = _parse(where, text, as_yaml)
     if not isinstance(document, dict):
         raise CollisionModelError(where, "not a PlanningScene: the top is not a mapping")
-    _known_keys(where, "", document, _TOP)
+    known_keys(where, "", document, _TOP)
     world = document.get("world", {})
     if not isinstance(world, dict):
         raise CollisionModelError(where, f"world: {quoted(world)} is not a mapping")
-    _known_keys(where, "world", world, ("collision_objects", "octomap"))
+    known_keys(where, "world", world, ("collision_objects", "octomap"))
     octomap = world.get("octomap")
     if octomap and (not isinstance(octomap, dict) or _octomap_data(octomap)):
         raise CollisionModelError(
             where, "world.octomap: octomaps are not read; give the cell as collision objects"
         )
-    entries = _list(where, "world.collision_objects", world.get("collision_objects", []))
+    entries = field_list(where, "world.collision_objects", world.get("collision_objects", []))
     check_count(where, sum(_shape_count(entry) for entry in entries))
     slips = UnitSlips(where, "", ROS_METERS)
     shapes: list[Shape] = []
@@ -179,7 +115,7 @@ def read_planning_scene(where: str, text: str, as_yaml: bool) -> Scene:
         shapes += placed
     matrix = None
     if "allowed_collision_matrix" in document:
-        matrix = _matrix(where, document["allowed_collision_matrix"])
+        matrix = read_matrix(where, document["allowed_collision_matrix"])
     slips.warn()
     return Scene(where, tuple(shapes), tuple(frames), matrix)
 
@@ -208,28 +144,6 @@ def _parse(where: str, text: str, as_yaml: bool) -> Any:
         raise CollisionModelError(where, f"not YAML: {quoted(said, 200)[1:-1]}") from None
 
 
-def _known_keys(where: str, field: str, value: dict[Any, Any], keys: tuple[str, ...]) -> None:
-    for key in value:
-        if key not in keys:
-            at = f"{field}.{key}" if field else str(key)
-            raise CollisionModelError(
-                where, f"{quoted(at)[1:-1]}: unknown key; choose: {', '.join(keys)}"
-            )
-
-
-def _list(where: str, field: str, value: Any) -> list[Any]:
-    if not isinstance(value, list):
-        raise CollisionModelError(where, f"{field}: {quoted(value)} is not a list")
-    return value
-
-
-def _mapping(where: str, field: str, value: Any, keys: tuple[str, ...]) -> dict[str, Any]:
-    if not isinstance(value, dict):
-        raise CollisionModelError(where, f"{field}: {quoted(value)} is not a mapping")
-    _known_keys(where, field, value, keys)
-    return value
-
-
 def _octomap_data(octomap: dict[Any, Any]) -> bool:
     """Whether an octomap_msgs/OctomapWithPose holds cells (an echoed empty scene has none)."""
     inner = octomap.get("octomap")
@@ -244,11 +158,13 @@ def _shape_count(entry: Any) -> int:
 
 def _object(where: str, field: str, entry: Any, slips: UnitSlips) -> tuple[str, str, list[Shape]]:
     """One collision object: its id, its frame and its shapes placed in that frame."""
-    entry = _mapping(where, field, entry, _OBJECT)
+    entry = field_mapping(where, field, entry, _OBJECT)
     name = entry.get("id")
     if not isinstance(name, str) or not name:
         raise CollisionModelError(where, f"{field}.id: {quoted(name)} is not a non-empty string")
-    header = _mapping(where, f"{field}.header", entry.get("header"), ("frame_id", "seq", "stamp"))
+    header = field_mapping(
+        where, f"{field}.header", entry.get("header"), ("frame_id", "seq", "stamp")
+    )
     frame = header.get("frame_id")
     if not isinstance(frame, str) or not frame:
         raise CollisionModelError(
@@ -267,8 +183,8 @@ def _object(where: str, field: str, entry: Any, slips: UnitSlips) -> tuple[str, 
     pose = _pose(where, f"{field}.pose", entry["pose"]) if "pose" in entry else pin.SE3.Identity()
     shapes: list[Shape] = []
     for shapes_key, poses_key in (("primitives", "primitive_poses"), ("meshes", "mesh_poses")):
-        given = _list(where, f"{field}.{shapes_key}", entry.get(shapes_key, []))
-        poses = _list(where, f"{field}.{poses_key}", entry.get(poses_key, []))
+        given = field_list(where, f"{field}.{shapes_key}", entry.get(shapes_key, []))
+        poses = field_list(where, f"{field}.{poses_key}", entry.get(poses_key, []))
         if len(poses) != len(given):
             raise CollisionModelError(
                 where,
@@ -297,14 +213,14 @@ def _object(where: str, field: str, entry: Any, slips: UnitSlips) -> tuple[str, 
 
 def _pose(where: str, field: str, value: Any) -> pin.SE3:
     """A geometry_msgs/Pose: position [m], orientation x, y, z, w (MoveIt's normalisation)."""
-    value = _mapping(where, field, value, ("orientation", "position"))
-    position = _mapping(where, f"{field}.position", value.get("position", {}), ("x", "y", "z"))
+    value = field_mapping(where, field, value, ("orientation", "position"))
+    position = field_mapping(where, f"{field}.position", value.get("position", {}), ("x", "y", "z"))
     xyz = [
         coordinate(where, f"{field}.position.{k}", position.get(k, 0.0), slip=ROS_METERS)
         for k in "xyz"
     ]
     keys = ("x", "y", "z", "w")
-    orientation = _mapping(where, f"{field}.orientation", value.get("orientation", {}), keys)
+    orientation = field_mapping(where, f"{field}.orientation", value.get("orientation", {}), keys)
     if not orientation:
         return pin.SE3(np.eye(3), np.array(xyz))
     x, y, z, w = (number(where, f"{field}.orientation.{k}", orientation.get(k, 0.0)) for k in keys)
@@ -321,7 +237,7 @@ def _primitive(where: str, field: str, value: Any) -> tuple[str, Any]:
     """A shape_msgs/SolidPrimitive as ``(kind, coal geometry)``."""
     import coal
 
-    value = _mapping(where, field, value, ("dimensions", "type"))
+    value = field_mapping(where, field, value, ("dimensions", "type"))
     code = value.get("type")
     if isinstance(code, str):
         code = {v.upper(): k for k, v in _PRIMITIVES.items()}.get(code.upper(), code)
@@ -356,25 +272,25 @@ def _mesh(where: str, field: str, value: Any) -> Any:
     from .urdf_shapes import convex_hull
 
     if isinstance(value, dict) and "file" in value:
-        value = _mapping(where, field, value, ("file", "scale"))
+        value = field_mapping(where, field, value, ("file", "scale"))
         scale_value = value.get("scale", 1.0)
         if isinstance(scale_value, list):
             scale = vector(where, f"{field}.scale", scale_value, factor)
         else:
             scale = np.full(3, factor(where, f"{field}.scale", scale_value))
         return mesh_file(where, f"{field}.file", value["file"], scale)
-    value = _mapping(where, field, value, ("triangles", "vertices"))
-    vertices = _list(where, f"{field}.vertices", value.get("vertices", []))
-    triangles = _list(where, f"{field}.triangles", value.get("triangles", []))
+    value = field_mapping(where, field, value, ("triangles", "vertices"))
+    vertices = field_list(where, f"{field}.vertices", value.get("vertices", []))
+    triangles = field_list(where, f"{field}.triangles", value.get("triangles", []))
     points = []
     for i, vertex in enumerate(vertices):
         at = f"{field}.vertices[{i}]"
-        vertex = _mapping(where, at, vertex, ("x", "y", "z"))
+        vertex = field_mapping(where, at, vertex, ("x", "y", "z"))
         points.append([coordinate(where, f"{at}.{k}", vertex.get(k, 0.0)) for k in "xyz"])
     used: set[int] = set()
     for t, triangle in enumerate(triangles):
         at = f"{field}.triangles[{t}]"
-        corners = _mapping(where, at, triangle, ("vertex_indices",)).get("vertex_indices")
+        corners = field_mapping(where, at, triangle, ("vertex_indices",)).get("vertex_indices")
         if (
             not isinstance(corners, list)
             or len(corners) != 3
@@ -391,65 +307,3 @@ def _mesh(where: str, field: str, value: Any) -> Any:
         return convex_hull(hull_points, "the mesh")
     except OSError as err:
         raise CollisionModelError(where, f"{field}: {err}") from err
-
-
-def _matrix(where: str, value: Any) -> AllowedMatrix:
-    """A moveit_msgs/AllowedCollisionMatrix (square, symmetric)."""
-    field = "allowed_collision_matrix"
-    value = _mapping(where, field, value, _MATRIX)
-    names = _names(where, f"{field}.entry_names", value.get("entry_names", []))
-    rows = _list(where, f"{field}.entry_values", value.get("entry_values", []))
-    if len(rows) != len(names):
-        raise CollisionModelError(
-            where, f"{field}.entry_values: {len(rows)} rows for {len(names)} entry_names"
-        )
-    flags = []
-    for i, row in enumerate(rows):
-        at = f"{field}.entry_values[{i}].enabled"
-        row = _mapping(where, f"{field}.entry_values[{i}]", row, ("enabled",))
-        flags.append(_flags(where, at, row.get("enabled"), len(names)))
-    entries: dict[tuple[str, str], bool] = {}
-    for i, a in enumerate(names):
-        for j, b in enumerate(names):
-            if flags[i][j] != flags[j][i]:
-                raise CollisionModelError(
-                    where,
-                    f"{field}.entry_values[{i}].enabled[{j}]: {flags[i][j]} where "
-                    f"entry_values[{j}].enabled[{i}] is {flags[j][i]}; the matrix is symmetric",
-                )
-            entries[(a, b)] = flags[i][j]
-    default_names = _names(
-        where, f"{field}.default_entry_names", value.get("default_entry_names", [])
-    )
-    default_values = _flags(
-        where,
-        f"{field}.default_entry_values",
-        value.get("default_entry_values", []),
-        len(default_names),
-    )
-    fields = {n: f"{field}.entry_names[{i}]" for i, n in enumerate(names)}
-    for i, n in enumerate(default_names):
-        fields.setdefault(n, f"{field}.default_entry_names[{i}]")
-    return AllowedMatrix(entries, dict(zip(default_names, default_values)), fields)
-
-
-def _names(where: str, field: str, value: Any) -> list[str]:
-    names = _list(where, field, value)
-    for i, name in enumerate(names):
-        if not isinstance(name, str) or not name:
-            raise CollisionModelError(where, f"{field}[{i}]: {quoted(name)} is not a name")
-        if name in names[:i]:
-            raise CollisionModelError(where, f"{field}[{i}]: {name!r} is named twice")
-    return names
-
-
-def _flags(where: str, field: str, value: Any, size: int) -> list[bool]:
-    if (
-        not isinstance(value, list)
-        or len(value) != size
-        or not all(isinstance(v, bool) for v in value)
-    ):
-        raise CollisionModelError(
-            where, f"{field}: {quoted(value)} is not a list of {size} true/false"
-        )
-    return value

@@ -25,11 +25,9 @@ from __future__ import annotations
 
 import re
 import sys
-from collections.abc import Collection
-from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -38,12 +36,10 @@ from dh2urdf.units import ANGLE_UNITS, LENGTH_UNITS, angle_to_radians
 
 from ..exceptions import CollisionModelError
 from .bounds import check_coordinates, check_count
+from .scene_content import Scene, mesh_file
 from .scene_units import UNIT_KEYS, UnitSlips, read_unit
 from .scene_values import coordinate, factor, length, number, vector
-from .urdf_shapes import Shape, link_shapes, load_mesh
-
-if TYPE_CHECKING:
-    from .planning_scene import AllowedMatrix
+from .urdf_shapes import Shape, link_shapes
 
 __all__ = ["Scene", "load_scene", "read_scene"]
 
@@ -55,45 +51,6 @@ _KINDS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "sphere": (("radius",), ()),
 }
 _COMMON = ("name", "xyz", "rpy")
-
-
-@dataclass(frozen=True)
-class Scene:
-    """What a scene file holds.
-
-    Attributes:
-        path: The file.
-        objects: Its shapes, each placed in the world (the arm's base frame) [m].
-        frames: Per object of a PlanningScene, ``(field, frame_id)``: the frame its pose is in.
-        allowed: A PlanningScene's allowed collision matrix (None: none given).
-    """
-
-    path: str
-    objects: tuple[Shape, ...]
-    frames: tuple[tuple[str, str], ...] = ()
-    allowed: AllowedMatrix | None = None
-
-    def for_robot(
-        self, base: str, known: Collection[str], links: Collection[str]
-    ) -> dict[tuple[str, str], str]:
-        """The pairs the scene allows (``"acm"``), once its frames are checked against ``base``.
-
-        Args:
-            base: The robot's base link, the world of the scene.
-            known: Every link of the robot's URDF and every scene object name.
-            links: The links that have shapes in the model.
-
-        Raises:
-            CollisionModelError: An object's frame is neither ``base`` nor ``world``, or the
-                matrix names what is neither a link nor an object.
-        """
-        from .planning_scene import check_frames
-
-        check_frames(self.path, self.frames, base)
-        if self.allowed is None:
-            return {}
-        objects = {shape.owner for shape in self.objects}
-        return self.allowed.pairs(self.path, known, links, objects)
 
 
 def read_scene(path: str | Path) -> tuple[Shape, ...]:
@@ -237,21 +194,6 @@ def _object(
             scale = np.full(3, factor(where, f"{field}.scale", scale_value))
         geometry = mesh_file(where, f"{field}.file", entry["file"], scale)
     return Shape(name, name, geometry, placement, kind)
-
-
-def mesh_file(where: str, field: str, file: Any, scale: np.ndarray) -> Any:
-    """The convex hull of the mesh ``file`` (relative to the scene's folder), scaled [m/unit].
-
-    Raises:
-        CollisionModelError: ``file`` is not a file name, or the mesh cannot be read.
-    """
-    if not isinstance(file, str) or not file or "\0" in file:
-        raise CollisionModelError(where, f"{field}: {file!r} is not a file name")
-    mesh = Path(file) if Path(file).is_absolute() else Path(where).resolve().parent / file
-    try:
-        return load_mesh(mesh, scale)
-    except OSError as err:
-        raise CollisionModelError(where, f"{field}: {err}") from err
 
 
 def _urdf_scene(where: str) -> tuple[Shape, ...]:
