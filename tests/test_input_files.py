@@ -34,7 +34,9 @@ from kin.path import read_joint_path
 from kin.reach_map_file import load_reach_map
 
 ROOT = Path(__file__).resolve().parents[1]
-UR5_TABLE = ROOT / "dh2urdf" / "tables" / "ur5.toml"
+#: The shipped UR5 table, where the package is installed (a wheel's tests run from a tree
+#: without the package sources).
+UR5_TABLE = Path(dh2urdf.__file__).resolve().parent / "tables" / "ur5.toml"
 #: A hang (a FIFO opened for reading) is caught by this timeout [s]; the commands answer in
 #: about 1 s on an idle machine, the margin is for a busy one.
 TIMEOUT_S = 60

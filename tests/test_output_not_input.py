@@ -13,17 +13,21 @@ from pathlib import Path
 import pytest
 from cli_helper import assert_one_line_error
 
+import dh2urdf
 import dh2urdf.command
 import dh2urdf.from_urdf_command
 from dh2urdf.output_file import output_problem, same_file_problem
 from kin.commands import collisions, path, preview, reach, workspace
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The shipped UR5 table, where the package is installed (a wheel's tests run from a tree
+#: without the package sources).
+SHIPPED_UR5 = Path(dh2urdf.__file__).resolve().parent / "tables" / "ur5.toml"
 PATH_POINTS = ["--from", "0.4", "0", "0.3", "--to", "0.4", "0.2", "0.3", "--steps", "10"]
 
 #: What each input file holds: a real file of its kind (the command would read it).
 CONTENTS = {
-    "table.toml": (ROOT / "dh2urdf" / "tables" / "ur5.toml").read_bytes(),
+    "table.toml": (SHIPPED_UR5).read_bytes(),
     "arm.urdf": (ROOT / "urdf" / "ur5.urdf").read_bytes(),
     "cell.toml": (ROOT / "tests" / "data" / "collision" / "cell.toml").read_bytes(),
     "arm.srdf": b'<?xml version="1.0"?>\n<robot name="ur5"/>\n',
@@ -143,10 +147,10 @@ def test_the_issue_reproducers_keep_their_input(tmp_path, capsys):
     assert collisions.main(["--robot", str(urdf), "--write-srdf", str(urdf)]) == 2
     assert urdf.read_bytes() == before
     table = tmp_path / "cobra.toml"
-    shutil.copy(ROOT / "dh2urdf" / "tables" / "ur5.toml", table)
+    shutil.copy(SHIPPED_UR5, table)
     (tmp_path / "link.toml").symlink_to(table)
     assert dh2urdf.command.main([str(table), "-o", str(tmp_path / "link.toml")]) == 2
-    assert table.read_bytes() == (ROOT / "dh2urdf" / "tables" / "ur5.toml").read_bytes()
+    assert table.read_bytes() == (SHIPPED_UR5).read_bytes()
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 2 and "same file as --robot" in err[0] and "the table" in err[1], err
 
@@ -157,7 +161,7 @@ def test_a_shipped_robot_name_stands_for_its_table_file():
 
     args = argparse.Namespace(robot="ur5", scene=None, srdf="cell.srdf")
     found = input_files(args, "--robot", "--scene", "--srdf")
-    table = str(ROOT / "dh2urdf" / "tables" / "ur5.toml")
+    table = str(SHIPPED_UR5)
     assert [option for option, _ in found] == ["--robot", "--robot", "--srdf"]
     assert os.path.samefile(found[1][1], table)
     assert "same file as --robot" in (output_problem(table, None, found) or "")
