@@ -32,6 +32,7 @@ __all__ = [
     "hold_stops",
     "listen_to_stops",
     "note_stop",
+    "raise_lost_stop",
     "run_process",
     "stop_handler",
     "stop_on_sigterm",
@@ -59,6 +60,18 @@ def note_stop(signum: int) -> None:
 def terminated() -> bool:
     """Whether the stop was a SIGTERM (exit 143), not a Ctrl-C (exit 130)."""
     return _Seen.terminated
+
+
+def raise_lost_stop() -> None:
+    """Raise ``KeyboardInterrupt`` when a SIGTERM came and its raise was lost.
+
+    A ``KeyboardInterrupt`` raised while Python runs a garbage-collector callback (Dask's
+    ``GCDiagnosis``) or a ``__del__`` is printed as "Exception ignored" and dropped: a loop that
+    waits for work (a Dask cluster's chunks) calls this after each piece, so the stop still
+    comes (seen: `kin reach --scheduler local-cluster:2` ran on for minutes after SIGTERM).
+    """
+    if _Seen.terminated:
+        raise KeyboardInterrupt
 
 
 def stop_on_sigterm(signum: int, frame: FrameType | None) -> None:

@@ -217,6 +217,8 @@ def _on_dask(
 ) -> Generator[tuple[int, np.ndarray], None, None]:
     from distributed import as_completed
 
+    from dh2urdf.stop_signals import raise_lost_stop
+
     from .workspace_run import dask_faults
 
     futures: list[Any] = []
@@ -229,6 +231,7 @@ def _on_dask(
             for i, chunk in enumerate(chunks)
         )
         for future in as_completed(futures):
+            raise_lost_stop()  # a SIGTERM whose raise a GC callback swallowed
             yield future.result()
 
 

@@ -88,6 +88,8 @@ def _on_dask(tasks: Iterator[tuple], client: Any) -> Generator[Any, None, None]:
     """
     from distributed import as_completed as dask_completed
 
+    from dh2urdf.stop_signals import raise_lost_stop
+
     pending: set[Any] = set()
     with dask_faults(client, pending):
         threads = sum(client.nthreads().values())
@@ -95,6 +97,7 @@ def _on_dask(tasks: Iterator[tuple], client: Any) -> Generator[Any, None, None]:
         pending.update(client.submit(_chunk, task, pure=False) for task in first)
         finished = dask_completed(list(pending))
         for future in finished:
+            raise_lost_stop()  # a SIGTERM whose raise a GC callback swallowed
             pending.discard(future)
             result = future.result()
             for task in islice(tasks, 1):  # the next chunk, if any, takes its place

@@ -90,3 +90,37 @@ def test_an_in_process_command_leaves_the_signals_to_its_caller():
         [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
     )
     assert done.stdout == "130\ncaller's\n", (done.stdout, done.stderr)
+
+
+def test_a_sigterm_whose_raise_was_swallowed_is_raised_again():
+    """A SIGTERM's KeyboardInterrupt raised inside a GC callback is printed and dropped; the
+    loops that wait for a cluster's chunks raise it again (raise_lost_stop)."""
+    script = textwrap.dedent(
+        """
+        import gc, os, signal, time
+        from dh2urdf.stop_signals import listen_to_stops, raise_lost_stop, terminated
+
+        listen_to_stops()
+        fired = []
+
+        def callback(phase, info):  # a SIGTERM lands while the collector runs it
+            if phase == "start" and not fired:
+                fired.append(1)
+                os.kill(os.getpid(), signal.SIGTERM)
+                time.sleep(0.5)
+
+        gc.callbacks.append(callback)
+        gc.collect()
+        gc.callbacks.remove(callback)
+        print("ran on", terminated(), flush=True)
+        try:
+            raise_lost_stop()
+        except KeyboardInterrupt:
+            print("raised again", flush=True)
+        """
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert done.stdout == "ran on True\nraised again\n", (done.stdout, done.stderr)
+    assert "Exception ignored" in done.stderr, done.stderr
