@@ -1,5 +1,8 @@
 """Scenes beyond the bounds are bad input; padding never removes a pair; large scenes answer.
 
+Work, not time, is asserted here (the same on a busy machine): a scene over the cap is refused
+before any shape is built. How long loading and refusing take: scripts/bench_scene_size.py.
+
 Issue 42: a box at xyz = 1e308 or a cylinder 1e308 m long was "IN COLLISION" with NaN points;
 ``--padding 1`` reported "collision-free, pairs checked: 0" (every self pair dropped as "always in
 contact"); 10,000 scene boxes gave no answer after 200 s (Pinocchio's geometry model copies a
@@ -9,7 +12,6 @@ square matrix of its objects at each one added).
 from __future__ import annotations
 
 import re
-import time
 
 import numpy as np
 import pytest
@@ -70,32 +72,45 @@ def _boxes(path, count: int) -> None:
     )
 
 
-def test_twenty_thousand_boxes_are_refused_at_once(ur5, tmp_path):
-    """More than MAX_SHAPES shapes: one line naming the count and the cap, within seconds."""
+@pytest.fixture
+def built_boxes(monkeypatch):
+    """The coal boxes built while the test runs (a scene's boxes are made one by one)."""
+    import coal
+
+    made: list[object] = []
+    real = coal.Box
+
+    def counted(*args):
+        made.append(args)
+        return real(*args)
+
+    monkeypatch.setattr(coal, "Box", counted)
+    return made
+
+
+def test_twenty_thousand_boxes_are_refused_at_once(ur5, tmp_path, built_boxes):
+    """More than MAX_SHAPES shapes: one line naming the count and the cap, no shape built."""
     scene = tmp_path / "boxes.toml"
     _boxes(scene, 20_000)
-    start = time.perf_counter()
     said = f"20000 shapes; a scene holds at most {MAX_SHAPES:,}"
     with pytest.raises(CollisionModelError, match=said):
         load_collision_model(ur5, scene=scene)
-    assert time.perf_counter() - start < 10.0
+    assert built_boxes == []
 
 
 @pytest.mark.slow
-def test_a_hundred_thousand_boxes_are_refused_within_seconds(ur5, tmp_path):
+def test_a_hundred_thousand_boxes_are_refused_before_any_is_built(ur5, tmp_path, built_boxes):
     scene = tmp_path / "boxes.toml"
     _boxes(scene, 100_000)
-    start = time.perf_counter()
     with pytest.raises(CollisionModelError, match="100000 shapes"):
         load_collision_model(ur5, scene=scene)
-    assert time.perf_counter() - start < 20.0
+    assert built_boxes == []
 
 
-def test_a_scene_at_the_cap_loads_and_answers(ur5, tmp_path):
-    """MAX_SHAPES boxes: loaded, and every query answers, through the broad phase."""
+def test_a_scene_at_the_cap_loads_and_answers(ur5, tmp_path, built_boxes):
+    """MAX_SHAPES boxes: loaded (each built once), and every query answers, by the broad phase."""
     scene = tmp_path / "boxes.toml"
     _boxes(scene, MAX_SHAPES)
-    start = time.perf_counter()
     checker = CollisionChecker(load_collision_model(ur5, scene=scene))
     q = np.zeros(ur5.nq)
     qs = np.random.default_rng(1).uniform(ur5.lower, ur5.upper, (50, ur5.nq))
@@ -104,7 +119,7 @@ def test_a_scene_at_the_cap_loads_and_answers(ur5, tmp_path):
     assert [checker.in_collision(x) for x in qs] == verdicts.tolist()
     assert bool(checker.collisions(q)) == checker.in_collision(q)
     assert np.isfinite(checker.distance(q).distance)
-    assert time.perf_counter() - start < 30.0
+    assert len(built_boxes) == MAX_SHAPES
 
 
 @pytest.mark.parametrize(
