@@ -4,8 +4,9 @@ example-robot-data ships no Python module (only files under ``cmeel.prefix/share
 found through the package's file list. Fixed base transform between the two URDF roots, measured
 at q = 0 and checked at random q (``T_erd_world_flange = T_erd_world_our_world @ T_world_tool``):
 
-- ur5: ``T_erd_world_our_world = Rz(pi)`` (the ROS ``base_link`` faces the other way than the
-  controller's DH base frame); ``tool`` equals ``tool0``;
+- ur5: identity: the table's ``[base]`` turns the controller's DH base frame by pi about z from
+  the ROS ``base_link``, as the URDF's ``base_link -> base`` joint does (up to 0.3.0 the table had
+  no ``[base]`` and ``T_erd_world_our_world`` was ``Rz(pi)``); ``tool`` equals ``tool0``;
 - panda: identity; ``tool`` equals ``panda_link8`` (fingers at 0).
 
 Measured largest errors over 1000 random q: ur5 5.2e-12 m and 1.5e-11 rad (ERD writes pi/2 as
@@ -16,7 +17,6 @@ floating-point operations). Hence the rotation tolerance 1e-10 rad.
 from __future__ import annotations
 
 import importlib.metadata
-import math
 from pathlib import Path
 
 import numpy as np
@@ -35,18 +35,7 @@ SAMPLES = 1000
 #: robot -> (ERD URDF path inside the package's robots folder, ERD flange frame, T_erd_our).
 CASES = {
     "panda": ("panda_description/urdf/panda.urdf", "panda_link8", np.eye(4)),
-    "ur5": (
-        "ur_description/urdf/ur5_robot.urdf",
-        "tool0",
-        np.array(
-            [
-                [-1.0, 0.0, 0.0, 0.0],
-                [0.0, -1.0, 0.0, 0.0],
-                [0.0, 0.0, 1.0, 0.0],
-                [0.0, 0.0, 0.0, 1.0],
-            ]
-        ),
-    ),
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0", np.eye(4)),
 }
 
 
@@ -85,7 +74,7 @@ class ErdArm:
 
 @pytest.mark.parametrize("robot", sorted(CASES))
 def test_fixed_base_transform_is_the_stated_one(robot):
-    """At q = 0, T_erd_flange @ inv(T_our_tool) is Rz(pi) for ur5 and identity for panda."""
+    """At q = 0, T_erd_flange @ inv(T_our_tool) is the identity: the same world frame."""
     arm = ErdArm(robot)
     q = np.zeros(arm.ours.nq)
     T_our = Configuration(arm.ours, q).transform_frame_to_world("tool").homogeneous
@@ -94,9 +83,19 @@ def test_fixed_base_transform_is_the_stated_one(robot):
     rotation = float(rotation_angle(measured[:3, :3], arm.T_erd_our[:3, :3]))
     assert position < POS_TOL, f"{robot=} {position=:.3e} m"
     assert rotation < ROT_TOL, f"{robot=} {rotation=:.3e} rad"
-    if robot == "ur5":
-        yaw = math.atan2(measured[1, 0], measured[0, 0])
-        assert abs(abs(yaw) - math.pi) < ROT_TOL, f"{robot=} {yaw=}"
+
+
+def test_ur5_flange_at_zero_is_ahead_of_base_link():
+    """At q = 0 the shipped ur5's flange is at x = +0.81725 m, as in the maker's URDF (issue 43).
+
+    The expected point is summed by hand from the maker's UR5 lengths [m]: x = 0.425 + 0.39225
+    (upper arm and forearm, along base_link's +x), y = 0.10915 + 0.0823 (d4 + d6), z = 0.089159 -
+    0.09465 (d1 - d5). Up to 0.3.0 the table gave x = -0.81725, y = -0.19145.
+    """
+    robot = load_robot("ur5")
+    position = Configuration(robot, np.zeros(6)).transform_frame_to_world("tool").translation
+    expected = np.array([0.425 + 0.39225, 0.10915 + 0.0823, 0.089159 - 0.09465])
+    assert np.allclose(position, expected, rtol=0.0, atol=1e-12), f"{position=}"
 
 
 @pytest.mark.parametrize("robot", sorted(CASES))
