@@ -21,12 +21,10 @@ in collision instead of dropping them (a larger margin checked less before).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pinocchio as pin
 
-from .requests import prepare_requests
+from .pair_contacts import PairContacts, sampling_bounds
 
 __all__ = ["SAMPLES", "SEED", "always_in_contact", "sample_configurations"]
 
@@ -53,25 +51,12 @@ def always_in_contact(
     Returns:
         The candidates in contact at all :data:`SAMPLES` configurations.
     """
-    indices: dict[tuple[str, str], list[int]] = {}
-    for index, owners in enumerate(pair_owners):
-        if owners in candidates:
-            indices.setdefault(owners, []).append(index)
-    left = set(indices)
-    if not left:
-        return set()
-    data = model.createData()
-    geometry_data = pin.GeometryData(geometry_model)
-    prepare_requests(geometry_data, 0.0)
+    contacts = PairContacts(model, geometry_model, pair_owners)
+    left = set(candidates) & contacts.pairs
     for q in sample_configurations(model, SAMPLES):
-        pin.updateGeometryPlacements(model, data, geometry_model, geometry_data, q)
-        left = {
-            pair
-            for pair in left
-            if any(pin.computeCollision(geometry_model, geometry_data, k) for k in indices[pair])
-        }
         if not left:
             break
+        left = contacts.at(q, left)
     return left
 
 
@@ -80,6 +65,5 @@ def sample_configurations(model: pin.Model, count: int) -> np.ndarray:
 
     An unbounded joint is drawn within +-pi [rad]. Returns shape (count, nq).
     """
-    lower = np.where(np.isfinite(model.lowerPositionLimit), model.lowerPositionLimit, -math.pi)
-    upper = np.where(np.isfinite(model.upperPositionLimit), model.upperPositionLimit, math.pi)
+    lower, upper = sampling_bounds(model)
     return np.random.default_rng(SEED).uniform(lower, upper, (count, model.nq))

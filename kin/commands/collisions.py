@@ -1,9 +1,11 @@
 """Write an SRDF of the link pairs a collision check may skip, found as MoveIt's assistant does.
 
-A pair is disabled when its links are joined by a joint (Adjacent), collide with every joint at
-0 (Default), collide at every sampled configuration (Always) or at none (Never); the samples are
---samples configurations drawn uniformly within the joint limits with --random-seed, both stated
-in the SRDF's comment. The same robot, count and seed give the same bytes. The file is written
+By the rules of MoveIt's setup assistant (kin/collision/srdf_generator.py), a pair is disabled
+when its links are joined by a joint, also through links without geometry (Adjacent), touch with
+every joint at 0 (Default), touch in more than 190 of a batch of 200 random configurations
+(Always, batches repeated until one disables nothing new), or in none of them and --samples more
+(Never); the configurations are drawn uniformly within the joint limits with --random-seed, the
+rules, count, seed and the joints held off the chain stated in the SRDF's comment. The same robot, count and seed give the same bytes. The file is written
 whole or not at all; give it to `kin check --srdf` or `kin ik --srdf`.
 """
 
@@ -69,7 +71,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         robot = load_robot_argument(args)
         model = load_collision_model(robot)
         disabled = generate_disabled_pairs(model, args.samples, args.random_seed)
-        text = srdf_text(robot.name, disabled, args.samples, args.random_seed)
+        text = srdf_text(robot.name, disabled, args.samples, args.random_seed, held=model.held.note)
         write_text_atomic(args.write_srdf, text)
         counts = {r: n for r in REASONS if (n := sum(v == r for v in disabled.values()))}
         summary = ", ".join(f"{n} {r}" for r, n in counts.items())
