@@ -22,6 +22,7 @@ import numpy as np
 from .drive_section import JointDrive
 from .exceptions import TableError
 from .joint_cap import MAX_JOINTS
+from .link_volumes import Housing
 from .table_values import MAX_ANGLE, MAX_LENGTH
 from .transforms import rot_x, rot_z, translation
 
@@ -48,7 +49,11 @@ class DHRow:
         acceleration: Acceleration limit [rad/s^2] or [m/s^2], or None when the table gives
             none (path timing then uses its default).
         mass: Mass of the link this row moves [kg], or None (placeholder inertial).
-        radius: Radius of the link's cylinder/sphere primitive [m], or None (default drawing).
+        radius: Radius of the row's segments [m] (and of the link's primitive for ``mass``), or
+            None (:data:`~dh2urdf.link_volumes.DEFAULT_RADIUS`); see :mod:`dh2urdf.link_volumes`.
+        radius_a: Radius of the row's ``a`` segment [m], or None (``radius``).
+        radius_d: Radius of the row's ``d`` segment [m], or None (``radius``).
+        housings: Cylinders fixed in DH frame ``i`` (motor housings, offset tubes).
         continuous: A revolute joint without limits (a URDF ``continuous`` joint): its limits
             are [-pi, pi], every angle having a copy there; the solvers wrap into them.
         direction: 1, or -1 for a reversed joint: the DH angle is ``theta + direction * q``
@@ -69,6 +74,9 @@ class DHRow:
     acceleration: float | None = None
     mass: float | None = None
     radius: float | None = None
+    radius_a: float | None = None
+    radius_d: float | None = None
+    housings: tuple[Housing, ...] = ()
     continuous: bool = False
     direction: int = 1
 

@@ -23,7 +23,9 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     effort = 10.0                  # optional, N m or N
     acceleration = 360.0           # optional, angle_unit/s^2 or length_unit/s^2 (path timing)
     mass = 1.5                     # optional, kg: the link gets a solid-cylinder inertial
-    radius = 40.0                  # optional, length_unit: radius of the link's primitive
+    radius = 40.0                  # optional, length_unit: radius of the row's segments
+    radius_a = 40.0                # optional: of the a segment only (radius_d: the d segment)
+    [[joints.housing]]             # optional cylinders in DH frame i: dh2urdf/link_volumes.py
 
     [base]                         # optional: xyz + rpy, xyz + quat_wxyz, or a DH-style row
     xyz = [0.0, 0.0, 0.0]          #   a, alpha, d, theta
@@ -55,6 +57,7 @@ from .drive_section import parse_drives
 from .exceptions import TableError, UnitWarning
 from .input_file import read_input
 from .joint_cap import MAX_JOINTS
+from .link_volumes import VOLUME_KEYS, parse_volumes
 from .long_numbers import long_integer_problem
 from .quoted_input import quoted
 from .table_values import MAX_ANGLE, MAX_LENGTH, MAX_MASS
@@ -99,7 +102,7 @@ _ROW_KEYS = {
     "effort",
     "acceleration",
     "mass",
-    "radius",
+    *VOLUME_KEYS,
     "continuous",
     "direction",
 }
@@ -306,9 +309,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
                 "acceleration",
             )
     mass = _positive(path, data["mass"], index, "mass", 1.0, MAX_MASS) if "mass" in data else None
-    radius = None
-    if "radius" in data:
-        radius = _positive(path, data["radius"], index, "radius", meters, MAX_LENGTH)
+    volumes = parse_volumes(path, data, index, meters)
     return DHRow(
         index=index,
         name=name,
@@ -323,7 +324,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         effort=effort,
         acceleration=acceleration,
         mass=mass,
-        radius=radius,
+        **volumes,
         continuous=continuous,
         direction=direction,
     )

@@ -13,8 +13,8 @@ Frames and links of the generated URDF:
   variable being the table's q (same limits).
 - ``tool``: fixed on ``frame{n}`` with the table's ``[tool]`` transform.
 
-Each link gets simple visuals (a cylinder along each joint axis, cylinders along the link
-offsets, of the row's ``radius`` when the table gives one), the same link cylinders as collision
+Each link gets simple visuals (a cylinder along each joint axis; the body: capsules along the
+link offsets and the row's housing cylinders, :mod:`dh2urdf.link_volumes`), the body as collision
 geometry, and an inertial (but the root ``base_link``, which KDL wants without one). A row's
 ``mass`` makes the inertial of its moving link that of a uniform solid cylinder along the link's
 segment (a solid sphere when the segment has no length), about its center of mass; without masses
@@ -35,7 +35,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .dh_table import DHTable
+from .dh_table import DHRow, DHTable
+from .link_volumes import DEFAULT_RADIUS, segment_radii
 from .transforms import clean, rot_x, rot_z, translation
 from .urdf_elements import (
     Box,
@@ -59,8 +60,8 @@ if TYPE_CHECKING:
 JOINT_RADIUS = 0.02
 #: Length of the cylinder drawn along each joint axis [m].
 JOINT_LENGTH = 0.06
-#: Radius of the segments drawn along link offsets [m].
-SEGMENT_RADIUS = 0.01
+#: Radius of the segments drawn along link offsets when a row states none [m].
+SEGMENT_RADIUS = DEFAULT_RADIUS
 #: Mass given to each link [kg]; the URDF is for kinematics, not dynamics.
 LINK_MASS = 0.1
 
@@ -132,12 +133,51 @@ def _primitive_inertial(mass: float, radius: float, segment: list[Visual]) -> In
 
 
 def _collisions(visuals: list[Visual]) -> tuple[Collision, ...]:
-    """Collision geometry: the link cylinders among ``visuals``."""
+    """Collision geometry: the body among ``visuals`` (segments, their ends, housings)."""
     return tuple(
         Collision(name=f"{v.name}_collision", origin=v.origin, geometry=v.geometry)
         for v in visuals
-        if isinstance(v.geometry, Cylinder) and not v.name.endswith("_axis")
+        if v.material is _LINK_MATERIAL
     )
+
+
+def _end_sphere(point: np.ndarray, name: str, radius: float) -> Visual:
+    """The sphere closing a capsule at ``point`` (link frame, [m])."""
+    origin = clean(translation(*np.asarray(point, dtype=float)))
+    geometry = Sphere(radius=radius)
+    return Visual(name=name, origin=origin, geometry=geometry, material=_LINK_MATERIAL)
+
+
+def _capsule_ends(chain: list[_Drawn]) -> dict[str, list[Visual]]:
+    """Per link, the spheres closing the capsules, but at the chain's first start and last end.
+
+    ``chain`` holds the drawn segments base to tool (zero-length ones left out); a segment whose
+    row states no radius stays a plain cylinder.
+    """
+    spheres: dict[str, list[Visual]] = {}
+    for k, (link, start, end, name, radius, capsule) in enumerate(chain):
+        if not capsule:
+            continue
+        ends = [(start, f"{name}_start")] if k > 0 else []
+        ends += [(end, f"{name}_end")] if k < len(chain) - 1 else []
+        spheres.setdefault(link, []).extend(_end_sphere(p, n, radius) for p, n in ends)
+    return spheres
+
+
+#: A drawn segment: link, start, end (link frame [m]), name, radius [m], whether a capsule.
+_Drawn = tuple[str, np.ndarray, np.ndarray, str, float, bool]
+
+
+def _housings(row: DHRow, T_link_frame: np.ndarray) -> list[Visual]:
+    """The row's housing cylinders on its moving link (``T_link_frame``: DH frame i in it)."""
+    visuals = []
+    for n, housing in enumerate(row.housings):
+        start, end = (
+            T_link_frame[:3, :3] @ np.array(p) + T_link_frame[:3, 3]
+            for p in (housing.start, housing.end)
+        )
+        visuals += _segment(start, end, f"housing{row.index}_{n}", housing.radius)
+    return visuals
 
 
 def _link(name: str, visuals: list[Visual], inertial: Inertial | None, massless: bool) -> Link:
@@ -169,31 +209,52 @@ def urdf_elements(table: DHTable) -> Robot:
     joints = [_fixed("base_joint", "base_link", "frame0", table.T_world_base)]
     inertials: dict[str, Inertial] = {}
     order = ["base_link", "frame0"]
-    base_origin = table.T_world_base[:3, 3]
-    visuals["base_link"] += _segment(np.zeros(3), base_origin, "base_offset")
+    chain: list[_Drawn] = []  # the body's segments, base to tool
+
+    def segment(
+        link: str, start: np.ndarray, end: np.ndarray, name: str, radius: float, capsule: bool
+    ) -> list[Visual]:
+        drawn = _segment(start, end, name, radius)
+        visuals.setdefault(link, []).extend(drawn)
+        if drawn:
+            ends = np.asarray(start, float), np.asarray(end, float)
+            chain.append((link, *ends, name, radius, capsule))
+        return drawn
+
+    base_offset = table.T_world_base[:3, 3]
+    segment("base_link", np.zeros(3), base_offset, "base_offset", SEGMENT_RADIUS, False)
     for i, row in enumerate(table.rows, start=1):
         parent = f"frame{i - 1}"
         prismatic = row.joint_type == "prismatic"
-        radius = row.radius if row.radius is not None else SEGMENT_RADIUS
-        axis_visual = _joint_visual(f"{row.name}_axis", prismatic)
+        radius_a, radius_d = segment_radii(row)
+        capsule_a = row.radius_a is not None or row.radius is not None  # stated: a capsule
+        capsule_d = row.radius_d is not None or row.radius is not None
+        visuals[f"frame{i}"] = []
         if table.convention == "modified":
             pre = rot_x(row.alpha) @ translation(x=row.a)
             origin = pre @ rot_z(row.theta) @ translation(z=row.d)
-            visuals[parent] += _segment(np.zeros(3), pre[:3, 3], f"a{i - 1}")
+            segment(parent, np.zeros(3), pre[:3, 3], f"a{i - 1}", radius_a, capsule_a)
             child = f"frame{i}"
-            segment = _segment(np.array([0, 0, -row.d]), np.zeros(3), f"d{i}", radius)
-            visuals[child] = [axis_visual, *segment]
+            visuals[child].append(_joint_visual(f"{row.name}_axis", prismatic))
+            drawn = segment(
+                child, np.array([0, 0, -row.d]), np.zeros(3), f"d{i}", radius_d, capsule_d
+            )
+            T_link_frame = np.eye(4)
             order.append(child)
         else:
             origin = rot_z(row.theta) @ translation(z=row.d)
-            visuals[parent] += _segment(np.zeros(3), np.array([0, 0, row.d]), f"d{i}")
+            segment(parent, np.zeros(3), np.array([0, 0, row.d]), f"d{i}", radius_d, capsule_d)
             child = f"link{i}"
-            segment = _segment(np.zeros(3), np.array([row.a, 0, 0]), f"a{i}", radius)
-            visuals[child] = [axis_visual, *segment]
-            visuals[f"frame{i}"] = []
+            visuals[child] = [_joint_visual(f"{row.name}_axis", prismatic)]
+            drawn = segment(
+                child, np.zeros(3), np.array([row.a, 0, 0]), f"a{i}", radius_a, capsule_a
+            )
+            T_link_frame = translation(x=row.a) @ rot_x(row.alpha)
             order += [child, f"frame{i}"]
+        visuals[child] += _housings(row, T_link_frame)
         if row.mass is not None:
-            inertials[child] = _primitive_inertial(row.mass, radius, segment)
+            radius = row.radius if row.radius is not None else SEGMENT_RADIUS
+            inertials[child] = _primitive_inertial(row.mass, radius, drawn)
         joints.append(
             Joint(
                 name=row.name,
@@ -214,7 +275,9 @@ def urdf_elements(table: DHTable) -> Robot:
                 )
             )
     last = f"frame{table.dof}"
-    visuals[last] += _segment(np.zeros(3), table.T_last_tool[:3, 3], "tool_offset")
+    segment(last, np.zeros(3), table.T_last_tool[:3, 3], "tool_offset", SEGMENT_RADIUS, False)
+    for link, spheres in _capsule_ends(chain).items():
+        visuals[link] += spheres
     tool_marker = Visual(
         name="tool_marker",
         origin=np.eye(4),

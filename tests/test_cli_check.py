@@ -6,6 +6,7 @@ import json
 import math
 
 from cli_helper import assert_one_line_error, call
+from stick_arms import stick_table_file
 
 from kin.commands import check
 
@@ -16,7 +17,7 @@ def test_free_configuration_exits_0(capsys):
     """UR5 at zero is free: exit 0, the closest pair printed."""
     assert call(check.main, ["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "0"]) == 0
     out = capsys.readouterr().out
-    assert out.startswith("ur5: collision-free") and "closest:" in out and "contact" not in out
+    assert out.startswith("ur5: collision-free") and "closest:" in out and "\ncontact" not in out
 
 
 def test_folded_configuration_exits_1_with_the_pair(capsys):
@@ -30,14 +31,15 @@ def test_degrees_and_json_scene(capsys, tmp_path):
     """--deg reads degrees; --json is SI; a ball 0.04 m from the base cylinder (hand-computed)."""
     scene = tmp_path / "cell.toml"
     scene.write_text('[[sphere]]\nname = "ball"\nradius = 0.1\nxyz = [0, 0.15, 0.03]\n')
-    argv = ["--robot", "ur5", "--q", "0", "0", "0", "0", "0", "0", "--deg", "--json"]
+    sticks = str(stick_table_file("ur5", tmp_path))  # the base: a 1 cm cylinder on z
+    argv = ["--robot", sticks, "--q", "0", "0", "0", "0", "0", "0", "--deg", "--json"]
     assert call(check.main, [*argv, "--scene", str(scene)]) == 0
     record = json.loads(capsys.readouterr().out)
     assert record["in_collision"] is False and record["contacts"] == []
     assert (record["closest"]["a"], record["closest"]["b"]) == ("frame0", "ball")
     assert math.isclose(record["closest"]["distance_m"], 0.04, abs_tol=1e-9)
     folded = [str(math.degrees(float(v))) for v in FOLDED]
-    argv = ["--robot", "ur5", "--q", *folded, "--deg", "--json", "--padding", "50", "--unit", "mm"]
+    argv = ["--robot", sticks, "--q", *folded, "--deg", "--json", "--padding", "50", "--unit", "mm"]
     assert call(check.main, [*argv, "--scene", str(scene)]) == 1
     record = json.loads(capsys.readouterr().out)
     assert record["in_collision"] and math.isclose(record["q"][2], 3.1)

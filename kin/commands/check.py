@@ -10,6 +10,7 @@ and the closest pair. --json is SI. Exit 0: free; 1: in collision; 2: bad input.
 
 from __future__ import annotations
 
+from dh2urdf.link_volumes import default_radius_note
 from dh2urdf.output_text import counted, shown_name
 
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
@@ -117,6 +118,9 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
             f"{counted(len(model.disabled), 'pair')} allowed)"
         )
         print(f"shapes: {model.shape_note}")
+        note = default_radius_note(robot.table) if robot.urdf_source is None else None
+        if note:  # a DH table's 1 cm sticks
+            print(note)
         for c in contacts:
             kind = "scene" if c.b in model.scene_objects else "self"
             print(
