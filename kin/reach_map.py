@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Generator
+from collections.abc import Callable, Generator, Mapping
 from contextlib import closing
 from pathlib import Path
 from typing import Any
@@ -83,7 +83,7 @@ def count_reached(
     """Orientations reached at each centre (one chunk): int (N,) for centres (N, 3) [m].
 
     With ``collisions`` (a :class:`kin.collision.CollisionChecker`, or a ``(scene, srdf,
-    padding)`` it is built from) an orientation counts only with a collision-free answer, judged
+    padding, hold)`` it is built from) an orientation counts only with a collision-free answer, judged
     by ``in_collision_batch``: every valid branch of a vectorized closed form, else the one
     answer each pose's solve gives (a colliding one is not searched further).
 
@@ -129,13 +129,14 @@ def count_reached(
 
 
 def _checker(robot: RobotModel, collisions: Any) -> Any:
-    """A collision checker: None, a checker as given, or built from ``(scene, srdf, padding)``."""
+    """A checker: None, a checker as given, or built from ``(scene, srdf, padding, hold)``."""
     if collisions is None or not isinstance(collisions, tuple):
         return collisions
     from .collision import CollisionChecker, load_collision_model
 
-    scene, srdf, padding = collisions
-    return CollisionChecker(load_collision_model(robot, scene=scene, srdf=srdf, padding=padding))
+    scene, srdf, padding, hold = collisions
+    model = load_collision_model(robot, scene=scene, srdf=srdf, padding=padding, hold=hold)
+    return CollisionChecker(model)
 
 
 def _answers(results: list[Any], nq: int) -> tuple[np.ndarray, np.ndarray]:
@@ -247,6 +248,7 @@ def reachability_map(
     scene: str | Path | None = None,
     srdf: str | Path | None = None,
     padding: float = 0.0,
+    hold: Mapping[str, float] | None = None,
 ) -> ReachMap:
     """The :class:`ReachMap` of ``robot``.
 
@@ -266,6 +268,8 @@ def reachability_map(
             with ``srdf``, only collision-free answers count (:func:`count_reached`).
         srdf: A MoveIt SRDF whose ``disable_collisions`` pairs are allowed.
         padding: Margin around every shape [m] (with ``scene`` or ``srdf``).
+        hold: Joints off the chain -> held values [rad or m] (with ``scene`` or ``srdf``;
+            :func:`kin.collision.load_collision_model`).
 
     Raises:
         KinError: An arm of fewer than 6 joints, a voxel that is not a positive finite length
@@ -297,8 +301,8 @@ def reachability_map(
     if scene is not None or srdf is not None:
         from .collision import CollisionChecker, load_collision_model
 
-        model = load_collision_model(robot, scene=scene, srdf=srdf, padding=padding)
-        collisions = (scene, srdf, padding)  # rebuilt by each Dask worker from the files
+        model = load_collision_model(robot, scene=scene, srdf=srdf, padding=padding, hold=hold)
+        collisions = (scene, srdf, padding, hold)  # rebuilt by each Dask worker from the files
         note = _collision_note(model, scene, srdf)
     reach = arm_reach(robot)
     centers = _grid(reach.origin, float(voxel), reach.maximum)
@@ -347,7 +351,8 @@ def _collision_note(model: Any, scene: str | Path | None, srdf: str | Path | Non
     """One line: the map counts collision-free answers only, against what."""
     against = [f"scene {Path(scene).name}"] if scene is not None else []
     against += [f"srdf {Path(srdf).name}"] if srdf is not None else []
+    held = f"; joints off the chain held at: {model.held.note}" if model.held.note else ""
     return (
         f"collision-free answers only ({', '.join(against)}; {len(model.pairs)} pairs, "
-        f"padding {model.padding:g} m)"
+        f"padding {model.padding:g} m{held})"
     )

@@ -167,6 +167,7 @@ class CollisionReference:
         self.parent = {
             j.find("child").get("link"): j.find("parent").get("link") for j in root.findall("joint")
         }
+        self.child = {j.get("name"): j.find("child").get("link") for j in root.findall("joint")}
         self.moving = {
             j.find("child").get("link") for j in root.findall("joint") if j.get("type") != "fixed"
         }
@@ -194,9 +195,13 @@ class CollisionReference:
             links.append(self.parent[links[-1]])
         return links[::-1]
 
-    def carrier(self, link: str) -> str:
-        """The link just after the last moving joint above ``link`` (``link`` rides on it)."""
-        while link in self.parent and link not in self.moving:
+    def carrier(self, link: str, joints: set[str] | None = None) -> str:
+        """The link just after the last moving joint above ``link`` (``link`` rides on it).
+
+        With ``joints``, only those joints move (the others held): the chain's.
+        """
+        moving = self.moving if joints is None else {self.child[j] for j in joints}
+        while link in self.parent and link not in moving:
             link = self.parent[link]
         return link
 

@@ -49,7 +49,7 @@ def _srdf_disabled(path: Path) -> set[frozenset[str]]:
 
 @cache
 def setup(name: str):
-    """(robot, collision model, checker, reference, the pairs expected: of the chain's links)."""
+    """(robot, collision model, checker, reference, the pairs expected: of all the links)."""
     from kin.collision import CollisionChecker, load_collision_model
 
     urdf, tip, srdf = ROBOTS[name]
@@ -62,14 +62,17 @@ def setup(name: str):
         text = Path(path).read_text(encoding="utf-8")
         reference = CollisionReference(text, Path(path), robot.joint_names, base, CELL)
     srdf_path = erd(srdf) if srdf else None
-    model = load_collision_model(robot, srdf=srdf_path, scene=CELL)
+    # every joint off the chain at 0, as the reference holds it (the SRDF's state says 0.001)
+    hold = {"panda_finger_joint1": 0.0} if name == "panda" else None
+    model = load_collision_model(robot, srdf=srdf_path, scene=CELL, hold=hold)
     skipped = reference.adjacent() | (_srdf_disabled(srdf_path) if srdf_path else set())
-    links = sorted(reference.links & set(reference.chain(tip or robot.tool_frame)))
-    skipped |= {  # links carried by one joint: never moving against each other
+    links = sorted(reference.links)  # every link: the chain's and those off it (the fingers)
+    chain = set(robot.joint_names)
+    skipped |= {  # links carried by one chain joint: never moving against each other
         frozenset((a, b))
         for a in links
         for b in links
-        if a != b and reference.carrier(a) == reference.carrier(b)
+        if a != b and reference.carrier(a, chain) == reference.carrier(b, chain)
     }
     expected = {
         frozenset((a, b))

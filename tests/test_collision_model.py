@@ -27,7 +27,14 @@ from kin.collision.requests import CONTACT_TOLERANCE
 from kin.collision.srdf import read_srdf
 
 PANDA = "panda_description/urdf/panda.urdf"
-PANDA_LINKS = tuple(f"panda_link{i}" for i in range(8))  # link8 has no <collision>
+#: Every link of Panda's URDF with a <collision> (link8 has none): the chain to panda_link8 and
+#: the hand and fingers beyond it, held at their joints' values.
+PANDA_LINKS = (
+    *(f"panda_link{i}" for i in range(8)),
+    "panda_hand",
+    "panda_leftfinger",
+    "panda_rightfinger",
+)
 
 
 @pytest.fixture(scope="module")
@@ -73,7 +80,7 @@ def test_every_shipped_robot_has_a_model(name):
 
 
 def test_panda_shapes_per_link_and_srdf_pairs(panda):
-    """Panda: one convex hull per <collision> mesh of the chain; the SRDF's pairs are allowed."""
+    """Panda: one shape per <collision> of every link; the SRDF's pairs are allowed."""
     root = ET.parse(erd(PANDA)).getroot()
     counts = _collision_counts(root)
     srdf = erd("panda_description/srdf/panda.srdf")
@@ -90,9 +97,15 @@ def test_panda_shapes_per_link_and_srdf_pairs(panda):
             expected.add(frozenset((a, b)))
     srdf_pairs = {frozenset(p) for p, why in model.disabled.items() if why.startswith("srdf")}
     adjacent = {frozenset(p) for p, why in model.disabled.items() if why == "adjacent"}
-    assert srdf_pairs == expected - adjacent
-    assert len(adjacent) == 7
-    assert len(model.pairs) == 28 - len(adjacent | srdf_pairs)
+    rigid = {frozenset(p) for p, why in model.disabled.items() if why == "rigid"}
+    assert srdf_pairs == expected - adjacent - rigid
+    assert len(adjacent) == 10  # the chain's 7, link7/hand, the hand and each finger
+    assert rigid == {  # on joint 7 with the fingers held
+        frozenset(("panda_link7", "panda_leftfinger")),
+        frozenset(("panda_link7", "panda_rightfinger")),
+        frozenset(("panda_leftfinger", "panda_rightfinger")),
+    }
+    assert len(model.pairs) == 55 - len(adjacent | srdf_pairs | rigid)
 
 
 def test_panda_shapes_sit_where_the_original_urdf_puts_them(panda):
@@ -104,13 +117,13 @@ def test_panda_shapes_sit_where_the_original_urdf_puts_them(panda):
     data = panda.model.createData()
     geometry_data = pin.GeometryData(model.geometry_model)
     root = ET.parse(path).getroot()
-    origins = {}
+    origins: list[pin.SE3] = []  # in the URDF's order, as the model's shapes
     for link in root.iter("link"):
         for collision in link.findall("collision"):
             origin = collision.find("origin")
             xyz = [float(v) for v in (origin.get("xyz") if origin is not None else "0 0 0").split()]
             rpy = [float(v) for v in (origin.get("rpy") if origin is not None else "0 0 0").split()]
-            origins[link.get("name")] = pin.SE3(pin.rpy.rpyToMatrix(*rpy), np.array(xyz))
+            origins.append(pin.SE3(pin.rpy.rpyToMatrix(*rpy), np.array(xyz)))
     rng = np.random.default_rng(3)
     for _ in range(5):
         q = rng.uniform(panda.lower, panda.upper)
@@ -120,8 +133,8 @@ def test_panda_shapes_sit_where_the_original_urdf_puts_them(panda):
         pin.framesForwardKinematics(original, odata, full)
         pin.updateGeometryPlacements(panda.model, data, model.geometry_model, geometry_data, q)
         base = odata.oMf[original.getFrameId("panda_link0")].inverse()
-        for index, owner in enumerate(model.owners):
-            expected = base * odata.oMf[original.getFrameId(owner)] * origins[owner]
+        for index, owner in enumerate(model.owners):  # the fingers at 0: the URDF's neutral
+            expected = base * odata.oMf[original.getFrameId(owner)] * origins[index]
             assert np.allclose(
                 geometry_data.oMg[index].homogeneous, expected.homogeneous, atol=1e-9
             ), owner
@@ -257,7 +270,7 @@ def test_missing_robot_mesh_warns_once_and_drops_the_shape(tmp_path, caplog):
         model = load_collision_model(robot)
     lines = [r.getMessage() for r in caplog.records]
     assert len(lines) == 1 and "gone.stl" in lines[0] and "panda_link3" in lines[0], lines
-    assert "panda_link3" not in model.links and len(model.links) == 7
+    assert "panda_link3" not in model.links and len(model.links) == len(PANDA_LINKS) - 1
 
 
 @pytest.mark.parametrize(

@@ -1,30 +1,33 @@
-"""A robot's collision model: the arm's shapes on the kin model's joints, a scene, allowed pairs.
+"""A robot's collision model: the robot's shapes on the kin model's joints, a scene, allowed pairs.
 
-Shapes: a robot loaded from a URDF keeps the ``<collision>`` elements of its chain's links (base
-to tip), each shape moved onto the DH model's joint that carries its link (the offset measured at
-q = 0, where both models agree); a DH table robot has the link cylinders the URDF writer emits
-(per-row ``radius``). Scene objects hang on the world. Pairs checked: every two arm links, and
-every arm link with every scene object, but the allowed ones (:attr:`CollisionModel.disabled`):
-adjacent links (one after the other along the chain, links without shapes skipped, as MoveIt's
-setup assistant counts them), links carried by the same joint, an SRDF's pairs, a PlanningScene's
-allowed collision matrix (:mod:`.planning_scene`), and on a DH table
+Shapes (:mod:`.arm_shapes`): a robot loaded from a URDF keeps the ``<collision>`` elements of
+every link of its URDF, the chain's and those attached to it off the chain (fingers, flange,
+camera), the joints off the chain held at stated values (:mod:`.held_joints`); each shape rides
+on the kin model's joint that carries its link. A DH table robot has the link cylinders the URDF
+writer emits (per-row ``radius``). Scene objects hang on the world. Pairs checked: every two
+links, and every link with every scene object, but the allowed ones
+(:attr:`CollisionModel.disabled`): adjacent links (joined by a joint, links without shapes
+skipped, as MoveIt's setup assistant counts them), links carried by the same joint, an SRDF's
+pairs, a PlanningScene's allowed collision matrix (:mod:`.planning_scene`), and on a DH table
 robot the link pairs in contact at every sampled configuration without padding
 (:mod:`.always_pairs`): a pair in contact only through the padding stays checked.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import pinocchio as pin
 
 from ..exceptions import CollisionModelError
 from ..robot_model import RobotModel
+from .arm_shapes import ArmShape, arm_body
 from .bounds import MAX_COORDINATE
+from .held_joints import HeldJoints
 from .requests import CONTACT_TOLERANCE
-from .urdf_shapes import Shape, link_shapes
+from .urdf_shapes import Shape
 
 __all__ = ["CollisionModel", "load_collision_model"]
 
@@ -47,6 +50,8 @@ class CollisionModel:
         padding: Distance added around every shape [m]: a pair is in collision closer than it
             plus :data:`~kin.collision.requests.CONTACT_TOLERANCE`.
         shape_note: One line: which geometry the queries use and how far it is from the meshes.
+        held: The joints off the chain and the values they are held at; ``held.note`` says them
+            in one line ("" when there is none).
     """
 
     robot: RobotModel
@@ -59,6 +64,7 @@ class CollisionModel:
     pair_owners: tuple[tuple[str, str], ...]
     padding: float
     shape_note: str
+    held: HeldJoints = HeldJoints()
 
 
 def load_collision_model(
@@ -67,6 +73,7 @@ def load_collision_model(
     srdf: str | Path | None = None,
     scene: str | Path | None = None,
     padding: float = 0.0,
+    hold: Mapping[str, float] | None = None,
 ) -> CollisionModel:
     """The collision model of ``robot`` (see the module docstring for what it holds).
 
@@ -76,16 +83,21 @@ def load_collision_model(
         scene: A scene TOML, a MoveIt PlanningScene (JSON, YAML) or a URDF of the cell
             (:mod:`kin.collision.scene`).
         padding: Margin around every shape [m], 0 to :data:`~kin.collision.bounds.MAX_COORDINATE`.
+        hold: A URDF joint off the chain (a finger's) -> its value [rad, or m when prismatic];
+            the joints not named are held at the SRDF's group state or 0
+            (:mod:`kin.collision.held_joints`; :attr:`CollisionModel.held` says which).
 
     Raises:
-        CollisionModelError: A bad scene, SRDF or padding (the message names file and field).
+        CollisionModelError: A bad scene, SRDF, padding or hold (the message names the file or
+            the argument and the field).
         kin.ModelLoadError: The robot's URDF can no longer be read.
     """
     if not 0.0 <= padding <= MAX_COORDINATE:  # NaN fails too
         raise CollisionModelError(
             "", f"padding: {padding!r} m must be a number from 0 to {MAX_COORDINATE:g} m"
         )
-    arm, chain, all_links, robot_name = _arm_shapes(robot)
+    body = arm_body(robot, hold, srdf)
+    arm, links, all_links = body.shapes, body.links, body.all_links
     objects: tuple[Shape, ...] = ()
     cell = None
     if scene is not None:
@@ -96,12 +108,9 @@ def load_collision_model(
         clash = sorted({s.owner for s in objects} & set(all_links))
         if clash:
             raise CollisionModelError(str(scene), f"name {clash[0]!r} is a link of the robot")
-    links = tuple(link for link in chain if any(s.owner == link for s in arm))
     names = tuple(dict.fromkeys(s.owner for s in objects))
     carrier = {s.owner: s.parent for s in arm}
-    disabled: dict[tuple[str, str], str] = {}
-    for a, b in zip(links, links[1:], strict=False):
-        disabled[(a, b)] = "adjacent"
+    disabled: dict[tuple[str, str], str] = dict.fromkeys(body.adjacent, "adjacent")
     for i, a in enumerate(links):
         for b in links[i + 1 :]:
             if (a, b) not in disabled and carrier[a] == carrier[b]:
@@ -110,9 +119,9 @@ def load_collision_model(
     if srdf is not None:
         from .srdf import read_srdf
 
-        granted.append(read_srdf(srdf, robot_name, {*all_links, *names}, {*links, *names}))
+        granted.append(read_srdf(srdf, body.robot_name, {*all_links, *names}, {*links, *names}))
     if cell is not None:
-        granted.append(cell.for_robot(chain[0], {*all_links, *names}, links))
+        granted.append(cell.for_robot(body.base, {*all_links, *names}, links))
     for source in granted:
         for (a, b), reason in source.items():
             if (a, b) not in disabled and (b, a) not in disabled:
@@ -143,14 +152,8 @@ def load_collision_model(
         pair_owners=pair_owners,
         padding=float(padding),
         shape_note=_note(arm, objects, padding, always),
+        held=body.held,
     )
-
-
-@dataclass(frozen=True, eq=False)
-class _ArmShape(Shape):
-    """A shape on the kin model: ``placement`` is ``T_joint_shape`` of joint ``parent``."""
-
-    parent: int = 0
 
 
 def _ordered(a: str, b: str, links: tuple[str, ...]) -> tuple[str, str]:
@@ -159,71 +162,9 @@ def _ordered(a: str, b: str, links: tuple[str, ...]) -> tuple[str, str]:
     return (a, b) if a in links else (b, a)
 
 
-def _arm_shapes(robot: RobotModel) -> tuple[list[_ArmShape], list[str], list[str], str]:
-    """The arm's shapes on the kin model, its chain's links base to tip, all URDF links, name."""
-    from dh2urdf.exceptions import UrdfChainError
-    from dh2urdf.urdf_parse import build_pinocchio_model, parse_urdf_xml
-
-    if robot.urdf_source is None:
-        where, text, base, tip = robot.table.path or robot.name, robot.urdf, None, robot.tool_frame
-    else:
-        from dh2urdf.urdf_chain import urdf_text
-
-        where, base, tip = robot.urdf_source
-    try:
-        if robot.urdf_source is not None:
-            text = urdf_text(where)
-        root, text = parse_urdf_xml(text, where)
-        source = robot.model if robot.urdf_source is None else build_pinocchio_model(text, where)
-    except UrdfChainError as err:
-        from ..exceptions import ModelLoadError
-
-        raise ModelLoadError(str(err)) from err
-    chain = _chain_links(source, base, tip)
-    all_links = [link.get("name", "") for link in root.iter("link")]
-    data = source.createData()
-    pin.framesForwardKinematics(source, data, pin.neutral(source))
-    world = pin.SE3.Identity() if base is None else _body(source, data, base).inverse()
-    ours = robot.model.createData()
-    pin.framesForwardKinematics(robot.model, ours, np.zeros(robot.nq))
-    shapes = []
-    for shape in link_shapes(root, chain, where, strict_meshes=False):
-        frame = source.frames[source.getFrameId(shape.owner, pin.FrameType.BODY)]
-        joint_name = source.names[frame.parentJoint]
-        joint = robot.model.getJointId(joint_name) if frame.parentJoint > 0 else 0
-        if joint >= robot.model.njoints:  # a joint above the base: fixed in our world
-            joint = 0
-        T_base_link = world * _body(source, data, shape.owner)
-        placement = ours.oMi[joint].inverse() * T_base_link * shape.placement
-        shapes.append(
-            _ArmShape(shape.owner, shape.name, shape.geometry, placement, shape.kind, joint)
-        )
-    return shapes, chain, all_links, root.get("name", robot.name)
-
-
-def _body(model: pin.Model, data: pin.Data, link: str) -> pin.SE3:
-    return data.oMf[model.getFrameId(link, pin.FrameType.BODY)]
-
-
-def _chain_links(model: pin.Model, base: str | None, tip: str) -> list[str]:
-    """The links from ``base`` (the root when None) to ``tip``, base first."""
-    fid = model.getFrameId(tip)
-    links: list[str] = []
-    while True:
-        frame = model.frames[fid]
-        if frame.type == pin.FrameType.BODY:
-            links.append(frame.name)
-            if frame.name == base:
-                break
-        if fid == 0 or frame.parentFrame == fid:
-            break
-        fid = frame.parentFrame
-    return links[::-1]
-
-
 def _geometry_model(
     robot: RobotModel,
-    arm: list[_ArmShape],
+    arm: tuple[ArmShape, ...],
     objects: tuple[Shape, ...],
     pairs: tuple[tuple[str, str], ...],
 ) -> tuple[pin.GeometryModel, tuple[str, ...], tuple[tuple[str, str], ...]]:
@@ -256,7 +197,7 @@ def _geometry_model(
 
 
 def _note(
-    arm: list[_ArmShape],
+    arm: tuple[ArmShape, ...],
     objects: tuple[Shape, ...],
     padding: float,
     always: list[tuple[str, str]],

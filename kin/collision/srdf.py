@@ -1,7 +1,7 @@
 """The pairs a MoveIt SRDF allows to touch: its ``<disable_collisions link1= link2= reason=/>``.
 
-A link the SRDF names must be a link of the robot's URDF (one outside the chain, such as a
-gripper finger beyond ``--tip``, is skipped) or a scene object. An SRDF whose ``<robot name=>``
+A link the SRDF names must be a link of the robot's URDF or a scene object; a pair naming a link
+without shapes is skipped. An SRDF whose ``<robot name=>``
 differs from the URDF's gives one warning, not an error: the link names decide what it means.
 """
 
@@ -16,7 +16,7 @@ from dh2urdf.input_file import read_input
 
 from ..exceptions import CollisionModelError
 
-__all__ = ["read_srdf"]
+__all__ = ["read_srdf", "srdf_root"]
 
 logger = logging.getLogger("kin.collision")
 
@@ -37,14 +37,7 @@ def read_srdf(
             a ``disable_collisions`` lacks ``link1``/``link2`` or names a link the robot lacks.
     """
     where = str(path)
-    try:
-        root = ElementTree.fromstring(read_input(where))
-    except OSError as err:
-        raise CollisionModelError(where, f"cannot read the SRDF ({err.strerror})") from err
-    except ElementTree.ParseError as err:
-        raise CollisionModelError(where, f"not XML: {err}") from None
-    if root.tag != "robot":
-        raise CollisionModelError(where, f"not an SRDF: the root element is <{root.tag}>")
+    root = srdf_root(where)
     name = root.get("name")
     other = name is not None and name != robot_name  # a warning once its links are all known
     disabled: dict[tuple[str, str], str] = {}
@@ -74,3 +67,21 @@ def read_srdf(
             robot_name,
         )
     return disabled
+
+
+def srdf_root(path: str | Path) -> ElementTree.Element:
+    """The ``<robot>`` element of the SRDF ``path``.
+
+    Raises:
+        CollisionModelError: The file cannot be read, is not XML, or its root is not ``<robot>``.
+    """
+    where = str(path)
+    try:
+        root = ElementTree.fromstring(read_input(where))
+    except OSError as err:
+        raise CollisionModelError(where, f"cannot read the SRDF ({err.strerror})") from err
+    except ElementTree.ParseError as err:
+        raise CollisionModelError(where, f"not XML: {err}") from None
+    if root.tag != "robot":
+        raise CollisionModelError(where, f"not an SRDF: the root element is <{root.tag}>")
+    return root

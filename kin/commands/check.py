@@ -1,8 +1,9 @@
 """Check a joint vector for collisions: the arm with itself and with a scene.
 
 Joint values as in `kin fk`: revolute in radians (degrees with --deg), prismatic in --unit, like
-every printed length. Shapes: a URDF's <collision> elements of the chain's links (meshes as their
-convex hulls), or a DH table's link cylinders; --scene adds a cell (TOML with [[box]], [[sphere]],
+every printed length. Shapes: a URDF's <collision> elements of every link, the chain's and those
+off it (fingers, flange: their joints held at --hold values, else the SRDF's group state or 0, said
+in one line; meshes as their convex hulls), or a DH table's link cylinders; --scene adds a cell (TOML with [[box]], [[sphere]],
 [[cylinder]], [[mesh]], or a URDF); --srdf allows the pairs of its <disable_collisions>; adjacent
 links are always allowed. Prints the verdict, every pair in contact (depth and witness points)
 and the closest pair. --json is SI. Exit 0: free; 1: in collision; 2: bad input.
@@ -14,7 +15,7 @@ from dh2urdf.link_volumes import default_radius_note
 from dh2urdf.output_text import counted, shown_name
 
 from ..cli import ArgumentParser, finite_float, length_scale, run_guarded
-from .collision_options import add_collision_options
+from .collision_options import add_collision_options, held_joints
 from .json_output import dumps
 from .robot_argument import add_robot_arguments
 
@@ -68,7 +69,11 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         q = units.to_si(args.q, "--q")
         scale = length_scale(args.unit)
         model = load_collision_model(
-            robot, srdf=args.srdf, scene=args.scene, padding=args.padding * scale
+            robot,
+            srdf=args.srdf,
+            scene=args.scene,
+            padding=args.padding * scale,
+            hold=held_joints(args),
         )
         checker = CollisionChecker(model)
         contacts = checker.collisions(q)
@@ -102,6 +107,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 "pairs_checked": len(model.pairs),
                 "pairs_allowed": len(model.disabled),
                 "shapes": model.shape_note,
+                "held_joints": model.held.values,
             }
             print(dumps(record))
             return EXIT_IN_COLLISION if contacts else 0
@@ -121,6 +127,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         note = default_radius_note(robot.table) if robot.urdf_source is None else None
         if note:  # a DH table's 1 cm sticks
             print(note)
+        if model.held.note:
+            print(f"joints off the chain held at: {model.held.note}")
         for c in contacts:
             kind = "scene" if c.b in model.scene_objects else "self"
             print(

@@ -1,4 +1,4 @@
-"""A command's ``--scene``/``--srdf``/``--padding`` options and the collision checker they ask for."""
+"""A command's ``--scene``/``--srdf``/``--padding``/``--hold`` options and the checker they ask for."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from ..cli import finite_float
 def add_collision_options(
     parser: argparse.ArgumentParser, scene: str, srdf: str, self_check: bool = False
 ) -> None:
-    """Add ``--scene FILE``, ``--srdf FILE`` and ``--padding`` (in the command's ``--unit``).
+    """Add ``--scene FILE``, ``--srdf FILE``, ``--padding`` (in the command's ``--unit``), ``--hold``.
 
     Args:
         parser: The command's parser.
@@ -36,19 +36,42 @@ def add_collision_options(
             type=finite_float,
             help="with --scene/--srdf: margin around every shape [--unit] (default 0)",
         )
+    parser.add_argument(
+        "--hold",
+        metavar="JOINT=VALUE",
+        type=held_value,
+        action="append",
+        help="a URDF joint off the chain (a finger's) held at VALUE [rad, or m when prismatic: "
+        "SI whatever --deg/--unit say]; repeatable; default: the SRDF's group state for it, "
+        "else 0 (the output says which)",
+    )
+
+
+def held_value(text: str) -> tuple[str, float]:
+    """``JOINT=VALUE`` as ``(joint, value)`` [rad or m] (argparse type of ``--hold``)."""
+    name, equals, value = text.partition("=")
+    if not equals or not name:
+        raise argparse.ArgumentTypeError(f"{text!r} is not JOINT=VALUE (as finger_joint1=0.04)")
+    return name, finite_float(value)
+
+
+def held_joints(args: argparse.Namespace) -> dict[str, float]:
+    """The ``--hold`` values, joint -> value [rad or m] (the last one given for a joint)."""
+    return dict(getattr(args, "hold", None) or ())
 
 
 def check_padding(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    """Exit 2 with one line when ``--padding`` comes without ``--scene`` or ``--srdf``."""
-    if args.padding is not None and args.scene is None and args.srdf is None:
-        parser.error("--padding needs --scene or --srdf")
+    """Exit 2 with one line when ``--padding`` or ``--hold`` comes without ``--scene``/``--srdf``."""
+    for option in ("padding", "hold"):
+        if getattr(args, option) is not None and args.scene is None and args.srdf is None:
+            parser.error(f"--{option} needs --scene or --srdf")
 
 
 def collision_checker(args: argparse.Namespace, robot: Any, length: float) -> Any:
     """The checker of --scene/--srdf/--padding, or None when neither file is given.
 
     Args:
-        args: Parsed options with ``scene``, ``srdf`` and ``padding`` (None: 0).
+        args: Parsed options with ``scene``, ``srdf``, ``padding`` (None: 0) and ``hold``.
         robot: The robot (:class:`kin.RobotModel`).
         length: Meters per unit of ``--padding`` (the command's ``--unit``).
 
@@ -60,5 +83,7 @@ def collision_checker(args: argparse.Namespace, robot: Any, length: float) -> An
     from ..collision import CollisionChecker, load_collision_model
 
     padding = 0.0 if args.padding is None else args.padding * length
-    model = load_collision_model(robot, srdf=args.srdf, scene=args.scene, padding=padding)
+    model = load_collision_model(
+        robot, srdf=args.srdf, scene=args.scene, padding=padding, hold=held_joints(args)
+    )
     return CollisionChecker(model)

@@ -287,6 +287,8 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
         if check is not None:
             verdict = "free" if check.first is None else f"IN COLLISION: {check.describe()}"
             print(f"collisions: {verdict} ({len(result.q)} samples; {check.rule})")
+            if checker.model.held.note:
+                print(f"joints off the chain held at: {checker.model.held.note}")
     if check is not None and check.first is not None:
         print(f"{prog}: the path collides: {check.describe()}", file=sys.stderr)
         return EXIT_STOPPED

@@ -28,7 +28,7 @@ from ..cli import (
     run_guarded,
 )
 from ..exceptions import KinError
-from .collision_options import add_collision_options, check_padding
+from .collision_options import add_collision_options, check_padding, held_joints
 from .json_output import dumps
 from .robot_argument import add_robot_arguments, load_robot_argument
 
@@ -118,6 +118,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 scene=args.scene,
                 srdf=args.srdf,
                 padding=0.0 if args.padding is None else args.padding * scale,
+                hold=held_joints(args),
             )
         save_reach_map(reach_map, output)
         if args.png:
