@@ -1,10 +1,9 @@
-"""``kin preview``'s camera frames every drawn shape, the maker's meshes included.
+"""``kin preview``'s camera frames the arm, the maker's meshes included; the cell's overlays.
 
 The reference is built apart from the viewer: each <visual> mesh of Panda's URDF read with coal's
 own loader from the file the URDF names (ElementTree, package:// resolved by the collision
-reference), placed by Pinocchio's forward kinematics of the original URDF. The camera must aim at
-the centre of the box around all their vertices and stand far enough to frame all of it (the
-frame origins alone gave a box 15 % smaller: the base and hand meshes were cut off).
+reference), placed by Pinocchio's forward kinematics of the original URDF, seen through a pinhole
+camera written here. Every vertex must be in the picture and their box cover a third of it.
 """
 
 from __future__ import annotations
@@ -24,8 +23,8 @@ from kin import load_robot
 viewer_module = pytest.importorskip("kin.viewer")
 
 
-def reference_box(urdf: Path, base: str, q: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:
-    """Lowest and highest corner of every <visual> mesh's vertices, in ``base``'s frame [m]."""
+def reference_vertices(urdf: Path, base: str, q: dict[str, float]) -> np.ndarray:
+    """Every <visual> mesh's vertices (N, 3), in ``base``'s frame [m]."""
     text = urdf.read_text(encoding="utf-8")
     model = pin.buildModelFromXML(text)
     data = model.createData()
@@ -57,42 +56,54 @@ def reference_box(urdf: Path, base: str, q: dict[str, float]) -> tuple[np.ndarra
             vertices = np.asarray(bvh.vertices())
             T = (base_inv * data.oMf[model.getFrameId(link.get("name"))] * local).homogeneous
             points.append(vertices @ T[:3, :3].T + T[:3, 3])
-    cloud = np.vstack(points)
-    return cloud.min(axis=0), cloud.max(axis=0)
+    return np.vstack(points)
 
 
-def test_panda_camera_aims_at_the_box_of_its_meshes():
-    """Panda with the maker's meshes (to panda_hand): the camera aims at the meshes' box centre."""
+def pinhole_box(points: np.ndarray, target, position, zoom: float) -> tuple[float, ...]:
+    """(left, right, bottom, top) of ``points`` in a look-at pinhole view, edges at -1 and 1.
+
+    Built here, apart from the viewer: three.js's camera with z up, meshcat's 75 deg vertical
+    field narrowed by ``zoom`` (tan(fov / 2) / zoom), on a 4:3 picture.
+    """
+    forward = np.asarray(target, dtype=float) - np.asarray(position, dtype=float)
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    relative = points - position
+    depth = relative @ forward
+    assert np.all(depth > 0), "a point behind the camera"
+    tan_half = np.tan(np.radians(37.5)) / zoom
+    x = relative @ right / depth / (4 / 3 * tan_half)
+    y = relative @ up / depth / tan_half
+    return float(x.min()), float(x.max()), float(y.min()), float(y.max())
+
+
+def test_panda_camera_frames_its_meshes_large():
+    """Panda with the maker's meshes (to panda_hand): every vertex of every <visual> mesh is in
+    the picture, and their projected box covers more than a third of it (it was 15 %)."""
     urdf = erd("panda_description/urdf/panda.urdf")
     robot = load_robot(urdf, None, "panda_hand")
     q = [0.3, -0.6, 0.2, -2.0, 0.1, 1.6, 0.7]
     viewer = viewer_module.RobotViewer(robot)
     assert viewer.meshes is not None
     viewer.display(q)
-    aimed = []
-    viewer.set_camera = lambda t, p: aimed.append((np.array(t), np.array(p)))  # type: ignore[method-assign]
-    viewer.fit_camera()
-    target, position = aimed[0]
+    view = viewer.fit_camera()
     path, base, _ = robot.urdf_source
-    low, high = reference_box(Path(path), base or "panda_link0", dict(zip(robot.joint_names, q)))
-    # the fingers (beyond panda_hand) are drawn too: the box may only grow past the reference
-    centre = 0.5 * (low + high)
-    assert np.linalg.norm(target - centre) < 0.15 * np.linalg.norm(high - low), (target, centre)
-    diagonal = float(np.linalg.norm(high - low))
-    distance = float(np.linalg.norm(position - target))
-    assert distance >= 0.99 * viewer_module.robot_viewer.CAMERA_DISTANCE * diagonal, (
-        distance,
-        diagonal,
-    )
-    assert low[0] < -0.15  # the base mesh reaches 0.15 m behind the base, no frame does
+    vertices = reference_vertices(Path(path), base or "panda_link0", dict(zip(robot.joint_names, q)))
+    left, right, bottom, top = pinhole_box(vertices, view.target, view.position, view.zoom)
+    assert -1 < left and right < 1 and -1 < bottom and top < 1, (left, right, bottom, top)
+    assert (right - left) * (top - bottom) / 4 > 1 / 3, (left, right, bottom, top)
+    assert vertices[:, 0].min() < -0.15  # the base mesh reaches 0.15 m behind the base
 
 
 # --- the scene, the links in collision and the closest pair (issue 36 item 5) ---------------
 
 CELL = Path(__file__).resolve().parent.parent / "examples" / "cell.toml"
-#: UR5 [rad]: the forearm (link3) through the wall; and a free posture.
-UR5_IN_WALL = [-2.356, -0.6, 0.3, 0.0, 0.0, 0.0]
-UR5_FREE = [0.0, -1.2, 0.5, 0.0, 0.0, 0.0]
+#: UR5 [rad] (the maker's base frame: q1 = 0 reaches +x, towards the wall): the forearm (link3)
+#: through the wall; and a posture away from it, free.
+UR5_IN_WALL = [0.785, -0.6, 0.3, 0.0, 0.0, 0.0]
+UR5_FREE = [3.1416, -1.2, 0.5, 0.0, 0.0, 0.0]
 
 
 def _rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
@@ -182,31 +193,67 @@ def test_red_links_are_exactly_the_colliding_ones(q):
     assert (q == UR5_IN_WALL) == bool(named) == ("IN COLLISION" in title)
 
 
-def test_the_closest_pair_line_joins_the_witness_points():
-    """The line's two end points are distance(q)'s points; the title names the pair."""
+def test_the_closest_pair_rod_joins_the_witness_points():
+    """The rod runs from distance(q)'s point_a to point_b (meshcat's cylinder lies along its y
+    axis, centred), a ball sits on each point, both drawn over the arm; the title names the pair."""
     from kin.collision import CollisionChecker, load_collision_model
 
     robot = load_robot("ur5")
     closest = CollisionChecker(load_collision_model(robot, scene=str(CELL))).distance(UR5_FREE)
     viewer, title = _shown("ur5", UR5_FREE, "--scene", str(CELL))
-    drawn, _ = _node(viewer, "scene", "markers", "closest", "line")
-    raw = drawn["geometries"][0]["data"]["attributes"]["position"]["array"]
-    ends = np.frombuffer(raw.data, dtype=np.float32).reshape(-1, 3)
-    np.testing.assert_allclose(ends[0], closest.point_a, atol=1e-6)
-    np.testing.assert_allclose(ends[1], closest.point_b, atol=1e-6)
+    rod, T = _node(viewer, "scene", "markers", "closest", "rod")
+    geometry = rod["geometries"][0]
+    assert geometry["type"] == "CylinderGeometry"
+    a, b = np.asarray(closest.point_a), np.asarray(closest.point_b)
+    np.testing.assert_allclose(T[:3, 3], (a + b) / 2, atol=1e-6)
+    np.testing.assert_allclose(abs(T[:3, 1] @ (b - a)), np.linalg.norm(b - a), atol=1e-6)
+    assert abs(geometry["height"] - np.linalg.norm(b - a)) < 1e-6
+    assert geometry["radiusTop"] >= 0.005 * viewer.arm_length  # thick enough to see
+    assert rod["materials"][0]["depthTest"] is False
+    for name, point in (("a", a), ("b", b)):
+        _, T = _node(viewer, "scene", "markers", "closest", name)
+        np.testing.assert_allclose(T[:3, 3], point, atol=1e-6)
     assert f"closest: {closest.a} / {closest.b} {closest.distance:.4f} m" in title
 
 
-def test_the_camera_frames_the_scene(tmp_path):
-    """With --scene the camera aims at the box around the arm and the 1.6 m table (not the arm)."""
+def test_colliding_scene_objects_are_red_and_the_others_grey():
+    """The objects collisions(q) names (the wall) turn red; the table and the ball stay grey."""
+    from kin.collision import CollisionChecker, load_collision_model
+
+    checker = CollisionChecker(load_collision_model(load_robot("ur5"), scene=str(CELL)))
+    hit = {c.b for c in checker.collisions(UR5_IN_WALL)} & {"table", "wall", "ball"}
+    assert "wall" in hit
+    viewer, _ = _shown("ur5", UR5_IN_WALL, "--scene", str(CELL))
+    for name in ("table", "wall", "ball"):
+        drawn, _ = _node(viewer, "scene", "cell", name)
+        color = drawn["materials"][0]["color"]
+        assert (color == 0xFF0000) == (name in hit), (name, hex(color))
+
+
+def test_the_camera_frames_the_arm_not_the_whole_cell():
+    """With --scene the camera frames the arm (it stands nearer than the 1.6 m table would
+    need) and sees every frame origin of the arm past the wall, the ball and the table."""
     viewer, _ = _shown("ur5", UR5_FREE, "--scene", str(CELL))
-    aimed = []
-    viewer.set_camera = lambda t, p: aimed.append((np.array(t), np.array(p)))  # type: ignore[method-assign]
-    viewer.fit_camera()
-    target, position = aimed[0]
-    # the table spans x, y in [-0.8, 0.8]: a camera on the arm alone stands < 1.2 m away
-    assert np.linalg.norm(position - target) > 0.6 * np.hypot(1.6, 1.6), (target, position)
-    assert abs(target[0]) < 0.4 and abs(target[1]) < 0.4, target
+    view = viewer.fit_camera()
+    # the table's corners (x, y = +-0.8) would need the camera 1.2 m or more away at zoom 1
+    table = np.array([[x, y, -0.02] for x in (-0.8, 0.8) for y in (-0.8, 0.8)])
+    left, right, bottom, top = pinhole_box(table, view.target, view.position, view.zoom)
+    assert min(left, bottom) < -1 or max(right, top) > 1, "the whole table is in the picture"
+    data = viewer.robot.model.createData()
+    pin.framesForwardKinematics(viewer.robot.model, data, np.asarray(UR5_FREE))
+    for frame in data.oMf:  # sample each sight line; no sample inside a scene object
+        line = view.position + np.linspace(0, 0.97, 400)[:, None] * (frame.translation - view.position)
+        assert not np.any(_inside_cell(line)), frame.name
+
+
+def _inside_cell(points: np.ndarray) -> np.ndarray:
+    """Points inside one of cell.toml's objects (written out here from the file's numbers)."""
+    table = np.all(np.abs(points - [0.0, 0.0, -0.045]) <= [0.8, 0.8, 0.025], axis=1)
+    R = _rpy_matrix(0.0, 0.0, 0.3)
+    local = (points - [0.55, 0.0, 0.6]) @ R
+    wall = np.all(np.abs(local) <= [0.025, 0.8, 0.6], axis=1)
+    ball = np.linalg.norm(points - [0.0, 0.45, 0.5], axis=1) <= 0.1
+    return table | wall | ball
 
 
 def test_preview_scene_command_writes_the_page_with_its_verdict(tmp_path, capsys):
@@ -217,8 +264,10 @@ def test_preview_scene_command_writes_the_page_with_its_verdict(tmp_path, capsys
     argv = ["--robot", "ur5", "--q", *map(str, UR5_IN_WALL), "--scene", str(CELL)]
     assert preview.main([*argv, "--html", str(page)]) == 0
     out = capsys.readouterr().out
-    assert "ur5: IN COLLISION (link3 / wall)" in out
-    assert "<title>ur5: IN COLLISION (link3 / wall); closest: link3 / wall" in page.read_text()
+    assert "ur5: IN COLLISION (" in out and "link3 / wall" in out, out
+    text = page.read_text()
+    assert "<title>ur5: IN COLLISION (" in text and "link3 / wall" in text.split("</title>")[0]
+    assert 'id="kin-caption"' in text and "; closest: " in text.split('id="kin-caption"')[1]
 
 
 def test_preview_bad_scene_is_one_line_exit_2(tmp_path, capsys):

@@ -1,11 +1,13 @@
-"""``kin preview`` pages rendered by headless Chromium: the whole arm in the picture, red collisions.
+"""``kin preview`` pages rendered by headless Chromium: the arm large and whole, the closest pair.
 
 Each page is built by the command (``--html``) and rendered twice from the same camera: as written,
 and with the arm's node hidden. The pixels that differ are the arm; their bounding box must keep
-off the picture's edges for a DH arm (ur5), a URDF arm with the maker's meshes (Panda to
-panda_hand) and an arm in a cell (examples/cell.toml). A colliding posture shows pure-red pixels
-(of the arm's pixels: red above 0.45, green and blue below 0.2), a free one none.
-Eight pictures, about 2 s of CPU each. Skipped without Chromium.
+off the picture's edges and cover at least a third of it (a DH UR5 in the cell covered about 0.5 %,
+Panda 15 %) for a DH arm (ur5), a URDF arm with the maker's meshes (Panda to panda_hand) and an
+arm in a cell (examples/cell.toml). A colliding posture shows pure-red pixels (of the arm's pixels:
+red above 0.45, green and blue below 0.2), a free one none. The closest pair's rod and balls are
+the pixels that change when their node is hidden. Nine pictures, about 2 s of CPU each. Skipped
+without Chromium.
 """
 
 from __future__ import annotations
@@ -14,12 +16,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scripts_helper import load_script
 from urdf_reference import erd
 
 from kin.commands import preview as command
+from kin.viewer import screenshot
 
-screenshot = load_script("screenshot_preview")
 if screenshot.find_chromium() is None:
     pytest.skip("no chromium on PATH (apt-get install chromium)", allow_module_level=True)
 viewer_module = pytest.importorskip("kin.viewer")
@@ -44,8 +45,9 @@ PAGES = {
         "1.6",
         "0.7",
     ],  # fmt: skip
-    "cell-collision": ["--robot", "ur5", "--q", "-2.356", "-0.6", "0.3", "0", "0", "0"],
-    "cell-free": ["--robot", "ur5", "--q", "0", "-1.2", "0.5", "0", "0", "0"],
+    # the maker's base frame: q1 = 0 reaches towards the wall (+x)
+    "cell-collision": ["--robot", "ur5", "--q", "0.785", "-0.6", "0.3", "0", "0", "0"],
+    "cell-free": ["--robot", "ur5", "--q", "3.1416", "-1.2", "0.5", "0", "0", "0"],
 }
 PIXEL_TOLERANCE = 0.08  # a pixel of the arm differs by more than this in some channel
 
@@ -68,10 +70,17 @@ def pictures(tmp_path_factory) -> dict[str, np.ndarray]:
             scene = ["--scene", CELL] if name.startswith("cell") else []
             page = folder / f"{name}.html"
             assert command.main([*argv, *scene, "--html", str(page)]) == 0
-            viewers[-1].scene["robot"].set_property("visible", False)
+            viewer = viewers[-1]
+            dressed = _dressing(page.read_text(encoding="utf-8"))
+            viewer.scene["robot"].set_property("visible", False)
             pages[name] = page
             pages[f"{name}-hidden"] = folder / f"{name}-hidden.html"
-            pages[f"{name}-hidden"].write_text(viewers[-1].static_html(), encoding="utf-8")
+            pages[f"{name}-hidden"].write_text(dressed(viewer.static_html()), encoding="utf-8")
+            if name == "cell-free":  # the arm back, the closest pair's markers hidden
+                viewer.scene["robot"].set_property("visible", True)
+                viewer.scene["markers"]["closest"].set_property("visible", False)
+                pages[f"{name}-unmarked"] = folder / f"{name}-unmarked.html"
+                pages[f"{name}-unmarked"].write_text(dressed(viewer.static_html()), encoding="utf-8")
     shots = {}
     for name, page in pages.items():
         png = screenshot.render(page, folder / f"{name}.png", budget_ms=4000)
@@ -79,11 +88,25 @@ def pictures(tmp_path_factory) -> dict[str, np.ndarray]:
     return shots
 
 
+def _dressing(page: str):
+    """A function that gives another page the title and caption ``page`` has (the verdict line):
+    the pictures then differ only in the 3D view."""
+    import html
+    import re
+
+    from kin.viewer.page_file import captioned, titled
+
+    found = re.search(r'<p id="kin-caption"[^>]*>(.*?)</p>', page)
+    if found is None:
+        return lambda other: other
+    text = html.unescape(found.group(1))
+    return lambda other: captioned(titled(other, text), text)
+
+
 def arm_box(pictures: dict[str, np.ndarray], name: str) -> tuple[int, int, int, int]:
     """Rows and columns (first, last) of the pixels where the arm's page and the hidden differ."""
     differs = np.abs(pictures[name] - pictures[f"{name}-hidden"]).max(axis=2) > PIXEL_TOLERANCE
     rows, cols = np.flatnonzero(differs.any(axis=1)), np.flatnonzero(differs.any(axis=0))
-    # the DH UR5 in the 1.6 m cell is small (about 500 pixels): the camera frames the table too
     assert differs.sum() > 200, f"{name=}: the arm covers {differs.sum()} pixels"
     return int(rows[0]), int(rows[-1]), int(cols[0]), int(cols[-1])
 
@@ -118,3 +141,25 @@ def test_a_colliding_posture_shows_red_and_a_free_one_none(pictures):
     """
     free, colliding = red_pixels(pictures, "cell-free"), red_pixels(pictures, "cell-collision")
     assert free == 0 and colliding > 30, (free, colliding)  # link3 is thin: about 60
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("name", ["ur5", "panda", "cell-collision", "cell-free"])
+def test_the_arm_covers_a_third_of_the_picture(name, pictures):
+    """The box of the arm's pixels covers at least a third of the 800 x 600 picture."""
+    top, bottom, left, right = arm_box(pictures, name)
+    share = (bottom - top + 1) * (right - left + 1) / (600 * 800)
+    assert share >= 1 / 3, f"{name=} {share=:.3f}"
+
+
+@pytest.mark.browser
+def test_the_closest_pair_is_drawn_in_magenta(pictures):
+    """Hiding the closest pair's node changes at least 100 pixels, most of them magenta
+    (red and blue above 0.5, green below 0.3: the rod and balls, seen over the arm)."""
+    rgb = pictures["cell-free"]
+    marked = np.abs(rgb - pictures["cell-free-unmarked"]).max(axis=2) > PIXEL_TOLERANCE
+    magenta = marked & (rgb[..., 0] > 0.5) & (rgb[..., 2] > 0.5) & (rgb[..., 1] < 0.3)
+    assert marked.sum() >= 100 and magenta.sum() >= 0.5 * marked.sum(), (
+        marked.sum(),
+        magenta.sum(),
+    )

@@ -8,7 +8,6 @@ chromium``).
 
 from __future__ import annotations
 
-import subprocess
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -16,12 +15,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 from process_state import HANG_GUARD
-from scripts_helper import load_script
 
 from kin import load_robot
 from kin.commands import preview as command
+from kin.viewer import screenshot
+from kin.viewer.exceptions import ScreenshotError
 
-screenshot = load_script("screenshot_preview")
 if screenshot.find_chromium() is None:
     pytest.skip("no chromium on PATH (apt-get install chromium)", allow_module_level=True)
 viewer_module = pytest.importorskip("kin.viewer")
@@ -149,7 +148,7 @@ def test_a_stuck_chromium_is_killed_with_its_helpers_and_tried_again(tmp_path):
     fake.chmod(0o755)
     page = tmp_path / "page.html"
     page.write_text("<html></html>")
-    with pytest.raises(subprocess.TimeoutExpired):
+    with pytest.raises(ScreenshotError, match="hung 3 times"):
         screenshot.render(page, tmp_path / "shot.png", chromium=str(fake), timeout_s=1.0)
     helpers = [int(line) for line in marker.read_text().split()]
     assert len(helpers) == 3

@@ -8,17 +8,25 @@ controls replay it). --path FILE animates a joint path written by `kin path --js
 time when it was timed with --time) and draws the tool's trace; --workspace N draws the tool
 points of N joint vectors drawn uniformly within the limits (seeded), colored by height;
 --reach FILE.npz draws the voxels of a `kin reach` map, colored by index (viridis, as its PNG).
---scene FILE (a TOML cell or a URDF) draws the cell's objects in grey; with it or --srdf, the links
-in collision at the shown configuration turn red and a line joins the closest pair's witness
-points (its distance in the page title and on stdout).
+--scene FILE (a TOML cell, a PlanningScene or a URDF) draws the cell's objects in grey; with it or
+--srdf, the links and objects in collision at the shown configuration turn red and a magenta rod
+joins the closest pair's witness points (its distance on stdout, in the page's title and in a
+caption at the page's foot).
 
-Without --html: start meshcat's server, print the viewer URL and serve until Ctrl-C (exit 130).
-With --html FILE: write one self-contained page (three.js inlined; no server, no network
-needed to view it) and exit.
+The camera frames the arm (every configuration shown, the target, a path's trace, a workspace
+or reach cloud) so that it fills at least a third of the picture where a side allows, from a
+side where no object of the cell hides it; the cell around the arm shows, not all of it.
+--camera X Y Z TX TY TZ puts the camera at X Y Z looking at TX TY TZ instead (base frame,
+in --unit); --zoom F magnifies the view F times (2: twice as large; with or without --camera).
 
-Units: every length (target, prismatic joint values) in --unit; revolute joint values and --rpy
-in radians, degrees with --deg. Exit 0, 1 when --ik finds no valid solution (--html), 2 for bad
-input.
+Without --html or --png: start meshcat's server, print the viewer URL and serve until Ctrl-C
+(exit 130). With --html FILE: write one self-contained page (three.js inlined; no server, no
+network needed to view it) and exit. With --png FILE: write an 800 x 600 picture of that page
+taken by headless Chromium (Debian: apt-get install chromium), after any animation has played.
+
+Units: every length (target, camera, prismatic joint values) in --unit; revolute joint values
+and --rpy in radians, degrees with --deg. Exit 0, 1 when --ik finds no valid solution (--html,
+--png) or the browser fails, 2 for bad input (and for --png without Chromium).
 """
 
 from __future__ import annotations
@@ -104,7 +112,21 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         srdf="a MoveIt SRDF: its disable_collisions pairs are allowed",
         self_check=True,
     )
+    add(
+        "--camera",
+        type=finite_float,
+        nargs=6,
+        metavar=("X", "Y", "Z", "TX", "TY", "TZ"),
+        help="camera position X Y Z and the point it looks at TX TY TZ, base frame [--unit] "
+        "(default: framed on the arm)",
+    )
+    add("--zoom", type=positive_float, help="magnify the view by F (default 1)", metavar="F")
     add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
+    add(
+        "--png",
+        metavar="FILE",
+        help="write an 800 x 600 picture through headless Chromium and exit (no server)",
+    )
     add(
         "--duration", type=positive_float, default=2.0, help="--ik animation length [s] (default 2)"
     )
@@ -129,6 +151,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("give --path or --ik, not both (each is an animation)")
     if args.workspace is not None and not 1 <= args.workspace <= MAX_WORKSPACE_POINTS:
         parser.error(f"--workspace: expected 1 to {MAX_WORKSPACE_POINTS:,} points")
+    if args.camera is not None and args.camera[:3] == args.camera[3:]:
+        parser.error("--camera: the position X Y Z and the target TX TY TZ are the same point")
     return run_guarded(prog, lambda: _run_held(args, prog), extra=(ModuleNotFoundError,))
 
 
@@ -160,11 +184,7 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
     from .robot_argument import load_robot_argument
     from .targets import build_target
 
-    if args.html is not None:
-        from .output_file import checked_output, input_files
-
-        inputs = input_files(args, "--robot", "--path", "--reach", "--scene", "--srdf")
-        checked_output(args.html, "--html", (".html", ".htm"), inputs)
+    _check_outputs(args)
     robot = load_robot_argument(args)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     if args.q is None:
@@ -190,9 +210,10 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
         q_start = animated[1][0]
 
     from ..viewer import RobotViewer, write_page  # meshcat: only now
-    from ..viewer.page_file import titled
+    from ..viewer.page_file import captioned, titled
 
-    viewer = RobotViewer(robot, serve=args.html is None)
+    static = args.html is not None or args.png is not None
+    viewer = RobotViewer(robot, serve=not static)
     try:
         viewer.show_frames(["base_link", robot.tool_frame])
         if args.frames:
@@ -201,10 +222,11 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
         viewer.display(q_start)
         if target is not None:
             viewer.show_target(target.position, getattr(target, "rotation", None))
+        played = 0.0  # animation length [s]
         if q_goal is not None:
             steps = max(2, int(round(args.duration * 30)) + 1)
             path = np.linspace(q_start, q_goal, steps)
-            viewer.show_path(path, dt=args.duration / (steps - 1))
+            played = viewer.show_path(path, dt=args.duration / (steps - 1))
         in_view = [q_start] if q_goal is None else [q_start, q_goal]
         extra = [] if target is None else [target.position]
         if animated is not None:
@@ -213,7 +235,7 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
             samples, frames, dt = animated
             trace = batch_tool_positions(robot.table, samples)
             viewer.show_points(trace, rgb=TRACE_RGB, size=0.012 * viewer.arm_length, name="trace")
-            viewer.show_path(frames, dt=dt)
+            played = viewer.show_path(frames, dt=dt)
             extra.extend(trace)
             in_view.append(frames[-1])
         if args.workspace is not None:
@@ -225,11 +247,20 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
         title = None
         if args.scene is not None or args.srdf is not None:
             title = _show_collisions(viewer, args)
-        viewer.fit_camera(np.array(extra).reshape(-1, 3) if extra else None, in_view)
-        if args.html is not None:
+        _place_camera(viewer, args, np.array(extra).reshape(-1, 3) if extra else None, in_view)
+        if static:
             page = viewer.static_html()
-            written = write_page(args.html, page if title is None else titled(page, title))
-            print(f"{shown_name(robot.name)}: preview written to {written}")
+            if title is not None:
+                page = captioned(titled(page, title), title)
+            if args.html is not None:
+                written = write_page(args.html, page)
+                print(f"{shown_name(robot.name)}: preview written to {written}")
+            if args.png is not None:
+                from ..viewer.screenshot import write_picture
+
+                budget_ms = PICTURE_SETTLE_MS + int(np.ceil(1000.0 * played))
+                written = write_picture(page, args.png, budget_ms)
+                print(f"{shown_name(robot.name)}: picture written to {written}")
             return EXIT_NO_SOLUTION if args.ik and q_goal is None else 0
         release()  # raises a Ctrl-C (SIGTERM) that came while the scene was built
         print(viewer.url, flush=True)
@@ -272,6 +303,54 @@ def _solve(
 
 
 TRACE_RGB = (0.95, 0.55, 0.1)
+#: Virtual time a page runs before its picture, past its animation [ms] (meshes load, it draws).
+PICTURE_SETTLE_MS = 4000
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Refuse an unwritable --html or --png before any work, and --png without a browser.
+
+    Raises:
+        kin.exceptions.OutputFileError: A folder, device or input file at the path, a missing
+            folder, or another suffix; or --png and --html naming one file.
+        kin.viewer.exceptions.NoBrowserError: --png and no Chromium on PATH.
+    """
+    from .output_file import checked_output, input_files
+
+    inputs = input_files(args, "--robot", "--path", "--reach", "--scene", "--srdf")
+    if args.html is not None:
+        checked_output(args.html, "--html", (".html", ".htm"), inputs)
+    if args.png is not None:
+        page = [] if args.html is None else [("--html", args.html)]
+        checked_output(args.png, "--png", (".png",), [*inputs, *page])
+        from ..viewer.exceptions import NoBrowserError
+        from ..viewer.screenshot import find_chromium
+
+        if find_chromium() is None:
+            raise NoBrowserError(
+                "--png needs Chromium to take the picture and none is on PATH "
+                "(Debian: apt-get install chromium); --html FILE writes the page without it"
+            )
+
+
+def _place_camera(
+    viewer: RobotViewer,
+    args: argparse.Namespace,
+    extra: np.ndarray | None,
+    configurations: list[np.ndarray],
+) -> None:
+    """--camera (in --unit) and --zoom, or the view framed on the arm, ``extra`` and the q shown."""
+    from ..viewer.camera_view import LENS_ZOOM
+
+    zoom = 1.0 if args.zoom is None else args.zoom
+    if args.camera is not None:
+        scale = length_scale(args.unit)
+        position, target = args.camera[:3], args.camera[3:]
+        viewer.set_camera(
+            [v * scale for v in target], [v * scale for v in position], LENS_ZOOM * zoom
+        )
+        return
+    viewer.fit_camera(extra, configurations, zoom)
 
 
 def _show_collisions(viewer: RobotViewer, args: argparse.Namespace) -> str:
@@ -291,11 +370,11 @@ def _show_collisions(viewer: RobotViewer, args: argparse.Namespace) -> str:
         padding=args.padding * scale,
         hold=held_joints(args),
     )
-    show_scene(viewer, model)
     checker = CollisionChecker(model)
     contacts = checker.collisions(viewer.q)
-    links = sorted({name for c in contacts for name in (c.a, c.b)} & set(model.links))
-    show_colliding_links(viewer, links)
+    named = {name for c in contacts for name in (c.a, c.b)}
+    show_scene(viewer, model, colliding=named & set(model.scene_objects))
+    show_colliding_links(viewer, sorted(named & set(model.links)))
     pairs = ", ".join(f"{shown_name(c.a)} / {shown_name(c.b)}" for c in contacts)
     verdict = f"IN COLLISION ({pairs})" if contacts else "collision-free"
     title = f"{shown_name(robot.name)}: {verdict}"

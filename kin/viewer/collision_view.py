@@ -1,10 +1,12 @@
 """Collision overlays of a :class:`~kin.viewer.RobotViewer`: the cell, red links, the closest pair.
 
-Scene objects (a collision model's, read by ``kin.collision.scene.read_scene``) go under ``scene/cell/<name>`` in a
-neutral grey, each node's transform its world placement; a mesh object is drawn as the convex hull
-the collision queries use. A colliding link's visual geometries are drawn again, in place, in
-:data:`COLLISION_RGB`. The closest pair is a line between its two witness points under
-``scene/markers/closest``. Lengths in meters, world frame (the arm's base).
+Scene objects (a collision model's, read by ``kin.collision.scene.read_scene``) go under
+``scene/cell/<name>`` in a neutral grey (those in collision in :data:`COLLISION_RGB`), each
+node's transform its world placement; a mesh object is drawn as the convex hull the collision
+queries use. A colliding link's visual geometries are drawn again, in place, in
+:data:`COLLISION_RGB`. The closest pair is a rod between its two witness points with a ball on
+each, under ``scene/markers/closest``, thick enough to be seen in a picture of the whole arm.
+Lengths in meters, world frame (the arm's base).
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ from pinocchio.visualize.meshcat_visualizer import loadPrimitive
 
 from dh2urdf.output_text import shown_name
 
-from .markers import draw_sphere, hex_color
+from .camera_view import Obstacle
+from .markers import draw_rod, draw_sphere, hex_color
 from .robot_viewer import RobotViewer, _local_box
 
 if TYPE_CHECKING:
@@ -41,38 +44,46 @@ SCENE_RGB = (0.62, 0.62, 0.62)
 SCENE_OPACITY = 0.35
 #: Links in collision: pure red (no green or blue in any shade of it).
 COLLISION_RGB = (1.0, 0.0, 0.0)
-#: The closest pair's line and end points (cyan: neither grey nor red).
-CLOSEST_RGB = (0.0, 0.8, 0.9)
+#: The closest pair's rod and end balls: magenta, unlike the sky-blue background, the grey
+#: cell, the red of a collision, the orange joints and the yellow target.
+CLOSEST_RGB = (0.9, 0.0, 0.9)
+#: Their radii per arm length (:attr:`RobotViewer.arm_length`): a UR5 framed in an 800 x 600
+#: picture draws the rod about 6 px thick.
+CLOSEST_ROD_RADIUS = 0.008
+CLOSEST_BALL_RADIUS = 0.02
 
 
-def show_scene(viewer: RobotViewer, model: CollisionModel) -> int:
-    """Draw a collision model's scene objects in grey; the camera then frames them too.
+def show_scene(viewer: RobotViewer, model: CollisionModel, colliding: Iterable[str] = ()) -> int:
+    """Draw a collision model's scene objects: grey, or red for those named in ``colliding``.
 
     The shapes drawn are the ones checked (a mesh object as its convex hull), unpadded, each
-    under ``scene/cell/<shape>`` with its world placement as the node's transform.
+    under ``scene/cell/<shape>`` with its world placement as the node's transform. Each one's
+    box joins :attr:`RobotViewer.obstacles`: the camera looks at the arm past them.
 
     Args:
         viewer: The viewer.
         model: The collision model (``kin.collision.load_collision_model(..., scene=...)``).
+        colliding: Scene objects in collision (``Contact.b`` of the contacts).
 
     Returns:
         The number of shapes drawn.
     """
-    material = mg.MeshLambertMaterial(
+    grey = mg.MeshLambertMaterial(
         color=hex_color(SCENE_RGB), opacity=SCENE_OPACITY, transparent=True
     )
-    scene = set(model.scene_objects)
+    red = mg.MeshLambertMaterial(color=hex_color(COLLISION_RGB), opacity=0.6, transparent=True)
+    scene, hit = set(model.scene_objects), set(colliding)
     drawn = 0
     for obj, owner in zip(model.geometry_model.geometryObjects, model.owners):
         if owner not in scene:
             continue
         node = viewer.scene["cell"][_node_name(obj.name.removeprefix("scene/"))]
-        node.set_object(loadPrimitive(obj), material)
+        node.set_object(loadPrimitive(obj), red if owner in hit else grey)
         T = obj.placement.homogeneous
         node.set_transform(T)
         box = _local_box(obj)
         if box is not None:
-            viewer._scene_corners.extend((T[:3, :3] @ box.T).T + T[:3, 3])
+            viewer.obstacles.append(Obstacle(T, box.min(axis=0), box.max(axis=0)))
         drawn += 1
     return drawn
 
@@ -114,7 +125,8 @@ def show_colliding_links(viewer: RobotViewer, links: Iterable[str]) -> tuple[str
 
 
 def show_closest(viewer: RobotViewer, closest: Closest, unit: str = "m", scale: float = 1.0) -> str:
-    """Draw the closest pair: a line between its witness points and a dot on each.
+    """Draw the closest pair: a rod between its witness points and a ball on each, seen through
+    whatever stands in front of them (a pair under the arm still shows).
 
     Args:
         viewer: The viewer.
@@ -129,16 +141,9 @@ def show_closest(viewer: RobotViewer, closest: Closest, unit: str = "m", scale: 
     b = np.asarray(closest.point_b, dtype=float)
     node = viewer.scene["markers"]["closest"]
     node.delete()
-    color = hex_color(CLOSEST_RGB)
-    node["line"].set_object(
-        mg.Line(
-            mg.PointsGeometry(np.stack([a, b]).T.astype(np.float32)),
-            mg.LineBasicMaterial(color=color, linewidth=3),
-        )
-    )
-    radius = 0.012 * viewer.arm_length
+    draw_rod(node["rod"], a, b, CLOSEST_ROD_RADIUS * viewer.arm_length, CLOSEST_RGB, on_top=True)
     for name, point in (("a", a), ("b", b)):
-        draw_sphere(node[name], radius, CLOSEST_RGB)
+        draw_sphere(node[name], CLOSEST_BALL_RADIUS * viewer.arm_length, CLOSEST_RGB, on_top=True)
         node[name].set_transform(_translation(point))
     distance = float(closest.distance)
     pair = f"{shown_name(closest.a)} / {shown_name(closest.b)}"

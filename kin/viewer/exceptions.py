@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..exceptions import KinError, OutputWriteError
+from ..exceptions import KinError, OutputWriteError, RunFaultError
 
 
 class ViewerError(KinError):
@@ -26,3 +26,18 @@ class PageWriteError(ViewerError, OutputWriteError, OSError):
 
     def __str__(self) -> str:
         return f"cannot write the page '{self.path}': {self.reason}"
+
+
+class PictureWriteError(PageWriteError):
+    """The picture (``kin preview --png``) cannot be written; commands exit 1."""
+
+    def __str__(self) -> str:
+        return f"cannot write the picture '{self.path}': {self.reason}"
+
+
+class NoBrowserError(ViewerError):
+    """No headless browser to take a picture with (commands exit 2: install one)."""
+
+
+class ScreenshotError(ViewerError, RunFaultError):
+    """The browser ran but gave no picture (it failed, or hung past its time); commands exit 1."""

@@ -1,4 +1,4 @@
-"""Marker geometry drawn with meshcat's primitives: axis triads, target spheres, point clouds.
+"""Marker geometry drawn with meshcat's primitives: axis triads, spheres, rods, point clouds.
 
 Every function draws under one meshcat node (a ``meshcat.Visualizer`` path) and leaves the
 node's own transform to the caller, so that a marker can follow a robot frame or be animated.
@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from .exceptions import ViewerInputError
 
-__all__ = ["AXIS_COLORS", "draw_points", "draw_sphere", "draw_triad", "hex_color"]
+__all__ = ["AXIS_COLORS", "draw_points", "draw_rod", "draw_sphere", "draw_triad", "hex_color"]
 
 #: Colors of the x, y and z axes of a triad (red, green, blue).
 AXIS_COLORS: tuple[int, int, int] = (0xE0302A, 0x2DB83D, 0x2A64E0)
@@ -58,7 +58,21 @@ def draw_triad(node: object, length: float, radius: float | None = None) -> None
         axis.set_transform(offset @ rotation)
 
 
-def draw_sphere(node: object, radius: float, rgb: Sequence[float], opacity: float = 1.0) -> None:
+def _material(rgb: Sequence[float], opacity: float = 1.0, on_top: bool = False) -> object:
+    """A shaded material; ``on_top``: drawn over whatever stands in front (three.js depthTest off).
+
+    three.js draws transparent materials after the opaque ones: an on-top marker is one, opaque.
+    """
+    if on_top:
+        return mg.MeshLambertMaterial(
+            color=hex_color(rgb), opacity=opacity, transparent=True, depthTest=False
+        )
+    return mg.MeshLambertMaterial(color=hex_color(rgb), opacity=opacity, transparent=opacity < 1.0)
+
+
+def draw_sphere(
+    node: object, radius: float, rgb: Sequence[float], opacity: float = 1.0, on_top: bool = False
+) -> None:
     """Draw a sphere centred on the node's origin.
 
     Args:
@@ -66,11 +80,49 @@ def draw_sphere(node: object, radius: float, rgb: Sequence[float], opacity: floa
         radius: Sphere radius [m].
         rgb: Color, RGB in [0, 1].
         opacity: 1 opaque, 0 invisible.
+        on_top: Seen through whatever stands in front of it (a marker that must not hide).
     """
-    material = mg.MeshLambertMaterial(
-        color=hex_color(rgb), opacity=opacity, transparent=opacity < 1.0
-    )
-    node.set_object(mg.Sphere(radius), material)  # type: ignore[attr-defined]
+    node.set_object(mg.Sphere(radius), _material(rgb, opacity, on_top))  # type: ignore[attr-defined]
+
+
+def draw_rod(
+    node: object,
+    start: npt.ArrayLike,
+    end: npt.ArrayLike,
+    radius: float,
+    rgb: Sequence[float],
+    on_top: bool = False,
+) -> bool:
+    """Draw a cylinder from ``start`` to ``end``, and set the node's transform to lay it there.
+
+    WebGL draws lines one pixel wide whatever their width: a rod stays visible.
+
+    Args:
+        node: meshcat node; its transform is set (the points are in its parent's frame).
+        start: One end [m], shape (3,).
+        end: The other end [m], shape (3,).
+        radius: Rod radius [m].
+        rgb: Color, RGB in [0, 1].
+        on_top: Seen through whatever stands in front of it.
+
+    Returns:
+        False (nothing drawn) when the two ends are the same point.
+    """
+    a, b = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    axis = b - a
+    length = float(np.linalg.norm(axis))
+    if not length > 0.0:
+        return False
+    node.set_object(mg.Cylinder(length, radius), _material(rgb, on_top=on_top))  # type: ignore[attr-defined]
+    y = axis / length  # meshcat's cylinder lies along its own y axis
+    helper = np.eye(3)[int(np.argmin(np.abs(y)))]
+    x = np.cross(y, helper)
+    x /= np.linalg.norm(x)
+    pose = np.eye(4)
+    pose[:3, :3] = np.column_stack([x, y, np.cross(x, y)])
+    pose[:3, 3] = 0.5 * (a + b)
+    node.set_transform(pose)  # type: ignore[attr-defined]
+    return True
 
 
 def draw_points(node: object, points: npt.ArrayLike, rgb: npt.ArrayLike, size: float = 0.01) -> int:

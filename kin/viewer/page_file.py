@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .exceptions import PageWriteError
 
-__all__ = ["titled", "write_page"]
+__all__ = ["captioned", "titled", "write_page"]
 
 
 def _refused(path: str, _option: str, reason: str) -> PageWriteError:
@@ -41,3 +41,20 @@ def titled(page: str, title: str) -> str:
     import html
 
     return page.replace("<title>MeshCat</title>", f"<title>{html.escape(title)}</title>", 1)
+
+
+#: The caption's box: the page's lower left corner, white on dark, over the 3D view.
+_CAPTION_STYLE = (
+    "position:fixed;left:8px;bottom:8px;margin:0;padding:4px 8px;z-index:10;"
+    "font:14px/1.3 sans-serif;color:#fff;background:rgba(0,0,0,0.6);border-radius:3px;"
+    "pointer-events:none"
+)
+
+
+def captioned(page: str, text: str) -> str:
+    """``page`` (meshcat's static HTML) with ``text`` (escaped) in a caption over its lower left corner."""
+    import html
+
+    caption = f'<p id="kin-caption" style="{_CAPTION_STYLE}">{html.escape(text)}</p>'
+    head, end, tail = page.rpartition("</body>")
+    return f"{head}{caption}{end}{tail}" if end else page + caption

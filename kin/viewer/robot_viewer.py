@@ -33,7 +33,7 @@ from pinocchio.visualize import MeshcatVisualizer
 from ..configuration import as_joint_vector
 from ..exceptions import FrameError
 from ..robot_model import RobotModel
-from .camera_framing import framing_distance
+from .camera_view import CameraView, Obstacle, choose_view
 from .exceptions import ViewerError, ViewerInputError
 from .maker_meshes import MakerMeshes, maker_meshes
 from .markers import draw_points, draw_sphere, draw_triad
@@ -43,10 +43,6 @@ __all__ = ["RobotViewer"]
 
 #: Target marker color (RGB in [0, 1]).
 TARGET_RGB = (0.95, 0.75, 0.1)
-
-#: Camera distance from the centre of what is drawn, per length of its bounding box's diagonal:
-#: the box then fills most of a 1200 x 800 page (0.9 before: a UR5 with its workspace filled 5 %).
-CAMERA_DISTANCE = 0.6
 
 # Scales of meshcat's grid (20 m, 0.5 m cells): 0.1 gives a 2 m grid of 5 cm cells.
 _GRID_SCALES = (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0)
@@ -101,7 +97,8 @@ class RobotViewer:
         # meshcat's grid is 20 m wide in 0.5 m cells: shrink it to the arm, round cell sizes
         self.grid_scale = max([s for s in _GRID_SCALES if 10.0 * s <= self.arm_length] or [0.01])
         self.viewer["/Grid"].set_transform(tf.scale_matrix(self.grid_scale))
-        self._scene_corners: list[np.ndarray] = []  # of the scene objects drawn
+        #: Boxes of the scene objects drawn: the camera looks past them (:meth:`fit_camera`).
+        self.obstacles: list[Obstacle] = []
         self.display(self.q)
 
     @property
@@ -226,50 +223,81 @@ class RobotViewer:
         self.viewer.set_animation(animation, play=True, repetitions=int(repetitions))
         return (len(path) - 1) * dt
 
-    def set_camera(self, target: npt.ArrayLike, position: npt.ArrayLike) -> None:
-        """Aim the camera from ``position`` at ``target`` (world frame [m]); the mouse orbits it."""
+    def set_camera(
+        self, target: npt.ArrayLike, position: npt.ArrayLike, zoom: float = 1.0
+    ) -> None:
+        """Aim the camera from ``position`` at ``target`` (world frame [m]); the mouse orbits it.
+
+        Args:
+            target: The point looked at [m], shape (3,).
+            position: The camera [m], shape (3,), not at ``target``.
+            zoom: Magnification (three.js's camera zoom: 2 shows things twice as large), > 0.
+
+        Raises:
+            ViewerInputError: Not finite points of shape (3,), the same point twice, or a zoom
+                that is not a positive number.
+        """
         target = _finite(target, (3,), "camera target")
         offset = _finite(position, (3,), "camera position") - target
+        if not np.linalg.norm(offset) > 0.0:
+            raise ViewerInputError("the camera position and its target are the same point")
+        if not (np.isfinite(zoom) and zoom > 0.0):
+            raise ViewerInputError(f"the camera zoom must be a positive number, got {zoom!r}")
         shift = tf.translation_matrix(-target)  # meshcat's camera looks at its world origin
         self.scene.set_transform(shift)
         self.viewer["/Grid"].set_transform(shift @ tf.scale_matrix(self.grid_scale))
         # the camera sits in meshcat's y-up frame "rotated": world (x, y, z) is (x, -z, y) there
         camera = self.viewer["/Cameras/default/rotated/<object>"]
         camera.set_property("position", [offset[0], offset[2], -offset[1]])
+        camera.set_property("zoom", float(zoom))
+
+    def set_view(self, view: CameraView) -> None:
+        """Place the camera as ``view`` says (:meth:`set_camera`)."""
+        self.set_camera(view.target, view.position, view.zoom)
+
+    def framed_view(
+        self,
+        extra_points: npt.ArrayLike | None = None,
+        configurations: Sequence[npt.ArrayLike] | None = None,
+    ) -> CameraView:
+        """The camera that frames the arm and ``extra_points`` (:func:`~.camera_view.choose_view`).
+
+        Every visual geometry of the arm (the maker's meshes included) enters by its vertices
+        (a mesh) or the corners of its bounding box (a primitive) at each configuration; the
+        scene's objects do not (the arm is what the picture is about) but the camera looks past
+        them (:attr:`obstacles`) at the arm's frame origins.
+
+        Args:
+            extra_points: More points to keep in view, shape (M, 3), world frame [m].
+            configurations: Joint vectors whose arm must be in view (default: the current q).
+        """
+        data = self.robot.model.createData()
+        points: list[np.ndarray] = []
+        sights: list[np.ndarray] = []
+        for q in [self.q] if configurations is None else configurations:
+            q = as_joint_vector(self.robot, q)
+            pin.framesForwardKinematics(self.robot.model, data, q)
+            origins = [frame.translation.copy() for frame in data.oMf]
+            points.extend(origins)
+            sights.extend(origins)
+            points.extend(_visual_points(self, q))
+        if extra_points is not None:
+            points.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
+        return choose_view(
+            np.array(points), np.array(sights), self.obstacles, 0.2 * self.arm_length
+        )
 
     def fit_camera(
         self,
         extra_points: npt.ArrayLike | None = None,
         configurations: Sequence[npt.ArrayLike] | None = None,
-    ) -> None:
-        """Aim the camera at the arm's frames and drawn shapes, and at ``extra_points``.
-
-        Every visual geometry of the arm (the maker's meshes included) enters by the corners of
-        its bounding box placed at each configuration, and so do the corners in
-        ``_scene_corners`` (scene objects, once drawn): the whole arm stays in view, not only
-        the frame origins.
-
-        Args:
-            extra_points: More points to keep in view, shape (M, 3), world frame [m].
-            configurations: Joint vectors whose frames must be in view (default: the current q).
-        """
-        data = self.robot.model.createData()
-        corners: list[np.ndarray] = []
-        for q in [self.q] if configurations is None else configurations:
-            q = as_joint_vector(self.robot, q)
-            pin.framesForwardKinematics(self.robot.model, data, q)
-            corners.extend(frame.translation.copy() for frame in data.oMf)
-            corners.extend(_visual_corners(self, q))
-        corners.extend(self._scene_corners)
-        if extra_points is not None:
-            corners.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
-        cloud = np.array(corners)
-        low, high = cloud.min(axis=0), cloud.max(axis=0)
-        centre = 0.5 * (low + high)
-        size = max(float(np.linalg.norm(high - low)), 0.5 * self.arm_length, 0.05)
-        direction = np.array([1.0, 0.8, 0.7]) / np.linalg.norm([1.0, 0.8, 0.7])
-        distance = max(CAMERA_DISTANCE * size, framing_distance(cloud - centre, direction))
-        self.set_camera(centre, centre + distance * direction)
+        zoom: float = 1.0,
+    ) -> CameraView:
+        """Place the camera at :meth:`framed_view`, magnified ``zoom`` times more; returns the view."""
+        view = self.framed_view(extra_points, configurations)
+        view = CameraView(view.target, view.position, view.zoom * zoom)
+        self.set_view(view)
+        return view
 
     def static_html(self) -> str:
         """The scene as one self-contained HTML page (meshcat's export, three.js inlined)."""
@@ -324,8 +352,11 @@ def _arm_length(robot: RobotModel, q: np.ndarray) -> float:
     return max(length, 0.05)
 
 
-def _visual_corners(viewer: RobotViewer, q: np.ndarray) -> list[np.ndarray]:
-    """Corners of each visual geometry's bounding box of ``viewer``'s arm at ``q``, world [m]."""
+def _visual_points(viewer: RobotViewer, q: np.ndarray) -> list[np.ndarray]:
+    """The vertices of each mesh of ``viewer``'s arm at ``q``, the corners of each primitive's box.
+
+    World frame [m]; a mesh's vertices come with the URDF's scale applied (Pinocchio's loader).
+    """
     if viewer.meshes is not None:
         model, full = viewer.meshes.model, viewer.meshes.full_q(q)
         root_to_world = np.linalg.inv(viewer.meshes.base_in_root)
@@ -334,14 +365,30 @@ def _visual_corners(viewer: RobotViewer, q: np.ndarray) -> list[np.ndarray]:
     data = model.createData()
     geometry_data = pin.GeometryData(viewer.visual_model)
     pin.updateGeometryPlacements(model, data, viewer.visual_model, geometry_data, full)
-    corners = []
+    points = []
     for obj, placement in zip(viewer.visual_model.geometryObjects, geometry_data.oMg):
-        box = _local_box(obj)
-        if box is None:
+        local = _mesh_vertices(obj)
+        if local is None:
+            local = _local_box(obj)
+        if local is None:
             continue
         T = root_to_world @ placement.homogeneous
-        corners.extend((T[:3, :3] @ box.T).T + T[:3, 3])
-    return corners
+        points.extend((T[:3, :3] @ local.T).T + T[:3, 3])
+    return points
+
+
+def _mesh_vertices(obj: pin.GeometryObject) -> np.ndarray | None:
+    """A mesh geometry's vertices (N, 3) in its own frame [m], or None for a primitive."""
+    vertices = getattr(obj.geometry, "vertices", None)
+    if vertices is None:
+        return None
+    try:
+        array = np.asarray(vertices(), dtype=float).reshape(-1, 3)
+    except (TypeError, ValueError, RuntimeError):
+        return None
+    if len(array) == 0 or not np.all(np.isfinite(array)):
+        return None
+    return array
 
 
 def _local_box(obj: pin.GeometryObject) -> np.ndarray | None:
