@@ -14,7 +14,6 @@ __all__ = [
     "CAMERA_ASPECT",
     "CAMERA_FOV_DEG",
     "FRAMING_MARGIN",
-    "framing_distance",
     "tight_framing",
     "view_box",
 ]
@@ -24,8 +23,6 @@ __all__ = [
 CAMERA_FOV_DEG = 75.0
 CAMERA_ASPECT = 4.0 / 3.0
 FRAMING_MARGIN = 1.08
-#: Rounds of re-aiming at the centre of the projected box (each halves the offset or better).
-_CENTRING_ROUNDS = 6
 
 
 def _tan_half_fov(zoom: float) -> float:
@@ -38,22 +35,6 @@ def _screen_axes(direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     up = np.array([0.0, 0.0, 1.0]) - direction[2] * direction
     up /= np.linalg.norm(up)
     return up, np.cross(direction, up)
-
-
-def framing_distance(points: np.ndarray, direction: np.ndarray, zoom: float = 1.0) -> float:
-    """Camera distance [m] from the aim point at which ``points`` (N, 3) all lie in the view.
-
-    The camera looks back along ``direction`` (unit, world frame, not vertical) with world z up,
-    meshcat's vertical field of view :data:`CAMERA_FOV_DEG` at ``zoom``, a :data:`CAMERA_ASPECT` page;
-    each point, relative to the aim point, needs ``D >= p.d + |p.up| / tan(fov_v / 2)`` and the
-    same across with the horizontal field; :data:`FRAMING_MARGIN` more keeps it off the edges.
-    """
-    up, across = _screen_axes(direction)
-    tan_v = _tan_half_fov(zoom)
-    needed = points @ direction + np.maximum(
-        np.abs(points @ up) / tan_v, np.abs(points @ across) / (CAMERA_ASPECT * tan_v)
-    )
-    return FRAMING_MARGIN * float(needed.max())
 
 
 def view_box(
@@ -80,10 +61,13 @@ def tight_framing(
 ) -> tuple[np.ndarray, float, float]:
     """Aim point [m], distance [m] and filled share of the picture for ``points`` seen along ``direction``.
 
-    The aim starts at the centre of the points' box and moves, a few rounds, to where the
-    projected box is centred in the picture; the distance then fits every point
-    (:func:`framing_distance`). The share is the projected box's area over the picture's, in
-    [0, 1 / FRAMING_MARGIN**2].
+    In the camera's axes (across, up, and ``direction`` towards the camera) a point ``(a, u, w)``
+    is inside the horizontal field, with the margin, when ``|a - x0| <= t (w0 - w)`` for a camera
+    at ``(x0, y0, w0)`` and ``t = aspect tan(fov / 2) / zoom / margin``: the nearest camera has
+    ``w0 + x0 / t = max(w + a / t)`` and ``w0 - x0 / t = max(w - a / t)``, and the same for the
+    vertical field gives ``y0``; the camera stands as far back as the stricter of the two needs
+    (and ``min_distance`` from the points' middle depth, which it aims at). The share is the
+    projected box's area over the picture's, at most ``1 / FRAMING_MARGIN**2``.
 
     Args:
         points: Points to keep in view, (N, 3), world frame [m].
@@ -92,13 +76,15 @@ def tight_framing(
         zoom: The camera's zoom (a narrower field: the camera stands farther back).
     """
     up, across = _screen_axes(direction)
-    tan_v = _tan_half_fov(zoom)
-    aim = 0.5 * (points.min(axis=0) + points.max(axis=0))
-    distance = max(framing_distance(points - aim, direction, zoom), min_distance)
-    for _ in range(_CENTRING_ROUNDS):
-        left, right, bottom, top = view_box(points, aim, direction, distance, zoom)
-        shift_x, shift_y = 0.5 * (left + right), 0.5 * (bottom + top)
-        aim = aim + distance * tan_v * (CAMERA_ASPECT * shift_x * across + shift_y * up)
-        distance = max(framing_distance(points - aim, direction, zoom), min_distance)
+    a, u, w = points @ across, points @ up, points @ direction
+    tan_v = _tan_half_fov(zoom) / FRAMING_MARGIN
+    placed = []
+    for side, tan in ((a, CAMERA_ASPECT * tan_v), (u, tan_v)):
+        high, low = float(np.max(w + side / tan)), float(np.max(w - side / tan))
+        placed.append((0.5 * (high + low), 0.5 * tan * (high - low)))  # (w0, lateral)
+    middle = 0.5 * (float(w.min()) + float(w.max()))
+    w0 = max(placed[0][0], placed[1][0], middle + min_distance)
+    aim = placed[0][1] * across + placed[1][1] * up + middle * direction
+    distance = w0 - middle
     left, right, bottom, top = view_box(points, aim, direction, distance, zoom)
     return aim, distance, 0.25 * (right - left) * (top - bottom)
