@@ -15,7 +15,7 @@ robot the link pairs in contact at every sampled configuration without padding
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,6 +24,7 @@ import pinocchio as pin
 from ..exceptions import CollisionModelError
 from ..robot_model import RobotModel
 from .arm_shapes import ArmShape, arm_body
+from .attached import AttachedObject, check_names
 from .bounds import MAX_COORDINATE
 from .held_joints import HeldJoints
 from .requests import CONTACT_TOLERANCE
@@ -52,6 +53,9 @@ class CollisionModel:
         shape_note: One line: which geometry the queries use and how far it is from the meshes.
         held: The joints off the chain and the values they are held at; ``held.note`` says them
             in one line ("" when there is none).
+        attached: The objects attached to links (a pair ``(link, object)``, ``(object,
+            scene object)`` or two objects); :meth:`attach` and :meth:`detach` give new models.
+        inputs: The files and holds it was loaded from (for :meth:`attach`, :meth:`detach`).
     """
 
     robot: RobotModel
@@ -65,6 +69,48 @@ class CollisionModel:
     padding: float
     shape_note: str
     held: HeldJoints = HeldJoints()
+    attached: tuple[AttachedObject, ...] = ()
+    inputs: _Inputs | None = None
+
+    def attach(self, thing: AttachedObject) -> CollisionModel:
+        """A new model with ``thing`` attached too (:func:`kin.collision.attached_object`).
+
+        Raises:
+            CollisionModelError: Its name is taken, or its link or a touch link is not the robot's.
+        """
+        return self._with((*self.attached, thing))
+
+    def detach(self, name: str) -> CollisionModel:
+        """A new model without the attached object ``name``.
+
+        Raises:
+            CollisionModelError: No object of that name is attached.
+        """
+        kept = tuple(thing for thing in self.attached if thing.name != name)
+        if len(kept) == len(self.attached):
+            shown = ", ".join(thing.name for thing in self.attached) or "none"
+            raise CollisionModelError("", f"detach: no attached object {name!r}; attached: {shown}")
+        return self._with(kept)
+
+    def _with(self, attached: tuple[AttachedObject, ...]) -> CollisionModel:
+        inputs = self.inputs or _Inputs(None, None, {})
+        return load_collision_model(
+            self.robot,
+            srdf=inputs.srdf,
+            scene=inputs.scene,
+            padding=self.padding,
+            hold=inputs.hold,
+            attached=attached,
+        )
+
+
+@dataclass(frozen=True)
+class _Inputs:
+    """What a model was loaded from, to load it again with other attached objects."""
+
+    srdf: str | Path | None
+    scene: str | Path | None
+    hold: Mapping[str, float]
 
 
 def load_collision_model(
@@ -74,6 +120,7 @@ def load_collision_model(
     scene: str | Path | None = None,
     padding: float = 0.0,
     hold: Mapping[str, float] | None = None,
+    attached: Iterable[AttachedObject] | None = None,
 ) -> CollisionModel:
     """The collision model of ``robot`` (see the module docstring for what it holds).
 
@@ -86,6 +133,8 @@ def load_collision_model(
         hold: A URDF joint off the chain (a finger's) -> its value [rad, or m when prismatic];
             the joints not named are held at the SRDF's group state or 0
             (:mod:`kin.collision.held_joints`; :attr:`CollisionModel.held` says which).
+        attached: Objects attached to links (:mod:`kin.collision.attached`); None: the scene
+            file's ``[[attached]]`` entries (none without a scene).
 
     Raises:
         CollisionModelError: A bad scene, SRDF, padding or hold (the message names the file or
@@ -109,12 +158,17 @@ def load_collision_model(
         if clash:
             raise CollisionModelError(str(scene), f"name {clash[0]!r} is a link of the robot")
     names = tuple(dict.fromkeys(s.owner for s in objects))
+    carried = tuple(cell.attached if cell is not None and attached is None else attached or ())
+    check_names(carried, all_links, names, "" if scene is None else str(scene))
+    held_shapes = tuple(_on_link(body.mounts[thing.link], thing) for thing in carried)
+    things = tuple(thing.name for thing in carried)
     carrier = {s.owner: s.parent for s in arm}
     disabled: dict[tuple[str, str], str] = dict.fromkeys(body.adjacent, "adjacent")
     for i, a in enumerate(links):
         for b in links[i + 1 :]:
             if (a, b) not in disabled and carrier[a] == carrier[b]:
                 disabled[(a, b)] = "rigid"
+    disabled.update(_attached_disabled(carried, links, carrier, body.mounts))
     granted = []  # an SRDF's pairs, then a PlanningScene's allowed collision matrix ("acm")
     if srdf is not None:
         from .srdf import read_srdf
@@ -128,8 +182,12 @@ def load_collision_model(
                 disabled[_ordered(a, b, links)] = reason
     candidates = [(a, b) for i, a in enumerate(links) for b in links[i + 1 :]]
     candidates += [(link, name) for name in names for link in links]
+    candidates += [(link, thing) for thing in things for link in links]
+    candidates += [(a, b) for i, a in enumerate(things) for b in things[i + 1 :]]
+    candidates += [(thing, name) for name in names for thing in things]
     pairs = tuple(p for p in candidates if p not in disabled and p[::-1] not in disabled)
-    geometry_model, owners, pair_owners = _geometry_model(robot, arm, objects, pairs)
+    moving = (*arm, *(shape for shapes in held_shapes for shape in shapes))
+    geometry_model, owners, pair_owners = _geometry_model(robot, moving, objects, pairs)
     always: list[tuple[str, str]] = []
     if robot.urdf_source is None:  # a DH drawing: its links may touch at a joint (always_pairs)
         from .always_pairs import always_in_contact
@@ -140,7 +198,7 @@ def load_collision_model(
     if always:
         disabled.update(dict.fromkeys(always, "always"))
         pairs = tuple(p for p in pairs if p not in always)
-        geometry_model, owners, pair_owners = _geometry_model(robot, arm, objects, pairs)
+        geometry_model, owners, pair_owners = _geometry_model(robot, moving, objects, pairs)
     return CollisionModel(
         robot=robot,
         geometry_model=geometry_model,
@@ -151,9 +209,41 @@ def load_collision_model(
         owners=owners,
         pair_owners=pair_owners,
         padding=float(padding),
-        shape_note=_note(arm, objects, padding, always),
+        shape_note=_note(moving, objects, padding, always),
         held=body.held,
+        attached=carried,
+        inputs=_Inputs(srdf, scene, dict(hold or {})),
     )
+
+
+def _on_link(mount: tuple[int, pin.SE3], thing: AttachedObject) -> tuple[ArmShape, ...]:
+    """The shapes of ``thing`` on the kin model's joint that carries its link."""
+    joint, T_joint_link = mount
+    return tuple(
+        ArmShape(s.owner, s.name, s.geometry, T_joint_link * s.placement, s.kind, joint)
+        for s in thing.shapes
+    )
+
+
+def _attached_disabled(
+    carried: tuple[AttachedObject, ...],
+    links: tuple[str, ...],
+    carrier: dict[str, int],
+    mounts: Mapping[str, tuple[int, pin.SE3]],
+) -> dict[tuple[str, str], str]:
+    """Pairs of attached objects not checked: their link and touch links, what rides with them."""
+    disabled = {}
+    for i, thing in enumerate(carried):
+        joint = mounts[thing.link][0]
+        for link in links:
+            if link == thing.link or link in thing.touch_links:
+                disabled[(link, thing.name)] = "touch"
+            elif carrier[link] == joint:
+                disabled[(link, thing.name)] = "rigid"
+        for other in carried[i + 1 :]:
+            if mounts[other.link][0] == joint:
+                disabled[(thing.name, other.name)] = "rigid"
+    return disabled
 
 
 def _ordered(a: str, b: str, links: tuple[str, ...]) -> tuple[str, str]:

@@ -12,6 +12,10 @@ every length and angle, as a DH table's keys do; the same slips warn (:mod:`.sce
 Sizes are at most 10 m, positions within 1 km, at most 1,000 shapes (:mod:`kin.collision.bounds`
 says why).
 
+``[[attached]]`` (TOML only): an object on a link of the robot, moving with it
+(:mod:`.attached`): ``shape`` (``box``, ``sphere``, ``cylinder``, ``mesh``) and that kind's keys,
+``link``, ``xyz``/``rpy`` in the link's frame (the file's units), ``touch_links`` it may touch.
+
 A MoveIt PlanningScene, JSON or YAML (:mod:`.planning_scene`): its collision objects and its
 allowed collision matrix. A URDF of the cell: the collision shapes of all its links, placed at its
 joints' zero values from its root at the world origin; each link is one scene object.
@@ -32,9 +36,11 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from dh2urdf.quoted_input import quoted
 from dh2urdf.units import ANGLE_UNITS, LENGTH_UNITS, angle_to_radians
 
 from ..exceptions import CollisionModelError
+from .attached import AttachedObject
 from .bounds import check_coordinates, check_count
 from .scene_content import Scene, mesh_file
 from .scene_units import UNIT_KEYS, UnitSlips, read_unit
@@ -122,26 +128,60 @@ def _toml_scene(where: str, text: str) -> Scene:
     units = (LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit], slips)
     check_count(where, sum(len(e) for e in document.values() if isinstance(e, list)))
     shapes: list[Shape] = []
+    attached: list[AttachedObject] = []
     for kind, entries in document.items():
         if kind in UNIT_KEYS:
             continue
-        if kind not in _KINDS:
+        if kind not in _KINDS and kind != "attached":
             raise CollisionModelError(
                 where,
                 f"unknown key {kind!r}; choose [[box]], [[cylinder]], [[mesh]], [[sphere]], "
-                "angle_unit, length_unit",
+                "[[attached]], angle_unit, length_unit",
             )
         if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
             raise CollisionModelError(where, f"{kind}: write it as [[{kind}]] tables")
         for index, entry in enumerate(entries):
-            shapes.append(_object(where, kind, index, entry, *units))
+            if kind == "attached":
+                attached.append(_attached(where, index, entry, *units))
+            else:
+                shapes.append(_object(where, kind, index, entry, *units))
     seen: set[str] = set()
-    for shape in shapes:
-        if shape.owner in seen:
-            raise CollisionModelError(where, f"name {shape.owner!r} is given to two objects")
-        seen.add(shape.owner)
+    for name in [shape.owner for shape in shapes] + [thing.name for thing in attached]:
+        if name in seen:
+            raise CollisionModelError(where, f"name {name!r} is given to two objects")
+        seen.add(name)
     slips.warn()
-    return Scene(where, tuple(shapes))
+    return Scene(where, tuple(shapes), attached=tuple(attached))
+
+
+#: An ``[[attached]]`` entry's keys besides its shape's.
+_ATTACHED = ("shape", "link", "touch_links")
+
+
+def _attached(
+    where: str, index: int, entry: dict[str, Any], meters: float, radians: float, slips: UnitSlips
+) -> AttachedObject:
+    """One ``[[attached]]``: ``shape`` (a kind), its keys, ``link``, ``xyz``/``rpy`` in the link."""
+    field = f"attached[{index}]"
+    kind = entry.get("shape")
+    if kind not in _KINDS:
+        raise CollisionModelError(
+            where, f"{field}.shape: {quoted(kind)}; choose: {', '.join(_KINDS)}"
+        )
+    link = entry.get("link")
+    if link is None:
+        raise CollisionModelError(where, f"{field}.link: missing; name the link it hangs on")
+    if not isinstance(link, str) or not link:
+        raise CollisionModelError(where, f"{field}.link: {quoted(link)} is not a link name")
+    touch = entry.get("touch_links", [])
+    if not isinstance(touch, list) or not all(isinstance(t, str) and t for t in touch):
+        raise CollisionModelError(
+            where, f"{field}.touch_links: {quoted(touch)} is not a list of link names"
+        )
+    rest = {key: value for key, value in entry.items() if key not in _ATTACHED}
+    rest.setdefault("name", f"attached{index + 1}")
+    shape = _object(where, kind, index, rest, meters, radians, slips, field, _ATTACHED)
+    return AttachedObject(shape.owner, entry["link"], (shape,), tuple(touch))
 
 
 def _object(
@@ -152,13 +192,19 @@ def _object(
     meters: float,
     radians: float,
     slips: UnitSlips,
+    field: str = "",
+    extra: tuple[str, ...] = (),
 ) -> Shape:
-    """One TOML object: lengths [length_unit] times ``meters``, angles [angle_unit] ``radians``."""
-    field = f"{kind}[{index}]"
+    """One TOML object: lengths [length_unit] times ``meters``, angles [angle_unit] ``radians``.
+
+    ``field`` names it in messages (default ``box[0]``...); ``extra`` are the other keys its table
+    may hold (an ``[[attached]]`` entry's, read by the caller).
+    """
+    field = field or f"{kind}[{index}]"
     required, optional = _KINDS[kind]
     for key in entry:
-        if key not in (*required, *optional, *_COMMON):
-            choices = ", ".join((*required, *optional, *_COMMON))
+        if key not in (*required, *optional, *_COMMON, *extra):
+            choices = ", ".join((*required, *optional, *_COMMON, *extra))
             raise CollisionModelError(where, f"{field}.{key}: unknown key; choose: {choices}")
     for key in required:
         if key not in entry:

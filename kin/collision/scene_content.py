@@ -21,6 +21,7 @@ from .urdf_shapes import Shape, load_mesh
 
 if TYPE_CHECKING:
     from .allowed_matrix import AllowedMatrix
+    from .attached import AttachedObject
 
 __all__ = ["Scene", "check_frames", "mesh_file"]
 
@@ -34,12 +35,14 @@ class Scene:
         objects: Its shapes, each placed in the world (the arm's base frame) [m].
         frames: Per object of a PlanningScene, ``(field, frame_id)``: the frame its pose is in.
         allowed: A PlanningScene's allowed collision matrix (None: none given).
+        attached: Objects attached to the robot's links (a TOML's ``[[attached]]``).
     """
 
     path: str
     objects: tuple[Shape, ...]
     frames: tuple[tuple[str, str], ...] = ()
     allowed: AllowedMatrix | None = None
+    attached: tuple[AttachedObject, ...] = ()
 
     def for_robot(
         self, base: str, known: Collection[str], links: Collection[str]

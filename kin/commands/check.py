@@ -118,9 +118,10 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
 
         verdict = "IN COLLISION" if contacts else "collision-free"
         print(f"{shown_name(robot.name)}: {verdict}")
+        attached = f", {counted(len(model.attached), 'attached object')}" if model.attached else ""
         print(
             f"pairs checked: {len(model.pairs)} ({counted(len(model.links), 'link')} with "
-            f"shapes, {counted(len(model.scene_objects), 'scene object')}; "
+            f"shapes, {counted(len(model.scene_objects), 'scene object')}{attached}; "
             f"{counted(len(model.disabled), 'pair')} allowed)"
         )
         print(f"shapes: {model.shape_note}")
