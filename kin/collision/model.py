@@ -45,8 +45,8 @@ class CollisionModel:
         scene_objects: Names of the scene objects.
         pairs: The ``(a, b)`` checked: two links (base side first), or a link and an object.
         disabled: The pairs not checked, ``(a, b) -> reason`` (``"adjacent"``, ``"rigid"``,
-            ``"srdf: <reason>"``, ``"acm"``, ``"always"``).
-        owners: Per geometry object, the link or scene object it belongs to.
+            ``"srdf: <reason>"``, ``"acm"``, ``"always"``; an attached object's ``"touch"``).
+        owners: Per geometry object, the link, scene object or attached object it belongs to.
         pair_owners: Per collision pair of :attr:`geometry_model`, its ``(a, b)``.
         padding: Distance added around every shape [m]: a pair is in collision closer than it
             plus :data:`~kin.collision.requests.CONTACT_TOLERANCE`.
