@@ -1,8 +1,10 @@
 """The audit against example-robot-data's URDFs finds the base rotation found by hand.
 
-tests/test_example_robot_data.py states T_erd_our = Rz(pi) for ur5 (tool = tool0) and identity
-for panda (tool = panda_link8); the audit must find the same from the URDFs alone, to 1e-9, and
-find a twist sign, the convention or the length unit when we corrupt our table.
+tests/test_example_robot_data.py states T_erd_our = identity for ur5 (tool = tool0; its table's
+[base] is the URDF's base_link -> base turn) and panda (tool = panda_link8), and
+tests/test_real_arms.py Rz(pi) for ur3 (the controller's DH base frame); the audit must find the
+same from the URDFs alone, to 1e-9, and find a twist sign, the convention or the length unit when
+we corrupt our table.
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from __future__ import annotations
 import importlib.metadata
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +28,8 @@ RZ_PI = np.diag([-1.0, -1.0, 1.0, 1.0])
 #: robot -> (URDF inside example-robot-data's robots folder, frame, expected base B).
 CASES = {
     "panda": ("panda_description/urdf/panda.urdf", "panda_link8", np.eye(4)),
-    "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0", RZ_PI),
+    "ur3": ("ur_description/urdf/ur3_robot.urdf", "tool0", RZ_PI),
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0", np.eye(4)),
 }
 
 
@@ -40,7 +44,7 @@ def erd_urdf(relative: str) -> Path:
 
 @pytest.mark.parametrize("robot", sorted(CASES))
 def test_finds_the_base_transform_of_example_robot_data(robot):
-    """Table as written, base Rz(pi) (ur5) or identity (panda), tool identity, to 1e-9."""
+    """Table as written, base Rz(pi) (ur3) or identity (ur5, panda), tool identity, to 1e-9."""
     relative, frame, base = CASES[robot]
     audit = audit_urdf(robot, erd_urdf(relative), frame)
     best = audit.best
@@ -94,12 +98,17 @@ def corrupted_ur5(
     ],
 )
 def test_finds_a_corruption_of_our_ur5(tmp_path, options, expected):
-    """A corrupted ur5 table: the best reading undoes it and gives Rz(pi) again."""
+    """A corrupted ur5 table: the best reading undoes it and gives the identity base again."""
     table = corrupted_ur5(tmp_path, **options)
     audit = audit_urdf(table, erd_urdf(CASES["ur5"][0]), "tool0")
     assert [c.text for c in audit.best.reading.changes] == [expected], audit.best.reading.label
     assert audit.best.reproduced
-    assert np.abs(audit.best.fit.T_ref_base - RZ_PI).max() < TOL
+    # The reading re-reads the rows' angles, not [base]'s: its rpy z of pi read as pi deg turns
+    # the table's base by pi^2/180 rad about z, and the fitted base takes that turn back.
+    misread = math.pi * math.pi / 180.0 if options.get("degrees") else math.pi
+    c, s = math.cos(math.pi - misread), math.sin(math.pi - misread)
+    expected = np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+    assert np.abs(audit.best.fit.T_ref_base - expected).max() < TOL, audit.best.fit.T_ref_base
     assert not next(s for s in audit.scores if not s.reading.changes).reproduced
 
 
@@ -120,8 +129,8 @@ def test_missing_frame_names_it():
 
 
 def test_json_gives_base_and_tool_in_the_table_units(capsys):
-    """--json: readings best first, base rpy (0, 0, +-pi) rad for ur5, residuals in SI."""
-    code = main(["ur5", "--urdf", str(erd_urdf(CASES["ur5"][0])), "--frame", "tool0", "--json"])
+    """--json: readings best first, base rpy (0, 0, +-pi) rad for ur3, residuals in SI."""
+    code = main(["ur3", "--urdf", str(erd_urdf(CASES["ur3"][0])), "--frame", "tool0", "--json"])
     assert code == 0
     record = json.loads(capsys.readouterr().out)
     best = record["readings"][0]
@@ -145,14 +154,15 @@ def test_each_table_matches_its_own_urdf(robot):
 
 
 def test_fits_a_general_base_and_tool(tmp_path):
-    """ur5 with a [base] and a [tool] (turned about every axis) as the reference URDF: the plain
-    ur5 table fits it with exactly those transforms."""
+    """ur5 with another [base] and a [tool] (turned about every axis) as the reference URDF: the
+    plain ur5 table (its own [base] B0) fits it with exactly those transforms (base B B0^-1)."""
     from dh2urdf import load_table, urdf_string
     from dh2urdf.transforms import xyz_rpy
 
     base_xyz, base_rpy = (0.1, -0.2, 0.3), (0.3, -0.2, 1.0)
     tool_xyz, tool_rpy = (0.01, 0.02, 0.15), (0.5, 0.1, -0.4)
     text = get_robot("ur5").table_path.read_text(encoding="utf-8")
+    text = re.sub(r"\n\[base\]\n(?:\w+ = .*\n)*", "\n", text)
     text += f"\n[base]\nxyz = {list(base_xyz)}\nrpy = {list(base_rpy)}\n"
     text += f"\n[tool]\nxyz = {list(tool_xyz)}\nrpy = {list(tool_rpy)}\n"
     table_path = tmp_path / "ur5_mounted.toml"
@@ -162,7 +172,8 @@ def test_fits_a_general_base_and_tool(tmp_path):
     audit = audit_urdf("ur5", urdf, "tool")
     fit = audit.best.fit
     assert audit.best.reading.changes == () and fit.unique
-    assert np.abs(fit.T_ref_base - xyz_rpy(base_xyz, base_rpy)).max() < TOL
+    B0 = np.diag([-1.0, -1.0, 1.0, 1.0])  # ur5.toml's [base]: rpy (0, 0, pi)
+    assert np.abs(fit.T_ref_base - xyz_rpy(base_xyz, base_rpy) @ np.linalg.inv(B0)).max() < TOL
     assert np.abs(fit.T_tool_ref - xyz_rpy(tool_xyz, tool_rpy)).max() < TOL
 
 

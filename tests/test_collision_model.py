@@ -172,13 +172,13 @@ def test_padding_counts_as_contact(ur5, tmp_path):
 
 def test_box_scene_hand_computed(ur5, tmp_path):
     """A box whose face is 0.03 m from the base cylinder's side; the same cell as a URDF."""
-    toml = '[[box]]\nname="block"\nsize=[0.1,0.1,0.1]\nxyz=[0.09,0,0.04]\nrpy=[0,0,0]\n'
+    toml = '[[box]]\nname="block"\nsize=[0.1,0.1,0.1]\nxyz=[-0.09,0,0.04]\nrpy=[0,0,0]\n'
     checker = CollisionChecker(load_collision_model(ur5, scene=_scene(tmp_path, toml)))
     closest = checker.distance(np.zeros(6))
     assert (closest.b, closest.distance) == ("block", pytest.approx(0.04 - 0.01, abs=1e-6))
     urdf = _scene(
         tmp_path,
-        '<robot name="cell"><link name="block"><collision><origin xyz="0.09 0 0.04"/>'
+        '<robot name="cell"><link name="block"><collision><origin xyz="-0.09 0 0.04"/>'
         '<geometry><box size="0.1 0.1 0.1"/></geometry></collision></link></robot>',
         "cell.urdf",
     )

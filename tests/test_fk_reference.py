@@ -85,10 +85,10 @@ HOME_TOOL_POSITIONS = {
     "planar2": (0.5, 0.0, 0.0),  # a1 + a2
     "scorbot": (0.603, 0.0, 0.349),  # the paper's 0T5 at q = 0
     "ur5": (
-        -0.425 - 0.39225,
-        -0.10915 - 0.0823,
+        0.425 + 0.39225,
+        0.10915 + 0.0823,
         0.089159 - 0.09465,
-    ),  # (a2 + a3, -(d4 + d6), d1 - d5)
+    ),  # (-(a2 + a3), d4 + d6, d1 - d5): ROS base_link, the DH base frame turned by pi
 }
 
 

@@ -21,7 +21,7 @@ from kin.commands import check, collisions, fk, ik, path, preview
 
 ZEROS = ["0", "0", "0", "0", "0", "0"]
 #: A box on ur5's link3 at zero joint values (the arm lies along -x at 0.09 m height).
-ON_LINK3 = "size = [0.1, 0.1, 0.1]\nxyz = [-0.5, 0.0, 0.09]\n"
+ON_LINK3 = "size = [0.1, 0.1, 0.1]\nxyz = [0.6, 0.0, 0.09]\n"
 
 #: Characters that end, hide or reorder a terminal line, and ordinary ones.
 HOSTILE = st.sampled_from(list("\n\r\t\x00\x1b\x7f\x85\u2028\u2029\u202e\u200b\ufeff"))
