@@ -138,7 +138,7 @@ def test_far_target_is_reached_from_the_seed():
     position = np.array([0.3, 0.2, 0.4])
     result = ClosedFormSolver(robot).solve(PositionTarget(position), seed=seed, timeout=TIMEOUT)
     assert result.success, f"{result.message=}"
-    assert result.method == "damped_newton", f"{result.message=}"
+    assert result.method == "near_seed", f"{result.message=}"  # issue 43: the closed form's route
     q = result.solutions[0].q
     assert float(np.abs(q - seed).max()) < 2.5, f"{q=}"
     tool = batch_forward_kinematics(robot.table, q)[0, :3, 3]

@@ -12,16 +12,19 @@ Both solvers are built on first use. Angles in [rad], lengths in [m].
 from __future__ import annotations
 
 import threading
+import time
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from ..result import IKResult
-from ..target import PoseTarget, Target
+from ...configuration import default_seed, seed_inside
+from ..result import IKResult, IKSolution
+from ..target import PoseTarget, PositionTarget, Target
 from .closed_form_structure import candidate_branches
 from .idealised import FK_TOLERANCE, Idealised
 from .idealised_fallback import IdealisedFallback
+from .position_near_seed import NearSeedAnswer, PositionNearSeed
 
 #: An idealised arm's branch of a pose's projection is polished onto the pose (the pose route)
 #: when its tool on the true chain is within this [m] and [rad] of the pose: ten times the
@@ -37,6 +40,8 @@ class ClosedFormRoutes(IdealisedFallback):
     _lock: threading.Lock
     _numeric: Any
     _partial: Any
+    #: :attr:`_near_seed`: not yet built (None), built, or False (the arm is no 6R closed form).
+    _position_near_seed: PositionNearSeed | bool | None = None
 
     @property
     def partial(self) -> Any:
@@ -93,6 +98,18 @@ class ClosedFormRoutes(IdealisedFallback):
                         q = q * self._directions
                     out.append((q, label))
         return out
+
+    @property
+    def _near_seed(self) -> PositionNearSeed | None:
+        """The answer nearest the seed of a position (6R arms whose closed form takes poses)."""
+        if self._position_near_seed is None:
+            fits = PoseTarget in self._kinds and len(self._lower) == 6
+            fits = fits and all(row.joint_type == "revolute" for row in self.robot.table.rows)
+            self._position_near_seed = (
+                PositionNearSeed(self.robot, self.pose_candidates) if fits else False
+            )
+        built = self._position_near_seed
+        return built if isinstance(built, PositionNearSeed) else None
 
     @property
     def numeric(self) -> Any:
@@ -154,13 +171,45 @@ class ClosedFormRoutes(IdealisedFallback):
     ) -> IKResult:
         """A target the closed form does not take, by the numeric solver.
 
-        The arm is redundant for it (a position on a five-joint arm): the seed is also the
-        preferred posture, so the answer stays near it (a path's samples do not jump).
+        The arm is redundant for it (a position on a five- or six-joint arm): on a 6R arm whose
+        closed form takes poses, the answer nearest the seed (:mod:`.position_near_seed`: damped
+        least squares from the seed and the closed form's branches at the seed's tool rotation,
+        each slid along the target's answers toward the seed; no seed: the default one);
+        otherwise, or when none of those reaches the target, the numeric solver with the seed as
+        the preferred posture, so the answer stays near it (a path's samples do not jump).
         """
         from ..numeric.numeric_target import NumericTarget
 
+        if isinstance(target, PositionTarget) and target.finite and self._near_seed is not None:
+            start = time.perf_counter()
+            near = seed_inside(self.robot, default_seed(self.robot) if seed is None else seed)
+            answer = self._near_seed.solve(target.position, np.asarray(near, dtype=float))
+            if answer is not None:
+                return near_seed_result(self.name, answer, start)
         if seed is None or not target.finite:
             return self.numeric.solve(target, seed, timeout=timeout)
         posture = np.asarray(seed, dtype=float).reshape(-1)
         preferred = NumericTarget.from_arrays(target.position, None, posture=posture)
         return self.numeric.solve(preferred, posture, timeout=timeout)
+
+
+def near_seed_result(solver: str, answer: NearSeedAnswer, start: float) -> IKResult:
+    """The result of a position answered by :mod:`.position_near_seed` (method ``near_seed``).
+
+    Args:
+        solver: The closed form's name (``closed_form:<structure>``).
+        answer: The answer nearest the seed.
+        start: :func:`time.perf_counter` at the solve's start [s].
+    """
+    solution = IKSolution(answer.q, "", True, answer.position_error, None)
+    message = f"the answer nearest the seed: from the {answer.start}, slid toward the seed"
+    return IKResult(
+        success=True,
+        solver=solver,
+        status="ok",
+        message=message,
+        solutions=(solution,),
+        iterations=answer.steps,
+        time=time.perf_counter() - start,
+        method="near_seed",
+    )
