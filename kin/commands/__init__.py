@@ -25,6 +25,7 @@ COMMANDS: dict[str, str] = {
     "fk": "pose of a robot frame at a joint vector",
     "ik": "inverse kinematics of a tool target (or JSON targets on stdin)",
     "path": "joint path along a Cartesian line or polyline, optionally time-optimal (toppra)",
+    "plan": "collision-free joint motion to joints or any IK target (OMPL), certified between samples",
     "preview": "browser view (meshcat) of the arm, its frames, a target and the IK motion",
     "reach": "reachability map: fraction of tool orientations reached per voxel (.npz, PNG)",
     "robots": "the shipped robots: joints and source of each DH table",

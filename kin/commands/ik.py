@@ -63,6 +63,7 @@ from .collision_options import add_collision_options, check_padding
 from .ik_counts import hidden_note, shown_rows
 from .json_output import dumps
 from .robot_argument import add_robot_arguments
+from .targets import add_orientation_options
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -93,23 +94,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add(
         "--roll", type=finite_float, help="wrist-roll joint value q5 with --pitch (default: seed's)"
     )
-    add("--rpy", type=finite_float, nargs=3, metavar=("R", "P", "Y"), help="URDF roll-pitch-yaw")
-    add("--quat", type=finite_float, nargs=4, metavar=("W", "X", "Y", "Z"), help="unit quaternion")
-    add(
-        "--mask",
-        type=finite_float,
-        nargs=6,
-        metavar=("X", "Y", "Z", "RX", "RY", "RZ"),
-        help="with --rpy/--quat: the pose components kept (1) or free (0); rotations about the "
-        "world axes (a SCARA: 1 1 1 0 0 1)",
-    )
-    add(
-        "--axis",
-        type=finite_float,
-        nargs=3,
-        metavar=("AX", "AY", "AZ"),
-        help="world direction of the tool's z axis; the roll about it is free (a drill)",
-    )
+    add_orientation_options(parser)
     add(
         "--tool-axis",
         choices=("x", "y", "z"),

@@ -10,12 +10,14 @@ z axis, roll free) or ``--pitch`` (approach angle of a five-joint arm, with ``--
 
 from __future__ import annotations
 
+import argparse
 import math
 from collections.abc import Sequence
 
 from dh2urdf.quoted_input import quoted
 from dh2urdf.units import angle_to_radians
 
+from ..cli import finite_float
 from ..ik.angles import quaternion_matrix as unit_quaternion_matrix
 from ..ik.exceptions import TargetError
 from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
@@ -28,6 +30,28 @@ KIND_TERMS: dict[type, str] = {
     PitchTarget: "--pitch [--roll]",
     PositionTarget: "a position target",
 }
+
+
+def add_orientation_options(parser: argparse.ArgumentParser) -> None:
+    """Add ``--rpy``, ``--quat``, ``--mask`` and ``--axis`` (the target's orientation terms)."""
+    add = parser.add_argument
+    add("--rpy", type=finite_float, nargs=3, metavar=("R", "P", "Y"), help="URDF roll-pitch-yaw")
+    add("--quat", type=finite_float, nargs=4, metavar=("W", "X", "Y", "Z"), help="unit quaternion")
+    add(
+        "--mask",
+        type=finite_float,
+        nargs=6,
+        metavar=("X", "Y", "Z", "RX", "RY", "RZ"),
+        help="with --rpy/--quat: the pose components kept (1) or free (0); rotations about the "
+        "world axes (a SCARA: 1 1 1 0 0 1)",
+    )
+    add(
+        "--axis",
+        type=finite_float,
+        nargs=3,
+        metavar=("AX", "AY", "AZ"),
+        help="world direction of the tool's z axis; the roll about it is free (a drill)",
+    )
 
 
 def _finite(values: object, size: int, what: str) -> list[float]:

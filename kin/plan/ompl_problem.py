@@ -1,0 +1,215 @@
+"""One planning problem in OMPL's terms: the joint space, the checks, the goals and the stop rule.
+
+The checks OMPL calls back are the project's own:
+
+* a state is valid when it is within the joint limits (the space's bounds) and
+  :meth:`kin.collision.CollisionChecker.in_collision` calls it free;
+* a motion between two states is valid when both ends are free and
+  :class:`kin.path.collision_check.MotionCheck` shows every point of the straight joint motion
+  free by its rule (the step bound from the distances at the ends and the links' largest motion,
+  halved where it cannot tell): not a fixed resolution. A motion it cannot show apart at
+  :data:`RESOLUTION` is refused, so every edge OMPL keeps, and every shortcut its simplifier
+  takes, is certified.
+
+The search is bounded by work, not by the clock: :class:`Budget` stops it after ``max_checks``
+configurations checked (states and the points between them), so the same seed gives the same
+path on a busy machine and an idle one; the wall-clock cap stops it too, and the answer then says
+``timeout``. A Ctrl-C (or any error) inside a callback stops the search and is raised again once
+OMPL has returned, never thrown through its C++ frames.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import weakref
+from functools import cache
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..path.collision_check import MotionCheck
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..collision import CollisionChecker
+
+__all__ = ["RESOLUTION", "Budget", "CertifiedSpace", "joint_bounds", "silence_ompl"]
+
+#: Link motion [m] below which the motion rule stops halving a motion it cannot show free: the
+#: motion is then refused (a planner edge that grazes a shape within this is not taken).
+RESOLUTION = 1e-4
+#: Distances kept per problem (the ends of motions: states are checked as ends many times).
+_CACHE = 200_000
+
+
+def silence_ompl() -> Any:
+    """Import OMPL's modules with its log off (it prints to stdout): ``(base, geometric, util)``."""
+    from ompl import base, geometric, util
+
+    util.setLogLevel(util.LogLevel.LOG_NONE)
+    return base, geometric, util
+
+
+class Budget:
+    """The stop rule: work spent, the wall-clock cap, or an exception raised in a callback.
+
+    Args:
+        max_checks: Configurations checked before the search stops [count].
+        time_limit: Wall-clock cap [s] (``math.inf``: none).
+    """
+
+    def __init__(self, max_checks: int, time_limit: float):
+        self.max_checks = max_checks
+        self.time_limit = time_limit
+        self.checks = 0
+        self.started = time.perf_counter()
+        self.timed_out = False
+        self.raised: BaseException | None = None
+
+    def spent(self) -> bool:
+        """Whether the search must stop now (OMPL's termination condition)."""
+        if self.raised is not None or self.checks >= self.max_checks:
+            return True
+        if time.perf_counter() - self.started >= self.time_limit:
+            self.timed_out = True
+            return True
+        return False
+
+    def reraise(self) -> None:
+        """Raise the exception a callback caught, if any."""
+        if self.raised is not None:
+            raised, self.raised = self.raised, None
+            raise raised
+
+
+def joint_bounds(
+    robot: Any, points: np.ndarray, unbounded: float = math.pi
+) -> tuple[np.ndarray, np.ndarray]:
+    """The joint space's box [rad] / [m]: the limits, an infinite one at +-``unbounded``.
+
+    Widened to hold ``points`` (the start and the goals), each row of which is within the limits.
+    """
+    lower = np.where(np.isfinite(robot.lower), robot.lower, -unbounded)
+    upper = np.where(np.isfinite(robot.upper), robot.upper, unbounded)
+    return np.minimum(lower, points.min(axis=0)), np.maximum(upper, points.max(axis=0))
+
+
+class CertifiedSpace:
+    """The OMPL space information of a robot's joint space with the certified checks.
+
+    Args:
+        checker: The collision checker of the robot (its model's shapes, scene and padding).
+        lower: Lower joint bounds [rad] / [m], shape (nq,).
+        upper: Upper joint bounds [rad] / [m], shape (nq,).
+        budget: The stop rule (its ``checks`` counts the work).
+
+    Attributes:
+        space: The ``RealVectorStateSpace``.
+        si: Its ``SpaceInformation`` (validity checker and motion validator set, set up).
+    """
+
+    def __init__(
+        self, checker: CollisionChecker, lower: np.ndarray, upper: np.ndarray, budget: Budget
+    ):
+        ob, _, _ = silence_ompl()
+        self.checker = checker
+        self.budget = budget
+        self.nq = len(lower)
+        self.motion = MotionCheck(checker, RESOLUTION)
+        self._free: dict[bytes, bool] = {}
+        self._distances: dict[bytes, np.ndarray] = {}
+        self.space = ob.RealVectorStateSpace(self.nq)
+        bounds = ob.RealVectorBounds(self.nq)
+        for i in range(self.nq):
+            bounds.setLow(i, float(lower[i]))
+            bounds.setHigh(i, float(upper[i]))
+        self.space.setBounds(bounds)
+        self.si = ob.SpaceInformation(self.space)
+        # OMPL holds the callbacks: they reach this object weakly, so that no reference cycle runs
+        # through C++ (nanobind reports such objects as leaked at exit)
+        me = weakref.proxy(self)
+        self.si.setStateValidityChecker(lambda state: me._valid(state))
+        self._validator = _validator_class()(self.si, me)
+        self.si.setMotionValidator(self._validator)
+        self.si.setup()
+
+    def state(self, q: np.ndarray) -> Any:
+        """A new OMPL state holding ``q``."""
+        state = self.space.allocState()
+        for i, value in enumerate(q.tolist()):
+            state[i] = value
+        return state
+
+    def q(self, state: Any) -> np.ndarray:
+        """The joint vector of an OMPL state [rad] / [m]."""
+        return np.array([state[i] for i in range(self.nq)])
+
+    def free(self, q: np.ndarray) -> bool:
+        """The checker's verdict at ``q``, counted once per configuration."""
+        key = q.tobytes()
+        verdict = self._free.get(key)
+        if verdict is None:
+            self.budget.checks += 1
+            verdict = not self.checker.in_collision(q)
+            if len(self._free) >= _CACHE:
+                self._free.clear()
+            self._free[key] = verdict
+        return verdict
+
+    def distances(self, q: np.ndarray) -> np.ndarray:
+        """Per checked pair, the distance at ``q`` [m] (the motion rule's ends)."""
+        key = q.tobytes()
+        found = self._distances.get(key)
+        if found is None:
+            found = self.motion.distances(q)
+            if len(self._distances) >= _CACHE:
+                self._distances.clear()
+            self._distances[key] = found
+        return found
+
+    def motion_free(self, q0: np.ndarray, q1: np.ndarray) -> bool:
+        """Whether every point of the straight motion q0 -> q1 is free by the rule.
+
+        False, without a look, once the budget is spent (the motion is not shown free).
+        """
+        if self.budget.spent() or not (self.free(q0) and self.free(q1)):
+            return False
+        before = self.motion.checks
+        remaining = max(self.budget.max_checks - self.budget.checks, 1)
+        found = self.motion.between(
+            q0, q1, self.distances(q0), self.distances(q1), max_checks=before + remaining
+        )
+        self.budget.checks += self.motion.checks - before
+        return found is None
+
+    def _valid(self, state: Any) -> bool:
+        if self.budget.raised is not None:
+            return False
+        try:
+            return self.free(self.q(state))
+        except BaseException as err:  # noqa: BLE001 - raised again after OMPL returns
+            self.budget.raised = err
+            return False
+
+
+@cache
+def _validator_class() -> type:
+    """A subclass of OMPL's ``MotionValidator`` calling :meth:`CertifiedSpace.motion_free`."""
+    ob, _, _ = silence_ompl()
+
+    class CertifiedMotionValidator(ob.MotionValidator):  # type: ignore[misc, name-defined]
+        def __init__(self, si: Any, owner: CertifiedSpace):
+            super().__init__(si)
+            self.owner = owner
+
+        def checkMotion(self, s1: Any, s2: Any, *last_valid: Any) -> bool:  # noqa: N802
+            owner = self.owner
+            if owner.budget.raised is not None:
+                return False
+            try:
+                return owner.motion_free(owner.q(s1), owner.q(s2))
+            except BaseException as err:  # noqa: BLE001 - raised again after OMPL returns
+                owner.budget.raised = err
+                return False
+
+    return CertifiedMotionValidator

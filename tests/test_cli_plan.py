@@ -1,0 +1,107 @@
+"""``kin plan``: exit codes (0 a path, 1 none, 2 bad input), JSON in SI, the path files."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+from cli_helper import assert_one_line_error, call, run
+
+from kin.commands import plan as plan_command
+from kin.path.joint_path_file import read_joint_path
+
+#: planar2's straight swing from -90 to +90 deg of its first joint passes through this ball.
+BALL = "[[sphere]]\nname = 'ball'\nradius = 0.04\nxyz = [0.45, 0.0, 0.0]\n"
+SWING = ["--robot", "planar2", "--start", "-90", "0", "--goal", "90", "0", "--deg"]
+
+
+@pytest.fixture
+def ball(tmp_path):
+    scene = tmp_path / "ball.toml"
+    scene.write_text(BALL, encoding="utf-8")
+    return str(scene)
+
+
+def test_a_plan_around_the_ball_in_json(capsys, ball):
+    assert call(plan_command.main, [*SWING, "--scene", ball, "--json", "--seed", "4"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["status"] == "ok" and record["planner"] == "RRTConnect" and record["seed"] == 4
+    path = np.array(record["path"])
+    assert np.allclose(path[0], np.radians([-90.0, 0.0])) and np.allclose(
+        path[-1], [math.pi / 2, 0]
+    )
+    assert len(path) > 2 and record["q_units"] == ["rad", "rad"]
+    steps = np.linalg.norm(np.diff(path, axis=0), axis=1).sum()
+    assert math.isclose(record["length"], steps, rel_tol=1e-12)
+    assert record["clearance_m"] > 0 and record["checks"] > 0
+
+
+def test_text_names_the_status_and_the_joint_vectors_in_degrees(capsys, ball):
+    assert call(plan_command.main, [*SWING, "--scene", ball]) == 0
+    out = capsys.readouterr().out
+    assert "status: ok" in out and "joint1 [deg]" in out
+    assert "  0: -90 0\n" in out
+
+
+def test_no_path_exits_1_with_the_status(capsys, ball):
+    argv = ["--robot", "planar2", "--start", "0", "0", "--goal", "90", "0", "--deg"]
+    assert call(plan_command.main, [*argv, "--scene", ball]) == 1
+    out = capsys.readouterr().out
+    assert "status: start_in_collision" in out and "ball" in out
+    assert call(plan_command.main, [*SWING, "--scene", ball, "--max-checks", "3", "--json"]) == 1
+    assert json.loads(capsys.readouterr().out)["status"] == "not_found"
+
+
+def test_a_target_goal(capsys, ball):
+    """--target X Y Z: planar2's tool at (0, 0.5) is the arm straight up (+90 deg, 0)."""
+    argv = ["--robot", "planar2", "--start", "-90", "0", "--target", "0", "0.5", "0", "--deg"]
+    assert call(plan_command.main, [*argv, "--scene", ball, "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert np.allclose(record["path"][-1], [math.pi / 2, 0.0], atol=1e-6)
+
+
+def test_path_files_csv_and_json_with_times(capsys, ball, tmp_path):
+    out_json, out_csv = tmp_path / "plan.json", tmp_path / "plan.csv"
+    assert call(plan_command.main, [*SWING, "--scene", ball, "--time", "-o", str(out_json)]) == 0
+    capsys.readouterr()
+    path = read_joint_path(out_json, 2)  # what kin preview --path reads
+    assert path.t is not None and path.t[0] == 0.0 and (np.diff(path.t) > 0).all()
+    assert call(plan_command.main, [*SWING, "--scene", ball, "--time", "-o", str(out_csv)]) == 0
+    rows = list(csv.reader(out_csv.read_text(encoding="utf-8").splitlines()))
+    assert rows[0][:4] == ["sample", "t [s]", "joint1 [rad]", "joint2 [rad]"]
+    assert len(rows) - 1 == len(path.q)
+    assert np.allclose([[float(v) for v in row[2:4]] for row in rows[1:]], path.q)
+
+
+@pytest.mark.parametrize(
+    ("extra", "needle"),
+    [
+        (["--planner", "RRTx"], "--planner"),
+        (["--start", "nan", "0"], "--start"),
+        (["--goal", "1", "2", "3"], "--goal needs 2 values"),
+        (["--goal", "400", "0"], "joint1"),
+        (["--target", "0", "0.5", "0"], "one of them"),
+        (["--rpy", "0", "0", "0"], "--rpy"),
+        (["--seed", "-1"], "--seed"),
+        (["-o", "plan.txt"], "-o"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(capsys, ball, extra, needle):
+    code = call(plan_command.main, [*SWING, "--scene", ball, *extra])
+    assert_one_line_error(code, capsys.readouterr().err, needle)
+
+
+def test_the_output_is_never_an_input(capsys, ball):
+    code = call(plan_command.main, [*SWING, "--scene", ball, "-o", ball])
+    assert_one_line_error(code, capsys.readouterr().err, "-o")
+    assert "sphere" in open(ball, encoding="utf-8").read()
+
+
+def test_the_console_command_prints_nothing_on_stderr(ball):
+    """As a process: exit 0, stdout the answer, stderr empty (OMPL's log and nanobind quiet)."""
+    done = run(["plan", *SWING, "--scene", ball, "--json"], module=False)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["status"] == "ok" and done.stderr == ""
