@@ -223,9 +223,15 @@ def test_every_answer_colliding_stays_in_collision(panda, tmp_path):
     xyz = ", ".join(repr(float(v)) for v in T.translation)
     path.write_text(f'[[sphere]]\nname = "ball"\nradius = 0.12\nxyz = [{xyz}]\n')
     checker = CollisionChecker(load_collision_model(robot, srdf=erd(SRDF), scene=path))
-    link7 = _reference(panda, path).signed_distances(q, [("panda_link7", "ball")])
-    assert link7[("panda_link7", "ball")][0] < 0.0  # the link the tool carries is in the ball
-    assert held_in_scene(robot, checker, q) == "panda_link7/ball"
+    # The links the tool's joint carries: panda_link7 and, since the whole robot is checked
+    # (issue 43, item 2), the hand and its held fingers beyond the tip frame.
+    carried = ("panda_link7", "panda_hand", "panda_leftfinger", "panda_rightfinger")
+    inside = _reference(panda, path).signed_distances(q, [(link, "ball") for link in carried])
+    assert inside[("panda_link7", "ball")][0] < 0.0  # the link the tool carries is in the ball
+    found = held_in_scene(robot, checker, q)
+    link, _, obstacle = found.partition("/")
+    assert link in carried and obstacle == "ball", found
+    assert inside[(link, "ball")][0] < 0.0, found  # the reference puts the named link in it
     assert held_in_scene(robot, CollisionChecker(load_collision_model(robot)), q) == ""
     bounded = DistanceBoundedIK(robot, checker).solve(target, [q])
     assert bounded.status == "not_found" and not bounded.solutions
