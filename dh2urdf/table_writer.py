@@ -2,8 +2,10 @@
 
 Lengths in meters and angles in radians (``length_unit = "m"``, ``angle_unit = "rad"``), every
 number written with all its digits (``repr``), so that :func:`~dh2urdf.load_table` of the text
-gives the same table: the rows exactly, ``[base]`` and ``[tool]`` through ``xyz`` and ``rpy`` (URDF
-roll-pitch-yaw) when that keeps every digit, else ``quat_wxyz`` (near pitch +-90 deg).
+gives the same table: the rows exactly, with the acceleration, mass, radii and
+``[[joints.housing]]`` they state (their body, :mod:`dh2urdf.link_volumes`), ``[base]`` and
+``[tool]`` through ``xyz`` and ``rpy`` (URDF roll-pitch-yaw) when that keeps every digit, else
+``quat_wxyz`` (near pitch +-90 deg). A ``[drives]`` section is not written.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .dh_table import DHTable
+from .dh_table import DHRow, DHTable
 
 __all__ = ["table_text", "write_table"]
 
@@ -105,6 +107,26 @@ def _rpy_matrix(rpy: tuple[float, float, float]) -> np.ndarray:
     return xyz_rpy((0.0, 0.0, 0.0), rpy)[:3, :3]
 
 
+def _row_extras(row: DHRow) -> list[str]:
+    """The row's optional keys it states: limits of motion, mass and body (link volumes).
+
+    Keys the row leaves out stay out, so that reading the text gives the same defaults.
+    """
+    lines = []
+    for key in ("acceleration", "mass", "radius", "radius_a", "radius_d"):
+        value = getattr(row, key)
+        if value is not None:
+            lines.append(f"{key} = {_number(value)}")
+    for housing in row.housings:
+        lines += [
+            "[[joints.housing]]",
+            f"from = [{', '.join(map(_number, housing.start))}]",
+            f"to = [{', '.join(map(_number, housing.end))}]",
+            f"radius = {_number(housing.radius)}",
+        ]
+    return lines
+
+
 def table_text(table: DHTable, header: str = "") -> str:
     """The TOML text of ``table`` (SI units); ``header`` becomes leading ``#`` comment lines."""
     lines = [f"# {line}".rstrip() for line in header.splitlines()]
@@ -134,6 +156,7 @@ def table_text(table: DHTable, header: str = "") -> str:
             lines.append("continuous = true")
         if row.direction != 1:
             lines.append(f"direction = {row.direction}")
+        lines += _row_extras(row)
     lines += _fixed("base", np.asarray(table.T_world_base))
     lines += _fixed("tool", np.asarray(table.T_last_tool))
     return "\n".join(lines) + "\n"

@@ -57,7 +57,11 @@ def _toml_value(value: float) -> str:
 
 
 def _toml(document: dict) -> str:
-    """The few shapes a shipped table has, written back as TOML (floats at full precision)."""
+    """The few shapes a shipped table has, written back as TOML (floats at full precision).
+
+    Top-level keys, ``[[joints]]`` rows with their ``[[joints.housing]]`` tables, ``[base]`` and
+    ``[tool]``.
+    """
 
     def value(item) -> str:  # noqa: ANN001
         if isinstance(item, bool):
@@ -74,8 +78,16 @@ def _toml(document: dict) -> str:
     lines += [
         f"{k} = {value(v)}" for k, v in document.items() if isinstance(v, list) and k != "joints"
     ]
+
+    def tables(item) -> bool:  # noqa: ANN001
+        return isinstance(item, list) and bool(item) and all(isinstance(v, dict) for v in item)
+
     for row in document["joints"]:
-        lines += ["", "[[joints]]"] + [f"{k} = {value(v)}" for k, v in row.items()]
+        lines += ["", "[[joints]]"] + [f"{k} = {value(v)}" for k, v in row.items() if not tables(v)]
+        for key, entries in row.items():  # a row's volumes: [[joints.housing]]
+            if tables(entries):
+                for entry in entries:
+                    lines += [f"[[joints.{key}]]"] + [f"{k} = {value(v)}" for k, v in entry.items()]
     for key, table in document.items():
         if isinstance(table, dict) and key != "drives":
             lines += ["", f"[{key}]"] + [f"{k} = {value(v)}" for k, v in table.items()]
@@ -174,3 +186,37 @@ def test_the_toml_writer_round_trips_every_shipped_table():
     for name, document in DOCUMENTS.items():
         document = {k: v for k, v in document.items() if k != "drives"}
         assert tomllib.loads(_toml(document)) == document, name
+
+
+def _meters(row: dict, scale: float) -> dict:
+    """A TOML row's body keys (radii, housings) in meters."""
+    out: dict = {k: row[k] * scale for k in ("radius", "radius_a", "radius_d") if k in row}
+    out["housing"] = [
+        {"from": [v * scale for v in h["from"]], "to": [v * scale for v in h["to"]]}
+        | {"radius": h["radius"] * scale}
+        for h in row.get("housing", [])
+    ]
+    return out
+
+
+@pytest.mark.parametrize("name", sorted(DOCUMENTS))
+def test_table_text_keeps_each_shipped_row_body(name):
+    """table_text writes the radii and housings each shipped row states; read back, same rows."""
+    from dh2urdf import parse_table
+    from dh2urdf.table_writer import table_text
+
+    table = get_robot(name).load_table()
+    written = tomllib.loads(table_text(table))
+    scale = _METERS[DOCUMENTS[name].get("length_unit", "m")]
+    for index, (row, again) in enumerate(
+        zip(DOCUMENTS[name]["joints"], written["joints"], strict=True), start=1
+    ):
+        expected, got = _meters(row, scale), _meters(again, 1.0)
+        assert got.keys() == expected.keys(), f"{name=} {index=}"
+        housings, expected_housings = got.pop("housing"), expected.pop("housing")
+        assert got == pytest.approx(expected, rel=1e-15), f"{name=} {index=}"
+        assert len(housings) == len(expected_housings), f"{name=} {index=}"
+        for ours, theirs in zip(housings, expected_housings, strict=True):
+            for key in ("from", "to", "radius"):
+                assert ours[key] == pytest.approx(theirs[key], rel=1e-15, abs=1e-18), f"{name=}"
+    assert parse_table(written, "<round trip>").rows == table.rows, f"{name=}"
