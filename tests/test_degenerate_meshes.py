@@ -152,7 +152,14 @@ def test_a_degenerate_robot_mesh_is_one_warning_and_the_link_keeps_its_cylinder(
 
 
 def check_robot_link_keeps_its_cylinder(folder: str) -> None:
-    """In the child: the link with a flat mesh keeps its cylinder; one warning."""
+    """In the child: the link with a flat mesh keeps its cylinders; one warning.
+
+    The shapes link2 keeps are counted in the URDF itself: its <collision> cylinders (the DH
+    table's ``a2`` segment and, since the tables have volumes, its housings), without the mesh.
+    """
+    import coal
+    from lxml import etree
+
     import kin
     from kin.collision import load_collision_model
 
@@ -164,7 +171,19 @@ def check_robot_link_keeps_its_cylinder(folder: str) -> None:
     logging.getLogger("kin.collision").addHandler(handler)
     model = load_collision_model(kin.load_robot(str(urdf)))
     assert [message.count("flat.stl") for message in records] == [1], records
-    assert model.owners.count("link2") == 1  # the cylinder a2, not the mesh
+    link2 = etree.parse(str(urdf)).find("link[@name='link2']")
+    cylinders = link2.findall("collision/geometry/cylinder")
+    assert len(link2.findall("collision")) == len(cylinders) + 1 >= 2  # the mesh and cylinders
+    kept = [
+        thing.geometry
+        for thing, owner in zip(model.geometry_model.geometryObjects, model.owners, strict=True)
+        if owner == "link2"
+    ]
+    assert len(kept) == len(cylinders), (kept, len(cylinders))  # the cylinders, not the mesh
+    assert all(isinstance(shape, coal.Cylinder) for shape in kept), kept
+    assert sorted(shape.radius for shape in kept) == sorted(
+        float(cylinder.get("radius")) for cylinder in cylinders
+    )
 
 
 def test_the_robot_link_keeps_its_other_shapes(tmp_path):
