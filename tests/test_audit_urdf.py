@@ -1,10 +1,10 @@
 """The audit against example-robot-data's URDFs finds the base rotation found by hand.
 
-tests/test_example_robot_data.py states T_erd_our = identity for ur5 (tool = tool0; its table's
-[base] is the URDF's base_link -> base turn) and panda (tool = panda_link8), and
-tests/test_real_arms.py Rz(pi) for ur3 (the controller's DH base frame); the audit must find the
-same from the URDFs alone, to 1e-9, and find a twist sign, the convention or the length unit when
-we corrupt our table.
+tests/test_example_robot_data.py states T_erd_our = identity for ur3, ur5 and ur10 (tool = tool0;
+each table's [base] is the URDF's base_link -> base turn) and panda (tool = panda_link8); the audit
+must find the same from the URDFs alone, to 1e-9, find Rz(pi) for a UR table without its [base]
+(the controller's DH base frame), and find a twist sign, the convention or the length unit when we
+corrupt our table.
 """
 
 from __future__ import annotations
@@ -28,7 +28,8 @@ RZ_PI = np.diag([-1.0, -1.0, 1.0, 1.0])
 #: robot -> (URDF inside example-robot-data's robots folder, frame, expected base B).
 CASES = {
     "panda": ("panda_description/urdf/panda.urdf", "panda_link8", np.eye(4)),
-    "ur3": ("ur_description/urdf/ur3_robot.urdf", "tool0", RZ_PI),
+    "ur10": ("ur_description/urdf/ur10_robot.urdf", "tool0", np.eye(4)),
+    "ur3": ("ur_description/urdf/ur3_robot.urdf", "tool0", np.eye(4)),
     "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0", np.eye(4)),
 }
 
@@ -44,7 +45,7 @@ def erd_urdf(relative: str) -> Path:
 
 @pytest.mark.parametrize("robot", sorted(CASES))
 def test_finds_the_base_transform_of_example_robot_data(robot):
-    """Table as written, base Rz(pi) (ur3) or identity (ur5, panda), tool identity, to 1e-9."""
+    """Table as written, base and tool identity (ur3, ur5, ur10, panda), to 1e-9."""
     relative, frame, base = CASES[robot]
     audit = audit_urdf(robot, erd_urdf(relative), frame)
     best = audit.best
@@ -128,9 +129,33 @@ def test_missing_frame_names_it():
         audit_urdf("ur5", erd_urdf(CASES["ur5"][0]), "tool9")
 
 
-def test_json_gives_base_and_tool_in_the_table_units(capsys):
-    """--json: readings best first, base rpy (0, 0, +-pi) rad for ur3, residuals in SI."""
-    code = main(["ur3", "--urdf", str(erd_urdf(CASES["ur3"][0])), "--frame", "tool0", "--json"])
+def without_base(tmp_path: Path, robot: str) -> Path:
+    """A shipped table with its [base] section dropped: its world is DH frame 0."""
+    text = get_robot(robot).table_path.read_text(encoding="utf-8")
+    text, count = re.subn(r"\n\[base\]\n(?:\w+ = .*\n)*", "\n", text)
+    assert count == 1, f"{robot=} has no [base]"
+    path = tmp_path / f"{robot}_no_base.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("robot", ["ur10", "ur3", "ur5"])
+def test_finds_rz_pi_for_a_ur_table_in_the_controllers_frame(tmp_path, robot):
+    """A UR table without its [base] (DH frame 0, the controller's base frame, as up to 0.3.0):
+    the audit finds base Rz(pi) from base_link, tool identity, to 1e-9."""
+    relative, frame, _ = CASES[robot]
+    audit = audit_urdf(without_base(tmp_path, robot), erd_urdf(relative), frame)
+    best = audit.best
+    assert best.reading.changes == () and best.reproduced, f"{robot=} {best.reading.label}"
+    assert np.abs(best.fit.T_ref_base - RZ_PI).max() < TOL, f"{robot=} {best.fit.T_ref_base}"
+    assert np.abs(best.fit.T_tool_ref - np.eye(4)).max() < TOL, f"{robot=} {best.fit.T_tool_ref}"
+
+
+def test_json_gives_base_and_tool_in_the_table_units(tmp_path, capsys):
+    """--json on ur3 without its [base] (the controller's DH base frame): readings best first,
+    base rpy (0, 0, +-pi) rad, residuals in SI."""
+    table = str(without_base(tmp_path, "ur3"))
+    code = main([table, "--urdf", str(erd_urdf(CASES["ur3"][0])), "--frame", "tool0", "--json"])
     assert code == 0
     record = json.loads(capsys.readouterr().out)
     best = record["readings"][0]

@@ -1,17 +1,19 @@
-"""Our URDFs of real arms (ur5, panda) have the FK of example-robot-data's URDFs of the same arms.
+"""Our URDFs of real arms (ur3, ur5, ur10, panda) have the FK of example-robot-data's URDFs of them.
 
 example-robot-data ships no Python module (only files under ``cmeel.prefix/share``); its URDFs are
 found through the package's file list. Fixed base transform between the two URDF roots, measured
 at q = 0 and checked at random q (``T_erd_world_flange = T_erd_world_our_world @ T_world_tool``):
 
-- ur5: identity: the table's ``[base]`` turns the controller's DH base frame by pi about z from
-  the ROS ``base_link``, as the URDF's ``base_link -> base`` joint does (up to 0.3.0 the table had
-  no ``[base]`` and ``T_erd_world_our_world`` was ``Rz(pi)``); ``tool`` equals ``tool0``;
+- ur3, ur5, ur10: identity: each table's ``[base]`` turns the controller's DH base frame by pi
+  about z from the ROS ``base_link``, as the URDF's ``base_link -> base`` joint does (up to 0.3.0
+  the tables had no ``[base]`` and ``T_erd_world_our_world`` was ``Rz(pi)``); ``tool`` equals
+  ``tool0``;
 - panda: identity; ``tool`` equals ``panda_link8`` (fingers at 0).
 
-Measured largest errors over 1000 random q: ur5 5.2e-12 m and 1.5e-11 rad (ERD writes pi/2 as
-1.57079632679, 4.9e-12 rad short, and the errors add up over the joints), panda exactly 0 (the same
-floating-point operations). Hence the rotation tolerance 1e-10 rad.
+Measured largest errors over 1000 random q: ur3 3.4e-12 m, ur5 5.2e-12 m, ur10 7.2e-12 m, each
+1.5e-11 rad (ERD writes pi/2 as 1.57079632679, 4.9e-12 rad short, and the errors add up over the
+joints), panda exactly 0 (the same floating-point operations). Hence the rotation tolerance 1e-10
+rad.
 """
 
 from __future__ import annotations
@@ -35,7 +37,17 @@ SAMPLES = 1000
 #: robot -> (ERD URDF path inside the package's robots folder, ERD flange frame, T_erd_our).
 CASES = {
     "panda": ("panda_description/urdf/panda.urdf", "panda_link8", np.eye(4)),
+    "ur10": ("ur_description/urdf/ur10_robot.urdf", "tool0", np.eye(4)),
+    "ur3": ("ur_description/urdf/ur3_robot.urdf", "tool0", np.eye(4)),
     "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0", np.eye(4)),
+}
+
+#: UR arm -> its flange at q = 0 in base_link [m], summed by hand from the maker's DH lengths:
+#: (-(a2 + a3), d4 + d6, d1 - d5), the DH base frame turned by pi about z (a2, a3 < 0).
+UR_HOME_FLANGE = {
+    "ur10": (0.612 + 0.5723, 0.163941 + 0.0922, 0.1273 - 0.1157),
+    "ur3": (0.24365 + 0.21325, 0.11235 + 0.0819, 0.1519 - 0.08535),
+    "ur5": (0.425 + 0.39225, 0.10915 + 0.0823, 0.089159 - 0.09465),
 }
 
 
@@ -85,17 +97,17 @@ def test_fixed_base_transform_is_the_stated_one(robot):
     assert rotation < ROT_TOL, f"{robot=} {rotation=:.3e} rad"
 
 
-def test_ur5_flange_at_zero_is_ahead_of_base_link():
-    """At q = 0 the shipped ur5's flange is at x = +0.81725 m, as in the maker's URDF (issue 43).
+@pytest.mark.parametrize("robot", sorted(UR_HOME_FLANGE))
+def test_ur_flange_at_zero_is_ahead_of_base_link(robot):
+    """At q = 0 a shipped UR's flange is at +x in base_link, as in the maker's URDF (issue 43).
 
-    The expected point is summed by hand from the maker's UR5 lengths [m]: x = 0.425 + 0.39225
-    (upper arm and forearm, along base_link's +x), y = 0.10915 + 0.0823 (d4 + d6), z = 0.089159 -
-    0.09465 (d1 - d5). Up to 0.3.0 the table gave x = -0.81725, y = -0.19145.
+    The expected points are summed by hand from the maker's lengths (``UR_HOME_FLANGE``): x is the
+    upper arm and forearm along base_link's +x (ur5 +0.81725 m, ur3 +0.4569 m, ur10 +1.1843 m).
+    Up to 0.3.0 the tables gave x and y negated.
     """
-    robot = load_robot("ur5")
-    position = Configuration(robot, np.zeros(6)).transform_frame_to_world("tool").translation
-    expected = np.array([0.425 + 0.39225, 0.10915 + 0.0823, 0.089159 - 0.09465])
-    assert np.allclose(position, expected, rtol=0.0, atol=1e-12), f"{position=}"
+    position = Configuration(load_robot(robot), np.zeros(6)).transform_frame_to_world("tool")
+    expected = np.array(UR_HOME_FLANGE[robot])
+    assert np.allclose(position.translation, expected, rtol=0.0, atol=1e-12), f"{robot=} {position}"
 
 
 @pytest.mark.parametrize("robot", sorted(CASES))
@@ -117,12 +129,14 @@ def test_flange_pose_matches_example_robot_data(robot):
 
 @pytest.mark.parametrize("robot", sorted(CASES))
 def test_joint_limits_agree_with_example_robot_data(robot):
-    """Our table's joint limits equal ERD's (ERD writes 2 pi with 11 decimals)."""
+    """Our table's joint limits, velocities and efforts equal ERD's (2 pi written to 1e-11)."""
     arm = ErdArm(robot)
-    for bound, erd in (
-        (arm.ours.lower, arm.model.lowerPositionLimit),
-        (arm.ours.upper, arm.model.upperPositionLimit),
+    for field, bound, erd in (
+        ("lower", arm.ours.lower, arm.model.lowerPositionLimit),
+        ("upper", arm.ours.upper, arm.model.upperPositionLimit),
+        ("velocity", arm.ours.model.velocityLimit, arm.model.velocityLimit),
+        ("effort", arm.ours.model.effortLimit, arm.model.effortLimit),
     ):
         assert np.allclose(bound, erd[arm.index], rtol=0.0, atol=1e-10), (
-            f"{robot=} {bound=} {erd[arm.index]=}"
+            f"{robot=} {field}: {bound=} {erd[arm.index]=}"
         )

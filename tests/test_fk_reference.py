@@ -84,6 +84,16 @@ HOME_TOOL_POSITIONS = {
     "pickplace3": (0.197 + 0.258, 0.010, 0.170),  # eqs. (8)-(10) at q = 0
     "planar2": (0.5, 0.0, 0.0),  # a1 + a2
     "scorbot": (0.603, 0.0, 0.349),  # the paper's 0T5 at q = 0
+    "ur10": (
+        0.612 + 0.5723,
+        0.163941 + 0.0922,
+        0.1273 - 0.1157,
+    ),  # (-(a2 + a3), d4 + d6, d1 - d5): ROS base_link, the DH base frame turned by pi
+    "ur3": (
+        0.24365 + 0.21325,
+        0.11235 + 0.0819,
+        0.1519 - 0.08535,
+    ),  # (-(a2 + a3), d4 + d6, d1 - d5): ROS base_link, the DH base frame turned by pi
     "ur5": (
         0.425 + 0.39225,
         0.10915 + 0.0823,

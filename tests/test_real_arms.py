@@ -1,12 +1,9 @@
 """The shipped tables of real arms have the FK of the makers' models.
 
-ur3, ur10 and xarm7 against example-robot-data's URDFs of those arms (ur5 and panda are in
-tests/test_example_robot_data.py), puma560 against the Robotics Toolbox's DH model. Each at 1000
-random q within both models' limits, on our tool frame through ``kin``.
+xarm7 against example-robot-data's URDF of that arm (ur3, ur5, ur10 and panda, in the makers'
+base frames, are in tests/test_example_robot_data.py), puma560 against the Robotics Toolbox's DH
+model. Each at 1000 random q within both models' limits, on our tool frame through ``kin``.
 
-- ur3, ur10: ``T_erd_world_our_world = Rz(pi)`` as for ur5 (ROS ``base_link`` faces the other way
-  than the controller's DH base frame); ``tool`` equals ``tool0``. Measured: 3.4e-12 m (ur3),
-  7.2e-12 m (ur10), 1.5e-11 rad (ERD writes pi/2 as 1.57079632679; hence ROT_TOL 1e-10 rad).
 - xarm7: identity base, ``tool`` equals ``link7`` (and ``link_eef``). The maker's URDF writes the
   six twists pi/2 as ``1.5708`` (3.7e-6 rad long); our table keeps the published exact twists.
   With those six literals set to pi/2 the two agree exactly (0 m, 0 rad measured); as shipped they
@@ -36,12 +33,9 @@ POS_TOL = 1e-9
 ROT_TOL = 1e-10
 #: Random configurations per arm.
 SAMPLES = 1000
-RZ_PI = np.diag([-1.0, -1.0, 1.0, 1.0])
 
 #: robot -> (ERD URDF inside the package's robots folder, ERD flange frame, T_erd_our).
 CASES = {
-    "ur10": ("ur_description/urdf/ur10_robot.urdf", "tool0", RZ_PI),
-    "ur3": ("ur_description/urdf/ur3_robot.urdf", "tool0", RZ_PI),
     "xarm7": ("xarm_description/urdf/xarm7.urdf", "link7", np.eye(4)),
 }
 
@@ -125,7 +119,7 @@ def exact_arm(robot: str) -> ErdArm:
 
 @pytest.mark.parametrize("robot", sorted(CASES))
 def test_fixed_base_transform_is_the_stated_one(robot):
-    """At q = 0, T_erd_flange @ inv(T_our_tool) is Rz(pi) for the URs and identity for xarm7."""
+    """At q = 0, T_erd_flange @ inv(T_our_tool) is the identity for xarm7."""
     arm = exact_arm(robot)
     q = np.zeros(arm.ours.nq)
     T_our = Configuration(arm.ours, q).transform_frame_to_world("tool").homogeneous
