@@ -77,11 +77,15 @@ def _aware(robot, scene):
     return get_solver(robot, collisions=checker), checker, model
 
 
-def _blocked_nearest(tmp_path, robot, plain, link, targets, radius=0.04, others=None):
+def _blocked_nearest(
+    tmp_path, robot, plain, link, targets, radius=0.04, others=None, all_blocked=False
+):
     """(target, seed, plain result, scene, reference): the plain answer's ``link`` in a ball.
 
     Another answer (of the plain result, or of ``others(target, seed)``) is free by the
-    reference.
+    reference, over every checked pair (the arm's volumes are fat enough to meet the ball, or
+    each other, elsewhere than at ``link``). ``all_blocked``: every answer of the plain result
+    collides, so only ``others`` hold a free one.
     """
     rng = np.random.default_rng(3)
     probe = _reference(robot, _ball_scene(tmp_path, (9.0, 9.0, 9.0), 0.01))
@@ -94,7 +98,9 @@ def _blocked_nearest(tmp_path, robot, plain, link, targets, radius=0.04, others=
             continue
         scene = _ball_scene(tmp_path, _shape_center(probe, result.solutions[0].q, link), radius)
         reference = _reference(robot, scene)
-        pairs = [(link, "post")]
+        pairs = [tuple(p) for p in load_collision_model(robot, scene=scene).pairs]
+        if all_blocked and not all(_collides(reference, pairs, s.q) for s in result.solutions):
+            continue
         more = result.solutions[1:] if others is None else others(target, seed)
         if any(not _collides(reference, pairs, s.q) for s in more):
             return target, seed, result, scene, reference
@@ -190,7 +196,13 @@ def test_7r_free_joint_gives_a_free_answer(tmp_path):
 
 
 def test_ur5_axis_target_gets_another_roll(tmp_path):
-    """UR5 AxisTarget: the seed roll's answer blocked at the wrist; another roll is free."""
+    """UR5 AxisTarget: the seed roll's answers blocked at the wrist; another roll is free.
+
+    The ball sits on wrist_1 (link4), which turns with the roll about the tool axis; wrist_2's
+    housing holds the point the tool axis fixes, so a ball there would block every roll. Every
+    branch at the seed's roll collides (the ball or the arm's own volumes), so the free answer
+    is another roll's.
+    """
     robot = kin.load_robot("ur5")
     plain = get_solver(robot)
 
@@ -202,22 +214,25 @@ def test_ur5_axis_target_gets_another_roll(tmp_path):
         tmp_path,
         robot,
         plain,
-        "frame4",
+        "link4",
         axis,
         radius=0.03,
         others=lambda t, s: plain.partial.solve(t, s, every_roll=True).solutions,
+        all_blocked=True,
     )
     aware, checker, model = _aware(robot, scene)
     answer = aware.solve(target, seed)
     assert answer.status == "ok", answer.message
     pairs = [tuple(p) for p in model.pairs]
-    assert _collides(reference, pairs, result.solutions[0].q)
+    assert all(_collides(reference, pairs, s.q) for s in result.solutions)
     _assert_free(reference, model, answer.solutions)
     config = kin.Configuration(robot)
+    seed_x = config.fk(result.solutions[0].q).rotation[:, 0]
     for s in answer.solutions:
         T = config.fk(s.q)
         assert np.linalg.norm(T.translation - target.position) < 1e-6
         assert np.dot(T.rotation[:, 2], target.axis) > 1 - 1e-8
+        assert np.dot(T.rotation[:, 0], seed_x) < np.cos(np.radians(1.0))  # another roll
 
 
 @pytest.mark.parametrize("name", ["ur5", "humanoid7", "panda"])
