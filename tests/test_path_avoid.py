@@ -11,6 +11,7 @@ surely collides (asserted by the reference too).
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +19,7 @@ import pinocchio as pin
 import pytest
 from cli_helper import assert_one_line_error, call
 from collision_reference import CollisionReference
+from urdf_reference import erd
 
 from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model
@@ -28,19 +30,23 @@ from kin.path import follow_path, follow_path_avoiding, polyline
 CONTACT_TOL = 1e-6
 #: Reference points per segment when the motion between samples is checked densely.
 DENSE = 12
-SHELF = "[[box]]\nname = 'shelf'\nsize = [0.1, 1.0, 0.4]\nxyz = [-0.12, 0.0, 0.55]\n"
-ROOF = "[[box]]\nname = 'roof'\nsize = [0.3, 1.0, 0.1]\nxyz = [0.1, 0.0, 0.73]\n"
+#: The UR5 cells are in the maker's base frame (the tool at x < 0 is in front of the base). The
+#: shelf's face is placed so that the shoulder-left, wrist-up, elbow-down branch (the plain path's)
+#: is free at sample 0 and meets it from sample 1 on (link3 / shelf; 2 mm either way moves that).
+SHELF = "[[box]]\nname = 'shelf'\nsize = [0.1, 1.0, 0.4]\nxyz = [0.191, 0.0, 0.55]\n"
+ROOF = "[[box]]\nname = 'roof'\nsize = [0.3, 1.0, 0.1]\nxyz = [0.1, 0.0, 0.79]\n"
 #: The cells: name -> (box TOML, start point, end point [m], tool rpy [rad] or None: the tool
 #: pointing down (z axis to -z, roll free) on "-axis" cells, a position path on "-position").
 CELLS = {
     # a shelf behind the base, where the UR5's upper arm goes on the shoulder-left branch
     "ur5": (
         SHELF,
-        (0.4, 0.1, 0.3),
-        (0.4, -0.3, 0.3),
-        (3.14159, 0.0, 0.0),
+        (-0.4, -0.1, 0.3),
+        (-0.4, 0.3, 0.3),
+        (3.14159, 0.0, 3.14159),
     ),
-    # a roof over the Panda's elbow: the elbow must swing aside (the free joint)
+    # a roof over the Panda's elbow: the elbow must swing aside (the free joint); checked with the
+    # maker's self pairs (_panda_srdf)
     "panda": (
         ROOF,
         (0.5, 0.2, 0.3),
@@ -48,11 +54,33 @@ CELLS = {
         (3.14159, 0.0, 0.0),
     ),
     # a partial pose: the closed form's roll sweep (kin.ik.partial_pose)
-    "ur5-axis": (SHELF, (0.4, 0.1, 0.3), (0.4, -0.3, 0.3), None),
+    "ur5-axis": (SHELF, (-0.4, -0.1, 0.3), (-0.4, 0.3, 0.3), None),
     # positions on a 7R arm: the numeric solver (its other starts, the distance bound)
     "panda-position": (ROOF, (0.5, 0.2, 0.3), (0.5, -0.2, 0.3), None),
 }
 STEPS = 20
+
+
+def _panda_srdf(folder: Path) -> Path:
+    """The maker's Panda SRDF (example-robot-data) on the DH table's links, written in ``folder``.
+
+    Each ``panda_link{k}`` is carried by DH frame ``frame{k}`` (``panda_link0``'s housing by
+    ``frame1``, about joint 1's axis). Without it the DH Panda's housings overlap in nearly every
+    configuration (frame3 / frame5, frame5 / frame7: docs/tables.md, coarse self-collisions) and
+    no answer of the cells is free.
+    """
+    text = erd("panda_description/srdf/panda.srdf").read_text(encoding="utf-8")
+    carrier = {f"panda_link{k}": f"frame{max(k, 1)}" for k in range(8)}
+    pairs = {
+        tuple(sorted((carrier[a], carrier[b])))
+        for a, b in re.findall(r'<disable_collisions link1="(\w+)" link2="(\w+)"', text)
+        if a in carrier and b in carrier and carrier[a] != carrier[b]
+    }
+    assert ("frame3", "frame5") in pairs and ("frame5", "frame7") in pairs
+    rows = "".join(f'  <disable_collisions link1="{a}" link2="{b}"/>\n' for a, b in sorted(pairs))
+    file = folder / "panda_dh.srdf"
+    file.write_text(f"<robot name='panda'>\n{rows}</robot>\n", encoding="utf-8")
+    return file
 
 
 def _cell(tmp_path: Path, name: str, scene: str | None = None):
@@ -68,7 +96,8 @@ def _cell(tmp_path: Path, name: str, scene: str | None = None):
     else:
         ends = [PoseTarget(np.array(p), pin.rpy.rpyToMatrix(*rpy)) for p in (start, end)]
     path = polyline(ends, STEPS)
-    model = load_collision_model(robot, scene=file)
+    srdf = _panda_srdf(tmp_path) if robot.name == "panda" else None
+    model = load_collision_model(robot, scene=file, srdf=srdf)
     reference = CollisionReference(robot.urdf, None, robot.joint_names, None, file)
     pairs = [(link, obj) for link in reference.links for obj in reference.scene_names]
     pairs += [p for p in model.pairs if p[1] not in reference.scene_names]
@@ -133,7 +162,7 @@ def test_a_free_plain_path_is_kept(tmp_path):
 
 def test_no_free_answer_fails_at_the_first_blocked_sample(tmp_path):
     """A ball on the tool's line: the failure names the first sample every answer of which collides."""
-    ball = "[[sphere]]\nname = 'ball'\nradius = 0.03\nxyz = [0.4, -0.105, 0.3]\n"
+    ball = "[[sphere]]\nname = 'ball'\nradius = 0.03\nxyz = [-0.4, 0.105, 0.3]\n"
     robot, path, checker, reference, pairs, _ = _cell(tmp_path, "ur5", ball)
     avoided = follow_path_avoiding(robot, path, checker)
     assert not avoided.success and avoided.result is None
@@ -150,7 +179,7 @@ def test_no_free_answer_fails_at_the_first_blocked_sample(tmp_path):
     arc = float(np.linalg.norm(path.positions[failure.sample] - path.positions[0]))
     assert failure.arc_length == pytest.approx(arc, abs=1e-12)
     line = failure.describe()
-    assert f"sample {failure.sample} " in line and "arc length" in line and "xyz = (0.4" in line
+    assert f"sample {failure.sample} " in line and "arc length" in line and "xyz = (-0.4" in line
     assert "collide" in failure.reason and "\n" not in line
 
 
@@ -188,7 +217,7 @@ def test_kin_path_avoid_json(tmp_path, capsys):
 def test_kin_path_avoid_failure_is_one_line_and_writes_nothing(tmp_path, capsys):
     """No free answer: exit 1, one stderr line naming the sample, no stdout, no CSV."""
     ball = tmp_path / "ball.toml"
-    ball.write_text("[[sphere]]\nradius = 0.03\nxyz = [0.4, -0.105, 0.3]\n", encoding="utf-8")
+    ball.write_text("[[sphere]]\nradius = 0.03\nxyz = [-0.4, 0.105, 0.3]\n", encoding="utf-8")
     csv = tmp_path / "out.csv"
     argv = _line("ur5") + ["--scene", str(ball), "--avoid", "--csv", str(csv)]
     code = call(path_command.main, argv)
@@ -243,10 +272,12 @@ def test_the_step_bound_of_revolute_arms_is_the_chain_walk(tmp_path, name):
 
 def test_a_plate_between_samples_fails_on_the_way_there(tmp_path):
     """A thin plate across the line between samples 1 and 2: the samples are free, the motion not."""
-    plate = "[[box]]\nname = 'plate'\nsize = [0.02, 0.004, 0.02]\nxyz = [0.4, -0.05, 0.3]\n"
+    plate = "[[box]]\nname = 'plate'\nsize = [0.02, 0.004, 0.02]\nxyz = [-0.4, 0.05, 0.3]\n"
     robot, _, checker, reference, pairs, _ = _cell(tmp_path, "ur5", plate)
-    down = pin.rpy.rpyToMatrix(3.14159, 0.0, 0.0)
-    path = polyline([PoseTarget(np.array(p), down) for p in ((0.4, 0.1, 0.3), (0.4, -0.3, 0.3))], 4)
+    down = pin.rpy.rpyToMatrix(3.14159, 0.0, 3.14159)
+    path = polyline(
+        [PoseTarget(np.array(p), down) for p in ((-0.4, -0.1, 0.3), (-0.4, 0.3, 0.3))], 4
+    )
     solver = get_solver(robot)
     for index in range(3):  # each sample up to the plate has a free answer (reference)
         answers = solver.solve(path.target(index)).solutions
@@ -256,4 +287,42 @@ def test_a_plate_between_samples_fails_on_the_way_there(tmp_path):
     assert min(between) < -CONTACT_TOL  # the plain motion goes through the plate
     avoided = follow_path_avoiding(robot, path, checker)
     assert not avoided.success and avoided.failure.sample == 2
-    assert "collides on the way there (frame5 / plate, scene)" in avoided.failure.reason
+    assert "collides on the way there (link6 / plate, scene)" in avoided.failure.reason
+
+
+def test_the_failure_names_the_first_sample_no_checked_chain_reaches():
+    """A later sample cut off first by a colliding motion: the earlier one cut off too is named.
+
+    Two answers per sample on a 2-joint stand-in, joined one to one within the step bound 0.35:
+    chain A (cheapest) reaches samples 1-3, chain B only samples 1-2, and every motion out of
+    sample 0 collides. Checking A's first motion cuts off sample 3 (B cannot reach it); B's own
+    first motion, not yet checked then, cuts off sample 1, the sample to name.
+    """
+    from kin.path.avoid import _Layer, _Search
+    from kin.path.collision_check import PathCollision
+
+    origin = np.zeros(2)
+
+    class Motion:
+        def distances(self, q):
+            return np.zeros(1)
+
+        def between(self, q0, q1, d0, d1):
+            if np.array_equal(q0, origin):
+                return PathCollision(0, 0.5, (q0 + q1) / 2, "link", "wall", "scene", False, True)
+            return None
+
+    search = object.__new__(_Search)
+    search.bound, search.motion = 0.35, Motion()
+    search.free, search.colliding, search.blocked = set(), set(), {}
+    answers = [[[0.0, 0.0]], [[0.1, 0.0], [0.0, 0.3]], [[0.4, 0.0], [0.0, 0.6]], [[0.7, 0.0]]]
+    layers = []
+    for index, q in enumerate(answers):
+        q = np.array(q)
+        layer = _Layer(q, [""] * len(q), np.zeros(len(q)), np.full(len(q), -1), [None] * len(q))
+        if layers:
+            search._relax(layers[-1], layer, index)
+        layers.append(layer)
+    assert np.isfinite(layers[3].cost).all() and layers[3].previous[0] == 0  # through A
+    assert search._verify(layers) == 1
+    assert search.colliding == {(1, 0, 0), (1, 0, 1)} and search.blocked[1].b == "wall"

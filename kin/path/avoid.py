@@ -280,7 +280,10 @@ class _Search:
                 for later in range(index, len(layers)):
                     self._relax(layers[later - 1], layers[later], later)
                     if not np.isfinite(layers[later].cost).any():
-                        return later
+                        # the samples before it may be cut off too (motions not yet checked
+                        # join them): the first one no checked chain reaches is named
+                        earlier = self._verify(layers[:later])
+                        return later if earlier is None else earlier
                 break
             else:
                 return None
