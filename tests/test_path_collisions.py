@@ -129,13 +129,14 @@ def test_a_ball_between_two_samples_is_named(tmp_path):
     assert "between samples 0 and 1" in first.describe()
 
 
-UR5_LINE = ["--robot", "ur5", "--steps", "20", "--from", "0.4", "0.1", "0.3", "--rpy", "3.14159", "0", "0", "--to", "0.4", "-0.3", "0.3", "--rpy", "3.14159", "0", "0"]  # fmt: skip
+#: In the maker's base frame (the shipped ur5 since issue 43): in front of the base, tool down.
+UR5_LINE = ["--robot", "ur5", "--steps", "20", "--from", "-0.4", "-0.1", "0.3", "--rpy", "3.14159", "0", "3.14159", "--to", "-0.4", "0.3", "0.3", "--rpy", "3.14159", "0", "3.14159"]  # fmt: skip
 
 
 def test_kin_path_with_a_far_scene_is_free(tmp_path, capsys):
     """Exit 0, the JSON says free and states the rule."""
     scene = tmp_path / "far.toml"
-    scene.write_text("[[sphere]]\nradius = 0.05\nxyz = [-1.0, -1.0, 1.0]\n", encoding="utf-8")
+    scene.write_text("[[sphere]]\nradius = 0.05\nxyz = [1.0, 1.0, 1.0]\n", encoding="utf-8")
     code = call(path_command.main, UR5_LINE + ["--scene", str(scene), "--json"])
     out, err = capsys.readouterr()
     assert code == 0, err
@@ -146,7 +147,7 @@ def test_kin_path_with_a_far_scene_is_free(tmp_path, capsys):
 def test_kin_path_through_a_ball_exits_1_with_one_line(tmp_path, capsys):
     """A ball on the line: exit 1, one stderr line naming the sample and the pair."""
     scene = tmp_path / "ball.toml"
-    scene.write_text("[[sphere]]\nradius = 0.03\nxyz = [0.4, -0.1, 0.3]\n", encoding="utf-8")
+    scene.write_text("[[sphere]]\nradius = 0.03\nxyz = [-0.4, 0.1, 0.3]\n", encoding="utf-8")
     code = call(path_command.main, UR5_LINE + ["--scene", str(scene)])
     out, err = capsys.readouterr()
     assert code == 1

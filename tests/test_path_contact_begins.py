@@ -2,8 +2,9 @@
 
 Issue 42: ``kin path --scene`` without ``--avoid`` printed "21 samples, followed" for a colliding
 path (only stderr and the exit code said otherwise) and named the first colliding sample's end,
-not where contact begins. The README's cell (examples/cell.toml): the UR5's tool pointing down,
-lowered from 0.3 m to -0.15 m, meets the table (top at z = -0.02 m) between samples 14 and 15.
+not where contact begins. The README's cell (examples/cell.toml): the UR5's tool pointing down in
+front of its base (x = -0.4 m in the maker's base frame), lowered from 0.3 m to -0.15 m, meets the
+table (top at z = -0.02 m) between samples 14 and 15.
 The place named is compared with a dense scan of the segment by the checker's own verdict.
 """
 
@@ -22,8 +23,8 @@ from kin.commands import path as path_command
 from kin.path import check_path_collisions
 
 CELL = Path(__file__).parents[1] / "examples" / "cell.toml"
-DOWN = ["--rpy", "180", "0", "0"]
-LOWERED = ["--robot", "ur5", "--deg", "--steps", "20", "--quiet", "--scene", str(CELL), "--from", "0.4", "0.1", "0.3", *DOWN, "--to", "0.4", "0.1", "-0.15", *DOWN]  # fmt: skip
+DOWN = ["--rpy", "180", "0", "180"]
+LOWERED = ["--robot", "ur5", "--deg", "--steps", "20", "--quiet", "--scene", str(CELL), "--from", "-0.4", "-0.1", "0.3", *DOWN, "--to", "-0.4", "-0.1", "-0.15", *DOWN]  # fmt: skip
 #: Points of the dense scan of a segment.
 DENSE = 4001
 
@@ -38,8 +39,10 @@ def lowered_path() -> tuple[object, np.ndarray]:
 
     robot = load_robot("ur5")
     checker = CollisionChecker(load_collision_model(robot, scene=CELL))
-    down = np.array(rpy_matrix(np.pi, 0.0, 0.0))
-    path = polyline([PoseTarget([0.4, 0.1, 0.3], down), PoseTarget([0.4, 0.1, -0.15], down)], 20)
+    down = np.array(rpy_matrix(np.pi, 0.0, np.pi))
+    path = polyline(
+        [PoseTarget([-0.4, -0.1, 0.3], down), PoseTarget([-0.4, -0.1, -0.15], down)], 20
+    )
     result = follow_path(robot, path)
     assert result.success and len(result.q) == 21
     return checker, result.q
@@ -87,7 +90,7 @@ def test_kin_path_says_it_collides_on_stdout_and_in_json(capsys):
 
 def test_a_free_path_says_free(capsys, tmp_path):
     """A path above the table: no IN COLLISION in the summary, 'collisions: free', exit 0."""
-    argv = [*LOWERED[: LOWERED.index("--to")], "--to", "0.4", "0.1", "0.2", *DOWN]
+    argv = [*LOWERED[: LOWERED.index("--to")], "--to", "-0.4", "-0.1", "0.2", *DOWN]
     code = call(path_command.main, argv)
     out = capsys.readouterr().out
     assert code == 0
