@@ -49,6 +49,13 @@ from ..cli import (
     run_guarded,
 )
 from .collision_options import add_collision_options, held_joints
+from .preview_picture import (
+    add_picture_options,
+    check_outputs,
+    check_picture_options,
+    place_camera,
+    write_still,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -63,6 +70,8 @@ EXIT_NO_SOLUTION = 1
 #: Points of --workspace without a count, and the most it takes (a page stays light).
 WORKSPACE_POINTS = 20_000
 MAX_WORKSPACE_POINTS = 1_000_000
+#: Color of the tool's trace along a --path (RGB in [0, 1]).
+TRACE_RGB = (0.95, 0.55, 0.1)
 
 
 def get_argument_parser(prog: str = PROG) -> ArgumentParser:
@@ -112,21 +121,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         srdf="a MoveIt SRDF: its disable_collisions pairs are allowed",
         self_check=True,
     )
-    add(
-        "--camera",
-        type=finite_float,
-        nargs=6,
-        metavar=("X", "Y", "Z", "TX", "TY", "TZ"),
-        help="camera position X Y Z and the point it looks at TX TY TZ, base frame [--unit] "
-        "(default: framed on the arm)",
-    )
-    add("--zoom", type=positive_float, help="magnify the view by F (default 1)", metavar="F")
-    add("--html", metavar="FILE", help="write a self-contained page and exit (no server)")
-    add(
-        "--png",
-        metavar="FILE",
-        help="write an 800 x 600 picture through headless Chromium and exit (no server)",
-    )
+    add_picture_options(parser)
     add(
         "--duration", type=positive_float, default=2.0, help="--ik animation length [s] (default 2)"
     )
@@ -151,8 +146,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("give --path or --ik, not both (each is an animation)")
     if args.workspace is not None and not 1 <= args.workspace <= MAX_WORKSPACE_POINTS:
         parser.error(f"--workspace: expected 1 to {MAX_WORKSPACE_POINTS:,} points")
-    if args.camera is not None and args.camera[:3] == args.camera[3:]:
-        parser.error("--camera: the position X Y Z and the target TX TY TZ are the same point")
+    check_picture_options(parser, args)
     return run_guarded(prog, lambda: _run_held(args, prog), extra=(ModuleNotFoundError,))
 
 
@@ -184,7 +178,7 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
     from .robot_argument import load_robot_argument
     from .targets import build_target
 
-    _check_outputs(args)
+    check_outputs(args)
     robot = load_robot_argument(args)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     if args.q is None:
@@ -209,8 +203,7 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
         animated = _path_frames(robot, args.path, args.duration, prog)
         q_start = animated[1][0]
 
-    from ..viewer import RobotViewer, write_page  # meshcat: only now
-    from ..viewer.page_file import captioned, titled
+    from ..viewer import RobotViewer  # meshcat: only now
 
     static = args.html is not None or args.png is not None
     viewer = RobotViewer(robot, serve=not static)
@@ -247,20 +240,9 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
         title = None
         if args.scene is not None or args.srdf is not None:
             title = _show_collisions(viewer, args)
-        _place_camera(viewer, args, np.array(extra).reshape(-1, 3) if extra else None, in_view)
+        place_camera(viewer, args, np.array(extra).reshape(-1, 3) if extra else None, in_view)
         if static:
-            page = viewer.static_html()
-            if title is not None:
-                page = captioned(titled(page, title), title)
-            if args.html is not None:
-                written = write_page(args.html, page)
-                print(f"{shown_name(robot.name)}: preview written to {written}")
-            if args.png is not None:
-                from ..viewer.screenshot import write_picture
-
-                budget_ms = PICTURE_SETTLE_MS + int(np.ceil(1000.0 * played))
-                written = write_picture(page, args.png, budget_ms)
-                print(f"{shown_name(robot.name)}: picture written to {written}")
+            write_still(viewer, args, title, played)
             return EXIT_NO_SOLUTION if args.ik and q_goal is None else 0
         release()  # raises a Ctrl-C (SIGTERM) that came while the scene was built
         print(viewer.url, flush=True)
@@ -300,57 +282,6 @@ def _solve(
     branch = result.solutions[0].branch or result.method or result.solver
     print(f"{shown_name(robot.name)}: IK ({branch}): q = {shown}")
     return q_goal
-
-
-TRACE_RGB = (0.95, 0.55, 0.1)
-#: Virtual time a page runs before its picture, past its animation [ms] (meshes load, it draws).
-PICTURE_SETTLE_MS = 4000
-
-
-def _check_outputs(args: argparse.Namespace) -> None:
-    """Refuse an unwritable --html or --png before any work, and --png without a browser.
-
-    Raises:
-        kin.exceptions.OutputFileError: A folder, device or input file at the path, a missing
-            folder, or another suffix; or --png and --html naming one file.
-        kin.viewer.exceptions.NoBrowserError: --png and no Chromium on PATH.
-    """
-    from .output_file import checked_output, input_files
-
-    inputs = input_files(args, "--robot", "--path", "--reach", "--scene", "--srdf")
-    if args.html is not None:
-        checked_output(args.html, "--html", (".html", ".htm"), inputs)
-    if args.png is not None:
-        page = [] if args.html is None else [("--html", args.html)]
-        checked_output(args.png, "--png", (".png",), [*inputs, *page])
-        from ..viewer.exceptions import NoBrowserError
-        from ..viewer.screenshot import find_chromium
-
-        if find_chromium() is None:
-            raise NoBrowserError(
-                "--png needs Chromium to take the picture and none is on PATH "
-                "(Debian: apt-get install chromium); --html FILE writes the page without it"
-            )
-
-
-def _place_camera(
-    viewer: RobotViewer,
-    args: argparse.Namespace,
-    extra: np.ndarray | None,
-    configurations: list[np.ndarray],
-) -> None:
-    """--camera (in --unit) and --zoom, or the view framed on the arm, ``extra`` and the q shown."""
-    from ..viewer.camera_view import LENS_ZOOM
-
-    zoom = 1.0 if args.zoom is None else args.zoom
-    if args.camera is not None:
-        scale = length_scale(args.unit)
-        position, target = args.camera[:3], args.camera[3:]
-        viewer.set_camera(
-            [v * scale for v in target], [v * scale for v in position], LENS_ZOOM * zoom
-        )
-        return
-    viewer.fit_camera(extra, configurations, zoom)
 
 
 def _show_collisions(viewer: RobotViewer, args: argparse.Namespace) -> str:

@@ -26,7 +26,7 @@ FRAMING_MARGIN = 1.08
 
 
 def _tan_half_fov(zoom: float) -> float:
-    """tan of half the vertical field of view of meshcat's camera at ``zoom``."""
+    """The tangent of half the vertical field of view of meshcat's camera at ``zoom``."""
     return float(np.tan(np.radians(CAMERA_FOV_DEG) / 2.0)) / zoom
 
 

@@ -22,8 +22,9 @@ from pinocchio.visualize.meshcat_visualizer import loadPrimitive
 from dh2urdf.output_text import shown_name
 
 from .camera_view import Obstacle
+from .geometry_points import local_box
 from .markers import draw_rod, draw_sphere, hex_color
-from .robot_viewer import RobotViewer, _local_box
+from .robot_viewer import RobotViewer
 
 if TYPE_CHECKING:
     from ..collision import Closest, CollisionModel
@@ -81,7 +82,7 @@ def show_scene(viewer: RobotViewer, model: CollisionModel, colliding: Iterable[s
         node.set_object(loadPrimitive(obj), red if owner in hit else grey)
         T = obj.placement.homogeneous
         node.set_transform(T)
-        box = _local_box(obj)
+        box = local_box(obj)
         if box is not None:
             viewer.obstacles.append(Obstacle(T, box.min(axis=0), box.max(axis=0)))
         drawn += 1
@@ -125,8 +126,9 @@ def show_colliding_links(viewer: RobotViewer, links: Iterable[str]) -> tuple[str
 
 
 def show_closest(viewer: RobotViewer, closest: Closest, unit: str = "m", scale: float = 1.0) -> str:
-    """Draw the closest pair: a rod between its witness points and a ball on each, seen through
-    whatever stands in front of them (a pair under the arm still shows).
+    """Draw the closest pair: a rod between its witness points and a ball on each.
+
+    Both are seen through whatever stands in front of them (a pair under the arm still shows).
 
     Args:
         viewer: The viewer.

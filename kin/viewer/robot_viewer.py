@@ -10,8 +10,8 @@ no server and no network.
 Scene layout (meshcat paths under ``/meshcat/scene``): ``robot/visuals/<geometry>``
 (Pinocchio's), ``frames/<frame>`` (triads that follow the arm), ``markers/<name>`` (targets,
 points). Poses are ``T_world_frame`` in the URDF root frame ``base_link``; lengths in meters.
-meshcat's camera orbits the origin of its world: to centre a view, :meth:`RobotViewer.set_camera`
-shifts ``scene`` (and the grid) by ``-target``, the robot's world frame moving with it.
+The camera (:meth:`RobotViewer.set_camera`, :meth:`RobotViewer.fit_camera`) is placed by
+:mod:`kin.viewer.arm_camera`.
 """
 
 from __future__ import annotations
@@ -33,8 +33,10 @@ from pinocchio.visualize import MeshcatVisualizer
 from ..configuration import as_joint_vector
 from ..exceptions import FrameError
 from ..robot_model import RobotModel
-from .camera_view import CameraView, Obstacle, choose_view
+from .arm_camera import aim_camera, framed_view
+from .camera_view import CameraView, Obstacle
 from .exceptions import ViewerError, ViewerInputError
+from .finite_array import finite_array
 from .maker_meshes import MakerMeshes, maker_meshes
 from .markers import draw_points, draw_sphere, draw_triad
 from .scene_recorder import SceneRecorder
@@ -157,9 +159,9 @@ class RobotViewer:
             ViewerInputError: Not a finite position (3,) or rotation (3, 3).
         """
         pose = np.eye(4)
-        pose[:3, 3] = _finite(position, (3,), "target position")
+        pose[:3, 3] = finite_array(position, (3,), "target position")
         if rotation is not None:
-            pose[:3, :3] = _finite(rotation, (3, 3), "target rotation")
+            pose[:3, :3] = finite_array(rotation, (3, 3), "target rotation")
         node = self.scene["markers"][name]
         node.delete()
         radius = 0.03 * self.arm_length if radius is None else float(radius)
@@ -223,33 +225,9 @@ class RobotViewer:
         self.viewer.set_animation(animation, play=True, repetitions=int(repetitions))
         return (len(path) - 1) * dt
 
-    def set_camera(
-        self, target: npt.ArrayLike, position: npt.ArrayLike, zoom: float = 1.0
-    ) -> None:
-        """Aim the camera from ``position`` at ``target`` (world frame [m]); the mouse orbits it.
-
-        Args:
-            target: The point looked at [m], shape (3,).
-            position: The camera [m], shape (3,), not at ``target``.
-            zoom: Magnification (three.js's camera zoom: 2 shows things twice as large), > 0.
-
-        Raises:
-            ViewerInputError: Not finite points of shape (3,), the same point twice, or a zoom
-                that is not a positive number.
-        """
-        target = _finite(target, (3,), "camera target")
-        offset = _finite(position, (3,), "camera position") - target
-        if not np.linalg.norm(offset) > 0.0:
-            raise ViewerInputError("the camera position and its target are the same point")
-        if not (np.isfinite(zoom) and zoom > 0.0):
-            raise ViewerInputError(f"the camera zoom must be a positive number, got {zoom!r}")
-        shift = tf.translation_matrix(-target)  # meshcat's camera looks at its world origin
-        self.scene.set_transform(shift)
-        self.viewer["/Grid"].set_transform(shift @ tf.scale_matrix(self.grid_scale))
-        # the camera sits in meshcat's y-up frame "rotated": world (x, y, z) is (x, -z, y) there
-        camera = self.viewer["/Cameras/default/rotated/<object>"]
-        camera.set_property("position", [offset[0], offset[2], -offset[1]])
-        camera.set_property("zoom", float(zoom))
+    def set_camera(self, target: npt.ArrayLike, position: npt.ArrayLike, zoom: float = 1.0) -> None:
+        """Aim the camera from ``position`` at ``target`` [m] (:func:`.arm_camera.aim_camera`)."""
+        aim_camera(self, target, position, zoom)
 
     def set_view(self, view: CameraView) -> None:
         """Place the camera as ``view`` says (:meth:`set_camera`)."""
@@ -260,32 +238,8 @@ class RobotViewer:
         extra_points: npt.ArrayLike | None = None,
         configurations: Sequence[npt.ArrayLike] | None = None,
     ) -> CameraView:
-        """The camera that frames the arm and ``extra_points`` (:func:`~.camera_view.choose_view`).
-
-        Every visual geometry of the arm (the maker's meshes included) enters by its vertices
-        (a mesh) or the corners of its bounding box (a primitive) at each configuration; the
-        scene's objects do not (the arm is what the picture is about) but the camera looks past
-        them (:attr:`obstacles`) at the arm's frame origins.
-
-        Args:
-            extra_points: More points to keep in view, shape (M, 3), world frame [m].
-            configurations: Joint vectors whose arm must be in view (default: the current q).
-        """
-        data = self.robot.model.createData()
-        points: list[np.ndarray] = []
-        sights: list[np.ndarray] = []
-        for q in [self.q] if configurations is None else configurations:
-            q = as_joint_vector(self.robot, q)
-            pin.framesForwardKinematics(self.robot.model, data, q)
-            origins = [frame.translation.copy() for frame in data.oMf]
-            points.extend(origins)
-            sights.extend(origins)
-            points.extend(_visual_points(self, q))
-        if extra_points is not None:
-            points.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
-        return choose_view(
-            np.array(points), np.array(sights), self.obstacles, 0.2 * self.arm_length
-        )
+        """The view of the arm at ``configurations`` and ``extra_points`` (:mod:`.arm_camera`)."""
+        return framed_view(self, extra_points, configurations)
 
     def fit_camera(
         self,
@@ -350,75 +304,3 @@ def _arm_length(robot: RobotModel, q: np.ndarray) -> float:
     origins = np.array([frame.translation for frame in data.oMf])
     length = float(np.linalg.norm(np.diff(origins, axis=0), axis=1).sum())
     return max(length, 0.05)
-
-
-def _visual_points(viewer: RobotViewer, q: np.ndarray) -> list[np.ndarray]:
-    """The vertices of each mesh of ``viewer``'s arm at ``q``, the corners of each primitive's box.
-
-    World frame [m]; a mesh's vertices come with the URDF's scale applied (Pinocchio's loader).
-    """
-    if viewer.meshes is not None:
-        model, full = viewer.meshes.model, viewer.meshes.full_q(q)
-        root_to_world = np.linalg.inv(viewer.meshes.base_in_root)
-    else:
-        model, full, root_to_world = viewer.robot.model, q, np.eye(4)
-    data = model.createData()
-    geometry_data = pin.GeometryData(viewer.visual_model)
-    pin.updateGeometryPlacements(model, data, viewer.visual_model, geometry_data, full)
-    points = []
-    for obj, placement in zip(viewer.visual_model.geometryObjects, geometry_data.oMg):
-        local = _mesh_vertices(obj)
-        if local is None:
-            local = _local_box(obj)
-        if local is None:
-            continue
-        T = root_to_world @ placement.homogeneous
-        points.extend((T[:3, :3] @ local.T).T + T[:3, 3])
-    return points
-
-
-def _mesh_vertices(obj: pin.GeometryObject) -> np.ndarray | None:
-    """A mesh geometry's vertices (N, 3) in its own frame [m], or None for a primitive."""
-    vertices = getattr(obj.geometry, "vertices", None)
-    if vertices is None:
-        return None
-    try:
-        array = np.asarray(vertices(), dtype=float).reshape(-1, 3)
-    except (TypeError, ValueError, RuntimeError):
-        return None
-    if len(array) == 0 or not np.all(np.isfinite(array)):
-        return None
-    return array
-
-
-def _local_box(obj: pin.GeometryObject) -> np.ndarray | None:
-    """The 8 corners (8, 3) of a geometry's bounding box in its own frame [m].
-
-    Pinocchio loads a mesh with the URDF's scale applied to its vertices: the box is the drawn one.
-    """
-    geometry = obj.geometry
-    try:
-        geometry.computeLocalAABB()
-        low = np.asarray(geometry.aabb_local.min_, dtype=float)
-        high = np.asarray(geometry.aabb_local.max_, dtype=float)
-    except (AttributeError, RuntimeError):
-        return None
-    if not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
-        return None
-    pick = np.array([[i >> 2 & 1, i >> 1 & 1, i & 1] for i in range(8)], dtype=float)
-    return low + pick * (high - low)
-
-
-def _finite(values: npt.ArrayLike, shape: tuple[int, ...], what: str) -> np.ndarray:
-    """``values`` as a float array of ``shape``, all finite.
-
-    Raises:
-        ViewerInputError: Another shape or a non-finite value.
-    """
-    try:
-        array = np.array(values, dtype=float)
-    except (TypeError, ValueError) as err:
-        raise ViewerInputError(f"{what} must be numbers, got {values!r}") from err
-    if array.shape != shape or not np.all(np.isfinite(array)):
-        raise ViewerInputError(f"{what} must be finite numbers of shape {shape}, got {values!r}")
-    return array
