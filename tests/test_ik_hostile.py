@@ -15,6 +15,7 @@ import functools
 import io
 import json
 import math
+import warnings
 
 import numpy as np
 import pinocchio as pin
@@ -151,6 +152,36 @@ def test_far_targets_answer_out_of_reach_at_once(name):
             assert result.status == "out_of_reach", f"{name=} {value=} {result.message}"
             assert result.distance_to_workspace is not None and result.distance_to_workspace > 0
             assert not result.iterations, f"{name=} {value=} {result.iterations=}"  # no search
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_far_positions_warn_nothing(name):
+    """A position 1e200 m away, seeded or not: out_of_reach, no search and no numeric warning.
+
+    The 6R arms' near-seed route (position_near_seed) took its damped least-squares steps
+    toward such a target first, and their products overflowed: a warning per process that
+    ``kin ik --stdin`` printed on stderr amid the stream.
+    """
+    robot = load_robot(name)
+    solver = _solver(name)
+    for seed in (None, _seed("inside", robot, 0.3)):
+        for value in (1e200, -1e308, 1e3):
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")
+                result = solver.solve(PositionTarget([0.0, value, value]), seed, timeout=0.05)
+            assert result.status == "out_of_reach", f"{name=} {value=} {result.message}"
+            assert not result.iterations, f"{name=} {value=} {result.iterations=}"
+
+
+def test_stdin_far_line_after_others_keeps_stderr_empty(monkeypatch, capsys):
+    """kin ik --stdin: a line 1e200 m away after three others is answered; stderr stays empty."""
+    lines = ['{"target": [0.0, 0.0, 0.0]}'] * 3 + ['{"target": [0.0, 0.0, 1e200]}']
+    monkeypatch.setattr("sys.stdin", io.StringIO("\n".join(lines) + "\n"))
+    ik.main(["--robot", "ur5", "--stdin", "--timeout", "20"])
+    captured = capsys.readouterr()
+    answers = [json.loads(line) for line in captured.out.splitlines()]
+    assert [answer["line"] for answer in answers] == [1, 2, 3, 4]
+    assert answers[3]["status"] == "out_of_reach" and captured.err == "", captured.err
 
 
 def _number(value: float) -> str:

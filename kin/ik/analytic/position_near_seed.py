@@ -18,7 +18,9 @@ on the null space of the position Jacobian, then Gauss-Newton steps back onto th
 kept only when it brings the answer nearer the seed (the step rate halved otherwise), until the
 projected pull is below :data:`SETTLED` [rad]. So the answer is never farther from the seed than
 the end of the step sequence of start 1. The nearest answer the judge finds on target inside the
-limits is returned; None when no start reaches the target (the numeric pipeline answers then).
+limits is returned; None when no start reaches the target (the numeric pipeline answers then),
+at once for a target farther from the base than the links laid end to end
+(:func:`~kin.ik.reach.reach_bound`: no step taken, which would only overflow for a far one).
 Angles in [rad], lengths in [m], world frame.
 """
 
@@ -35,6 +37,7 @@ from kin import RobotModel
 
 from ..judge import ToolJudge
 from ..limit_rule import nearest_copies
+from ..reach import reach_bound
 
 #: Damping of the least-squares steps from the seed [m].
 DAMPING = 0.05
@@ -96,6 +99,8 @@ class PositionNearSeed:
         base = np.asarray(robot.table.T_world_base, dtype=float)
         #: The first joint's axis and a point on it, world frame.
         self.axis, self.origin = base[:3, 2].copy(), base[:3, 3].copy()
+        #: Sure upper bound of the tool's distance from the base origin [m].
+        self.bound = reach_bound(robot)
 
     def solve(self, position: np.ndarray, seed: np.ndarray) -> NearSeedAnswer | None:
         """The answer nearest ``seed`` reaching ``position`` [m], or None when no start does.
@@ -104,7 +109,10 @@ class PositionNearSeed:
             position: Tool position (3,) [m], world frame, finite.
             seed: Joint vector (6,) [rad] inside the limits.
         """
-        run = _Run(self, np.asarray(position, dtype=float), np.asarray(seed, dtype=float))
+        position = np.asarray(position, dtype=float)
+        if math.hypot(*(position - self.origin).tolist()) > self.bound:
+            return None  # surely beyond reach: no start gets there
+        run = _Run(self, position, np.asarray(seed, dtype=float))
         best: tuple[float, np.ndarray, str] | None = None
         walked = run.walk()
         starts: list[tuple[np.ndarray, str]] = []
