@@ -1,8 +1,11 @@
 """``kin reach --scene/--srdf``: only collision-free answers count, judged by coal called directly.
 
-A box filling the half space x < -0.05 m beside UR5 (the DH table's link cylinders): the map counts
-fewer voxels than without it, and each voxel's count is the number of orientations with at least
-one valid closed-form branch that the direct coal check (tests/collision_reference.py) finds free.
+A box filling the half space x < -0.15 m beside UR5: the map counts fewer voxels than without it,
+and each voxel's count is the number of orientations with at least one valid closed-form branch
+that the direct coal check (tests/collision_reference.py) finds free. The face stays 3.8 cm clear
+of the base and shoulder housings (link1, 0.112 m radius, turning with the first joint only), so
+the arm can reach past it; at x < -0.05 m, beside the old 1 cm sticks, they met it in every
+posture and nothing was free (issue 43).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ HALF = """
 [[box]]
 name = "half"
 size = [2.0, 4.0, 4.0]
-xyz = [-1.05, 0.0, 0.0]
+xyz = [-1.15, 0.0, 0.0]
 """
 VOXEL, K = 0.2, 4
 
