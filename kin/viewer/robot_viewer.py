@@ -1,9 +1,9 @@
 """A robot in a meshcat scene: its URDF visuals through Pinocchio, frames, targets, paths, points.
 
 :class:`RobotViewer` draws the arm from the visual geometry of its URDF with Pinocchio's
-``MeshcatVisualizer``, and adds what a DH table's user wants to see: the axis triads of chosen
-frames (base, tool, every DH frame), a target marker, a joint-space path as a meshcat
-animation, and point clouds. The scene goes either to a live meshcat server (a browser follows
+``MeshcatVisualizer`` (a DH arm's fitted volumes see-through: :mod:`.see_through`), and adds
+what a DH table's user wants to see: the axis triads of chosen frames (base, tool, every DH
+frame), a target marker, a joint-space path as a meshcat animation, and point clouds. The scene goes either to a live meshcat server (a browser follows
 it) or into a :class:`~kin.viewer.scene_recorder.SceneRecorder`, whose static HTML page needs
 no server and no network.
 
@@ -40,6 +40,7 @@ from .finite_array import finite_array
 from .maker_meshes import MakerMeshes, maker_meshes
 from .markers import draw_points, draw_sphere, draw_triad
 from .scene_recorder import SceneRecorder
+from .see_through import see_through_body
 
 __all__ = ["RobotViewer"]
 
@@ -83,6 +84,7 @@ class RobotViewer:
                 raise ViewerError(
                     f"'{robot.name}': no visual geometry from its URDF: {err}"
                 ) from err
+            see_through_body(visual_model)  # fitted volumes would hide the joints
         self.visual_model = visual_model
         self.viewer = _open_viewer(serve)
         self._pin = MeshcatVisualizer(drawn, None, visual_model)
