@@ -22,7 +22,7 @@ import numpy as np
 from .drive_section import JointDrive
 from .exceptions import TableError
 from .joint_cap import MAX_JOINTS
-from .link_volumes import Housing
+from .link_volumes import AllowedContact, Housing
 from .table_values import MAX_ANGLE, MAX_LENGTH
 from .transforms import rot_x, rot_z, translation
 
@@ -54,6 +54,7 @@ class DHRow:
         radius_a: Radius of the row's ``a`` segment [m], or None (``radius``).
         radius_d: Radius of the row's ``d`` segment [m], or None (``radius``).
         housings: Cylinders fixed in DH frame ``i`` (motor housings, offset tubes).
+        allowed_contacts: Earlier rows whose bodies this row's is not checked against.
         continuous: A revolute joint without limits (a URDF ``continuous`` joint): its limits
             are [-pi, pi], every angle having a copy there; the solvers wrap into them.
         direction: 1, or -1 for a reversed joint: the DH angle is ``theta + direction * q``
@@ -77,6 +78,7 @@ class DHRow:
     radius_a: float | None = None
     radius_d: float | None = None
     housings: tuple[Housing, ...] = ()
+    allowed_contacts: tuple[AllowedContact, ...] = ()
     continuous: bool = False
     direction: int = 1
 

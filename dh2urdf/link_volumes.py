@@ -10,7 +10,13 @@ A row's body, in the URDF the writer emits (collision and visual alike):
   by (the URDF of such a table is the one earlier versions wrote);
 - each ``[[joints.housing]]`` of the row is a flat-ended cylinder between two points ``from`` and
   ``to`` of DH frame ``i`` (the frame the row ends in, which moves with joint ``i``), of its
-  ``radius``: a motor housing around the joint axis, or a tube offset from the DH lines.
+  ``radius``: a motor housing around the joint axis, or a tube offset from the DH lines;
+- each ``[[joints.allow_contact]]`` of row ``i`` names an earlier ``row`` whose body row ``i``'s
+  body is not checked against, with its ``reason`` (as an SRDF's ``<disable_collisions>``):
+  ``kin.collision`` skips every link pair carried by the two joints (reason ``"table: <reason>"``).
+  For a pair the volumes cannot keep apart where the real arm's bodies never meet, or that the
+  maker's SRDF disables (the shipped Panda's forearm and hand flange overlap at the maker's
+  default posture).
 
 Table syntax (lengths in the table's ``length_unit``)::
 
@@ -21,6 +27,9 @@ Table syntax (lengths in the table's ``length_unit``)::
     from = [0.0, 0.0, -0.07]
     to = [0.0, 0.0, 0.07]
     radius = 0.065
+    [[joints.allow_contact]]       # optional, any number
+    row = 3                        # an earlier row
+    reason = "the maker's SRDF: Never"
 """
 
 from __future__ import annotations
@@ -44,7 +53,7 @@ if TYPE_CHECKING:
 DEFAULT_RADIUS = 0.01
 
 #: The row keys read here.
-VOLUME_KEYS = ("housing", "radius", "radius_a", "radius_d")
+VOLUME_KEYS = ("allow_contact", "housing", "radius", "radius_a", "radius_d")
 
 
 @dataclass(frozen=True)
@@ -62,8 +71,21 @@ class Housing:
     radius: float
 
 
+@dataclass(frozen=True)
+class AllowedContact:
+    """An earlier row whose body this row's body is not checked against.
+
+    Attributes:
+        row: The earlier row (1-based).
+        reason: Why the pair is not checked (one line).
+    """
+
+    row: int
+    reason: str
+
+
 def parse_volumes(path: str, data: dict[str, Any], index: int, meters: float) -> dict[str, Any]:
-    """The row's ``radius``, ``radius_a``, ``radius_d`` [m] (or None) and ``housings``.
+    """The row's ``radius``, ``radius_a``, ``radius_d`` [m] (or None), housings, allowed contacts.
 
     Args:
         path: The table file, for errors.
@@ -72,7 +94,8 @@ def parse_volumes(path: str, data: dict[str, Any], index: int, meters: float) ->
         meters: Meters per length unit of the table.
 
     Raises:
-        TableError: A radius not positive or above ``MAX_LENGTH``, a malformed housing.
+        TableError: A radius not positive or above ``MAX_LENGTH``, a malformed housing, an
+            ``allow_contact`` not naming an earlier row or without a reason.
     """
     out: dict[str, Any] = {}
     for key in ("radius", "radius_a", "radius_d"):
@@ -86,7 +109,38 @@ def parse_volumes(path: str, data: dict[str, Any], index: int, meters: float) ->
     out["housings"] = tuple(
         _housing(path, entry, index, f"housing[{n}]", meters) for n, entry in enumerate(entries)
     )
+    contacts = data.get("allow_contact", [])
+    if not isinstance(contacts, list):
+        raise TableError(
+            path,
+            f"expected [[joints.allow_contact]] tables, got {quoted(contacts)}",
+            index,
+            "allow_contact",
+        )
+    out["allowed_contacts"] = tuple(
+        _allowed(path, entry, index, f"allow_contact[{n}]") for n, entry in enumerate(contacts)
+    )
     return out
+
+
+def _allowed(path: str, entry: Any, index: int, key: str) -> AllowedContact:
+    if not isinstance(entry, dict) or set(entry) != {"row", "reason"}:
+        raise TableError(
+            path, f"expected a table of row and reason, got {quoted(entry)}", index, key
+        )
+    row, reason = entry["row"], entry["reason"]
+    if isinstance(row, bool) or not isinstance(row, int) or not 1 <= row < index:
+        raise TableError(
+            path,
+            f"expected an earlier row, 1 to {index - 1}, got {quoted(row)}",
+            index,
+            f"{key}.row",
+        )
+    if not isinstance(reason, str) or not reason.strip() or "\n" in reason:
+        raise TableError(
+            path, f"expected a one-line reason, got {quoted(reason)}", index, f"{key}.reason"
+        )
+    return AllowedContact(row, reason.strip())
 
 
 def _housing(path: str, entry: Any, index: int, key: str, meters: float) -> Housing:

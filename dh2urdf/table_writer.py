@@ -124,6 +124,12 @@ def _row_extras(row: DHRow) -> list[str]:
             f"to = [{', '.join(map(_number, housing.end))}]",
             f"radius = {_number(housing.radius)}",
         ]
+    for contact in row.allowed_contacts:
+        lines += [
+            "[[joints.allow_contact]]",
+            f"row = {contact.row}",
+            f"reason = {_string(contact.reason)}",
+        ]
     return lines
 
 

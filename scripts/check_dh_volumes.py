@@ -10,9 +10,17 @@ root to the table's tool (a UR's ``ee_link`` and Panda's hand are off that chain
 share one world frame: the transform between their roots is measured at q = 0 from the tool
 poses and checked at every configuration.
 
+Self-collisions: over the same configurations, the maker's chain with its SRDF's pairs disabled
+(example-robot-data's ``panda.srdf``; ``ur5.srdf`` for the three URs, whose link names it shares),
+hulls checked by coal, against the shipped table's own model (``kin.collision``, no SRDF: its
+adjacent, always-in-contact and ``[[joints.allow_contact]]`` pairs aside). Prints both rates,
+the misses (the maker's arm collides with itself, the table says free) and the false alarms.
+
 ``--fit`` prints, per row, the ``[[joints.housing]]`` cylinders that enclose the maker's hulls
-(one per maker link, along the axis of DH frame i that gives the smallest cylinder; a link fixed
-to the base gets a cylinder about joint 1's axis, on row 1).
+(per maker link up to three, each around a slab of its hull along an axis of DH frame i, the split
+of least volume; a link fixed to the base gets one cylinder about joint 1's axis, on row 1), and
+the ``[[joints.allow_contact]]`` of the row pairs whose links the maker's SRDF all disables and
+whose volumes touch in some of the configurations.
 """
 
 from __future__ import annotations
@@ -33,6 +41,13 @@ MAKER_URDFS = {
     "ur10": ("ur_description/urdf/ur10_robot.urdf", "tool0"),
     "ur3": ("ur_description/urdf/ur3_robot.urdf", "tool0"),
     "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0"),
+}
+#: arm -> the maker's SRDF inside example-robot-data's robots folder.
+MAKER_SRDFS = {
+    "panda": "panda_description/srdf/panda.srdf",
+    "ur10": "ur_description/srdf/ur5.srdf",
+    "ur3": "ur_description/srdf/ur5.srdf",
+    "ur5": "ur_description/srdf/ur5.srdf",
 }
 #: The cell of the README's examples.
 DEFAULT_SCENE = Path(__file__).resolve().parent.parent / "examples" / "cell.toml"
@@ -184,6 +199,92 @@ def compare(name: str, samples: int, scene: Path = DEFAULT_SCENE, seed: int = 0)
     )
 
 
+def _maker_self(arm: MakerArm, name: str) -> tuple[pin.GeometryModel, set[tuple[str, str]]]:
+    """The maker's chain with every link pair its SRDF leaves checked, and those pairs."""
+    geometry = arm.geometry.clone()
+    geometry.addAllCollisionPairs()
+    pin.removeCollisionPairs(arm.model, geometry, str(erd_urdf(MAKER_SRDFS[name])))
+    links = [arm.model.frames[item.parentFrame].name for item in geometry.geometryObjects]
+    checked = {(links[p.first], links[p.second]) for p in geometry.collisionPairs}
+    return geometry, checked
+
+
+def _maker_rows(arm: MakerArm) -> dict[str, int]:
+    """Maker link -> the table row whose housings enclose it (row 1 for links fixed to the base)."""
+    rows = {}
+    for item in arm.geometry.geometryObjects:
+        joint = arm.model.names[item.parentJoint] if item.parentJoint else None
+        names = arm.table.joint_names
+        rows[arm.model.frames[item.parentFrame].name] = (
+            names.index(joint) + 1 if joint in names else 1
+        )
+    return rows
+
+
+def self_compare(name: str, samples: int, seed: int = 0) -> Counts:
+    """The maker's (with its SRDF) and the table's self-collision verdicts, random q."""
+    from kin.collision import CollisionChecker, load_collision_model
+
+    arm = MakerArm(name)
+    robot = arm.table
+    qs = np.random.default_rng(seed).uniform(robot.lower, robot.upper, size=(samples, robot.nq))
+    geometry, _ = _maker_self(arm, name)
+    data = geometry.createData()
+    maker = np.array(
+        [pin.computeCollisions(arm.model, arm.data, geometry, data, arm.q(q), True) for q in qs]
+    )
+    table = CollisionChecker(load_collision_model(robot)).in_collision_batch(qs, threads=1)
+    return Counts(
+        name,
+        samples,
+        int(maker.sum()),
+        int(table.sum()),
+        int((maker & ~table).sum()),
+        int((table & ~maker).sum()),
+    )
+
+
+def allowed_rows(name: str, samples: int = 1000, seed: int = 0) -> list[tuple[int, int, str]]:
+    """Row pairs ``(earlier, later, reason)`` to allow in the table.
+
+    Those whose maker links the SRDF all disables and whose table volumes touch in some of
+    ``samples`` random configurations.
+    """
+    from kin.collision import load_collision_model
+    from kin.collision.pair_contacts import PairContacts
+    from kin.collision.srdf import srdf_root
+
+    arm = MakerArm(name)
+    robot = arm.table
+    _, checked = _maker_self(arm, name)
+    rows = _maker_rows(arm)
+    reasons = {}
+    for item in srdf_root(str(erd_urdf(MAKER_SRDFS[name]))).iter("disable_collisions"):
+        first, second = item.get("link1"), item.get("link2")
+        reasons[(first, second)] = reasons[(second, first)] = item.get("reason") or ""
+    model = load_collision_model(robot)
+    joint_row = {robot.model.getJointId(n): k + 1 for k, n in enumerate(robot.joint_names)}
+    carrier = {o.name: max(o.parentJoint, 1) for o in model.geometry_model.geometryObjects}
+    owner_row = {
+        owner: joint_row[carrier[o.name]]
+        for owner, o in zip(model.owners, model.geometry_model.geometryObjects, strict=True)
+    }
+    contacts = PairContacts(robot.model, model.geometry_model, model.pair_owners)
+    qs = np.random.default_rng(seed).uniform(robot.lower, robot.upper, size=(samples, robot.nq))
+    touching = set()
+    for q in qs:
+        touching |= {(owner_row[a], owner_row[b]) for a, b in contacts.at(q, set(model.pairs))}
+    out = []
+    for low, high in sorted(touching):
+        pairs = [(a, b) for a in rows if rows[a] == low for b in rows if rows[b] == high]
+        if low == high or any(p in checked or p[::-1] in checked for p in pairs):
+            continue
+        why = ", ".join(sorted({reasons.get(p, "") for p in pairs} - {""}))
+        links = ", ".join(f"{a}/{b}" for a, b in pairs)
+        out.append((low, high, f"the maker's SRDF disables {links}" + (f" ({why})" if why else "")))
+    return out
+
+
 def _hull_points(arm: MakerArm, item: pin.GeometryObject) -> np.ndarray:
     """The vertices of a maker link's hull, in the maker's root frame at q = 0 [m] (N, 3)."""
     geometry = item.geometry
@@ -235,6 +336,72 @@ def _cylinder(points: np.ndarray, axis: int, centre: np.ndarray | None = None):
     return ends, radius, math.pi * radius**2 * (high - low)
 
 
+#: Most cylinders one maker link is split into by ``--fit``.
+MAX_PIECES = 3
+#: A split is kept only when it saves more than this fraction of one cylinder's volume per
+#: extra cylinder (fewer shapes to check when the saving is small).
+SPLIT_GAIN = 0.1
+
+
+def _hull_edges(points: np.ndarray) -> np.ndarray:
+    """The edges of the convex hull of ``points`` (pairs of points, (E, 2, 3))."""
+    from scipy.spatial import ConvexHull
+
+    hull = ConvexHull(points)
+    edges = {
+        tuple(sorted((int(a), int(b))))
+        for tri in hull.simplices
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))
+    }
+    return points[np.array(sorted(edges))]
+
+
+def _slab_points(points: np.ndarray, edges: np.ndarray, axis: int, low: float, high: float):
+    """The corners of the hull cut to ``low <= x[axis] <= high``.
+
+    Its points inside and where its edges cross the two planes (the slab of a convex hull is the
+    hull of these).
+    """
+    inside = points[(points[:, axis] >= low) & (points[:, axis] <= high)]
+    crossings = [inside]
+    a, b = edges[:, 0], edges[:, 1]
+    for plane in (low, high):
+        da, db = a[:, axis] - plane, b[:, axis] - plane
+        cross = da * db < 0.0
+        t = (da[cross] / (da[cross] - db[cross]))[:, None]
+        crossings.append(a[cross] + t * (b[cross] - a[cross]))
+    return np.concatenate(crossings)
+
+
+def _pieces(points: np.ndarray):
+    """Up to :data:`MAX_PIECES` cylinders whose union encloses the hull of ``points``.
+
+    The hull is cut into slabs along one axis of the frame (cuts on a 5 % grid of its extent);
+    each slab gets the smallest of its three axis-aligned cylinders. The split with the least
+    total volume wins when it saves :data:`SPLIT_GAIN` per extra cylinder.
+    """
+    edges = _hull_edges(points)
+    one = min((_cylinder(points, k) for k in range(3)), key=lambda c: c[2])
+    best, best_score = [one], one[2]
+    grid = np.linspace(0.05, 0.95, 19)
+    for split in range(3):
+        low, high = points[:, split].min(), points[:, split].max()
+        cuts_list = [(f,) for f in grid]
+        if MAX_PIECES >= 3:
+            cuts_list += [(f, g) for f in grid for g in grid if g > f + 0.04]
+        for cuts in cuts_list:
+            bounds = [low, *(low + f * (high - low) for f in cuts), high]
+            pieces = []
+            for lo, hi in zip(bounds[:-1], bounds[1:]):
+                piece = _slab_points(points, edges, split, lo, hi)
+                pieces.append(min((_cylinder(piece, k) for k in range(3)), key=lambda c: c[2]))
+            volume = sum(c[2] for c in pieces)
+            score = volume + SPLIT_GAIN * one[2] * (len(pieces) - 1)
+            if score < best_score:
+                best, best_score = pieces, score
+    return best
+
+
 def fit_housings(name: str) -> dict[int, list[tuple[np.ndarray, np.ndarray, float, str]]]:
     """Per row, the housings (from, to in DH frame i [m], radius [m], maker link) to add."""
     from kin import Configuration
@@ -250,6 +417,7 @@ def fit_housings(name: str) -> dict[int, list[tuple[np.ndarray, np.ndarray, floa
         row = robot.joint_names.index(joint) + 1 if joint in robot.joint_names else 1
         frame = world.transform_frame_to_world(f"frame{row}").inverse()
         local = points @ frame.rotation.T + frame.translation
+        link = arm.model.frames[item.parentFrame].name
         if joint is None:  # fixed to the base: a cylinder about joint 1's axis
             axis_pose = frame * world.transform_frame_to_world(f"frame{row - 1}")
             # joint 1 turns about z of frame 0 (standard) or of frame 1 (modified)
@@ -258,10 +426,10 @@ def fit_housings(name: str) -> dict[int, list[tuple[np.ndarray, np.ndarray, floa
             around = (local - axis_pose.translation) @ axis_pose.rotation
             ends, radius, _ = _cylinder(around, 2, np.zeros(2))
             ends = ends @ axis_pose.rotation.T + axis_pose.translation
-        else:
-            ends, radius, _ = min((_cylinder(local, k) for k in range(3)), key=lambda c: c[2])
-        link = arm.model.frames[item.parentFrame].name
-        fits.setdefault(row, []).append((ends[0], ends[1], radius, link))
+            fits.setdefault(row, []).append((ends[0], ends[1], radius, link))
+            continue
+        for ends, radius, _ in _pieces(local):
+            fits.setdefault(row, []).append((ends[0], ends[1], radius, link))
     return fits
 
 
@@ -290,12 +458,22 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"# {robot} row {row}: encloses {link}")
                     print(f"from = {np.round(start, 4).tolist()}\nto = {np.round(end, 4).tolist()}")
                     print(f"radius = {radius}")
+            for low, high, reason in allowed_rows(robot):
+                print(f"# {robot} row {high}: [[joints.allow_contact]]")
+                print(f"row = {low}\nreason = {reason!r}")
         return 0
     worst = 0
     print(f"scene {args.scene}, {args.n} configurations per arm (seed {args.seed})")
     print("robot  maker-hits  table-hits  misses  false-alarms")
     for robot in args.robots:
         c = compare(robot, args.n, args.scene, args.seed)
+        alarms = f"{c.false_alarms} ({100.0 * c.false_alarms / c.samples:.1f} %)"
+        print(f"{robot:6s} {c.maker_hits:10d} {c.table_hits:11d} {c.misses:7d}  {alarms}")
+        worst = max(worst, c.misses)
+    print("self-collisions: the maker's arm with its SRDF, the table's own model (no SRDF)")
+    print("robot  maker-hits  table-hits  misses  false-alarms")
+    for robot in args.robots:
+        c = self_compare(robot, args.n, args.seed)
         alarms = f"{c.false_alarms} ({100.0 * c.false_alarms / c.samples:.1f} %)"
         print(f"{robot:6s} {c.maker_hits:10d} {c.table_hits:11d} {c.misses:7d}  {alarms}")
         worst = max(worst, c.misses)

@@ -9,7 +9,8 @@ links, and every link with every scene object, but the allowed ones
 (:attr:`CollisionModel.disabled`): adjacent links (joined by a joint, links without shapes
 skipped, as MoveIt's setup assistant counts them), links carried by the same joint, an SRDF's
 pairs, a PlanningScene's allowed collision matrix (:mod:`.planning_scene`), and on a DH table
-robot the link pairs in contact at every sampled configuration without padding
+robot the pairs its rows allow (``[[joints.allow_contact]]``, :mod:`dh2urdf.link_volumes`) and the
+link pairs in contact at every sampled configuration without padding
 (:mod:`.always_pairs`): a pair in contact only through the padding stays checked.
 """
 
@@ -45,7 +46,7 @@ class CollisionModel:
         scene_objects: Names of the scene objects.
         pairs: The ``(a, b)`` checked: two links (base side first), or a link and an object.
         disabled: The pairs not checked, ``(a, b) -> reason`` (``"adjacent"``, ``"rigid"``,
-            ``"srdf: <reason>"``, ``"acm"``, ``"always"``; an attached object's ``"touch"``).
+            ``"srdf: <reason>"``, ``"table: <reason>"``, ``"acm"``, ``"always"``; an attached object's ``"touch"``).
         owners: Per geometry object, the link, scene object or attached object it belongs to.
         pair_owners: Per collision pair of :attr:`geometry_model`, its ``(a, b)``.
         padding: Distance added around every shape [m]: a pair is in collision closer than it
@@ -176,6 +177,8 @@ def load_collision_model(
         granted.append(read_srdf(srdf, body.robot_name, {*all_links, *names}, {*links, *names}))
     if cell is not None:
         granted.append(cell.for_robot(body.base, {*all_links, *names}, links))
+    if robot.urdf_source is None and robot.table is not None:
+        granted.append(_table_allowed(robot, links, carrier))
     for source in granted:
         for (a, b), reason in source.items():
             if (a, b) not in disabled and (b, a) not in disabled:
@@ -244,6 +247,30 @@ def _attached_disabled(
             if mounts[other.link][0] == joint:
                 disabled[(thing.name, other.name)] = "rigid"
     return disabled
+
+
+def _table_allowed(
+    robot: RobotModel, links: tuple[str, ...], carrier: Mapping[str, int]
+) -> dict[tuple[str, str], str]:
+    """The link pairs a DH table's rows allow (``[[joints.allow_contact]]``).
+
+    Every link carried by the row's joint with every link carried by the earlier row's joint
+    (row 1's: and the base's).
+    """
+    table = robot.table
+    assert table is not None
+    joint = [robot.model.getJointId(row.name) for row in table.rows]
+    allowed = {}
+    for row in table.rows:
+        for contact in row.allowed_contacts:
+            earlier = {joint[contact.row - 1], *((0,) if contact.row == 1 else ())}
+            for b in links:
+                if carrier[b] != joint[row.index - 1]:
+                    continue
+                for a in links:
+                    if carrier[a] in earlier:
+                        allowed[(a, b)] = f"table: {contact.reason}"
+    return allowed
 
 
 def _ordered(a: str, b: str, links: tuple[str, ...]) -> tuple[str, str]:
