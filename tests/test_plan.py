@@ -82,7 +82,7 @@ def test_the_same_seed_gives_the_same_path_and_every_planner_a_free_one(planar):
     first = plan(robot, start, goal, collisions=checker, seed=7)
     again = plan(robot, start, goal, collisions=checker, seed=7)
     assert np.array_equal(first.path, again.path) and first.checks == again.checks
-    for name in ("RRT", "PRM", "BKPIECE1"):
+    for name in ("RRT", "KPIECE1", "BKPIECE1", "BITstar"):
         result = plan(robot, start, goal, collisions=checker, planner=name, seed=1)
         assert result.status == "ok" and result.planner == name, result.message
         _assert_free(reference, pairs, result.path)
@@ -146,7 +146,7 @@ def test_bad_requests_are_one_error_each(planar):
     for options in ({"time_limit": 0.0}, {"max_checks": 0}, {"seed": -1}, {"seed": 1.5}):
         with pytest.raises(PlanError):
             plan(robot, free, free, collisions=checker, **options)
-    assert "RRTConnect" in PLANNERS
+    assert "RRTConnect" in PLANNERS and "PRM" not in PLANNERS  # PRM's own thread: a deadlock
 
 
 def test_a_ctrl_c_inside_a_check_is_raised_once_ompl_has_returned(planar):

@@ -237,7 +237,7 @@ def _print_text(robot: str, units: Any, length: float, unit: str, result: Any, t
     if not result.success:
         return
     print(
-        f"length: {result.length:.4f} (joint space, straight line to the goal "
+        f"length in joint space [rad, m]: {result.length:.4f} (the straight line to the goal: "
         f"{result.straight_length:.4f}); goals offered: {len(result.goals)}"
     )
     if result.clearance is not None:

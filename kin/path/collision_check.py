@@ -18,8 +18,12 @@ segment from ``q0`` to ``q1``, a point of a shape carried by joint ``k`` moves a
 where ``R_jk`` bounds the distance of the shape's (padded) points from joint j's axis: the lengths
 of the joint origins' links from j to k (a prismatic joint's travel taken at its larger end value
 on the segment) plus the shape's bounding-sphere reach from joint k's origin. Two shapes close by
-at most ``B_a + B_b`` (a scene object does not move), so a pair whose distances at the two ends
-satisfy ``(d0 - tol) + (d1 - tol) > B_a + B_b``, ``tol`` the contact tolerance, stays beyond the
+at most ``B_a + B_b`` (a scene object does not move); on an all-revolute arm, the joints that
+carry both shapes of a self pair (those at or above the last joint they share) move them together
+as one rigid body and leave their distance unchanged, so they are left out of both sums: the
+pair's bound ``B_ab`` counts only the joints between the two shapes (a forearm and a wrist held
+6 mm apart are not pulled apart by the shoulder's motion). A pair whose distances at the two ends
+satisfy ``(d0 - tol) + (d1 - tol) > B_ab``, ``tol`` the contact tolerance, stays beyond the
 tolerance in between (the lower bounds ``d0 - B t`` and ``d1 - B (1 - t)`` stay above ``tol``):
 no point between is in contact. Otherwise the segment is halved and the midpoint judged by
 ``in_collision`` (a colliding midpoint is named, after the earlier half is searched for an earlier
@@ -67,6 +71,8 @@ class _Distances:
         self.geometry_data = pin.GeometryData(model.geometry_model)
         prepare_requests(self.geometry_data, model.padding)  # the checker's distance queries
         self.pairs = [(p.first, p.second) for p in model.geometry_model.collisionPairs]
+        self.first = np.array([p[0] for p in self.pairs], dtype=int)
+        self.second = np.array([p[1] for p in self.pairs], dtype=int)
         nj = self.pin_model.njoints
         self.parents = list(self.pin_model.parents)
         self.links = [float(np.linalg.norm(p.translation)) for p in self.pin_model.jointPlacements]
@@ -91,6 +97,8 @@ class _Distances:
             self.parent.append(int(obj.parentJoint))
         #: All revolute: the bound is linear in |dq| (object x joint arms), else None.
         self.arms = self._arms() if all(k == "R" for k in self.kinds[1:]) else None
+        #: All revolute: per pair and joint, the pair's reach (the joints carrying both left out).
+        self.pair_arms = self._pair_arms(self.arms) if self.arms is not None else None
 
     def _arms(self) -> np.ndarray:
         """Per object and joint, the reach R_jk of the module's rule [m] (revolute arms)."""
@@ -102,6 +110,31 @@ class _Distances:
                 arm += self.links[k]
                 k = self.parents[k]
         return arms
+
+    def _ancestors(self, joint: int) -> set[int]:
+        """The joints that carry ``joint``'s body: ``joint`` and every joint above it."""
+        found = set()
+        while joint > 0:
+            found.add(joint)
+            joint = self.parents[joint]
+        return found
+
+    def _pair_arms(self, arms: np.ndarray) -> np.ndarray:
+        """Per pair and joint, the reach of the rule on the two shapes, shared joints left out."""
+        out = np.zeros((len(self.pairs), arms.shape[1]))
+        for index, (a, b) in enumerate(self.pairs):
+            shared = self._ancestors(self.parent[a]) & self._ancestors(self.parent[b])
+            out[index] = arms[a] + arms[b]
+            for joint in shared:
+                out[index, self.idx_q[joint]] = 0.0
+        return out
+
+    def pair_motion(self, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
+        """Per collision pair, the bound on how much its two shapes close along q0 -> q1 [m]."""
+        if self.pair_arms is not None:
+            return self.pair_arms @ np.abs(q1 - q0)
+        motion = self.motion(q0, q1)
+        return motion[self.first] + motion[self.second]
 
     def distances(self, q: np.ndarray) -> np.ndarray:
         """Per collision pair, the distance between the padded shapes [m].
@@ -300,15 +333,12 @@ def _segment(
     budget: int,
 ) -> tuple[tuple[float, np.ndarray, int, bool] | None, int]:
     """First colliding place on q0 -> q1 (fraction, q, pair index, proven), checks used."""
-    first_object = np.array([p[0] for p in helper.pairs])
-    second_object = np.array([p[1] for p in helper.pairs])
     checks = 0
     # depth-first, earliest half first: the first place found is the first along the segment
     stack = [(0.0, 1.0, q0, q1, d0, d1, np.arange(len(helper.pairs)))]
     while stack:
         t0, t1, qa, qb, da, db, open_pairs = stack.pop()
-        motion = helper.motion(qa, qb)
-        bound = motion[first_object[open_pairs]] + motion[second_object[open_pairs]]
+        bound = helper.pair_motion(qa, qb)[open_pairs]
         # apart beyond the contact tolerance all along: (da - tol) + (db - tol) > bound
         unresolved = da[open_pairs] + db[open_pairs] - 2.0 * CONTACT_TOLERANCE <= bound
         if not unresolved.any():

@@ -33,6 +33,8 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["DEFAULT_CHECKS", "DEFAULT_PLANNER", "PLANNERS", "PlanError", "plan"]
 
 #: OMPL's geometric planners in the ``ompl`` wheel that :func:`plan` offers, by OMPL's names.
+#: PRM and PRMstar are left out: they grow their roadmap in a thread of their own, whose calls
+#: into the Python checks wait for the interpreter lock that ``solve`` holds (a deadlock).
 PLANNERS: tuple[str, ...] = (
     "RRTConnect",
     "RRT",
@@ -43,8 +45,6 @@ PLANNERS: tuple[str, ...] = (
     "BITstar",
     "FMT",
     "BFMT",
-    "PRM",
-    "PRMstar",
     "KPIECE1",
     "BKPIECE1",
     "LBKPIECE1",
@@ -218,11 +218,35 @@ def _search(
             simplifier = og.PathSimplifier(space.si)
             # its own work budget: once spent, every shortcut is refused and the path kept
             budget.max_checks = budget.checks + SIMPLIFY_CHECKS
-            simplifier.reduceVertices(found)
             simplifier.ropeShortcutPath(found)
+            simplifier.reduceVertices(found)
             budget.reraise()
-        path = [space.q(found.getState(i)) for i in range(found.getStateCount())]
+        path = _without_collinear(
+            [space.q(found.getState(i)) for i in range(found.getStateCount())]
+        )
     return _certified(robot, checker, np.array(path), goals, budget, answer)
+
+
+def _without_collinear(path: list[np.ndarray]) -> list[np.ndarray]:
+    """The path without interior vertices on the straight line between their neighbours.
+
+    The motion through such a vertex (to 1e-9 of the steps' lengths) is the straight motion that
+    skips it, so the path does not change; only the rows are fewer (the final check judges the
+    path returned).
+    """
+    kept = [path[0]]
+    for middle, after in zip(path[1:-1], path[2:]):
+        a, b = middle - kept[-1], after - middle
+        scale = float(np.linalg.norm(a) * np.linalg.norm(b))
+        if a @ b <= 0.0 or _sine(a, b) > 1e-9 * scale:  # a turn (the final check sees the rest)
+            kept.append(middle)
+    kept.append(path[-1])
+    return kept
+
+
+def _sine(a: np.ndarray, b: np.ndarray) -> float:
+    """|a| |b| sin(angle between a and b), in any dimension (the area of their parallelogram)."""
+    return float(np.sqrt(max((a @ a) * (b @ b) - (a @ b) ** 2, 0.0)))
 
 
 def _certified(
