@@ -30,7 +30,7 @@ def test_housings_are_see_through_and_the_joints_opaque():
     drawn = alphas(viewer)
     housings = sum(len(row.housings) for row in robot.table.rows)
     faded = [name for name, alpha in drawn.items() if alpha < 1.0]
-    assert housings == 7 and len(faded) == housings, (housings, faded)
+    assert housings > 0 and len(faded) == housings, (housings, faded)
     assert all(drawn[name] == pytest.approx(see_through.BODY_OPACITY) for name in faded)
     joints = [
         g.name
