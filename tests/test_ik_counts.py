@@ -109,14 +109,26 @@ def test_kin_ik_all_at_a_wrist_singularity_lists_each_vector_once(capsys):
 
 
 def _quaternion(rotation: np.ndarray) -> list[str]:
-    """(w, x, y, z) of a rotation matrix, written here (trace branch; the pose is not near pi)."""
-    w = math.sqrt(max(0.0, 1.0 + np.trace(rotation))) / 2.0
-    if w < 0.1:
-        pytest.skip("the test's quaternion formula wants a rotation away from a half turn")
-    x = (rotation[2, 1] - rotation[1, 2]) / (4 * w)
-    y = (rotation[0, 2] - rotation[2, 0]) / (4 * w)
-    z = (rotation[1, 0] - rotation[0, 1]) / (4 * w)
-    return [f"{v:.15g}" for v in (w, x, y, z)]
+    """(w, x, y, z) of a rotation matrix, written here (Shepperd: the largest of w, x, y, z first)."""
+    r = rotation
+    candidates = [np.trace(r), r[0, 0], r[1, 1], r[2, 2]]
+    k = int(np.argmax(candidates))
+    if k == 0:
+        w = math.sqrt(1.0 + np.trace(r)) / 2.0
+        q = [
+            w,
+            (r[2, 1] - r[1, 2]) / (4 * w),
+            (r[0, 2] - r[2, 0]) / (4 * w),
+            (r[1, 0] - r[0, 1]) / (4 * w),
+        ]
+    else:
+        i, j, m = (k - 1, k % 3, (k + 1) % 3)
+        v = [0.0, 0.0, 0.0]
+        v[i] = math.sqrt(max(0.0, 1.0 + r[i, i] - r[j, j] - r[m, m])) / 2.0
+        v[j] = (r[j, i] + r[i, j]) / (4 * v[i])
+        v[m] = (r[m, i] + r[i, m]) / (4 * v[i])
+        q = [(r[m, j] - r[j, m]) / (4 * v[i]), *v]
+    return [f"{value:.15g}" for value in q]
 
 
 def _header_counts(line: str) -> tuple[int, int]:
