@@ -58,6 +58,32 @@ def draw_triad(node: object, length: float, radius: float | None = None) -> None
         axis.set_transform(offset @ rotation)
 
 
+#: three.js render order of an on-top marker: after every other object, the see-through body pieces
+#: (transparent, drawn back to front) included, which would otherwise be blended over it.
+ON_TOP_ORDER = 1000
+
+
+class _OnTop(mg.Mesh):  # type: ignore[misc]
+    """A meshcat mesh whose three.js object carries ``renderOrder``.
+
+    meshcat's ``set_property`` lowercases the property's name, so the order travels in the object.
+    """
+
+    def lower(self) -> dict:
+        """The object's JSON, with its render order."""
+        data = super().lower()
+        data["object"]["renderOrder"] = ON_TOP_ORDER
+        return data
+
+
+def _set_object(node: object, geometry: object, material: object, on_top: bool) -> None:
+    """``node.set_object``; an on-top marker is also drawn last (:data:`ON_TOP_ORDER`)."""
+    if on_top:
+        node.set_object(_OnTop(geometry, material))  # type: ignore[attr-defined]
+    else:
+        node.set_object(geometry, material)  # type: ignore[attr-defined]
+
+
 def _material(rgb: Sequence[float], opacity: float = 1.0, on_top: bool = False) -> object:
     """A shaded material; ``on_top``: drawn over whatever stands in front (three.js depthTest off).
 
@@ -82,7 +108,7 @@ def draw_sphere(
         opacity: 1 opaque, 0 invisible.
         on_top: Seen through whatever stands in front of it (a marker that must not hide).
     """
-    node.set_object(mg.Sphere(radius), _material(rgb, opacity, on_top))  # type: ignore[attr-defined]
+    _set_object(node, mg.Sphere(radius), _material(rgb, opacity, on_top), on_top)
 
 
 def draw_rod(
@@ -113,7 +139,7 @@ def draw_rod(
     length = float(np.linalg.norm(axis))
     if not length > 0.0:
         return False
-    node.set_object(mg.Cylinder(length, radius), _material(rgb, on_top=on_top))  # type: ignore[attr-defined]
+    _set_object(node, mg.Cylinder(length, radius), _material(rgb, on_top=on_top), on_top)
     y = axis / length  # meshcat's cylinder lies along its own y axis
     helper = np.eye(3)[int(np.argmin(np.abs(y)))]
     x = np.cross(y, helper)
