@@ -136,7 +136,7 @@ def _run(args: argparse.Namespace) -> int:
             length=length,
             angle=angle_scale(args.deg),
         )
-    checker = collision_checker(args, robot, length) or _self_checker(robot)
+    checker = collision_checker(args, robot, length)  # None: plan() checks the arm alone
     result = plan(
         robot,
         start,
@@ -156,12 +156,6 @@ def _run(args: argparse.Namespace) -> int:
     else:
         _print_text(robot.name, units, length, args.unit, result, timed)
     return 0 if result.success else EXIT_NO_PATH
-
-
-def _self_checker(robot: Any) -> Any:
-    from ..collision import CollisionChecker, load_collision_model
-
-    return CollisionChecker(load_collision_model(robot))
 
 
 def _timed(robot: Any, result: Any) -> Any:

@@ -11,7 +11,6 @@ they differ.
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -22,8 +21,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
 
 __all__ = ["GoalSet", "goal_configurations", "joint_goal"]
-
-_TURN = 2.0 * math.pi
 
 
 class GoalSet:
@@ -86,26 +83,24 @@ def goal_configurations(
         )
         return GoalSet(np.zeros((0, robot.nq)), status, f"the target: {result.message}")
     goals: list[np.ndarray] = []
-    for solution in result.solutions:
+    for solution in result.solutions:  # free; a twin is the same place of the arm, so free too
         for q in (solution.q, _nearest_turn(robot, solution.q, start)):
-            if not any(np.array_equal(q, known) for known in goals) and checker_free(checker, q):
+            if not any(np.array_equal(q, known) for known in goals):
                 goals.append(np.asarray(q, dtype=float))
     return GoalSet(np.array(goals))
 
 
-def checker_free(checker: CollisionChecker, q: np.ndarray) -> bool:
-    """Free by the checker (a twin moved by whole turns is the same place, checked anyway)."""
-    return not checker.in_collision(q)
-
-
 def _nearest_turn(robot: Any, q: np.ndarray, start: np.ndarray) -> np.ndarray:
-    """``q`` with each revolute joint moved by whole turns nearest ``start``, within the limits."""
+    """``q`` with each revolute joint at its copy nearest ``start`` within the limits.
+
+    The IK's limit rule (:func:`kin.ik.limit_rule.nearest_inside`); a joint with no copy inside
+    stays where it was.
+    """
+    from ..ik.limit_rule import nearest_inside
+
     moved = np.array(q, dtype=float)
     for i, row in enumerate(robot.table.rows):
-        if row.joint_type != "revolute":
-            continue
-        low, high = float(robot.lower[i]), float(robot.upper[i])
-        shifted = moved[i] + _TURN * round((start[i] - moved[i]) / _TURN)
-        if low <= shifted <= high:
-            moved[i] = shifted
+        if row.joint_type == "revolute":
+            copy = nearest_inside(moved[i], start[i], float(robot.lower[i]), float(robot.upper[i]))
+            moved[i] = moved[i] if copy is None else copy
     return moved
