@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import os
 import sys
 from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
@@ -18,29 +19,49 @@ def write_csv(
     file: str, units: JointUnits, result: PathResult, timed: TimedPath | None, dense: bool
 ) -> None:
     """One row per sample (per --dt sample with --dt), SI, header with units."""
-    names, labels = units.joint_names, units.si_labels
-    header = ["sample"] + (["t [s]"] if timed is not None else [])
-    header += [f"{n} [{u}]" for n, u in zip(names, labels)]
-    if timed is not None:
-        header += [f"{n} velocity [{u}/s]" for n, u in zip(names, labels)]
-    rows: Iterable[tuple[Any, Any, Any]]
     if timed is not None and dense:
-        rows = zip(timed.t, timed.q, timed.qd)
+        write_joint_csv(file, units, timed.q, timed.t, timed.qd)
     elif timed is not None:
-        rows = zip(timed.waypoint_times, result.q, timed.waypoint_qd)
+        write_joint_csv(file, units, result.q, timed.waypoint_times, timed.waypoint_qd)
     else:
-        rows = ((None, q, None) for q in result.q)
+        write_joint_csv(file, units, result.q)
+
+
+def write_joint_csv(
+    file: str | os.PathLike[str],
+    units: JointUnits,
+    q: Iterable[Any],
+    t: Iterable[float] | None = None,
+    qd: Iterable[Any] | None = None,
+) -> None:
+    """A joint path as CSV, SI, a header with units, written whole or not at all.
+
+    Args:
+        file: The file.
+        units: The joints' names and SI units.
+        q: Joint vectors [rad] / [m], one row each.
+        t: Their times [s], or None (no time column).
+        qd: Their joint velocities [rad/s] / [m/s] (with ``t``), or None.
+    """
     import io
     from pathlib import Path
 
     from .output_file import write_text_atomic
 
+    names, labels = units.joint_names, units.si_labels
+    header = ["sample"] + (["t [s]"] if t is not None else [])
+    header += [f"{n} [{u}]" for n, u in zip(names, labels)]
+    if qd is not None:
+        header += [f"{n} velocity [{u}/s]" for n, u in zip(names, labels)]
+    times = [] if t is None else list(t)
+    speeds = None if qd is None else list(qd)
     stream = io.StringIO()
     writer = csv.writer(stream)
     writer.writerow(header)
-    for index, (t, q, qd) in enumerate(rows):
-        row = [index] + ([] if t is None else [f"{t:.9g}"])
-        row += [f"{v:.12g}" for v in q] + ([] if qd is None else [f"{v + 0.0:.9g}" for v in qd])
+    for index, values in enumerate(q):
+        row = [index] + ([] if t is None else [f"{times[index]:.9g}"])
+        row += [f"{v:.12g}" for v in values]
+        row += [] if speeds is None else [f"{v + 0.0:.9g}" for v in speeds[index]]
         writer.writerow(row)
     write_text_atomic(Path(file), stream.getvalue())  # whole, or not at all
 

@@ -196,30 +196,14 @@ def _record(robot: Any, units: Any, result: Any, timed: Any) -> dict[str, Any]:
 
 def _write(output: Any, units: Any, record: dict[str, Any]) -> None:
     """The path file: CSV (one row per joint vector, header with units) or the JSON answer."""
-    from .output_file import write_text_atomic
-
     if output.suffix.lower() == ".json":
+        from .output_file import write_text_atomic
+
         write_text_atomic(output, dumps(record) + "\n")
         return
-    import csv
-    import io
+    from .path_output import write_joint_csv
 
-    names, labels = units.joint_names, units.si_labels
-    timed = "t" in record
-    header = (
-        ["sample"] + (["t [s]"] if timed else []) + [f"{n} [{u}]" for n, u in zip(names, labels)]
-    )
-    if timed:
-        header += [f"{n} velocity [{u}/s]" for n, u in zip(names, labels)]
-    stream = io.StringIO()
-    writer = csv.writer(stream)
-    writer.writerow(header)
-    for index, q in enumerate(record["path"]):
-        row = [index] + ([f"{record['t'][index]:.9g}"] if timed else [])
-        row += [f"{v:.12g}" for v in q]
-        row += [f"{v + 0.0:.9g}" for v in record["qd"][index]] if timed else []
-        writer.writerow(row)
-    write_text_atomic(output, stream.getvalue())
+    write_joint_csv(output, units, record["path"], record.get("t"), record.get("qd"))
 
 
 def _print_text(robot: str, units: Any, length: float, unit: str, result: Any, timed: Any) -> None:
