@@ -8,8 +8,17 @@ bounded by --max-checks (the same --seed gives the same path on a busy machine) 
 rule `kin path` prints, and checked once more whole. Collisions: the arm with itself, --scene
 (a TOML cell, a URDF or a MoveIt PlanningScene) and --srdf, as in `kin check`. --time times the
 path (toppra, the table's or URDF's velocity and acceleration limits). --json prints one object in
-SI units; -o writes the path (CSV, or JSON that `kin preview --path` animates).
-Exit 0: a path; 1: no path (the status says why); 2: bad input.
+SI units; -o writes the path (CSV, or JSON that `kin preview --plan` animates).
+
+--stdin plans one JSON request per input line ({"start": [...], "goal": [...]} or "target" with
+"rpy", "quat", "mask", "axis", and "deg", "planner", "seed", "time_limit", "max_checks", "time";
+the command's options are the defaults) and answers each with one line, the object --json
+prints plus "line", in order; a bad line gets {"line": n, "error": ...}. The robot and the
+collision model are built once. --workers N plans on a local Dask cluster of N processes,
+--scheduler ADDRESS on a running one: the answers still in input order, a bounded number of plans
+in flight (a progress bar on a terminal's stderr).
+Exit 0: a path (every line planned with --stdin); 1: no path (the status says why), or a line
+without one; 2: bad input.
 """
 
 from __future__ import annotations
@@ -26,8 +35,10 @@ from ..cli import (
     positive_int,
     run_guarded,
 )
-from .collision_options import add_collision_options, collision_checker
+from .collision_options import add_collision_options
 from .json_output import dumps
+from .plan_answer import joints_within_limits, plan_checker, plan_record, timed_plan
+from .plan_stream import add_stream_options, check_stream_options, run_stream
 from .robot_argument import add_robot_arguments
 from .targets import add_orientation_options
 
@@ -44,7 +55,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add = parser.add_argument
     add_robot_arguments(parser)
     joints = "revolute [rad, or deg with --deg], prismatic [--unit]"
-    add("--start", type=finite_float, nargs="+", required=True, help=f"start joints: {joints}")
+    add("--start", type=finite_float, nargs="+", help=f"start joints: {joints}")
     add("--goal", type=finite_float, nargs="+", help=f"goal joints: {joints}")
     add(
         "--target",
@@ -89,6 +100,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         srdf="a MoveIt SRDF: its disable_collisions pairs are allowed",
         self_check=True,
     )
+    add_stream_options(parser)
     return parser
 
 
@@ -96,14 +108,19 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     """Plan and print; exit 0 with a path, 1 without, 2 with one line for bad input."""
     parser = get_argument_parser(prog)
     args = parser.parse_args(argv)
+    if not 0 <= args.seed < 2**31:
+        parser.error(f"--seed must be from 0 to 2147483647, got {args.seed}")
+    check_stream_options(parser, args)
+    if args.stdin:
+        return run_guarded(prog, lambda: run_stream(args, prog))
+    if args.start is None:
+        parser.error("the following arguments are required: --start (or --stdin)")
     if (args.goal is None) == (args.target is None):
         parser.error("give the goal as --goal joints or as --target X Y Z (one of them)")
     if args.goal is not None and any(
         v is not None for v in (args.rpy, args.quat, args.mask, args.axis)
     ):
         parser.error("--rpy, --quat, --mask and --axis go with --target, not --goal")
-    if not 0 <= args.seed < 2**31:
-        parser.error(f"--seed must be from 0 to 2147483647, got {args.seed}")
     return run_guarded(prog, lambda: _run(args))
 
 
@@ -121,9 +138,9 @@ def _run(args: argparse.Namespace) -> int:
     robot = load_robot_argument(args)
     units = arm_units(robot, args.unit, args.deg)
     length = length_scale(args.unit)
-    start = units.to_si(args.start, "--start")
+    start = joints_within_limits(robot, units, args.start, "--start")
     if args.goal is not None:
-        goal: Any = units.to_si(args.goal, "--goal")
+        goal: Any = joints_within_limits(robot, units, args.goal, "--goal")
     else:
         from .targets import build_target
 
@@ -136,7 +153,7 @@ def _run(args: argparse.Namespace) -> int:
             length=length,
             angle=angle_scale(args.deg),
         )
-    checker = collision_checker(args, robot, length)  # None: plan() checks the arm alone
+    checker = plan_checker(robot, args, length)
     result = plan(
         robot,
         start,
@@ -147,8 +164,8 @@ def _run(args: argparse.Namespace) -> int:
         max_checks=args.max_checks,
         seed=args.seed,
     )
-    timed = _timed(robot, result) if args.time and result.success else None
-    record = _record(robot, units, result, timed)
+    timed = timed_plan(robot, result) if args.time and result.success else None
+    record = plan_record(robot, units, result, timed)
     if output is not None and result.success:
         _write(output, units, record)
     if args.json:
@@ -156,42 +173,6 @@ def _run(args: argparse.Namespace) -> int:
     else:
         _print_text(robot.name, units, length, args.unit, result, timed)
     return 0 if result.success else EXIT_NO_PATH
-
-
-def _timed(robot: Any, result: Any) -> Any:
-    from ..path import table_limits, time_optimal
-
-    vmax, amax = table_limits(robot.table)
-    return time_optimal(result.path, vmax, amax)
-
-
-def _record(robot: Any, units: Any, result: Any, timed: Any) -> dict[str, Any]:
-    """The JSON answer, SI."""
-    record: dict[str, Any] = {
-        "robot": robot.name,
-        "status": result.status,
-        "message": result.message,
-        "planner": result.planner,
-        "seed": result.seed,
-        "plan_time": result.plan_time,
-        "checks": result.checks,
-        "joint_names": list(units.joint_names),
-        "q_units": list(units.si_labels),
-        "length": result.length,
-        "straight_length": result.straight_length,
-        "clearance_m": result.clearance,
-        "goal_index": result.goal_index,
-        "goals": result.goals.tolist(),
-        "path": result.path.tolist(),
-        "q": result.path.tolist(),
-    }
-    if timed is not None:
-        record["duration_s"] = timed.duration
-        record["t"] = timed.waypoint_times.tolist()
-        record["t_s"] = record["t"]
-        record["qd"] = timed.waypoint_qd.tolist()
-        record["qd_units"] = [f"{u}/s" for u in units.si_labels]
-    return record
 
 
 def _write(output: Any, units: Any, record: dict[str, Any]) -> None:
