@@ -22,7 +22,9 @@ import numpy as np
 from .drive_section import JointDrive
 from .exceptions import TableError
 from .joint_cap import MAX_JOINTS
+from .link_meshes import LinkMesh
 from .link_volumes import AllowedContact, Housing
+from .table_states import NamedState
 from .table_values import MAX_ANGLE, MAX_LENGTH
 from .transforms import rot_x, rot_z, translation
 
@@ -55,6 +57,7 @@ class DHRow:
         radius_d: Radius of the row's ``d`` segment [m], or None (``radius``).
         housings: Cylinders fixed in DH frame ``i`` (motor housings, offset tubes).
         allowed_contacts: Earlier rows whose bodies this row's is not checked against.
+        meshes: Meshes fixed in DH frame ``i`` (:mod:`dh2urdf.link_meshes`).
         continuous: A revolute joint without limits (a URDF ``continuous`` joint): its limits
             are [-pi, pi], every angle having a copy there; the solvers wrap into them.
         direction: 1, or -1 for a reversed joint: the DH angle is ``theta + direction * q``
@@ -79,6 +82,7 @@ class DHRow:
     radius_d: float | None = None
     housings: tuple[Housing, ...] = ()
     allowed_contacts: tuple[AllowedContact, ...] = ()
+    meshes: tuple[LinkMesh, ...] = ()
     continuous: bool = False
     direction: int = 1
 
@@ -130,6 +134,8 @@ class DHTable:
         T_last_tool: Fixed transform from the last DH frame to the tool frame (4x4, [m]).
         path: File the table was read from, if any.
         drives: Stepper drives of some joints (``[drives]`` section), in row order.
+        base_meshes: Meshes fixed in DH frame 0 (``[[base_mesh]]``, :mod:`dh2urdf.link_meshes`).
+        states: Named joint vectors (``[states]``, :mod:`dh2urdf.table_states`).
     """
 
     name: str
@@ -141,6 +147,8 @@ class DHTable:
     T_last_tool: np.ndarray = field(default_factory=lambda: _readonly(np.eye(4)))
     path: str | None = None
     drives: tuple[JointDrive, ...] = ()
+    base_meshes: tuple[LinkMesh, ...] = ()
+    states: tuple[NamedState, ...] = ()
 
     def __post_init__(self) -> None:
         if len(self.rows) > MAX_JOINTS:

@@ -176,11 +176,12 @@ def segment_radii(row: DHRow) -> tuple[float, float]:
 def default_radius_rows(table: DHTable) -> tuple[int, ...]:
     """The rows (1-based) with a segment of nonzero length whose radius the table leaves out.
 
-    A row with housings states its body: its segments' default radius is then no claim.
+    A row with housings or a collision mesh (:mod:`dh2urdf.link_meshes`) states its body: its
+    segments' default radius is then no claim.
     """
     rows = []
     for row in table.rows:
-        if row.housings:
+        if row.housings or any(mesh.collision for mesh in row.meshes):
             continue
         stated_a = row.radius_a is not None or row.radius is not None
         stated_d = row.radius_d is not None or row.radius is not None
@@ -199,5 +200,5 @@ def default_radius_note(table: DHTable) -> str | None:
     return (
         f"note: {which} links are default {DEFAULT_RADIUS * 100:g} cm sticks, not the arm's "
         f"body (no radius in rows {', '.join(map(str, rows))} of its table: add radius, "
-        "radius_a, radius_d or [[joints.housing]] to a row)"
+        "radius_a, radius_d, [[joints.housing]] or [[joints.mesh]] to a row)"
     )

@@ -5,7 +5,9 @@ MuJoCo keeps every URDF link as a body of the same name: ``base_link``, ``frame{
 ``i``), ``link{i}`` (standard tables) and ``tool``. The writer adds a site ``tool`` on the tool body
 (identity pose, [m]) for sensors and controllers, and keeps the visuals. Joints keep the table's
 names and order; lengths in meters, angles in radians. A continuous row's joint is unlimited
-(``limited="false"``; the URDF writes its [-pi, pi] for the tools that need limits).
+(``limited="false"``; the URDF writes its [-pi, pi] for the tools that need limits). A table's
+meshes come along but its COLLADA (``.dae``) ones, which MuJoCo does not decode (a warning says
+how many were left out).
 
 MuJoCo is imported inside the functions: ``import dh2urdf`` stays light.
 """
@@ -75,6 +77,14 @@ def mjcf_string(table: DHTable) -> str:
     except ImportError as err:  # pragma: no cover
         raise MjcfBuildError("MuJoCo is not installed: pip install mujoco") from err
     where = table.path or table.name
+    table, dropped = _without_collada(table)
+    if dropped:
+        warnings.warn(
+            f"{where}: MuJoCo reads no COLLADA meshes: {dropped} .dae mesh(es) left out of the "
+            "MJCF (give STL or OBJ files)",
+            MjcfWarning,
+            stacklevel=2,
+        )
     messages: list[str] = []
     previous = mujoco.get_mju_user_warning()
     # MuJoCo's own warning handler prints and appends to MUJOCO_LOG.TXT in the working folder:
@@ -105,6 +115,22 @@ def mjcf_string(table: DHTable) -> str:
         f"'{TOOL_SITE}'. -->\n"
     )
     return header + text
+
+
+def _without_collada(table: DHTable) -> tuple[DHTable, int]:
+    """The table without its ``.dae`` meshes (MuJoCo decodes STL and OBJ), and how many left."""
+    import dataclasses
+
+    def kept(meshes: tuple[Any, ...]) -> tuple[Any, ...]:
+        return tuple(m for m in meshes if not m.file.lower().endswith(".dae"))
+
+    rows = tuple(dataclasses.replace(row, meshes=kept(row.meshes)) for row in table.rows)
+    base = kept(table.base_meshes)
+    dropped = len(table.base_meshes) - len(base)
+    dropped += sum(len(a.meshes) - len(b.meshes) for a, b in zip(table.rows, rows, strict=True))
+    if not dropped:
+        return table, 0
+    return dataclasses.replace(table, rows=rows, base_meshes=base), dropped
 
 
 def write_mjcf(table: DHTable, path: str | Path) -> Path:

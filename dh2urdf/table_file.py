@@ -26,6 +26,7 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     radius = 40.0                  # optional, length_unit: radius of the row's segments
     radius_a = 40.0                # optional: of the a segment only (radius_d: the d segment)
     [[joints.housing]]             # optional cylinders in DH frame i: dh2urdf/link_volumes.py
+    [[joints.mesh]]                # optional meshes in DH frame i: dh2urdf/link_meshes.py
 
     [base]                         # optional: xyz + rpy, xyz + quat_wxyz, or a DH-style row
     xyz = [0.0, 0.0, 0.0]          #   a, alpha, d, theta
@@ -34,6 +35,8 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     [tool]                         # optional, same forms as [base]
 
     [drives.shoulder]              # optional stepper drives: dh2urdf/drive_section.py
+    [[base_mesh]]                  # optional meshes in DH frame 0: dh2urdf/link_meshes.py
+    [states]                       # optional named joint vectors: dh2urdf/table_states.py
 """
 
 from __future__ import annotations
@@ -57,9 +60,11 @@ from .drive_section import parse_drives
 from .exceptions import TableError, UnitWarning
 from .input_file import read_input
 from .joint_cap import MAX_JOINTS
+from .link_meshes import parse_meshes
 from .link_volumes import VOLUME_KEYS, parse_volumes
 from .long_numbers import long_integer_problem
 from .quoted_input import quoted
+from .table_states import parse_states
 from .table_values import MAX_ANGLE, MAX_LENGTH, MAX_MASS
 from .table_values import length as _length
 from .table_values import number as _number
@@ -89,6 +94,8 @@ _TOP_KEYS = {
     "base",
     "tool",
     "drives",
+    "base_mesh",
+    "states",
 }
 _ROW_KEYS = {
     "name",
@@ -103,6 +110,7 @@ _ROW_KEYS = {
     "acceleration",
     "mass",
     *VOLUME_KEYS,
+    "mesh",
     "continuous",
     "direction",
 }
@@ -310,6 +318,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
             )
     mass = _positive(path, data["mass"], index, "mass", 1.0, MAX_MASS) if "mass" in data else None
     volumes = parse_volumes(path, data, index, meters)
+    meshes = parse_meshes(path, data.get("mesh", []), index, "mesh", meters, radians)
     return DHRow(
         index=index,
         name=name,
@@ -325,6 +334,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         acceleration=acceleration,
         mass=mass,
         **volumes,
+        meshes=meshes,
         continuous=continuous,
         direction=direction,
     )
@@ -503,6 +513,10 @@ def parse_table(
         T_last_tool=tool,
         path=path,
         drives=parse_drives(path, data["drives"], rows, radians) if "drives" in data else (),
+        base_meshes=parse_meshes(
+            path, data.get("base_mesh", []), None, "base_mesh", meters, radians
+        ),
+        states=parse_states(path, data.get("states", {}), rows, meters, radians),
     )
 
 

@@ -2,8 +2,9 @@
 
 Lengths in meters and angles in radians (``length_unit = "m"``, ``angle_unit = "rad"``), every
 number written with all its digits (``repr``), so that :func:`~dh2urdf.load_table` of the text
-gives the same table: the rows exactly, with the acceleration, mass, radii and
-``[[joints.housing]]`` they state (their body, :mod:`dh2urdf.link_volumes`), ``[base]`` and
+gives the same table: the rows exactly, with the acceleration, mass, radii,
+``[[joints.housing]]`` and ``[[joints.mesh]]`` they state (their body, :mod:`dh2urdf.link_volumes`,
+:mod:`dh2urdf.link_meshes`; mesh files relative to the table's folder), ``[states]``, ``[base]`` and
 ``[tool]`` through ``xyz`` and ``rpy`` (URDF roll-pitch-yaw) when that keeps every digit, else
 ``quat_wxyz`` (near pitch +-90 deg). A ``[drives]`` section is not written.
 """
@@ -16,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from .dh_table import DHRow, DHTable
+from .link_meshes import LinkMesh, mesh_name
 
 __all__ = ["table_text", "write_table"]
 
@@ -107,8 +109,25 @@ def _rpy_matrix(rpy: tuple[float, float, float]) -> np.ndarray:
     return xyz_rpy((0.0, 0.0, 0.0), rpy)[:3, :3]
 
 
-def _row_extras(row: DHRow) -> list[str]:
-    """The row's optional keys it states: limits of motion, mass and body (link volumes).
+def _meshes(key: str, meshes: tuple[LinkMesh, ...], folder: Path | None) -> list[str]:
+    """The ``[[key]]`` entries of ``meshes``: file relative to ``folder`` (None: absolute)."""
+    lines = []
+    for mesh in meshes:
+        origin = np.asarray(mesh.origin)
+        lines += [
+            f"[[{key}]]",
+            f"file = {_string(mesh_name(mesh.file, folder))}",
+            f"xyz = [{', '.join(map(_number, origin[:3, 3]))}]",
+            f"rpy = [{', '.join(map(_number, _rpy(origin[:3, :3])))}]",
+            f"scale = [{', '.join(map(_number, mesh.scale))}]",
+        ]
+        if mesh.use != "both":
+            lines.append(f"use = {_string(mesh.use)}")
+    return lines
+
+
+def _row_extras(row: DHRow, folder: Path | None = None) -> list[str]:
+    """The row's optional keys it states: limits of motion, mass and body (link volumes, meshes).
 
     Keys the row leaves out stay out, so that reading the text gives the same defaults.
     """
@@ -130,11 +149,15 @@ def _row_extras(row: DHRow) -> list[str]:
             f"row = {contact.row}",
             f"reason = {_string(contact.reason)}",
         ]
-    return lines
+    return lines + _meshes("joints.mesh", row.meshes, folder)
 
 
-def table_text(table: DHTable, header: str = "") -> str:
-    """The TOML text of ``table`` (SI units); ``header`` becomes leading ``#`` comment lines."""
+def table_text(table: DHTable, header: str = "", mesh_folder: str | Path | None = None) -> str:
+    """The TOML text of ``table`` (SI units); ``header`` becomes leading ``#`` comment lines.
+
+    Mesh files are written relative to ``mesh_folder`` (the table file's folder), or absolute.
+    """
+    folder = None if mesh_folder is None else Path(mesh_folder)
     lines = [f"# {line}".rstrip() for line in header.splitlines()]
     lines += [
         f"name = {_string(table.name)}",
@@ -162,9 +185,14 @@ def table_text(table: DHTable, header: str = "") -> str:
             lines.append("continuous = true")
         if row.direction != 1:
             lines.append(f"direction = {row.direction}")
-        lines += _row_extras(row)
+        lines += _row_extras(row, folder)
     lines += _fixed("base", np.asarray(table.T_world_base))
     lines += _fixed("tool", np.asarray(table.T_last_tool))
+    if table.base_meshes:
+        lines += ["", *_meshes("base_mesh", table.base_meshes, folder)]
+    if table.states:
+        lines += ["", "[states]"]
+        lines += [f"{s.name} = [{', '.join(map(_number, s.q))}]" for s in table.states]
     return "\n".join(lines) + "\n"
 
 
@@ -177,4 +205,5 @@ def write_table(table: DHTable, path: str | Path, header: str = "") -> None:
     """
     from .output_file import write_text_atomic
 
-    write_text_atomic(path, table_text(table, header))
+    folder = Path(path).resolve().parent
+    write_text_atomic(path, table_text(table, header, folder))

@@ -43,7 +43,15 @@ class Sphere:
     radius: float
 
 
-Geometry = Cylinder | Box | Sphere
+@dataclass(frozen=True, eq=False)
+class Mesh:
+    """A mesh file: ``filename`` as the URDF names it, ``scale`` per axis [m per file unit]."""
+
+    filename: str
+    scale: tuple[float, float, float]
+
+
+Geometry = Cylinder | Box | Sphere | Mesh
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,6 +195,8 @@ def _geometry(geometry: Geometry) -> _Element:
         )
     elif isinstance(geometry, Box):
         shape = _element("box", {"size": _numbers(geometry.size)})
+    elif isinstance(geometry, Mesh):
+        shape = _element("mesh", {"filename": geometry.filename, "scale": _numbers(geometry.scale)})
     else:
         shape = _element("sphere", {"radius": str(geometry.radius)})
     return _element("geometry", None, shape)

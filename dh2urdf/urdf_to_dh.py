@@ -36,7 +36,7 @@ from .table_file import DEFAULT_EFFORT, DEFAULT_VELOCITY, LIMIT_SUSPECT
 from .table_values import MAX_LENGTH
 from .urdf_chain import ChainJoint, UrdfChain, UrdfChainError, read_chain
 
-__all__ = ["check_table", "table_from_chain", "table_from_urdf"]
+__all__ = ["chain_table", "check_table", "table_from_chain", "table_from_urdf"]
 
 #: Below this, two axes are parallel (|sin| of their angle) [1].
 PARALLEL = 1e-9
@@ -65,6 +65,16 @@ def table_from_urdf(
         UrdfChainError: The URDF cannot give a serial chain (see :func:`read_chain`), or a
             mimic joint on it follows another (a table's rows move independently).
     """
+    return chain_table(path, base, tip, convention)[1]
+
+
+def chain_table(
+    path: str | Path,
+    base: str | None = None,
+    tip: str | None = None,
+    convention: Convention = "standard",
+) -> tuple[UrdfChain, DHTable]:
+    """The chain of a URDF and its DH table, checked (:func:`table_from_urdf`)."""
     chain = read_chain(path, base, tip)
     for joint in chain.joints:
         if joint.mimic is not None:
@@ -76,7 +86,7 @@ def table_from_urdf(
             )
     table = table_from_chain(chain, convention)
     check_table(chain, table)
-    return table
+    return chain, table
 
 
 def table_from_chain(chain: UrdfChain, convention: Convention = "standard") -> DHTable:

@@ -14,8 +14,9 @@ Frames and links of the generated URDF:
 - ``tool``: fixed on ``frame{n}`` with the table's ``[tool]`` transform.
 
 Each link gets simple visuals (a cylinder along each joint axis; the body: capsules along the
-link offsets and the row's housing cylinders, :mod:`dh2urdf.link_volumes`), the body as collision
-geometry, and an inertial (but the root ``base_link``, which KDL wants without one). A row's
+link offsets and the row's housing cylinders, :mod:`dh2urdf.link_volumes`; the meshes the table
+names, :mod:`dh2urdf.link_meshes`), the body as collision geometry (where a body has a collision
+mesh, without its default 1 cm sticks, which stay drawn), and an inertial (but the root ``base_link``, which KDL wants without one). A row's
 ``mass`` makes the inertial of its moving link that of a uniform solid cylinder along the link's
 segment (a solid sphere when the segment has no length), about its center of mass; without masses
 the inertials are placeholders and the file says so in a comment.
@@ -37,6 +38,7 @@ import numpy as np
 
 from .dh_table import DHRow, DHTable
 from .link_volumes import DEFAULT_RADIUS, segment_radii
+from .mesh_elements import mesh_elements
 from .transforms import clean, rot_x, rot_z, translation
 from .urdf_elements import (
     Box,
@@ -180,27 +182,39 @@ def _housings(row: DHRow, T_link_frame: np.ndarray) -> list[Visual]:
     return visuals
 
 
-def _link(name: str, visuals: list[Visual], inertial: Inertial | None, massless: bool) -> Link:
-    """A link; without ``inertial`` a placeholder one, or none when ``massless`` (all masses given)."""
+def _link(
+    name: str,
+    visuals: list[Visual],
+    inertial: Inertial | None,
+    massless: bool,
+    meshes: list[Collision],
+    unchecked: set[str],
+) -> Link:
+    """A link; without ``inertial`` a placeholder one, or none when ``massless`` (all masses given).
+
+    Its collisions: the body among ``visuals`` but the ``unchecked`` sticks, then ``meshes``.
+    """
     # The root link carries no inertial: KDL (ROS tools, TRAC-IK) rejects a root inertia.
     if name == "base_link":
         inertial = None
     elif inertial is None and not massless:
         inertial = _inertial()
-    return Link(
-        name=name, inertial=inertial, visuals=tuple(visuals), collisions=_collisions(visuals)
-    )
+    body = [v for v in visuals if v.name not in unchecked]
+    collisions = _collisions(body) + tuple(meshes)
+    return Link(name=name, inertial=inertial, visuals=tuple(visuals), collisions=collisions)
 
 
 def _fixed(name: str, parent: str, child: str, origin: np.ndarray) -> Joint:
     return Joint(name=name, type="fixed", parent=parent, child=child, origin=clean(origin))
 
 
-def urdf_elements(table: DHTable) -> Robot:
+def urdf_elements(table: DHTable, mesh_folder: str | Path | None = None) -> Robot:
     """The links, joints and materials of a table's URDF (NumPy only, no XML library).
 
     Args:
         table: The DH table (SI units).
+        mesh_folder: Name the table's mesh files relative to this folder (where the URDF is
+            written); None: by their absolute paths.
 
     Returns:
         The elements, in the order they are written.
@@ -210,6 +224,15 @@ def urdf_elements(table: DHTable) -> Robot:
     inertials: dict[str, Inertial] = {}
     order = ["base_link", "frame0"]
     chain: list[_Drawn] = []  # the body's segments, base to tool
+    carrier = {"base_link": 0, "frame0": 0}  # link -> the joint that moves it
+    meshes: dict[str, list[Collision]] = {}  # link -> its collision meshes
+
+    def add_meshes(link: str, row: DHRow | None, T_link_frame: np.ndarray) -> None:
+        index = 0 if row is None else row.index
+        found = table.base_meshes if row is None else row.meshes
+        drawn, checked = mesh_elements(found, T_link_frame, f"mesh{index}", mesh_folder)
+        visuals.setdefault(link, []).extend(drawn)
+        meshes.setdefault(link, []).extend(checked)
 
     def segment(
         link: str, start: np.ndarray, end: np.ndarray, name: str, radius: float, capsule: bool
@@ -221,6 +244,7 @@ def urdf_elements(table: DHTable) -> Robot:
             chain.append((link, *ends, name, radius, capsule))
         return drawn
 
+    add_meshes("frame0", None, np.eye(4))
     base_offset = table.T_world_base[:3, 3]
     segment("base_link", np.zeros(3), base_offset, "base_offset", SEGMENT_RADIUS, False)
     for i, row in enumerate(table.rows, start=1):
@@ -252,6 +276,8 @@ def urdf_elements(table: DHTable) -> Robot:
             T_link_frame = translation(x=row.a) @ rot_x(row.alpha)
             order += [child, f"frame{i}"]
         visuals[child] += _housings(row, T_link_frame)
+        add_meshes(child, row, T_link_frame)
+        carrier.update({child: i, f"frame{i}": i})
         if row.mass is not None:
             radius = row.radius if row.radius is not None else SEGMENT_RADIUS
             inertials[child] = _primitive_inertial(row.mass, radius, drawn)
@@ -288,7 +314,15 @@ def urdf_elements(table: DHTable) -> Robot:
     order.append("tool")
     joints.append(_fixed("tool_joint", last, "tool", table.T_last_tool))
     massless = all(row.mass is not None for row in table.rows)
-    links = tuple(_link(name, visuals[name], inertials.get(name), massless) for name in order)
+    # a body (the links one joint moves) with a collision mesh: its default sticks are not checked
+    meshed = {carrier[link] for link, found in meshes.items() if found}
+    unchecked = {
+        name for link, *_, name, _, capsule in chain if not capsule and carrier[link] in meshed
+    }
+    links = tuple(
+        _link(name, visuals[name], inertials.get(name), massless, meshes.get(name, []), unchecked)
+        for name in order
+    )
     return Robot(
         name=table.name,
         links=links,
@@ -339,13 +373,14 @@ def _table_file(table: DHTable) -> str:
     return "TABLE.toml" if table.path is None else Path(table.path).name
 
 
-def urdf_string(table: DHTable) -> str:
+def urdf_string(table: DHTable, mesh_folder: str | Path | None = None) -> str:
     """URDF text of a table, with a header comment naming its source and the MuJoCo extension.
 
-    Written from :func:`urdf_elements` without yourdfpy (the same text its writer gives).
+    Written from :func:`urdf_elements` without yourdfpy (the same text its writer gives). The
+    table's mesh files are named by their absolute paths, or relative to ``mesh_folder``.
     """
     note = _PLACEHOLDER_NOTE if any(row.mass is None for row in table.rows) else None
-    body = robot_xml(urdf_elements(table), MUJOCO_COMPILER, note)
+    body = robot_xml(urdf_elements(table, mesh_folder), MUJOCO_COMPILER, note)
     header = (
         f"<!-- Generated by dh2urdf from the DH table '{_comment(table.name)}' "
         f"({table.convention} convention).\n"
@@ -369,5 +404,13 @@ def write_text_atomic(text: str, path: str | Path) -> Path:
 
 
 def write_urdf(table: DHTable, path: str | Path) -> Path:
-    """Write the URDF of a table to ``path`` atomically (nothing half-written on error)."""
-    return write_text_atomic(urdf_string(table), path)
+    """Write the URDF of a table to ``path`` atomically (nothing half-written on error).
+
+    Its mesh files are named relative to the folder of ``path``.
+    """
+    folder = Path(path).resolve().parent
+    return write_text_atomic(urdf_string(table, folder if _has_meshes(table) else None), path)
+
+
+def _has_meshes(table: DHTable) -> bool:
+    return bool(table.base_meshes) or any(row.meshes for row in table.rows)

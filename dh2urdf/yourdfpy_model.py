@@ -11,7 +11,7 @@ from typing import Any
 
 from .dh_table import DHTable
 from .exceptions import UrdfBuildError
-from .urdf_elements import Box, Cylinder, Material
+from .urdf_elements import Box, Cylinder, Material, Mesh
 from .urdf_writer import urdf_elements
 
 
@@ -24,6 +24,9 @@ def _yourdfpy_geometry(geometry: Any) -> Any:
         )
     if isinstance(geometry, Box):
         return yourdfpy.Geometry(box=yourdfpy.Box(size=geometry.size))
+    if isinstance(geometry, Mesh):
+        mesh = yourdfpy.Mesh(filename=geometry.filename, scale=list(geometry.scale))
+        return yourdfpy.Geometry(mesh=mesh)
     return yourdfpy.Geometry(sphere=yourdfpy.Sphere(radius=geometry.radius))
 
 
