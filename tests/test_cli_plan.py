@@ -18,11 +18,16 @@ BALL = "[[sphere]]\nname = 'ball'\nradius = 0.04\nxyz = [0.45, 0.0, 0.0]\n"
 SWING = ["--robot", "planar2", "--start", "-90", "0", "--goal", "90", "0", "--deg"]
 
 
-@pytest.fixture
-def ball(tmp_path):
-    scene = tmp_path / "ball.toml"
+def write_ball(folder) -> str:  # noqa: ANN001
+    """The ball's cell file in ``folder``."""
+    scene = folder / "ball.toml"
     scene.write_text(BALL, encoding="utf-8")
     return str(scene)
+
+
+@pytest.fixture
+def ball(tmp_path):
+    return write_ball(tmp_path)
 
 
 def test_a_plan_around_the_ball_in_json(capsys, ball):
@@ -82,7 +87,10 @@ def test_path_files_csv_and_json_with_times(capsys, ball, tmp_path):
         (["--planner", "RRTx"], "--planner"),
         (["--start", "nan", "0"], "--start"),
         (["--goal", "1", "2", "3"], "--goal needs 2 values"),
-        (["--goal", "400", "0"], "joint1"),
+        (["--goal", "400", "0"], "--goal: joint 'joint1'"),
+        (["--start", "-190", "0"], "--start: joint 'joint1'"),
+        (["--goal", "1", "nan"], "--goal"),
+        (["--start", "0"], "--start needs 2 values"),
         (["--target", "0", "0.5", "0"], "one of them"),
         (["--rpy", "0", "0", "0"], "--rpy"),
         (["--seed", "-1"], "--seed"),
@@ -105,3 +113,33 @@ def test_the_console_command_prints_nothing_on_stderr(ball):
     done = run(["plan", *SWING, "--scene", ball, "--json"], module=False)
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout)["status"] == "ok" and done.stderr == ""
+
+
+def test_no_plan_statuses_exit_1_naming_why(capsys, ball):
+    """A goal in the ball (named), a target beyond reach: exit 1, the status in the answer."""
+    argv = ["--robot", "planar2", "--start", "-90", "0", "--deg", "--scene", ball, "--json"]
+    assert call(plan_command.main, [*argv, "--goal", "0", "0"]) == 1
+    record = json.loads(capsys.readouterr().out)
+    assert record["status"] == "goal_in_collision" and "ball" in record["message"]
+    assert call(plan_command.main, [*argv, "--target", "3", "0", "0"]) == 1
+    record = json.loads(capsys.readouterr().out)
+    assert record["status"] == "out_of_reach" and record["path"] == []
+
+
+def test_padding_without_a_scene_pads_the_arm(capsys):
+    """--padding alone: UR5's own pairs padded (the start collides with 5 cm, not without); the
+    library's checker at the same padding says the same."""
+    from kin import load_robot
+    from kin.collision import CollisionChecker, load_collision_model
+
+    argv = ["--robot", "ur5", "--start", "0", "-90", "0", "-90", "0", "0", "--deg", "--json"]
+    argv += ["--goal", "10", "-90", "0", "-90", "0", "0"]
+    assert call(plan_command.main, argv) == 0
+    assert json.loads(capsys.readouterr().out)["status"] == "ok"
+    assert call(plan_command.main, [*argv, "--padding", "0.05"]) == 1
+    record = json.loads(capsys.readouterr().out)
+    assert record["status"] == "start_in_collision" and "self:" in record["message"]
+    robot = load_robot("ur5")
+    q = np.radians([0, -90, 0, -90, 0, 0])
+    assert CollisionChecker(load_collision_model(robot, padding=0.05)).in_collision(q)
+    assert not CollisionChecker(load_collision_model(robot)).in_collision(q)

@@ -16,11 +16,10 @@ import subprocess
 import numpy as np
 import pytest
 from cli_helper import assert_one_line_error, call, kin_command
+from test_cli_plan import write_ball
 
 from kin.commands import plan as plan_command
 
-#: planar2's straight swing from -90 to +90 deg of its first joint passes through this ball.
-BALL = "[[sphere]]\nname = 'ball'\nradius = 0.04\nxyz = [0.45, 0.0, 0.0]\n"
 #: Lines that plan (in degrees) and lines that fail, with what each answer must say.
 LINES = [
     ({"start": [-90, 0], "goal": [90, 0], "deg": True, "seed": 4}, "ok"),
@@ -42,9 +41,7 @@ LINES = [
 
 @pytest.fixture
 def ball(tmp_path):
-    scene = tmp_path / "ball.toml"
-    scene.write_text(BALL, encoding="utf-8")
-    return str(scene)
+    return write_ball(tmp_path)
 
 
 def _text(line: dict | str) -> str:

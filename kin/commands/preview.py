@@ -4,8 +4,9 @@ The arm stands at --q (default zeros, clipped to the limits). --frames adds an a
 every DH frame (frame0..frameN; x red, y green, z blue): a wrong twist sign shows at a glance.
 --target marks a tool position (a sphere; with --rpy, URDF roll-pitch-yaw, also a triad); --ik
 solves it from --q and animates the joint-space motion to the answer (meshcat's "Animations"
-controls replay it). --path FILE animates a joint path written by `kin path --json` (in real
-time when it was timed with --time) and draws the tool's trace; --workspace N draws the tool
+controls replay it). --plan FILE animates the plan `kin plan -o FILE.json` wrote (its robot
+when --robot is not given), --path FILE a joint path written by `kin path --json` (in real
+time when it was timed with --time), and both draw the tool's trace; --workspace N draws the tool
 points of N joint vectors drawn uniformly within the limits (seeded), colored by height;
 --reach FILE.npz draws the voxels of a `kin reach` map, colored by index (viridis, as its PNG).
 --scene FILE (a TOML cell, a PlanningScene or a URDF) draws the cell's objects in grey; with it or
@@ -80,7 +81,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add = parser.add_argument
     from .robot_argument import add_robot_arguments
 
-    add_robot_arguments(parser)
+    add_robot_arguments(parser, required=False)  # --plan names its own
     add(
         "--q",
         type=finite_float,
@@ -105,6 +106,7 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     )
     add("--ik", action="store_true", help="solve the target and animate the motion from --q")
     add("--frames", action="store_true", help="axis triads on every DH frame")
+    add("--plan", metavar="FILE", help="animate a plan written by kin plan -o FILE.json")
     add("--path", metavar="FILE", help="animate a joint path written by kin path --json")
     add(
         "--workspace",
@@ -142,8 +144,14 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("--ik needs --target X Y Z")
     if args.rpy is not None and args.target is None:
         parser.error("--rpy needs --target X Y Z")
-    if args.path is not None and args.ik:
-        parser.error("give --path or --ik, not both (each is an animation)")
+    animations = [name for name in ("plan", "path", "ik") if getattr(args, name)]
+    if len(animations) > 1:
+        given = " or ".join(f"--{name}" for name in animations)
+        parser.error(
+            f"give {given}, not {'both' if len(animations) == 2 else 'all'} (each is an animation)"
+        )
+    if args.robot is None and args.plan is None:
+        parser.error("the following arguments are required: --robot (or --plan FILE)")
     if args.workspace is not None and not 1 <= args.workspace <= MAX_WORKSPACE_POINTS:
         parser.error(f"--workspace: expected 1 to {MAX_WORKSPACE_POINTS:,} points")
     check_picture_options(parser, args)
@@ -179,7 +187,14 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
     from .targets import build_target
 
     check_outputs(args)
+    if args.plan is not None:
+        from .preview_plan import check_plan_robot, plan_robot, read_plan
+
+        plan = read_plan(args.plan)
+        args.robot = plan_robot(args.plan, plan, args.robot)
     robot = load_robot_argument(args)
+    if args.plan is not None:
+        check_plan_robot(args.plan, plan, robot.name)
     units = JointUnits.of(robot.name, robot.table, args.unit, args.deg)
     if args.q is None:
         q_start = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
@@ -199,8 +214,9 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
     if args.ik and target is not None:
         q_goal = _solve(robot, target, q_start, args, units, prog)
     animated = None
-    if args.path is not None:
-        animated = _path_frames(robot, args.path, args.duration, prog)
+    if args.path is not None or args.plan is not None:
+        option = "--path" if args.plan is None else "--plan"
+        animated = _path_frames(robot, args.path or args.plan, args.duration, option)
         q_start = animated[1][0]
 
     from ..viewer import RobotViewer  # meshcat: only now
@@ -318,22 +334,25 @@ def _show_collisions(viewer: RobotViewer, args: argparse.Namespace) -> str:
 
 
 def _path_frames(
-    robot: RobotModel, file: str, duration: float, prog: str
+    robot: RobotModel, file: str, duration: float, option: str
 ) -> tuple[np.ndarray, np.ndarray, float]:
-    """Samples and animation frames [rad, m], frame interval [s] of a ``kin path --json`` file."""
+    """Samples and animation frames [rad, m], frame interval [s] of a ``kin path --json`` file.
+
+    Or of a ``kin plan`` file (``option`` ``--plan``): both hold ``q`` and ``t_s`` in SI.
+    """
     from pathlib import Path
 
     from ..path.exceptions import PathError
     from ..path.joint_path_file import animation_frames, read_joint_path
 
     if not Path(file).is_file():
-        raise PathError(f"--path {file}: no such file", "--path")
+        raise PathError(f"{option} {file}: no such file", option)
     joint_path = read_joint_path(file, robot.nq)
     if joint_path.robot and joint_path.robot != robot.name:
         raise PathError(
-            f"--path {file} was computed for '{joint_path.robot}', not '{robot.name}': give "
-            f"--robot {joint_path.robot} (or a path of this robot)",
-            "--path",
+            f"{option} {file} was computed for '{joint_path.robot}', not '{robot.name}': give "
+            f"--robot {joint_path.robot} (or a {option[2:]} of this robot)",
+            option,
         )
     frames, dt = animation_frames(joint_path, duration)
     return joint_path.q, frames, dt

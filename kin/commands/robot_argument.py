@@ -19,9 +19,9 @@ ROBOT_HELP = (
 )
 
 
-def add_robot_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add ``--robot`` (required), ``--base`` and ``--tip`` to ``parser``."""
-    parser.add_argument("--robot", required=True, help=ROBOT_HELP)
+def add_robot_arguments(parser: argparse.ArgumentParser, required: bool = True) -> None:
+    """Add ``--robot`` (required unless ``required`` is False), ``--base`` and ``--tip``."""
+    parser.add_argument("--robot", required=required, help=ROBOT_HELP)
     parser.add_argument(
         "--base", metavar="LINK", help="base link of a URDF's chain (default: its root link)"
     )
