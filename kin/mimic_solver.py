@@ -72,8 +72,9 @@ class MimicSolver:
         Args:
             target: A :class:`~kin.ik.target.PoseTarget` (no mask) or a
                 :class:`~kin.ik.target.PositionTarget`, in the base link [m].
-            seed: First start [rad] or [m] of the independent joints (default: the middle of
-                the limits).
+            seed: First start [rad] or [m] of the independent joints, clipped into the limits
+                (default: zero, clipped so: ``kin ik``'s seed without ``--seed-q``, as
+                :func:`kin.configuration.default_seed` is every other arm's).
             timeout: Cap on the time [s] (None: :data:`DEFAULT_TIMEOUT`): no new start after
                 it (the seed's always runs); a start once begun runs to its end, so a call the
                 cap does not stop gives the answer of an idle machine.
@@ -99,7 +100,7 @@ class MimicSolver:
         found = self.arm.search(
             np.asarray(target.position),
             rotation,
-            seed,
+            np.zeros(self.arm.nq) if seed is None else seed,
             restarts=self.restarts,
             max_iter=self.max_iter,
             timeout=cap,

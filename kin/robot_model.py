@@ -126,7 +126,7 @@ def robot_from_chain(chain: UrdfChain) -> RobotModel:
     Raises:
         dh2urdf.urdf_chain.UrdfChainError: The table does not reproduce the chain.
         ModelLoadError: A joint of the chain follows another (mimic): the message names it,
-            what takes such a chain (``kin fk``, ``kin ik``, :func:`kin.mimic_arm.load_arm`) and
+            what takes such a chain (``kin fk``, ``kin ik``, :func:`kin.load_arm`) and
             the fix.
     """
     from dh2urdf.urdf_to_dh import check_table, table_from_chain
@@ -135,7 +135,7 @@ def robot_from_chain(chain: UrdfChain) -> RobotModel:
         if joint.mimic is not None:
             raise ModelLoadError(
                 f"{chain.path}: joint {joint.name!r} follows {joint.mimic.leader!r} (mimic): "
-                "kin fk and kin ik follow it (kin.mimic_arm.load_arm in Python); this command "
+                "kin fk and kin ik follow it (kin.load_arm in Python); this command "
                 "takes one independent joint per DH row: choose a --tip before it"
             )
     table = table_from_chain(chain)
@@ -163,7 +163,8 @@ def load_robot(robot: str | Path, base: str | None = None, tip: str | None = Non
         dh2urdf.urdf_chain.UrdfChainError: The URDF gives no serial chain from base to tip, or
             the file is another kind of XML (an MJCF ``<mujoco>``...).
         ModelLoadError: The URDF cannot be read or loaded; base or tip given for a table; a
-            mimic joint on the URDF's chain (:func:`kin.mimic_arm.load_arm` follows it).
+            mimic joint on the URDF's chain (:func:`kin.load_arm` follows it: the loader of
+            ``kin fk`` and ``kin ik``, whose arm :func:`kin.ik.get_solver` solves as they do).
     """
     path = urdf_file(robot)
     if path is not None:
