@@ -200,6 +200,15 @@ def worktree(commit: str, where: Path) -> Path:
     return path
 
 
+def _is_commit(name: str) -> bool:
+    """Whether ``name`` names a commit of this repository."""
+    found = subprocess.run(
+        ["git", "-C", str(ROOT), "rev-parse", "--verify", "--quiet", f"{name}^{{commit}}"],
+        capture_output=True,
+    )
+    return found.returncode == 0
+
+
 def joint_vectors(arm: str, n: int, seed: int) -> list[list[float]]:
     """``n`` seeded random joint vectors inside the arm's limits (this tree's model) [rad]."""
     import numpy as np
@@ -266,6 +275,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--arms", nargs="+", default=ARMS, help=f"arms (default: {' '.join(ARMS)})")
     parser.add_argument("--breakdown", action="store_true", help="where one call's time goes")
     options = parser.parse_args(args)
+    if options.against and not _is_commit(options.against):
+        parser.error(f"--against {options.against}: not a commit of this repository")
     if options.breakdown:
         sys.path.insert(0, str(Path(__file__).resolve().parent))
         from bench_call_breakdown import breakdown
