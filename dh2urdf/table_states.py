@@ -24,10 +24,10 @@ from .table_values import number as _number
 if TYPE_CHECKING:
     from .dh_table import DHRow
 
-__all__ = ["NamedState", "parse_states"]
+__all__ = ["STATE_NAME", "NamedState", "parse_states"]
 
 #: A state's name: a letter, then letters, digits, ``_`` or ``-`` (what a command line passes).
-_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]*")
+STATE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]*")
 
 
 @dataclass(frozen=True)
@@ -57,10 +57,10 @@ def parse_states(
     states = []
     for name, values in data.items():
         field = f"states.{name}"
-        if not _NAME.fullmatch(name):
+        if not STATE_NAME.fullmatch(name) or name.lower() in ("inf", "infinity", "nan"):
             raise TableError(
                 path,
-                "a state's name is a letter, then letters, digits, '_' or '-'",
+                "a state's name is a letter, then letters, digits, '_' or '-' (not a number)",
                 None,
                 quoted(field)[1:-1],
             )

@@ -109,3 +109,17 @@ class CollisionModelError(KinError, ValueError):
     def __init__(self, path: str, message: str):
         self.path = path
         super().__init__(f"{path}: {message}" if path else message)
+
+
+class NamedStateError(KinError, ValueError):
+    """A named joint state (``--seed-q ready``) the robot does not have, or only in part.
+
+    Attributes:
+        name: The name asked for.
+        known: The robot's named states (full joint vectors), in their order.
+    """
+
+    def __init__(self, message: str, name: str, known: tuple[str, ...]):
+        self.name = name
+        self.known = known
+        super().__init__(message)

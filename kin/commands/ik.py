@@ -62,6 +62,7 @@ from ..cli import (
 from .collision_options import add_collision_options, check_padding
 from .ik_counts import hidden_note, shown_rows
 from .json_output import dumps
+from .named_states import joint_value
 from .robot_argument import add_robot_arguments
 from .targets import add_orientation_options
 
@@ -110,9 +111,11 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add("--deg", action="store_true", help="revolute joint values and angles in degrees")
     add(
         "--seed-q",
-        type=finite_float,
+        type=joint_value,
         nargs="+",
-        help="current joint vector: revolute [rad or deg], prismatic [--unit] (default zeros)",
+        metavar="Q",
+        help="current joint vector: revolute [rad or deg], prismatic [--unit] (default zeros); "
+        "or a named state: the table's [states], --srdf's group_state (ready)",
     )
     add(
         "--all",
@@ -171,6 +174,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..robot_model import RobotModel
     from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
     from .collision_options import collision_checker
+    from .named_states import joint_vector, robot_states
     from .solver_choice import NewtonRaphsonSolver, choose_solver, solve_function, target_kinds
     from .targets import build_target, check_kind
 
@@ -178,7 +182,8 @@ def _run(args: argparse.Namespace) -> int:
     units = arm_units(robot, args.unit, args.deg)
     # The documented default start is q = 0, as `kin preview --ik` starts from --q's zeros: the
     # same target and start give the same answer in both.
-    seed = np.zeros(robot.nq) if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
+    seed = joint_vector(robot, args.seed_q, units, "--seed-q", args.srdf)
+    seed = np.zeros(robot.nq) if seed is None else seed
     checker = None
     if isinstance(robot, RobotModel):
         solver = choose_solver(robot, args.solver)
@@ -222,6 +227,7 @@ def _run(args: argparse.Namespace) -> int:
             ),
             pipeline=getattr(solver, "name", ""),
             solve_all=solve_all,
+            states=robot_states(robot, args.srdf),
         )
         return stream.run(sys.stdin, sys.stdout)
     target, given = build_target(

@@ -3,7 +3,8 @@
 Start-up (imports, model, solver, seed table) is paid once; then each line costs one solve. An
 input line is an object: ``"target": [x, y, z]`` [--unit], optionally one of ``"rpy"``,
 ``"quat"``, ``"pitch"`` (with ``"roll"``) [rad, or deg with --deg], ``"position_only"``,
-``"seed_q"`` (revolute [rad or deg], prismatic [--unit]; default: the command's --seed-q) and
+``"seed_q"`` (revolute [rad or deg], prismatic [--unit], or the name of a named state such as
+``"ready"``: :mod:`kin.named_states`; default: the command's --seed-q) and
 ``"all": true`` (the answer of --all for this line: every branch of a 7R arm, the rejected kept).
 
 An answer is :meth:`kin.ik.IKResult.to_dict` (SI: q in rad / m, errors in m and rad, time in s)
@@ -36,7 +37,7 @@ import functools
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 import numpy as np
 
@@ -56,12 +57,17 @@ from .stream_records import FLUSH_EVERY as FLUSH_EVERY
 from .stream_records import error_record, numbered, write_records
 from .stream_records import result_record as result_record
 
+if TYPE_CHECKING:
+    from ..named_states import NamedStates
+
 __all__ = ["FLUSH_EVERY", "KEYS", "StreamSolver", "line_batches", "result_record", "rpy_matrices"]
 
 #: Bytes per read of the input, and most bytes per batch [B] (:func:`line_batches`).
 _READ = READ
 _CHUNK = CHUNK
-_twin = twin("_plain_lines")  # the plainest lines read and answered in C (kin/_native/_plain_lines.c)
+_twin = twin(
+    "_plain_lines"
+)  # the plainest lines read and answered in C (kin/_native/_plain_lines.c)
 if _twin is not None:
     _read_plain, _write_plain = _twin.read, _twin.write
 else:  # pragma: no cover - the json module reads them all, %-format writes
@@ -98,6 +104,7 @@ class StreamSolver:
         pipeline: The solver's name, as the answers of ``batch`` report it.
         solve_all: ``solve(target, seed)`` asking for every branch (a line's ``"all": true``),
             or None (the solver has no such option: ``solve``, the rejected kept).
+        states: The robot's named states, for a line's ``"seed_q": "ready"``, or None.
     """
 
     robot: str
@@ -112,6 +119,7 @@ class StreamSolver:
     batch: BatchStage | None = None
     pipeline: str = "numeric"
     solve_all: Callable[[Target, np.ndarray | None], IKResult] | None = None
+    states: NamedStates | None = None
 
     def answer(self, line: str | bytes) -> dict[str, Any]:
         """The answer to one input line.
@@ -139,7 +147,8 @@ class StreamSolver:
     def _reader(self) -> LineReader:
         """The line-by-line reader (:class:`.stream_reader.LineReader`)."""
         units, kinds, seed = self.units, self.kinds, self.seed
-        return LineReader(self.robot, self.nq, units, kinds, seed, self.length, self.angle)
+        length, angle, states = self.length, self.angle, self.states
+        return LineReader(self.robot, self.nq, units, kinds, seed, length, angle, states)
 
     @functools.cached_property
     def _route(self) -> BatchRoute | None:

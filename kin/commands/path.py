@@ -44,6 +44,7 @@ from typing import TYPE_CHECKING, Any
 from ..cli import ArgumentParser, finite_float, positive_float, positive_int, run_guarded
 from .collision_options import add_collision_options, check_padding, collision_checker
 from .json_output import dumps
+from .named_states import joint_value, joint_vector
 from .robot_argument import add_robot_arguments, load_robot_argument
 
 if TYPE_CHECKING:
@@ -127,7 +128,14 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add("--steps", type=positive_int, required=True, help="number of steps along the whole path")
     add("--unit", choices=("m", "cm", "mm"), default="m", help="unit of every length (default m)")
     add("--deg", action="store_true", help="revolute joint values and angles in degrees")
-    add("--seed-q", type=finite_float, nargs="+", help="joint vector the start should be near")
+    add(
+        "--seed-q",
+        type=joint_value,
+        nargs="+",
+        metavar="Q",
+        help="joint vector the start should be near, or a named state (the table's [states], "
+        "--srdf's group_state: ready)",
+    )
     add("--branch", help="closed form: branch label of the start (e.g. 'shoulder front, elbow up')")
     add(
         "--max-step",
@@ -230,7 +238,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
         check_kind(robot.name, robot.nq, path_kinds, target, given)
         waypoints.append(target)
     checker = collision_checker(args, robot, length)  # bad files fail before the solve
-    seed = None if args.seed_q is None else units.to_si(args.seed_q, "--seed-q")
+    seed = joint_vector(robot, args.seed_q, units, "--seed-q", args.srdf)
     max_step = MAX_JOINT_STEP if args.max_step is None else _max_step(args, units)
     path = polyline(waypoints, args.steps)
     avoided = None

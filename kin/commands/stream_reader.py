@@ -20,7 +20,7 @@ import os
 import select
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 import numpy as np
 
@@ -29,6 +29,9 @@ from dh2urdf.quoted_input import quoted
 from ..ik.target import Target
 from .joint_units import JointUnits
 from .targets import build_target, check_kind
+
+if TYPE_CHECKING:
+    from ..named_states import NamedStates
 
 #: Bytes per read of the input [B] (a pipe holds 64 KiB).
 READ = 1 << 16
@@ -73,6 +76,7 @@ class LineReader:
         seed: Default seed [rad] / [m], or None.
         length: Meters per ``--unit``.
         angle: Radians per input angle unit.
+        states: The robot's named states (``"seed_q": "ready"``), or None (none).
     """
 
     robot: str
@@ -82,6 +86,7 @@ class LineReader:
     seed: np.ndarray | None
     length: float
     angle: float
+    states: NamedStates | None = None
 
     def request(self, line: str | bytes) -> tuple[Target, np.ndarray | None, bool]:
         """The target, seed [rad, m] and ``"all"`` (every branch asked) of one input line.
@@ -128,9 +133,15 @@ class LineReader:
             check_kind(self.robot, self.nq, self.kinds, target, given)
         seed = self.seed
         seed_q = request.get("seed_q")
-        if seed_q is not None:
+        if isinstance(seed_q, str):
+            if self.states is None:
+                raise ValueError(f'"seed_q": no named states to look {quoted(seed_q)} up in')
+            seed = self.states.q(seed_q)
+        elif seed_q is not None:
             if not isinstance(seed_q, list):
-                raise ValueError(f'"seed_q" must be a list of numbers, got {quoted(seed_q)}')
+                raise ValueError(
+                    f'"seed_q" must be a list of numbers or a named state, got {quoted(seed_q)}'
+                )
             seed = self.units.to_si(seed_q, '"seed_q"')
         return target, seed, every
 
