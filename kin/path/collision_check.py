@@ -47,7 +47,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from ..collision.requests import CONTACT_TOLERANCE, prepare_requests
+from ..collision.requests import CONTACT_TOLERANCE
+from .pair_distances import PairDistances
 from .path_collision import TOLERANCE, PathCollision, PathCollisionCheck
 
 if TYPE_CHECKING:
@@ -57,19 +58,19 @@ __all__ = ["MotionCheck", "PathCollision", "PathCollisionCheck", "check_path_col
 
 
 class _Distances:
-    """Per-pair distances and per-shape motion bounds of one checker's model."""
+    """Per-pair distances and per-shape motion bounds of one checker's model.
 
-    def __init__(self, checker: CollisionChecker):
-        import pinocchio as pin
+    With ``fast``, the distances at the ends of a motion are bounded by spheres first
+    (:mod:`kin.path.pair_distances`): the same verdicts, less work.
+    """
 
+    def __init__(self, checker: CollisionChecker, fast: bool = False):
         model = checker.model
-        self._pin = pin
         self.model = model
         self.checker = checker
         self.pin_model = model.robot.model
-        self.data = self.pin_model.createData()
-        self.geometry_data = pin.GeometryData(model.geometry_model)
-        prepare_requests(self.geometry_data, model.padding)  # the checker's distance queries
+        #: The pairs' distances, measured where the rule reads them.
+        self.measured = PairDistances(checker, fast)
         self.pairs = [(p.first, p.second) for p in model.geometry_model.collisionPairs]
         self.first = np.array([p[0] for p in self.pairs], dtype=int)
         self.second = np.array([p[1] for p in self.pairs], dtype=int)
@@ -135,20 +136,6 @@ class _Distances:
             return self.pair_arms @ np.abs(q1 - q0)
         motion = self.motion(q0, q1)
         return motion[self.first] + motion[self.second]
-
-    def distances(self, q: np.ndarray) -> np.ndarray:
-        """Per collision pair, the distance between the padded shapes [m].
-
-        Below :data:`~kin.collision.requests.CONTACT_TOLERANCE`: contact.
-        """
-        pin = self._pin
-        pin.computeDistances(
-            self.pin_model, self.data, self.model.geometry_model, self.geometry_data, q
-        )
-        return (
-            np.array([r.min_distance for r in self.geometry_data.distanceResults], dtype=float)
-            - self.model.padding
-        )
 
     def motion(self, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
         """Per geometry object, the bound B on its points' motion along q0 -> q1 [m]."""
@@ -266,23 +253,32 @@ class MotionCheck:
     Args:
         checker: The collision checker.
         tolerance: Bound [m] below which a pair not shown apart counts as in collision.
+        fast: Judge by spheres first and ask coal only of the pairs they leave undecided
+            (:mod:`kin.collision.sphere_checks`): the same verdicts and checks, less work; the
+            distances it gives are then lower bounds (``-inf`` where not shown apart).
 
     Attributes:
         checks: Configurations checked between the ends so far.
     """
 
-    def __init__(self, checker: CollisionChecker, tolerance: float = TOLERANCE):
+    def __init__(self, checker: CollisionChecker, tolerance: float = TOLERANCE, fast: bool = False):
         self.checker = checker
         self.tolerance = tolerance
-        self.helper = _Distances(checker) if checker.model.pair_owners else None
+        self.helper = _Distances(checker, fast) if checker.model.pair_owners else None
         self.checks = 0
+
+    def in_collision(self, q: np.ndarray) -> bool:
+        """The checker's verdict at ``q``, a float64 joint vector (spheres first with ``fast``)."""
+        if self.helper is None:
+            return bool(self.checker.in_collision(q))
+        return self.helper.measured.in_collision(q)
 
     def distances(self, q: np.ndarray) -> np.ndarray:
         """Per collision pair, the distance at ``q`` [m] (contact below the contact tolerance).
 
         Empty without pairs.
         """
-        return np.zeros(0) if self.helper is None else self.helper.distances(q)
+        return np.zeros(0) if self.helper is None else self.helper.measured.at(q)
 
     def between(
         self,
@@ -334,13 +330,19 @@ def _segment(
 ) -> tuple[tuple[float, np.ndarray, int, bool] | None, int]:
     """First colliding place on q0 -> q1 (fraction, q, pair index, proven), checks used."""
     checks = 0
+    measured = helper.measured
     # depth-first, earliest half first: the first place found is the first along the segment
     stack = [(0.0, 1.0, q0, q1, d0, d1, np.arange(len(helper.pairs)))]
     while stack:
         t0, t1, qa, qb, da, db, open_pairs = stack.pop()
-        bound = helper.pair_motion(qa, qb)[open_pairs]
+        closing = helper.pair_motion(qa, qb)
+        bound = closing[open_pairs]
         # apart beyond the contact tolerance all along: (da - tol) + (db - tol) > bound
         unresolved = da[open_pairs] + db[open_pairs] - 2.0 * CONTACT_TOLERANCE <= bound
+        if unresolved.any():  # an entry not measured is a lower bound: measure it and look again
+            measured.sharpen(qa, da, open_pairs[unresolved])
+            measured.sharpen(qb, db, open_pairs[unresolved])
+            unresolved = da[open_pairs] + db[open_pairs] - 2.0 * CONTACT_TOLERANCE <= bound
         if not unresolved.any():
             continue
         open_pairs = open_pairs[unresolved]
@@ -351,8 +353,11 @@ def _segment(
             index = int(open_pairs[np.argmin(da[open_pairs] + db[open_pairs])])
             return (tm, qm, index, False), checks
         checks += 1
-        dm = helper.distances(qm)
-        if helper.checker.in_collision(qm):  # the checker's verdict, whatever the distances
+        # the halves read only the open pairs; with fast, the others keep lower bounds from the
+        # ends (a pair closes at most half its bound on each half), which decide the verdict
+        below = None if measured.bound is None else np.maximum(da, db) - 0.5 * closing
+        dm = measured.of(qm, open_pairs, below)
+        if measured.in_collision(qm, dm):  # the checker's verdict, whatever the distances
             index = int(open_pairs[np.argmin(dm[open_pairs])])
             # the earlier half may hold an earlier contact: look there first
             found, used = _segment(helper, qa, qm, da, dm, tolerance, budget - checks)
