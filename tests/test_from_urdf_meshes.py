@@ -5,6 +5,7 @@ maker's world pose (Pinocchio's geometry placements on both files, to 1e-9 m and
 from __future__ import annotations
 
 import math
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -93,3 +94,32 @@ def test_meshes_of_the_table_sit_where_the_makers_do(arm, tmp_path, capsys):
                 ]
                 assert match, (arm, kind, obj.name, q)
                 left.remove(match[0])
+
+
+def test_no_meshes_and_stdout(tmp_path, capsys):
+    """--no-meshes writes the table without mesh keys (the line counts none); -o - names the
+    files by absolute paths; a table in a folder beside the meshes' names them relative to it."""
+    urdf = erd(ARMS["ur5"][0])
+    plain = tmp_path / "plain.toml"
+    assert main(["from-urdf", str(urdf), "--tip", "tool0", "--no-meshes", "-o", str(plain)]) == 0
+    assert capsys.readouterr().out.endswith("m/rad)\n") and "mesh" not in plain.read_text()
+    assert main(["from-urdf", str(urdf), "--tip", "tool0", "-o", "-"]) == 0
+    files = [
+        line.split('"')[1] for line in capsys.readouterr().out.splitlines() if "file =" in line
+    ]
+    assert len(files) == 14 and all(Path(f).is_absolute() and Path(f).is_file() for f in files)
+    # a copy of the URDF and its meshes: a table written beside them names them relatively
+    package = tmp_path / "example-robot-data" / "robots" / "ur_description"
+    shutil.copytree(urdf.parent.parent / "meshes" / "ur5", package / "meshes" / "ur5")
+    (package / "urdf").mkdir()
+    shutil.copy(urdf, package / "urdf")
+    beside = package / "ur5.toml"
+    assert (
+        main(["from-urdf", str(package / "urdf" / urdf.name), "--tip", "tool0", "-o", str(beside)])
+        == 0
+    )
+    assert 'file = "meshes/ur5/visual/base.dae"' in beside.read_text()
+    assert (
+        str(package / "meshes" / "ur5" / "visual" / "base.dae")
+        == load_table(beside).base_meshes[0].file
+    )
