@@ -35,11 +35,13 @@ MJCF_SUFFIXES = (".mjcf", ".xml")
 #: Subcommands: first argument -> module with ``main(argv, prog)``, loaded only when used.
 SUBCOMMANDS: dict[str, str] = {
     "audit": "kin.audit.command",
+    "calibrate": "kin.calibration.command",
     "from-urdf": "dh2urdf.from_urdf_command",
 }
 #: One line per subcommand, for ``dh2urdf --help``.
 SUBCOMMAND_HELP: dict[str, str] = {
     "audit": "which reading of a paper's DH table reproduces its printed poses or a URDF",
+    "calibrate": "the DH table and URDF of the arm you have, from measured positions or poses",
     "from-urdf": "the DH table (.toml) of a URDF's chain from --base to --tip",
 }
 
