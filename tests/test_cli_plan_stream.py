@@ -190,7 +190,9 @@ def test_a_stop_keeps_the_answers_written(tmp_path, ball, signum, code, said):
         try:
             first = process.stdout.readline()  # planning now
             process.send_signal(signum)
-            rest, err = process.communicate(timeout=120)
+            rest = process.stdout.read()  # not communicate(): it skips what readline buffered
+            err = process.stderr.read()
+            process.wait(timeout=120)
         finally:
             process.kill()
     assert process.returncode == code, err
@@ -242,3 +244,49 @@ def test_on_a_local_dask_cluster_the_answers_are_the_same_and_in_order(tmp_path,
     for one, other in zip(here, dask):
         for key in ("status", "path", "checks", "goals", "seed"):
             assert one.get(key) == other.get(key), (one["line"], key)
+
+
+def _descendants(pid: int) -> list[int]:
+    """The processes below ``pid`` (pgrep, level by level)."""
+    found, level = [], [pid]
+    while level:
+        listed = [
+            subprocess.run(["pgrep", "-P", str(p)], capture_output=True, text=True).stdout
+            for p in level
+        ]
+        level = [int(child) for text in listed for child in text.split()]
+        found += level
+    return found
+
+
+@pytest.mark.slow
+def test_ctrl_c_on_a_local_dask_cluster_keeps_the_answers_and_ends_the_workers(tmp_path, ball):
+    """--workers 2 and Ctrl-C after the first answer: exit 130, the answers written whole lines
+    1..k in order, no worker process left running."""
+    from test_sigterm import _left
+
+    source = tmp_path / "in.jsonl"
+    source.write_text(_requests(2000), encoding="utf-8")
+    command = [*kin_command(), "plan", "--robot", "planar2", "--scene", ball, "--stdin"]
+    with source.open("rb") as stdin:
+        process = subprocess.Popen(
+            [*command, "--workers", "2"],
+            stdin=stdin,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
+        workers: list[int] = []
+        try:
+            first = process.stdout.readline()  # the cluster is up and planning
+            workers = _descendants(process.pid)
+            process.send_signal(signal.SIGINT)
+            rest = process.stdout.read()
+            err = process.stderr.read()
+            process.wait(timeout=120)
+        finally:
+            process.kill()
+    assert process.returncode == 130, err
+    assert err.decode().strip().splitlines()[-1] == "kin plan: interrupted"
+    numbers = [json.loads(line)["line"] for line in (first + rest).decode().splitlines()]
+    assert numbers == list(range(1, len(numbers) + 1)) and 0 < len(numbers) < 2000
+    assert len(workers) >= 2 and _left(workers) == []

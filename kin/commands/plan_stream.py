@@ -174,7 +174,7 @@ def _run_on_dask(setup: Any, client: Any, source: TextIO, out: TextIO, progress:
                 for start in range(0, len(batch), TASK_LINES):
                     run = [_encoded(line) for line in batch[start : start + TASK_LINES]]
                     while len(window) >= IN_FLIGHT_PER_THREAD * threads:
-                        writer.write(window.popleft().result(), gate)
+                        writer.write_head(window, gate)
                         raise_lost_stop()
                     task = client.submit(answer_lines, setup, number + 1, run, pure=False)
                     window.append(task)
@@ -205,6 +205,17 @@ class _Writer:
         """The reader of the output is gone."""
         return bool(getattr(self.out, "broken", False))
 
+    def write_head(self, window: deque[Any], gate: Any) -> None:
+        """Wait for the first task of ``window``, write its answers and drop it.
+
+        Dropped only once written: a Ctrl-C while waiting leaves it in ``window``.
+        """
+        answers = window[0].result()
+        if gate is not None:
+            gate.hold()  # from here on a Ctrl-C waits until the answers are written
+        window.popleft()
+        self.write(answers, gate)
+
     def write(self, answers: Iterable[tuple[str, bool]], gate: Any) -> None:
         """Write one task's answers whole (a Ctrl-C meanwhile raised after them)."""
         if gate is not None:
@@ -222,14 +233,14 @@ class _Writer:
     def write_done(self, window: deque[Any], gate: Any) -> None:
         """Write the answers of the finished tasks at the head of ``window``."""
         while window and window[0].done():
-            self.write(window.popleft().result(), gate)
+            self.write_head(window, gate)
 
     def write_all(self, window: deque[Any], gate: Any) -> None:
         """Wait for every task in ``window`` and write its answers, in order."""
         from dh2urdf.stop_signals import raise_lost_stop
 
         while window:
-            self.write(window.popleft().result(), gate)
+            self.write_head(window, gate)
             raise_lost_stop()
 
 
