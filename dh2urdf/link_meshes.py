@@ -36,6 +36,7 @@ from .input_file import open_input
 from .quoted_input import quoted
 from .table_values import length as _length
 from .table_values import number as _number
+from .table_values import xml_text as _xml_text
 from .transforms import xyz_rpy
 from .units import angle_to_radians
 
@@ -158,6 +159,7 @@ def _file(path: str, value: Any, row: int | None, key: str) -> str:
     """The absolute path of a mesh file the table names, checked to be a mesh of its suffix."""
     if not isinstance(value, str) or not value.strip() or "\x00" in value:
         raise TableError(path, f"expected a file name, got {quoted(value)}", row, key)
+    _xml_text(path, value, row, key)  # the URDF names it
     file = Path(value).expanduser()
     if not file.is_absolute():
         folder = Path(path).parent if path != "<string>" else Path.cwd()

@@ -22,6 +22,8 @@ from typing import Protocol
 
 import numpy as np
 
+from dh2urdf.quoted_input import quoted
+
 from .exceptions import NamedStateError
 
 __all__ = ["NamedJointState", "NamedStates", "named_states"]
@@ -87,11 +89,11 @@ class NamedStates:
         known = self.names
         if name in self.partial:
             message = (
-                f"{self.robot}: the SRDF group_state {name!r} leaves out joints "
+                f"{self.robot}: the SRDF group_state {quoted(name)} leaves out joints "
                 f"{', '.join(self.partial[name])} of the arm"
             )
         else:
-            message = f"{self.robot}: no named state {name!r}"
+            message = f"{self.robot}: no named state {quoted(name)}"
         if known:
             message += f"; its named states: {', '.join(known)}"
         else:
