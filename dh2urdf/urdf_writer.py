@@ -37,6 +37,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .dh_table import DHRow, DHTable
+from .link_inertials import cylinder_inertia as cylinder_inertia
+from .link_inertials import primitive_inertial
 from .link_volumes import DEFAULT_RADIUS, segment_radii
 from .mesh_elements import mesh_elements
 from .transforms import clean, rot_x, rot_z, translation
@@ -105,33 +107,6 @@ def _inertial() -> Inertial:
     """Placeholder inertial: a small solid sphere of radius JOINT_RADIUS and mass LINK_MASS."""
     moment = 0.4 * LINK_MASS * JOINT_RADIUS**2
     return Inertial(origin=np.eye(4), mass=LINK_MASS, inertia=np.eye(3) * moment)
-
-
-def cylinder_inertia(mass: float, radius: float, length: float) -> np.ndarray:
-    """Inertia of a uniform solid cylinder about its center of mass, axis z [kg m^2].
-
-    ``Ixx = Iyy = m (3 r^2 + L^2) / 12``, ``Izz = m r^2 / 2``; a solid sphere ``2/5 m r^2``.
-
-    Args:
-        mass: Mass [kg].
-        radius: Cylinder (or sphere) radius [m].
-        length: Cylinder length [m]; 0 gives a solid sphere of ``radius`` instead.
-    """
-    if length <= 0.0:
-        return np.eye(3) * 0.4 * mass * radius**2
-    side = mass * (3.0 * radius**2 + length**2) / 12.0
-    return np.diag([side, side, 0.5 * mass * radius**2])
-
-
-def _primitive_inertial(mass: float, radius: float, segment: list[Visual]) -> Inertial:
-    """Inertial of the link's primitive: the cylinder of ``segment``, or a sphere at the origin."""
-    if not segment:
-        return Inertial(origin=np.eye(4), mass=mass, inertia=cylinder_inertia(mass, radius, 0.0))
-    cylinder = segment[0].geometry
-    assert isinstance(cylinder, Cylinder)
-    origin = np.asarray(segment[0].origin, dtype=float)
-    inertia = cylinder_inertia(mass, cylinder.radius, cylinder.length)
-    return Inertial(origin=origin, mass=mass, inertia=inertia)
 
 
 def _collisions(visuals: list[Visual]) -> tuple[Collision, ...]:
@@ -280,7 +255,7 @@ def urdf_elements(table: DHTable, mesh_folder: str | Path | None = None) -> Robo
         carrier.update({child: i, f"frame{i}": i})
         if row.mass is not None:
             radius = row.radius if row.radius is not None else SEGMENT_RADIUS
-            inertials[child] = _primitive_inertial(row.mass, radius, drawn)
+            inertials[child] = primitive_inertial(row.mass, radius, drawn)
         joints.append(
             Joint(
                 name=row.name,
