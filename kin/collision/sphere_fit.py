@@ -24,6 +24,7 @@ boundary), the figure docs/planning.md states per link.
 
 from __future__ import annotations
 
+import hashlib
 import math
 from itertools import combinations
 
@@ -44,6 +45,9 @@ PRISM_SIDES = 32
 #: Steps of Badoiu and Clarkson's walk to the smallest ball (its radius within about
 #: 1 / sqrt(steps) of the smallest; the radius kept is the farthest point's from the center).
 _BALL_STEPS = 1000
+#: Covers remembered (by shape content) [count].
+_KEPT = 4096
+_FITTED: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 #: Added to every radius [m]: floating-point rounding of the fit's own arithmetic.
 _ROUNDING = 1e-9
 
@@ -52,6 +56,9 @@ def enclosing_spheres(
     geometry: coal.CollisionGeometry, cell_ratio: float = CELL_RATIO, most: int = MOST_SPHERES
 ) -> tuple[np.ndarray, np.ndarray]:
     """Spheres whose union contains ``geometry``, in the geometry's own frame.
+
+    Remembered by the shape's kind and sizes (a mesh's: its hull's points), so that the same
+    arm in another scene is not fitted again.
 
     Args:
         geometry: A coal shape: ``Sphere``, ``Box``, ``Cylinder``, ``Capsule``, ``Convex`` (any
@@ -62,6 +69,39 @@ def enclosing_spheres(
     Returns:
         Centers (k, 3) [m] and radii (k,) [m].
     """
+    key = (_content(geometry), cell_ratio, most)
+    found = _FITTED.get(key)
+    if found is None:
+        if len(_FITTED) >= _KEPT:
+            _FITTED.clear()
+        found = _FITTED[key] = _fit(geometry, cell_ratio, most)
+    return found[0].copy(), found[1].copy()
+
+
+def _content(geometry: coal.CollisionGeometry) -> tuple:
+    """What a shape's cover depends on: its kind, sizes, swept radius (a hull: its points)."""
+    swept = (
+        float(geometry.getSweptSphereRadius()) if hasattr(geometry, "getSweptSphereRadius") else 0.0
+    )
+    kind = type(geometry).__name__
+    if isinstance(geometry, coal.Sphere):
+        return kind, float(geometry.radius), swept
+    if isinstance(geometry, coal.Box):
+        return kind, tuple(np.asarray(geometry.halfSide, dtype=float).tolist()), swept
+    if isinstance(geometry, (coal.Cylinder, coal.Capsule)):
+        return kind, float(geometry.radius), float(geometry.halfLength), swept
+    if isinstance(geometry, coal.Convex):
+        points = np.array(geometry.points(), dtype=float).reshape(-1, 3)
+        return kind, hashlib.sha256(points.tobytes()).hexdigest(), swept
+    geometry.computeLocalAABB()
+    box = geometry.aabb_local
+    return kind, tuple(np.asarray(box.min_).tolist()), tuple(np.asarray(box.max_).tolist()), swept
+
+
+def _fit(
+    geometry: coal.CollisionGeometry, cell_ratio: float, most: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`enclosing_spheres`, not remembered."""
     swept = (
         float(geometry.getSweptSphereRadius()) if hasattr(geometry, "getSweptSphereRadius") else 0.0
     )
