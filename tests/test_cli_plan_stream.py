@@ -290,3 +290,23 @@ def test_ctrl_c_on_a_local_dask_cluster_keeps_the_answers_and_ends_the_workers(t
     numbers = [json.loads(line)["line"] for line in (first + rest).decode().splitlines()]
     assert numbers == list(range(1, len(numbers) + 1)) and 0 < len(numbers) < 2000
     assert len(workers) >= 2 and _left(workers) == []
+
+
+@pytest.mark.slow
+def test_on_a_running_scheduler_the_answers_are_the_same(monkeypatch, capsys, ball):
+    """--scheduler ADDRESS (two worker threads in one process, each with its own checker): the
+    answers of this process, in order."""
+    distributed = pytest.importorskip("distributed", reason="dask[distributed] not installed")
+    lines = _requests(12).splitlines()
+    argv = ["--robot", "planar2", "--scene", ball]
+    here = _stream(monkeypatch, capsys, argv, lines, 0)
+    cluster = distributed.LocalCluster(
+        n_workers=2, processes=False, threads_per_worker=1, dashboard_address=None
+    )
+    with cluster:
+        address = ["--scheduler", cluster.scheduler_address]
+        dask = _stream(monkeypatch, capsys, [*argv, *address], lines, 0)
+    assert [a["line"] for a in dask] == list(range(1, 13))
+    for one, other in zip(here, dask):
+        for key in ("status", "path", "checks", "goals"):
+            assert one[key] == other[key], (one["line"], key)

@@ -20,6 +20,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import threading
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,9 +49,9 @@ KEYS = (
     "time",
 )
 _KEYS = frozenset(KEYS)
-#: :class:`PlanLines` a worker process keeps (one per stream it served).
+#: :class:`PlanLines` a worker process keeps (one per stream and worker thread it served).
 _KEPT = 4
-_built: dict[StreamSetup, PlanLines] = {}
+_built: dict[tuple[StreamSetup, int], PlanLines] = {}
 
 
 @dataclass(frozen=True)
@@ -283,7 +284,8 @@ def _seconds(value: Any) -> float:
 def answer_lines(setup: StreamSetup, first: int, lines: list[bytes]) -> list[tuple[str, bool]]:
     """The answers of consecutive input lines in a worker, each one encoded JSON line.
 
-    The worker's :class:`PlanLines` of ``setup`` is built on its first call and kept.
+    The worker's :class:`PlanLines` of ``setup`` is built on its first call in a thread and kept
+    (the collision checker's Pinocchio and coal data are not shared between threads).
 
     Args:
         setup: The stream's setup.
@@ -293,11 +295,12 @@ def answer_lines(setup: StreamSetup, first: int, lines: list[bytes]) -> list[tup
     Returns:
         Per line, its answer (ending in a newline) and whether it failed.
     """
-    answering = _built.get(setup)
+    key = (setup, threading.get_ident())  # a checker is not shared between threads
+    answering = _built.get(key)
     if answering is None:
         if len(_built) >= _KEPT:
             _built.clear()
-        answering = _built[setup] = PlanLines(setup)
+        answering = _built[key] = PlanLines(setup)
     out = []
     for number, line in enumerate(lines, start=first):
         record, failed = answering.answer(number, line)
