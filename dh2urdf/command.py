@@ -88,10 +88,14 @@ def _export(args: argparse.Namespace) -> int:
     table = get_robot(args.robot).load_table() if args.robot else load_table(args.table)
     kind = output_format(output, args.format)
     if kind == "mjcf":
-        from .mjcf_writer import mjcf_string as render
+        from .mjcf_writer import mjcf_string
+
+        text = mjcf_string(table)
     else:
-        from .urdf_writer import urdf_string as render
-    text = render(table)
+        from .urdf_writer import urdf_string
+
+        # a file names the table's meshes relative to its own folder, as write_urdf does
+        text = urdf_string(table, None if output == "-" else Path(output).resolve().parent)
     if output == "-":
         sys.stdout.write(text)
         return 0

@@ -30,7 +30,7 @@ def main(argv: list[str] | None = None) -> int:
             path = robot.urdf_path
             if args.check:
                 current = path.read_text(encoding="utf-8") if path.exists() else None
-                if current != urdf_string(table):
+                if current != urdf_string(table, path.resolve().parent):
                     stale.append(str(path))
             else:
                 write_urdf(table, path)

@@ -175,6 +175,10 @@ def test_the_urdf_carries_the_mesh_in_visual_and_collision_and_drops_the_bodys_s
     out.parent.mkdir()
     write_urdf(table, out)
     assert 'filename="../meshes/forearm.stl"' in out.read_text()
+    # the command names them the same way (it named them by absolute paths)
+    by_command = tmp_path / "out" / "by_command.urdf"
+    assert dh2urdf_main([str(table_path), "-o", str(by_command)]) == 0
+    assert by_command.read_text() == out.read_text()
     # the table written back names the same files and gives the same URDF
     again = tmp_path / "again.toml"
     again.write_text(table_text(table, mesh_folder=tmp_path))
