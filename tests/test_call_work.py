@@ -18,8 +18,9 @@ every cache. Counted, not timed, so the same on a busy or an idle machine:
 
 How the budgets were measured: :func:`count_work` over the targets below on Python 3.11 with the
 compiled twins built (CI builds them), on 2026-12-02 after ``seed_inside``'s short way; each
-budget is that count plus 10 % (at least 3 more), written by hand. Python 3.12 and later inline
-list comprehensions (one call fewer each), so they count less. Without the compiled twins (no C
+budget is that count plus 10 % (at least 3 more), written by hand. The same counts on Python
+3.10 (NumPy 2.2.6) and 3.13 (NumPy 2.5.5), the versions CI's wheel runs, but xArm6's 4120 on 3.13:
+Python 3.12 and later inline list comprehensions (one call fewer each). Without the compiled twins (no C
 compiler) the pure-Python forms do far more Python work: the test is skipped then, naming the
 missing twin (the project has no switch to turn built twins off; ``ClosedFormSolver(robot,
 compiled=False)`` is the 6R closed forms' own). A budget exceeded names the arm, the count and
