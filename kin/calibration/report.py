@@ -180,9 +180,10 @@ def calibration_text(calibration: Calibration) -> str:
         "",
         f"  {'parameter':<30} {'nominal':>14} {'calibrated':>14} {'change':>14} {'std':>12}",
     ]
+    framed = {p.name for p in calibration.model.parameters if p.group == "base" or p.kind == "r"}
     for row in parameter_rows(calibration):
-        if not row["identifiable"] or row["name"].startswith("base."):
-            continue
+        if not row["identifiable"] or row["name"] in framed:
+            continue  # the base and the frames' rotations: as poses below
         angle = row["unit"] == "rad"
         std = "-" if row["std"] is None else _show(row["std"], angle)
         lines.append(
@@ -191,14 +192,19 @@ def calibration_text(calibration: Calibration) -> str:
         )
     from .outputs import _rpy
 
-    base = calibration.model.T_measurement_base(calibration.x)
+    frames = [
+        ("DH frame 0 in the measurement frame", calibration.model.T_measurement_base(calibration.x))
+    ]
+    if rotation:
+        frames.append(
+            ("measured frame in the last DH frame", calibration.model.T_last_tool(calibration.x))
+        )
+    lines.append("")
+    for label, pose in frames:
+        xyz = " ".join(f"{v * 1e3:.3f}" for v in pose[:3, 3])
+        rpy = " ".join(f"{math.degrees(v):.4f}" for v in _rpy(pose[:3, :3]))
+        lines.append(f"  {label}: xyz {xyz} mm, rpy {rpy} deg")
     lines += [
-        "",
-        "  DH frame 0 in the measurement frame: xyz "
-        + " ".join(f"{v * 1e3:.3f}" for v in base[:3, 3])
-        + " mm, rpy "
-        + " ".join(f"{math.degrees(v):.4f}" for v in _rpy(base[:3, :3]))
-        + " deg",
         "",
         "not identifiable (kept at the starting value; a unit change of it acts as the combination):",
     ]
