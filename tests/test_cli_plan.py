@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 
@@ -143,3 +144,31 @@ def test_padding_without_a_scene_pads_the_arm(capsys):
     q = np.radians([0, -90, 0, -90, 0, 0])
     assert CollisionChecker(load_collision_model(robot, padding=0.05)).in_collision(q)
     assert not CollisionChecker(load_collision_model(robot)).in_collision(q)
+
+
+def test_named_states_as_start_and_goal(capsys, tmp_path):
+    """--start home --goal up (the shipped UR5 table's [states], the maker's MoveIt values) plan
+    from and to those joint vectors; a stream line's "start": "home" too; an unknown name is one
+    line listing the names there are."""
+    home, up = [0.0, -1.5707, 0.0, 0.0, 0.0, 0.0], [0.0, -1.5707, 0.0, -1.5707, 0.0, 0.0]
+    argv = ["--robot", "ur5", "--json", "--seed", "1"]
+    assert call(plan_command.main, [*argv, "--start", "home", "--goal", "up"]) == 0
+    by_name = json.loads(capsys.readouterr().out)
+    assert by_name["status"] == "ok"
+    np.testing.assert_allclose(by_name["path"][0], home, atol=1e-12)
+    np.testing.assert_allclose(by_name["path"][-1], up, atol=1e-12)
+    numbers = ["--start", *map(str, home), "--goal", *map(str, up)]
+    assert call(plan_command.main, [*argv, *numbers]) == 0
+    assert json.loads(capsys.readouterr().out)["path"] == by_name["path"]
+    code = call(plan_command.main, [*argv, "--start", "home", "--goal", "nowhere"])
+    assert_one_line_error(code, capsys.readouterr().err, "home")
+
+
+def test_a_stream_line_names_its_start(monkeypatch, capsys):
+    lines = [json.dumps({"start": "home", "goal": "up"}), json.dumps({"start": 5, "goal": "up"})]
+    monkeypatch.setattr("sys.stdin", io.StringIO("\n".join(lines) + "\n"))
+    assert call(plan_command.main, ["--robot", "ur5", "--stdin", "--seed", "1"]) == 1
+    first, second = (json.loads(line) for line in capsys.readouterr().out.splitlines())
+    assert first["status"] == "ok" and first["path"][0][1] == -1.5707
+    assert first["path"][-1][3] == -1.5707
+    assert '"start" must be a list of numbers' in second["error"]

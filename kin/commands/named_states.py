@@ -74,8 +74,8 @@ def joint_vector(
     if values is None:
         return None
     words = [value for value in values if isinstance(value, str)]
-    if not words:
-        return units.to_si([float(v) for v in values], option)
+    if not words:  # numbers, checked by to_si (a JSON true is not 1.0)
+        return units.to_si(list(values), option)  # type: ignore[arg-type]
     if len(values) != 1:
         raise JointVectorError(
             f"{option}: give one value per joint or one named state, not {quoted(words[0])} "

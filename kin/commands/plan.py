@@ -37,6 +37,7 @@ from ..cli import (
 )
 from .collision_options import add_collision_options
 from .json_output import dumps
+from .named_states import joint_value
 from .plan_answer import joints_within_limits, plan_checker, plan_record, timed_plan
 from .plan_stream import add_stream_options, check_stream_options, run_stream
 from .robot_argument import add_robot_arguments
@@ -55,8 +56,13 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
     add = parser.add_argument
     add_robot_arguments(parser)
     joints = "revolute [rad, or deg with --deg], prismatic [--unit]"
-    add("--start", type=finite_float, nargs="+", help=f"start joints: {joints}")
-    add("--goal", type=finite_float, nargs="+", help=f"goal joints: {joints}")
+    add(
+        "--start",
+        type=joint_value,
+        nargs="+",
+        help=f"start joints: {joints}, or a named state (ready: the table's or --srdf's)",
+    )
+    add("--goal", type=joint_value, nargs="+", help="goal joints, as --start (or a named state)")
     add(
         "--target",
         type=finite_float,
@@ -138,9 +144,9 @@ def _run(args: argparse.Namespace) -> int:
     robot = load_robot_argument(args)
     units = arm_units(robot, args.unit, args.deg)
     length = length_scale(args.unit)
-    start = joints_within_limits(robot, units, args.start, "--start")
+    start = joints_within_limits(robot, units, args.start, "--start", args.srdf)
     if args.goal is not None:
-        goal: Any = joints_within_limits(robot, units, args.goal, "--goal")
+        goal: Any = joints_within_limits(robot, units, args.goal, "--goal", args.srdf)
     else:
         from .targets import build_target
 

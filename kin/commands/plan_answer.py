@@ -15,17 +15,28 @@ from .collision_options import collision_checker
 __all__ = ["joints_within_limits", "plan_checker", "plan_record", "timed_plan"]
 
 
-def joints_within_limits(robot: Any, units: Any, values: Any, name: str) -> Any:
-    """Joint values given in the command's units, in SI [rad, m], checked against the limits.
+def joints_within_limits(robot: Any, units: Any, values: Any, name: str, srdf: Any = None) -> Any:
+    """Joint values in the command's units, or a named state, in SI [rad, m], within limits.
+
+    Args:
+        robot: The robot.
+        units: The command's joint units.
+        values: One value per joint, or one name of the robot's named states (its table's
+            ``[states]``, ``srdf``'s group states: :mod:`kin.commands.named_states`).
+        name: The option or key, for messages.
+        srdf: The command's ``--srdf`` file, or None.
 
     Raises:
         kin.JointVectorError: Not one finite value per joint (the message names ``name``).
+        kin.NamedStateError: An unknown state name (the message lists the names there are).
         kin.plan.PlanError: A value outside its joint's limits (named with ``name``).
     """
     from ..configuration import limit_violations
     from ..plan import PlanError
+    from .named_states import joint_vector
 
-    q = units.to_si(values, name)
+    q = joint_vector(robot, list(values), units, name, srdf)
+    assert q is not None  # values were given
     outside = limit_violations(robot, q)
     if outside:
         raise PlanError(f"{name}: {outside[0]}")

@@ -152,7 +152,7 @@ class PlanLines:
         self.start = None
         if setup.start is not None:
             units = self.units[setup.deg]
-            self.start = joints_within_limits(self.robot, units, setup.start, "--start")
+            self.start = joints_within_limits(self.robot, units, setup.start, "--start", setup.srdf)
 
     def answer(self, number: int, line: str | bytes) -> tuple[dict[str, Any], bool]:
         """The answer of input line ``number`` and whether it failed (an error, or no path).
@@ -214,9 +214,13 @@ class PlanLines:
         """A line's joint vector in SI [rad, m], within the limits (the error names the key)."""
         from .plan_answer import joints_within_limits
 
-        if not isinstance(values, (list, tuple)):
-            raise ValueError(f'"{key}" must be a list of numbers, got {quoted(values)}')
-        return joints_within_limits(self.robot, units, values, f'"{key}"')
+        if isinstance(values, str):  # a named state ("start": "ready")
+            values = [values]
+        elif not isinstance(values, (list, tuple)):
+            raise ValueError(
+                f'"{key}" must be a list of numbers or a state\'s name, got {quoted(values)}'
+            )
+        return joints_within_limits(self.robot, units, values, f'"{key}"', self.setup.srdf)
 
     def _goal(self, request: dict[str, Any], units: Any, deg: bool) -> Any:
         """The line's goal: a joint vector [rad, m] or a target (SI)."""
