@@ -84,10 +84,10 @@ class SphereBound:
         self.objects = np.array(objects, dtype=int)
         self._joints = np.array(joints, dtype=int)
         self._homogeneous = np.vstack([self.centers.T, np.ones(len(self.radii))])  # (4, S)
-        # in the (3 nj, S) product, sphere s's coordinate i is at row 3 joint(s) + i, column s
+        # in the (4 nj, S) product, sphere s's coordinate i is at row 4 joint(s) + i, column s
         spheres = np.arange(len(self.radii))
         self._placed = (
-            (3 * self._joints[:, None] + np.arange(3)[None]) * len(self.radii) + spheres[:, None]
+            (4 * self._joints[:, None] + np.arange(3)[None]) * len(self.radii) + spheres[:, None]
         ).ravel()
         self._row = {index: row for row, index in enumerate(arm)}  # arm object -> cover row
         self._starts = np.searchsorted(self.objects, arm) if arm else np.zeros(0, dtype=int)
@@ -155,8 +155,8 @@ class SphereBound:
         placements = []
         for row in q:
             pin.forwardKinematics(model, data, row)
-            placements.append([m.np[:3] for m in data.oMi.tolist()])
-        # (N, 3 nj, 4) times the homogeneous local centers (4, S): every sphere on every joint,
+            placements.append([m.np for m in data.oMi.tolist()])
+        # (N, 4 nj, 4) times the homogeneous local centers (4, S): every sphere on every joint,
         # then each sphere's own joint taken
         product = np.array(placements).reshape(len(q), -1, 4) @ self._homogeneous
         return product.reshape(len(q), -1).take(self._placed, axis=1).reshape(len(q), -1, 3)

@@ -137,15 +137,21 @@ class PairDistances:
         Args:
             q: Joint vector [rad] / [m] (float64, finite, of the robot's size).
             below: With ``fast``: lower bounds of the pairs' distances at ``q`` [m] (e.g. from
-                :meth:`of`); None: :meth:`at`'s.
+                :meth:`of`); None: :meth:`at`'s when it has given them, else the checker's own
+                query (where no bounds are at hand it costs less than making them).
         """
         if self.bound is None:
             return bool(self.checker.in_collision(q))
-        values = self.at(q) if below is None else below
-        unsure = np.flatnonzero(values <= PROVEN_APART)
+        key = q.tobytes()
+        if below is None:
+            known = self._known.get(key)
+            if known is None:  # no bounds at hand: the checker's query (a few us, stops early)
+                return bool(self.checker.in_collision(q))
+            below = known[0]
+        unsure = np.flatnonzero(below <= PROVEN_APART)
         if len(unsure) == 0:
             return False
-        self._place(q, q.tobytes())
+        self._place(q, key)
         self.exact_pairs += len(unsure)
         return any(
             pin.computeCollision(self._geometry, self._geometry_data, k) for k in unsure.tolist()
