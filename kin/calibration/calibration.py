@@ -128,13 +128,24 @@ def _placed(table: DHTable, data: Measurements, noise: Noise) -> tuple[Parameter
     return model.recentred(x)
 
 
-def _needed_rows(data: Measurements, parameters: int) -> int:
-    per_row = 3 * max(data.markers, 1) + (3 if data.markers == 0 else 0)
+def needed_rows(markers: int, parameters: int) -> int:
+    """Fewest rows whose values outnumber ``parameters`` (``markers`` 0: full poses)."""
+    per_row = 3 * max(markers, 1) + (3 if markers == 0 else 0)
     return -(-(parameters + 1) // per_row)
 
 
 #: Configurations of the rich data set that counts the parameters an arm's calibration identifies.
 RICH_ROWS = 64
+
+
+def probe_tool(table: DHTable) -> np.ndarray:
+    """The nominal tool moved 3 cm off the last joint's axis (4x4) [m].
+
+    A marker on that axis hides the last joint's zero, which a real marker seldom does.
+    """
+    tool = np.array(table.T_last_tool)
+    tool[:2, 3] += 0.03
+    return tool
 
 
 def identifiable_count(table: DHTable, data: Measurements, noise: Noise, tolerance: float) -> int:
@@ -150,9 +161,7 @@ def identifiable_count(table: DHTable, data: Measurements, noise: Noise, toleran
     rich = Measurements(
         q, np.zeros((RICH_ROWS, max(data.markers, 1), 3)), rotations, np.arange(RICH_ROWS)
     )
-    tool = np.array(table.T_last_tool)
-    tool[:2, 3] += 0.03  # a marker off the last joint's axis (on it, that joint's zero is lost)
-    model, x = build_model(table, data.markers, np.array(table.T_world_base), tool)
+    model, x = build_model(table, data.markers, np.array(table.T_world_base), probe_tool(table))
     J = residuals(model, x, rich, noise, jacobian=True)[1]
     assert J is not None
     order, _, excluded = preference_order(model, rich)
@@ -163,10 +172,10 @@ def _fit_once(
     table: DHTable, data: Measurements, noise: Noise, loss: str, tolerance: float
 ) -> tuple[ParameterModel, np.ndarray, np.ndarray, Identifiability, int, float]:
     wanted = identifiable_count(table, data, noise, tolerance)
-    if data.count < _needed_rows(data, wanted):
+    if data.count < needed_rows(data.markers, wanted):
         raise CalibrationError(
             f"{data.count} rows are too few for the {wanted} parameters this arm's calibration "
-            f"identifies: measure at least {_needed_rows(data, wanted)} rows (3 times that is better)",
+            f"identifies: measure at least {needed_rows(data.markers, wanted)} rows (3 times that is better)",
             data.path,
         )
     model, start = _placed(table, data, noise)

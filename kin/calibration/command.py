@@ -140,6 +140,10 @@ def _plan(args: argparse.Namespace, table) -> int:  # type: ignore[no-untyped-de
         f"# {len(plan.identifiable)} identifiable parameters, condition number {plan.condition_number:.1f}; "
         "measure and add the columns " + ("x,y,z,qx,qy,qz,qw" if args.poses else "x,y,z")
     )
+    if len(plan.q) < plan.needed:
+        print(
+            f"# fewer than the {plan.needed} rows that determine them: plan at least {3 * plan.needed}"
+        )
     print(",".join(table.joint_names))
     for q in plan.q:
         print(

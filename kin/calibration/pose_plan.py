@@ -18,7 +18,7 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from .calibration import preference_order
+from .calibration import needed_rows, preference_order, probe_tool
 from .exceptions import CalibrationError
 from .fit import Noise, residuals
 from .identifiability import RANK_TOLERANCE, identify
@@ -43,6 +43,7 @@ class PosePlan:
         condition_number: Of the chosen set's column-scaled regressor [1].
         candidates: Collision-free candidates the set was chosen from.
         rejected: Candidates removed as colliding.
+        needed: Fewest rows that determine the identifiable parameters at all.
     """
 
     q: np.ndarray
@@ -50,6 +51,7 @@ class PosePlan:
     condition_number: float
     candidates: int
     rejected: int
+    needed: int
 
 
 def plan_poses(
@@ -88,7 +90,7 @@ def plan_poses(
             f"only {len(pool)} collision-free candidates for {count} configurations"
         )
     model, x = build_model(
-        table, 0 if poses else 1, np.array(table.T_world_base), np.array(table.T_last_tool)
+        table, 0 if poses else 1, np.array(table.T_world_base), probe_tool(table)
     )
     fake = Measurements(
         pool,
@@ -119,6 +121,8 @@ def plan_poses(
         info = info + blocks[best].T @ blocks[best]
     picked = blocks[chosen].reshape(-1, size)
     singular = np.linalg.svd(picked, compute_uv=False)
-    condition = float(singular[0] / singular[-1]) if singular[-1] > 0 else float("inf")
+    full = picked.shape[0] >= size and singular[-1] > 0
+    condition = float(singular[0] / singular[-1]) if full else float("inf")
     names = tuple(n for n, k in zip(model.names, keep) if k)
-    return PosePlan(pool[chosen], names, condition, len(pool), rejected)
+    needed = needed_rows(0 if poses else 1, len(names))
+    return PosePlan(pool[chosen], names, condition, len(pool), rejected, needed)
