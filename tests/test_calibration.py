@@ -252,3 +252,11 @@ def test_too_few_rows_for_the_identifiable_parameters():
         match="8 rows are too few for the 31 parameters this arm.s calibration identifies: measure at least 11 rows",
     ):
         calibrate(table, data)
+
+
+def test_public_names_exist_and_are_sorted():
+    import kin.calibration
+
+    names = list(kin.calibration.__all__)
+    assert [n for n in names if not hasattr(kin.calibration, n)] == []
+    assert names == sorted(set(names))

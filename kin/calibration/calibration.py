@@ -235,11 +235,14 @@ def calibrate(
     loss: str = "linear",
     folds: int = 5,
     tolerance: float = RANK_TOLERANCE,
+    base: str | None = None,
+    tip: str | None = None,
 ) -> Calibration:
     """Calibrate ``robot`` from ``measurements``.
 
     Args:
-        robot: A DH table, a table file, a shipped robot name or a URDF (its chain as a table).
+        robot: A DH table, a table file, a shipped robot name or a URDF (its chain as a table,
+            from link ``base`` to link ``tip``).
         measurements: Measurements, or a CSV / JSON-lines file (:mod:`kin.calibration.measurements`).
         unit: Length unit of a measurement file (``m``, ``cm``, ``mm``).
         degrees: A measurement file's angles are in degrees.
@@ -247,6 +250,8 @@ def calibrate(
         loss: ``"linear"`` (Levenberg-Marquardt) or a robust loss: ``soft_l1``, ``huber``, ``cauchy``.
         folds: Folds of the cross-validation (0: none).
         tolerance: Relative rank tolerance of the identifiability decision [1].
+        base: A URDF's base link (default: its root).
+        tip: A URDF's tip link (default: its single leaf).
 
     Raises:
         CalibrationError: Bad measurements, or too few of them for the identifiable parameters.
@@ -258,7 +263,7 @@ def calibrate(
     else:
         from ..audit.audited_table import load_audited_table
 
-        table = load_audited_table(str(robot)).table
+        table = load_audited_table(str(robot), base, tip).table
     data = (
         measurements
         if isinstance(measurements, Measurements)

@@ -111,6 +111,8 @@ def _check(parser: ArgumentParser, args: argparse.Namespace) -> None:
                 parser.error(f"--{option} goes with --plan-poses")
     if (args.base or args.tip) and not args.robot.endswith((".urdf", ".xacro")):
         parser.error("--base and --tip go with a URDF ROBOT (a .urdf or .xacro file)")
+    if args.rank_tol >= 1.0:
+        parser.error(f"--rank-tol: expected a relative tolerance below 1, got {args.rank_tol:g}")
     if args.folds == 1 or args.folds < 0:
         parser.error(f"--folds: expected 0 or at least 2, got {args.folds}")
 
