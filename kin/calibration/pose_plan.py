@@ -112,7 +112,7 @@ def plan_poses(
     for _ in range(count):
         inverse = np.linalg.inv(info)
         # gain of a block B: log det(I + B A^-1 B^T)
-        inner = np.einsum("mip,pq,mjq->mij", blocks, inverse, blocks) + np.eye(per)
+        inner = (blocks @ inverse) @ np.transpose(blocks, (0, 2, 1)) + np.eye(per)
         gain = np.linalg.slogdet(inner)[1]
         gain[~free] = -np.inf
         best = int(np.argmax(gain))
