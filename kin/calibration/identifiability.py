@@ -1,14 +1,16 @@
 """Which parameters the measurements determine: a rank decision on the regressor, stated.
 
 The regressor (the Jacobian of the weighted residuals with respect to every parameter, at the
-starting point) has its columns scaled to unit norm and is orthogonalised column by column in a
-fixed order of preference (a QR factorisation without pivoting): the measurement frame and the
-tool or markers first (unknown by nature), then the joints' DH values; the zero offsets of joints
-that never move in the data are not estimated (a fixed angle there is the geometry's). A column whose part outside the span of the columns kept before it is less than
-``tolerance`` (relative, default 1e-3) is unidentifiable: its parameter stays at its starting
-value and the report names the combination of kept parameters that absorbs it (the least-squares
-coefficients of its column on theirs), such as the first joint's zero against the base's yaw or
-the last row's ``d`` against the tool's offset along the last joint's axis.
+starting point) has its columns scaled to unit norm and orthogonalised one by one (Gram-Schmidt,
+twice: a QR factorisation without pivoting) in a fixed order of preference: the measurement frame
+and the tool or markers first (unknown by nature), then the joints' DH values; the zero offsets of
+joints that never move in the data are not estimated (a fixed angle there is the geometry's). A
+column whose part outside the span of the columns kept before it is less than ``tolerance``
+(relative, default 1e-3) is unidentifiable: its parameter stays at its starting value and the
+report names the combination of kept parameters that absorbs it (the least-squares coefficients
+of its column on theirs, from the factorisation's R), such as the first joint's zero against the
+base's yaw or the last row's ``d`` against the tool's offset along the last joint's axis. The
+condition number is that of the kept scaled columns (R's singular values).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 
 #: Relative size of a scaled column's new part below which its parameter is not identifiable.
 RANK_TOLERANCE = 1e-3
@@ -82,33 +85,51 @@ def identify(
             listed as unidentifiable with what absorbs them.
     """
     norms = np.linalg.norm(regressor, axis=0)
-    basis = np.zeros((regressor.shape[0], 0))
+    size_max = len(order)
+    basis = np.zeros((regressor.shape[0], size_max))  # Q of the kept scaled columns
+    upper = np.zeros((size_max, size_max))  # their R: scaled kept columns = Q R
     kept: list[int] = []
     dropped: list[int] = []
     for index in order:
         if norms[index] == 0.0:
             dropped.append(index)
             continue
+        k = len(kept)
         column = regressor[:, index] / norms[index]
         for _ in range(2):  # twice is enough (Kahan, Parlett)
-            column = column - basis @ (basis.T @ column)
+            part = basis[:, :k].T @ column
+            upper[:k, k] += part
+            column = column - basis[:, :k] @ part
         size = float(np.linalg.norm(column))
         if size < tolerance:
+            upper[:k, k] = 0.0
             dropped.append(index)
             continue
-        basis = np.column_stack([basis, column / size])
+        basis[:, k] = column / size
+        upper[k, k] = size
         kept.append(index)
     dropped += list(excluded)
     mask = np.zeros(len(names), dtype=bool)
     mask[kept] = True
-    scaled = regressor[:, kept] / norms[kept]
-    singular = np.linalg.svd(scaled, compute_uv=False) if kept else np.ones(1)
+    k = len(kept)
+    R = upper[:k, :k]
+    # the scaled columns' singular values are R's (Q has orthonormal columns)
+    singular = np.linalg.svd(R, compute_uv=False) if k else np.ones(1)
     condition = float(singular[0] / singular[-1]) if singular[-1] > 0 else float("inf")
     out = []
+    explained = [i for i in dropped if norms[i] > 0.0] if k else []
+    coefficients: dict[int, np.ndarray] = {}
+    if explained:
+        # least squares of each dropped scaled column on the kept ones: R y = Q^T c
+        scaled = regressor[:, explained] / norms[explained]
+        y = scipy.linalg.solve_triangular(R, basis[:, :k].T @ scaled)
+        coefficients = dict(
+            zip(explained, (y * norms[explained] / np.asarray(norms)[kept, None]).T)
+        )
     for index in dropped:
         combination: tuple[tuple[str, float], ...] = ()
-        if norms[index] > 0.0 and kept:
-            coef = np.linalg.lstsq(regressor[:, kept], regressor[:, index], rcond=None)[0]
+        if index in coefficients:
+            coef = coefficients[index]
             share = np.abs(coef) * norms[kept] / norms[index]
             terms = [
                 (names[kept[j]], float(coef[j]))
