@@ -13,11 +13,16 @@ from __future__ import annotations
 
 import argparse
 import math
+from functools import partial
+from typing import TYPE_CHECKING
 
 from dh2urdf.command_line import whole_number
 
 from ..cli import ArgumentParser, positive_float, positive_int, run_guarded
 from ..commands.json_output import dumps
+
+if TYPE_CHECKING:
+    from dh2urdf import DHTable
 
 PROG = "dh2urdf calibrate"
 OUTPUT_SUFFIXES = (".toml", ".urdf")
@@ -117,7 +122,8 @@ def _check(parser: ArgumentParser, args: argparse.Namespace) -> None:
         parser.error(f"--folds: expected 0 or at least 2, got {args.folds}")
 
 
-def _plan(args: argparse.Namespace, table) -> int:  # type: ignore[no-untyped-def]
+def _plan(args: argparse.Namespace, table: DHTable) -> int:
+    """Print ``--plan-poses`` configurations as CSV (``#`` lines say how they were chosen)."""
     from .pose_plan import plan_poses
 
     collides = None
@@ -126,10 +132,7 @@ def _plan(args: argparse.Namespace, table) -> int:  # type: ignore[no-untyped-de
         from ..robot_model import robot_from_table
 
         checker = CollisionChecker(load_collision_model(robot_from_table(table), scene=args.scene))
-
-        def collides(q):  # type: ignore[no-untyped-def]
-            return checker.in_collision_batch(q, threads=1)
-
+        collides = partial(checker.in_collision_batch, threads=1)
     plan = plan_poses(table, args.plan_poses, poses=args.poses, seed=args.seed, collides=collides)
     scale = 180.0 / math.pi if args.deg else 1.0
     unit = "deg" if args.deg else "rad"

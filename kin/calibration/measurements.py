@@ -234,7 +234,7 @@ def read_measurements(
     n = len(body)
     q = np.zeros((n, table.dof))
     pts = np.zeros((n, len(points), 3))
-    rot = np.zeros((n, 3, 3)) if orientation != "none" else None
+    rot = np.zeros((n, 3, 3))
     for r, (line, cells) in enumerate(body):
         for j, (column, row) in enumerate(zip(joints, table.rows)):
             value = _number(name, line, column, cells[col[column]])
@@ -260,11 +260,12 @@ def read_measurements(
                 raise CalibrationError(
                     f"quaternion norm {np.linalg.norm(quat):.6g}, expected 1", name, line, "qw"
                 )
-            rot[r] = Rotation.from_quat(quat).as_matrix()  # type: ignore[index]
+            rot[r] = Rotation.from_quat(quat).as_matrix()
         elif orientation == "rpy":
             rpy = [_number(name, line, c, cells[col[c]]) * angle for c in ("roll", "pitch", "yaw")]
-            rot[r] = Rotation.from_euler("xyz", rpy).as_matrix()  # type: ignore[index]
-    found = Measurements(q, pts, rot, np.array([line for line, _ in body], dtype=int), name)
+            rot[r] = Rotation.from_euler("xyz", rpy).as_matrix()
+    lines = np.array([line for line, _ in body], dtype=int)
+    found = Measurements(q, pts, rot if orientation != "none" else None, lines, name)
     _check_unit(found, table, unit)
     return found
 
