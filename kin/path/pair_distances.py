@@ -4,9 +4,9 @@
 (:meth:`~PairDistances.at`: the end of a motion), of chosen pairs only
 (:meth:`~PairDistances.of`: a midpoint, where the rule reads only the pairs it has not yet shown
 apart), and fills in pairs it did not measure when a caller needs them
-(:meth:`~PairDistances.sharpen`). Each array's measured pairs are remembered with it (per
-configuration, :data:`_CACHE` of them), so that a pair is asked of coal once per configuration.
-An unmeasured entry holds a lower bound: ``-inf``, or with ``fast`` the spheres' bound.
+(:meth:`~PairDistances.sharpen`). Each array's measured pairs are remembered with it, per
+configuration (:data:`_CACHE_BYTES` at most), so that a pair is asked of coal once per
+configuration. An unmeasured entry holds a lower bound: ``-inf``, or with ``fast`` the spheres' bound.
 
 ``fast`` (:mod:`kin.collision.sphere_bound`): at an end, every pair's distance is first bounded
 from below by spheres enclosing the arm's shapes, one NumPy pass for all pairs; a rule that
@@ -39,8 +39,9 @@ __all__ = ["PROVEN_APART", "PairDistances"]
 #: A bound above which a pair is apart for every query [m]: twice the contact tolerance (coal's
 #: error near contact is below half the tolerance, :mod:`kin.collision.requests`).
 PROVEN_APART = 2.0 * CONTACT_TOLERANCE
-#: Configurations whose distances are remembered [count] (then forgotten all at once).
-_CACHE = 50_000
+#: Memory of the remembered distances [bytes] (9 a pair and configuration; then all forgotten at
+#: once): 50,000 configurations of a 100-pair model, fewer of a large scene's.
+_CACHE_BYTES = 45_000_000
 
 
 class PairDistances:
@@ -66,6 +67,7 @@ class PairDistances:
         self._padding = model.padding
         self._placed: bytes | None = None
         self._known: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+        self._capacity = max(100, _CACHE_BYTES // (9 * max(self.count, 1)))
         self.bound = None
         if fast:
             from ..collision.sphere_bound import sphere_bound
@@ -160,7 +162,7 @@ class PairDistances:
     def _remember(
         self, key: bytes, values: np.ndarray, exact: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
-        if len(self._known) >= _CACHE:
+        if len(self._known) >= self._capacity:
             self._known.clear()
         known = self._known[key] = (values, exact)
         return known

@@ -44,7 +44,7 @@ RESOLUTION = 1e-4
 #: Checks after which a search turns to the fast checks [count]: below it, fitting the spheres
 #: (0.1-0.3 s a model, once) would cost more than it saves.
 FAST_AFTER = 500
-#: Distances kept per problem (the ends of motions: states are checked as ends many times).
+#: Verdicts kept per problem (states are checked as the ends of motions many times).
 _CACHE = 200_000
 
 
@@ -133,7 +133,6 @@ class CertifiedSpace:
         self.motion = MotionCheck(checker, RESOLUTION)
         self._fast = fast
         self._free: dict[bytes, bool] = {}
-        self._distances: dict[bytes, np.ndarray] = {}
         self.space = ob.RealVectorStateSpace(self.nq)
         bounds = ob.RealVectorBounds(self.nq)
         for i in range(self.nq):
@@ -180,15 +179,11 @@ class CertifiedSpace:
         return verdict
 
     def distances(self, q: np.ndarray) -> np.ndarray:
-        """Per checked pair, the distance at ``q`` [m] (the motion rule's ends)."""
-        key = q.tobytes()
-        found = self._distances.get(key)
-        if found is None:
-            found = self._checks().distances(q)
-            if len(self._distances) >= _CACHE:
-                self._distances.clear()
-            self._distances[key] = found
-        return found
+        """Per checked pair, the distance at ``q`` [m] (lower bounds with the fast checks).
+
+        The motion rule's ends, remembered by :class:`kin.path.pair_distances.PairDistances`.
+        """
+        return self._checks().distances(q)
 
     def motion_free(self, q0: np.ndarray, q1: np.ndarray) -> bool:
         """Whether every point of the straight motion q0 -> q1 is free by the rule.
