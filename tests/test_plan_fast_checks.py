@@ -96,3 +96,46 @@ def test_fast_plans_are_the_exact_plans_and_certified(cells, name, seed, monkeyp
     for q in _resampled(fast.path):
         closest = min(d for d, _ in reference.signed_distances(q, pairs).values())
         assert closest > -CONTACT_TOLERANCE, (q, closest)
+
+
+def _dh(name: str):
+    robot = kin.load_robot(name)
+    model = load_collision_model(robot, scene=CELL)
+    reference = CollisionReference(robot.urdf, None, robot.joint_names, None, CELL)
+    pairs = [(link, obj) for link in reference.links for obj in reference.scene_names]
+    pairs += [p for p in model.pairs if p[1] not in reference.scene_names]
+    return robot, CollisionChecker(model), reference, pairs
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["panda", "ur5", "humanoid7"])
+def test_many_fast_plans_are_certified(cells, name, monkeypatch):
+    """(c) Ten random free start and goal pairs per arm whose straight joint line collides
+    (Panda by its maker's URDF and SRDF around the box, UR5 and humanoid7 DH tables in the
+    example cell): every path the fast checks return is the exact checks' path and free by the
+    exact rule and the reference."""
+    robot, checker, reference, pairs = cells[name] if name in cells else _dh(name)
+    rng = np.random.default_rng(11)
+    found = around = 0
+    while found < 10:
+        start, goal = rng.uniform(robot.lower, robot.upper, (2, robot.nq))
+        line = start + np.linspace(0.0, 1.0, 60)[:, None] * (goal - start)
+        if checker.in_collision(start) or checker.in_collision(goal):
+            continue
+        if not checker.in_collision_batch(line).any():  # the planner must go around
+            continue
+        found += 1
+        monkeypatch.setattr(ompl_problem, "FAST_AFTER", 10**9)
+        exact = plan(robot, start, goal, collisions=checker, seed=found, max_checks=50_000)
+        monkeypatch.setattr(ompl_problem, "FAST_AFTER", 0)
+        fast = plan(robot, start, goal, collisions=checker, seed=found, max_checks=50_000)
+        assert fast.status == exact.status and fast.checks == exact.checks, fast.message
+        assert np.array_equal(fast.path, exact.path)
+        if fast.status != "ok":
+            continue
+        around += 1
+        assert check_path_collisions(checker, fast.path).free
+        for q in _resampled(fast.path):
+            closest = min(d for d, _ in reference.signed_distances(q, pairs).values())
+            assert closest > -CONTACT_TOLERANCE, (q, closest)
+    assert around >= 3  # paths around something were judged
