@@ -41,7 +41,7 @@ def _panda():
 
 @pytest.fixture(scope="module")
 def models():
-    """name -> collision model in the example cell (Panda with a box in its hand)."""
+    """name -> collision model in the example cell (Panda with a box in its hand, UR5 padded)."""
     panda = _panda()
     held = attached_object(
         "part",
@@ -52,7 +52,7 @@ def models():
     )
     return {
         "panda": panda.attach(held),
-        "ur5": load_collision_model(kin.load_robot("ur5"), scene=CELL),
+        "ur5": load_collision_model(kin.load_robot("ur5"), scene=CELL, padding=0.01),
         "humanoid7": load_collision_model(kin.load_robot("humanoid7"), scene=CELL),
     }
 

@@ -29,7 +29,7 @@ import numpy as np
 import pinocchio as pin
 
 from .requests import prepare_requests
-from .sphere_fit import enclosing_spheres, largest_gap
+from .sphere_fit import enclosing_spheres, largest_gap, swept_radius
 
 if TYPE_CHECKING:  # pragma: no cover
     from .model import CollisionModel
@@ -282,9 +282,7 @@ def _kind(geometry: coal.CollisionGeometry) -> str:
 
 def _sizes(geometry: coal.CollisionGeometry) -> list[float]:
     """Half sizes (3), the box's center in the shape's frame (3), the swept radius [m]."""
-    swept = (
-        float(geometry.getSweptSphereRadius()) if hasattr(geometry, "getSweptSphereRadius") else 0.0
-    )
+    swept = swept_radius(geometry)
     if isinstance(geometry, coal.Sphere):
         return [geometry.radius, 0.0, 0.0, 0.0, 0.0, 0.0, swept]
     if isinstance(geometry, (coal.Cylinder, coal.Capsule)):

@@ -32,7 +32,14 @@ import coal
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-__all__ = ["CELL_RATIO", "MOST_SPHERES", "PRISM_SIDES", "enclosing_spheres", "largest_gap"]
+__all__ = [
+    "CELL_RATIO",
+    "MOST_SPHERES",
+    "PRISM_SIDES",
+    "enclosing_spheres",
+    "largest_gap",
+    "swept_radius",
+]
 
 #: Length of a grid cell over the shape's thinnest extent [ratio]: smaller is tighter and more
 #: spheres.
@@ -78,11 +85,15 @@ def enclosing_spheres(
     return found[0].copy(), found[1].copy()
 
 
+def swept_radius(geometry: coal.CollisionGeometry) -> float:
+    """A shape's swept-sphere radius in coal (the margin it grows by) [m], 0 without one."""
+    sweep = getattr(geometry, "getSweptSphereRadius", None)
+    return 0.0 if sweep is None else float(sweep())
+
+
 def _content(geometry: coal.CollisionGeometry) -> tuple:
     """What a shape's cover depends on: its kind, sizes, swept radius (a hull: its points)."""
-    swept = (
-        float(geometry.getSweptSphereRadius()) if hasattr(geometry, "getSweptSphereRadius") else 0.0
-    )
+    swept = swept_radius(geometry)
     kind = type(geometry).__name__
     if isinstance(geometry, coal.Sphere):
         return kind, float(geometry.radius), swept
@@ -102,9 +113,7 @@ def _fit(
     geometry: coal.CollisionGeometry, cell_ratio: float, most: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`enclosing_spheres`, not remembered."""
-    swept = (
-        float(geometry.getSweptSphereRadius()) if hasattr(geometry, "getSweptSphereRadius") else 0.0
-    )
+    swept = swept_radius(geometry)
     ends = np.zeros((0, 3))
     end_radii = np.zeros(0)
     if isinstance(geometry, coal.Sphere):
