@@ -340,9 +340,9 @@ def _segment(
         # apart beyond the contact tolerance all along: (da - tol) + (db - tol) > bound
         unresolved = da[open_pairs] + db[open_pairs] - 2.0 * CONTACT_TOLERANCE <= bound
         if unresolved.any():  # an entry not measured is a lower bound: measure it and look again
-            measured.sharpen(qa, da, open_pairs[unresolved])
-            measured.sharpen(qb, db, open_pairs[unresolved])
-            unresolved = da[open_pairs] + db[open_pairs] - 2.0 * CONTACT_TOLERANCE <= bound
+            todo = open_pairs[unresolved]
+            if measured.sharpen(qa, da, todo) | measured.sharpen(qb, db, todo):
+                unresolved = da[open_pairs] + db[open_pairs] - 2.0 * CONTACT_TOLERANCE <= bound
         if not unresolved.any():
             continue
         open_pairs = open_pairs[unresolved]

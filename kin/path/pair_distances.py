@@ -105,18 +105,19 @@ class PairDistances:
     def of(self, q: np.ndarray, pairs: np.ndarray, below: np.ndarray | None = None) -> np.ndarray:
         """The distances of ``pairs`` at ``q`` [m]; for the others ``below`` or ``-inf``.
 
-        ``below``: lower bounds of the pairs' distances at ``q`` (e.g. from a motion's ends).
+        ``below``: lower bounds of the pairs' distances at ``q`` (e.g. from a motion's ends), an
+        array this object then owns (filled in, returned).
         """
-        values = np.full(self.count, -np.inf) if below is None else below.copy()
+        values = np.full(self.count, -np.inf) if below is None else below  # now this object's
         exact = np.zeros(self.count, dtype=bool)
         self._remember(q.tobytes(), values, exact)
         self.sharpen(q, values, pairs)
         return values
 
-    def sharpen(self, q: np.ndarray, d: np.ndarray, pairs: np.ndarray) -> None:
+    def sharpen(self, q: np.ndarray, d: np.ndarray, pairs: np.ndarray) -> bool:
         """Coal's distances of ``pairs`` into ``d`` (an array of this object's at ``q``) [m].
 
-        Pairs already measured in ``d`` are not asked again.
+        Pairs already measured in ``d`` are not asked again. Returns whether any was asked.
         """
         key = q.tobytes()
         known = self._known.get(key)
@@ -125,13 +126,14 @@ class PairDistances:
         exact = known[1]
         todo = pairs[~exact[pairs]]
         if len(todo) == 0:
-            return
+            return False
         self._place(q, key)
         for k in todo.tolist():
             found = pin.computeDistance(self._geometry, self._geometry_data, k)
-            d[k] = float(found.min_distance) - self._padding
+            d[k] = found.min_distance - self._padding
         exact[todo] = True
         self.exact_pairs += len(todo)
+        return True
 
     def in_collision(self, q: np.ndarray, below: np.ndarray | None = None) -> bool:
         """The checker's verdict at ``q``; with ``fast``, coal asked only where the bounds fail.
