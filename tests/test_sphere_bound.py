@@ -203,3 +203,18 @@ def test_scene_distances_are_coal_distances_from_a_point(kind, sizes, xyz, rpy, 
                 assert value == pytest.approx(exact, abs=1e-7)
         else:
             assert value <= 1e-7
+
+
+def test_threads_share_a_bound(models):
+    """One model's bound from four threads at once gives each thread its own configurations'."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    model = models["panda"]
+    bound = sphere_bound(model)
+    rng = np.random.default_rng(2)
+    chunks = [rng.uniform(model.robot.lower, model.robot.upper, (300, 7)) for _ in range(4)]
+    alone = [np.array([bound.lower_bounds(q) for q in chunk]) for chunk in chunks]
+    with ThreadPoolExecutor(4) as pool:
+        together = list(pool.map(lambda c: np.array([bound.lower_bounds(q) for q in c]), chunks))
+    for a, b in zip(alone, together):
+        assert np.array_equal(a, b)

@@ -21,6 +21,7 @@ bound is not is undecided, never in contact on that account (the caller asks coa
 
 from __future__ import annotations
 
+import threading
 import weakref
 from typing import TYPE_CHECKING
 
@@ -66,7 +67,7 @@ class SphereBound:
     def __init__(self, model: CollisionModel):
         self.model = model
         self.pin_model = model.robot.model
-        self.data = self.pin_model.createData()
+        self._local = threading.local()  # each thread's Pinocchio data (one bound, many users)
         geometry = model.geometry_model.geometryObjects
         scene = {i for i, owner in enumerate(model.owners) if owner in model.scene_objects}
         arm = [i for i in range(len(geometry)) if i not in scene]
@@ -113,7 +114,9 @@ class SphereBound:
         data = pin.GeometryData(model.geometry_model)
         prepare_requests(data, model.padding)
         q0 = pin.neutral(self.pin_model)
-        pin.updateGeometryPlacements(self.pin_model, self.data, model.geometry_model, data, q0)
+        pin.updateGeometryPlacements(
+            self.pin_model, self.pin_model.createData(), model.geometry_model, data, q0
+        )
         for k, pair in enumerate(pairs):
             a, b = int(pair.first), int(pair.second)
             if geometry[a].parentJoint == 0 and geometry[b].parentJoint == 0:
@@ -151,7 +154,10 @@ class SphereBound:
 
         One Pinocchio ``forwardKinematics`` per row; the rest one NumPy product for all rows.
         """
-        model, data = self.pin_model, self.data
+        model = self.pin_model
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = model.createData()
         placements = []
         for row in q:
             pin.forwardKinematics(model, data, row)
