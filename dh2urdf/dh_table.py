@@ -6,6 +6,12 @@ Conventions (``convention`` of a table):
 - ``"modified"`` (Craig): ``T_{i-1,i} = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``, the
   row ``i`` holding ``alpha_{i-1}`` and ``a_{i-1}``.
 
+A row may add Hayati's tilt ``beta`` (a rotation about the y axis of the frame its twist leaves,
+for a joint axis nearly parallel to its neighbour's, where plain DH moves the common normal
+arbitrarily far; :mod:`kin.calibration` fits it): ``Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)
+Ry(beta_i)`` (standard) and ``Rx(alpha_{i-1}) Ry(beta_i) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``
+(modified). ``beta = 0`` (the default) is plain DH.
+
 For a revolute joint the DH angle is ``theta + direction * q`` (``theta`` is the offset); for a
 prismatic one the DH length is ``d + direction * q`` (``d`` is the offset) and ``theta`` is fixed.
 ``direction`` is 1 unless the row reverses its joint (-1: the joint turns or slides the other
@@ -14,6 +20,7 @@ way, as the Robotics Toolbox's ``flip``); the limits are always those of ``q``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -26,7 +33,7 @@ from .link_meshes import LinkMesh
 from .link_volumes import AllowedContact, Housing
 from .table_states import NamedState
 from .table_values import MAX_ANGLE, MAX_LENGTH
-from .transforms import rot_x, rot_z, translation
+from .transforms import rot_x, rot_y, rot_z, translation
 
 Convention = Literal["standard", "modified"]
 JointType = Literal["revolute", "prismatic"]
@@ -62,6 +69,7 @@ class DHRow:
             are [-pi, pi], every angle having a copy there; the solvers wrap into them.
         direction: 1, or -1 for a reversed joint: the DH angle is ``theta + direction * q``
             (revolute), the DH length ``d + direction * q`` (prismatic) [1].
+        beta: Hayati's tilt [rad] about the y axis after the twist (module docstring); 0: plain DH.
     """
 
     index: int
@@ -85,8 +93,16 @@ class DHRow:
     meshes: tuple[LinkMesh, ...] = ()
     continuous: bool = False
     direction: int = 1
+    beta: float = 0.0
 
     def __post_init__(self) -> None:
+        if isinstance(self.beta, bool) or not math.isfinite(self.beta):
+            raise TableError(
+                "<DHRow>",
+                f"expected a finite angle, got {self.beta!r}: leave beta out for plain DH",
+                self.index,
+                "beta",
+            )
         if self.direction not in (1, -1) or isinstance(self.direction, bool):
             raise TableError(
                 "<DHRow>",
@@ -112,6 +128,11 @@ class DHRow:
         if self.joint_type == "revolute":
             return self.theta + self.direction * q, self.d
         return self.theta, self.d + self.direction * q
+
+    def transform(self, convention: Convention, q: float) -> np.ndarray:
+        """``T_{i-1,i}`` (4x4, [m]) of the row at joint value ``q`` [rad] or [m], its tilt included."""
+        theta, d = self.dh_values(q)
+        return dh_link_transform(convention, self.a, self.alpha, d, theta, self.beta)
 
 
 def _readonly(matrix: np.ndarray) -> np.ndarray:
@@ -188,12 +209,15 @@ class DHTable:
 
 
 def dh_link_transform(
-    convention: Convention, a: float, alpha: float, d: float, theta: float
+    convention: Convention, a: float, alpha: float, d: float, theta: float, beta: float = 0.0
 ) -> np.ndarray:
     """Transform of one DH row with its full angle ``theta`` [rad] and length ``d`` [m].
 
-    Used for the DH-style ``[base]`` and ``[tool]`` rows of a table file.
+    ``beta`` [rad]: Hayati's tilt about y after the twist (module docstring). Used for the
+    DH-style ``[base]`` and ``[tool]`` rows of a table file and by :meth:`DHRow.transform`.
     """
     if convention == "standard":
-        return rot_z(theta) @ translation(z=d) @ translation(x=a) @ rot_x(alpha)
-    return rot_x(alpha) @ translation(x=a) @ rot_z(theta) @ translation(z=d)
+        out = rot_z(theta) @ translation(z=d) @ translation(x=a) @ rot_x(alpha)
+        return out @ rot_y(beta) if beta else out
+    twist = rot_x(alpha) @ rot_y(beta) if beta else rot_x(alpha)
+    return twist @ translation(x=a) @ rot_z(theta) @ translation(z=d)

@@ -16,6 +16,7 @@ Format (see ``dh2urdf/tables/*.toml`` for complete examples)::
     alpha = 90.0
     d = 105.0
     theta = 0.0                    # offset added to q (revolute)
+    beta = 0.0                     # optional: Hayati's tilt about y after alpha (dh_table.py)
     limits = [-90.0, 90.0]         # of the joint variable q
     continuous = false             # optional: a revolute joint without limits (give [-180, 180])
     direction = 1                  # optional: -1 reverses the joint (DH angle theta - q)
@@ -113,6 +114,7 @@ _ROW_KEYS = {
     "mesh",
     "continuous",
     "direction",
+    "beta",
 }
 _REQUIRED_ROW_KEYS = ("type", "a", "alpha", "d", "theta", "limits")
 _CONVENTIONS = ("modified", "standard")
@@ -327,6 +329,7 @@ def _row(path: str, index: int, data: Any, meters: float, radians: float) -> DHR
         alpha=angle_to_radians(_number(path, data["alpha"], index, "alpha"), radians),
         d=_length(path, data["d"], index, "d", meters),
         theta=angle_to_radians(_number(path, data["theta"], index, "theta"), radians),
+        beta=angle_to_radians(_number(path, data.get("beta", 0.0), index, "beta"), radians),
         lower=lower,
         upper=upper,
         velocity=velocity,
@@ -385,10 +388,7 @@ def _tool_extent(
         for q in samples:
             pose = base
             for row, value in zip(rows, q.tolist()):
-                move = row.direction * value
-                theta = row.theta + move if row.joint_type == "revolute" else row.theta
-                d = row.d if row.joint_type == "revolute" else row.d + move
-                pose = pose @ dh_link_transform(convention, row.a, row.alpha, d, theta)  # type: ignore[arg-type]
+                pose = pose @ row.transform(convention, value)  # type: ignore[arg-type]
             distance = float(np.linalg.norm((pose @ tool)[:3, 3]))
             extent = max(extent, distance) if math.isfinite(distance) else math.inf
     return extent
@@ -403,7 +403,7 @@ def _warn_units(
 ) -> None:
     """One :class:`UnitWarning` per suspicious unit: degrees in a radian table, a giant arm.
 
-    Angles beyond a turn: alpha and theta of every row, the rpy or alpha/theta of ``[base]``
+    Angles beyond a turn: alpha, theta and beta of every row, the rpy or alpha/theta of ``[base]``
     and ``[tool]``; beyond four turns: revolute limits (multi-turn joints are real; prismatic
     limits are lengths). Length: every ``|a| + |d|``, the largest
     prismatic travel and the base and tool offsets, laid end to end.
@@ -417,6 +417,7 @@ def _warn_units(
             angles += [
                 (f"{where} 'alpha'", float(written["alpha"]), *turn),
                 (f"{where} 'theta'", float(written["theta"]), *turn),
+                (f"{where} 'beta'", float(written.get("beta", 0.0)), *turn),
             ]
             if row.joint_type == "revolute":
                 angles += [(f"{where} 'limits'", v, *turns) for v in (row.lower, row.upper)]

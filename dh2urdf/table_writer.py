@@ -2,7 +2,7 @@
 
 Lengths in meters and angles in radians (``length_unit = "m"``, ``angle_unit = "rad"``), every
 number written with all its digits (``repr``), so that :func:`~dh2urdf.load_table` of the text
-gives the same table: the rows exactly, with the acceleration, mass, radii,
+gives the same table: the rows exactly (a nonzero tilt ``beta`` included), with the acceleration, mass, radii,
 ``[[joints.housing]]`` and ``[[joints.mesh]]`` they state (their body, :mod:`dh2urdf.link_volumes`,
 :mod:`dh2urdf.link_meshes`; mesh files relative to the table's folder), ``[states]``, ``[base]`` and
 ``[tool]`` through ``xyz`` and ``rpy`` (URDF roll-pitch-yaw) when that keeps every digit, else
@@ -177,6 +177,10 @@ def table_text(table: DHTable, header: str = "", mesh_folder: str | Path | None 
             f"alpha = {_number(row.alpha)}",
             f"d = {_number(row.d)}",
             f"theta = {_number(row.theta)}",
+        ]
+        if row.beta != 0.0:  # Hayati's tilt (dh2urdf.dh_table): plain DH rows leave it out
+            lines.append(f"beta = {_number(row.beta)}")
+        lines += [
             f"limits = [{_number(row.lower)}, {_number(row.upper)}]",
             f"velocity = {_number(row.velocity)}",
             f"effort = {_number(row.effort)}",

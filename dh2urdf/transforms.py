@@ -13,6 +13,12 @@ def rot_x(angle: float) -> np.ndarray:
     return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]], dtype=float)
 
 
+def rot_y(angle: float) -> np.ndarray:
+    """Rotation about y by ``angle`` [rad]."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, 0, s, 0], [0, 1, 0, 0], [-s, 0, c, 0], [0, 0, 0, 1]], dtype=float)
+
+
 def rot_z(angle: float) -> np.ndarray:
     """Rotation about z by ``angle`` [rad]."""
     c, s = math.cos(angle), math.sin(angle)

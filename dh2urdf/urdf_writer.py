@@ -8,9 +8,10 @@ Frames and links of the generated URDF:
   ``frame{i-1}`` to ``frame{i}`` with origin ``Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``.
   Standard tables: joint ``i`` goes from ``frame{i-1}`` to the moving link ``link{i}`` with origin
   ``Rz(theta_i) Tz(d_i)``, and a fixed joint ``frame{i}_joint`` with origin
-  ``Tx(a_i) Rx(alpha_i)`` places ``frame{i}`` on it. Every joint moves about (or along) its z axis:
-  ``axis xyz="0 0 1"``, or ``"0 0 -1"`` for a reversed row (``direction = -1``), the URDF's joint
-  variable being the table's q (same limits).
+  ``Tx(a_i) Rx(alpha_i)`` places ``frame{i}`` on it. A row's tilt ``beta`` (Hayati's,
+  :mod:`dh2urdf.dh_table`) follows its twist, ``Rx(alpha) Ry(beta)``, in either origin. Every
+  joint moves about (or along) its z axis: ``axis xyz="0 0 1"``, or ``"0 0 -1"`` for a reversed
+  row (``direction = -1``), the URDF's joint variable being the table's q (same limits).
 - ``tool``: fixed on ``frame{n}`` with the table's ``[tool]`` transform.
 
 Each link gets simple visuals (a cylinder along each joint axis; the body: capsules along the
@@ -41,7 +42,7 @@ from .link_inertials import cylinder_inertia as cylinder_inertia
 from .link_inertials import primitive_inertial
 from .link_volumes import DEFAULT_RADIUS, segment_radii
 from .mesh_elements import mesh_elements
-from .transforms import clean, rot_x, rot_z, translation
+from .transforms import clean, rot_x, rot_y, rot_z, translation
 from .urdf_elements import (
     Box,
     Collision,
@@ -229,8 +230,9 @@ def urdf_elements(table: DHTable, mesh_folder: str | Path | None = None) -> Robo
         capsule_a = row.radius_a is not None or row.radius is not None  # stated: a capsule
         capsule_d = row.radius_d is not None or row.radius is not None
         visuals[f"frame{i}"] = []
+        twist = rot_x(row.alpha) @ rot_y(row.beta) if row.beta else rot_x(row.alpha)
         if table.convention == "modified":
-            pre = rot_x(row.alpha) @ translation(x=row.a)
+            pre = twist @ translation(x=row.a)
             origin = pre @ rot_z(row.theta) @ translation(z=row.d)
             segment(parent, np.zeros(3), pre[:3, 3], f"a{i - 1}", radius_a, capsule_a)
             child = f"frame{i}"
@@ -248,7 +250,7 @@ def urdf_elements(table: DHTable, mesh_folder: str | Path | None = None) -> Robo
             drawn = segment(
                 child, np.zeros(3), np.array([row.a, 0, 0]), f"a{i}", radius_a, capsule_a
             )
-            T_link_frame = translation(x=row.a) @ rot_x(row.alpha)
+            T_link_frame = translation(x=row.a) @ twist
             order += [child, f"frame{i}"]
         visuals[child] += _housings(row, T_link_frame)
         add_meshes(child, row, T_link_frame)
@@ -271,9 +273,7 @@ def urdf_elements(table: DHTable, mesh_folder: str | Path | None = None) -> Robo
         )
         if table.convention == "standard":
             joints.append(
-                _fixed(
-                    f"frame{i}_joint", child, f"frame{i}", translation(x=row.a) @ rot_x(row.alpha)
-                )
+                _fixed(f"frame{i}_joint", child, f"frame{i}", translation(x=row.a) @ twist)
             )
     last = f"frame{table.dof}"
     segment(last, np.zeros(3), table.T_last_tool[:3, 3], "tool_offset", SEGMENT_RADIUS, False)

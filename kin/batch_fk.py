@@ -3,8 +3,8 @@
 For the work that needs FK of thousands to millions of configurations (workspace sampling, table
 audits, batched IK verification), where a Pinocchio call per configuration costs microseconds of
 Python each. The product is the table's own (``T_world_base``, one DH transform per row in its
-convention, the DH angle ``theta + direction * q`` or length ``d + direction * q``,
-``T_last_tool``), computed column by column on arrays of length N; the tests check it
+convention, the DH angle ``theta + direction * q`` or length ``d + direction * q``, a row's
+Hayati tilt ``Ry(beta)`` after its twist (:mod:`dh2urdf.dh_table`), ``T_last_tool``), computed column by column on arrays of length N; the tests check it
 against Pinocchio's FK of the generated URDF and against an independent DH product.
 """
 
@@ -74,19 +74,23 @@ def _chain(table: DHTable, q: np.ndarray, keep: frozenset[int] | None):
             d = row.d
         ca, sa = _rotation_terms(row.alpha)
         c0, c1, c2 = cols
-        if modified:  # Rx(alpha) Tx(a) Rz(theta) Tz(d)
+        if modified:  # Rx(alpha) Ry(beta) Tx(a) Rz(theta) Tz(d)
+            c1, c2 = _rotate(c1, c2, ca, sa)
+            if row.beta != 0.0:
+                c2, c0 = _rotate(c2, c0, *_rotation_terms(row.beta))
             if row.a != 0.0:
                 p = p + row.a * c0
-            c1, c2 = _rotate(c1, c2, ca, sa)
             c0, c1 = _rotate(c0, c1, ct, st)
             p = p + d * c2
-        else:  # Rz(theta) Tz(d) Tx(a) Rx(alpha)
+        else:  # Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta)
             c0, c1 = _rotate(c0, c1, ct, st)
             if not (isinstance(d, float) and d == 0.0):
                 p = p + d * c2
             if row.a != 0.0:
                 p = p + row.a * c0
             c1, c2 = _rotate(c1, c2, ca, sa)
+            if row.beta != 0.0:  # Ry(beta): (c0, c2) -> (c0 cb - c2 sb, c2 cb + c0 sb)
+                c2, c0 = _rotate(c2, c0, *_rotation_terms(row.beta))
         cols = [c0, c1, c2]
         if keep is None or i + 1 in keep:
             yield i + 1, cols, p

@@ -97,12 +97,9 @@ class MimicArm:
 
     def fk(self, q: npt.ArrayLike) -> np.ndarray:
         """``T_base_tip`` (4x4, [m]) at the independent joints' values ``q`` [rad] or [m]."""
-        from dh2urdf.dh_table import dh_link_transform
-
         product = np.array(self.table.T_world_base)
         for row, value in zip(self.table.rows, self.chain.expand(self._vector(q)), strict=True):
-            theta, d = row.dh_values(float(value))
-            product = product @ dh_link_transform(self.table.convention, row.a, row.alpha, d, theta)
+            product = product @ row.transform(self.table.convention, float(value))  # beta too
         return product @ self.table.T_last_tool
 
     def reference_fk(self, q: npt.ArrayLike) -> np.ndarray:

@@ -239,10 +239,13 @@ def test_table_of_a_calibration_without_tilts_has_the_urdfs_fk():
     )
 
 
-def test_a_tilt_keeps_the_calibration_out_of_a_dh_table():
+def test_a_tilted_calibration_writes_its_tilts_into_the_dh_table():
     table, _, data = _case("ur10", 60, False)
-    with pytest.raises(CalibrationError, match="write the URDF"):
-        calibrated_table(calibrate(table, data, folds=0))
+    found = calibrate(table, data, folds=0)
+    rows = calibrated_table(found).rows
+    fitted = {i: found.x[found.model.index(f"{table.rows[i].name}.beta")] for i in (1, 2)}
+    assert {i: row.beta for i, row in enumerate(rows) if row.beta} == fitted
+    assert all(abs(b) > 1e-5 for b in fitted.values())  # tilts the old format could not hold
 
 
 def test_too_few_rows_for_the_identifiable_parameters():

@@ -46,6 +46,7 @@ def many_tool_poses(tables: Sequence[DHTable], q: np.ndarray) -> np.ndarray:
         alpha = per_sample(np.array([t.rows[i].alpha for t in tables]))
         d = per_sample(np.array([t.rows[i].d for t in tables]))
         theta = per_sample(np.array([t.rows[i].theta for t in tables]))
+        beta = np.array([t.rows[i].beta for t in tables])  # Hayati's tilt (dh2urdf.dh_table)
         value = joints[:, i] * per_sample(np.array([float(t.rows[i].direction) for t in tables]))
         if row.joint_type == "prismatic":
             d = d + value
@@ -53,14 +54,19 @@ def many_tool_poses(tables: Sequence[DHTable], q: np.ndarray) -> np.ndarray:
             theta = theta + value
         ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
         c0, c1, c2 = cols
-        # standard: Rz(theta) Tz(d) Tx(a) Rx(alpha)
+        # standard: Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta)
         s0, s1 = _rotate(c0, c1, ct, st)
         sp = p + d * c2 + a * s0
         s1, s2 = _rotate(s1, c2, ca, sa)
-        # modified: Rx(alpha) Tx(a) Rz(theta) Tz(d)
-        mp = p + a * c0
+        # modified: Rx(alpha) Ry(beta) Tx(a) Rz(theta) Tz(d)
+        m0 = c0
         m1, m2 = _rotate(c1, c2, ca, sa)
-        m0, m1 = _rotate(c0, m1, ct, st)
+        if beta.any():
+            cb, sb = np.cos(per_sample(beta)), np.sin(per_sample(beta))
+            s2, s0 = _rotate(s2, s0, cb, sb)
+            m2, m0 = _rotate(m2, m0, cb, sb)
+        mp = p + a * m0
+        m0, m1 = _rotate(m0, m1, ct, st)
         mp = mp + d * m2
         cols = [np.where(modified, m0, s0), np.where(modified, m1, s1), np.where(modified, m2, s2)]
         p = np.where(modified, mp, sp)

@@ -96,7 +96,10 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
             tool[:3, 3] *= k
         elif change.kind == "table_angle_unit":
             k = ANGLE_UNITS[str(change.value)] / audited.radians
-            rows = [dataclasses.replace(r, alpha=r.alpha * k, theta=r.theta * k) for r in rows]
+            rows = [
+                dataclasses.replace(r, alpha=r.alpha * k, theta=r.theta * k, beta=r.beta * k)
+                for r in rows
+            ]
         elif change.kind == "theta_shift":
             rows[i] = with_field(rows[i], "theta", float(str(change.value)))
         elif change.kind == "joint_sign":
@@ -124,7 +127,7 @@ def apply_changes(audited: AuditedTable, changes: tuple[Change, ...]) -> Reading
 
 def _signature(reading: Reading) -> tuple:
     t = reading.table
-    params = tuple((r.a, r.alpha, r.d, r.theta, r.direction) for r in t.rows)
+    params = tuple((r.a, r.alpha, r.d, r.theta, r.direction, r.beta) for r in t.rows)
     return (
         t.convention,
         params,

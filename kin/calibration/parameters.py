@@ -123,7 +123,7 @@ class ParameterModel:
 
     def row_values(self, x: np.ndarray, row: int) -> dict[str, float]:
         """``theta``, ``d``, ``a``, ``alpha``, ``beta`` of a 0-based row [rad] / [m]."""
-        values = {"beta": 0.0}
+        values = {"beta": self.table.rows[row].beta}
         for i, p in enumerate(self.parameters):
             if p.row == row:
                 values[p.kind] = float(x[i])
@@ -134,14 +134,15 @@ def parallel_rows(table: DHTable) -> tuple[int, ...]:
     """0-based rows whose joint axis is parallel to the next joint's (they get ``beta``).
 
     Standard rows ``i < n``: ``|sin(alpha_i)| < PARALLEL_SINE``; modified rows ``i >= 2``:
-    ``|sin(alpha_{i-1})|`` small (a modified row holds the twist before its joint).
+    ``|sin(alpha_{i-1})|`` small (a modified row holds the twist before its joint). Also every
+    row whose nominal table already has a tilt (a calibrated table calibrated again).
     """
     rows = table.rows
     if table.convention == "standard":
-        return tuple(
-            i for i in range(len(rows) - 1) if abs(math.sin(rows[i].alpha)) < PARALLEL_SINE
-        )
-    return tuple(i for i in range(1, len(rows)) if abs(math.sin(rows[i].alpha)) < PARALLEL_SINE)
+        parallel = [i for i in range(len(rows) - 1) if abs(math.sin(rows[i].alpha)) < PARALLEL_SINE]
+    else:
+        parallel = [i for i in range(1, len(rows)) if abs(math.sin(rows[i].alpha)) < PARALLEL_SINE]
+    return tuple(i for i, row in enumerate(rows) if i in parallel or row.beta != 0.0)
 
 
 def build_model(
@@ -170,7 +171,7 @@ def build_model(
                     f"{row.name}.{kind}", row.name, kind, i, 0, kind in ("theta", "alpha", "beta")
                 )
             )
-            values.append(0.0 if kind == "beta" else float(getattr(row, kind)))
+            values.append(float(getattr(row, kind)))
     groups = [("base", True)] + (
         [("tool", True)] if markers == 0 else [(f"marker{k}", False) for k in range(1, markers + 1)]
     )

@@ -33,7 +33,7 @@ def _nominal(calibration: Calibration) -> np.ndarray:
     tool = calibration.table.T_last_tool
     for i, p in enumerate(model.parameters):
         if p.row is not None:
-            out[i] = 0.0 if p.kind == "beta" else getattr(calibration.table.rows[p.row], p.kind)
+            out[i] = getattr(calibration.table.rows[p.row], p.kind)
         elif p.group != "base" and p.kind == "t":
             out[i] = tool[p.axis, 3]
     return out

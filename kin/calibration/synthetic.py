@@ -19,7 +19,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from dh2urdf import DHTable
-from dh2urdf.transforms import rot_x, rot_z, translation
+from dh2urdf.transforms import rot_x, rot_y, rot_z, translation
 
 from .errors import Errors, errors
 from .measurements import Measurements
@@ -40,16 +40,13 @@ def nominal_origins(table: DHTable) -> list[np.ndarray]:
     origins = []
     pending = np.array(table.T_world_base)
     for row in table.rows:
+        twist = rot_x(row.alpha) @ rot_y(row.beta) if row.beta else rot_x(row.alpha)
         if table.convention == "standard":
             origins.append(pending @ rot_z(row.theta) @ translation(z=row.d))
-            pending = translation(x=row.a) @ rot_x(row.alpha)
+            pending = translation(x=row.a) @ twist
         else:
             origins.append(
-                pending
-                @ rot_x(row.alpha)
-                @ translation(x=row.a)
-                @ rot_z(row.theta)
-                @ translation(z=row.d)
+                pending @ twist @ translation(x=row.a) @ rot_z(row.theta) @ translation(z=row.d)
             )
             pending = np.eye(4)
     origins.append(pending @ table.T_last_tool)

@@ -2,8 +2,9 @@
 
 Makers' URDFs round: example-robot-data's xArm7 writes 1.5708 for pi/2, which moves its tool by a
 few micrometers and breaks every exact structure test. :func:`idealise` snaps the twists within
-:data:`ANGLE_TOLERANCE` of a multiple of 90 deg to it, and the lengths ``a``, ``d`` below
-:data:`LENGTH_TOLERANCE` to zero; the idealised arm is accepted only if its tool stays within
+:data:`ANGLE_TOLERANCE` of a multiple of 90 deg to it, a row's Hayati tilt ``beta`` within it to
+zero (:mod:`dh2urdf.dh_table`: no closed form takes a tilted row), and the lengths ``a``, ``d``
+below :data:`LENGTH_TOLERANCE` to zero; the idealised arm is accepted only if its tool stays within
 :data:`FK_TOLERANCE` of the true one over sampled joint vectors (so that its answers start inside
 Newton's basin). A closed form then solves the idealised geometry and :func:`polish` moves each
 branch onto the true chain with Gauss-Newton steps on Pinocchio's FK of the true model (to about
@@ -68,10 +69,16 @@ def idealise(table: DHTable) -> Idealised | None:
         d = row.d
         if row.joint_type == "revolute" and 0.0 < abs(row.d) < LENGTH_TOLERANCE:
             d = 0.0
-        for name, old, new in (("alpha", row.alpha, alpha), ("a", row.a, a), ("d", row.d, d)):
+        beta = 0.0 if abs(row.beta) < ANGLE_TOLERANCE else row.beta
+        for name, old, new in (
+            ("alpha", row.alpha, alpha),
+            ("beta", row.beta, beta),
+            ("a", row.a, a),
+            ("d", row.d, d),
+        ):
             if old != new:
                 changes.append(f"row {row.index} {name} {old!r} -> {new!r}")
-        rows.append(dataclasses.replace(row, alpha=alpha, a=a, d=d))
+        rows.append(dataclasses.replace(row, alpha=alpha, beta=beta, a=a, d=d))
     if not changes:
         return None
     ideal = dataclasses.replace(table, rows=tuple(rows))
@@ -88,9 +95,9 @@ def idealise(table: DHTable) -> Idealised | None:
 def snap_bounds(true: DHTable, ideal: DHTable) -> tuple[float, float]:
     """Bounds on how far the ideal table's tool is from the true one, at any joint vector.
 
-    Snap one value at a time: a twist changed by ``e`` [rad] turns the rest of the chain by
-    ``e`` about an axis no farther from the tool than the arm's reach ``R`` (every ``|a|`` and
-    ``|d|``, a prismatic joint's travel and the tool offset), so the tool moves at most ``e R``
+    Snap one value at a time: a twist or a tilt changed by ``e`` [rad] turns the rest of the
+    chain by ``e`` about an axis no farther from the tool than the arm's reach ``R`` (every ``|a|``
+    and ``|d|``, a prismatic joint's travel and the tool offset), so the tool moves at most ``e R``
     and turns at most ``e``; a length changed by ``e`` [m] moves it at most ``e``. Summed over
     the snapped values (the triangle inequality): ``sum(e R) + sum(e)`` [m], ``sum(e)`` [rad].
 
@@ -103,6 +110,7 @@ def snap_bounds(true: DHTable, ideal: DHTable) -> tuple[float, float]:
         travel = max(abs(row.lower), abs(row.upper)) if row.joint_type == "prismatic" else 0.0
         reach += abs(row.a) + abs(row.d) + travel
         turned += abs(math.remainder(row.alpha - snapped.alpha, 2.0 * math.pi))
+        turned += abs(row.beta - snapped.beta)
         moved += abs(row.a - snapped.a) + abs(row.d - snapped.d)
     return turned * reach + moved, turned
 

@@ -32,6 +32,7 @@ from .six_r.general_6r import General6R
 from .six_r.pieper import Pieper6R
 from .six_r.reversed_chain import Reversed6R
 from .six_r.three_parallel import ThreeParallel6R
+from .structure import refuse_tilts
 from .three_joint.wrist3 import Wrist3
 
 
@@ -172,6 +173,7 @@ def recognise_turned(table: DHTable) -> tuple[ClosedFormStructure, DHTable, np.n
         StructureError: No structure fits either table (the message is :func:`recognise`'s of
             the table as given).
     """
+    refuse_tilts(table, "closed-form")
     found = flipped_axes(table)
     if found is not None:
         turned, flips = found
@@ -200,9 +202,11 @@ def recognise(table: DHTable) -> ClosedFormStructure:
     then ``q' = direction * q``), as :class:`~.closed_form.ClosedFormSolver` does.
 
     Raises:
-        StructureError: No closed-form structure fits; the message says what does not fit each
-            one that has the table's number of joints.
+        StructureError: No closed-form structure fits (none fits a row tilted by Hayati's
+            ``beta``); the message says what does not fit each one that has the table's number
+            of joints.
     """
+    refuse_tilts(table, "closed-form")  # every structure reads plain DH rows
     failures = []
     for structure in CLOSED_FORMS:
         if structure.dof != table.dof:

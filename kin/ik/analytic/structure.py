@@ -151,10 +151,35 @@ def deg(value: float) -> str:
     return f"{math.degrees(value):g} deg"
 
 
+def refuse_tilts(table: DHTable, solver: str) -> None:
+    """Raise when a row carries Hayati's tilt ``beta`` (:mod:`dh2urdf.dh_table`).
+
+    Every closed form (and its compiled twin) reads the four DH values of each row: a tilted
+    row is an arm none of them describes. The idealised route (:mod:`.idealised`) snaps a tilt
+    within its angle tolerance and polishes on the true chain; a larger one is solved
+    numerically.
+
+    Raises:
+        StructureError: The first tilted row, named.
+    """
+    for row in table.rows:
+        if row.beta != 0.0:
+            raise StructureError(
+                table.name,
+                solver,
+                f"row {row.index} ('{row.name}'): beta = {deg(row.beta)}, expected 0 (a closed "
+                "form solves plain DH rows, without Hayati's tilt)",
+            )
+
+
 class Checker:
-    """Checks a table against a structure; its errors name the row and parameter."""
+    """Checks a table against a structure; its errors name the row and parameter.
+
+    A table with a tilted row (``beta``) fits no structure: :func:`refuse_tilts` on creation.
+    """
 
     def __init__(self, table: DHTable, solver: str):
+        refuse_tilts(table, solver)
         self.table = table
         self.solver = solver
 

@@ -83,9 +83,20 @@ def table_key(
     parts.append(cell_size)
     parts.append(rotation_weight)
     for row in table.rows:
-        part = (row.joint_type, row.a, row.alpha, row.d, row.theta, row.lower, row.upper)
-        # A reversed joint changes the samples; the keys of the other rows stay as they were.
-        parts.append(part if row.direction == 1 else (*part, "direction", row.direction))
+        part: tuple[object, ...] = (
+            row.joint_type,
+            row.a,
+            row.alpha,
+            row.d,
+            row.theta,
+            row.lower,
+            row.upper,
+        )
+        # A reversed joint or a tilted row (Hayati's beta) changes the samples; the keys of the
+        # other rows stay as they were.
+        if row.direction != 1:
+            part = (*part, "direction", row.direction)
+        parts.append(part if row.beta == 0.0 else (*part, "beta", row.beta))
     digest = hashlib.sha256(repr(parts).encode())
     for matrix in (table.T_world_base, table.T_last_tool):
         digest.update(np.ascontiguousarray(matrix, dtype=float).tobytes())

@@ -41,10 +41,14 @@ def joint_axes(table: DHTable) -> tuple[list[np.ndarray], list[np.ndarray], np.n
     for row in table.rows:
         if table.convention == "standard":
             axis_frame = frame
-            frame = frame @ dh_link_transform("standard", row.a, row.alpha, row.d, row.theta)
+            frame = frame @ dh_link_transform(
+                "standard", row.a, row.alpha, row.d, row.theta, row.beta
+            )
         else:
-            axis_frame = frame @ dh_link_transform("modified", row.a, row.alpha, 0.0, 0.0)
-            frame = frame @ dh_link_transform("modified", row.a, row.alpha, row.d, row.theta)
+            axis_frame = frame @ dh_link_transform("modified", row.a, row.alpha, 0.0, 0.0, row.beta)
+            frame = frame @ dh_link_transform(
+                "modified", row.a, row.alpha, row.d, row.theta, row.beta
+            )
         directions.append(axis_frame[:3, 2].copy())
         points.append(axis_frame[:3, 3].copy())
     return directions, points, frame @ np.asarray(table.T_last_tool, dtype=float)

@@ -35,6 +35,7 @@ from dh2urdf import DHTable
 from ...exceptions import StructureError
 from ..registry import recognise_turned
 from ..six_r.general_6r import General6R
+from ..structure import refuse_tilts
 from . import free_value_scan
 from .held_end import HeldEnd, held_end, six_r_table
 from .ideal_7r import FOLD_PER_METER, held_branches, ideal_form
@@ -75,6 +76,7 @@ class General7RIK:
     def __init__(self, table: DHTable, lower: npt.ArrayLike, upper: npt.ArrayLike):
         if table.dof != 7 or any(row.joint_type != "revolute" for row in table.rows):
             raise StructureError(table.name, "general 7R", "it needs seven revolute joints")
+        refuse_tilts(table, "general 7R")  # the held joint's transform is a plain DH one
         self.table = table
         self.lower = np.asarray(lower, dtype=float)
         self.upper = np.asarray(upper, dtype=float)
