@@ -10,8 +10,10 @@ Planners, their order turned by one at each problem (the machine is shared):
 
 * ``kin``: :func:`kin.plan.plan` (RRTConnect on kin's certified motion rule, simplified);
 * ``mplib``: mplib's RRTConnect (``Planner.planner.plan``, range 0.1, simplified, meshes as convex
-  hulls, the same self pairs as kin) in its own venv and process (scripts/plan_peers.py); a
-  whole-turn joint's wrap-around is unwrapped, so a path may end at the goal's twin;
+  hulls, the same self pairs as kin) in its own venv and process (scripts/plan_peers.py); its
+  path is judged as it moves, straight in joint space between its joint vectors (mplib plans on
+  R^n for bounded joints and offers the goal's whole-turn twins as goals too: a UR5 path may end
+  a turn away from the goal, the same place of the arm);
 * ``ompl+coal``: the ``ompl`` wheel's SimpleSetup + RRTConnect + ``simplifySolution`` with a
   Pinocchio + coal validity callback, OMPL's discrete motion check at its default resolution
   (1 % of the space's extent: 0.13 rad on Panda) and at 0.02 rad (``ompl+coal .02``).
@@ -106,7 +108,7 @@ def run_problem(problem: Problem, index: int, planners, cells, args, mplib) -> l
             status = answer.get("status", "error: " + str(answer.get("error")))
             elapsed = answer.get("plan_time", float("nan"))
             if answer.get("path"):
-                path = _unwrapped(np.array(answer["path"]), robot)
+                path = np.array(answer["path"])
         else:
             from plan_peers import plain_ompl
 
@@ -122,14 +124,6 @@ def _bounds(robot) -> tuple[np.ndarray, np.ndarray]:
     lower = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
     upper = np.where(np.isfinite(robot.upper), robot.upper, np.pi)
     return lower, upper
-
-
-def _unwrapped(path: np.ndarray, robot) -> np.ndarray:
-    """The mplib path with each whole-turn joint's steps taken the short way (as mplib moves)."""
-    turn = (robot.upper - robot.lower) >= 2 * np.pi
-    out = path.copy()
-    out[:, turn] = np.unwrap(path[:, turn], axis=0)
-    return out
 
 
 def _record(problem, planner, status, elapsed, path, cell, extra) -> dict:
