@@ -31,6 +31,7 @@ from .free_joint import (
     compiled_seeded_many,
     free_joint_closed_form,
 )
+from .sampling_box import sampling_limits
 from .settings import NumericSettings
 
 
@@ -63,6 +64,7 @@ def build_context(robot: RobotModel, settings: NumericSettings) -> NumericContex
             idealised = ideal if closed_form is not None else None
         if closed_form is None:
             closed_form = free_joint_closed_form(robot.table, lower, upper)
+    draw_lower, draw_upper = sampling_limits(robot.table, lower, upper)
     x, y, z = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].tolist()
     return NumericContext(
         settings=settings,
@@ -76,6 +78,8 @@ def build_context(robot: RobotModel, settings: NumericSettings) -> NumericContex
         upper=upper,
         lows=tuple(lower.tolist()),
         highs=tuple(upper.tolist()),
+        draw_lower=draw_lower,
+        draw_upper=draw_upper,
         continuous=continuous,
         reach=reach_bound(robot),
         base_origin=(x, y, z),

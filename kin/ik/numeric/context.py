@@ -47,6 +47,9 @@ class NumericContext:
         lower: Lower joint limits [rad] (or [m]), an array; ``upper`` the upper ones.
         lows: The lower limits as floats (the stages' checks run on Python floats); ``highs``
             the upper ones.
+        draw_lower: Lower end of the box random starts are drawn from [rad] (or [m]): ``lower``
+            but for a long rail's (:func:`.sampling_box.sampling_limits`); ``draw_upper`` the
+            upper end.
         continuous: Indices of the continuous joints: damped Newton moves them freely and
             answers are wrapped back into [-pi, pi].
         reach: Upper bound of the tool's distance from the base origin [m] (triangle
@@ -71,6 +74,8 @@ class NumericContext:
     upper: np.ndarray
     lows: tuple[float, ...]
     highs: tuple[float, ...]
+    draw_lower: np.ndarray
+    draw_upper: np.ndarray
     continuous: tuple[int, ...]
     reach: float
     base_origin: tuple[float, float, float]

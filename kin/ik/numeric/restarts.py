@@ -1,7 +1,8 @@
 """Stages 2-3 of the numeric pipeline: random restarts and mink QP runs, a fixed number of them.
 
 When the nearest starts fail: ``random_starts`` cheap damped Newton runs from random joint vectors
-inside the limits (drawn from ``random_seed``), then mink QP runs with hard limits
+inside the limits (drawn from ``random_seed``; a long rail's within the arm's size,
+:mod:`.sampling_box`), then mink QP runs with hard limits
 (:mod:`kin.ik.numeric.differential_ik`, ``qp_iterations`` steps, the first from the best
 configuration so far) each followed by a damped Newton polish, with ``random_between`` random
 starts between two QP runs, until the search has made ``max_attempts`` starts
@@ -48,7 +49,7 @@ def solve_with_restarts(ik: NumericContext, search: Search) -> IKResult | None:
         if use_qp and not qp_runs and nearest_best is not None:
             q_next = nearest_best.q  # the first run: from the nearest starts' best
         else:
-            q_next = rng.uniform(ik.lower, ik.upper)
+            q_next = rng.uniform(ik.draw_lower, ik.draw_upper)
         if use_qp:
             qp_runs += 1
             q_next, steps = _qp_run(ik, search, q_next)

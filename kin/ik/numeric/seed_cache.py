@@ -27,6 +27,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .sampling_box import sampling_limits
+
 if TYPE_CHECKING:
     from kin import RobotModel
 
@@ -102,6 +104,14 @@ def table_key(
         digest.update(np.ascontiguousarray(matrix, dtype=float).tobytes())
     digest.update(np.ascontiguousarray(robot.model.lowerPositionLimit, dtype=float).tobytes())
     digest.update(np.ascontiguousarray(robot.model.upperPositionLimit, dtype=float).tobytes())
+    # A long rail's samples come from a cut box (.sampling_box): keyed apart from the tables
+    # drawn over its whole travel; every other arm's key stays as it was.
+    lower, upper = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
+    draw_lower, draw_upper = sampling_limits(table, lower, upper)
+    if draw_lower is not lower:
+        digest.update(b"sampling box")
+        digest.update(np.ascontiguousarray(draw_lower, dtype=float).tobytes())
+        digest.update(np.ascontiguousarray(draw_upper, dtype=float).tobytes())
     return digest.hexdigest()[:32]
 
 

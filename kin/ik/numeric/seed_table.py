@@ -29,6 +29,7 @@ from kin import RobotModel, load_robot
 from kin.batch_fk import batch_forward_kinematics
 
 from . import seed_cache
+from .sampling_box import sampling_limits
 
 logger = logging.getLogger(__name__)
 
@@ -136,9 +137,7 @@ class SeedTable:
             return None
         return owners, np.dot(block, self._query(position, rotation))
 
-    def nearest_rows(
-        self, position: np.ndarray, rotation: np.ndarray | None, k: int
-    ) -> np.ndarray:
+    def nearest_rows(self, position: np.ndarray, rotation: np.ndarray | None, k: int) -> np.ndarray:
         """The joint vectors of the ``k`` samples of the target's neighbourhood nearest it, (k, nq).
 
         Nearest in the pose embedding (position [m], rotation weighed); none when the target's
@@ -313,7 +312,8 @@ def _sample(robot: RobotModel, size: int, seed: int, cell_size: float) -> dict[s
     model = robot.model
     # A stream of its own: a caller's ``default_rng(seed)`` draws are never table samples.
     rng = np.random.default_rng([seed, _TABLE_STREAM])
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    # Inside the limits; a long rail (a mobile base's) within the arm's size (.sampling_box).
+    lower, upper = sampling_limits(robot.table, model.lowerPositionLimit, model.upperPositionLimit)
     q = rng.uniform(lower, upper, size=(size, model.nq))
     # The table's DH product in NumPy, all samples at once (the tests hold it to Pinocchio's FK).
     poses = batch_forward_kinematics(robot.table, q)
