@@ -79,8 +79,8 @@ def test_the_straight_swing_collides_and_the_plan_goes_around(planar):
 def test_the_same_seed_gives_the_same_path_and_every_planner_a_free_one(planar):
     robot, checker, reference, pairs = planar
     start, goal = np.radians([-90.0, 0.0]), np.radians([90.0, 0.0])
-    first = plan(robot, start, goal, collisions=checker, seed=7)
-    again = plan(robot, start, goal, collisions=checker, seed=7)
+    first = plan(robot, start, goal, collisions=checker, seed=7, time_limit=math.inf)
+    again = plan(robot, start, goal, collisions=checker, seed=7, time_limit=math.inf)
     assert np.array_equal(first.path, again.path) and first.checks == again.checks
     for name in ("RRT", "KPIECE1", "BKPIECE1", "BITstar"):
         result = plan(robot, start, goal, collisions=checker, planner=name, seed=1)
