@@ -5,13 +5,15 @@ Used by the twins of the families' general cases (``test_six_r_family_twins.py``
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
-from test_six_r_twins import assert_same_result, narrow_limits, targets
 
 import kin
 from kin.ik import ClosedFormSolver, PoseTarget
+
+PI = math.pi
 
 
 def assert_solve_parity(table, found, label: str) -> None:
@@ -59,3 +61,38 @@ def assert_solver_parity(table, narrow: bool, label: str) -> None:
         assert_same_result(ours, theirs, f"{label} {narrow=} {k=}")
         rejected += len(ours.rejected)
     assert rejected > 0 or not narrow, "the narrow limits rejected no branch"
+
+
+def targets(table, count: int, seed: int) -> np.ndarray:
+    """FK poses of random q (N, 4, 4), the first tenth moved out of reach (x5 position)."""
+    q = np.random.default_rng(seed).uniform(-PI, PI, (count, 6))
+    poses = kin.batch_forward_kinematics(table, q)
+    poses[: count // 10, :3, 3] *= 5.0
+    return poses
+
+
+def narrow_limits(table, rng: np.random.Generator):
+    """The table with joint limits of random width 1.5 to 6 rad around a random centre."""
+    rows = []
+    for row in table.rows:
+        centre, half = rng.uniform(-PI, PI), rng.uniform(0.75, 3.0)
+        rows.append(dataclasses.replace(row, lower=centre - half, upper=centre + half))
+    return dataclasses.replace(table, rows=tuple(rows))
+
+
+def assert_same_result(compiled, python, label: str) -> None:
+    assert compiled.success == python.success, label
+    assert compiled.status == python.status, label
+    assert compiled.message == python.message, label
+    for ours, theirs in (
+        (compiled.solutions, python.solutions),
+        (compiled.rejected, python.rejected),
+    ):
+        assert [s.branch for s in ours] == [s.branch for s in theirs], label
+        for a, b in zip(ours, theirs):
+            np.testing.assert_allclose(a.q, b.q, rtol=0.0, atol=1e-12, err_msg=label)
+            assert a.within_limits == b.within_limits, label
+            # Two FKs of the same q: they differ by rounding, which grows with |q| (seeds of 2e5).
+            rounding = 1e-12 * max(1.0, float(np.abs(b.q).max()))
+            assert abs(a.position_error - b.position_error) < rounding, label
+            assert abs(a.rotation_error - b.rotation_error) < rounding, label

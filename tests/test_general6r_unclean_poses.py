@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from arm_tables import wrapped_gap
 from dh_reference import fk_frames, load_reference, rotation_angle
-from test_ik_general_6r import NEAR_SINGULAR, sigma_min
+from general_6r_arms import NEAR_SINGULAR, sigma_min
 
 from dh2urdf import load_table
 from kin._native import twin, why_missing

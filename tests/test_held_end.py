@@ -12,7 +12,7 @@ import dataclasses
 import numpy as np
 import pytest
 from dh_reference import ReferenceTable, fk_frames
-from test_ik_general_7r import random_arm
+from general_7r_arms import random_arm
 
 from kin.ik.analytic.seven_r.held_end import dh_transforms, held_end, six_r_table
 

@@ -18,8 +18,9 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from arm_tables import make_table, random_pose, wrapped_gap
-from dh_reference import ReferenceTable, fk_frames, rotation_angle
+from arm_tables import wrapped_gap
+from dh_reference import fk_frames, rotation_angle
+from general_7r_arms import random_arm
 
 import kin
 from dh2urdf import DHTable, get_robot, load_table
@@ -32,22 +33,6 @@ PI = math.pi
 TABLES = 12
 POSES = 25
 TOL = 1e-9
-
-
-def random_arm(seed: int, convention: str) -> tuple:
-    """A random 7R table (lengths +-0.4 m, any twist and offset, random base and tool), its
-    reference arrays, and limits +-2 pi."""
-    rng = np.random.default_rng(seed)
-    a, d = rng.uniform(-0.4, 0.4, (2, 7))
-    alpha, theta = rng.uniform(-PI, PI, (2, 7))
-    base, tool = random_pose(rng), random_pose(rng)
-    table = make_table(a, alpha, d, theta, convention, base, tool, name=f"r7_{convention}{seed}")
-    ones = np.ones(7)
-    reference = ReferenceTable(
-        convention, tuple(f"j{i}" for i in range(1, 8)), np.zeros(7, dtype=bool), a, alpha, d,
-        theta, -2 * PI * ones, 2 * PI * ones, base, tool,
-    )  # fmt: skip
-    return table, reference
 
 
 @pytest.mark.parametrize("convention", ["standard", "modified"])

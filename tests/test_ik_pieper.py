@@ -16,7 +16,8 @@ import math
 import numpy as np
 import pytest
 from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
-from test_ik_spherical_wrist import PUMA_A, PUMA_ALPHA, PUMA_D, random_pieper_table
+from pieper_arms import random_table
+from spherical_wrist_arms import PUMA_A, PUMA_ALPHA, PUMA_D, random_pieper_table
 
 import kin
 from dh2urdf import DHRow, DHTable
@@ -31,24 +32,6 @@ PI = math.pi
 FAMILIES = ("intersecting", "parallel", "general")
 ARMS = tuple(f"{family}_{convention}_{seed}" for family in FAMILIES
              for convention in ("standard", "modified") for seed in (0, 1)) + ("puma560_moved",)  # fmt: skip
-
-
-def random_table(family: str, convention: str, seed: int) -> DHTable:
-    """A random arm of ``family`` with a spherical wrist: random twists (0 or 180 deg for
-    alpha1 in the parallel family), lengths in +-0.5 m, offsets, base and tool."""
-    rng = np.random.default_rng(seed + (0 if convention == "standard" else 50))
-    a = rng.uniform(-0.5, 0.5, 6)
-    d = rng.uniform(-0.5, 0.5, 6)
-    theta = rng.uniform(-PI, PI, 6)
-    alpha = rng.uniform(-PI, PI, 6)
-    j = 0 if convention == "standard" else 1  # modified: row i + 1 holds joint i's a, alpha
-    a[3 + j] = a[4 + j] = d[4] = 0.0
-    if family == "intersecting":
-        a[j] = 0.0
-    elif family == "parallel":
-        alpha[j] = rng.choice([0.0, PI])
-    return make_table(a, alpha, d, theta, convention, random_pose(rng), random_pose(rng),
-                      f"{family}_{convention}_{seed}")  # fmt: skip
 
 
 def puma_with(**changes: float) -> DHTable:

@@ -20,9 +20,9 @@ import math
 import numpy as np
 import pytest
 from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
-from test_ik_pieper import random_table as random_pieper_family
-from test_ik_spherical_wrist import random_pieper_table
-from test_ik_ur_wrist import random_ur_table
+from pieper_arms import random_table as random_pieper_family
+from spherical_wrist_arms import random_pieper_table
+from ur_wrist_arms import random_ur_table
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table

@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
+from arm_tables import TOL, Reference, assert_round_trips, make_table, wrapped_gap
+from ur_wrist_arms import UR5, arm_table, random_ur_table
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
@@ -22,45 +23,6 @@ from kin.ik.exceptions import StructureError
 
 SAMPLES = 200
 PI = math.pi
-UR5 = ("ur5", "ur5_moved", "random_standard_0", "random_standard_1", "random_modified_0",
-       "random_modified_1")  # fmt: skip
-
-
-def random_ur_table(seed: int, convention: str) -> DHTable:
-    """A random arm of the UR family (the structural twists exact, the rest random).
-
-    Even seeds: wrist twists +-90 deg (the UR arms); odd seeds: any wrist twists (IK-Geo's
-    "three parallel, two intersecting" in general).
-    """
-    rng = np.random.default_rng(seed)
-    a = rng.uniform(-0.5, 0.5, 6)
-    d = rng.uniform(-0.3, 0.3, 6)
-    alpha = rng.uniform(-PI, PI, 6)
-    theta = rng.uniform(-PI, PI, 6)
-    if seed % 2 == 0:
-        alpha[0] = rng.choice([PI / 2, -PI / 2])
-    j = 0 if convention == "standard" else 1  # modified: row i + 1 holds joint i's a, alpha
-    alpha[1 + j] = alpha[2 + j] = 0.0
-    alpha[3 + j], alpha[4 + j] = rng.choice([PI / 2, -PI / 2], 2)
-    if seed % 2 == 1:
-        alpha[3 + j] *= rng.uniform(0.2, 1.8)
-        alpha[4 + j] *= rng.uniform(0.2, 1.8)
-    a[4 + j] = 0.0
-    return make_table(a, alpha, d, theta, convention, random_pose(rng), random_pose(rng),
-                      f"ur_random_{convention}_{seed}")  # fmt: skip
-
-
-@functools.cache
-def arm_table(name: str) -> DHTable:
-    table = load_table(get_robot("ur5").table_path)
-    if name == "ur5":
-        return table
-    if name == "ur5_moved":
-        rng = np.random.default_rng(5)
-        rows = tuple(r for r in table.rows)
-        return DHTable("ur5_moved", "", "", "standard", rows, random_pose(rng), random_pose(rng))
-    _, convention, seed = name.split("_")
-    return random_ur_table(int(seed) + (0 if convention == "standard" else 10), convention)
 
 
 @functools.cache

@@ -13,12 +13,12 @@ Skipped when a twin is not built (no C compiler at install) or SciPy's LAPACK is
 
 from __future__ import annotations
 
+import pieper_arms
 import pytest
-import test_ik_pieper
-import test_ik_three_parallel
+import three_parallel_arms
 from arm_tables import assert_layout_matches
 from six_r_twin_parity import assert_batch_parity, assert_solve_parity, assert_solver_parity
-from test_ik_spherical_wrist import arm_table as pieper_table
+from spherical_wrist_arms import arm_table as pieper_table
 
 from kin.ik.analytic.six_r import pieper, three_parallel
 from kin.ik.analytic.six_r.pieper import Pieper6R
@@ -26,11 +26,11 @@ from kin.ik.analytic.six_r.three_parallel import ThreeParallel6R
 
 #: Each twin (None when not built or SciPy's LAPACK is missing), its structure, its tables.
 TWINS = {
-    "pieper": (pieper._arms_twin("general"), Pieper6R, test_ik_pieper.random_table),
+    "pieper": (pieper._arms_twin("general"), Pieper6R, pieper_arms.random_table),
     "three_parallel": (
         three_parallel._general_twin(),
         ThreeParallel6R,
-        test_ik_three_parallel.random_table,
+        three_parallel_arms.random_table,
     ),
 }
 ARMS = [("pieper", (family, convention, seed)) for family in ("intersecting", "parallel", "general")
@@ -81,7 +81,7 @@ def test_layout_matches_the_python_fields(kind):
     [
         (lambda: pieper_table("puma560"), Pieper6R, "pieper"),
         (
-            lambda: test_ik_three_parallel.random_table("intersecting", "standard", 0),
+            lambda: three_parallel_arms.random_table("intersecting", "standard", 0),
             ThreeParallel6R,
             "three_parallel",
         ),

@@ -28,10 +28,11 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from arm_tables import Reference, assert_layout_matches, make_table, random_pose
-from test_ik_spherical_wrist import ARMS as PIEPER_ARMS
-from test_ik_spherical_wrist import arm_table as pieper_table
-from test_ik_ur_wrist import UR5 as UR_ARMS
-from test_ik_ur_wrist import arm_table as ur_table
+from six_r_twin_parity import assert_same_result, narrow_limits, targets
+from spherical_wrist_arms import ARMS as PIEPER_ARMS
+from spherical_wrist_arms import arm_table as pieper_table
+from ur_wrist_arms import UR5 as UR_ARMS
+from ur_wrist_arms import arm_table as ur_table
 
 import kin
 from dh2urdf import get_robot, load_table
@@ -58,14 +59,6 @@ def case(kind: str, arm: str):
     return table, SphericalWrist6R.recognise(table)
 
 
-def targets(table, count: int, seed: int) -> np.ndarray:
-    """FK poses of random q (N, 4, 4), the first tenth moved out of reach (x5 position)."""
-    q = np.random.default_rng(seed).uniform(-PI, PI, (count, 6))
-    poses = kin.batch_forward_kinematics(table, q)
-    poses[: count // 10, :3, 3] *= 5.0
-    return poses
-
-
 @pytest.mark.parametrize(("kind", "arm"), CASES)
 def test_twin_solve_equals_python(kind, arm):
     """The twin's branches are the Python solve's, target by target (1e-12 rad, NaN alike)."""
@@ -90,33 +83,6 @@ def test_twin_batch_equals_numpy_batch(kind, arm):
     np.testing.assert_allclose(twin, numpy, rtol=0.0, atol=1e-9, equal_nan=True)
     assert np.isnan(twin[:200]).mean() > 0.5
     assert not np.isnan(twin[200:, 0]).all()
-
-
-def narrow_limits(table, rng: np.random.Generator):
-    """The table with joint limits of random width 1.5 to 6 rad around a random centre."""
-    rows = []
-    for row in table.rows:
-        centre, half = rng.uniform(-PI, PI), rng.uniform(0.75, 3.0)
-        rows.append(dataclasses.replace(row, lower=centre - half, upper=centre + half))
-    return dataclasses.replace(table, rows=tuple(rows))
-
-
-def assert_same_result(compiled, python, label: str) -> None:
-    assert compiled.success == python.success, label
-    assert compiled.status == python.status, label
-    assert compiled.message == python.message, label
-    for ours, theirs in (
-        (compiled.solutions, python.solutions),
-        (compiled.rejected, python.rejected),
-    ):
-        assert [s.branch for s in ours] == [s.branch for s in theirs], label
-        for a, b in zip(ours, theirs):
-            np.testing.assert_allclose(a.q, b.q, rtol=0.0, atol=1e-12, err_msg=label)
-            assert a.within_limits == b.within_limits, label
-            # Two FKs of the same q: they differ by rounding, which grows with |q| (seeds of 2e5).
-            rounding = 1e-12 * max(1.0, float(np.abs(b.q).max()))
-            assert abs(a.position_error - b.position_error) < rounding, label
-            assert abs(a.rotation_error - b.rotation_error) < rounding, label
 
 
 @pytest.mark.parametrize(("kind", "arm"), CASES)
