@@ -15,64 +15,14 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from long_rail_arm import PANDA, frankie_urdf
 
 from kin import load_robot
 from kin.ik import PoseTarget, get_solver
 from kin.ik.numeric.sampling_box import LONG_RAIL, arm_size, sampling_limits
 
-HALF_PI = math.pi / 2
-#: Panda's joints: (origin xyz [m], origin roll [rad], lower, upper [rad]), franka_description's.
-PANDA = (
-    ((0.0, 0.0, 0.333), 0.0, -2.8973, 2.8973),
-    ((0.0, 0.0, 0.0), -HALF_PI, -1.7628, 1.7628),
-    ((0.0, -0.316, 0.0), HALF_PI, -2.8973, 2.8973),
-    ((0.0825, 0.0, 0.0), HALF_PI, -3.0718, -0.0698),
-    ((-0.0825, 0.384, 0.0), -HALF_PI, -2.8973, 2.8973),
-    ((0.0, 0.0, 0.0), HALF_PI, -0.0175, 3.7525),
-    ((0.088, 0.0, 0.0), HALF_PI, -2.8973, 2.8973),
-)
-
 #: Damped Newton and QP steps of one call, at most (a call that reaches the QP runs takes 60+).
 STEP_BUDGET = 60
-
-
-def _joint(name: str, kind: str, parent: str, child: str, xyz: str, roll: float, limits: str):
-    return (
-        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
-        f'<origin xyz="{xyz}" rpy="{roll!r} 0 0"/><axis xyz="{"1 0 0" if kind == "prismatic" else "0 0 1"}"/>'
-        f'<limit lower="{limits.split()[0]}" upper="{limits.split()[1]}" effort="1" velocity="1"/>'
-        "</joint>"
-    )
-
-
-def frankie_urdf() -> str:
-    """Panda on a revolute and a prismatic base joint of +-999,999 (rad, m), tool at flange."""
-    links = ["base0", "base1", "rail", *(f"link{i}" for i in range(1, 8)), "flange"]
-    joints = [
-        _joint("base_turn", "revolute", "base0", "base1", "0 0 0", 0.0, "-999999 999999"),
-        _joint("base_rail", "prismatic", "base1", "rail", "0 0 0", 0.0, "-999999 999999"),
-        '<joint name="mount" type="fixed"><parent link="rail"/><child link="link0"/>'
-        '<origin xyz="0.15 0 0.38"/></joint>',
-    ]
-    for i, (xyz, roll, lower, upper) in enumerate(PANDA, start=1):
-        parent = f"link{i - 1}"
-        joints.append(
-            _joint(
-                f"joint{i}",
-                "revolute",
-                parent,
-                f"link{i}",
-                " ".join(map(str, xyz)),
-                roll,
-                f"{lower} {upper}",
-            )
-        )
-    joints.append(
-        '<joint name="flange_joint" type="fixed"><parent link="link7"/><child link="flange"/>'
-        '<origin xyz="0 0 0.107"/></joint>'
-    )
-    body = "".join(f'<link name="{name}"/>' for name in [*links, "link0"]) + "".join(joints)
-    return f'<?xml version="1.0"?><robot name="frankie_kinematics">{body}</robot>'
 
 
 @pytest.fixture(scope="module")

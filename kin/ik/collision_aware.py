@@ -42,6 +42,7 @@ import numpy.typing as npt
 
 from dh2urdf.output_text import shown_name
 
+from .numeric.sampling_box import sampling_limits
 from .result import IKResult, IKSolution
 from .target import AxisTarget, PoseTarget
 
@@ -325,6 +326,7 @@ def _partial_of(solver: Any, numeric: Any) -> Any:
 def _limits(robot: Any) -> tuple[np.ndarray, np.ndarray]:
     lower = np.asarray(robot.lower, dtype=float)
     upper = np.asarray(robot.upper, dtype=float)
+    lower, upper = sampling_limits(robot.table, lower, upper)  # a long rail within the arm's size
     lower = np.where(np.isfinite(lower), lower, -math.pi)
     upper = np.where(np.isfinite(upper), upper, math.pi)
     return lower, upper

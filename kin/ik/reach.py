@@ -14,6 +14,14 @@ Two numbers, both distances of the tool point from the base origin (the origin o
   maximum; the tests compare it with dense sampling and with the closed forms' distances.
 
 :func:`arm_reach` computes both once per robot (a few milliseconds) and keeps them.
+
+A long rail (a mobile base's prismatic joint, +-999,999 m on the Robotics Toolbox's Frankie and
+Fetch; :mod:`kin.ik.numeric.sampling_box`) carries the tool as far as it runs along the directions
+its axis takes, so a distance from the base says nothing there. :meth:`Reach.distance` and
+:attr:`Reach.maximum` then measure across those directions (:attr:`Reach.across`, the projection
+on what the rail cannot change: the height on Frankie, whose rail turns in the floor's plane;
+``bound`` stays a sure bound), and the samples draw the rail within the arm's size (its value
+changes no distance across). Every other arm: plain distances, the same samples as before.
 """
 
 from __future__ import annotations
@@ -28,6 +36,7 @@ import pinocchio as pin
 
 from kin import RobotModel
 from kin.batch_fk import batch_tool_positions
+from kin.ik.numeric.sampling_box import sampling_limits
 
 #: Joint vectors sampled for :attr:`Reach.maximum`.
 SAMPLES = 4096
@@ -45,15 +54,20 @@ class Reach:
         origin: The base origin in the world frame [m], shape (3,).
         bound: Sure upper bound of the distance (links laid end to end) [m].
         maximum: Largest distance found inside the joint limits [m] (at most ``bound``).
+        across: For an arm with a long rail, the projection (3 x 3, world frame) on the
+            directions no long rail moves the tool along: distances are measured after it.
+            None for every other arm.
     """
 
     origin: np.ndarray
     bound: float
     maximum: float
+    across: np.ndarray | None = None
 
     def distance(self, position: np.ndarray) -> float:
-        """Distance of a world point from the base origin [m]."""
-        x, y, z = (np.asarray(position, dtype=float) - self.origin).tolist()
+        """Distance of a world point from the base origin [m] (across a long rail's directions)."""
+        gap = np.asarray(position, dtype=float) - self.origin
+        x, y, z = (gap if self.across is None else self.across @ gap).tolist()
         return math.hypot(x, y, z)  # no overflow for 1e308
 
 
@@ -94,19 +108,42 @@ def _compute(robot: RobotModel) -> Reach:
     origin = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].copy()
     bound = reach_bound(robot)
     model = robot.model
-    lower = model.lowerPositionLimit.copy()
-    upper = model.upperPositionLimit.copy()
+    limits = (model.lowerPositionLimit.copy(), model.upperPositionLimit.copy())
+    lower, upper = sampling_limits(robot.table, *limits)  # those arrays but for a long rail
     rng = np.random.default_rng([0, _REACH_STREAM])
     q = rng.uniform(lower, upper, size=(SAMPLES, model.nq))
-    points = batch_tool_positions(robot.table, q) - origin
+    tool = batch_tool_positions(robot.table, q)
+    points, across = tool - origin, None
+    if lower is not limits[0]:  # a long rail: distances across the directions it runs along
+        across = _across(robot, q, tool, upper - lower < limits[1] - limits[0])
+        points = points @ across
     distances = np.einsum("ij,ij->i", points, points)
     order = np.argsort(distances)[::-1][:STARTS]
     best = math.sqrt(float(distances[order[0]]))
     data = model.createData()
     frame = model.getFrameId(robot.tool_frame)
     for i in order.tolist():
-        best = max(best, _farthest(model, data, frame, q[i], lower, upper, origin))
-    return Reach(origin, bound, min(best, bound))
+        best = max(best, _farthest(model, data, frame, q[i], lower, upper, origin, across))
+    return Reach(origin, bound, min(best, bound), across)
+
+
+def _across(robot: RobotModel, q: np.ndarray, tool: np.ndarray, rails: np.ndarray) -> np.ndarray:
+    """The projection on the directions no long rail moves the tool along, world frame (3 x 3).
+
+    ``q``: the samples [rad, m], ``tool``: their tool positions [m], ``rails``: which joints are
+    long rails. A rail's direction at each sample is the tool's move for one more meter of it
+    (exact: the tool moves linearly along a prismatic joint); the directions they span go.
+    """
+    directions = []
+    for i in np.flatnonzero(rails).tolist():
+        moved = q.copy()
+        moved[:, i] += 1.0
+        directions.append(batch_tool_positions(robot.table, moved) - tool)
+    stacked = np.concatenate(directions)
+    _, values, vt = np.linalg.svd(stacked, full_matrices=False)  # vt: 3 x 3
+    spanned = int(np.count_nonzero(values > 1e-6 * values[0]))
+    rest = vt[spanned:]
+    return rest.T @ rest
 
 
 def _farthest(
@@ -117,10 +154,11 @@ def _farthest(
     lower: np.ndarray,
     upper: np.ndarray,
     origin: np.ndarray,
+    across: np.ndarray | None,
 ) -> float:
     """The largest tool distance from ``origin`` found by projected gradient ascent from ``q0`` [m].
 
-    Steps along ``J^T (p - origin)`` clamped to the limits, growing by half after a gain and
+    Steps along ``J^T (p - origin)`` (that gap projected by ``across`` if given) clamped to the limits, growing by half after a gain and
     halved after a loss (no SciPy optimizer: importing one costs more than the whole search).
     """
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -128,6 +166,8 @@ def _farthest(
     def square(q: np.ndarray) -> tuple[float, np.ndarray]:
         pin.forwardKinematics(model, data, q)
         gap = pin.updateFramePlacement(model, data, frame).translation - origin
+        if across is not None:  # the distance across a long rail's directions
+            gap = across @ gap
         return float(gap @ gap), gap
 
     q = q0.copy()

@@ -50,6 +50,7 @@ from .dense_qp import solve_dense_qp
 from .distance_bound import DistanceBound
 from .distance_jacobian import pair_rows
 from .numeric_target import NumericTarget
+from .sampling_box import sampling_limits
 
 __all__ = [
     "METHOD",
@@ -269,8 +270,8 @@ class DistanceBoundedIK:
     def _starts(self, given: Iterable[npt.ArrayLike]) -> Iterable[np.ndarray]:
         yield from (np.asarray(q, dtype=float) for q in given)
         rng = np.random.default_rng(self.bound.random_seed)
-        lower = np.where(np.isfinite(self.lower), self.lower, -math.pi)
-        upper = np.where(np.isfinite(self.upper), self.upper, math.pi)
+        box = np.array(sampling_limits(self.robot.table, self.lower, self.upper))  # a rail cut
+        lower, upper = np.where(np.isfinite(box), box, [[-math.pi], [math.pi]])
         for _ in range(self.bound.random_starts):
             yield rng.uniform(lower, upper)
 
@@ -364,9 +365,8 @@ def solve_clear(
     colliding = list(colliding)
     if target.__class__ is PoseTarget and target.mask is None and colliding:
         pair = held_in_scene(robot, checker, colliding[0].q)
-        if (
-            pair
-        ):  # an answer is on target: the links the tool carries sit where the target puts them
+        # An answer is on target: the links the tool carries sit where the target puts them.
+        if pair:
             return IKResult(
                 False,
                 solver,

@@ -1,7 +1,8 @@
 """Where the numeric search draws its starts: the joint limits, a long rail cut to the arm's size.
 
-The seed table's samples (:mod:`.seed_table`) and the random starts (:mod:`.restarts`) are drawn
-uniformly inside a box of joint values. A prismatic joint whose travel is far longer than the arm
+The seed table's samples (:mod:`.seed_table`), the random starts (:mod:`.restarts`, and
+:mod:`.collision_bound`'s) and the reach's samples (:mod:`kin.ik.reach`, which then measures
+distances across the rail) are drawn uniformly inside a box of joint values. A prismatic joint whose travel is far longer than the arm
 (a mobile base's rail: the Robotics Toolbox's Frankie and Fetch declare +-999,999 m) would put
 nearly every draw kilometres from any target: the seed table's nearest samples and the random
 starts then never lead damped Newton to an answer, and every call falls through to the mink QP

@@ -40,7 +40,6 @@ RANK_WEIGHT = 0.1
 PIPELINE = "numeric"
 
 
-
 class Search:
     """One solve in progress.
 
@@ -235,7 +234,7 @@ class Search:
         per robot), whatever the time left: the verdict depends on the target alone.
         """
         ik = self.ik
-        return ik.distance_from_base(self.target.position) > ik.arm_reach.maximum
+        return ik.arm_reach.distance(self.target.position) > ik.arm_reach.maximum
 
 
 @dataclass(frozen=True)
@@ -292,7 +291,7 @@ def failure(search: Search) -> IKResult:
         )
     if search.out_of_reach:
         reach = ik.arm_reach.maximum
-        distance = ik.distance_from_base(target.position) - reach
+        distance = ik.arm_reach.distance(target.position) - reach
         return IKResult(
             False,
             PIPELINE,
