@@ -37,3 +37,20 @@ def wait_until(ready: Callable[[], bool], process: subprocess.Popen, what: str) 
         assert process.poll() is None, f"ended before {what}: exit {process.returncode}"
         assert time.monotonic() < deadline, f"not {what} after {HANG_GUARD} s"
         time.sleep(0.01)
+
+
+def _running(pid: int) -> bool:
+    """Whether process ``pid`` exists and is not a zombie (ended, not yet reaped)."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, ProcessLookupError, IndexError):
+        return False
+    return state != "Z"
+
+
+def _left(pids: list[int], guard: float = HANG_GUARD) -> list[int]:
+    """Those of ``pids`` still running after up to ``guard`` seconds."""
+    end = time.monotonic() + guard
+    while (alive := [pid for pid in pids if _running(pid)]) and time.monotonic() < end:
+        time.sleep(0.1)
+    return alive

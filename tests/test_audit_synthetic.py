@@ -15,23 +15,13 @@ import math
 
 import numpy as np
 import pytest
+from synthetic_tables import ROWS, TOOL, table_toml
 
 from dh2urdf import load_table
 from kin import batch_forward_kinematics
 from kin.audit import audit_samples
 from kin.audit.printed import rpy_of
 
-#: (a [cm], alpha [deg], d [cm], theta [deg]) per row.
-ROWS = (
-    (5.0, -90.0, 30.0, 0.0),
-    (25.0, 0.0, 4.0, -90.0),
-    (3.0, 90.0, 0.0, 90.0),
-    (0.0, -90.0, 22.0, 0.0),
-    (0.0, 90.0, 0.0, 30.0),
-    (2.0, -90.0, 0.0, 0.0),
-    (0.0, 0.0, 8.0, 0.0),
-)
-TOOL = "[tool]\nxyz = [1.0, 2.0, 6.0]\nrpy = [0.0, 0.0, 0.0]\n"
 SAMPLES = 20
 DECIMALS = 3
 
@@ -52,20 +42,6 @@ EXPECTED = {
     "zero3_quarter_turn": ("theta_shift", 3, "180"),
     "joint5_reversed": ("joint_sign", 5, None),
 }
-
-
-def table_toml(rows=ROWS, convention="standard", scale=1.0, tool=TOOL, name="syn7") -> str:
-    """A table file text: ``scale`` multiplies the lengths (their unit stays cm)."""
-    text = f'name = "{name}"\nconvention = "{convention}"\nlength_unit = "cm"\nangle_unit = "deg"\n'
-    for a, alpha, d, theta in rows:
-        text += (
-            f'\n[[joints]]\ntype = "revolute"\na = {a * scale}\nalpha = {alpha}\n'
-            f"d = {d * scale}\ntheta = {theta}\nlimits = [-170.0, 170.0]\n"
-        )
-    if tool:
-        xyz = ", ".join(str(v * scale) for v in (1.0, 2.0, 6.0))
-        text += f"\n[tool]\nxyz = [{xyz}]\nrpy = [0.0, 0.0, 0.0]\n"
-    return text
 
 
 def printed(value: float, truncate: bool, places: int = DECIMALS) -> str:

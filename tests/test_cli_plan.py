@@ -10,20 +10,10 @@ import math
 import numpy as np
 import pytest
 from cli_helper import assert_one_line_error, call, run
+from plan_support import SWING, write_ball
 
 from kin.commands import plan as plan_command
 from kin.path.joint_path_file import read_joint_path
-
-#: planar2's straight swing from -90 to +90 deg of its first joint passes through this ball.
-BALL = "[[sphere]]\nname = 'ball'\nradius = 0.04\nxyz = [0.45, 0.0, 0.0]\n"
-SWING = ["--robot", "planar2", "--start", "-90", "0", "--goal", "90", "0", "--deg"]
-
-
-def write_ball(folder) -> str:  # noqa: ANN001
-    """The ball's cell file in ``folder``."""
-    scene = folder / "ball.toml"
-    scene.write_text(BALL, encoding="utf-8")
-    return str(scene)
 
 
 @pytest.fixture

@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from cli_helper import call
-from test_collision_held_joints import HAND_DOWN, FullPanda, _distance
+from held_panda import HAND_DOWN, FullPanda, _distance
 from urdf_reference import erd
 
 import kin

@@ -9,17 +9,14 @@ pairs and the self pairs the maker's SRDF does not disable.
 from __future__ import annotations
 
 import math
-import xml.etree.ElementTree as ET
 from functools import cache
 from pathlib import Path
 
-import coal
 import numpy as np
 import pinocchio as pin
 import pytest
 from cli_helper import call
-from collision_reference import Shape, scene_shapes
-from collision_reference import _signed_distance as signed_distance
+from held_panda import HAND_DOWN, PANDA, PANDA_SRDF, FullPanda
 from urdf_reference import erd
 
 import kin
@@ -27,12 +24,8 @@ from kin.collision import CollisionChecker, CollisionModelError, load_collision_
 from kin.collision.requests import CONTACT_TOLERANCE
 from kin.commands import check
 
-PANDA = "panda_description/urdf/panda.urdf"
-PANDA_SRDF = "panda_description/srdf/panda.srdf"
 CELL = Path(__file__).parent / "data" / "collision" / "cell.toml"
 FINGERS = ("panda_leftfinger", "panda_rightfinger")
-#: The issue's posture: Panda's hand pointing straight down [rad].
-HAND_DOWN = [0.0, 0.0, 0.0, -math.pi / 2, 0.0, math.pi / 2, math.pi / 4]
 #: Closer to contact than this [m], either verdict is right.
 NEAR = 1e-6
 
@@ -40,62 +33,6 @@ NEAR = 1e-6
 @cache
 def panda_hand() -> kin.RobotModel:
     return kin.load_robot(str(erd(PANDA)), tip="panda_hand")
-
-
-class FullPanda:
-    """Pinocchio FK + coal on the whole maker URDF; the fingers at ``finger`` [m]."""
-
-    def __init__(self, finger: float, scene: Path | None):
-        path = erd(PANDA)
-        self.model, self.collision, _ = pin.buildModelsFromUrdf(
-            str(path), package_dirs=[str(path.parents[4])]
-        )
-        self.data = self.model.createData()
-        self.geometry_data = self.collision.createData()
-        for g in self.collision.geometryObjects:
-            if isinstance(g.geometry, coal.BVHModelBase):  # a mesh: its convex hull, as kin says
-                g.geometry.buildConvexHull(True, "Qt")
-                g.geometry = g.geometry.convex
-        self.geometry_data = self.collision.createData()
-        self.finger = finger
-        self.owner = [self.model.frames[g.parentFrame].name for g in self.collision.geometryObjects]
-        self.scene = scene_shapes(scene) if scene is not None else []
-        root = ET.parse(erd(PANDA_SRDF)).getroot()
-        disabled = {
-            frozenset((e.get("link1"), e.get("link2"))) for e in root.iter("disable_collisions")
-        }
-        links = sorted(set(self.owner))
-        self.self_pairs = [
-            (a, b)
-            for i, a in enumerate(links)
-            for b in links[i + 1 :]
-            if frozenset((a, b)) not in disabled
-        ]
-
-    def distances(self, q: np.ndarray) -> dict[tuple[str, str], float]:
-        """Each checked pair's signed distance [m] at the arm's ``q`` (7,) [rad]."""
-        full = np.concatenate([q, [self.finger, self.finger]])  # finger_joint2 mimics joint1
-        pin.forwardKinematics(self.model, self.data, full)
-        pin.updateGeometryPlacements(self.model, self.data, self.collision, self.geometry_data)
-        placed: dict[str, list] = {}
-        for g, m in zip(self.collision.geometryObjects, self.geometry_data.oMg, strict=True):
-            placed.setdefault(self.owner[self.collision.getGeometryId(g.name)], []).append(
-                (g.geometry, m)
-            )
-        for shape in self.scene:
-            placed.setdefault(shape.owner, []).append((shape.geometry, shape.local))
-        links = {owner for owner in placed if owner not in {s.owner for s in self.scene}}
-        pairs = self.self_pairs + [(a, s.owner) for a in sorted(links) for s in self.scene]
-        return {(a, b): _distance(placed[a], placed[b]) for a, b in pairs}
-
-
-def _distance(shapes_a: list, shapes_b: list) -> float:
-    """The smallest signed distance between two owners' placed shapes [m]."""
-    return min(
-        signed_distance(Shape("", ga, ma, False), ma, Shape("", gb, mb, False), mb)
-        for ga, ma in shapes_a
-        for gb, mb in shapes_b
-    )
 
 
 def _fingertips_lowest(finger: float) -> float:

@@ -18,26 +18,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from lxml import etree
+from urdf_text import body, yourdfpy_text
 
 from dh2urdf import ROBOTS, get_robot, parse_table
 from dh2urdf.urdf_elements import origin_rpy
-from dh2urdf.urdf_writer import _PLACEHOLDER_NOTE, MUJOCO_COMPILER, build_urdf, urdf_string
-
-
-def yourdfpy_text(table) -> str:
-    """Body of the URDF (after the header comment) as yourdfpy and lxml write it."""
-    root = build_urdf(table).write_xml().getroot()
-    if any(row.mass is None for row in table.rows):
-        root.insert(0, etree.Comment(_PLACEHOLDER_NOTE))
-    mujoco = etree.Element("mujoco")
-    etree.SubElement(mujoco, "compiler", attrib=MUJOCO_COMPILER)
-    root.insert(0, mujoco)
-    return etree.tostring(root, pretty_print=True, encoding="unicode")
-
-
-def body(text: str) -> str:
-    """``urdf_string``'s text from ``<robot`` on."""
-    return text[text.index("<robot ") :]
+from dh2urdf.urdf_writer import urdf_string
 
 
 @pytest.mark.parametrize("name", sorted(ROBOTS))

@@ -14,13 +14,13 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from collision_reference import CollisionReference
+from blocked_case import SRDF, TIP, URDF, _blocked_case, _box_scene, _clearance, _reference, _tool
 from solver_caps import NO_CAP
 from urdf_reference import erd
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model
-from kin.ik import AxisTarget, PoseTarget, PositionTarget, get_solver
+from kin.ik import AxisTarget, PoseTarget, PositionTarget
 from kin.ik.collision_aware import CollisionAwareSolver
 from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK, held_in_scene, solve_clear
 from kin.ik.numeric.distance_bound import DistanceBound
@@ -29,11 +29,6 @@ from kin.ik.numeric.solver import NumericIK
 
 #: Overlap the reference may find at a free answer [m] (its shapes are the checker's hulls).
 CONTACT_TOL = 1e-6
-URDF, TIP, SRDF = (
-    "panda_description/urdf/panda.urdf",
-    "panda_link8",
-    "panda_description/srdf/panda.srdf",
-)
 
 
 @pytest.fixture(scope="module")
@@ -42,67 +37,6 @@ def panda():
     robot = kin.load_robot(erd(URDF), None, TIP)
     path, base, _ = robot.urdf_source
     return robot, Path(path).read_text(encoding="utf-8"), Path(path), base
-
-
-def _box_scene(path: Path, center, size: float) -> Path:
-    xyz = ", ".join(repr(float(v)) for v in center)
-    path.write_text(f'[[box]]\nname = "box"\nsize = [{size}, {size}, {size}]\nxyz = [{xyz}]\n')
-    return path
-
-
-def _reference(panda, scene: Path | None) -> CollisionReference:
-    robot, text, path, base = panda
-    return CollisionReference(text, path, robot.joint_names, base, scene)
-
-
-def _clearance(reference: CollisionReference, pairs, q) -> float:
-    """The smallest signed distance of the checked pairs at ``q`` by the reference [m]."""
-    distances = reference.signed_distances(np.asarray(q, dtype=float), pairs)
-    return min(d for d, _ in distances.values())
-
-
-def _tool(reference: CollisionReference, q) -> pin.SE3:
-    """``T_world_link8`` by Pinocchio's FK of the maker's URDF at ``q``."""
-    reference.placements(np.asarray(q, dtype=float))  # runs the FK on reference.data
-    model, data = reference.model, reference.data
-    world = data.oMf[model.getFrameId(reference.base, pin.FrameType.BODY)].inverse()
-    return world * data.oMf[model.getFrameId(TIP, pin.FrameType.BODY)]
-
-
-def _blocked_case(panda, tmp_path: Path):
-    """(target, free seed, plain answer, checker, reference, pairs): a box through the forearm.
-
-    The plain solver's answer from a free seed puts panda_link5 through a 5 cm box; a free
-    answer exists (the reference finds one on the all-branches grid).
-    """
-    robot = panda[0]
-    plain = get_solver(robot)
-    probe = _reference(panda, None)
-    srdf = erd(SRDF)
-    rng = np.random.default_rng(4)
-    for k in range(60):
-        seed = rng.uniform(robot.lower, robot.upper)
-        q = np.clip(seed + rng.normal(0.0, 0.4, robot.nq), robot.lower, robot.upper)
-        T = _tool(probe, q)
-        target = PoseTarget(T.translation, T.rotation)
-        result = plain.solve(target, seed)
-        if not result.solutions:
-            continue
-        answer = result.solutions[0].q
-        center = probe.placements(answer)["panda_link5"][0][1].translation
-        scene = _box_scene(tmp_path / f"box{k}.toml", center, 0.05)
-        model = load_collision_model(robot, srdf=srdf, scene=scene)
-        reference = _reference(panda, scene)
-        pairs = [tuple(p) for p in model.pairs]
-        if (
-            _clearance(reference, pairs, seed) <= 0.0
-            or _clearance(reference, pairs, answer) > -0.005
-        ):
-            continue
-        grid = plain.solve(target, seed, all_branches=True).solutions
-        if any(_clearance(reference, pairs, s.q) > 0.0 for s in grid):
-            return target, seed, answer, CollisionChecker(model), reference, pairs
-    pytest.fail("no target whose plain answer the box blocks while a free one exists")
 
 
 def test_distance_jacobians_match_finite_differences(panda, tmp_path):

@@ -16,8 +16,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from blocked_case import TIP, URDF, _blocked_case
 from solver_caps import NO_CAP
-from test_ik_collision_bound import TIP, URDF, _blocked_case
 from urdf_reference import erd
 
 import kin

@@ -15,7 +15,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from collision_reference import CollisionReference
-from test_collision_engines import setup
+from collision_setup import setup
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model

@@ -37,7 +37,7 @@ from kin.mimic_solver import DEFAULT_TIMEOUT as MIMIC_TIMEOUT
 from kin.mimic_solver import MimicSolver
 
 sys.path.insert(0, str(Path(__file__).parent))
-from test_urdf_mimic import _urdf  # noqa: E402  (the mimic 6R arm of the mimic tests)
+from mimic_reference import _urdf  # noqa: E402  (the mimic 6R arm of the mimic tests)
 
 # NO_CAP (600 s) is 60,000 readings of NUMERIC_STEP and 6,000 of MIMIC_STEP; a call here takes
 # under 2,000: no run here reaches it.

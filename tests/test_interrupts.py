@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 from cli_helper import kin_command
+from interrupt_cases import SNAKE8_TOML, _pose_file
 from process_state import HANG_GUARD, cpu_seconds, wait_until
 
 
@@ -146,45 +147,6 @@ def test_a_sigint_while_held_waits_for_the_release():
             os.kill(os.getpid(), signal.SIGINT)
             time.sleep(0.05)
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
-
-
-#: An eight-joint arm (no closed form: every line goes to the numeric solver, about 5000 lines/s).
-SNAKE8_TOML = """
-name = "snake8"
-description = "8R test arm for the stream's Ctrl-C"
-source = "tests/test_interrupts.py: invented"
-convention = "standard"
-length_unit = "m"
-angle_unit = "deg"
-""" + "".join(
-    f'\n[[joints]]\nname = "j{k}"\ntype = "revolute"\na = {a}\nalpha = {alpha}\nd = {d}\n'
-    "theta = 0.0\nlimits = [-170.0, 170.0]\n"
-    for k, (a, alpha, d) in enumerate(
-        [(0.0, 90, 0.3), (0.25, 0, 0), (0.0, 90, 0), (0.0, -90, 0.25)]
-        + [(0.0, 90, 0), (0.0, -90, 0.2), (0.1, 90, 0), (0.0, 0, 0.1)],
-        start=1,
-    )
-)
-
-
-def _pose_file(robot_argument: str, path, count: int) -> None:
-    """``count`` lines {"target", "rpy"}: 2000 poses of random q within the limits, repeated."""
-    import json
-
-    import numpy as np
-    import pinocchio as pin
-
-    from kin import Configuration, load_robot
-
-    robot = load_robot(robot_argument)
-    configuration = Configuration(robot)
-    q_all = np.random.default_rng(3).uniform(robot.lower, robot.upper, (2000, robot.nq))
-    lines = []
-    for q in q_all:
-        pose = configuration.fk(q)
-        rpy = pin.rpy.matrixToRpy(pose.rotation).tolist()
-        lines.append(json.dumps({"target": pose.translation.tolist(), "rpy": rpy}) + "\n")
-    path.write_text("".join(lines[k % len(lines)] for k in range(count)))
 
 
 def _answers(text: str) -> list[dict]:

@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from cli_helper import call
-from test_urdf_mimic import _in_limits, _pinocchio_mimic_fk, _urdf
+from mimic_reference import _in_limits, _pinocchio_mimic_fk, _urdf
 
 import kin
 from kin import ModelLoadError, load_robot

@@ -14,6 +14,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from collision_reference import CollisionReference
+from plan_support import _resampled
 
 from kin import JointVectorError, NotWithinLimitsError, load_robot
 from kin.collision import CollisionChecker, load_collision_model
@@ -23,8 +24,6 @@ from kin.plan import PLANNERS, PlanError, plan
 
 #: The README's example cell (a table, a wall in front, a ball to the side).
 CELL = Path(__file__).resolve().parents[1] / "examples" / "cell.toml"
-#: Largest joint step of the resampled check [rad].
-RESAMPLE = 0.005
 #: A ball just inside planar2's reach on its x axis (the straight swing from -90 to +90 deg of
 #: the first joint, elbow straight, passes through it; folding the elbow passes it by).
 BALL = "[[sphere]]\nname = 'ball'\nradius = 0.04\nxyz = [0.45, 0.0, 0.0]\n"
@@ -41,15 +40,6 @@ def planar(tmp_path_factory):
     pairs = [(link, "ball") for link in reference.links]
     pairs += [p for p in model.pairs if p[1] != "ball"]
     return robot, CollisionChecker(model), reference, pairs
-
-
-def _resampled(path: np.ndarray) -> np.ndarray:
-    """Every configuration of the straight motions, no joint step over RESAMPLE."""
-    rows = [path[:1]]
-    for a, b in zip(path[:-1], path[1:]):
-        steps = max(1, math.ceil(float(np.abs(b - a).max()) / RESAMPLE))
-        rows.append(a + np.linspace(0.0, 1.0, steps + 1)[1:, None] * (b - a))
-    return np.vstack(rows)
 
 
 def _assert_free(reference: CollisionReference, pairs, path: np.ndarray) -> None:

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from collision_reference import CollisionReference
-from test_plan import _resampled  # every configuration of the motions, no joint step > 0.005 rad
+from plan_support import _resampled  # every configuration of the motions, no joint step > 0.005 rad
 from urdf_reference import erd
 
 import kin

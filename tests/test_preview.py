@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import base64
 import os
 import re
 import signal
@@ -15,6 +14,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from cli_helper import assert_one_line_error, call, kin_command
+from preview_page import (
+    animation_tracks,
+    cloud_points,
+    object_paths,
+    page_commands,
+    write_page,
+)
 from scripts_helper import load_script
 
 from dh2urdf import robot_names
@@ -22,41 +28,7 @@ from kin import Configuration, load_robot
 from kin.commands import COMMANDS
 from kin.commands import preview as command
 
-umsgpack = pytest.importorskip("umsgpack")  # comes with meshcat
 viewer_module = pytest.importorskip("kin.viewer")
-
-_COMMAND = re.compile(r'data:application/octet-binary;base64,([A-Za-z0-9+/=]+)"')
-
-
-def page_commands(html: str) -> list[dict]:
-    """The meshcat commands a static page replays, decoded (type, path, object, animations)."""
-    return [umsgpack.unpackb(base64.b64decode(data)) for data in _COMMAND.findall(html)]
-
-
-def object_paths(commands: list[dict]) -> set[str]:
-    """Paths of the objects the page creates."""
-    return {c["path"] for c in commands if c["type"] == "set_object"}
-
-
-def animation_tracks(commands: list[dict]) -> dict[str, list]:
-    """Position keyframe values per animated path, in time order."""
-    (animation,) = [c for c in commands if c["type"] == "set_animation"]
-    tracks = {}
-    for item in animation["animations"]:
-        for track in item["clip"]["tracks"]:
-            if track["name"] == ".position":
-                tracks[item["path"]] = [key["value"] for key in track["keys"]]
-    return tracks
-
-
-def write_page(tmp_path: Path, capsys, argv: list[str], name: str = "page.html") -> str:
-    """Run ``kin preview ... --html FILE``; the page's text (exit 0 asserted)."""
-    page = tmp_path / name
-    code = command.main([*argv, "--html", str(page)])
-    captured = capsys.readouterr()
-    assert code == 0, captured.err
-    assert captured.out.strip().endswith(f"preview written to {page}")
-    return page.read_text(encoding="utf-8")
 
 
 def test_preview_is_a_kin_command_and_a_script(capsys):
@@ -296,13 +268,6 @@ def test_viewer_all_is_sorted_and_exists():
     names = list(viewer_module.__all__)
     assert names == sorted(set(names)) and len(names) == 9
     assert all(hasattr(viewer_module, name) for name in names)
-
-
-def cloud_points(commands: list[dict], name: str) -> np.ndarray:
-    """Positions (N, 3) of the point cloud ``markers/<name>`` of a page [m]."""
-    (created,) = [c for c in commands if c["path"] == f"/meshcat/scene/markers/{name}"]
-    attribute = created["object"]["geometries"][0]["data"]["attributes"]["position"]
-    return np.frombuffer(attribute["array"].data, dtype=np.float32).reshape(-1, 3)
 
 
 def path_json(tmp_path: Path, capsys, argv: list[str]) -> Path:

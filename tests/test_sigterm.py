@@ -18,7 +18,8 @@ from pathlib import Path
 
 import pytest
 from cli_helper import kin_command
-from test_interrupts import HANG_GUARD, SNAKE8_TOML, _pose_file
+from interrupt_cases import SNAKE8_TOML, _pose_file
+from process_state import HANG_GUARD, _left
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -33,23 +34,6 @@ def _children(pid: int, deadline: float = 60.0) -> list[int]:
             return pids
         time.sleep(0.05)
     raise AssertionError(f"process {pid} started no two workers in {deadline} s")
-
-
-def _running(pid: int) -> bool:
-    """Whether process ``pid`` exists and is not a zombie (ended, not yet reaped)."""
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except (FileNotFoundError, ProcessLookupError, IndexError):
-        return False
-    return state != "Z"
-
-
-def _left(pids: list[int], guard: float = HANG_GUARD) -> list[int]:
-    """Those of ``pids`` still running after up to ``guard`` seconds."""
-    end = time.monotonic() + guard
-    while (alive := [pid for pid in pids if _running(pid)]) and time.monotonic() < end:
-        time.sleep(0.1)
-    return alive
 
 
 def _kill_all(pids: list[int]) -> None:

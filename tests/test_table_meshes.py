@@ -248,7 +248,7 @@ def test_a_base_mesh_error_names_the_key_without_a_row(tmp_path):
 
 def test_the_urdf_text_with_meshes_equals_yourdfpys(tmp_path):
     """urdf_string of a table with meshes: the bytes yourdfpy's writer and lxml give."""
-    from test_dh2urdf_urdf_text import body, yourdfpy_text
+    from urdf_text import body, yourdfpy_text
 
     table_path = tmp_path / "meshed.toml"
     table_path.write_text(TABLE + f'\n[[base_mesh]]\nfile = "{FOREARM}"\nuse = "visual"\n')
