@@ -308,14 +308,35 @@ def hostile_tables(draw: st.DrawFn) -> tuple[str, int]:
     row = {"type": "revolute", "a": 0.1, "alpha": 0.5, "d": 0.05, "theta": 0.0, "limits": [-3, 3]}
     joints = [dict(row, name=f"j{i}") for i in range(rows)]
     for _ in range(draw(st.integers(0, 3))):
-        key = draw(st.sampled_from([*row, "name", "velocity", "mass", "direction", "bogus"]))
+        key = draw(
+            st.sampled_from(
+                [
+                    *row,
+                    "name",
+                    "velocity",
+                    "mass",
+                    "direction",
+                    "bogus",
+                    "beta",
+                    "radius",
+                    "radius_a",
+                    "mesh",
+                    "housing",
+                    "allow_contact",
+                ]
+            )
+        )
         value = draw(HOSTILE_VALUES)
         if joints and draw(st.booleans()):
             joints[draw(st.integers(0, rows - 1))][key] = value
         elif key in ("type", "a", "alpha", "bogus") or not joints:
-            document[draw(st.sampled_from(["convention", "angle_unit", "name", "base", "x"]))] = (
-                value
-            )
+            document[
+                draw(
+                    st.sampled_from(
+                        ["convention", "angle_unit", "name", "base", "x", "states", "base_mesh"]
+                    )
+                )
+            ] = value
     lines = [f"{json.dumps(k)} = {toml_value(v)}" for k, v in document.items()]
     for joint in joints:
         lines.append("[[joints]]")
