@@ -173,7 +173,9 @@ def test_tight_framing_fills_the_stricter_field_to_the_margin(zoom):
         # the stricter field is filled to the margin on both sides; the other only fits
         sides = [(left, right), (bottom, top)]
         low, high = max(sides, key=lambda side: side[1] - side[0])
-        assert low == pytest.approx(-1 / 1.08, abs=1e-9) and high == pytest.approx(1 / 1.08, abs=1e-9)
+        assert low == pytest.approx(-1 / 1.08, abs=1e-9) and high == pytest.approx(
+            1 / 1.08, abs=1e-9
+        )
         assert fill == pytest.approx((right - left) * (top - bottom) / 4, rel=0.02)
 
 

@@ -90,7 +90,9 @@ def test_panda_camera_frames_its_meshes_large():
     viewer.display(q)
     view = viewer.fit_camera()
     path, base, _ = robot.urdf_source
-    vertices = reference_vertices(Path(path), base or "panda_link0", dict(zip(robot.joint_names, q)))
+    vertices = reference_vertices(
+        Path(path), base or "panda_link0", dict(zip(robot.joint_names, q))
+    )
     left, right, bottom, top = pinhole_box(vertices, view.target, view.position, view.zoom)
     assert -1 < left and right < 1 and -1 < bottom and top < 1, (left, right, bottom, top)
     assert (right - left) * (top - bottom) / 4 > 1 / 3, (left, right, bottom, top)
@@ -242,7 +244,9 @@ def test_the_camera_frames_the_arm_not_the_whole_cell():
     data = viewer.robot.model.createData()
     pin.framesForwardKinematics(viewer.robot.model, data, np.asarray(UR5_FREE))
     for frame in data.oMf:  # sample each sight line; no sample inside a scene object
-        line = view.position + np.linspace(0, 0.97, 400)[:, None] * (frame.translation - view.position)
+        line = view.position + np.linspace(0, 0.97, 400)[:, None] * (
+            frame.translation - view.position
+        )
         assert not np.any(_inside_cell(line)), frame.name
 
 

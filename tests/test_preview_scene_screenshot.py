@@ -80,7 +80,9 @@ def pictures(tmp_path_factory) -> dict[str, np.ndarray]:
                 viewer.scene["robot"].set_property("visible", True)
                 viewer.scene["markers"]["closest"].set_property("visible", False)
                 pages[f"{name}-unmarked"] = folder / f"{name}-unmarked.html"
-                pages[f"{name}-unmarked"].write_text(dressed(viewer.static_html()), encoding="utf-8")
+                pages[f"{name}-unmarked"].write_text(
+                    dressed(viewer.static_html()), encoding="utf-8"
+                )
     shots = {}
     for name, page in pages.items():
         png = screenshot.render(page, folder / f"{name}.png", budget_ms=4000)

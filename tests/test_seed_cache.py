@@ -31,9 +31,7 @@ def folder(tmp_path, monkeypatch) -> Path:
 
 def _kin(argv: list[str], timeout: float = 120) -> subprocess.CompletedProcess:
     """``kin argv`` in a subprocess (the environment's cache folder), text output."""
-    return subprocess.run(
-        [*kin_command(), *argv], capture_output=True, text=True, timeout=timeout
-    )
+    return subprocess.run([*kin_command(), *argv], capture_output=True, text=True, timeout=timeout)
 
 
 def _answer(done: subprocess.CompletedProcess) -> dict:

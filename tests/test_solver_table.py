@@ -239,5 +239,9 @@ def _planar_point(robot, q: np.ndarray) -> np.ndarray:
     """The tool point of a planar 2R arm (alpha = d = theta = 0) [m], by trigonometry."""
     a1, a2 = (row.a for row in robot.table.rows)
     return np.array(
-        [a1 * np.cos(q[0]) + a2 * np.cos(q[0] + q[1]), a1 * np.sin(q[0]) + a2 * np.sin(q[0] + q[1]), 0]
+        [
+            a1 * np.cos(q[0]) + a2 * np.cos(q[0] + q[1]),
+            a1 * np.sin(q[0]) + a2 * np.sin(q[0] + q[1]),
+            0,
+        ]
     )

@@ -160,7 +160,10 @@ def test_a_lost_dask_scheduler_is_a_run_fault():
     distributed = pytest.importorskip("distributed", reason="dask[distributed] not installed")
     table = get_robot("humanoid7").load_table()
     cluster = distributed.LocalCluster(
-        n_workers=2, processes=False, threads_per_worker=1, dashboard_address=None,
+        n_workers=2,
+        processes=False,
+        threads_per_worker=1,
+        dashboard_address=None,
         silence_logs=logging.CRITICAL,
     )
     hook, calls = _closing_cluster_hook(cluster, 2)
@@ -177,7 +180,10 @@ def test_a_lost_dask_scheduler_in_a_reach_map_is_a_run_fault():
     from kin.reach_map import reachability_map
 
     cluster = distributed.LocalCluster(
-        n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None,
+        n_workers=1,
+        processes=False,
+        threads_per_worker=1,
+        dashboard_address=None,
         silence_logs=logging.CRITICAL,
     )
     hook, calls = _closing_cluster_hook(cluster, 3)  # (0, total) first, then two chunks
@@ -196,7 +202,9 @@ def test_a_lost_dask_scheduler_in_a_reach_map_is_a_run_fault():
         ("reach", "kin.reach_map.reachability_map", ["--robot", "ur5", "-o", "map.npz"]),
     ],
 )
-def test_cli_a_run_fault_is_one_line_and_exit_1(command, target, argv, monkeypatch, capsys, tmp_path):
+def test_cli_a_run_fault_is_one_line_and_exit_1(
+    command, target, argv, monkeypatch, capsys, tmp_path
+):
     """A RunFaultError during the run (a lost scheduler): one line, exit 1 (not 2, no traceback)."""
     from kin.commands import main
 

@@ -230,8 +230,7 @@ class CollisionAwareSolver:
         else:
             status = "in_collision"
             message = (
-                f"target is reachable, but all {count} answers found collide "
-                f"(nearest: {nearest})"
+                f"target is reachable, but all {count} answers found collide (nearest: {nearest})"
             )
         return IKResult(
             False,

@@ -28,9 +28,15 @@ import pinocchio as pin
 
 from kin._native import twin
 
-_twin = twin("_damped_step")  # the step's error and linear algebra in C (kin/_native/_damped_step.c)
+_twin = twin(
+    "_damped_step"
+)  # the step's error and linear algebra in C (kin/_native/_damped_step.c)
 if _twin is not None:
-    _compiled_advance, _compiled_step, _compiled_error = _twin.advance, _twin.damped_step, _twin.pose_error
+    _compiled_advance, _compiled_step, _compiled_error = (
+        _twin.advance,
+        _twin.damped_step,
+        _twin.pose_error,
+    )
 else:  # pragma: no cover - built with a compiler; else NumPy / SciPy / Pinocchio
     _compiled_step = _compiled_error = _compiled_advance = None
 
