@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dh2urdf.quoted_input import quoted
+
 from ..exceptions import KinError
 
 
@@ -27,6 +29,6 @@ class CalibrationError(KinError, ValueError):
         where = path or ""
         if row is not None:
             where += f" line {row}"
-        if column is not None:
-            where += f" column '{column}'"
+        if column is not None:  # a header cell of the user's file: quoted short
+            where += f" column {quoted(column)}"
         super().__init__(f"{where.strip()}: {message}" if where else message)

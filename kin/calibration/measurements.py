@@ -23,6 +23,7 @@ from scipy.spatial.transform import Rotation
 
 from dh2urdf import DHTable
 from dh2urdf.input_file import read_input
+from dh2urdf.quoted_input import quoted
 from dh2urdf.units import LENGTH_UNITS
 
 from .exceptions import CalibrationError
@@ -172,7 +173,9 @@ def _json_records(path: str, lines: list[str]) -> tuple[list[str], list[tuple[in
             header = list(flat)
         elif set(flat) != set(header):
             raise CalibrationError(
-                f"keys {sorted(flat)} differ from the first line's {sorted(header)}", path, i + 1
+                f"keys {quoted(sorted(flat))} differ from the first line's {quoted(sorted(header))}",
+                path,
+                i + 1,
             )
         body.append((i + 1, [flat[k] for k in header]))
     assert header is not None
@@ -186,7 +189,7 @@ def _number(path: str, line: int, column: str, text: str) -> float:
         value = math.nan
     if not math.isfinite(value):
         raise CalibrationError(
-            f"'{text}' is not a finite number: remove or fix the row", path, line, column
+            f"{quoted(text)} is not a finite number: remove or fix the row", path, line, column
         )
     return value
 
