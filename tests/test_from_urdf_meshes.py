@@ -64,7 +64,10 @@ def test_meshes_of_the_table_sit_where_the_makers_do(arm, tmp_path, capsys):
     rng = np.random.default_rng(11)
     lower, upper = np.maximum(table.lower, -math.pi), np.minimum(table.upper, math.pi)
     for kind, which in KINDS.items():
-        geometry = pin.buildGeomFromUrdf(ours, str(back), which)
+        # the URDF names its meshes relative to its own folder where the two share a folder below
+        # the root (a clone and pytest's folders both under /tmp): Pinocchio finds a relative
+        # name only through package_dirs, not from the URDF's folder
+        geometry = pin.buildGeomFromUrdf(ours, str(back), which, package_dirs=[str(back.parent)])
         mine = [
             o for o in geometry.geometryObjects if o.meshPath.lower().endswith((".stl", ".dae"))
         ]
