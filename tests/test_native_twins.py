@@ -1,9 +1,9 @@
-"""The compiled twins: every C file in ``kin/_native/``, one loader, a parity test for each.
+"""The compiled twins: one table, sources laid out like their modules, one loader, a parity test each.
 
-Read from the sources themselves (pyproject.toml's ``ext-modules``, the ``#include`` lines, the
-Python modules' text), not from the loader's own table alone: a twin declared but not in the
-folder, a header left out of ``depends``, a module that imports a twin by itself, or a twin without
-a parity test fails here.
+Read from the sources themselves (setup.py's extensions, the ``#include`` lines, the Python
+modules' text), not from the loader's own table alone: a twin declared but without its source, a
+header its extension does not depend on, a C file no twin builds, a module that imports a twin by
+itself, or a twin without a parity test fails here.
 """
 
 from __future__ import annotations
@@ -11,25 +11,24 @@ from __future__ import annotations
 import importlib.machinery
 import importlib.util
 import re
+import runpy
 from pathlib import Path
 
 import pytest
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # pragma: no cover - Python 3.10
-    import tomli as tomllib
-
 from kin import _native
-from kin._native import PARITY_TESTS, TWINS, twin, why_missing
+from kin._native import PARITY_TESTS, PURE_PYTHON_VARIABLE, TWINS, twin, why_missing
 
-ROOT = Path(__file__).resolve().parents[1]  # the repository: pyproject.toml
+ROOT = Path(__file__).resolve().parents[1]  # the repository: setup.py
 #: Where the package is installed (the sources in an editable install, site-packages from a
 #: wheel, which ships the C files too): the folder that paths like ``kin/_native/x.c`` are under.
 SITE = Path(_native.__file__).resolve().parents[2]
 NATIVE = SITE / "kin" / "_native"
-PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
-EXTENSIONS = {ext["name"]: ext for ext in PYPROJECT["tool"]["setuptools"]["ext-modules"]}
+SHARED = NATIVE / "include"
+#: setup.py's extensions (its build runs only as ``__main__``), each by module name.
+EXTENSIONS = {
+    ext["name"]: ext for ext in runpy.run_path(str(ROOT / "setup.py"))["twin_extensions"]()
+}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
 #: A twin imported by name, not through the loader: ``from ._closed7 import``, ``import _x``.
 DIRECT = re.compile(
@@ -38,60 +37,95 @@ DIRECT = re.compile(
 )
 
 
-def _headers_reached(source: Path) -> set[str]:
+def _includes(path: Path) -> dict[str, Path]:
+    """A C file's quoted includes, each found beside it, else in the shared folder (as gcc does)."""
+    found = {}
+    for name in INCLUDE.findall(path.read_text()):
+        beside = path.parent / name
+        found[name] = beside if beside.is_file() else SHARED / name
+    return found
+
+
+def _headers_reached(source: Path) -> set[Path]:
     """The headers a C file includes, directly or through other headers (quoted includes)."""
-    seen: set[str] = set()
+    seen: set[Path] = set()
     stack = [source]
     while stack:
-        for name in INCLUDE.findall(stack.pop().read_text()):
-            if name not in seen:
-                seen.add(name)
-                stack.append(NATIVE / name)
+        for header in _includes(stack.pop()).values():
+            if header not in seen:
+                seen.add(header)
+                stack.append(header)
     return seen
 
 
+def _module_path(module: str) -> str:
+    """``kin.ik._pose_check`` -> ``ik/_pose_check``: the module's path below ``kin``."""
+    return module.removeprefix("kin.").replace(".", "/")
+
+
 def test_every_c_file_of_the_package_sits_in_the_native_folder():
-    """No C source or header in kin/ outside kin/_native/, and the folder holds some."""
+    """No C source or header in kin/ outside kin/_native/, and the folder holds one .c per twin."""
     outside = [
         str(p.relative_to(SITE))
         for p in (SITE / "kin").rglob("*")
-        if p.suffix in {".c", ".h"} and p.parent != NATIVE
+        if p.suffix in {".c", ".h"} and NATIVE not in p.parents
     ]
     assert outside == []
-    assert len(list(NATIVE.glob("*.c"))) == len(EXTENSIONS) == 9
+    assert len(list(NATIVE.rglob("*.c"))) == len(EXTENSIONS) == len(TWINS) == 9
+
+
+@pytest.mark.parametrize("name", sorted(TWINS))
+def test_each_twin_s_source_sits_where_its_module_does(name):
+    """kin.a.b._x is built from kin/_native/a/b/_x.c, and the Python package a.b exists."""
+    module = TWINS[name]
+    ext = EXTENSIONS[module]
+    assert ext["sources"] == [f"kin/_native/{_module_path(module)}.c"], f"{name=}"
+    assert Path(ext["sources"][0]).stem == name == module.rsplit(".", 1)[1], f"{name=}"
+    assert (SITE / "kin" / Path(_module_path(module)).parent / "__init__.py").is_file()
 
 
 @pytest.mark.parametrize("name", sorted(EXTENSIONS))
-def test_each_declared_extension_builds_from_the_native_folder(name):
-    """Its one source and its depends are files of kin/_native/; depends are the headers it reaches."""
+def test_each_extension_depends_on_exactly_the_headers_it_reaches(name):
+    """setup.py's depends are the headers its source reaches, every include is found, optional."""
     ext = EXTENSIONS[name]
     (source,) = ext["sources"]
-    files = [source, *ext.get("depends", [])]
-    assert all(f.startswith("kin/_native/") and (SITE / f).is_file() for f in files), f"{name=}"
-    assert Path(source).stem == name.rsplit(".", 1)[1], f"{name=}: the source is named for it"
     reached = _headers_reached(SITE / source)
-    assert all((NATIVE / h).is_file() for h in reached), f"{name=} includes a missing header"
-    assert {Path(d).name for d in ext.get("depends", [])} == reached, f"{name=}"
+    assert all(h.is_file() for h in reached), f"{name=} includes a missing header"
+    assert {SITE / d for d in ext["depends"]} == reached, f"{name=}"
+    assert ext["include_dirs"] == ["kin/_native/include"] and ext["optional"] is True
 
 
 def test_every_file_of_the_folder_is_built_or_included():
     """Each .c is one extension's source, each .h is included by some source: no stray file."""
-    sources = {Path(ext["sources"][0]).name for ext in EXTENSIONS.values()}
-    assert {p.name for p in NATIVE.glob("*.c")} == sources
-    included = set().union(*(_headers_reached(NATIVE / s) for s in sources))
-    assert {p.name for p in NATIVE.glob("*.h")} == included
+    sources = {SITE / ext["sources"][0] for ext in EXTENSIONS.values()}
+    assert set(NATIVE.rglob("*.c")) == sources
+    included = set().union(*(_headers_reached(s) for s in sources))
+    assert set(NATIVE.rglob("*.h")) == included
+
+
+def test_a_header_sits_beside_its_twins_or_in_the_shared_folder():
+    """A header of one folder's twins sits in that folder; include/ holds those folders share."""
+    users: dict[Path, set[Path]] = {}
+    for ext in EXTENSIONS.values():
+        source = SITE / ext["sources"][0]
+        for header in _headers_reached(source):
+            users.setdefault(header, set()).add(source.parent)
+    for header, folders in users.items():
+        expected = folders.pop() if len(folders) == 1 else SHARED
+        assert header.parent == expected, f"{header.relative_to(NATIVE)} used from {folders}"
+    assert {h.name for h in SHARED.glob("*.h")} == {"_results.h", "_twin.h"}
 
 
 def test_the_loader_knows_exactly_the_declared_extensions():
-    """The loader's table maps each C source's stem to the extension pyproject.toml declares."""
-    declared = {Path(ext["sources"][0]).stem: name for name, ext in EXTENSIONS.items()}
-    assert TWINS == declared
+    """The loader's table is the one setup.py builds from, and each twin has its parity test."""
+    assert sorted(TWINS.values()) == sorted(EXTENSIONS)
     assert sorted(PARITY_TESTS) == sorted(TWINS)
 
 
 @pytest.mark.parametrize("name", sorted(TWINS))
-def test_the_loader_finds_each_twin_when_built(name):
+def test_the_loader_finds_each_twin_when_built(name, monkeypatch):
     """Built (a compiled file importlib finds): the loader returns it; else None with the reason."""
+    monkeypatch.delenv(PURE_PYTHON_VARIABLE, raising=False)
     spec = importlib.util.find_spec(TWINS[name])
     built = spec is not None and str(spec.origin).endswith(
         tuple(importlib.machinery.EXTENSION_SUFFIXES)
@@ -107,6 +141,7 @@ def test_the_loader_finds_each_twin_when_built(name):
 
 def test_a_twin_not_built_is_none_and_says_why(monkeypatch):
     """A declared twin whose module is absent: None, and why_missing names it and the fallback."""
+    monkeypatch.delenv(PURE_PYTHON_VARIABLE, raising=False)
     monkeypatch.setitem(TWINS, "_absent", "kin._native._absent")
     monkeypatch.setattr(_native, "_MISSING", {})
     assert why_missing("_absent") is None

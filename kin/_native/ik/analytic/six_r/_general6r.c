@@ -827,7 +827,7 @@ static PyMethodDef methods[] = {
      "solve_one(arm, position, rotation, signs, out): one pose's clean first pass, or False."},
     {"verify", (PyCFunction)(void (*)(void))verify, METH_FASTCALL,
      "verify(check, q, seeds, positions, rotations, info): N targets' 16 branches moved into the "
-     "limits and measured (see kin/_native/_general6r.c)."},
+     "limits and measured (see kin/_native/ik/analytic/six_r/_general6r.c)."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -259,13 +259,13 @@ static PyMethodDef methods[] = {
     {"solutions", (PyCFunction)(void (*)(void))solutions, METH_FASTCALL,
      "solutions(params, check, directions, solution, labels, result, name, messages, clock, "
      "target, seed, start) -> the IKResult, or (valid, rejected, off), or -1 (a target value not finite), 0 (no branch), -2 (a seed that "
-     "is not 6 finite float64). See kin/_native/_six_r_module.h."},
+     "is not 6 finite float64). See kin/_native/ik/analytic/six_r/_six_r_module.h."},
     {"solve", solve, METH_VARARGS,
      "solve(params, positions, rotations, free, out): the 8 branches of N targets into out "
-     "(N x 8 x 6). See kin/_native/_six_r_twin.h."},
+     "(N x 8 x 6). See kin/_native/ik/analytic/six_r/_six_r_twin.h."},
     {"verify", verify, METH_VARARGS,
      "verify(params, check, position, rotation, seed, free, q, info) -> branches found, or -1 "
-     "for a target that is not finite. See kin/_native/_six_r_twin.h."},
+     "for a target that is not finite. See kin/_native/ik/analytic/six_r/_six_r_twin.h."},
     {NULL, NULL, 0, NULL}};
 
 /* The module: LAYOUT, PARAM_COUNT (the twin's), CHECK_LAYOUT, CHECK_COUNT. */

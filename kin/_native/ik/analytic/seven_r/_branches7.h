@@ -400,10 +400,10 @@ static PyObject *sift_rows(PyObject *self, PyObject *const *args, Py_ssize_t nar
 #define ALL_BRANCHES_DOC                                                                         \
     "all_branches(params, seed_block, target, values, lower, upper, near, position_tol, "         \
     "rotation_tol, near_miss, solution, empty) -> (solutions, rejected) or None: every branch at " \
-    "the free-joint values, verified, nearest `near` first (see kin/_native/_branches7.h)."
+    "the free-joint values, verified, nearest `near` first (see kin/_native/ik/analytic/seven_r/_branches7.h)."
 #define SIFT_ROWS_DOC                                                                              \
     "sift_rows(seed_block, target, rows, lower, upper, near, position_tol, rotation_tol, "         \
     "near_miss, solution, empty) -> (solutions, rejected) or None: all_branches's answer for "     \
-    "branches already found (see kin/_native/_branches7.h)."
+    "branches already found (see kin/_native/ik/analytic/seven_r/_branches7.h)."
 
 #endif

@@ -251,6 +251,6 @@ static PyObject *held_rows(PyObject *self, PyObject *const *args, Py_ssize_t nar
 #define HELD_ROWS_DOC                                                                              \
     "held_rows(params, ideal_block, chain_block, target, values, free, keep_tol, fold_margin, "   \
     "out, counts) -> rows written: an idealised form's branches at the held joint's values, "     \
-    "polished on the true chain with that joint fixed (see kin/_native/_held7.h)."
+    "polished on the true chain with that joint fixed (see kin/_native/ik/analytic/seven_r/_held7.h)."
 
 #endif

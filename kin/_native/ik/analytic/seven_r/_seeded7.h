@@ -291,13 +291,13 @@ static PyObject *seeded_many(PyObject *self, PyObject *args)
 #define SEEDED_MANY_DOC                                                                        \
     "seeded_many(params, seed_block, limits, mode, tolerances, targets, starts, out, steps) -> " \
     "how many of the N world targets got a verified branch (q and its errors in out's rows). " \
-    "See kin/_native/_seeded7.h."
+    "See kin/_native/ik/analytic/seven_r/_seeded7.h."
 
 /* The docstring of seeded in the method tables. */
 #define SEEDED_DOC                                                                           \
     "seeded(params, seed_block, steps, solution, result, name, message, method, clock, "     \
     "target, seed, position_tol, rotation_tol, start, out) -> the IKResult of "              \
     "the answer from the seed, False (none within the tolerances), or None (a target or seed " \
-    "the call does not take). See kin/_native/_seeded7.h."
+    "the call does not take). See kin/_native/ik/analytic/seven_r/_seeded7.h."
 
 #endif
