@@ -212,7 +212,8 @@ def test_the_twins_rule_of_one_branch_is_the_library_s():
 
     from kin import _native
 
-    header = Path(_native.__file__).resolve().parent / "_six_r_module.h"  # the wheel ships it
+    # The wheel ships it.
+    header = Path(_native.__file__).resolve().parent / "ik/analytic/six_r/_six_r_module.h"
     match = re.search(r"#define SAME_BRANCH (\S+)", header.read_text(encoding="utf-8"))
     assert match is not None and float(match[1]) == SAME_BRANCH
 
@@ -224,6 +225,6 @@ def test_the_general_6r_rule_of_one_branch_is_the_library_s():
     from kin import _native
     from kin.ik.analytic.six_r._general_6r_chain import SAME_TOL
 
-    source = Path(_native.__file__).resolve().parent / "_general6r.c"
+    source = Path(_native.__file__).resolve().parent / "ik/analytic/six_r/_general6r.c"
     match = re.search(r"#define SAME_TOL (\S+)", source.read_text(encoding="utf-8"))
     assert match is not None and float(match[1]) == SAME_TOL == SAME_BRANCH
