@@ -16,51 +16,57 @@ import runpy
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REGISTRY = runpy.run_path(str(HERE / "kin" / "_native" / "registry.py"))
 #: A quoted include: ``#include "_twin.h"`` (angle-bracket includes are the system's).
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
 
 
-def headers_reached(source: str) -> list[str]:
+def headers_reached(source: str, root: Path, include_dir: str) -> list[str]:
     """The project headers a C file includes, directly or through other headers, sorted.
 
     A quoted name is looked up as the compiler does: beside the including file, then in the
     shared include folder. A name found in neither is left to the compiler to report.
 
     Args:
-        source: The C file, relative to the project (``kin/_native/ik/_pose_check.c``).
+        source: The C file, relative to ``root`` (``kin/_native/ik/_pose_check.c``).
+        root: The folder holding ``kin/``: the project, or where the package is installed.
+        include_dir: The shared headers' folder, relative to ``root``.
 
     Returns:
-        The headers, relative to the project in ``/`` form.
+        The headers, relative to ``root`` in ``/`` form.
     """
-    include_dir = HERE / REGISTRY["INCLUDE_DIR"]
     seen: set[Path] = set()
-    stack = [HERE / source]
+    stack = [root / source]
     while stack:
         current = stack.pop()
         for name in INCLUDE.findall(current.read_text(encoding="utf-8")):
-            for folder in (current.parent, include_dir):
+            for folder in (current.parent, root / include_dir):
                 header = folder / name
                 if header.is_file():
                     if header not in seen:
                         seen.add(header)
                         stack.append(header)
                     break
-    return sorted(header.relative_to(HERE).as_posix() for header in seen)
+    return sorted(header.relative_to(root).as_posix() for header in seen)
 
 
-def twin_extensions() -> list[dict[str, object]]:
-    """Each twin's extension as keyword arguments of ``setuptools.Extension``, by module name."""
-    source_of = REGISTRY["source_of"]
+def twin_extensions(root: Path = HERE) -> list[dict[str, object]]:
+    """Each twin's extension as keyword arguments of ``setuptools.Extension``, by module name.
+
+    Args:
+        root: The folder holding ``kin/``: this project (the build), or where the package is
+            installed (a test of the wheel, which ships the registry and the C files).
+    """
+    registry = runpy.run_path(str(root / "kin" / "_native" / "registry.py"))
+    source_of, include_dir = registry["source_of"], registry["INCLUDE_DIR"]
     return [
         {
             "name": module,
             "sources": [source_of(module)],
-            "depends": headers_reached(source_of(module)),
-            "include_dirs": [REGISTRY["INCLUDE_DIR"]],
+            "depends": headers_reached(source_of(module), root, include_dir),
+            "include_dirs": [include_dir],
             "optional": True,
         }
-        for module in sorted(REGISTRY["TWINS"].values())
+        for module in sorted(registry["TWINS"].values())
     ]
 
 
