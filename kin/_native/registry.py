@@ -23,6 +23,7 @@ TWINS: dict[str, str] = {
     "_pieper_arms": "kin.ik.analytic.six_r._pieper_arms",
     "_pose_check": "kin.ik._pose_check",
     "_shoulder7": "kin.ik.analytic.seven_r._shoulder7",
+    "_sphere_motion": "kin.plan._sphere_motion",
     "_three_parallel": "kin.ik.analytic.six_r._three_parallel",
 }
 
@@ -36,6 +37,7 @@ PARITY_TESTS: dict[str, str] = {
     "_pieper_arms": "test_six_r_family_twins.py",
     "_pose_check": "test_pose_check.py",
     "_shoulder7": "test_shoulder7_parity.py",
+    "_sphere_motion": "test_sphere_motion.py",
     "_three_parallel": "test_six_r_family_twins.py",
 }
 

@@ -11,8 +11,11 @@ The checks OMPL calls back are the project's own:
   :data:`RESOLUTION` is refused, so every edge OMPL keeps, and every shortcut its simplifier
   takes, is certified.
 
-Both ask coal only where spheres enclosing the arm's shapes cannot tell (once the search has done
-:data:`FAST_AFTER` checks: :mod:`kin.path.pair_distances`): the same verdicts, less work.
+Both first ask the spheres that enclose the arm's shapes (:mod:`kin.plan.sphere_motion`: the same
+rule on spheres, compiled where built): a state or motion they show free is free; only where they
+cannot tell does the exact rule run, which asks coal only where the spheres' per-pair bounds
+cannot tell either (once the search has done :data:`FAST_AFTER` checks:
+:mod:`kin.path.pair_distances`).
 
 The search is bounded by work, not by the clock: :class:`Budget` stops it after ``max_checks``
 configurations checked (states and the points between them), so the same seed gives the same
@@ -32,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..path.collision_check import MotionCheck
+from .sphere_motion import sphere_motion
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
@@ -125,13 +129,25 @@ class CertifiedSpace:
         upper: np.ndarray,
         budget: Budget,
         fast: bool = True,
+        exact: bool = True,
+        exact_at: list[np.ndarray] | None = None,
     ):
         ob, _, _ = silence_ompl()
         self.checker = checker
         self.budget = budget
         self.nq = len(lower)
-        self.motion = MotionCheck(checker, RESOLUTION)
+        self._motion: MotionCheck | None = None  # the exact rule, made when first needed
         self._fast = fast
+        self.spheres = sphere_motion(checker.model) if fast or not exact else None
+        #: False: the spheres alone judge (what they do not show free is refused): no coal.
+        self.exact = exact or self.spheres is None
+        # ends the spheres cannot show free: the exact rule judges the motions from them
+        spheres = self.spheres
+        self._exact_at = {
+            q.tobytes()
+            for q in exact_at or []
+            if spheres is not None and not spheres.state_free(np.ascontiguousarray(q, dtype=float))
+        }
         self._free: dict[bytes, bool] = {}
         self.space = ob.RealVectorStateSpace(self.nq)
         bounds = ob.RealVectorBounds(self.nq)
@@ -160,11 +176,13 @@ class CertifiedSpace:
         return np.array([state[i] for i in range(self.nq)])
 
     def _checks(self) -> MotionCheck:
-        """The motion check: by spheres first once the search has done :data:`FAST_AFTER`."""
-        if self._fast and self.budget.checks >= FAST_AFTER:
-            self._fast = False
-            self.motion = MotionCheck(self.checker, RESOLUTION, fast=True)
-        return self.motion
+        """The exact rule (per-pair sphere bounds first after :data:`FAST_AFTER` checks)."""
+        if self._motion is None or (self._fast and self.budget.checks >= FAST_AFTER):
+            fast = self._fast and self.budget.checks >= FAST_AFTER
+            if fast:
+                self._fast = False
+            self._motion = MotionCheck(self.checker, RESOLUTION, fast=fast)
+        return self._motion
 
     def free(self, q: np.ndarray) -> bool:
         """The checker's verdict at ``q``, counted once per configuration."""
@@ -172,7 +190,10 @@ class CertifiedSpace:
         verdict = self._free.get(key)
         if verdict is None:
             self.budget.checks += 1
-            verdict = not self._checks().in_collision(q)
+            spheres = self.spheres
+            verdict = (spheres is not None and spheres.state_free(q)) or (
+                (self.exact or key in self._exact_at) and not self._checks().in_collision(q)
+            )
             if len(self._free) >= _CACHE:
                 self._free.clear()
             self._free[key] = verdict
@@ -192,6 +213,14 @@ class CertifiedSpace:
         """
         if self.budget.spent() or not (self.free(q0) and self.free(q1)):
             return False
+        if self.spheres is not None:
+            left = max(self.budget.max_checks - self.budget.checks, 1)
+            shown, used = self.spheres.motion_free(q0, q1, RESOLUTION, left)
+            self.budget.checks += used
+            if shown or not (
+                self.exact or q0.tobytes() in self._exact_at or q1.tobytes() in self._exact_at
+            ):
+                return shown
         motion = self._checks()
         before = motion.checks
         remaining = max(self.budget.max_checks - self.budget.checks, 1)

@@ -24,11 +24,12 @@ import numpy.typing as npt
 from ..configuration import as_joint_vector, limit_violations
 from ..exceptions import KinError
 from .goals import GoalSet, goal_configurations, joint_goal
-from .ompl_problem import Budget, CertifiedSpace, joint_bounds, silence_ompl
+from .ompl_problem import RESOLUTION, Budget, CertifiedSpace, joint_bounds, silence_ompl
 from .result import PlanResult
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
+    from .sphere_motion import SphereMotion
 
 __all__ = ["DEFAULT_CHECKS", "DEFAULT_PLANNER", "PLANNERS", "PlanError", "plan"]
 
@@ -53,6 +54,8 @@ PLANNERS: tuple[str, ...] = (
 DEFAULT_PLANNER = "RRTConnect"
 #: Configurations a plan may check before it stops with ``not_found`` [count].
 DEFAULT_CHECKS = 200_000
+#: Configurations the search may check on the spheres alone before the exact rule joins [count].
+SPHERE_CHECKS = 50_000
 #: Configurations the simplifier may check after the search [count].
 SIMPLIFY_CHECKS = 20_000
 #: Default wall-clock cap of a plan [s].
@@ -180,15 +183,28 @@ def _search(
     ob, og, ou = silence_ompl()
     budget = Budget(max_checks, time_limit - (time.perf_counter() - began))
     lower, upper = joint_bounds(robot, np.vstack([q0[None, :], goals.q]))
-    space = CertifiedSpace(checker, lower, upper, budget)
+    ends = [q0, *goals.q]
+    # first the spheres alone (exact only at the start and goals), then the exact rule
+    first = CertifiedSpace(checker, lower, upper, budget, exact=False, exact_at=ends)
+    spaces: list[CertifiedSpace | None] = [first, None] if first.spheres is not None else [None]
     order = np.argsort(np.linalg.norm(goals.q - q0, axis=1), kind="stable")
     path: list[np.ndarray] | None = None
-    for index in order:  # the straight motion, nearest goal first
-        if space.motion_free(q0, goals.q[index]):
-            path = [q0, goals.q[index]]
+    found: Any = None
+    space = first
+    for phase, given in enumerate(spaces):
+        if given is None:
+            budget.max_checks = max_checks
+            space = CertifiedSpace(checker, lower, upper, budget)
+        else:
+            space = given
+            budget.max_checks = min(max_checks, SPHERE_CHECKS)
+        for index in order:  # the straight motion, nearest goal first
+            if space.motion_free(q0, goals.q[index]):
+                path = [q0, goals.q[index]]
+                break
+            budget.reraise()
+        if path is not None:
             break
-        budget.reraise()
-    if path is None:
         ou.RNG.setSeed(seed + 1)  # OMPL's seed 0 means "random"; every plan reseeds it
         setup = og.SimpleSetup(space.si)
         setup.setStartState(space.state(q0))
@@ -199,7 +215,10 @@ def _search(
         setup.setPlanner(getattr(og, planner)(space.si))
         solved = setup.solve(ob.PlannerTerminationCondition(budget.spent))
         budget.reraise()
-        if not (solved and setup.haveExactSolutionPath()):
+        if solved and setup.haveExactSolutionPath():
+            found = setup.getSolutionPath()
+            break
+        if budget.timed_out or phase + 1 == len(spaces):
             if budget.timed_out:
                 return answer(
                     "timeout",
@@ -213,7 +232,7 @@ def _search(
                 goals=goals.q,
                 checks=budget.checks,
             )
-        found = setup.getSolutionPath()
+    if path is None:
         if simplify:
             simplifier = og.PathSimplifier(space.si)
             # its own work budget: once spent, every shortcut is refused and the path kept
@@ -224,7 +243,7 @@ def _search(
         path = _without_collinear(
             [space.q(found.getState(i)) for i in range(found.getStateCount())]
         )
-    return _certified(robot, checker, np.array(path), goals, budget, answer)
+    return _certified(robot, checker, np.array(path), goals, budget, answer, space.spheres)
 
 
 def _without_collinear(path: list[np.ndarray]) -> list[np.ndarray]:
@@ -256,18 +275,30 @@ def _certified(
     goals: GoalSet,
     budget: Budget,
     answer: Any,
+    spheres: SphereMotion | None,
 ) -> PlanResult:
-    """The path after its final, independent check of every sample and every motion."""
+    """The path after its final check of every sample and every motion, from scratch.
+
+    Each motion is judged by the spheres' rule (:mod:`kin.plan.sphere_motion`), and where they
+    do not show it free, by :func:`kin.path.collision_check.check_path_collisions` (the exact
+    rule, coal's distances).
+    """
     from ..path.collision_check import check_path_collisions
 
-    verdict = check_path_collisions(checker, path)
-    if not verdict.free:  # never expected: every edge passed the same rule
-        return answer(
-            "not_found",
-            f"the path failed its final check ({verdict.first.describe()})",  # type: ignore[union-attr]
-            goals=goals.q,
-            checks=budget.checks,
-        )
+    for i in range(len(path) - 1):
+        if spheres is not None:
+            a, b = path[i], path[i + 1]
+            if spheres.state_free(a) and spheres.state_free(b):
+                if spheres.motion_free(a, b, RESOLUTION, SIMPLIFY_CHECKS)[0]:
+                    continue
+        verdict = check_path_collisions(checker, path[i : i + 2])
+        if not verdict.free:  # never expected: every edge passed the same rule
+            return answer(
+                "not_found",
+                f"the path failed its final check ({verdict.first.describe()})",  # type: ignore[union-attr]
+                goals=goals.q,
+                checks=budget.checks,
+            )
     reached = int(np.argmin(np.linalg.norm(goals.q - path[-1], axis=1)))
     steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
     clearance = min(checker.distance(q).distance for q in path) if checker.model.pairs else None
