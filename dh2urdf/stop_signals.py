@@ -9,7 +9,7 @@ supervisor sees what it asked for).
 
 :func:`listen_to_stops` makes both signals raise ``KeyboardInterrupt`` in the main thread (a
 SIGINT inherited as ignored, ``cmd &`` in a script, is taken back; a SIGTERM ignored by the
-caller stays ignored); code that holds a signal for a while (:mod:`kin.chunk_pool`,
+caller stays ignored); code that holds a signal for a while (:mod:`kin.workspace.pool`,
 :mod:`kin.commands.interrupt_gate`) notes a SIGTERM with :func:`note_stop` so that the exit
 code still says which signal came.
 

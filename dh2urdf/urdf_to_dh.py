@@ -82,7 +82,7 @@ def chain_table(
                 chain.path,
                 f"joint {joint.name!r} follows {joint.mimic.leader!r} (mimic): a DH table has "
                 "one independent joint per row; choose a --tip before it "
-                "(kin.mimic_arm reads the coupled chain)",
+                "(kin.mimic.arm reads the coupled chain)",
             )
     table = table_from_chain(chain, convention)
     check_table(chain, table)

@@ -15,13 +15,13 @@ from .exceptions import (
 from .robot_model import RobotModel, load_robot, robot_from_table
 
 if TYPE_CHECKING:
-    from .mimic_arm import MimicArm, load_arm
+    from .mimic.arm import MimicArm, load_arm
 
 __version__ = "0.3.0"
 
 #: Names imported on first use: a URDF chain with mimic joints and its loader (the one ``kin fk``
 #: and ``kin ik`` use), whose module pulls in ``kin.ik``; ``import kin`` stays light.
-_LAZY = {"MimicArm": "mimic_arm", "load_arm": "mimic_arm"}
+_LAZY = {"MimicArm": "mimic.arm", "load_arm": "mimic.arm"}
 
 
 def __getattr__(name: str) -> object:

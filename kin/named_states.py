@@ -30,7 +30,7 @@ __all__ = ["NamedJointState", "NamedStates", "named_states"]
 
 
 class _Arm(Protocol):
-    """What the lookup reads of a robot (:class:`kin.RobotModel`, :class:`kin.mimic_arm.MimicArm`)."""
+    """What the lookup reads of a robot (:class:`kin.RobotModel`, :class:`kin.mimic.arm.MimicArm`)."""
 
     @property
     def name(self) -> str: ...

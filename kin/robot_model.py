@@ -1,8 +1,8 @@
 """Load a robot (registry name or DH table path) into a Pinocchio model built from its URDF.
 
 A URDF chain with a mimic joint in series is refused by :func:`load_robot` (every table row is
-one independent joint) and loaded by :func:`kin.mimic_arm.load_arm` as a
-:class:`kin.mimic_arm.MimicArm` (which imports this module, not the other way).
+one independent joint) and loaded by :func:`kin.mimic.arm.load_arm` as a
+:class:`kin.mimic.arm.MimicArm` (which imports this module, not the other way).
 """
 
 from __future__ import annotations

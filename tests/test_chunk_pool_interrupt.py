@@ -1,4 +1,4 @@
-"""kin.chunk_pool: a Ctrl-C that lands while a worker is forked leaves no worker behind.
+"""kin.workspace.pool: a Ctrl-C that lands while a worker is forked leaves no worker behind.
 
 The worker ignores SIGINT and holds its own pipe open: one that the pool does not know about
 would wait forever and keep the command's output open (seen once in CI: ``kin workspace
@@ -15,7 +15,7 @@ import threading
 
 import pytest
 
-from kin.chunk_pool import run_unordered
+from kin.workspace.pool import run_unordered
 
 
 def _square(x: int) -> int:

@@ -228,8 +228,8 @@ def test_path_motion_sweeps_the_rod_through_a_plate(tmp_path):
 
 def test_reach_map_counts_fewer_with_the_rod(tmp_path):
     """Reach counts: the rod rules out the orientations that point it into the table."""
-    from kin.reach_grid import super_fibonacci_rotations
-    from kin.reach_map import count_reached
+    from kin.reach.grid import super_fibonacci_rotations
+    from kin.reach.map import count_reached
 
     robot = kin.load_robot("ur5")
     centers = np.array([[0.4, 0.2, 0.3], [0.3, -0.3, 0.35], [-0.4, 0.1, 0.3]])

@@ -32,9 +32,9 @@ from kin.ik import PoseTarget, PositionTarget
 from kin.ik.analytic.closed_form import ClosedFormSolver
 from kin.ik.numeric.search import MAX_ATTEMPTS
 from kin.ik.numeric.solver import DEFAULT_TIMEOUT, NumericIK
-from kin.mimic_arm import load_mimic_arm
-from kin.mimic_solver import DEFAULT_TIMEOUT as MIMIC_TIMEOUT
-from kin.mimic_solver import MimicSolver
+from kin.mimic.arm import load_mimic_arm
+from kin.mimic.solver import DEFAULT_TIMEOUT as MIMIC_TIMEOUT
+from kin.mimic.solver import MimicSolver
 
 sys.path.insert(0, str(Path(__file__).parent))
 from mimic_reference import _urdf  # noqa: E402  (the mimic 6R arm of the mimic tests)

@@ -31,7 +31,7 @@ from kin.collision.scene import read_scene
 from kin.collision.srdf import read_srdf
 from kin.exceptions import CollisionModelError, KinError
 from kin.path import read_joint_path
-from kin.reach_map_file import load_reach_map
+from kin.reach.map_file import load_reach_map
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The shipped UR5 table, where the package is installed (a wheel's tests run from a tree
@@ -258,8 +258,8 @@ def test_5000_digit_integer_in_a_path_file(tmp_path):
 
 def test_a_reach_map_is_still_read(tmp_path):
     """The reach map reader, now through open_input, reads what save_reach_map wrote."""
-    from kin.reach_grid import ReachMap
-    from kin.reach_map_file import save_reach_map
+    from kin.reach.grid import ReachMap
+    from kin.reach.map_file import save_reach_map
 
     centers = np.zeros((1, 1, 1, 3))
     reach_map = ReachMap(

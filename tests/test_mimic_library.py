@@ -21,7 +21,7 @@ from mimic_reference import _in_limits, _pinocchio_mimic_fk, _urdf
 import kin
 from kin import ModelLoadError, load_robot
 from kin.ik import PoseTarget, PositionTarget, TargetError, get_solver, solve_ik
-from kin.mimic_solver import MimicSolver
+from kin.mimic.solver import MimicSolver
 
 
 @pytest.fixture(params=[1.0, -1.0], ids=["multiplier+1", "multiplier-1"])

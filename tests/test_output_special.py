@@ -25,7 +25,7 @@ from cli_helper import assert_one_line_error
 
 import dh2urdf.robots
 import dh2urdf.urdf_to_dh
-import kin.reach_map
+import kin.reach.map
 import kin.robot_model
 from dh2urdf.command import main as dh2urdf_main
 from kin.commands import path, preview, reach, workspace
@@ -190,7 +190,7 @@ def test_full_disk_is_one_line_exit_1_and_the_old_file_stays(
     target.write_bytes(b"old")
     argv = _argv(name, target, tmp_path)
     if name == "kin reach --png":  # the map is not written: only the figure meets the full disk
-        monkeypatch.setattr(kin.reach_map, "save_reach_map", lambda *_: None)
+        monkeypatch.setattr(kin.reach.map, "save_reach_map", lambda *_: None)
     before = _listing(tmp_path)
     reason = _fail(point, monkeypatch)
     code = main(argv)

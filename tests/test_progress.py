@@ -131,7 +131,7 @@ def test_reach_draws_the_bar_on_a_terminal(tmp_path, monkeypatch, capsys):
     from kin import load_robot
     from kin.commands.reach import main
     from kin.ik.reach import arm_reach
-    from kin.reach_map import _grid
+    from kin.reach.map import _grid
 
     argv = [
         "--robot",

@@ -21,7 +21,7 @@ from collision_reference import CollisionReference
 from kin import load_robot
 from kin.commands import reach as reach_command
 from kin.ik import solve_batch
-from kin.reach_map import load_reach_map, reachability_map
+from kin.reach.map import load_reach_map, reachability_map
 
 HALF = """
 [[box]]

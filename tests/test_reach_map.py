@@ -19,7 +19,7 @@ from kin import KinError, load_robot
 from kin.commands.reach import main as reach_main
 from kin.ik import PoseTarget, get_solver
 from kin.ik.reach import arm_reach
-from kin.reach_map import (
+from kin.reach.map import (
     ReachMap,
     count_reached,
     load_reach_map,
@@ -211,7 +211,7 @@ def test_cli_read_only_folder_is_one_line_and_exit_2(tmp_path, capsys, monkeypat
 
 def test_cli_ctrl_c_leaves_no_file(tmp_path, capsys, monkeypatch):
     """Ctrl-C after some chunks: one line, exit 130, neither the map nor a temporary file."""
-    import kin.reach_map as reach_module
+    import kin.reach.map as reach_module
 
     calls = []
     real = reach_module.count_reached

@@ -77,7 +77,7 @@ def test_sigterm_ends_a_workspace_run_and_both_workers(tmp_path):
 
 POOL_SCRIPT = """
 import os, sys, threading, time
-from kin.chunk_pool import run_unordered
+from kin.workspace.pool import run_unordered
 
 def work(task):
     time.sleep(0.2)

@@ -156,7 +156,7 @@ def test_fk_of_a_tilted_table_equals_pinocchio_and_the_plain_product(tmp_path, n
             pinocchio = data.oMf[model.getFrameId(frame)].homogeneous
             assert np.abs(pinocchio - expected[k]).max() < 1e-12, frame
         product = table.T_world_base
-        for row, value in zip(table.rows, qi):  # the rows' own transforms (kin.mimic_arm's FK)
+        for row, value in zip(table.rows, qi):  # the rows' own transforms (kin.mimic.arm's FK)
             product = product @ row.transform(table.convention, value)
         assert np.abs(product @ table.T_last_tool - expected[-1]).max() < 1e-12
     untilted = batch_forward_kinematics(get_robot(name).load_table(), q)

@@ -17,7 +17,7 @@ from mimic_reference import JOINTS, OFFSET, TIP_ORIGIN, _in_limits, _pinocchio_m
 from dh2urdf.command import main as dh2urdf_main
 from dh2urdf.urdf_chain import UrdfChainError, read_chain
 from kin import ModelLoadError, load_robot
-from kin.mimic_arm import load_mimic_arm
+from kin.mimic.arm import load_mimic_arm
 
 
 def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:

@@ -41,7 +41,7 @@ def test_a_killed_worker_process_is_replaced_and_its_chunks_run_again(caplog):
             os.kill(pid, signal.SIGKILL)
             killed.append(pid)
 
-    with caplog.at_level(logging.WARNING, logger="kin.chunk_pool"):
+    with caplog.at_level(logging.WARNING, logger="kin.workspace.pool"):
         disturbed = workspace(
             table, 60_000, seed=11, chunk_size=2_000, workers=2, progress=kill_one_worker
         ).stats
@@ -55,7 +55,7 @@ def test_a_killed_worker_process_is_replaced_and_its_chunks_run_again(caplog):
 
 def test_a_chunk_that_always_kills_its_worker_stops_the_run(monkeypatch):
     """Every chunk kills its worker: after 3 losses of one chunk, RunFaultError, no worker left."""
-    monkeypatch.setattr("kin.workspace_run._chunk", _die)  # forked workers inherit it
+    monkeypatch.setattr("kin.workspace.run._chunk", _die)  # forked workers inherit it
     table = get_robot("planar2").load_table()
     with pytest.raises(RunFaultError, match="died 3 times"):
         workspace(table, 4_000, chunk_size=1_000, workers=2)
@@ -177,7 +177,7 @@ def test_a_lost_dask_scheduler_in_a_reach_map_is_a_run_fault():
     """kin reach's library on a LocalCluster closed after two chunks: RunFaultError."""
     distributed = pytest.importorskip("distributed", reason="dask[distributed] not installed")
     from kin import load_robot
-    from kin.reach_map import reachability_map
+    from kin.reach.map import reachability_map
 
     cluster = distributed.LocalCluster(
         n_workers=1,
@@ -198,8 +198,8 @@ def test_a_lost_dask_scheduler_in_a_reach_map_is_a_run_fault():
 @pytest.mark.parametrize(
     ("command", "target", "argv"),
     [
-        ("workspace", "kin.workspace.workspace", ["--robot", "planar2", "--n", "10"]),
-        ("reach", "kin.reach_map.reachability_map", ["--robot", "ur5", "-o", "map.npz"]),
+        ("workspace", "kin.workspace.monte_carlo.workspace", ["--robot", "planar2", "--n", "10"]),
+        ("reach", "kin.reach.map.reachability_map", ["--robot", "ur5", "-o", "map.npz"]),
     ],
 )
 def test_cli_a_run_fault_is_one_line_and_exit_1(
@@ -248,9 +248,9 @@ def test_duration_text(seconds, text):
 def test_cli_a_huge_n_says_how_long_and_stops_on_ctrl_c(monkeypatch, capsys):
     """--n 1e18 (written out): after the first chunk one line with the estimate in years; Ctrl-C
     after the second chunk: exit 130, 'interrupted' last, nothing on stdout."""
-    import kin.workspace_run
+    import kin.workspace.run
 
-    original = kin.workspace_run._chunk
+    original = kin.workspace.run._chunk
     calls: list[int] = []
 
     def chunk_then_ctrl_c(task: tuple):  # noqa: ANN202
@@ -259,7 +259,7 @@ def test_cli_a_huge_n_says_how_long_and_stops_on_ctrl_c(monkeypatch, capsys):
             raise KeyboardInterrupt
         return original(task)
 
-    monkeypatch.setattr(kin.workspace_run, "_chunk", chunk_then_ctrl_c)
+    monkeypatch.setattr(kin.workspace.run, "_chunk", chunk_then_ctrl_c)
     argv = ["--robot", "planar2", "--n", str(10**18), "--chunk-size", "1000"]
     assert workspace_main(argv) == 130
     captured = capsys.readouterr()

@@ -1,8 +1,8 @@
 """The arm of ``kin fk`` and ``kin ik``: a robot, or a URDF chain with mimic joints.
 
 A mimic joint in series on a URDF chain follows its leader (``q = multiplier * q_leader +
-offset``). These two commands load such a chain as a :class:`kin.mimic_arm.MimicArm`
-(:func:`kin.mimic_arm.load_arm`): the user's joint vector holds the independent joints only,
+offset``). These two commands load such a chain as a :class:`kin.mimic.arm.MimicArm`
+(:func:`kin.mimic.arm.load_arm`): the user's joint vector holds the independent joints only,
 base to tip, and the output names them and says how each mimic joint follows its leader. Every
 other robot loads as the other commands load it (:func:`load_robot_argument`).
 """
@@ -20,15 +20,15 @@ from ..robot_model import RobotModel
 from .joint_units import JointUnits
 
 if TYPE_CHECKING:
-    from ..mimic_arm import MimicArm
+    from ..mimic.arm import MimicArm
 
 #: What ``--q``'s help adds: the joint vector of a chain with mimic joints.
 MIMIC_HELP = "a URDF's mimic joints are not given: they follow their leaders"
 
 
 def load_arm_argument(args: argparse.Namespace) -> RobotModel | MimicArm:
-    """The robot the options name, a :class:`~kin.mimic_arm.MimicArm` for a mimic chain."""
-    from ..mimic_arm import load_arm
+    """The robot the options name, a :class:`~kin.mimic.arm.MimicArm` for a mimic chain."""
+    from ..mimic.arm import load_arm
 
     return load_arm(args.robot, getattr(args, "base", None), getattr(args, "tip", None))
 

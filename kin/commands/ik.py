@@ -70,8 +70,8 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from ..ik.result import IKResult
-    from ..mimic_arm import MimicArm
-    from ..mimic_solver import MimicSolver
+    from ..mimic.arm import MimicArm
+    from ..mimic.solver import MimicSolver
     from ..robot_model import RobotModel
     from .joint_units import JointUnits
 
@@ -291,7 +291,7 @@ def _mimic_solver(arm: MimicArm, forced: str | None, collisions: str | None = No
             ``--scene``/``--srdf`` (``collisions``: no collision model of such a chain yet).
     """
     from ..ik.exceptions import TargetError
-    from ..mimic_solver import MimicSolver
+    from ..mimic.solver import MimicSolver
 
     if collisions is not None:
         raise TargetError(

@@ -100,7 +100,7 @@ def run_stream(args: argparse.Namespace, prog: str) -> int:
         progress = _Progress(bar, total)
         if args.workers is None and args.scheduler is None:
             return _run_here(here, sys.stdin, sys.stdout, progress)
-        from ..reach_cluster import reach_client
+        from ..reach.cluster import reach_client
 
         scheduler = args.scheduler or f"local-cluster:{args.workers}"
         with reach_client(scheduler) as client:
@@ -158,7 +158,7 @@ def _run_on_dask(setup: Any, client: Any, source: TextIO, out: TextIO, progress:
     """
     from dh2urdf.stop_signals import raise_lost_stop
 
-    from ..workspace_run import dask_faults
+    from ..workspace.run import dask_faults
     from .interrupt_gate import interrupt_gate
     from .plan_lines import answer_lines
     from .stream_reader import input_waiting, line_batches

@@ -361,7 +361,7 @@ def _path_frames(
 def _reach_voxels(viewer: object, robot: str, file: str) -> list[np.ndarray]:
     """Draw the map of ``kin reach`` in ``file``; some of its voxel centres [m] (for the camera)."""
     from ..exceptions import KinError
-    from ..reach_map import load_reach_map
+    from ..reach.map import load_reach_map
     from ..viewer.reach_voxels import show_reach_voxels
 
     reach_map = load_reach_map(file)

@@ -84,7 +84,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
 
     def body() -> int:
         from ..ik.reach import arm_reach
-        from ..reach_map import (
+        from ..reach.map import (
             MAX_VOXELS_PER_SIDE,
             plot_reach_map,
             reachability_map,

@@ -134,8 +134,8 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     def body() -> int:
         from contextlib import nullcontext
 
-        from ..workspace import workspace
-        from ..workspace_run import dask_client
+        from ..workspace.monte_carlo import workspace
+        from ..workspace.run import dask_client
         from .progress import ProgressBar
 
         if args.output:
@@ -161,7 +161,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 estimate=None if args.quiet else _LongRunNotice(prog, args.n),
             )
         if args.output:
-            from ..workspace_plot import plot_workspace
+            from ..workspace.plot import plot_workspace
 
             plot_workspace(work, args.output, args.unit)
         if args.json:

@@ -22,7 +22,7 @@ from .result import IKResult
 from .solver_table import Solver, choose
 
 if TYPE_CHECKING:
-    from ..mimic_arm import MimicArm
+    from ..mimic.arm import MimicArm
 
 __all__ = ["Solver", "get_solver", "solve_ik"]
 
@@ -34,7 +34,7 @@ def get_solver(
 
     Never raises for a table: an arm no closed form fits (any number of joints, revolute or
     prismatic) gets the numeric solver. A chain with mimic joints (:func:`kin.load_arm`) gets
-    ``kin ik``'s :class:`~kin.mimic_solver.MimicSolver`.
+    ``kin ik``'s :class:`~kin.mimic.solver.MimicSolver`.
 
     Args:
         robot: The robot, or a chain with mimic joints.
@@ -55,7 +55,7 @@ def get_solver(
 
 def _mimic_solver(arm: MimicArm, collisions: Any) -> Solver:
     """``kin ik``'s solver of a chain with mimic joints (no collision model of it yet)."""
-    from ..mimic_solver import MimicSolver
+    from ..mimic.solver import MimicSolver
 
     if collisions is not None:
         raise TargetError(

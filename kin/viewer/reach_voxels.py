@@ -1,6 +1,6 @@
 """Voxels of a reachability map in meshcat: one point per voxel reached, coloured by its index.
 
-A map of ``kin reach`` (:class:`kin.reach_map.ReachMap`) holds an index in [0, 1] per voxel
+A map of ``kin reach`` (:class:`kin.reach.map.ReachMap`) holds an index in [0, 1] per voxel
 centre (world frame, meters). The voxels with an index above 0 are drawn as a point cloud, each
 point a voxel's edge wide, its colour read off a viridis-like ramp (dark purple for few
 orientations, yellow for all): the same colours as the PNG's slices.

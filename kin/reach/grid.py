@@ -3,7 +3,7 @@
 Voxel centres at ``origin + voxel * (i - k, j - k, l - k)`` for i, j, l in ``0 .. 2k``
 (:func:`voxel_grid`), and K tool orientations spread evenly over SO(3) by a super-Fibonacci
 spiral (:func:`super_fibonacci_rotations`); :class:`ReachMap` holds the index of each voxel
-(:mod:`kin.reach_map` computes it). Lengths in meters, the world frame throughout.
+(:mod:`kin.reach.map` computes it). Lengths in meters, the world frame throughout.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .exceptions import KinError
+from ..exceptions import KinError
 
 __all__ = [
     "MAX_ORIENTATIONS",

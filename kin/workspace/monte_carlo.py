@@ -7,7 +7,7 @@ generator), so that memory stays bounded for any number of samples. Chunk ``i`` 
 :func:`chunk_seed` ``(seed, i)``, the ``i``-th child of ``SeedSequence(seed)``, made from its
 index alone (a chunk run again gives the same samples), and every reduction is exact (min, max, logical or, integer sums), so the statistics depend on ``seed``, ``n`` and
 ``chunk_size`` only, never on how the chunks are spread over processes or a Dask cluster
-(:mod:`kin.workspace_run`).
+(:mod:`kin.workspace.run`).
 
 Points of reference: the *base axis* is the world z axis through the origin of DH frame 0 (the
 base frame); the *shoulder* is the origin of DH frame 1 of each sample. With ``a1 = 0`` (humanoid7,
@@ -24,9 +24,9 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from .exceptions import KinError
-from .workspace_chunk import ChunkReduction, reduce_chunk
-from .workspace_grid import WorkspaceGrid, reach_bound
+from ..exceptions import KinError
+from .chunk import ChunkReduction, reduce_chunk
+from .grid import WorkspaceGrid, reach_bound
 
 __all__ = [
     "ChunkReduction",
@@ -277,7 +277,7 @@ def workspace(
             (1 to :data:`MAX_CHUNK_SIZE`) or voxel size.
         RunFaultError: The Dask scheduler was lost, or a chunk kept losing its worker process.
     """
-    from .workspace_run import run_chunks
+    from .run import run_chunks
 
     _check_sizes(n, chunk_size)
     grid = WorkspaceGrid.around(table, voxel_size_m)

@@ -35,7 +35,7 @@ from typing import Any
 
 from dh2urdf.stop_signals import STOP_SIGNALS
 
-from .exceptions import RunFaultError
+from ..exceptions import RunFaultError
 
 logger = logging.getLogger(__name__)
 

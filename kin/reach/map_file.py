@@ -11,8 +11,8 @@ import numpy as np
 
 from dh2urdf.input_file import open_input
 
-from .exceptions import KinError
-from .reach_grid import ReachMap
+from ..exceptions import KinError
+from .grid import ReachMap
 
 __all__ = ["MAX_REACH_MAP_BYTES", "load_reach_map", "save_reach_map", "write_whole"]
 
@@ -30,7 +30,7 @@ def write_whole(path: Path, write: Callable[[Any], object]) -> None:
     """
     from dh2urdf.output_file import write_atomic
 
-    from .exceptions import OutputFileError, OutputWriteError
+    from ..exceptions import OutputFileError, OutputWriteError
 
     write_atomic(path, write, OutputFileError, OutputWriteError)
 

@@ -1,13 +1,13 @@
 """Where the workspace chunks run: this process, a process pool, or a Dask cluster.
 
-Every way gives the same :class:`~kin.workspace_chunk.ChunkReduction` (the merge is exact and does not
+Every way gives the same :class:`~kin.workspace.chunk.ChunkReduction` (the merge is exact and does not
 depend on order). The chunk tasks come from an iterator and are submitted as workers free up, at
 most :data:`IN_FLIGHT_PER_WORKER` per worker at a time, so that any number of chunks runs in
 bounded memory. Dask is optional (``pip install "dh-kinematics[dask]"``) and imported only when a
 client is given or :func:`dask_client` is called, never by ``import kin``.
 
 Faults: a worker process that dies (killed, out of memory) is replaced and its chunks run again
-(:mod:`kin.chunk_pool`). A chunk is seeded by its index (:func:`kin.workspace.chunk_seed`), so its
+(:mod:`kin.workspace.pool`). A chunk is seeded by its index (:func:`kin.workspace.monte_carlo.chunk_seed`), so its
 rerun gives the same reduction and the result equals an undisturbed run's. On Dask the scheduler
 reruns a lost worker's chunks itself. A lost scheduler, or a chunk that loses its worker process
 every time, raises :class:`~kin.exceptions.RunFaultError`.
@@ -22,9 +22,9 @@ from contextlib import closing, contextmanager, suppress
 from itertools import islice
 from typing import Any
 
-from .chunk_pool import run_unordered
-from .exceptions import KinError, RunFaultError
-from .workspace_chunk import reduce_chunk
+from ..exceptions import KinError, RunFaultError
+from .chunk import reduce_chunk
+from .pool import run_unordered
 
 #: The install hint of the optional Dask extra.
 DASK_HINT = 'pip install "dh-kinematics[dask]"'
@@ -118,7 +118,7 @@ def run_chunks(
     """Reduce every chunk task and merge the reductions.
 
     Args:
-        tasks: Arguments of :func:`kin.workspace_chunk.reduce_chunk`, one tuple per chunk; read as
+        tasks: Arguments of :func:`kin.workspace.chunk.reduce_chunk`, one tuple per chunk; read as
             workers free up (a generator keeps any number of chunks in bounded memory).
         workers: Worker processes (1: run here, one chunk after another); one that dies is
             replaced and its chunks run again.

@@ -14,7 +14,7 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from .exceptions import KinError
+from ..exceptions import KinError
 
 #: Voxels along each side of the grid by default (the voxel is ``2 * reach_bound / this``).
 DEFAULT_VOXELS_PER_SIDE = 100

@@ -2,7 +2,7 @@
 
 ``kin ik`` sees every solver through ``name``, ``target_kinds`` and
 ``solve(target, seed=None, *, timeout=None) -> IKResult`` (:mod:`kin.commands.solver_choice`).
-:class:`MimicSolver` gives that interface to :meth:`kin.mimic_arm.MimicArm.search`: damped least
+:class:`MimicSolver` gives that interface to :meth:`kin.mimic.arm.MimicArm.search`: damped least
 squares over the independent joints, every answer judged by Pinocchio's mimic model of the
 original URDF inside every joint's limits, mimic ones included.
 
@@ -24,13 +24,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from .ik.exceptions import TargetError
-from .ik.result import IKResult
-from .ik.target import PoseTarget, PositionTarget
+from ..ik.exceptions import TargetError
+from ..ik.result import IKResult
+from ..ik.target import PoseTarget, PositionTarget
 
 if TYPE_CHECKING:
-    from .ik.target import Target
-    from .mimic_arm import MimicArm
+    from ..ik.target import Target
+    from .arm import MimicArm
 
 __all__ = ["MimicSolver"]
 
@@ -48,7 +48,7 @@ DEFAULT_TIMEOUT = 2.0
 
 
 class MimicSolver:
-    """Damped least squares on a :class:`~kin.mimic_arm.MimicArm`'s coupled Jacobian.
+    """Damped least squares on a :class:`~kin.mimic.arm.MimicArm`'s coupled Jacobian.
 
     Args:
         arm: The arm (its joint vector holds the independent joints only).

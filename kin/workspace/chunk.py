@@ -1,8 +1,8 @@
 """One chunk of a Monte Carlo workspace: its joint vectors drawn and its tool points reduced.
 
 Every reduction is exact (min, max, logical or, integer sums), so merging chunks in any order,
-in this process, in worker processes or on a Dask cluster (:mod:`kin.workspace_run`), gives the
-same statistics (:mod:`kin.workspace`). Lengths in meters.
+in this process, in worker processes or on a Dask cluster (:mod:`kin.workspace.run`), gives the
+same statistics (:mod:`kin.workspace.monte_carlo`). Lengths in meters.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from .batch_fk import batch_frame_origins
-from .workspace_grid import WorkspaceGrid
+from ..batch_fk import batch_frame_origins
+from .grid import WorkspaceGrid
 
 __all__ = ["HIT_CAP", "ChunkReduction", "reduce_chunk"]
 

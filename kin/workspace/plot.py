@@ -12,8 +12,8 @@ import numpy as np
 
 from dh2urdf.command_line import length_scale
 
-from .exceptions import KinError
-from .workspace import WorkspaceMap
+from ..exceptions import KinError
+from .monte_carlo import WorkspaceMap
 
 #: Most voxel centres drawn in the 3-D view (an evenly strided subset beyond that).
 MAX_3D_POINTS = 25_000
@@ -95,7 +95,7 @@ def plot_workspace(work: WorkspaceMap, path: str | Path, unit: str = "m") -> Pat
     The format follows the suffix: ``.png``, ``.svg`` or ``.pdf``.
 
     Args:
-        work: A sampled workspace (:func:`kin.workspace.workspace`).
+        work: A sampled workspace (:func:`kin.workspace.monte_carlo.workspace`).
         path: The PNG file to write.
         unit: Length unit of the axes: ``"m"``, ``"cm"`` or ``"mm"``.
 
@@ -111,7 +111,7 @@ def plot_workspace(work: WorkspaceMap, path: str | Path, unit: str = "m") -> Pat
     figure = _figure(work, unit)
     from dh2urdf.output_file import write_atomic
 
-    from .exceptions import OutputFileError, OutputWriteError
+    from ..exceptions import OutputFileError, OutputWriteError
 
     write_atomic(
         path, lambda handle: figure.savefig(handle, format=kind), OutputFileError, OutputWriteError

@@ -1,7 +1,7 @@
 """IK of a chain with mimic joints: damped least squares on the coupled Jacobian, seeded starts.
 
 The stages take a frozen :class:`CoupledChain` (the table's model, the coupling, the limits of
-the independent joints and the judge), not the arm (:class:`kin.mimic_arm.MimicArm` builds one
+the independent joints and the judge), not the arm (:class:`kin.mimic.arm.MimicArm` builds one
 per search). Units: joint values [rad] or [m], lengths [m], angles [rad].
 """
 
@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .ik.judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
-from .ik.result import IKSolution
-from .robot_model import RobotModel
+from ..ik.judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
+from ..ik.result import IKSolution
+from ..robot_model import RobotModel
 
 __all__ = ["CoupledChain", "MimicSearch", "descend", "search"]
 
@@ -29,7 +29,7 @@ _STALL = 15
 
 @dataclass(frozen=True, eq=False)
 class MimicSearch:
-    """What one IK search of a :class:`~kin.mimic_arm.MimicArm` found.
+    """What one IK search of a :class:`~kin.mimic.arm.MimicArm` found.
 
     Attributes:
         answer: The first joint vector judged on target inside every joint's limits, or None.

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .exceptions import KinError
-from .reach_grid import ReachMap
-from .reach_map_file import write_whole
+from ..exceptions import KinError
+from .grid import ReachMap
+from .map_file import write_whole
 
 __all__ = ["PLOT_SLICES", "plot_reach_map"]
 

@@ -10,7 +10,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from .exceptions import KinError
+from ..exceptions import KinError
 
 __all__ = ["reach_client"]
 
@@ -24,7 +24,7 @@ def reach_client(scheduler: Any) -> Iterator[Any]:
     if not isinstance(scheduler, str):
         yield scheduler  # a distributed.Client of the caller's
         return
-    from .workspace_run import DASK_HINT, _ignore_sigint, dask_client
+    from ..workspace.run import DASK_HINT, _ignore_sigint, dask_client
 
     if not scheduler.startswith("local-cluster:"):
         with dask_client(scheduler) as client:
