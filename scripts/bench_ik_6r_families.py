@@ -49,7 +49,7 @@ from kin.cli import ArgumentParser, positive_int
 from kin.ik import ClosedFormSolver, PoseTarget, get_solver
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from arm_tables import make_table, random_pose  # noqa: E402  (the tests' table builders)
+from support.arm_tables import make_table, random_pose  # noqa: E402  (the tests' table builders)
 
 PI = math.pi
 CASES = ("pieper intersecting", "pieper parallel", "pieper general", "pieper parallel23",

@@ -5,7 +5,7 @@ Z1, xArm7, TIAGo arm and Baxter arm, ``N`` targets per kind made from the tool p
 joint vectors inside the limits (reachable by construction), solved by
 ``get_solver(robot).solve(target)`` with the default seed, and judged by an independent forward
 kinematics (a plain NumPy DH product of the table, or Pinocchio on the maker's URDF:
-``tests/task_targets_reference.py``)::
+``tests/support/task_targets_reference.py``)::
 
     python scripts/bench_task_targets.py --n 1000
 
@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
 def main(argv: list[str] | None = None) -> int:
     """Print the table; exit 0 (130 on Ctrl-C after the rows done)."""
-    from task_targets_reference import KINDS, POSITION_TOL, ROBOTS, ROTATION_TOL, arm_of
+    from support.task_targets_reference import KINDS, POSITION_TOL, ROBOTS, ROTATION_TOL, arm_of
 
     parser = argparse.ArgumentParser(prog="bench_task_targets.py", description=__doc__)
     parser.add_argument("--n", type=int, default=1000, help="targets per arm and kind")

@@ -7,7 +7,7 @@ import zlib
 
 import numpy as np
 import pytest
-from dh_reference import load_reference, random_configurations
+from support.dh_reference import load_reference, random_configurations
 
 from dh2urdf import get_robot
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
+from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 import dh2urdf
 from kin import load_robot
@@ -123,8 +123,8 @@ def test_a_target_that_is_not_a_finite_pose_is_handed_back():
 def test_the_general_form_is_sifted_in_c_as_in_python():
     """A random 7R arm (the general form: no twin of its own): its branches sifted by
     ``sift_rows`` give the Python path's answer, each on the pose by the NumPy DH product."""
-    from arm_tables import make_table, random_pose
-    from dh_reference import ReferenceTable
+    from support.arm_tables import make_table, random_pose
+    from support.dh_reference import ReferenceTable
 
     import kin
     from kin.ik.analytic.seven_r.general_7r import General7RIK

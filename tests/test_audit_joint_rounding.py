@@ -4,7 +4,7 @@ printed position (issue: joint values to 6 decimals of degrees move the tool by 
 from __future__ import annotations
 
 import numpy as np
-from synthetic_tables import ROWS, table_toml
+from support.synthetic_tables import ROWS, table_toml
 
 from dh2urdf import load_table
 from kin import batch_forward_kinematics

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from synthetic_tables import ROWS, TOOL, table_toml
+from support.synthetic_tables import ROWS, TOOL, table_toml
 
 from dh2urdf import load_table
 from kin import batch_forward_kinematics
@@ -198,7 +198,7 @@ def test_seven_joints_twenty_samples_scores_every_reading(tmp_path):
 )
 def test_prismatic_joint(tmp_path, corruption, expected):
     """A SCARA-like arm (mm, a prismatic joint): its values are lengths, its offset is d."""
-    from cli_helper import write_rrpr4
+    from support.cli_helper import write_rrpr4
 
     path = write_rrpr4(tmp_path)
     correct = load_table(path)

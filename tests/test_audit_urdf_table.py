@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import json
 
-from cli_helper import call
-from urdf_reference import ARMS, erd
+from support.cli_helper import call
+from support.urdf_reference import ARMS, erd
 
 from kin.audit.command import main
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import fk_configurations
-from dh_reference import fk_frames, load_reference
+from support.dh_reference import fk_frames, load_reference
 
 from dh2urdf import ROBOTS, get_robot, parse_table
 from kin import Configuration, JointVectorError, load_robot, robot_from_table

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from scripts_helper import exit_code, load_script
+from support.scripts_helper import exit_code, load_script
 
 
 def test_bench_cli_prints_every_row(capsys):

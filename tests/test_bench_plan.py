@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from scripts_helper import SCRIPTS, load_script
+from support.scripts_helper import SCRIPTS, load_script
 
 HEADER = [
     "planner",

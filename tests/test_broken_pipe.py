@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from cli_helper import kin_command
+from support.cli_helper import kin_command
 
 ROOT = Path(__file__).resolve().parents[1]
 

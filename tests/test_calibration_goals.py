@@ -42,7 +42,7 @@ def test_held_out_goals(name, poses, rows, seed):
 
 
 def test_bench_script_prints_a_row_per_case(capsys):
-    from scripts_helper import load_script
+    from support.scripts_helper import load_script
 
     assert (
         load_script("bench_calibration").main(["--arms", "panda", "--rows", "30", "--figaroh", ""])

@@ -5,8 +5,8 @@ from __future__ import annotations
 import json
 import math
 
-from cli_helper import assert_one_line_error, call
-from stick_arms import stick_table_file
+from support.cli_helper import assert_one_line_error, call
+from support.stick_arms import stick_table_file
 
 from kin.commands import check
 

@@ -9,8 +9,8 @@ import subprocess
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import kin_command, run, write_rrpr4
-from dh_reference import fk_frames, load_reference
+from support.cli_helper import kin_command, run, write_rrpr4
+from support.dh_reference import fk_frames, load_reference
 
 from kin import Configuration, load_robot
 from kin.commands import ik

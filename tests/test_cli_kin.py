@@ -8,8 +8,8 @@ import subprocess
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call, kin_command, run, write_rrpr4
-from dh_reference import fk_frames, load_reference, random_configurations
+from support.cli_helper import assert_one_line_error, call, kin_command, run, write_rrpr4
+from support.dh_reference import fk_frames, load_reference, random_configurations
 
 import kin
 from dh2urdf import ROBOTS, robot_names

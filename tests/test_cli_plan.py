@@ -9,8 +9,8 @@ import math
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call, run
-from plan_support import SWING, write_ball
+from support.cli_helper import assert_one_line_error, call, run
+from support.plan_support import SWING, write_ball
 
 from kin.commands import plan as plan_command
 from kin.path.joint_path_file import read_joint_path

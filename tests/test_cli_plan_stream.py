@@ -15,8 +15,8 @@ import subprocess
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call, kin_command
-from plan_support import write_ball
+from support.cli_helper import assert_one_line_error, call, kin_command
+from support.plan_support import write_ball
 
 from kin.commands import plan as plan_command
 
@@ -263,7 +263,7 @@ def _descendants(pid: int) -> list[int]:
 def test_ctrl_c_on_a_local_dask_cluster_keeps_the_answers_and_ends_the_workers(tmp_path, ball):
     """--workers 2 and Ctrl-C after the first answer: exit 130, the answers written whole lines
     1..k in order, no worker process left running."""
-    from process_state import _left
+    from support.process_state import _left
 
     source = tmp_path / "in.jsonl"
     source.write_text(_requests(2000), encoding="utf-8")

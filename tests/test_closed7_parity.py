@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from arm_tables import assert_layout_matches, tool_poses
-from solver_caps import NO_CAP
+from support.arm_tables import assert_layout_matches, tool_poses
+from support.solver_caps import NO_CAP
 
 from kin import load_robot
 from kin.ik.analytic.seven_r.seven_dof import COMPILED

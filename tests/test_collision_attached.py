@@ -16,9 +16,9 @@ import coal
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import call
-from held_panda import HAND_DOWN, FullPanda, _distance
-from urdf_reference import erd
+from support.cli_helper import call
+from support.held_panda import HAND_DOWN, FullPanda, _distance
+from support.urdf_reference import erd
 
 import kin
 from kin.collision import (

@@ -14,7 +14,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from urdf_reference import ARMS, erd
+from support.urdf_reference import ARMS, erd
 
 from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model

@@ -6,7 +6,7 @@ boxes grow by half the padding; ``collisions`` runs every pair with contacts and
 A box grown too little, or GJK stopped too early, would show as a configuration called free that
 ``collisions`` finds in contact. The UR5 configuration below is one that coal's default GJK
 tolerance (1e-6) called free although its forearm and wrist_2 hulls overlap by 2 cm (found by
-tests/test_collision_engines.py's 10,000-configuration run against tests/collision_reference.py).
+tests/test_collision_engines.py's 10,000-configuration run against tests/support/collision_reference.py).
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from collision_reference import CollisionReference
-from urdf_reference import erd
+from support.collision_reference import CollisionReference
+from support.urdf_reference import erd
 
 from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model

@@ -2,7 +2,7 @@
 
 The rule (kin/collision/always_pairs.py, MoveIt's setup assistant's "always in collision"): a
 link pair of a DH table robot in contact at every sampled configuration is not checked, and the
-model's shape note names it. Checked against tests/collision_reference.py (Pinocchio and coal on
+model's shape note names it. Checked against tests/support/collision_reference.py (Pinocchio and coal on
 the DH writer's URDF, pair by pair, no broad phase): the pairs called "always" are in contact at
 fresh random configurations too; every other verdict is the reference's over the checked pairs,
 so a configuration is called in self-collision only where two checked links really overlap by
@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cli_helper import call
-from collision_reference import CollisionReference
+from support.cli_helper import call
+from support.collision_reference import CollisionReference
 
 from dh2urdf.robots import robot_names
 from kin import load_robot

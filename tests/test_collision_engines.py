@@ -1,4 +1,4 @@
-"""The collision checker against a direct coal check built apart (tests/collision_reference.py).
+"""The collision checker against a direct coal check built apart (tests/support/collision_reference.py).
 
 Panda (the maker's URDF and SRDF from example-robot-data), UR5 (example-robot-data's URDF) and
 humanoid7 (the DH writer's cylinders) in a cell of a table, a wall and a ball
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from collision_setup import ROBOTS, setup
+from support.collision_setup import ROBOTS, setup
 
 from kin.collision.requests import CONTACT_TOLERANCE
 

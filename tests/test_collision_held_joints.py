@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import call
-from held_panda import HAND_DOWN, PANDA, PANDA_SRDF, FullPanda
-from urdf_reference import erd
+from support.cli_helper import call
+from support.held_panda import HAND_DOWN, PANDA, PANDA_SRDF, FullPanda
+from support.urdf_reference import erd
 
 import kin
 from kin.collision import CollisionChecker, CollisionModelError, load_collision_model

@@ -13,8 +13,8 @@ import pinocchio as pin
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from stick_arms import stick_robot
-from urdf_reference import erd
+from support.stick_arms import stick_robot
+from support.urdf_reference import erd
 
 import kin
 from dh2urdf import ROBOTS

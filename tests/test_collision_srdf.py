@@ -13,7 +13,7 @@ from functools import cache
 from pathlib import Path
 
 import pytest
-from urdf_reference import erd
+from support.urdf_reference import erd
 
 from kin import load_robot
 from kin.commands import main as kin_main

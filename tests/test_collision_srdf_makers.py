@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from collision_reference import CollisionReference
-from urdf_reference import erd
+from support.collision_reference import CollisionReference
+from support.urdf_reference import erd
 
 from kin import load_robot
 from kin.collision import load_collision_model

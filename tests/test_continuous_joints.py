@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pinocchio as pin
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from dh2urdf import get_robot, load_table, parse_table
 from dh2urdf.table_writer import table_text

@@ -23,12 +23,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helper import kin_command
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from support import TESTS
+from support.cli_helper import kin_command
 
 ROOT = Path(__file__).resolve().parents[1]
-TESTS = Path(__file__).resolve().parent
+#: This module's own folder (os.path, not Path: a mover of test files keeps it): children import it.
+HERE = os.path.dirname(os.path.abspath(__file__))
 #: A command answers in about 1 s idle; the margin is for a busy machine, a hang still fails [s].
 TIMEOUT_S = 60
 TETRAHEDRON = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
@@ -83,7 +85,7 @@ def run_child(code: str, cwd: Path, timeout: float = TIMEOUT_S) -> subprocess.Co
         capture_output=True,
         text=True,
         timeout=timeout,
-        env={**os.environ, "PYTHONPATH": os.pathsep.join([str(TESTS), str(ROOT)])},
+        env={**os.environ, "PYTHONPATH": os.pathsep.join([HERE, str(TESTS), str(ROOT)])},
     )
 
 

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from scripts_helper import load_script
+from support.scripts_helper import load_script
 
 from dh2urdf import ROBOTS, __version__
 from dh2urdf.command import output_format

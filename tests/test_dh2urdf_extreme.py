@@ -26,11 +26,11 @@ else:  # Python 3.10
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import call
-from dh_reference import fk_frames, load_reference
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from lxml import etree
+from support.cli_helper import call
+from support.dh_reference import fk_frames, load_reference
 
 from dh2urdf import ROBOTS, get_robot
 from dh2urdf.command import main as dh2urdf_main

@@ -18,7 +18,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from lxml import etree
-from urdf_text import body, yourdfpy_text
+from support.urdf_text import body, yourdfpy_text
 
 from dh2urdf import ROBOTS, get_robot, parse_table
 from dh2urdf.urdf_elements import origin_rpy

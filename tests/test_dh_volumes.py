@@ -8,8 +8,8 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import call
-from scripts_helper import load_script
+from support.cli_helper import call
+from support.scripts_helper import load_script
 
 from dh2urdf import TableError, parse_table
 from dh2urdf.link_volumes import default_radius_note
@@ -149,7 +149,7 @@ def test_no_configuration_where_the_makers_arm_touches_the_cell_and_the_table_is
 
 def test_the_comparison_sees_a_miss_with_the_sticks():
     """The same comparison with UR5's sticks (housings dropped) finds misses: the test can fail."""
-    from stick_arms import stick_robot
+    from support.stick_arms import stick_robot
 
     script = load_script("check_dh_volumes")
     arm = script.MakerArm("ur5")

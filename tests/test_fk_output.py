@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import call, write_rrpr4
-from dh_reference import dh_matrices, load_reference
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from support.cli_helper import call, write_rrpr4
+from support.dh_reference import dh_matrices, load_reference
 
 from dh2urdf import ROBOTS, get_robot
 from kin import Configuration, load_robot

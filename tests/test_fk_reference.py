@@ -6,7 +6,7 @@ import textwrap
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, random_configurations, rotation_angle
+from support.dh_reference import fk_frames, load_reference, random_configurations, rotation_angle
 
 from dh2urdf import get_robot, robot_names
 from kin import Configuration, load_robot

@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from arm_tables import tool_poses
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from support.arm_tables import tool_poses
 
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, TargetError

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import assert_one_line_error
-from urdf_reference import ARMS, UrdfReference, erd
+from support.cli_helper import assert_one_line_error
+from support.urdf_reference import ARMS, UrdfReference, erd
 
 from dh2urdf import load_table
 from dh2urdf.command import main

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from urdf_reference import ARMS, erd
+from support.urdf_reference import ARMS, erd
 
 from dh2urdf import load_table
 from dh2urdf.command import main

@@ -1,6 +1,6 @@
 """The general 6R closed form's batch in threads: from PARALLEL_ROWS poses the compiled first
 pass is cut into row blocks that the processors' threads take; each pose's branches must be
-those of one unthreaded call, and on target by the plain DH product of tests/dh_reference.py."""
+those of one unthreaded call, and on target by the plain DH product of tests/support/dh_reference.py."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
+from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 from dh2urdf import load_table
 from kin._native import twin, why_missing

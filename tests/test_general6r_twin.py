@@ -4,7 +4,7 @@ The twin repeats the first elimination's pass (the eigenproblem, the joints, the
 merge) of :class:`~kin.ik.analytic.six_r.general_6r.General6R`; the NumPy path is the reference.
 On random tables of both conventions (offsets, base and tool everywhere) and the makers' tables
 of ``tests/data/six_r``: every branch on target to 1e-9 by the plain DH product of
-``tests/dh_reference.py``; on every regular pose the same branch count, and the same branches to
+``tests/support/dh_reference.py``; on every regular pose the same branch count, and the same branches to
 ``SAME_TOL`` (1e-7 [rad], one branch by the merge) but where a branch is near-singular itself; a
 pose the twin cannot answer goes to the NumPy path.
 """
@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from arm_tables import wrapped_gap
-from dh_reference import ReferenceTable, fk_frames, load_reference, rotation_angle
-from general_6r_arms import NEAR_SINGULAR, random_arm, sigma_min
+from support.arm_tables import wrapped_gap
+from support.dh_reference import ReferenceTable, fk_frames, load_reference, rotation_angle
+from support.general_arms import NEAR_SINGULAR, random_arm, sigma_min
 
 from dh2urdf import load_table
 from kin._native import twin, why_missing

@@ -4,7 +4,7 @@ A pose whose first pass has fewer distinct branches than real roots, or an odd n
 of the fallback eliminations and of every cut at nearby poses, all in the twin
 (``kin/ik/analytic/six_r/_general_6r_compiled.py``); the NumPy path (careful passes, nudges in
 NumPy) is the reference: the same branch count and the same branches (to ``SAME_TOL``), every
-branch on target by the plain DH product of ``tests/dh_reference.py`` or the robot's FK; no
+branch on target by the plain DH product of ``tests/support/dh_reference.py`` or the robot's FK; no
 random pose of ssik's PiPER chain (about 1.5 % unclean) is left to the NumPy path.
 """
 
@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from arm_tables import wrapped_gap
-from dh_reference import fk_frames, load_reference, rotation_angle
-from general_6r_arms import NEAR_SINGULAR, sigma_min
+from support.arm_tables import wrapped_gap
+from support.dh_reference import fk_frames, load_reference, rotation_angle
+from support.general_arms import NEAR_SINGULAR, sigma_min
 
 from dh2urdf import load_table
 from kin._native import twin, why_missing

@@ -1,7 +1,7 @@
 """A 7R arm with an end joint held (kin/ik/analytic/seven_r/held_end.py).
 
 The target the 6R arm left must reach, for a 7R target at the held joint's value, is the 6R arm's
-own tool pose (the plain NumPy DH product of ``tests/dh_reference.py`` on the table's rows without
+own tool pose (the plain NumPy DH product of ``tests/support/dh_reference.py`` on the table's rows without
 the held one), joint 1 or joint 7 held, both conventions, random base and tool.
 """
 
@@ -11,8 +11,8 @@ import dataclasses
 
 import numpy as np
 import pytest
-from dh_reference import ReferenceTable, fk_frames
-from general_7r_arms import random_arm
+from support.dh_reference import ReferenceTable, fk_frames
+from support.general_arms import random_7r_arm as random_arm
 
 from kin.ik.analytic.seven_r.held_end import dh_transforms, held_end, six_r_table
 

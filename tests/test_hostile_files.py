@@ -20,7 +20,7 @@ from xml.sax.saxutils import quoteattr
 import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
-from scripts_helper import load_script
+from support.scripts_helper import load_script
 
 from dh2urdf import command as dh2urdf_command
 from dh2urdf import from_urdf_command, load_table

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
+from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 from kin import load_robot
 from kin.ik import PoseTarget, get_solver

@@ -19,7 +19,7 @@ from collections import Counter
 import numpy as np
 import pinocchio as pin
 import pytest
-from idealised_reference import Reference, arm_file, reference_outside, targets_of
+from support.idealised_reference import Reference, arm_file, reference_outside, targets_of
 
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver

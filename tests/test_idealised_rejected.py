@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
-from idealised_reference import (
+from support.dh_reference import fk_frames, load_reference, rotation_angle
+from support.idealised_reference import (
     AL5D,
     ROUNDINGS,
     Reference,

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
-from scripts_helper import load_script
+from support.dh_reference import fk_frames, load_reference, rotation_angle
+from support.scripts_helper import load_script
 
 import dh2urdf
 from kin import load_robot
@@ -260,7 +260,7 @@ def test_at_least_ssik_branches_at_its_free_joint_values(arm, tmp_path):
 
 def test_bench_refuses_bad_arguments_with_one_line(capsys):
     """--targets 0 and an arm it does not know: exit 2, one line naming the option."""
-    from scripts_helper import exit_code
+    from support.scripts_helper import exit_code
 
     bench = load_script("bench_ik_7r_branches")
     for argv, needle in ((["--targets", "0"], "--targets"), (["--arms", "ur5"], "--arms")):

@@ -1,7 +1,7 @@
 """IK for every DH table: dispatch, numeric round trips on ur5, panda and user tables, the cache.
 
 Every returned joint vector is re-checked here by the plain NumPy DH product of
-``tests/dh_reference.py`` (independent of dh2urdf, kin and Pinocchio).
+``tests/support/dh_reference.py`` (independent of dh2urdf, kin and Pinocchio).
 """
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ from typing import ClassVar
 
 import numpy as np
 import pytest
-from cli_helper import write_rrpr4
-from dh_reference import fk_frames, load_reference, rotation_angle
-from solver_caps import NO_CAP
+from support.cli_helper import write_rrpr4
+from support.dh_reference import fk_frames, load_reference, rotation_angle
+from support.solver_caps import NO_CAP
 
 import kin
 import kin.ik as ik

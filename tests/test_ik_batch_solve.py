@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from kin import Configuration, load_robot
 from kin.ik import PoseTarget, PositionTarget, TargetError, get_solver, solve_batch

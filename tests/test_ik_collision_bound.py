@@ -2,7 +2,7 @@
 
 Judged apart from the code under test: the distance Jacobians against central differences of
 coal's distances; every answer's clearance by the direct coal check of the maker's URDF
-(tests/collision_reference.py) and its tool pose by Pinocchio's forward kinematics of that URDF
+(tests/support/collision_reference.py) and its tool pose by Pinocchio's forward kinematics of that URDF
 (not the DH model the solver uses).
 """
 
@@ -14,9 +14,18 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from blocked_case import SRDF, TIP, URDF, _blocked_case, _box_scene, _clearance, _reference, _tool
-from solver_caps import NO_CAP
-from urdf_reference import erd
+from support.blocked_case import (
+    SRDF,
+    TIP,
+    URDF,
+    _blocked_case,
+    _box_scene,
+    _clearance,
+    _reference,
+    _tool,
+)
+from support.solver_caps import NO_CAP
+from support.urdf_reference import erd
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model

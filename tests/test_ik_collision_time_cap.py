@@ -16,9 +16,9 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from blocked_case import TIP, URDF, _blocked_case
-from solver_caps import NO_CAP
-from urdf_reference import erd
+from support.blocked_case import TIP, URDF, _blocked_case
+from support.solver_caps import NO_CAP
+from support.urdf_reference import erd
 
 import kin
 from kin.ik.collision_aware import CollisionAwareSolver

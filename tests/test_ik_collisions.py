@@ -1,6 +1,6 @@
 """Collision-aware IK (kin/ik/collision_aware.py) judged by a direct coal check built apart.
 
-Every verdict below is the reference's (tests/collision_reference.py: the original URDF's
+Every verdict below is the reference's (tests/support/collision_reference.py: the original URDF's
 shapes placed by Pinocchio and asked of coal pair by pair), not the checker's under test: a
 joint vector collides when a checked pair's signed distance is below ``-CONTACT_TOL``.
 Obstacles are placed from the reference's own placement of a link's shape at the plain
@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from collision_reference import CollisionReference
-from collision_setup import setup
+from support.collision_reference import CollisionReference
+from support.collision_setup import setup
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model

@@ -10,7 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from kin import Configuration, load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver

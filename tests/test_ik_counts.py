@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helper import call, run
+from support.cli_helper import call, run
 
 from kin import Configuration, load_robot
 from kin.commands import ik as ik_command
@@ -153,7 +153,7 @@ def test_the_header_counts_what_it_hides(capsys):
 
 def test_the_readme_cell_split_is_the_reference_s():
     """Of the README target's 8 branches the coal reference finds README_FREE free in the cell."""
-    from collision_reference import CollisionReference
+    from support.collision_reference import CollisionReference
 
     from kin.collision import load_collision_model
 

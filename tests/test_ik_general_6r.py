@@ -1,7 +1,7 @@
 """The general 6R closed form (kin/ik/analytic/six_r/general_6r.py): every isolated branch of any 6R arm.
 
 - seeded random 6R tables in both conventions, random base and tool: every branch on target to
-  1e-9 by the plain NumPy DH product of ``tests/dh_reference.py``, the q the pose came from among
+  1e-9 by the plain NumPy DH product of ``tests/support/dh_reference.py``, the q the pose came from among
   the branches (``KIN_GENERAL_6R_TABLES`` tables x ``KIN_GENERAL_6R_POSES`` poses per convention,
   default 100 x 10);
 - every distinct solution found by 200 independent least-squares starts (no limits) is a branch;
@@ -21,10 +21,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from arm_tables import make_table, wrapped_gap
-from dh_reference import ReferenceTable, load_reference, rotation_angle
-from general_6r_arms import NEAR_SINGULAR, random_arm, reference_tool, sigma_min
-from least_squares_solutions import least_squares_solutions
+from support import TESTS
+from support.arm_tables import make_table, wrapped_gap
+from support.dh_reference import ReferenceTable, load_reference, rotation_angle
+from support.general_arms import NEAR_SINGULAR, random_arm, reference_tool, sigma_min
+from support.least_squares_solutions import least_squares_solutions
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
@@ -118,9 +119,9 @@ def test_round_joint_angles_whatever_the_blas_kernel(kernel):
     import subprocess
     import sys
 
-    tests = str(Path(__file__).parent)
+    paths = [os.path.dirname(os.path.abspath(__file__)), str(TESTS)]  # this module, support
     code = (
-        f"import sys; sys.path.insert(0, {tests!r}); import test_ik_general_6r as t; "
+        f"import sys; sys.path[:0] = {paths!r}; import test_ik_general_6r as t; "
         "[t.test_round_joint_angles(name) for name in ('crx10ia', 'jaco2_6dof')]"
     )
     env = dict(os.environ, OPENBLAS_CORETYPE=kernel, OPENBLAS_VERBOSE="2")

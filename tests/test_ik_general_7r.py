@@ -2,7 +2,7 @@
 
 - seeded random 7R tables with offsets everywhere, both conventions, random base and tool: at the
   held joint's true value, every branch reaches the pose (the plain NumPy DH product of
-  ``tests/dh_reference.py``) to 1e-9 and the q the pose came from is among them;
+  ``tests/support/dh_reference.py``) to 1e-9 and the q the pose came from is among them;
 - the numeric solver's first stage answers with it on such arms (joint limits +-pi), every answer
   verified by Pinocchio on the arm's URDF, no false success;
 - the end joint that leaves a special 6R family is the one held;
@@ -18,9 +18,9 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from arm_tables import wrapped_gap
-from dh_reference import fk_frames, rotation_angle
-from general_7r_arms import random_arm
+from support.arm_tables import wrapped_gap
+from support.dh_reference import fk_frames, rotation_angle
+from support.general_arms import random_7r_arm as random_arm
 
 import kin
 from dh2urdf import DHTable, get_robot, load_table

@@ -6,7 +6,7 @@ the general form holds joint 1 and polishes the snapped arm's branches with join
 
 - at every held value its branches are the general elimination's (an independent algorithm:
   Raghavan-Roth / Manocha-Canny on the same 6R), each on the pose by the plain NumPy DH product
-  (``tests/dh_reference.py``), the q the pose came from among them;
+  (``tests/support/dh_reference.py``), the q the pose came from among them;
 - ``solve(..., all_branches=True)`` gives the same answer through the twin's ``held_rows`` and
   through the Python path;
 - an arm far from every special one (random offsets) gets no snapped form.
@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from arm_tables import make_table, random_pose, wrapped_gap
-from dh_reference import fk_frames, load_reference, rotation_angle
+from support.arm_tables import make_table, random_pose, wrapped_gap
+from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 import kin
 from kin.ik import PoseTarget, get_solver

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
+from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 from dh2urdf import get_robot
 from kin import batch_forward_kinematics, load_robot

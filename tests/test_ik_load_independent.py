@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from kin import Configuration, load_robot
 from kin.ik import PoseTarget, PositionTarget
@@ -37,7 +37,7 @@ from kin.mimic.solver import DEFAULT_TIMEOUT as MIMIC_TIMEOUT
 from kin.mimic.solver import MimicSolver
 
 sys.path.insert(0, str(Path(__file__).parent))
-from mimic_reference import _urdf  # noqa: E402  (the mimic 6R arm of the mimic tests)
+from support.mimic_reference import _urdf  # noqa: E402  (the mimic 6R arm of the mimic tests)
 
 # NO_CAP (600 s) is 60,000 readings of NUMERIC_STEP and 6,000 of MIMIC_STEP; a call here takes
 # under 2,000: no run here reaches it.

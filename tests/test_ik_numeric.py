@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from kin import Configuration, load_robot
 from kin.ik.exceptions import TargetError
@@ -267,7 +267,7 @@ def test_robot_from_a_table_file_gets_its_own_seed_table(tmp_path):
 
 
 def _solve_ik_main():
-    from scripts_helper import load_script
+    from support.scripts_helper import load_script
 
     return load_script("solve_ik").main
 
@@ -347,7 +347,7 @@ def test_cli_nr_reports_the_limits(capsys):
 def test_cli_bad_input_exits_2(capsys, extra):
     """Contradictory or invalid orientation options: exit 2, one line on stderr."""
     argv = ["--robot", ROBOT, "--target", "0.5", "0", "0", *extra]
-    from scripts_helper import exit_code
+    from support.scripts_helper import exit_code
 
     assert exit_code(_solve_ik_main(), argv) == 2
     err = capsys.readouterr().err
@@ -383,7 +383,7 @@ def test_cli_quaternion_equals_rpy(capsys):
 
 def test_bench_runs_on_a_few_targets(capsys):
     """bench_ik_humanoid7.py prints a table with our four rows (peers skipped)."""
-    from scripts_helper import load_script
+    from support.scripts_helper import load_script
 
     assert load_script("bench_ik_humanoid7").main(["--n", "5", "--peers", "none"]) == 0
     out = capsys.readouterr().out

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from kin import batch_forward_kinematics, load_robot
 from kin.ik import ClosedFormSolver, PoseTarget, PositionTarget
@@ -165,7 +165,7 @@ def test_kin_ik_seed_q_answers_near_the_seed():
     closed form at the seed's free joint) lies more than 1 rad from the seed comes back near it."""
     import json
 
-    from cli_helper import run
+    from support.cli_helper import run
 
     robot = load_robot("humanoid7")
     seeds, poses = seeds_and_poses(robot, 13, 0.3)

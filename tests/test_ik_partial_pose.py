@@ -1,6 +1,6 @@
 """Partial poses (issue #21): full poses on short arms, masks, free tool axes.
 
-Every pose comes from the plain NumPy DH product of ``tests/dh_reference.py`` (not from the code
+Every pose comes from the plain NumPy DH product of ``tests/support/dh_reference.py`` (not from the code
 under test), and every success is judged again by that product: the constrained components on
 target, the joint vector inside the limits. The small arms are the Robotics Toolbox's DH models
 written as tables (``tests/data/toolbox``); where the toolbox is installed, its ``fkine`` is
@@ -15,10 +15,10 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from dh_reference import fk_frames, load_reference, random_configurations
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from solver_caps import NO_CAP
+from support.dh_reference import fk_frames, load_reference, random_configurations
+from support.solver_caps import NO_CAP
 
 from dh2urdf import get_robot
 from kin import load_robot

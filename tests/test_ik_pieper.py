@@ -15,9 +15,15 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
-from pieper_arms import random_table
-from spherical_wrist_arms import PUMA_A, PUMA_ALPHA, PUMA_D, random_pieper_table
+from support.arm_tables import (
+    TOL,
+    Reference,
+    assert_round_trips,
+    make_table,
+    wrapped_gap,
+)
+from support.pieper_arms import arm_table
+from support.spherical_wrist_arms import PUMA_A, PUMA_ALPHA, PUMA_D, random_pieper_table
 
 import kin
 from dh2urdf import DHRow, DHTable
@@ -40,16 +46,6 @@ def puma_with(**changes: float) -> DHTable:
     for key, value in changes.items():
         values[key.rstrip("0123456789")][int(key.lstrip("adlph")) - 1] = value
     return make_table(values["a"], values["alpha"], values["d"], [0] * 6, name="puma_variant")
-
-
-@functools.cache
-def arm_table(name: str) -> DHTable:
-    if name == "puma560_moved":
-        rng = np.random.default_rng(560)
-        return make_table(PUMA_A, PUMA_ALPHA, PUMA_D, [0.1, -0.2, 0.3, -0.4, 0.5, -0.6],
-                          base=random_pose(rng), tool=random_pose(rng), name=name)  # fmt: skip
-    family, convention, seed = name.split("_")
-    return random_table(family, convention, int(seed))
 
 
 @functools.cache

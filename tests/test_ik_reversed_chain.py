@@ -19,10 +19,17 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
-from pieper_arms import random_table as random_pieper_family
-from spherical_wrist_arms import random_pieper_table
-from ur_wrist_arms import random_ur_table
+from support.arm_tables import (
+    TOL,
+    Reference,
+    assert_round_trips,
+    make_table,
+    random_pose,
+    wrapped_gap,
+)
+from support.pieper_arms import random_table as random_pieper_family
+from support.spherical_wrist_arms import random_pieper_table
+from support.ur_wrist_arms import random_ur_table
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table

@@ -23,7 +23,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 import kin
 from kin.ik.analytic.seven_r.seven_dof import COMPILED, SevenDofIK

@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
 from scipy.optimize import least_squares
-from urdf_reference import UrdfReference
+from support.dh_reference import fk_frames, load_reference, rotation_angle
+from support.urdf_reference import UrdfReference
 
 from dh2urdf import load_table
 from kin import load_robot

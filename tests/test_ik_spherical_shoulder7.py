@@ -6,7 +6,7 @@ Arms: Panda and xArm7 (makers' modified DH), and seeded random tables of the fam
 conventions (random lengths, twists, joint offsets, base and tool). The recogniser is tried on
 near-misses; the batched solve against the scalar one; the numeric solver's stage 0 on Panda and
 xArm7 full poses, every success checked by an independent NumPy DH product
-(``tests/dh_reference.py``) and the limits.
+(``tests/support/dh_reference.py``) and the limits.
 """
 
 from __future__ import annotations
@@ -17,9 +17,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, make_table, random_pose, wrapped_gap
-from dh_reference import fk_frames, load_reference, rotation_angle
-from solver_caps import NO_CAP
+from support.arm_tables import TOL, Reference, make_table, random_pose, wrapped_gap
+from support.dh_reference import fk_frames, load_reference, rotation_angle
+from support.solver_caps import NO_CAP
 
 import kin
 from dh2urdf import DHTable, get_robot

@@ -16,8 +16,15 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, assert_round_trips, make_table, wrapped_gap
-from spherical_wrist_arms import ARMS, PUMA_A, PUMA_ALPHA, PUMA_D, arm_table, random_pieper_table
+from support.arm_tables import TOL, Reference, assert_round_trips, make_table, wrapped_gap
+from support.spherical_wrist_arms import (
+    ARMS,
+    PUMA_A,
+    PUMA_ALPHA,
+    PUMA_D,
+    arm_table,
+    random_pieper_table,
+)
 
 import kin
 from dh2urdf import DHRow, DHTable

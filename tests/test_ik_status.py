@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from arm_tables import make_table
-from solver_caps import NO_CAP
+from support.arm_tables import make_table
+from support.solver_caps import NO_CAP
 
 from kin import load_robot, robot_from_table
 from kin.commands import ik

@@ -5,8 +5,8 @@ import math
 
 import numpy as np
 import pytest
-from scripts_helper import exit_code, load_script
-from solver_caps import NO_CAP
+from support.scripts_helper import exit_code, load_script
+from support.solver_caps import NO_CAP
 
 import kin
 import kin.ik as ik

@@ -15,8 +15,14 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, assert_round_trips, make_table, random_pose, wrapped_gap
-from three_parallel_arms import random_table
+from support.arm_tables import (
+    TOL,
+    Reference,
+    assert_round_trips,
+    make_table,
+    wrapped_gap,
+)
+from support.three_parallel_arms import arm_table
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table
@@ -32,18 +38,6 @@ PI = math.pi
 ARMS = ("general_standard_0", "general_standard_1", "general_modified_0", "general_modified_1",
         "classic_standard_0", "classic_modified_0", "intersecting_modified_0", "ur5",
         "ur5_moved")  # fmt: skip
-
-
-@functools.cache
-def arm_table(name: str) -> DHTable:
-    table = load_table(get_robot("ur5").table_path)
-    if name == "ur5":
-        return table
-    if name == "ur5_moved":
-        rng = np.random.default_rng(5)
-        return DHTable(name, "", "", "standard", table.rows, random_pose(rng), random_pose(rng))
-    family, convention, seed = name.split("_")
-    return random_table(family, convention, int(seed))
 
 
 @functools.cache

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 import pytest
-from arm_tables import TOL, Reference, assert_round_trips, make_table, wrapped_gap
-from ur_wrist_arms import UR5, arm_table, random_ur_table
+from support.arm_tables import TOL, Reference, assert_round_trips, make_table, wrapped_gap
+from support.ur_wrist_arms import UR5, arm_table, random_ur_table
 
 import kin
 from dh2urdf import DHRow, DHTable, get_robot, load_table

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helper import kin_command
+from support.cli_helper import kin_command
 
 import dh2urdf
 import kin

@@ -9,9 +9,9 @@ import time
 from pathlib import Path
 
 import pytest
-from cli_helper import kin_command
-from interrupt_cases import SNAKE8_TOML, _pose_file
-from process_state import HANG_GUARD, cpu_seconds, wait_until
+from support.cli_helper import kin_command
+from support.interrupt_cases import SNAKE8_TOML, _pose_file
+from support.process_state import HANG_GUARD, cpu_seconds, wait_until
 
 
 def _group_alive(pgid: int) -> list[str]:

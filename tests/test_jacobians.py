@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from dh_reference import random_configurations
+from support.dh_reference import random_configurations
 
 from dh2urdf import robot_names
 from kin import Configuration, load_robot

@@ -3,7 +3,7 @@
 The DH angle of a reversed revolute row is ``theta - q``, the DH length of a reversed prismatic
 row ``d - q``; the limits stay those of ``q``. Checked here: the Robotics Toolbox's Kinova Jaco and
 Mico models (``flip=True`` on joint 1, ``tests/data/toolbox/``) against the plain NumPy DH product
-of ``tests/dh_reference.py`` and, where it is installed, the toolbox's own ``fkine``; the URDF
+of ``tests/support/dh_reference.py`` and, where it is installed, the toolbox's own ``fkine``; the URDF
 (Pinocchio) and MJCF (MuJoCo) of a random table with mixed directions; the closed forms (single,
 batched, free joint) on reversed arms, every solution verified and the limits mirrored; the table
 writer's round trip; a bad direction's error; the audit's "q reversed" edit.
@@ -19,7 +19,7 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 import pytest
-from dh_reference import fk_frames, load_reference, random_configurations, rotation_angle
+from support.dh_reference import fk_frames, load_reference, random_configurations, rotation_angle
 
 from dh2urdf import DHRow, DHTable, TableError, get_robot, load_table
 from dh2urdf.mjcf_writer import TOOL_SITE, mjcf_string
@@ -419,7 +419,7 @@ def test_flipped_axes_keep_the_forward_kinematics(convention):
     table's at ``q`` (Pinocchio from the table's URDF), limits mirrored on the turned joints;
     random tables with revolute and prismatic rows, pi twists anywhere (the last row too, and two
     in a row), random base and tool."""
-    from arm_tables import random_pose
+    from support.arm_tables import random_pose
 
     from kin.ik.analytic.joint_directions import flipped_axes
 

@@ -1,6 +1,6 @@
 """Every random draw of the IK over a long rail's limits is cut to the arm's size (issue 47).
 
-A Panda on a turning base and a +-999,999 m rail (tests/long_rail_arm.py, the Robotics Toolbox's
+A Panda on a turning base and a +-999,999 m rail (tests/support/long_rail_arm.py, the Robotics Toolbox's
 Frankie). Drawn over the rail's whole travel, the reach's samples put the tool kilometres away (the
 out-of-reach check never triggered: a target 10 m above the arm ran every start and QP run) and
 the distance-bounded solve's random starts began kilometres from any target. Judged apart from the
@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from long_rail_arm import PANDA, SPHERE_LINKS, frankie_urdf, srdf_text
-from solver_caps import NO_CAP
+from support.long_rail_arm import PANDA, SPHERE_LINKS, frankie_urdf, srdf_text
+from support.solver_caps import NO_CAP
 
 from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model

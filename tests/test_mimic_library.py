@@ -15,8 +15,8 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import call
-from mimic_reference import _in_limits, _pinocchio_mimic_fk, _urdf
+from support.cli_helper import call
+from support.mimic_reference import _in_limits, _pinocchio_mimic_fk, _urdf
 
 import kin
 from kin import ModelLoadError, load_robot

@@ -5,7 +5,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
-from dh_reference import rotation_angle
+from support.dh_reference import rotation_angle
 
 from dh2urdf import get_robot, robot_names
 from dh2urdf.command import main

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error
+from support.cli_helper import assert_one_line_error
 
 from dh2urdf import load_table
 from dh2urdf.exceptions import TableError
@@ -169,7 +169,7 @@ def test_a_robot_without_states_says_where_names_come_from(capsys):
 def test_table_states_in_the_tables_units_and_written_back(tmp_path):
     """[states] in degrees and mm (a prismatic row) read as rad and m; table_text writes them
     (SI) and reads back the same; a bad state names the table and the key."""
-    from cli_helper import RRPR4_TOML
+    from support.cli_helper import RRPR4_TOML
 
     table_path = tmp_path / "rrpr4.toml"
     table_path.write_text(RRPR4_TOML + "\n[states]\nparked = [90.0, -45.0, 50.0, 180.0]\n")

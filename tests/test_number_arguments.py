@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from cli_helper import assert_one_line_error, call, run
+from support.cli_helper import assert_one_line_error, call, run
 
 from dh2urdf.command_line import finite_float, positive_int, whole_number
 from kin.commands import main

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from kin import Configuration, load_robot
 from kin.ik import NumericIK, PoseTarget

@@ -4,7 +4,7 @@ suffix is one line and exit 2 at once; a known figure suffix is written in that 
 from __future__ import annotations
 
 import pytest
-from cli_helper import assert_one_line_error
+from support.cli_helper import assert_one_line_error
 
 import kin.robot_model
 from kin.commands import path, preview, workspace

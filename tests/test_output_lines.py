@@ -242,7 +242,7 @@ def test_an_srdf_of_another_name_with_known_links_warns_once(tmp_path):
 
 
 def _subprocess(argv: list[str]):  # noqa: ANN202
-    from cli_helper import run
+    from support.cli_helper import run
 
     return run(argv)
 

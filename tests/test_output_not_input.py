@@ -11,7 +11,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from cli_helper import assert_one_line_error
+from support.cli_helper import assert_one_line_error
 
 import dh2urdf
 import dh2urdf.command

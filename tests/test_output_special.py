@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
-from cli_helper import assert_one_line_error
+from support.cli_helper import assert_one_line_error
 
 import dh2urdf.robots
 import dh2urdf.urdf_to_dh

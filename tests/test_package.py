@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yourdfpy
-from dh_reference import fk_frames, load_reference, random_configurations, rotation_angle
+from support.dh_reference import fk_frames, load_reference, random_configurations, rotation_angle
 
 import dh2urdf
 from dh2urdf import ROBOTS, get_robot, load_table, robot_names

@@ -1,6 +1,6 @@
 """Collision-free paths (kin.path.follow_path_avoiding, ``kin path --avoid``) judged apart.
 
-Every verdict is the direct coal check built apart (tests/collision_reference.py: the URDF's
+Every verdict is the direct coal check built apart (tests/support/collision_reference.py: the URDF's
 shapes placed by Pinocchio and asked of coal pair by pair): the scene pairs are every link with
 shapes against every scene object, the self pairs those the model checks. The samples' poses are
 measured by Pinocchio's forward kinematics of the same URDF (not the DH product of the code under
@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import assert_one_line_error, call
-from collision_reference import CollisionReference
-from urdf_reference import erd
+from support.cli_helper import assert_one_line_error, call
+from support.collision_reference import CollisionReference
+from support.urdf_reference import erd
 
 from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call, run, write_rrpr4
+from support.cli_helper import assert_one_line_error, call, run, write_rrpr4
 
 from kin.commands import path as path_command
 
@@ -269,7 +269,7 @@ def test_kin_path_is_a_kin_command():
 
 def test_script_shim_names_itself_in_errors(capsys):
     """scripts/path.py is ``kin path`` with its own name: --steps 0 exits 2 with one line."""
-    from scripts_helper import load_script
+    from support.scripts_helper import load_script
 
     code = call(load_script("path").main, ["--robot", "scorbot", "--steps", "0"])
     _, err = capsys.readouterr()
@@ -296,7 +296,7 @@ def test_unreachable_start_is_valid_json_with_nulls(capsys):
 
 def test_timing_uses_the_table_velocity_and_acceleration(tmp_path, capsys):
     """rrpr4 with velocity 20 deg/s and acceleration 40 deg/s^2 rows: --time keeps |qd| under them."""
-    from cli_helper import RRPR4_TOML
+    from support.cli_helper import RRPR4_TOML
 
     text = RRPR4_TOML.replace("limits = [-150.0, 150.0]", "limits = [-150.0, 150.0]\nvelocity = 20.0\nacceleration = 40.0")  # fmt: skip
     table = tmp_path / "slow.toml"

@@ -1,6 +1,6 @@
 """Collision check of joint paths (kin.path.check_path_collisions, ``kin path --scene/--srdf``).
 
-Compared with a direct coal check built apart (tests/collision_reference.py): the verdict of every
+Compared with a direct coal check built apart (tests/support/collision_reference.py): the verdict of every
 sample, and the motion between samples sampled densely by the reference; a path the reference
 finds colliding between free samples is never called free, and a path called free has no contact
 deeper than 1e-6 m anywhere the reference looks.
@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call
-from collision_reference import CollisionReference
-from urdf_reference import erd
+from support.cli_helper import assert_one_line_error, call
+from support.collision_reference import CollisionReference
+from support.urdf_reference import erd
 
 from kin import load_robot
 from kin.collision.requests import CONTACT_TOLERANCE

@@ -16,7 +16,7 @@ from functools import cache
 from pathlib import Path
 
 import numpy as np
-from cli_helper import call
+from support.cli_helper import call
 
 from kin import load_robot
 from kin.commands import path as path_command

@@ -1,7 +1,7 @@
 """Paths of partial poses (issue #21): a free tool axis, a masked pose, a pose on a SCARA.
 
 Every sample of the joint path is judged again by the plain NumPy DH product
-(``tests/dh_reference.py``) on the constrained components.
+(``tests/support/dh_reference.py``) on the constrained components.
 """
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import call
-from dh_reference import fk_frames, load_reference
+from support.cli_helper import call
+from support.dh_reference import fk_frames, load_reference
 
 from dh2urdf import get_robot
 from kin import load_robot

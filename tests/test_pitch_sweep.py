@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference
+from support.dh_reference import fk_frames, load_reference
 
 from dh2urdf import load_table
 from kin.ik.analytic.planar import free_angle

@@ -1,6 +1,6 @@
 """kin.plan.plan: certified collision-free paths, judged by a coal check built apart from kin.
 
-The reference (tests/collision_reference.py) places the URDF's shapes by Pinocchio's FK of the
+The reference (tests/support/collision_reference.py) places the URDF's shapes by Pinocchio's FK of the
 robot's URDF text and asks coal pair by pair; a returned path is resampled at 0.005 rad (the
 largest joint step between two checked configurations) and every configuration must be apart.
 """
@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from collision_reference import CollisionReference
-from plan_support import _resampled
+from support.collision_reference import CollisionReference
+from support.plan_support import _resampled
 
 from kin import JointVectorError, NotWithinLimitsError, load_robot
 from kin.collision import CollisionChecker, load_collision_model

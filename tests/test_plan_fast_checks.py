@@ -3,7 +3,7 @@
 Judged apart from the code under test: the verdicts against the checker's own
 ``in_collision`` at random configurations; every path planned with the fast checks against the
 exact rule (``check_path_collisions``, no spheres) and against a direct coal check of the URDF
-built apart from kin (tests/collision_reference.py) at a 0.005 rad resample; and the path itself
+built apart from kin (tests/support/collision_reference.py) at a 0.005 rad resample; and the path itself
 against the plan made without the spheres (the same seed must give the same path and checks).
 """
 
@@ -14,9 +14,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from collision_reference import CollisionReference
-from plan_support import _resampled  # every configuration of the motions, no joint step > 0.005 rad
-from urdf_reference import erd
+from support.collision_reference import CollisionReference
+from support.plan_support import (
+    _resampled,  # every configuration of the motions, no joint step > 0.005 rad
+)
+from support.urdf_reference import erd
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model

@@ -9,9 +9,9 @@ import io
 import json
 import math
 
-from cli_helper import call
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from support.cli_helper import call
 
 from kin.commands import plan as plan_command
 

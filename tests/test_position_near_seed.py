@@ -16,7 +16,7 @@ import json
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference
+from support.dh_reference import fk_frames, load_reference
 
 from dh2urdf import get_robot
 from kin import load_robot

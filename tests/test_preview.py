@@ -13,15 +13,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call, kin_command
-from preview_page import (
+from support.cli_helper import assert_one_line_error, call, kin_command
+from support.preview_page import (
     animation_tracks,
     cloud_points,
     object_paths,
     page_commands,
     write_page,
 )
-from scripts_helper import load_script
+from support.scripts_helper import load_script
 
 from dh2urdf import robot_names
 from kin import Configuration, load_robot

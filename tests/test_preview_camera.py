@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scripts_helper import exit_code
+from support.scripts_helper import exit_code
 
 viewer_module = pytest.importorskip("kin.viewer")
 from kin.commands import preview  # noqa: E402

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
-from urdf_reference import ARMS, erd
+from support.urdf_reference import ARMS, erd
 
 from kin import Configuration, load_robot
 from kin.viewer import RobotViewer

@@ -10,9 +10,15 @@ import json
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call
-from plan_support import SWING, write_ball
-from preview_page import animation_tracks, cloud_points, object_paths, page_commands, write_page
+from support.cli_helper import assert_one_line_error, call
+from support.plan_support import SWING, write_ball
+from support.preview_page import (
+    animation_tracks,
+    cloud_points,
+    object_paths,
+    page_commands,
+    write_page,
+)
 
 from kin import Configuration, load_robot
 from kin.commands import plan as plan_command

@@ -15,8 +15,8 @@ import coal
 import numpy as np
 import pinocchio as pin
 import pytest
-from collision_reference import resolve_mesh
-from urdf_reference import erd
+from support.collision_reference import resolve_mesh
+from support.urdf_reference import erd
 
 from kin import load_robot
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from urdf_reference import erd
+from support.urdf_reference import erd
 
 from kin.commands import preview as command
 from kin.viewer import screenshot

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from process_state import HANG_GUARD
+from support.process_state import HANG_GUARD
 
 from kin import load_robot
 from kin.commands import preview as command

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from stick_arms import stick_robot
+from support.stick_arms import stick_robot
 
 from kin import load_robot
 

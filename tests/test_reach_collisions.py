@@ -2,7 +2,7 @@
 
 A box filling the half space x < -0.15 m beside UR5: the map counts fewer voxels than without it,
 and each voxel's count is the number of orientations with at least one valid closed-form branch
-that the direct coal check (tests/collision_reference.py) finds free. The face stays 3.8 cm clear
+that the direct coal check (tests/support/collision_reference.py) finds free. The face stays 3.8 cm clear
 of the base and shoulder housings (link1, 0.112 m radius, turning with the first joint only), so
 the arm can reach past it; at x < -0.05 m, beside the old 1 cm sticks, they met it in every
 posture and nothing was free (issue 43).
@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helper import assert_one_line_error, call
-from collision_reference import CollisionReference
+from support.cli_helper import assert_one_line_error, call
+from support.collision_reference import CollisionReference
 
 from kin import load_robot
 from kin.commands import reach as reach_command

@@ -244,8 +244,8 @@ def test_sigint_to_a_running_command_leaves_no_file(tmp_path, scheduler):
     import signal
     import subprocess
 
-    from cli_helper import kin_command
-    from process_state import group_cpu_seconds, wait_until
+    from support.cli_helper import kin_command
+    from support.process_state import group_cpu_seconds, wait_until
 
     argv = ["reach", "--robot", "ur5", "--voxel", "0.02", "--orientations", "64"]
     process = subprocess.Popen(

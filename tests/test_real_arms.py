@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from dh_reference import dh_matrices, random_configurations, rotation_angle
+from support.dh_reference import dh_matrices, random_configurations, rotation_angle
 
 from kin import Configuration, load_robot
 

@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from long_rail_arm import PANDA, frankie_urdf
+from support.long_rail_arm import PANDA, frankie_urdf
 
 from kin import load_robot
 from kin.ik import PoseTarget, get_solver

@@ -1,7 +1,7 @@
 """Counts and budgets on the command line must be positive: exit 2 with one line on stderr."""
 
 import pytest
-from scripts_helper import exit_code, load_script
+from support.scripts_helper import exit_code, load_script
 
 
 @pytest.mark.parametrize(

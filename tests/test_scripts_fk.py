@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 import pytest
-from scripts_helper import exit_code, load_script
+from support.scripts_helper import exit_code, load_script
 
 from dh2urdf import robot_names
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helper import kin_command, run
+from support.cli_helper import kin_command, run
 
 from kin.commands import cache
 from kin.ik.numeric import seed_cache

@@ -14,8 +14,8 @@ import functools
 
 import numpy as np
 import pytest
-from arm_tables import assert_layout_matches, tool_poses
-from solver_caps import NO_CAP
+from support.arm_tables import assert_layout_matches, tool_poses
+from support.solver_caps import NO_CAP
 
 from kin import load_robot
 from kin.ik.analytic.seven_r.spherical_shoulder7 import COMPILED, SphericalShoulder7RIK

@@ -17,9 +17,9 @@ import time
 from pathlib import Path
 
 import pytest
-from cli_helper import kin_command
-from interrupt_cases import SNAKE8_TOML, _pose_file
-from process_state import HANG_GUARD, _left
+from support.cli_helper import kin_command
+from support.interrupt_cases import SNAKE8_TOML, _pose_file
+from support.process_state import HANG_GUARD, _left
 
 ROOT = Path(__file__).resolve().parents[1]
 

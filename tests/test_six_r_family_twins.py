@@ -13,12 +13,11 @@ Skipped when a twin is not built (no C compiler at install) or SciPy's LAPACK is
 
 from __future__ import annotations
 
-import pieper_arms
 import pytest
-import three_parallel_arms
-from arm_tables import assert_layout_matches
-from six_r_twin_parity import assert_batch_parity, assert_solve_parity, assert_solver_parity
-from spherical_wrist_arms import arm_table as pieper_table
+from support import pieper_arms, three_parallel_arms
+from support.arm_tables import assert_layout_matches
+from support.six_r_twin_parity import assert_batch_parity, assert_solve_parity, assert_solver_parity
+from support.spherical_wrist_arms import arm_table as pieper_table
 
 from kin.ik.analytic.six_r import pieper, three_parallel
 from kin.ik.analytic.six_r.pieper import Pieper6R

@@ -22,17 +22,17 @@ import dataclasses
 import math
 import subprocess
 import sys
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from arm_tables import Reference, assert_layout_matches, make_table, random_pose
-from six_r_twin_parity import assert_same_result, narrow_limits, targets
-from spherical_wrist_arms import ARMS as PIEPER_ARMS
-from spherical_wrist_arms import arm_table as pieper_table
-from ur_wrist_arms import UR5 as UR_ARMS
-from ur_wrist_arms import arm_table as ur_table
+from support import TESTS
+from support.arm_tables import Reference, assert_layout_matches, make_table, random_pose
+from support.six_r_twin_parity import assert_same_result, narrow_limits, targets
+from support.spherical_wrist_arms import ARMS as PIEPER_ARMS
+from support.spherical_wrist_arms import arm_table as pieper_table
+from support.ur_wrist_arms import UR5 as UR_ARMS
+from support.ur_wrist_arms import arm_table as ur_table
 
 import kin
 from dh2urdf import get_robot, load_table
@@ -357,15 +357,15 @@ def test_solutions_made_in_c_pickle_copy_and_stay_frozen():
 
 
 @pytest.mark.parametrize(
-    ("module", "family", "tests", "arm"),
+    ("module", "family", "arms", "arm"),
     [
-        ("_pieper_arms", "pieper.Pieper6R", "test_ik_pieper", "general_standard_0"),
-        ("_three_parallel", "three_parallel.ThreeParallel6R", "test_ik_three_parallel",
+        ("_pieper_arms", "pieper.Pieper6R", "pieper_arms", "general_standard_0"),
+        ("_three_parallel", "three_parallel.ThreeParallel6R", "three_parallel_arms",
          "general_standard_0"),
     ],
 )  # fmt: skip
 def test_a_twin_called_before_its_lapack_is_loaded_raises_instead_of_crashing(
-    module, family, tests, arm
+    module, family, arms, arm
 ):
     """A general arm's quartic met before ``load_lapack``: a RuntimeError, not a jump to NULL.
 
@@ -377,13 +377,13 @@ def test_a_twin_called_before_its_lapack_is_loaded_raises_instead_of_crashing(
     structure_module, structure = family.split(".")
     code = f"""
 import sys
-sys.path.insert(0, {str(Path(__file__).parent)!r})
+sys.path.insert(0, {str(TESTS)!r})
 import numpy as np
 import kin
 from kin.ik.analytic.six_r import {module} as twin
 twin.load_lapack = lambda *args: None  # never loaded
 from kin.ik.analytic.six_r.{structure_module} import {structure}
-from {tests} import arm_table
+from support.{arms} import arm_table
 table = arm_table({arm!r})
 pose = kin.batch_forward_kinematics(table, np.full((1, 6), 0.3))[0]
 try:

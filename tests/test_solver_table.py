@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from urdf_reference import ARMS, erd
+from support.urdf_reference import ARMS, erd
 
 from dh2urdf import ROBOTS
 from kin import load_robot

@@ -19,7 +19,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
-from urdf_reference import erd
+from support.urdf_reference import erd
 
 import kin
 from kin.collision import attached_object, load_collision_model

@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from arm_tables import wrapped_gap
-from least_squares_solutions import least_squares_solutions
+from support.arm_tables import wrapped_gap
+from support.least_squares_solutions import least_squares_solutions
 
 from kin import load_robot
 from kin.ik import PoseTarget, get_solver

@@ -1,7 +1,7 @@
 """sweep_ik_peers.py: argument errors, the grids, a tiny sweep per peer, and Ctrl-C."""
 
 import pytest
-from scripts_helper import exit_code, load_script
+from support.scripts_helper import exit_code, load_script
 
 
 def sweep():

@@ -23,7 +23,7 @@ else:  # Python 3.10
 import numpy as np
 import pinocchio as pin
 import pytest
-from solver_caps import NO_CAP
+from support.solver_caps import NO_CAP
 
 from dh2urdf import TableError, get_robot, load_table
 from dh2urdf.command import main as dh2urdf_main

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from cli_helper import assert_one_line_error
+from support.cli_helper import assert_one_line_error
 
 from dh2urdf import TableError, get_robot, load_table
 from dh2urdf.command import main as dh2urdf_main

@@ -3,7 +3,7 @@ raise an error of the package's family (``dh2urdf.Dh2UrdfError``), nothing else.
 
 Each example takes a shipped table and mutates one to three of its fields (numbers, strings,
 lists, missing keys, huge or non-finite values, wrong types). An accepted table must give finite
-forward kinematics, computed here by an independent NumPy DH product (``tests/dh_reference``), at
+forward kinematics, computed here by an independent NumPy DH product (``tests/support/dh_reference``), at
 q = 0 and at both limits, and a URDF without a non-finite number.
 """
 
@@ -21,9 +21,9 @@ else:  # Python 3.10
 
 import numpy as np
 import pytest
-from dh_reference import dh_matrices
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from support.dh_reference import dh_matrices
 
 from dh2urdf import ROBOTS, Dh2UrdfError, get_robot, parse_table
 from dh2urdf.urdf_writer import urdf_string

@@ -11,8 +11,8 @@ import coal
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import assert_one_line_error
-from urdf_reference import erd
+from support.cli_helper import assert_one_line_error
+from support.urdf_reference import erd
 
 from dh2urdf import load_table
 from dh2urdf.command import main as dh2urdf_main
@@ -248,7 +248,7 @@ def test_a_base_mesh_error_names_the_key_without_a_row(tmp_path):
 
 def test_the_urdf_text_with_meshes_equals_yourdfpys(tmp_path):
     """urdf_string of a table with meshes: the bytes yourdfpy's writer and lxml give."""
-    from urdf_text import body, yourdfpy_text
+    from support.urdf_text import body, yourdfpy_text
 
     table_path = tmp_path / "meshed.toml"
     table_path.write_text(TABLE + f'\n[[base_mesh]]\nfile = "{FOREARM}"\nuse = "visual"\n')

@@ -10,7 +10,7 @@ import textwrap
 
 import numpy as np
 import pytest
-from dh_reference import load_reference
+from support.dh_reference import load_reference
 
 import kin
 from dh2urdf import Dh2UrdfError, TableError, UnknownRobotError, get_robot, load_table, robot_names

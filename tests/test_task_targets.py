@@ -7,8 +7,8 @@ Jaco 2, UR5, Z1, xArm7, TIAGo arm and Baxter arm, through the library, ``kin ik`
 of the free rotation), not from the numeric fallback.
 
 The targets are the tool poses of random joint vectors inside the limits, made by an independent
-forward kinematics: the plain NumPy DH product of ``tests/dh_reference.py`` for a shipped table,
-Pinocchio on the maker's original URDF (``tests/urdf_reference.py``) for a URDF arm. Every answer
+forward kinematics: the plain NumPy DH product of ``tests/support/dh_reference.py`` for a shipped table,
+Pinocchio on the maker's original URDF (``tests/support/urdf_reference.py``) for a URDF arm. Every answer
 is judged again by that same reference. ``scripts/bench_task_targets.py`` measures the success
 rate over thousands of targets per arm (the 99.9 % of the issue); here a sample of each.
 """
@@ -20,7 +20,7 @@ import json
 
 import numpy as np
 import pytest
-from task_targets_reference import KINDS, ROBOTS, arm_of
+from support.task_targets_reference import KINDS, ROBOTS, arm_of
 
 from kin.ik import get_solver
 from kin.ik.analytic.closed_form import ClosedFormSolver

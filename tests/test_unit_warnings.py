@@ -63,7 +63,7 @@ def test_degrees_without_deg(capsys):
 def test_target_angles_beyond_a_turn_without_deg_are_refused(argv, needle, tmp_path, capsys):
     """--rpy 180 0 0 without --deg solved 180 rad (another pose) with exit 0: now exit 2, one
     line naming --rpy and the fix --deg, and nothing written."""
-    from cli_helper import assert_one_line_error, call
+    from support.cli_helper import assert_one_line_error, call
 
     from kin.commands import main
 
@@ -86,7 +86,7 @@ def test_target_angles_within_a_turn_or_with_deg_are_solved(capsys):
 
 def test_pitch_beyond_a_turn_without_deg_is_refused(capsys):
     """--pitch 90 without --deg (a five-joint arm's approach angle): exit 2, one line."""
-    from cli_helper import assert_one_line_error, call
+    from support.cli_helper import assert_one_line_error, call
 
     code = call(ik.main, ["--robot", "lab5", "--target", "0.3", "0", "0.2", "--pitch", "90"])
     assert_one_line_error(code, capsys.readouterr().err, "--pitch value 90 rad")
@@ -97,7 +97,7 @@ def test_stream_line_with_degrees_without_deg_is_an_error_line():
     the same line is solved), the other lines answered."""
     import json
 
-    from cli_helper import run
+    from support.cli_helper import run
 
     lines = '{"target": [0.4, 0.1, 0.3], "rpy": [180, 0, 0]}\n{"target": [0.4, 0.1, 0.3]}\n'
     done = run(["ik", "--robot", "ur5", "--stdin"], stdin=lines)

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from solver_caps import NO_CAP
-from urdf_reference import ARMS, UrdfReference, erd
+from support.solver_caps import NO_CAP
+from support.urdf_reference import ARMS, UrdfReference, erd
 
 from dh2urdf.urdf_chain import read_chain
 from kin import load_robot

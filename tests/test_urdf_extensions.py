@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import assert_one_line_error, call, kin_command
+from support.cli_helper import assert_one_line_error, call, kin_command
 
 from dh2urdf.command import main as dh2urdf_main
 from dh2urdf.exceptions import UrdfChainError

@@ -11,8 +11,15 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from cli_helper import assert_one_line_error, call
-from mimic_reference import JOINTS, OFFSET, TIP_ORIGIN, _in_limits, _pinocchio_mimic_fk, _urdf
+from support.cli_helper import assert_one_line_error, call
+from support.mimic_reference import (
+    JOINTS,
+    OFFSET,
+    TIP_ORIGIN,
+    _in_limits,
+    _pinocchio_mimic_fk,
+    _urdf,
+)
 
 from dh2urdf.command import main as dh2urdf_main
 from dh2urdf.urdf_chain import UrdfChainError, read_chain

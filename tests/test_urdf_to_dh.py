@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from urdf_reference import ARMS, UrdfReference, erd
+from support.urdf_reference import ARMS, UrdfReference, erd
 
 from dh2urdf import Dh2UrdfError, parse_table
 from dh2urdf.dh_table import DHTable, dh_link_transform

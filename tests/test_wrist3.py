@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dh_reference import fk_frames, load_reference, rotation_angle
+from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 from dh2urdf import load_table
 from kin import load_robot

@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from collision_reference import CollisionReference
-from urdf_reference import erd
 
 from kin.collision import CollisionChecker, load_collision_model
 from kin.ik import PoseTarget, get_solver
+from support.collision_reference import CollisionReference
+from support.urdf_reference import erd
 
 URDF, TIP, SRDF = (
     "panda_description/urdf/panda.urdf",

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
 
 import kin
-from dh2urdf import DHRow, DHTable
+from dh2urdf import DHRow, DHTable, get_robot, load_table
 
 
 def make_table(
@@ -53,6 +54,42 @@ def tool_poses(robot: kin.RobotModel, n: int, seed: int) -> list[tuple[np.ndarra
 def random_pose(rng: np.random.Generator) -> np.ndarray:
     """A random rigid transform (4x4): rotation from a normal rotation vector, offset +-0.3 m."""
     return pin.SE3(pin.exp3(rng.normal(size=3)), rng.uniform(-0.3, 0.3, 3)).homogeneous
+
+
+def random_family_table(
+    family: str,
+    convention: str,
+    seed: int,
+    offset_reach: float,
+    twists_first: bool,
+    shape: Callable[[str, np.random.Generator, np.ndarray, np.ndarray, np.ndarray, int], None],
+) -> DHTable:
+    """A random 6R arm of a closed-form family: lengths ``a`` in +-0.5 m, offsets ``d`` in
+    +-``offset_reach`` [m], twists and joint offsets in +-pi (twists drawn first or second, as
+    the family's tests fixed), then ``shape(family, rng, a, alpha, d, j)`` sets the family's
+    structural values in place (``j``: 1 in the modified convention, whose row i + 1 holds joint
+    i's a and alpha), then a random base and tool. The generator is seeded with ``seed`` (+50
+    in the modified convention); the table is named ``{family}_{convention}_{seed}``."""
+    rng = np.random.default_rng(seed + (0 if convention == "standard" else 50))
+    a = rng.uniform(-0.5, 0.5, 6)
+    d = rng.uniform(-offset_reach, offset_reach, 6)
+    first, second = rng.uniform(-math.pi, math.pi, (2, 6))
+    alpha, theta = (first, second) if twists_first else (second, first)
+    shape(family, rng, a, alpha, d, 0 if convention == "standard" else 1)
+    return make_table(a, alpha, d, theta, convention, random_pose(rng), random_pose(rng),
+                      f"{family}_{convention}_{seed}")  # fmt: skip
+
+
+def ur5_or_random(name: str, random: Callable[[str], DHTable]) -> DHTable:
+    """The shipped UR5 table (``"ur5"``), the same rows on a random base and tool
+    (``"ur5_moved"``, seed 5), else ``random(name)``."""
+    table = load_table(get_robot("ur5").table_path)
+    if name == "ur5":
+        return table
+    if name == "ur5_moved":
+        rng = np.random.default_rng(5)
+        return DHTable(name, "", "", "standard", table.rows, random_pose(rng), random_pose(rng))
+    return random(name)
 
 
 def wrapped_gap(branches: np.ndarray, q) -> np.ndarray:

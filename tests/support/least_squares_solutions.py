@@ -6,7 +6,8 @@ import math
 from collections.abc import Callable
 
 import numpy as np
-from arm_tables import wrapped_gap
+
+from support.arm_tables import wrapped_gap
 
 
 def least_squares_solutions(

@@ -11,9 +11,10 @@ from pathlib import Path
 import coal
 import numpy as np
 import pinocchio as pin
-from collision_reference import Shape, scene_shapes
-from collision_reference import _signed_distance as signed_distance
-from urdf_reference import erd
+
+from support.collision_reference import Shape, scene_shapes
+from support.collision_reference import _signed_distance as signed_distance
+from support.urdf_reference import erd
 
 #: The issue's posture: Panda's hand pointing straight down [rad].
 HAND_DOWN = [0.0, 0.0, 0.0, -math.pi / 2, 0.0, math.pi / 2, math.pi / 4]

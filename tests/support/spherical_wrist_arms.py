@@ -6,9 +6,9 @@ import functools
 import math
 
 import numpy as np
-from arm_tables import make_table, random_pose
 
 from dh2urdf import DHTable
+from support.arm_tables import make_table, random_pose
 
 PI = math.pi
 

@@ -6,9 +6,9 @@ import functools
 import math
 
 import numpy as np
-from arm_tables import make_table, random_pose
 
-from dh2urdf import DHTable, get_robot, load_table
+from dh2urdf import DHTable
+from support.arm_tables import make_table, random_pose, ur5_or_random
 
 PI = math.pi
 
@@ -40,14 +40,13 @@ def random_ur_table(seed: int, convention: str) -> DHTable:
                       f"ur_random_{convention}_{seed}")  # fmt: skip
 
 
-@functools.cache
-def arm_table(name: str) -> DHTable:
-    table = load_table(get_robot("ur5").table_path)
-    if name == "ur5":
-        return table
-    if name == "ur5_moved":
-        rng = np.random.default_rng(5)
-        rows = tuple(r for r in table.rows)
-        return DHTable("ur5_moved", "", "", "standard", rows, random_pose(rng), random_pose(rng))
+def _random_by_name(name: str) -> DHTable:
     _, convention, seed = name.split("_")
     return random_ur_table(int(seed) + (0 if convention == "standard" else 10), convention)
+
+
+@functools.cache
+def arm_table(name: str) -> DHTable:
+    """``ur5``, ``ur5_moved`` (:func:`~support.arm_tables.ur5_or_random`) or
+    ``random_{convention}_{seed}`` (:func:`random_ur_table`)."""
+    return ur5_or_random(name, _random_by_name)

@@ -22,6 +22,8 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from support.urdf_reference import place_frames
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
@@ -218,14 +220,7 @@ class CollisionReference:
 
     def placements(self, q: np.ndarray) -> dict[str, list[tuple[Shape, pin.SE3]]]:
         """Owner -> its shapes placed in the world frame at ``q`` [rad / m]."""
-        full = pin.neutral(self.model)
-        for joint, value in zip(self.joints, q, strict=True):
-            if joint.nq == 2:  # continuous: (cos, sin)
-                full[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
-            else:
-                full[joint.idx_q] = value
-        pin.forwardKinematics(self.model, self.data, full)
-        pin.updateFramePlacements(self.model, self.data)
+        place_frames(self.model, self.data, self.joints, q)
         world = self.data.oMf[self.frames[self.base]].inverse()
         placed: dict[str, list[tuple[Shape, pin.SE3]]] = {}
         for shape in self.shapes:

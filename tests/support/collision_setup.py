@@ -8,12 +8,12 @@ import xml.etree.ElementTree as ET
 from functools import cache
 from pathlib import Path
 
-from collision_reference import CollisionReference
-from urdf_reference import erd
-
 from kin import load_robot
+from support import DATA
+from support.collision_reference import CollisionReference
+from support.urdf_reference import erd
 
-CELL = Path(__file__).parent / "data" / "collision" / "cell.toml"
+CELL = DATA / "collision" / "cell.toml"
 #: robot -> (URDF in example-robot-data or None for a shipped table, tip link, SRDF or None).
 ROBOTS = {
     "panda": (

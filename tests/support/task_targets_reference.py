@@ -1,8 +1,8 @@
 """Reachable task-shaped targets and their independent judge, for tests and benchmarks.
 
 A robot's targets are the tool poses of random joint vectors inside its limits, made by an
-independent forward kinematics: the plain NumPy DH product of ``tests/dh_reference.py`` for a
-shipped table, Pinocchio on the maker's original URDF (``tests/urdf_reference.py``) for an
+independent forward kinematics: the plain NumPy DH product of ``tests/support/dh_reference.py`` for a
+shipped table, Pinocchio on the maker's original URDF (``tests/support/urdf_reference.py``) for an
 example-robot-data arm; the same reference judges every answer.
 """
 
@@ -12,16 +12,16 @@ import math
 
 import numpy as np
 import pinocchio as pin
-from dh_reference import fk_frames, load_reference
-from urdf_reference import ARMS, UrdfReference, erd
 
 from dh2urdf import get_robot
 from dh2urdf.robots import robot_names
 from kin import load_robot
 from kin.ik import AxisTarget, PoseTarget, get_solver
 from kin.ik.target import rpy_matrix
+from support.dh_reference import fk_frames, load_reference
+from support.urdf_reference import ARMS, UrdfReference, erd
 
-#: example-robot-data's arms of the issue (names of ``tests/urdf_reference.py``).
+#: example-robot-data's arms of the issue (names of ``tests/support/urdf_reference.py``).
 URDF_ARMS = ("panda", "kinova", "ur5", "z1", "xarm7", "tiago", "baxter_left")
 ROBOTS = (*robot_names(), *(f"erd:{name}" for name in URDF_ARMS))
 

@@ -10,17 +10,18 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-from dh_reference import load_reference
 
 import kin
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget
+from support import DATA
+from support.dh_reference import load_reference
 
 #: pi and pi/2 as the corpus AL5D writes them (its branches miss by less than the tolerance:
 #: rejected as they are), and to 4 decimals (they miss by up to 1e-5: rejected with a reason).
 ROUNDINGS = [("3.141592653", "1.570796325"), ("3.1416", "1.5708")]
 PUMA = Path(kin.__file__).parent.parent / "dh2urdf" / "tables" / "puma560.toml"
-AL5D = Path(__file__).parent / "data" / "toolbox" / "al5d.toml"
+AL5D = DATA / "toolbox" / "al5d.toml"
 LIMIT = 1.2  # [rad]
 
 

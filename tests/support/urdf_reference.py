@@ -44,6 +44,19 @@ ARMS = {
 }
 
 
+def place_frames(model: pin.Model, data: pin.Data, joints: list, q: np.ndarray) -> None:
+    """Pinocchio's FK into ``data.oMf``: ``joints`` at ``q`` [rad / m] (a continuous joint as
+    its cos and sin), every other joint of ``model`` at its neutral value."""
+    full = pin.neutral(model)
+    for joint, value in zip(joints, q, strict=True):
+        if joint.nq == 2:  # continuous: (cos, sin)
+            full[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
+        else:
+            full[joint.idx_q] = value
+    pin.forwardKinematics(model, data, full)
+    pin.updateFramePlacements(model, data)
+
+
 class UrdfReference:
     """Pinocchio's FK of the original URDF: the chain's joints at q, every other one at 0."""
 
@@ -55,12 +68,5 @@ class UrdfReference:
         self.joints = [self.model.joints[self.model.getJointId(name)] for name in joint_names]
 
     def pose(self, q: np.ndarray) -> np.ndarray:
-        full = pin.neutral(self.model)
-        for joint, value in zip(self.joints, q, strict=True):
-            if joint.nq == 2:  # continuous: (cos, sin)
-                full[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
-            else:
-                full[joint.idx_q] = value
-        pin.forwardKinematics(self.model, self.data, full)
-        pin.updateFramePlacements(self.model, self.data)
+        place_frames(self.model, self.data, self.joints, q)
         return (self.data.oMf[self.base].inverse() * self.data.oMf[self.tip]).homogeneous

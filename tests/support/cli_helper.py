@@ -11,7 +11,7 @@ from pathlib import Path
 RRPR4_TOML = """
 name = "rrpr4"
 description = "SCARA-like test arm: two revolute joints, a prismatic one, a wrist roll"
-source = "tests/cli_helper.py: invented for the units rule"
+source = "tests/support/cli_helper.py: invented for the units rule"
 convention = "standard"
 length_unit = "mm"
 angle_unit = "deg"
