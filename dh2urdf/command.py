@@ -8,17 +8,22 @@ Usage::
     dh2urdf from-urdf arm.urdf --tip tool0 -o arm.toml   # a URDF's chain as a DH table
 
 Bad input (missing file, bad table, unknown robot, unwritable output folder) exits 2 with one line
-on stderr and leaves no file behind. A first argument naming a subcommand (``audit``) is set apart
-before the table parser runs, so subcommands live beside the form ``dh2urdf TABLE.toml -o ...``
-without changing it. Exporting never imports ``kin`` (the upper layer); ``dh2urdf audit`` is
-implemented there (``kin.audit.command``) and its module is loaded by name only when asked for.
+on stderr and leaves no file behind. A first argument naming a subcommand (``from-urdf``) is set
+apart before the table parser runs, so subcommands live beside the form ``dh2urdf TABLE.toml -o
+...`` without changing it.
+
+This package never imports ``kin`` (the upper layer). The installed ``dh2urdf`` program is
+composed above both (:mod:`kin.commands.dh2urdf_program`): it passes :func:`main` this package's
+:data:`SUBCOMMANDS` with ``kin``'s ``audit`` and ``calibrate``. ``python -m dh2urdf`` runs this
+package's forms alone and says in one line where those two are.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import sys
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 from . import __version__
@@ -32,27 +37,52 @@ PROG = "dh2urdf"
 #: Output formats and the file suffixes that choose them when --format is not given.
 FORMATS = ("mjcf", "urdf")
 MJCF_SUFFIXES = (".mjcf", ".xml")
-#: Subcommands: first argument -> module with ``main(argv, prog)``, loaded only when used.
-SUBCOMMANDS: dict[str, str] = {
-    "audit": "kin.audit.command",
-    "calibrate": "kin.calibration.command",
-    "from-urdf": "dh2urdf.from_urdf_command",
-}
-#: One line per subcommand, for ``dh2urdf --help``.
-SUBCOMMAND_HELP: dict[str, str] = {
-    "audit": "which reading of a paper's DH table reproduces its printed poses or a URDF",
-    "calibrate": "the DH table and URDF of the arm you have, from measured positions or poses",
-    "from-urdf": "the DH table (.toml) of a URDF's chain from --base to --tip",
-}
+#: A subcommand's ``main(argv, prog=...)``: its exit status.
+SubcommandMain = Callable[..., int]
 
 
-def get_argument_parser() -> ArgumentParser:
-    """Arguments of the export form ``dh2urdf (TABLE.toml | --robot NAME) -o FILE``."""
+@dataclass(frozen=True)
+class Subcommand:
+    """A form ``dh2urdf NAME ...``: one line of help and its ``main``, imported only when used.
+
+    Attributes:
+        help: One line for ``dh2urdf --help``.
+        load: Imports the subcommand's module and returns its ``main(argv, prog=...)``.
+    """
+
+    help: str
+    load: Callable[[], SubcommandMain]
+
+
+def _from_urdf() -> SubcommandMain:
+    from .from_urdf_command import main
+
+    return main
+
+
+#: This package's subcommands (first argument -> subcommand).
+SUBCOMMANDS: dict[str, Subcommand] = {
+    "from-urdf": Subcommand(
+        "the DH table (.toml) of a URDF's chain from --base to --tip", _from_urdf
+    ),
+}
+#: Subcommands that the installed program adds from ``kin`` (named here only to say where they are).
+INSTALLED_ONLY = ("audit", "calibrate")
+#: The module that composes the installed program (``python -m`` runs it too).
+INSTALLED_PROGRAM = "kin.commands.dh2urdf_program"
+
+
+def get_argument_parser(subcommands: Mapping[str, Subcommand] = SUBCOMMANDS) -> ArgumentParser:
+    """Arguments of the export form ``dh2urdf (TABLE.toml | --robot NAME) -o FILE``.
+
+    Args:
+        subcommands: The program's subcommands, listed in the help's epilog.
+    """
     parser = ArgumentParser(
         prog=PROG,
         description=__doc__.splitlines()[0],
         epilog="subcommands:\n"
-        + "\n".join(f"  {PROG} {name:<10} {SUBCOMMAND_HELP[name]}" for name in SUBCOMMANDS)
+        + "\n".join(f"  {PROG} {name:<10} {sub.help}" for name, sub in subcommands.items())
         + f"\n\n{PROG} SUBCOMMAND --help shows its options.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -109,27 +139,36 @@ def _export(args: argparse.Namespace) -> int:
     return 0
 
 
-def _subcommand(name: str, argv: list[str]) -> int:
-    """Run subcommand ``name`` from its module (imported here, by name, on demand)."""
-    try:
-        module = importlib.import_module(SUBCOMMANDS[name])
-    except ImportError as err:
-        print(f"{PROG}: error: '{name}' is not available: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    return int(module.main(argv, prog=f"{PROG} {name}"))
+def main(argv: list[str] | None = None, subcommands: Mapping[str, Subcommand] = SUBCOMMANDS) -> int:
+    """Run ``dh2urdf``; exit 0, or 2 with one line on stderr for bad input.
 
-
-def main(argv: list[str] | None = None) -> int:
-    """Run ``dh2urdf``; exit 0, or 2 with one line on stderr for bad input."""
+    Args:
+        argv: The arguments (``sys.argv[1:]`` when None).
+        subcommands: The program's subcommands: this package's own (``python -m dh2urdf``), or
+            those of the installed program (:mod:`kin.commands.dh2urdf_program`).
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
-    if argv and argv[0] in SUBCOMMANDS:
-        return _subcommand(argv[0], argv[1:])
-    args = get_argument_parser().parse_args(argv)
+    if argv and argv[0] in subcommands:
+        name = argv[0]
+        try:
+            run = subcommands[name].load()
+        except ImportError as err:
+            print(f"{PROG}: error: '{name}' is not available: {err}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+        return int(run(argv[1:], prog=f"{PROG} {name}"))
+    if argv and argv[0] in INSTALLED_ONLY:
+        print(
+            f"{PROG}: error: '{argv[0]}' comes with kin: run the installed program "
+            f"(dh2urdf {argv[0]} ...) or python -m {INSTALLED_PROGRAM} {argv[0]} ...",
+            file=sys.stderr,
+        )
+        return EXIT_BAD_INPUT
+    args = get_argument_parser(subcommands).parse_args(argv)
     return run_guarded(PROG, lambda: _export(args), (Dh2UrdfError, OSError))
 
 
 def console() -> int:
-    """The ``dh2urdf`` program (console script, ``python -m dh2urdf``): :func:`main` for life.
+    """``python -m dh2urdf``: :func:`main` with this package's subcommands, for life.
 
     A stop signal after the command has stopped or returned is ignored, not a traceback while
     the interpreter ends (:func:`dh2urdf.stop_signals.run_process`).

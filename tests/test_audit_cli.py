@@ -174,8 +174,9 @@ def test_quoted_labels_comments_and_bom(tmp_path, capsys):
 
 
 def test_dh2urdf_dispatches_audit(capsys):
-    """``dh2urdf audit ...`` runs this command (skipped until dh2urdf.command exists)."""
-    command = pytest.importorskip("dh2urdf.command")
+    """``dh2urdf audit ...`` runs this command (the installed program, composed in kin)."""
+    from kin.commands import dh2urdf_program as command
+
     table = str(DATA / "ned5_as_printed.toml")
     assert command.main(["audit", table, "--samples", HOME, "--json"]) == 0
     record = json.loads(capsys.readouterr().out)

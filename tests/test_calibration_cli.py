@@ -10,10 +10,10 @@ import pinocchio as pin
 import pytest
 
 from dh2urdf import get_robot, load_table
-from dh2urdf.command import main as dh2urdf_main
 from kin.batch_fk import batch_forward_kinematics
 from kin.calibration import true_arm
 from kin.calibration.synthetic import random_configurations
+from kin.commands.dh2urdf_program import main as dh2urdf_main
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "calibration" / "panda_tracker.csv"

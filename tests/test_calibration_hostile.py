@@ -12,9 +12,9 @@ from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 from dh2urdf import get_robot
-from dh2urdf.command import main as dh2urdf_main
 from kin.calibration import true_arm
 from kin.calibration.synthetic import random_configurations
+from kin.commands.dh2urdf_program import main as dh2urdf_main
 
 #: What a broken cell may hold instead of a number.
 CELLS = st.one_of(

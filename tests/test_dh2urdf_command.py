@@ -10,7 +10,7 @@ import pytest
 from support.scripts_helper import load_script
 
 from dh2urdf import ROBOTS, __version__
-from dh2urdf.command import output_format
+from dh2urdf.command import INSTALLED_ONLY, INSTALLED_PROGRAM, output_format
 
 CONSOLE = Path(sys.executable).parent / "dh2urdf"
 
@@ -106,13 +106,29 @@ def test_bad_input_exits_2_with_one_line_and_no_file(tmp_path, argv, words):
     bad.write_text(BAD_TABLE)
     out = tmp_path / "arm.urdf"
     argv = [a.format(out=out, bad=bad, tmp=tmp_path) for a in argv]
-    for command in ((sys.executable, "-m", "dh2urdf"), (str(CONSOLE),)):
+    # python -m dh2urdf runs dh2urdf's own forms; the installed program's module, kin's too
+    package = "dh2urdf" if argv[0] not in INSTALLED_ONLY else INSTALLED_PROGRAM
+    for command in ((sys.executable, "-m", package), (str(CONSOLE),)):
         done = run(*argv, command=command)
         assert done.returncode == 2, f"{argv=} {done.stderr}"
         assert len(done.stderr.splitlines()) == 1, f"{argv=} {done.stderr}"
         assert "Traceback" not in done.stderr and words in done.stderr, done.stderr
         assert done.stdout == ""
         assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"], f"{argv=}"
+
+
+@pytest.mark.parametrize("name", INSTALLED_ONLY)
+def test_python_m_dh2urdf_says_where_kins_subcommands_are(name, tmp_path):
+    """python -m dh2urdf (the lower package alone) names the installed program for audit and
+    calibrate: one line, exit 2; the installed program's help lists them."""
+    done = run(name, "x.toml", "-o", str(tmp_path / "x.urdf"))
+    assert done.returncode == 2 and done.stdout == "", done.stderr
+    assert done.stderr.splitlines() == [
+        f"dh2urdf: error: '{name}' comes with kin: run the installed program "
+        f"(dh2urdf {name} ...) or python -m {INSTALLED_PROGRAM} {name} ..."
+    ]
+    shown = run("--help", command=(str(CONSOLE),)).stdout
+    assert f"dh2urdf {name} " in shown and "dh2urdf from-urdf" in shown
 
 
 def test_export_urdf_script_is_a_shim(tmp_path, capsys):

@@ -2,7 +2,9 @@
 
 A shown command is a ``$ kin ...`` or ``$ dh2urdf ...`` line inside a ```console block; the lines
 after it, up to the next ``$`` line or the end of the block, are its output (stdout, then stderr).
-Each command runs as ``python -m kin`` / ``python -m dh2urdf`` in a fresh temporary folder that
+Each command runs as ``python -m`` of its console script's module (``kin``,
+``kin.commands.dh2urdf_program``: the installed ``dh2urdf`` with kin's ``audit`` and
+``calibrate``) in a fresh temporary folder that
 holds a link to the repository's ``examples/`` (so ``-o`` files land there, and nothing is
 written in the checkout).
 
@@ -26,7 +28,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
-COMMANDS = ("kin", "dh2urdf")
+#: Each project command and the module its console script runs (pyproject.toml [project.scripts]).
+COMMANDS = {"kin": "kin", "dh2urdf": "kin.commands.dh2urdf_program"}
 TIME_UNIT = re.compile(r"^(s|ms|us)[;,.]?$")
 
 
@@ -108,7 +111,7 @@ def test_shown_command_prints_its_output(where, command, shown, tmp_path):
     assert argv[0] in COMMANDS, f"{where}: {argv[0]!r} is not a project command"
     (tmp_path / "examples").symlink_to(ROOT / "examples", target_is_directory=True)
     run = subprocess.run(
-        [sys.executable, "-m", argv[0], *argv[1:]],
+        [sys.executable, "-m", COMMANDS[argv[0]], *argv[1:]],
         cwd=tmp_path,
         capture_output=True,
         text=True,
