@@ -19,9 +19,9 @@ from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver
-from kin.ik.analytic import closed_form_branches
 from kin.ik.analytic.branch_verification import OUTSIDE_MARGIN
 from kin.ik.analytic.closed_form import ClosedFormSolver
+from kin.ik.analytic.idealised_fallback import IdealisedPolish
 from kin.ik.limit_rule import nearest_copy
 
 AL5D = Path(__file__).parent / "data" / "toolbox" / "al5d.toml"
@@ -42,7 +42,7 @@ def test_outside_agrees_with_the_limit_rule(rounded):
     """``_far_outside`` is True exactly when no copy is within the margin of the limits."""
     solver = get_solver(load_robot(rounded))
     assert isinstance(solver, ClosedFormSolver) and solver.idealised is not None
-    offsets, lower, upper = solver._offsets, solver._lower, solver._upper
+    offsets, lower, upper = solver.arm.offsets, solver.arm.lower, solver.arm.upper
     rng = np.random.default_rng(3)
     seen = {True: 0, False: 0}
     for _ in range(2000):
@@ -59,7 +59,7 @@ def test_outside_agrees_with_the_limit_rule(rounded):
             for v, lo, hi in zip(q.tolist(), lower, upper)
         )
         thetas = tuple(np.add(q, offsets).tolist())
-        assert solver._far_outside(thetas) is expected, f"{q=}"
+        assert solver.verifier.far_outside(thetas) is expected, f"{q=}"
         seen[expected] += 1
     assert min(seen.values()) > 100, seen
 
@@ -87,10 +87,12 @@ def test_skipping_the_polish_keeps_every_answer(rounded, monkeypatch, caplog, ki
     calls = {"skipped": 0}
 
     def every_branch(self, target, branches, seed, p, r, quiet=False, near=np.inf):  # noqa: ANN001
-        calls["skipped"] += sum(bool(self._far_outside(t)) for t, _ in branches.thetas)
-        return self._verify(target, self._polished(branches, target, near), seed, p, r, quiet)
+        calls["skipped"] += sum(bool(self.verifier.far_outside(t)) for t, _ in branches.thetas)
+        return self.verifier.verify(
+            target, self.polished(branches, target, near), seed, p, r, quiet
+        )
 
-    monkeypatch.setattr(closed_form_branches.ClosedFormBranches, "_verify_polished", every_branch)
+    monkeypatch.setattr(IdealisedPolish, "verify_polished", every_branch)
     full = [solver.solve(target, seed) for target in targets]
     assert calls["skipped"] > 50, calls  # the skip is exercised
     for target, a, b in zip(targets, skipped, full):

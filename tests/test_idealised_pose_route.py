@@ -64,7 +64,7 @@ def test_rounded_arm_full_poses_take_the_closed_form_branches(rounded, monkeypat
 def test_polish_gives_up_far_from_the_target(rounded):
     """A start beyond ``give_up`` gives NaN; a near one is polished as without ``give_up``."""
     robot = load_robot(rounded)
-    judge = get_solver(robot)._judge  # type: ignore[attr-defined]
+    judge = get_solver(robot).verifier.judge  # type: ignore[attr-defined]
     reference = load_reference(rounded)
     q = np.array([0.3, -0.4, 0.5, 0.2])
     T = fk_frames(reference, q)[0, -1]

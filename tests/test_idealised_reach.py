@@ -24,7 +24,7 @@ from support.idealised_reference import Reference, arm_file, reference_outside, 
 from kin import load_robot
 from kin.ik import PoseTarget, PositionTarget, get_solver
 from kin.ik.analytic.closed_form import ClosedFormSolver
-from kin.ik.analytic.idealised_fallback import IdealisedFallback
+from kin.ik.analytic.idealised_fallback import IdealisedPolish
 
 RANDOM = 300
 #: Offsets [rad] from a singular joint value of the near-singular targets (clipped to the limits).
@@ -143,7 +143,7 @@ def test_the_stretched_elbow_of_the_rounded_puma_is_solved_where_the_ideal_arm_h
     q = np.random.default_rng(5).uniform(reference.lower, reference.upper, (120, 6))[94]
     assert abs(q[2] + 1.524) < 5e-4, q  # the stretched elbow (the test_idealised_rejected draw)
     (target,) = targets_of(reference, "pose", q[None])
-    assert solver._branches(target, [0.0] * 6).status == "out_of_reach"  # type: ignore[attr-defined]
+    assert solver.arm.branches(target, [0.0] * 6).status == "out_of_reach"  # type: ignore[attr-defined]
     result = solver.solve(target, np.zeros(6))
     assert result.success, result.message
     assert not false_successes(reference, result, target)
@@ -212,7 +212,7 @@ def test_the_fallback_runs_only_without_a_valid_branch(tmp_path, monkeypatch):
     def refuse(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
         raise AssertionError("fallback ran")
 
-    monkeypatch.setattr(IdealisedFallback, "_unproved", refuse)
+    monkeypatch.setattr(IdealisedPolish, "unproved", refuse)
     qs = np.random.default_rng(3).uniform(reference.lower, reference.upper, (200, 4))
     for kind in ("position", "pose"):
         for target in targets_of(reference, kind, qs):

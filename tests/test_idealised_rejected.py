@@ -33,8 +33,8 @@ from kin import load_robot
 from kin.ik import get_solver
 from kin.ik.analytic.branch_verification import OUTSIDE_MARGIN, UNPOLISHED_MISS
 from kin.ik.analytic.closed_form import ClosedFormSolver
-from kin.ik.analytic.closed_form_branches import ClosedFormBranches
 from kin.ik.analytic.idealised import idealise
+from kin.ik.analytic.idealised_fallback import IdealisedPolish
 
 TARGETS = 120
 
@@ -49,7 +49,7 @@ def rounded(tmp_path_factory, request) -> Path:
 
 def polish_every_branch(self, target, branches, seed, p, r, quiet=False, near=math.inf):  # noqa: ANN001
     """Every branch polished, then verified: the rule before branches were judged unpolished."""
-    return self._verify(target, self._polished(branches, target, near), seed, p, r, quiet)
+    return self.verifier.verify(target, self.polished(branches, target, near), seed, p, r, quiet)
 
 
 @pytest.mark.parametrize(
@@ -84,20 +84,20 @@ def test_rejected_branches_are_listed_as_when_every_branch_was_polished(
     qs = rng.uniform(reference.lower, reference.upper, (TARGETS, robot.nq))
     targets = targets_of(reference, kind, qs)
     seed = np.zeros(robot.nq)
-    bound_p, bound_r = solver._miss_bound  # type: ignore[misc]
+    bound_p, bound_r = solver.verifier.miss_bound  # type: ignore[misc]
     kept = []
-    far = ClosedFormBranches._polish_each
+    far = IdealisedPolish.polish_each
 
     def counted(self, thetas, target, near, keep_far=False):  # noqa: ANN001
         moved, left = far(self, thetas, target, near, keep_far)
         kept.append(len(left))
         return moved, left
 
-    monkeypatch.setattr(ClosedFormBranches, "_polish_each", counted)
+    monkeypatch.setattr(IdealisedPolish, "polish_each", counted)
     with caplog.at_level(logging.WARNING):
         results = [solver.solve(target, seed) for target in targets]
     assert not [r for r in caplog.records if "misses the target" in r.getMessage()]
-    monkeypatch.setattr(ClosedFormBranches, "_verify_polished", polish_every_branch)
+    monkeypatch.setattr(IdealisedPolish, "verify_polished", polish_every_branch)
     before = [solver.solve(target, seed) for target in targets]
     unpolished = extra = 0
     largest = 0.0  # the refinement's largest move [rad]
@@ -159,7 +159,7 @@ def test_a_target_reached_only_outside_the_limits_is_judged_on_polished_branches
     targets = targets_of(reference, "position", qs[reference_outside(reference, qs)])
     seed = np.zeros(robot.nq)
     results = [solver.solve(target, seed) for target in targets]
-    monkeypatch.setattr(ClosedFormBranches, "_verify_polished", polish_every_branch)
+    monkeypatch.setattr(IdealisedPolish, "verify_polished", polish_every_branch)
     before = [solver.solve(target, seed) for target in targets]
     outside = 0
     for target, result, old in zip(targets, results, before):
@@ -204,5 +204,5 @@ def test_snap_bounds_hold_at_every_joint_vector(pi, half_pi, tmp_path):
 def test_the_miss_bound_is_far_under_the_margin(rounded):
     """The bound on an unpolished branch's miss stays 100x under the margin, 1e4x with the corpus'."""
     solver = get_solver(load_robot(rounded))
-    assert max(solver._miss_bound) <= OUTSIDE_MARGIN * 1e-2  # type: ignore[attr-defined]
-    assert UNPOLISHED_MISS < max(solver._miss_bound)  # type: ignore[attr-defined]
+    assert max(solver.verifier.miss_bound) <= OUTSIDE_MARGIN * 1e-2  # type: ignore[attr-defined]
+    assert UNPOLISHED_MISS < max(solver.verifier.miss_bound)  # type: ignore[attr-defined]

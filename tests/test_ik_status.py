@@ -15,6 +15,7 @@ from kin import load_robot, robot_from_table
 from kin.commands import ik
 from kin.configuration import default_seed, seed_inside
 from kin.ik import AxisTarget, PoseTarget, PositionTarget, get_solver
+from kin.ik.analytic.branch_verification import how_far
 from kin.ik.numeric.solver import NumericIK
 from kin.ik.partial_pose import RANDOM_STARTS
 
@@ -101,7 +102,7 @@ def test_out_of_reach_within_the_reach_names_the_orientation_only_for_a_pose(kin
     solver = get_solver(load_robot("ur5"))
     point = np.array([0.0, 0.0, 0.05])  # 0.05 m from the base, within UR5's 1 m reach
     target = PositionTarget(point) if kind == "position" else PoseTarget(point, np.eye(3))
-    message, gap = solver._how_far("no branch reaches the target", target, None)
+    message, gap = how_far(solver.robot, "no branch reaches the target", target, None)
     assert "within the arm's reach" in message and gap is None
     assert ("not with this orientation" in message) == (kind == "pose"), message
 

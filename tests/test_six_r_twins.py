@@ -230,7 +230,7 @@ def test_compiled_solver_with_reversed_joints_equals_python_solver(form):
     table = _flipped_ur5()
     robot = kin.robot_from_table(table)
     compiled, python = ClosedFormSolver(robot), ClosedFormSolver(robot, compiled=False)
-    assert compiled._solutions is not None and compiled._directions is not None
+    assert compiled._solutions is not None and compiled.arm.directions is not None
     rng = np.random.default_rng(5)
     for k, T in enumerate(targets(table, 60, 11)):
         target = PoseTarget(T[:3, 3], T[:3, :3])

@@ -1,6 +1,8 @@
 """The branches of a closed form moved into the joint limits and measured by the judge.
 
-For each branch of :class:`~.closed_form.ClosedFormSolver` (mixed into it: reads its fields):
+For each branch of a closed-form arm (:class:`BranchVerifier`, which
+:class:`~.closed_form.ClosedFormSolver` holds; the arm's values in a
+:class:`~.closed_form_branches.ClosedFormArm`):
 
 1. each angle goes to the ``2 pi`` copy inside the joint limits closest to the seed
    (:func:`kin.ik.limit_rule.wrap_into`, the rule of :mod:`kin.ik.limit_rule`);
@@ -11,7 +13,7 @@ For each branch of :class:`~.closed_form.ClosedFormSolver` (mixed into it: reads
    (off target: never returned, logged).
 
 An idealised arm's branch (:mod:`.idealised`) far outside the limits is judged as it is, not
-polished onto the true chain (:meth:`UnpolishedVerification._verify_far`): with a joint farther
+polished onto the true chain (:meth:`BranchVerifier.verify_far`): with a joint farther
 than :data:`OUTSIDE_MARGIN` outside its limits in every copy ``+ 2 pi k`` and a miss ``e`` of at
 most the idealisation's bounds (:func:`.idealised.snap_bounds`) plus :data:`UNPOLISHED_MISS`, it
 is rejected, without the miss warning (off target by more than the tolerances, its ``reason``
@@ -20,14 +22,14 @@ names the joint). The rule: the polish (Gauss-Newton from ``e``) moves a joint b
 [m/rad]: everywhere but within 2.4e-8 of a singular Jacobian on the corpus AL5D (``e`` at most
 2.4e-9), within 3e-4 for a PUMA 560 whose twists read 1.5708 (``e`` up to 3e-5; its polish moves
 a joint by up to 0.045 rad where the wrist nears ``q5 = 0``). A solve with no valid branch
-polishes them all and judges them again (:mod:`.closed_form_branches`), so a "no" never rests on
+polishes them all and judges them again (:mod:`.idealised_fallback`), so a "no" never rests on
 this rule; a "yes" could miss a second valid branch only that near a singularity.
 
 A structure with a compiled twin that verifies (the 6R closed forms, :mod:`.six_r.six_r_twin`)
 does the three steps for a pose in one C call, which also makes the solutions and, when one
 is valid and none off target, the result (:meth:`.six_r.six_r_twin.TwinVerifier.solutions`;
-else :meth:`BranchVerification._twin_answer`). Valid solutions are ordered by Euclidean distance
-to the seed (:meth:`BranchVerification._result`).
+else :meth:`.closed_form.ClosedFormSolver._twin_answer`). Valid solutions are ordered by
+Euclidean distance to the seed (:meth:`BranchVerifier.result`).
 """
 
 from __future__ import annotations
@@ -36,20 +38,19 @@ import logging
 import math
 import operator
 import time
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 
 from kin import RobotModel
 
 from ..judge import ToolJudge, axis_error, rotation_error
 from ..limit_rule import FAST_COPY, FAST_SEED, LIMIT_TOL, TWO_PI, wrap_into
 from ..result import IKResult, IKSolution, Status
-from ..target import PitchTarget, PoseTarget, PositionTarget, Target
+from ..target import PitchTarget, PositionTarget, Target
 from .branches import Branches, BranchStatus
-from .closed_form_structure import ClosedFormStructure, PitchStructure
+from .closed_form_branches import ClosedFormArm
+from .closed_form_structure import PitchStructure
 
 logger = logging.getLogger("kin.ik.analytic.closed_form")
 
@@ -83,7 +84,7 @@ def far_spans(
     )
 
 
-def _log_miss(robot: str, label: str, position_error: float, angle: float | None) -> None:
+def log_miss(robot: str, label: str, position_error: float, angle: float | None) -> None:
     """Log a branch dropped off target, with its errors [m], [rad]."""
     logger.warning(
         "%s: branch '%s' misses the target by %.3g m, %.3g rad; dropped",
@@ -94,45 +95,91 @@ def _log_miss(robot: str, label: str, position_error: float, angle: float | None
     )
 
 
-class BranchVerification:
-    """Moving a closed form's branches into the limits and verifying them (see the module)."""
+def free_intervals(
+    seed: list[float], lower: list[float], upper: list[float]
+) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Per joint, the open interval of angles that need no wrapping (lower ends, upper ends).
 
-    robot: RobotModel
-    name: str
-    structure: ClosedFormStructure
-    tolerance_position: float
-    tolerance_rotation: float
-    _judge: ToolJudge
-    _lower: list[float]
-    _upper: list[float]
-    _offsets: list[float]
-    _has_offsets: bool
-    _directions: np.ndarray | None
-    _zero_seed: list[float]
-    _joints_zero_seed: tuple[tuple[float, ...], tuple[float, ...]]
-    _twin: Any
-    _solutions: Any
-    #: The smallest error [m] or [rad] of the branches the last :meth:`_verify` dropped (inf: none).
-    _nearest_miss: float = math.inf
-    _seed_list: Callable[[npt.ArrayLike | None], list[float]]
-    _failure: Callable[..., IKResult]
+    Inside it an angle [rad] is within the limits ``lower``, ``upper`` and is already the copy
+    nearest the ``seed``; NaN ends where the seed is too far out for the short way.
+    """
+    lows, highs = [], []
+    for s, low, high in zip(seed, lower, upper):
+        if abs(s) < FAST_SEED:
+            lows.append(max(low, s - FAST_COPY))
+            highs.append(min(high, s + FAST_COPY))
+        else:  # every angle takes the exact path
+            lows.append(math.nan)
+            highs.append(math.nan)
+    return tuple(lows), tuple(highs)
 
-    def _joints(self, seed: list[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        """Per joint, the open interval of angles that need no wrapping (lower ends, upper ends).
 
-        Inside it an angle is within the limits and is already the copy nearest the seed.
-        """
-        lows, highs = [], []
-        for s, lower, upper in zip(seed, self._lower, self._upper):
-            if abs(s) < FAST_SEED:
-                lows.append(max(lower, s - FAST_COPY))
-                highs.append(min(upper, s + FAST_COPY))
-            else:  # every angle takes the exact path
-                lows.append(math.nan)
-                highs.append(math.nan)
-        return tuple(lows), tuple(highs)
+def how_far(
+    robot: RobotModel, message: str, target: Target, gap: float | None
+) -> tuple[str, float | None]:
+    """``message`` with the target's distance from the base against the arm's reach, and the gap [m]."""
+    from ..reach import arm_reach
 
-    def _result(
+    reach = arm_reach(robot)
+    distance = reach.distance(target.position)
+    if distance > reach.maximum:
+        beyond = distance - reach.maximum
+        text = f"{beyond:.4g} m beyond the arm's reach ({reach.maximum:.4g} m from its base)"
+        return f"{message}: the target is {text}", beyond
+    text = f"{distance:.4g} m from the base, within the arm's reach of {reach.maximum:.4g} m"
+    if isinstance(target, PositionTarget):  # the reach's hollows, the structure's plane
+        return f"{message} (the target is {text})", gap
+    return f"{message} (the target is {text}: not with this orientation)", gap
+
+
+class BranchVerifier:
+    """Moves a closed form's branches into the limits and has the judge measure them (see the module).
+
+    Args:
+        arm: The arm as its structure sees it (offsets, directions, limits of ``q'``).
+        name: The solver's name (:attr:`IKResult.solver`, ``closed_form:<structure>``).
+        judge: The judge of the arm (Pinocchio's FK at the tool frame).
+        tolerance_position: Largest position error of a valid branch [m].
+        tolerance_rotation: Largest rotation error of a valid branch [rad].
+
+    Attributes:
+        nearest_miss: The smallest error [m] or [rad] of the branches the last :meth:`verify`
+            dropped (inf: none); read by the idealised polish (:mod:`.idealised_fallback`)
+            under the solver's lock.
+        miss_bound: An idealised arm's bounds on an unpolished branch's miss ([m], [rad]): the
+            idealisation's bounds plus :data:`UNPOLISHED_MISS`; None: an exact arm.
+    """
+
+    def __init__(
+        self,
+        arm: ClosedFormArm,
+        name: str,
+        judge: ToolJudge,
+        tolerance_position: float,
+        tolerance_rotation: float,
+    ) -> None:
+        self.arm = arm
+        self.name = name
+        self.judge = judge
+        self.tolerance_position = tolerance_position
+        self.tolerance_rotation = tolerance_rotation
+        self.nearest_miss = math.inf
+        ideal = arm.idealised
+        self.miss_bound = (
+            None
+            if ideal is None
+            else (ideal.position_bound + UNPOLISHED_MISS, ideal.rotation_bound + UNPOLISHED_MISS)
+        )
+        self.far_spans = far_spans(arm.offsets, arm.lower, arm.upper)
+        self._robot_name = arm.robot.name
+        self._joint_names = arm.robot.joint_names
+        # The hot path's values, read as attributes of this object (no property calls).
+        self._offsets, self._lower, self._upper = arm.offsets, arm.lower, arm.upper
+        self._has_offsets, self._directions = arm.has_offsets, arm.directions
+        self._zero_seed = arm.zero_seed
+        self._joints_zero_seed = free_intervals(arm.zero_seed, arm.lower, arm.upper)
+
+    def result(
         self,
         valid: list[tuple[float, IKSolution]],
         rejected: list[IKSolution],
@@ -168,50 +215,22 @@ class BranchVerification:
             method=method if solutions else "",
         )
 
-    def _twin_answer(
-        self, answer: Any, target: PoseTarget, seed: npt.ArrayLike | None, start: float
+    def failure(
+        self, status: str, message: str, start: float, gap: float | None = None, target: Any = None
     ) -> IKResult:
-        """The result of a pose from the compiled twin's answer when it is not the result itself.
-
-        ``answer`` is what :meth:`.six_r_twin.TwinVerifier.solutions` returned: the branches
-        (moved into the limits as :func:`~kin.ik.limit_rule.wrap_into` does, measured by the
-        table's DH product in C instead of Pinocchio; the tests compare the two paths) when
-        some are off target or none
-        is valid, else a code: no branch, a target that is not finite, a seed to check here.
-        """
-        if answer.__class__ is int and answer == -2:  # checked here: a TargetError names it
-            checked = np.array(self._seed_list(seed), dtype=float)
-            answer = self._solutions(target, checked, start)
-            if answer.__class__ is IKResult:
-                return answer  # type: ignore[no-any-return]
-        if answer.__class__ is tuple:
-            valid, rejected, off = answer
-            for label, position_error, angle in off:
-                _log_miss(self.robot.name, label, position_error, angle)
-            if valid:
-                return IKResult(
-                    True,
-                    self.name,
-                    "ok",
-                    f"{len(valid)} valid solution(s)",
-                    valid,
-                    rejected,
-                    None,
-                    0,
-                    time.perf_counter() - start,
-                    "closed_form",
-                )
-            return self._result([], list(rejected), "ok", "", start)
-        if answer < 0:
-            return self._failure("invalid_target", "the target has a NaN or infinite value", start)
-        return self._failure(
-            "out_of_reach",
-            f"no {self.structure.name} branch reaches the target",
-            start,
-            target=target,
+        """A result without solutions; ``out_of_reach`` of a ``target`` says how far it is."""
+        if status == "out_of_reach" and target is not None and gap is None:
+            message, gap = how_far(self.arm.robot, message, target, gap)
+        return IKResult(
+            success=False,
+            solver=self.name,
+            status=status,  # type: ignore[arg-type]
+            message=message,
+            distance_to_workspace=gap,
+            time=time.perf_counter() - start,
         )
 
-    def _verify(
+    def verify(
         self,
         target: Target,
         branches: Branches,
@@ -224,19 +243,19 @@ class BranchVerification:
 
         ``quiet``: a branch off target is dropped without a warning (the caller asks another
         solver then). The smallest error of those dropped ([m] or [rad], inf: none) is kept in
-        :attr:`_nearest_miss`.
+        :attr:`nearest_miss`.
         """
-        tool, tool_position = self._judge.tool, self._judge.tool_position
+        tool, tool_position = self.judge.tool, self.judge.tool_position
         zero = seed is self._zero_seed or seed == self._zero_seed  # a zero seed's, computed once
-        lows, highs = self._joints_zero_seed if zero else self._joints(seed)
         offsets, lower, upper = self._offsets, self._lower, self._upper
+        lows, highs = self._joints_zero_seed if zero else free_intervals(seed, lower, upper)
         sub, lt, dist, array = operator.sub, operator.lt, math.dist, np.array
         tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
         position_only = isinstance(target, PositionTarget)
         if r is not None:
             r_target = r[0] + r[1] + r[2]
         elif not position_only:
-            structure = self.structure
+            structure = self.arm.structure
             assert isinstance(structure, PitchStructure) and isinstance(target, PitchTarget)
             approach = structure.approach(target, seed)
             tx, ty, tz = structure.approach_in_tool
@@ -280,7 +299,7 @@ class BranchVerification:
                     angle = axis_error(u, approach)
             if position_error > tol_p or (angle is not None and angle > tol_r):
                 if not quiet:
-                    _log_miss(self.robot.name, label, position_error, angle)
+                    log_miss(self._robot_name, label, position_error, angle)
                 nearest_miss = min(nearest_miss, max(position_error, angle or 0.0))
                 continue
             solution = IKSolution(q, label, inside, position_error, angle)
@@ -288,31 +307,21 @@ class BranchVerification:
                 valid.append((dist(q_list, seed), solution))
             else:
                 rejected.append(solution)
-        self._nearest_miss = nearest_miss
+        self.nearest_miss = nearest_miss
         return valid, rejected
 
-
-class UnpolishedVerification(BranchVerification):
-    """An idealised arm's branches far outside the limits, judged unpolished (see the module)."""
-
-    #: An idealised arm's bounds on an unpolished branch's miss ([m], [rad]); None: exact arm.
-    _miss_bound: tuple[float, float] | None
-    _joint_names: tuple[str, ...]
-    #: :func:`far_spans` of the limits.
-    _far_spans: tuple[tuple[int, float, float], ...]
-
-    def _far_outside(self, thetas: tuple[float, ...] | list[float]) -> bool:
+    def far_outside(self, thetas: tuple[float, ...] | list[float]) -> bool:
         """Whether a joint of ``thetas`` (DH angles [rad]) is far outside its limits.
 
         Farther than :data:`OUTSIDE_MARGIN` (and :data:`~kin.ik.limit_rule.LIMIT_TOL`) in every
         copy ``+ 2 pi k`` (:func:`far_spans`).
         """
-        for i, start, span in self._far_spans:
+        for i, start, span in self.far_spans:
             if (thetas[i] - start) % TWO_PI > span:
                 return True
         return False
 
-    def _verify_far(
+    def verify_far(
         self,
         branches: list[tuple[tuple[float, ...], str]],
         seed: list[float],
@@ -323,14 +332,14 @@ class UnpolishedVerification(BranchVerification):
         """An idealised arm's branches far outside the limits, judged unpolished: the rejected.
 
         Each (DH angles [rad]) is measured as it is (a position or pose target: ``p`` [m], ``r``):
-        one off target by at most :attr:`_miss_bound` ([m], [rad]) is rejected, moved to the
+        one off target by at most :attr:`miss_bound` ([m], [rad]) is rejected, moved to the
         copies of :func:`wrap_into` (the least outside, nearest the seed), with a reason when off
         by more than the tolerances; farther ones are dropped (logged unless ``quiet``).
         """
-        judge, directions, offsets = self._judge, self._directions, self._offsets
+        judge, directions, offsets = self.judge, self._directions, self._offsets
         limits = list(zip(seed, self._lower, self._upper))
-        assert self._miss_bound is not None
-        bound_p, bound_r = self._miss_bound
+        assert self.miss_bound is not None
+        bound_p, bound_r = self.miss_bound
         tol_p, tol_r = self.tolerance_position, self.tolerance_rotation
         r_target = None if r is None else r[0] + r[1] + r[2]
         rejected = []
@@ -345,7 +354,7 @@ class UnpolishedVerification(BranchVerification):
                 position_error, angle = math.dist(p_fk, p), rotation_error(r_fk, r_target)
             if position_error > bound_p or (angle or 0.0) > bound_r:
                 if not quiet:
-                    _log_miss(self.robot.name, label, position_error, angle)
+                    log_miss(self._robot_name, label, position_error, angle)
                 continue
             # Each angle's copy of wrap_into (the tool's pose is the same to round-off): an angle
             # inside its limits and within FAST_COPY of the seed is its own.
@@ -359,11 +368,11 @@ class UnpolishedVerification(BranchVerification):
                 q_list = wrapped
                 q = np.array(q_list) if directions is None else np.array(q_list) * directions
             on_target = position_error <= tol_p and (angle or 0.0) <= tol_r
-            reason = "" if on_target else self._far_reason(q_list)
+            reason = "" if on_target else self.far_reason(q_list)
             rejected.append(IKSolution(q, label, False, position_error, angle, reason))
         return rejected
 
-    def _far_reason(self, q_list: list[float]) -> str:
+    def far_reason(self, q_list: list[float]) -> str:
         """Why an unpolished branch off target is rejected: the joint farthest outside its limits.
 
         ``q_list``: the structure's ``q'`` moved toward the limits [rad], [m] (the arm's ``q``

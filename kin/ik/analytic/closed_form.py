@@ -21,12 +21,12 @@ import threading
 import time
 from typing import Any
 
+import numpy as np
 import numpy.typing as npt
 
 from kin import RobotModel
 from kin.configuration import default_seed, seed_inside
 
-from ..exceptions import StructureError
 from ..judge import ToolJudge
 from ..result import IKResult
 from ..target import (
@@ -38,22 +38,23 @@ from ..target import (
     is_partial,
     kind_error,
 )
-from .branch_verification import UNPOLISHED_MISS, far_spans
-from .closed_form_routes import ClosedFormRoutes
-from .closed_form_structure import (
-    ClosedFormStructure,
-    DetailedStructure,
-)
-from .idealised import Idealised, idealise
-from .idealised_fallback import UnprovedCall
-from .joint_directions import forward_table, mirrored_limits, reversed_joints
-from .registry import recognise_turned
+from .branch_verification import BranchVerifier, log_miss
+from .closed_form_branches import ClosedFormArm, recognise_arm
+from .closed_form_routes import ClosedFormRoutes, OnFirstUse
+from .idealised import Idealised
+from .idealised_fallback import IdealisedPolish, UnprovedCall
 
 logger = logging.getLogger(__name__)
 
 
-class ClosedFormSolver(ClosedFormRoutes):
+class ClosedFormSolver:
     """Every closed-form IK branch of one small arm, verified with Pinocchio.
+
+    A router over objects it holds: the arm as its structure sees it
+    (:class:`~.closed_form_branches.ClosedFormArm`), the branch verifier
+    (:class:`~.branch_verification.BranchVerifier`), a rounded arm's polish
+    (:class:`~.idealised_fallback.IdealisedPolish`, None for an exact arm) and the routes of the
+    target kinds its closed form does not take (:class:`~.closed_form_routes.ClosedFormRoutes`).
 
     Args:
         robot: The loaded robot (its table must fit a registered structure, :mod:`.registry`).
@@ -76,97 +77,98 @@ class ClosedFormSolver(ClosedFormRoutes):
         compiled: bool = True,
     ):
         self.robot = robot
-        directions = reversed_joints(robot.table)
-        table = forward_table(robot.table)
+        self.arm: ClosedFormArm = recognise_arm(robot)
+        arm = self.arm
+        self.structure = arm.structure
         #: The idealised table the structure fits when the true one misses it by rounding
         #: (:mod:`.idealised`: answers polished on the true chain), else None.
-        self.idealised: Idealised | None = None
-        try:
-            self.structure: ClosedFormStructure
-            self.structure, table, flips = recognise_turned(table)
-        except StructureError as exact:
-            ideal = idealise(table)
-            if ideal is None:
-                raise
-            try:
-                self.structure, table, flips = recognise_turned(ideal.table)
-            except StructureError:
-                raise exact from None
-            self.idealised = ideal
-            compiled = False  # the twins measure with the table they solve: the ideal one
-        self._miss_bound = (
-            None
-            if self.idealised is None
-            else (
-                self.idealised.position_bound + UNPOLISHED_MISS,
-                self.idealised.rotation_bound + UNPOLISHED_MISS,
-            )
-        )
-        if flips is not None:
-            directions = flips if directions is None else directions * flips
-        #: Per joint 1 or -1 when the table reverses a joint or the structure fits it with
-        #: antiparallel axes turned over (:func:`.registry.recognise_turned`), else None: the
-        #: structure solves its table (:mod:`.joint_directions`) in ``q' = direction * q``;
-        #: seeds are mapped in, answers out before the judge measures them on the true arm.
-        self._directions = directions
-        self.name = f"closed_form:{self.structure.name}"
-        self._detailed = isinstance(self.structure, DetailedStructure)
+        self.idealised: Idealised | None = arm.idealised
+        compiled = compiled and arm.idealised is None  # a twin measures the table it solves
+        self.name = f"closed_form:{arm.structure.name}"
         self.tolerance_position = tolerance_position
         self.tolerance_rotation = tolerance_rotation
-        self._judge = ToolJudge(robot)
+        self.verifier = BranchVerifier(
+            arm, self.name, ToolJudge(robot), tolerance_position, tolerance_rotation
+        )
+        numeric = OnFirstUse(self._numeric_solver)
+        self.polish = (
+            None if arm.idealised is None else IdealisedPolish(arm, self.verifier, numeric)
+        )
         # One solve at a time: the judge's Pinocchio data is shared (threads get the answers
         # one thread would).
         self._lock = threading.Lock()
-        self._joint_names = robot.joint_names
+        self.routes = ClosedFormRoutes(
+            arm, self.verifier, self.polish, numeric, self.name, self._lock
+        )
         #: Per joint, revolute (compared modulo a turn by IKResult.without_repeats); None: all.
         revolute = tuple(row.joint_type == "revolute" for row in robot.table.rows)
         self._revolute = None if all(revolute) else revolute
-        self._lower = robot.model.lowerPositionLimit.tolist()
-        self._upper = robot.model.upperPositionLimit.tolist()
-        if self._directions is not None:  # the limits of q' (those of the forward table)
-            lower, upper = mirrored_limits(self._lower, self._upper, self._directions)
-            self._lower, self._upper = lower.tolist(), upper.tolist()
-        self._offsets = [row.theta for row in table.rows]
-        self._has_offsets = any(self._offsets)
-        self._far_spans = far_spans(self._offsets, self._lower, self._upper)
-        # Everything below depends only on the table: computed once, as floats and tuples, so that
-        # a solve runs on the math module rather than on small NumPy arrays.
         self._kinds = self.closed_form_kinds
-        self._numeric: Any = None
-        self._partial: Any = None
         # A full pose goes to the partial-pose solver on an arm of fewer than six joints whose
         # closed form does not take it whole (a five-joint arm's does, with its own reasons).
         # So does one whose closed form projects the pose on what the arm reaches (a SCARA's).
-        whole = PoseTarget in self._kinds and not getattr(self.structure, "projects", False)
-        self._partial_below = 6 if whole else len(self._lower)
+        projects = bool(getattr(arm.structure, "projects", False))
+        whole = PoseTarget in self._kinds and not projects
+        self._partial_below = 6 if whole else len(arm.lower)
         #: A full pose on an arm of fewer than six joints whose closed form solves positions only
         #: (a planar 2R, a 3R arm) or projects poses on the arm's (a SCARA, any arm of parallel
         #: axes): the closed form's branches are its only candidates, measured on the whole pose
-        #: (:meth:`_pose_from_branches`) before the partial-pose solver is asked.
+        #: (:meth:`.ClosedFormRoutes.pose_from_branches`) before the partial-pose solver is asked.
         self._pose_by_branches = (
             PositionTarget in self._kinds and PoseTarget not in self._kinds
-        ) or bool(getattr(self.structure, "projects", False))
-        self._zero_seed = [0.0] * len(self._lower)
+        ) or projects
         #: The seed of a call given none (:func:`kin.configuration.default_seed`); None when it
         #: is zero (the readers' own default).
         start_q = default_seed(robot)
         self._default_seed = None if not start_q.any() else start_q
-        self._joints_zero_seed = self._joints([0.0] * len(self._lower))
         # A structure with a compiled twin that also verifies (the 6R closed forms): pose targets
         # are solved, moved into the limits and measured in one call (:mod:`.six_r_twin`).
-        verifier = getattr(self.structure, "verifier", None)
+        twin_verifier = getattr(arm.structure, "verifier", None)
         self._twin = (
             None
-            if verifier is None or not compiled
-            else verifier(table, self._lower, self._upper, tolerance_position, tolerance_rotation)
+            if twin_verifier is None or not compiled
+            else twin_verifier(
+                arm.table,
+                arm.lower,
+                arm.upper,
+                tolerance_position,
+                tolerance_rotation,
+            )
         )
         #: The twin's whole answer of a pose (:meth:`.six_r_twin.TwinVerifier.solutions`), or
         #: None: no twin.
-        self._solutions = (
+        self._solutions: Any = (
             None
             if self._twin is None
-            else self._twin.solutions(self._directions, self.structure.branch_labels, self.name)
+            else self._twin.solutions(arm.directions, arm.structure.branch_labels, self.name)
         )
+
+    def _numeric_solver(self) -> Any:
+        """The numeric solver of the same robot, for the target kinds the closed form lacks."""
+        from ..numeric.solver import NumericIK
+
+        # Built inside a solve: its seed table within that call's budget, or in the
+        # background for the next calls (NumericIK.solve).
+        return NumericIK(self.robot, closed_form=False, prepare=False)
+
+    @property
+    def numeric(self) -> Any:
+        """The numeric solver of the same robot (built on first use)."""
+        return self.routes.numeric()
+
+    @property
+    def partial(self) -> Any:
+        """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use.
+
+        This closed form's branches are its candidates, then weighted least squares.
+        """
+        return self.routes.partial()
+
+    def pose_candidates(
+        self, position: np.ndarray, rotations: np.ndarray, seed: npt.ArrayLike
+    ) -> list[tuple[np.ndarray, str]]:
+        """The closed form's branches of full poses (:meth:`.ClosedFormRoutes.pose_candidates`)."""
+        return self.routes.pose_candidates(position, rotations, seed)
 
     @property
     def closed_form_kinds(self) -> tuple[type, ...]:
@@ -184,35 +186,6 @@ class ClosedFormSolver(ClosedFormRoutes):
         kinds = kinds if PositionTarget in kinds else (*kinds, PositionTarget)
         extra = tuple(kind for kind in (PoseTarget, AxisTarget) if kind not in kinds)
         return (*kinds, *extra)
-
-    def _failure(
-        self, status: str, message: str, start: float, gap: float | None = None, target: Any = None
-    ) -> IKResult:
-        if status == "out_of_reach" and target is not None and gap is None:
-            message, gap = self._how_far(message, target, gap)
-        return IKResult(
-            success=False,
-            solver=self.name,
-            status=status,  # type: ignore[arg-type]
-            message=message,
-            distance_to_workspace=gap,
-            time=time.perf_counter() - start,
-        )
-
-    def _how_far(self, message: str, target: Target, gap: float | None) -> tuple[str, float | None]:
-        """``message`` with the target's distance from the base against the arm's reach, and the gap [m]."""
-        from ..reach import arm_reach
-
-        reach = arm_reach(self.robot)
-        distance = reach.distance(target.position)
-        if distance > reach.maximum:
-            beyond = distance - reach.maximum
-            text = f"{beyond:.4g} m beyond the arm's reach ({reach.maximum:.4g} m from its base)"
-            return f"{message}: the target is {text}", beyond
-        text = f"{distance:.4g} m from the base, within the arm's reach of {reach.maximum:.4g} m"
-        if isinstance(target, PositionTarget):  # the reach's hollows, the structure's plane
-            return f"{message} (the target is {text})", gap
-        return f"{message} (the target is {text}: not with this orientation)", gap
 
     def solve(
         self, target: Target, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
@@ -246,7 +219,7 @@ class ClosedFormSolver(ClosedFormRoutes):
                 answer = self._solutions(target, seed, start)
                 if answer.__class__ is IKResult:
                     return answer  # type: ignore[no-any-return]
-                twin = self._twin_answer(answer, target, seed, start)  # type: ignore[arg-type]
+                twin = twin_answer(self.verifier, self._solutions, answer, target, seed, start)  # type: ignore[arg-type]
                 return twin.without_repeats(self._revolute)
         if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
             if is_partial(target, self._partial_below):
@@ -256,13 +229,13 @@ class ClosedFormSolver(ClosedFormRoutes):
                     and target.mask is None
                 ):
                     with self._lock:
-                        done = self._pose_from_branches(target, seed, start)
+                        done = self.routes.pose_from_branches(target, seed, start)
                     if done is not None:
                         return done
                 return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
         if not isinstance(target, self._kinds):
             if isinstance(target, self.target_kinds):
-                return self._solve_numeric(target, seed, timeout)
+                return self.routes.solve_numeric(target, seed, timeout)
             raise kind_error(self.robot.name, self.target_kinds, target)
         with self._lock:
             return self._solve_closed(target, seed, start, timeout).without_repeats(self._revolute)
@@ -273,29 +246,82 @@ class ClosedFormSolver(ClosedFormRoutes):
         """:meth:`solve` of a target the closed form takes (under the solver's lock).
 
         A rounded arm's target none of whose polished branches is valid is answered by
-        :meth:`~.idealised_fallback.IdealisedFallback._unproved` (``timeout``: its numeric
+        :meth:`.IdealisedPolish.unproved` (``timeout``: its numeric
         search's cap [s]).
         """
+        arm, verifier, polish = self.arm, self.verifier, self.polish
         arm_seed = seed
-        if self._directions is not None and seed is not None:
-            seed = self._forward_seed(seed)
-        seed_list = self._seed_list(seed)
+        if arm.directions is not None and seed is not None:
+            seed = arm.forward_seed(seed)
+        seed_list = arm.seed_list(seed)
         if not target.finite:
-            return self._failure("invalid_target", "the target has a NaN or infinite value", start)
+            return verifier.failure(
+                "invalid_target", "the target has a NaN or infinite value", start
+            )
         p = target.position.tolist()
         r = target.rotation.tolist() if isinstance(target, PoseTarget) else None
-        branches = self._branches(target, seed_list)
-        rounded = self.idealised is not None and not isinstance(target, PitchTarget)
+        branches = arm.branches(target, seed_list)
+        rounded = polish is not None and not isinstance(target, PitchTarget)
         if branches.status == "out_of_reach" and not rounded:
-            return self._failure("out_of_reach", branches.message, start, branches.gap, target)
+            return verifier.failure("out_of_reach", branches.message, start, branches.gap, target)
         if rounded:
+            assert polish is not None
             found = bool(branches.thetas)  # before the polish takes those far outside away
-            valid, rejected = self._verify_polished(target, branches, seed_list, p, r)
+            valid, rejected = polish.verify_polished(target, branches, seed_list, p, r)
             if not valid:
                 call = UnprovedCall(seed_list, arm_seed, start, timeout)
-                return self._unproved(target, branches, found, rejected, call)
+                return polish.unproved(target, branches, found, rejected, call)
             method = "closed_form_polished"
         else:
-            valid, rejected = self._verify(target, branches, seed_list, p, r)
+            valid, rejected = verifier.verify(target, branches, seed_list, p, r)
             method = "closed_form"
-        return self._result(valid, rejected, branches.status, branches.message, start, method)
+        return verifier.result(valid, rejected, branches.status, branches.message, start, method)
+
+
+def twin_answer(
+    verifier: BranchVerifier,
+    solutions: Any,
+    answer: Any,
+    target: PoseTarget,
+    seed: npt.ArrayLike | None,
+    start: float,
+) -> IKResult:
+    """The result of a pose from the compiled twin's answer when it is not the result itself.
+
+    ``answer`` is what ``solutions``, the twin's :meth:`.six_r_twin.TwinVerifier.solutions`, returned: the branches
+    (moved into the limits as :func:`~kin.ik.limit_rule.wrap_into` does, measured by the
+    table's DH product in C instead of Pinocchio; the tests compare the two paths) when
+    some are off target or none
+    is valid, else a code: no branch, a target that is not finite, a seed to check here.
+    """
+    if answer.__class__ is int and answer == -2:  # checked here: a TargetError names it
+        checked = np.array(verifier.arm.seed_list(seed), dtype=float)
+        answer = solutions(target, checked, start)
+        if answer.__class__ is IKResult:
+            return answer  # type: ignore[no-any-return]
+    if answer.__class__ is tuple:
+        valid, rejected, off = answer
+        for label, position_error, angle in off:
+            log_miss(verifier.arm.robot.name, label, position_error, angle)
+        if valid:
+            return IKResult(
+                True,
+                verifier.name,
+                "ok",
+                f"{len(valid)} valid solution(s)",
+                valid,
+                rejected,
+                None,
+                0,
+                time.perf_counter() - start,
+                "closed_form",
+            )
+        return verifier.result([], list(rejected), "ok", "", start)
+    if answer < 0:
+        return verifier.failure("invalid_target", "the target has a NaN or infinite value", start)
+    return verifier.failure(
+        "out_of_reach",
+        f"no {verifier.arm.structure.name} branch reaches the target",
+        start,
+        target=target,
+    )

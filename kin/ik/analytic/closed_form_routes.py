@@ -1,6 +1,7 @@
 """Where a closed-form arm sends what its closed form does not answer alone (:class:`ClosedFormRoutes`).
 
-:class:`~.closed_form.ClosedFormSolver` answers the target kinds of its structure; a partial
+:class:`~.closed_form.ClosedFormSolver` answers the target kinds of its structure and holds one
+:class:`ClosedFormRoutes` for the rest (built from the same arm, verifier and polish); a partial
 pose goes to the partial-pose solver (:mod:`kin.ik.partial_pose`, whose candidates are this
 closed form's branches: :meth:`ClosedFormRoutes.pose_candidates`), a full pose on an arm that
 solves positions or projects poses is first tried on its branches
@@ -13,7 +14,8 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Any
+from collections.abc import Callable
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -21,9 +23,11 @@ import numpy.typing as npt
 from ...configuration import default_seed, seed_inside
 from ..result import IKResult, IKSolution
 from ..target import PoseTarget, PositionTarget, Target
+from .branch_verification import BranchVerifier
+from .closed_form_branches import ClosedFormArm
 from .closed_form_structure import candidate_branches
-from .idealised import FK_TOLERANCE, Idealised
-from .idealised_fallback import IdealisedFallback
+from .idealised import FK_TOLERANCE
+from .idealised_fallback import IdealisedPolish
 from .position_near_seed import NearSeedAnswer, PositionNearSeed
 
 #: An idealised arm's branch of a pose's projection is polished onto the pose (the pose route)
@@ -32,36 +36,74 @@ from .position_near_seed import NearSeedAnswer, PositionNearSeed
 IDEAL_NEAR = 10.0 * FK_TOLERANCE
 
 
-class ClosedFormRoutes(IdealisedFallback):
-    """The partial-pose and numeric routes of :class:`~.closed_form.ClosedFormSolver` (mixed in)."""
+_Built = TypeVar("_Built")
+#: What :class:`OnFirstUse` holds before it is built.
+_UNBUILT = object()
 
-    idealised: Idealised | None
-    _kinds: tuple[type, ...]
-    _lock: threading.Lock
-    _numeric: Any
-    _partial: Any
-    #: :attr:`_near_seed`: not yet built (None), built, or False (the arm is no 6R closed form).
-    _position_near_seed: PositionNearSeed | bool | None = None
 
-    @property
-    def partial(self) -> Any:
-        """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use.
+class OnFirstUse(Generic[_Built]):
+    """A value built by ``build()`` the first time it is asked for (``holder()``), then kept."""
+
+    def __init__(self, build: Callable[[], _Built]) -> None:
+        self._build = build
+        self._value: Any = _UNBUILT
+
+    def __call__(self) -> _Built:
+        """The value, built now if it is not yet (None is a value too)."""
+        if self._value is _UNBUILT:
+            self._value = self._build()
+        return self._value  # type: ignore[no-any-return]
+
+
+class ClosedFormRoutes:
+    """The partial-pose and numeric routes of :class:`~.closed_form.ClosedFormSolver` (see the module).
+
+    Args:
+        arm: The arm as its structure sees it.
+        verifier: The closed form's branch verifier.
+        polish: The idealised table's polish (:mod:`.idealised_fallback`), None for an exact arm.
+        numeric: Gives the numeric solver of the same robot, built on first use.
+        name: The solver's name (``closed_form:<structure>``).
+        lock: The solver's lock (one solve at a time: the judge's Pinocchio data is shared).
+    """
+
+    def __init__(
+        self,
+        arm: ClosedFormArm,
+        verifier: BranchVerifier,
+        polish: IdealisedPolish | None,
+        numeric: OnFirstUse[Any],
+        name: str,
+        lock: threading.Lock,
+    ) -> None:
+        self.arm = arm
+        self.verifier = verifier
+        self.polish = polish
+        self.numeric = numeric
+        self.name = name
+        self._lock = lock
+        self._kinds = tuple(arm.structure.target_kinds)
+        self.partial = OnFirstUse(self._partial_solver)
+        #: The answer nearest the seed of a position (6R arms whose closed form takes poses),
+        #: or None.
+        self.near_seed = OnFirstUse(self._position_near_seed)
+
+    def _partial_solver(self) -> Any:
+        """The solver of partial poses (:mod:`kin.ik.partial_pose`).
 
         This closed form's branches are its candidates, then weighted least squares.
         """
-        if self._partial is None:
-            from ..partial_pose import PartialPoseIK
+        from ..partial_pose import PartialPoseIK
 
-            # The numeric solver's seed table gives starts in the right basin where the closed
-            # form's branches miss (a five-joint arm's masked poses: a thin set).
-            self._partial = PartialPoseIK(
-                self.robot,
-                self.structure,
-                self.name,
-                samples=self.numeric.nearest_samples,
-                pose_candidates=self.pose_candidates,
-            )
-        return self._partial
+        # The numeric solver's seed table gives starts in the right basin where the closed
+        # form's branches miss (a five-joint arm's masked poses: a thin set).
+        return PartialPoseIK(
+            self.arm.robot,
+            self.arm.structure,
+            self.name,
+            samples=self.numeric().nearest_samples,
+            pose_candidates=self.pose_candidates,
+        )
 
     def pose_candidates(
         self, position: np.ndarray, rotations: np.ndarray, seed: npt.ArrayLike
@@ -81,48 +123,30 @@ class ClosedFormRoutes(IdealisedFallback):
         """
         if PoseTarget not in self._kinds:
             return []
-        forward = seed if self._directions is None else self._forward_seed(seed)
-        seed_list = self._seed_list(forward)
+        arm = self.arm
+        forward = seed if arm.directions is None else arm.forward_seed(seed)
+        seed_list = arm.seed_list(forward)
         out: list[tuple[np.ndarray, str]] = []
         with self._lock:
             for rotation in rotations:
                 target = PoseTarget(position, rotation)
-                branches = self._branches(target, seed_list)
+                branches = arm.branches(target, seed_list)
                 if branches.status == "out_of_reach":
                     continue
-                if self.idealised is not None:
-                    branches = self._polished(branches, target)
+                if self.polish is not None:
+                    branches = self.polish.polished(branches, target)
                 for thetas, label in branches.thetas:
-                    q = np.subtract(thetas, self._offsets)
-                    if self._directions is not None:
-                        q = q * self._directions
-                    out.append((q, label))
+                    out.append((arm.joints_of(thetas), label))
         return out
 
-    @property
-    def _near_seed(self) -> PositionNearSeed | None:
-        """The answer nearest the seed of a position (6R arms whose closed form takes poses)."""
-        if self._position_near_seed is None:
-            fits = PoseTarget in self._kinds and len(self._lower) == 6
-            fits = fits and all(row.joint_type == "revolute" for row in self.robot.table.rows)
-            self._position_near_seed = (
-                PositionNearSeed(self.robot, self.pose_candidates) if fits else False
-            )
-        built = self._position_near_seed
-        return built if isinstance(built, PositionNearSeed) else None
+    def _position_near_seed(self) -> PositionNearSeed | None:
+        """:attr:`near_seed`, built (None: the arm is no 6R closed form taking poses)."""
+        arm = self.arm
+        fits = PoseTarget in self._kinds and len(arm.lower) == 6
+        fits = fits and all(row.joint_type == "revolute" for row in arm.robot.table.rows)
+        return PositionNearSeed(arm.robot, self.pose_candidates) if fits else None
 
-    @property
-    def numeric(self) -> Any:
-        """The numeric solver of the same robot, for the target kinds the closed form lacks."""
-        if self._numeric is None:
-            from ..numeric.solver import NumericIK
-
-            # Built inside a solve: its seed table within that call's budget, or in the
-            # background for the next calls (NumericIK.solve).
-            self._numeric = NumericIK(self.robot, closed_form=False, prepare=False)
-        return self._numeric
-
-    def _pose_from_branches(
+    def pose_from_branches(
         self, target: PoseTarget, seed: npt.ArrayLike | None, start: float
     ) -> IKResult | None:
         """A full pose by its closed form's branches, measured on the whole pose.
@@ -131,42 +155,44 @@ class ClosedFormRoutes(IdealisedFallback):
         vector that can reach the pose: those that do (the judge, at the solver's tolerances)
         are the answer. An idealised arm's branches near the pose (:data:`IDEAL_NEAR`) are
         polished on the true chain first (:func:`.idealised.polish`), the far ones dropped, those
-        far outside the limits judged unpolished (:meth:`_verify_polished`).
+        far outside the limits judged unpolished (:meth:`.IdealisedPolish.verify_polished`).
         None when none does (no warning): the partial-pose solver then gives the nearest pose,
         or the answer at its looser tolerances. A rounded arm's branches all on target outside
-        the limits, each isolated (:meth:`~.idealised_fallback.IdealisedFallback._isolated`),
+        the limits, each isolated (:meth:`.IdealisedPolish.isolated`),
         give ``outside_limits`` here, as the partial-pose solver gives an exact arm's.
         """
-        if self._directions is not None and seed is not None:
-            seed = self._forward_seed(seed)
-        seed_list = self._seed_list(seed)
+        arm, verifier = self.arm, self.verifier
+        if arm.directions is not None and seed is not None:
+            seed = arm.forward_seed(seed)
+        seed_list = arm.seed_list(seed)
         if not target.finite:
             return None
         if PoseTarget in self._kinds:  # the projection of the pose on the arm's poses
-            branches = self._branches(target, seed_list)
-        elif self._detailed:  # it reads the target's position
-            branches = self.structure.branches(target, seed_list)  # type: ignore[attr-defined]
+            branches = arm.branches(target, seed_list)
+        elif arm.detailed:  # it reads the target's position
+            branches = arm.structure.branches(target, seed_list)  # type: ignore[attr-defined]
         else:
-            candidates = self.structure.solve(target.position, None)
-            branches = candidate_branches(self.structure, candidates, self._offsets)
+            candidates = arm.structure.solve(target.position, None)
+            branches = candidate_branches(arm.structure, candidates, arm.offsets)
         if branches.status == "out_of_reach":
             return None
         p, r = target.position.tolist(), target.rotation.tolist()
-        if self.idealised is not None:  # its branches near the pose, polished on the true chain
-            valid, rejected = self._verify_polished(
+        polish = self.polish
+        if polish is not None:  # its branches near the pose, polished on the true chain
+            valid, rejected = polish.verify_polished(
                 target, branches, seed_list, p, r, quiet=True, near=IDEAL_NEAR
             )
             method = "closed_form_polished"
-            if not valid and self._outside_proved(rejected, target):
-                return self._result([], rejected, branches.status, branches.message, start)
+            if not valid and polish.outside_proved(rejected, target):
+                return verifier.result([], rejected, branches.status, branches.message, start)
         else:
-            valid, rejected = self._verify(target, branches, seed_list, p, r, quiet=True)
+            valid, rejected = verifier.verify(target, branches, seed_list, p, r, quiet=True)
             method = "closed_form"
         if not valid:
             return None
-        return self._result(valid, rejected, branches.status, branches.message, start, method)
+        return verifier.result(valid, rejected, branches.status, branches.message, start, method)
 
-    def _solve_numeric(
+    def solve_numeric(
         self, target: Target, seed: npt.ArrayLike | None, timeout: float | None
     ) -> IKResult:
         """A target the closed form does not take, by the numeric solver.
@@ -180,17 +206,20 @@ class ClosedFormRoutes(IdealisedFallback):
         """
         from ..numeric.numeric_target import NumericTarget
 
-        if isinstance(target, PositionTarget) and target.finite and self._near_seed is not None:
-            start = time.perf_counter()
-            near = seed_inside(self.robot, default_seed(self.robot) if seed is None else seed)
-            answer = self._near_seed.solve(target.position, np.asarray(near, dtype=float))
-            if answer is not None:
-                return near_seed_result(self.name, answer, start)
+        robot = self.arm.robot
+        if isinstance(target, PositionTarget) and target.finite:
+            near_seed = self.near_seed()
+            if near_seed is not None:
+                start = time.perf_counter()
+                near = seed_inside(robot, default_seed(robot) if seed is None else seed)
+                answer = near_seed.solve(target.position, np.asarray(near, dtype=float))
+                if answer is not None:
+                    return near_seed_result(self.name, answer, start)
         if seed is None or not target.finite:
-            return self.numeric.solve(target, seed, timeout=timeout)
+            return self.numeric().solve(target, seed, timeout=timeout)  # type: ignore[no-any-return]
         posture = np.asarray(seed, dtype=float).reshape(-1)
         preferred = NumericTarget.from_arrays(target.position, None, posture=posture)
-        return self.numeric.solve(preferred, posture, timeout=timeout)
+        return self.numeric().solve(preferred, posture, timeout=timeout)  # type: ignore[no-any-return]
 
 
 def near_seed_result(solver: str, answer: NearSeedAnswer, start: float) -> IKResult:
