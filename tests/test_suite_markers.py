@@ -97,7 +97,7 @@ def _imported(node: ast.FunctionDef) -> set[str]:
 def test_tests_that_import_a_peer_are_marked_peer():
     """Every test function that imports a peer library (or skips without it) carries `peer`."""
     unmarked, counted = [], 0
-    for path in sorted((ROOT / "tests").glob("test_*.py")):
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
         for node in ast.parse(path.read_text(encoding="utf-8")).body:
             if isinstance(node, ast.FunctionDef) and node.name.startswith("test_"):
                 if _imported(node) & PEERS:
