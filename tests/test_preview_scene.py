@@ -120,11 +120,13 @@ def _rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
 def _shown(robot_name: str, q: list[float], *extra: str):
     """A recorded viewer of the arm at ``q`` after the command's collision step, and its title."""
     from kin.commands import preview
+    from kin.commands.preview_collisions import load_model, show_collisions
 
-    viewer = viewer_module.RobotViewer(load_robot(robot_name))
+    robot = load_robot(robot_name)
+    viewer = viewer_module.RobotViewer(robot)
     viewer.display(q)
     args = preview.get_argument_parser().parse_args(["--robot", robot_name, *extra])
-    return viewer, preview._show_collisions(viewer, args)
+    return viewer, show_collisions(viewer, load_model(robot, args), args)
 
 
 def _node(viewer, *path: str) -> tuple[dict, np.ndarray | None]:

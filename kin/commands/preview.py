@@ -9,7 +9,8 @@ when --robot is not given), --path FILE a joint path written by `kin path --json
 time when it was timed with --time), and both draw the tool's trace; --workspace N draws the tool
 points of N joint vectors drawn uniformly within the limits (seeded), colored by height;
 --reach FILE.npz draws the voxels of a `kin reach` map, colored by index (viridis, as its PNG).
---scene FILE (a TOML cell, a PlanningScene or a URDF) draws the cell's objects in grey; with it or
+--scene FILE (a TOML cell, a PlanningScene or a URDF) draws the cell's objects in grey and the
+objects its [[attached]] entries hang on links in teal (they move with the arm); with it or
 --srdf, the links and objects in collision at the shown configuration turn red and a magenta rod
 joins the closest pair's witness points (its distance on stdout, in the page's title and in a
 caption at the page's foot).
@@ -49,7 +50,7 @@ from ..cli import (
     positive_float,
     run_guarded,
 )
-from .collision_options import add_collision_options, held_joints
+from .collision_options import add_collision_options
 from .preview_picture import (
     add_picture_options,
     check_outputs,
@@ -63,7 +64,6 @@ if TYPE_CHECKING:
 
     from ..ik.target import Target
     from ..robot_model import RobotModel
-    from ..viewer import RobotViewer
     from .joint_units import JointUnits
 
 PROG = "kin preview"
@@ -219,11 +219,21 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
         animated = _path_frames(robot, args.path or args.plan, args.duration, option)
         q_start = animated[1][0]
 
+    model = None
+    if args.scene is not None or args.srdf is not None:
+        from .preview_collisions import load_model
+
+        model = load_model(robot, args)
+
     from ..viewer import RobotViewer  # meshcat: only now
 
     static = args.html is not None or args.png is not None
     viewer = RobotViewer(robot, serve=not static)
     try:
+        if model is not None and model.attached:  # before an animation: they ride through it
+            from ..viewer.collision_view import show_attached
+
+            show_attached(viewer, model)
         viewer.show_frames(["base_link", robot.tool_frame])
         if args.frames:
             dh_frames = [f"frame{i}" for i in range(len(robot.table.rows) + 1)]
@@ -254,8 +264,10 @@ def _run(args: argparse.Namespace, prog: str, release: Callable[[], None]) -> in
         if args.reach is not None:
             extra.extend(_reach_voxels(viewer, robot.name, args.reach))
         title = None
-        if args.scene is not None or args.srdf is not None:
-            title = _show_collisions(viewer, args)
+        if model is not None:
+            from .preview_collisions import show_collisions
+
+            title = show_collisions(viewer, model, args)
         place_camera(viewer, args, np.array(extra).reshape(-1, 3) if extra else None, in_view)
         if static:
             write_still(viewer, args, title, played)
@@ -298,39 +310,6 @@ def _solve(
     branch = result.solutions[0].branch or result.method or result.solver
     print(f"{shown_name(robot.name)}: IK ({branch}): q = {shown}")
     return q_goal
-
-
-def _show_collisions(viewer: RobotViewer, args: argparse.Namespace) -> str:
-    """Draw the scene, the links in collision at the shown q (red) and the closest pair.
-
-    Prints the verdict and the closest pair; returns the page title that names them.
-    """
-    from ..collision import CollisionChecker, load_collision_model
-    from ..viewer.collision_view import show_closest, show_colliding_links, show_scene
-
-    robot = viewer.robot
-    scale = length_scale(args.unit)
-    model = load_collision_model(
-        robot,
-        srdf=args.srdf,
-        scene=args.scene,
-        padding=args.padding * scale,
-        hold=held_joints(args),
-    )
-    checker = CollisionChecker(model)
-    contacts = checker.collisions(viewer.q)
-    named = {name for c in contacts for name in (c.a, c.b)}
-    show_scene(viewer, model, colliding=named & set(model.scene_objects))
-    show_colliding_links(viewer, sorted(named & set(model.links)))
-    pairs = ", ".join(f"{shown_name(c.a)} / {shown_name(c.b)}" for c in contacts)
-    verdict = f"IN COLLISION ({pairs})" if contacts else "collision-free"
-    title = f"{shown_name(robot.name)}: {verdict}"
-    print(title)
-    if model.pairs:
-        label = show_closest(viewer, checker.distance(viewer.q), args.unit, scale)
-        print(label)
-        title = f"{title}; {label}"
-    return title
 
 
 def _path_frames(

@@ -25,6 +25,7 @@ from .exceptions import ViewerInputError
 from .finite_array import finite_array
 from .geometry_points import visual_points
 from .maker_meshes import MakerMeshes
+from .riders import Rider, rider_points
 
 __all__ = ["ShownArm", "aim_camera", "framed_view"]
 
@@ -47,6 +48,10 @@ class ShownArm(Protocol):
     @property
     def visual_model(self) -> pin.GeometryModel:
         """The visual geometry drawn."""
+
+    @property
+    def riders(self) -> dict[str, Rider]:
+        """Nodes riding on a joint (attached objects): in view with the arm."""
 
     @property
     def obstacles(self) -> list[Obstacle]:
@@ -107,7 +112,8 @@ def framed_view(
     """The camera that frames the arm and ``extra_points`` (:func:`~.camera_view.choose_view`).
 
     Every visual geometry of the arm (the maker's meshes included) enters by its vertices
-    (a mesh) or the corners of its bounding box (a primitive) at each configuration; the
+    (a mesh) or the corners of its bounding box (a primitive) at each configuration, the
+    objects riding on it (``arm.riders``) by their corners; the
     scene's objects do not (the arm is what the picture is about) but the camera looks past
     them (``arm.obstacles``) at the arm's frame origins.
 
@@ -127,6 +133,7 @@ def framed_view(
         points.extend(origins)
         sights.extend(origins)
         points.extend(visual_points(robot, arm.meshes, arm.visual_model, q))
+        points.extend(rider_points(robot.model, arm.riders.values(), q))
     if extra_points is not None:
         points.extend(np.asarray(extra_points, dtype=float).reshape(-1, 3))
     return choose_view(np.array(points), np.array(sights), arm.obstacles, 0.2 * arm.arm_length)

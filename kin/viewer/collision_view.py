@@ -3,8 +3,10 @@
 Scene objects (a collision model's, read by ``kin.collision.scene.read_scene``) go under
 ``scene/cell/<name>`` in a neutral grey (those in collision in :data:`COLLISION_RGB`), each
 node's transform its world placement; a mesh object is drawn as the convex hull the collision
-queries use. A colliding link's visual geometries are drawn again, in place, in
-:data:`COLLISION_RGB`. The closest pair is a rod between its two witness points with a ball on
+queries use. The objects attached to a link (``model.attached``) go under
+``scene/attached/<name>`` in :data:`ATTACHED_RGB` (red when in collision), the shapes the queries
+use, and ride on their link in every configuration shown (:mod:`.riders`). A colliding link's
+visual geometries are drawn again, in place, in :data:`COLLISION_RGB`. The closest pair is a rod between its two witness points with a ball on
 each, under ``scene/markers/closest``, thick enough to be seen in a picture of the whole arm.
 Lengths in meters, world frame (the arm's base).
 """
@@ -24,17 +26,21 @@ from dh2urdf.output_text import shown_name
 from .camera_view import Obstacle
 from .geometry_points import local_box
 from .markers import draw_rod, draw_sphere, hex_color
+from .riders import Rider
 from .robot_viewer import RobotViewer
 
 if TYPE_CHECKING:
     from ..collision import Closest, CollisionModel
 
 __all__ = [
+    "ATTACHED_OPACITY",
+    "ATTACHED_RGB",
     "CLOSEST_RGB",
     "COLLISION_RGB",
     "SCENE_OPACITY",
     "SCENE_RGB",
     "link_nodes",
+    "show_attached",
     "show_closest",
     "show_colliding_links",
     "show_scene",
@@ -43,6 +49,11 @@ __all__ = [
 #: Scene objects: a neutral grey (RGB in [0, 1]), see-through so a wall hides no link.
 SCENE_RGB = (0.62, 0.62, 0.62)
 SCENE_OPACITY = 0.35
+#: Objects attached to a link: teal, unlike the grey cell, the sky-blue background, the red of a
+#: collision, the magenta closest pair, the orange joints and the yellow target; nearly opaque,
+#: so that a tool triad inside a held part still shows a little.
+ATTACHED_RGB = (0.0, 0.62, 0.52)
+ATTACHED_OPACITY = 0.85
 #: Links in collision: pure red (no green or blue in any shade of it).
 COLLISION_RGB = (1.0, 0.0, 0.0)
 #: The closest pair's rod and end balls: magenta, unlike the sky-blue background, the grey
@@ -87,6 +98,46 @@ def show_scene(viewer: RobotViewer, model: CollisionModel, colliding: Iterable[s
             viewer.obstacles.append(Obstacle(T, box.min(axis=0), box.max(axis=0)))
         drawn += 1
     return drawn
+
+
+def show_attached(
+    viewer: RobotViewer, model: CollisionModel, colliding: Iterable[str] = ()
+) -> tuple[str, ...]:
+    """Draw the objects attached to links: teal, or red for those named in ``colliding``.
+
+    Each shape is the one checked (a mesh as its convex hull), unpadded, under
+    ``scene/attached/<shape>``; it rides on the joint of ``viewer.robot.model`` that carries its
+    link (:meth:`RobotViewer.add_rider`), so it moves with the arm in every configuration shown
+    from now on: call it before :meth:`RobotViewer.show_path` for the animation to carry it.
+    Called again (with the colliding objects), it redraws them in place.
+
+    Args:
+        viewer: The viewer of ``model.robot``.
+        model: The collision model (its ``attached`` objects; ``kin.collision.load_collision_model``).
+        colliding: Attached objects in collision (names from the contacts).
+
+    Returns:
+        The meshcat paths drawn.
+    """
+    things = {thing.name for thing in model.attached}
+    hit = set(colliding)
+    materials = {
+        colour: mg.MeshLambertMaterial(
+            color=hex_color(colour), opacity=ATTACHED_OPACITY, transparent=True
+        )
+        for colour in (ATTACHED_RGB, COLLISION_RGB)
+    }
+    drawn = []
+    for obj, owner in zip(model.geometry_model.geometryObjects, model.owners):
+        if owner not in things:
+            continue
+        node = f"scene/attached/{_node_name(obj.name)}"
+        material = materials[COLLISION_RGB if owner in hit else ATTACHED_RGB]
+        viewer.viewer[node].set_object(loadPrimitive(obj), material)
+        corners = local_box(obj)
+        viewer.add_rider(Rider(node, int(obj.parentJoint), obj.placement.homogeneous, corners))
+        drawn.append(node)
+    return tuple(drawn)
 
 
 def link_nodes(viewer: RobotViewer, link: str) -> tuple[str, ...]:

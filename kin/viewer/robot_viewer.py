@@ -3,13 +3,15 @@
 :class:`RobotViewer` draws the arm from the visual geometry of its URDF with Pinocchio's
 ``MeshcatVisualizer`` (a DH arm's fitted volumes see-through: :mod:`.see_through`), and adds
 what a DH table's user wants to see: the axis triads of chosen frames (base, tool, every DH
-frame), a target marker, a joint-space path as a meshcat animation, and point clouds. The scene goes either to a live meshcat server (a browser follows
-it) or into a :class:`~kin.viewer.scene_recorder.SceneRecorder`, whose static HTML page needs
-no server and no network.
+frame), a target marker, a joint-space path as a meshcat animation, point clouds, and nodes that
+ride on a joint (:mod:`.riders`: objects attached to a link). The scene goes either to a live
+meshcat server (a browser follows it) or into a
+:class:`~kin.viewer.scene_recorder.SceneRecorder`, whose static HTML page needs no server and no
+network.
 
 Scene layout (meshcat paths under ``/meshcat/scene``): ``robot/visuals/<geometry>``
-(Pinocchio's), ``frames/<frame>`` (triads that follow the arm), ``markers/<name>`` (targets,
-points). Poses are ``T_world_frame`` in the URDF root frame ``base_link``; lengths in meters.
+(Pinocchio's), ``frames/<frame>`` (triads that follow the arm), ``attached/<name>`` (riders),
+``markers/<name>`` (targets, points). Poses are ``T_world_frame`` in the URDF root frame ``base_link``; lengths in meters.
 The camera (:meth:`RobotViewer.set_camera`, :meth:`RobotViewer.fit_camera`) is placed by
 :mod:`kin.viewer.arm_camera`.
 """
@@ -28,7 +30,6 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 import zmq
-from pinocchio.visualize import MeshcatVisualizer
 
 from ..configuration import as_joint_vector
 from ..exceptions import FrameError
@@ -39,6 +40,8 @@ from .exceptions import ViewerError, ViewerInputError
 from .finite_array import finite_array
 from .maker_meshes import MakerMeshes, maker_meshes
 from .markers import draw_points, draw_sphere, draw_triad
+from .mesh_files import ReadableMeshes
+from .riders import Rider, rider_pose
 from .scene_recorder import SceneRecorder
 from .see_through import see_through_body
 
@@ -87,7 +90,7 @@ class RobotViewer:
             see_through_body(visual_model)  # fitted volumes would hide the joints
         self.visual_model = visual_model
         self.viewer = _open_viewer(serve)
-        self._pin = MeshcatVisualizer(drawn, None, visual_model)
+        self._pin = ReadableMeshes(drawn, None, visual_model)
         self._pin.initViewer(viewer=self.viewer)
         self.scene = self.viewer["scene"]
         self._pin.loadViewerModel(rootNodeName="scene/robot")
@@ -103,6 +106,8 @@ class RobotViewer:
         self.viewer["/Grid"].set_transform(tf.scale_matrix(self.grid_scale))
         #: Boxes of the scene objects drawn: the camera looks past them (:meth:`fit_camera`).
         self.obstacles: list[Obstacle] = []
+        #: Nodes that ride on a joint (attached objects), by meshcat path (:meth:`add_rider`).
+        self.riders: dict[str, Rider] = {}
         self.display(self.q)
 
     @property
@@ -140,6 +145,14 @@ class RobotViewer:
                 raise FrameError(name, self.robot.frame_names)
             draw_triad(self.scene["frames"][name], length)
             self._followed[name] = self.robot.model.getFrameId(name)
+        self._place(self.q, self.viewer)
+
+    def add_rider(self, rider: Rider) -> None:
+        """Move ``rider.node`` with its joint in every configuration shown from now on, and now.
+
+        A rider of the same node replaces the earlier one. Animations recorded before miss it.
+        """
+        self.riders[rider.node] = rider
         self._place(self.q, self.viewer)
 
     def show_target(
@@ -286,6 +299,8 @@ class RobotViewer:
         for name, frame_id in self._followed.items():
             pin.updateFramePlacement(self.robot.model, data, frame_id)
             viewer["scene/frames"][name].set_transform(data.oMf[frame_id].homogeneous)  # type: ignore[index]
+        for rider in self.riders.values():
+            viewer[rider.node].set_transform(rider_pose(data, rider))  # type: ignore[index]
 
 
 def _open_viewer(serve: bool) -> meshcat.Visualizer:
