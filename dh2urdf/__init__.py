@@ -37,11 +37,15 @@ __all__ = [
 ]
 
 
-_LAZY = {"build_urdf", "urdf_string", "write_urdf"}
+_LAZY = {"urdf_string", "write_urdf"}
 _LAZY_MJCF = {"mjcf_string", "write_mjcf"}
 
 
 def __getattr__(name: str) -> Any:
+    if name == "build_urdf":
+        from .yourdfpy_model import build_urdf
+
+        return build_urdf
     if name in _LAZY:
         from . import urdf_writer
 

@@ -16,6 +16,11 @@ For a revolute joint the DH angle is ``theta + direction * q`` (``theta`` is the
 prismatic one the DH length is ``d + direction * q`` (``d`` is the offset) and ``theta`` is fixed.
 ``direction`` is 1 unless the row reverses its joint (-1: the joint turns or slides the other
 way, as the Robotics Toolbox's ``flip``); the limits are always those of ``q``.
+
+The other values a table holds are here too, frozen like its rows: a row's :class:`Housing` and
+:class:`AllowedContact` (read by :mod:`dh2urdf.link_volumes`) and the table's
+:class:`NamedState` (read by :mod:`dh2urdf.table_states`); the modules that read and use them
+import this one, never the other way round.
 """
 
 from __future__ import annotations
@@ -30,13 +35,52 @@ from .drive_section import JointDrive
 from .exceptions import TableError
 from .joint_cap import MAX_JOINTS
 from .link_meshes import LinkMesh
-from .link_volumes import AllowedContact, Housing
-from .table_states import NamedState
 from .table_values import MAX_ANGLE, MAX_LENGTH
 from .transforms import rot_x, rot_y, rot_z, translation
 
 Convention = Literal["standard", "modified"]
 JointType = Literal["revolute", "prismatic"]
+
+
+@dataclass(frozen=True)
+class Housing:
+    """A flat-ended cylinder fixed in DH frame ``i`` of its row.
+
+    Attributes:
+        start: Centre of one end face, in DH frame ``i`` [m] (3,).
+        end: Centre of the other end face, in DH frame ``i`` [m] (3,).
+        radius: Cylinder radius [m].
+    """
+
+    start: tuple[float, float, float]
+    end: tuple[float, float, float]
+    radius: float
+
+
+@dataclass(frozen=True)
+class AllowedContact:
+    """An earlier row whose body this row's body is not checked against.
+
+    Attributes:
+        row: The earlier row (1-based).
+        reason: Why the pair is not checked (one line).
+    """
+
+    row: int
+    reason: str
+
+
+@dataclass(frozen=True)
+class NamedState:
+    """A joint vector with a name.
+
+    Attributes:
+        name: The state's name (``ready``).
+        q: One value per joint, base to tip [rad, or m for a prismatic joint].
+    """
+
+    name: str
+    q: tuple[float, ...]
 
 
 @dataclass(frozen=True)

@@ -34,19 +34,16 @@ Table syntax (lengths in the table's ``length_unit``)::
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
+from .dh_table import AllowedContact, DHRow, DHTable, Housing
 from .exceptions import TableError
 from .quoted_input import quoted
 from .table_values import MAX_LENGTH
 from .table_values import length as _length
 from .table_values import positive as _positive
-
-if TYPE_CHECKING:
-    from .dh_table import DHRow, DHTable
 
 #: Radius of a segment whose row states none [m]: a stick to see the chain by, not the arm's
 #: body (``kin check`` says so when a table relies on it).
@@ -54,34 +51,6 @@ DEFAULT_RADIUS = 0.01
 
 #: The row keys read here.
 VOLUME_KEYS = ("allow_contact", "housing", "radius", "radius_a", "radius_d")
-
-
-@dataclass(frozen=True)
-class Housing:
-    """A flat-ended cylinder fixed in DH frame ``i`` of its row.
-
-    Attributes:
-        start: Centre of one end face, in DH frame ``i`` [m] (3,).
-        end: Centre of the other end face, in DH frame ``i`` [m] (3,).
-        radius: Cylinder radius [m].
-    """
-
-    start: tuple[float, float, float]
-    end: tuple[float, float, float]
-    radius: float
-
-
-@dataclass(frozen=True)
-class AllowedContact:
-    """An earlier row whose body this row's body is not checked against.
-
-    Attributes:
-        row: The earlier row (1-based).
-        reason: Why the pair is not checked (one line).
-    """
-
-    row: int
-    reason: str
 
 
 def parse_volumes(path: str, data: dict[str, Any], index: int, meters: float) -> dict[str, Any]:

@@ -14,33 +14,17 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+from .dh_table import DHRow, NamedState
 from .exceptions import TableError
 from .quoted_input import quoted
 from .table_values import number as _number
 
-if TYPE_CHECKING:
-    from .dh_table import DHRow
-
-__all__ = ["STATE_NAME", "NamedState", "parse_states"]
+__all__ = ["STATE_NAME", "parse_states"]
 
 #: A state's name: a letter, then letters, digits, ``_`` or ``-`` (what a command line passes).
 STATE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]*")
-
-
-@dataclass(frozen=True)
-class NamedState:
-    """A joint vector with a name.
-
-    Attributes:
-        name: The state's name (``ready``).
-        q: One value per joint, base to tip [rad, or m for a prismatic joint].
-    """
-
-    name: str
-    q: tuple[float, ...]
 
 
 def parse_states(

@@ -27,13 +27,13 @@ The ``<mujoco>`` element (MuJoCo's URDF extension) keeps fixed links as bodies
 
 The elements are plain values (:mod:`dh2urdf.urdf_elements`) written as text with string
 formatting, so building a model from a table imports neither yourdfpy nor trimesh (0.7 s);
-:func:`build_urdf` gives the same URDF as a yourdfpy model, checked by yourdfpy, where one is wanted.
+:func:`dh2urdf.yourdfpy_model.build_urdf` gives the same URDF as a yourdfpy model, checked by
+yourdfpy, where one is wanted.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -57,9 +57,6 @@ from .urdf_elements import (
     Visual,
     robot_xml,
 )
-
-if TYPE_CHECKING:
-    import yourdfpy
 
 #: Radius of the cylinder drawn along each joint axis [m].
 JOINT_RADIUS = 0.02
@@ -304,20 +301,6 @@ def urdf_elements(table: DHTable, mesh_folder: str | Path | None = None) -> Robo
         joints=tuple(joints),
         materials=(_JOINT_MATERIAL, _LINK_MATERIAL, _TOOL_MATERIAL),
     )
-
-
-def build_urdf(table: DHTable) -> yourdfpy.URDF:
-    """The URDF of a DH table as a yourdfpy model, validated (imports yourdfpy).
-
-    See :func:`dh2urdf.yourdfpy_model.yourdfpy_model`; a kinematic model needs only the text
-    (:func:`urdf_string`), which does not import yourdfpy.
-
-    Raises:
-        UrdfBuildError: yourdfpy's validation rejects the model.
-    """
-    from .yourdfpy_model import yourdfpy_model
-
-    return yourdfpy_model(table)
 
 
 #: MuJoCo's URDF extension ``<mujoco><compiler .../></mujoco>``: keep fixed links (DH frames,

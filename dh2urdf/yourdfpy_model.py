@@ -1,4 +1,4 @@
-"""The URDF of a DH table as a yourdfpy model, validated by yourdfpy.
+"""The URDF of a DH table as a yourdfpy model, validated by yourdfpy (:func:`build_urdf`).
 
 For yourdfpy's own tools (scene graph, meshes, its validation) and for tests that check the text of
 :func:`dh2urdf.urdf_writer.urdf_string` against yourdfpy's writer. yourdfpy (and trimesh, which it
@@ -13,6 +13,8 @@ from .dh_table import DHTable
 from .exceptions import UrdfBuildError
 from .urdf_elements import Box, Cylinder, Material, Mesh
 from .urdf_writer import urdf_elements
+
+__all__ = ["build_urdf"]
 
 
 def _yourdfpy_geometry(geometry: Any) -> Any:
@@ -38,11 +40,12 @@ def _yourdfpy_material(material: Material | None) -> Any:
     return yourdfpy.Material(name=material.name, color=yourdfpy.Color(material.rgba))
 
 
-def yourdfpy_model(table: DHTable) -> Any:
-    """The URDF of a DH table as a yourdfpy model, validated by yourdfpy.
+def build_urdf(table: DHTable) -> Any:
+    """The URDF of a DH table as a yourdfpy model, validated by yourdfpy (imports yourdfpy).
 
     For reading the model with yourdfpy's tools; building a kinematic model needs only the text
-    (:func:`urdf_string`), which does not import yourdfpy.
+    (:func:`dh2urdf.urdf_writer.urdf_string`), which does not import yourdfpy. The elements are
+    the text's (:func:`dh2urdf.urdf_writer.urdf_elements`); this module stands above the writer.
 
     Args:
         table: The DH table (SI units).

@@ -1,6 +1,6 @@
 """Planning problems of scripts/bench_plan.py and scripts/certify_plans.py (issue 44, items 3-5).
 
-* :data:`ARMS`: Panda and UR5 as their makers ship them (example-robot-data's URDF and SRDF,
+* :data:`ARMS` (:mod:`plan_parts`, with :class:`Arm` and :class:`Box`): Panda and UR5 as their makers ship them (example-robot-data's URDF and SRDF,
   meshes as their convex hulls, as kin's collision model takes them) and UR10's DH table.
 * :func:`scene_boxes`: four kinds of cell made of boxes (``table``, ``shelves``, ``box``, ``cage``)
   in front of the arm, scaled to its reach, each moved and turned a little by a seeded generator;
@@ -19,57 +19,12 @@ from pathlib import Path
 
 import numpy as np
 from bench_ik_urdf import erd
+from plan_parts import ARMS as ARMS  # the scripts' arms, read from here too
+from plan_parts import Arm, Box
 from plan_reference import Reference
 
 #: The kinds of scene, in table order.
 SCENES = ("table", "shelves", "box", "cage")
-
-
-@dataclass(frozen=True)
-class Arm:
-    """An arm of the scripts: where its model comes from.
-
-    Attributes:
-        name: Row name.
-        robot: example-robot-data URDF (relative to ``robots/``) or a shipped table's name.
-        tip: The chain's tip link (URDF), or None for a table.
-        srdf: example-robot-data SRDF, or None.
-        reach: Rough reach from the base [m], the scenes' scale.
-        span: Start and goal joints are drawn within +-span [rad] (and the limits).
-    """
-
-    name: str
-    robot: str
-    tip: str | None
-    srdf: str | None
-    reach: float
-    span: float = math.pi
-
-
-ARMS = {
-    "panda": Arm(
-        "panda", "panda_description/urdf/panda.urdf", "panda_hand",
-        "panda_description/srdf/panda.srdf", 0.85,
-    ),
-    "ur5": Arm(
-        "ur5", "ur_description/urdf/ur5_robot.urdf", "tool0", "ur_description/srdf/ur5.srdf", 0.85
-    ),
-    "ur10-dh": Arm("ur10-dh", "ur10", None, None, 1.3),
-}  # fmt: skip
-
-
-@dataclass(frozen=True)
-class Box:
-    """A box of a scene: size [m] and pose in the arm's base frame (xyz [m], yaw [rad])."""
-
-    name: str
-    size: tuple[float, float, float]
-    xyz: tuple[float, float, float]
-    yaw: float = 0.0
-
-    def as_json(self) -> dict:
-        """The box as a JSON object (``rpy`` [rad])."""
-        return {"name": self.name, "size": self.size, "xyz": self.xyz, "rpy": [0, 0, self.yaw]}
 
 
 def load_arm(arm: Arm):

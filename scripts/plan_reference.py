@@ -24,7 +24,7 @@ import pinocchio as pin
 from bench_ik_urdf import erd
 
 if TYPE_CHECKING:  # pragma: no cover
-    from plan_problems import Arm, Box
+    from plan_parts import Arm, Box
 
 #: Largest joint step between two configurations the reference checks [rad].
 RESAMPLE = 0.005

@@ -17,7 +17,8 @@ else:  # Python 3.10: the same parser as the package's
 
 from dh2urdf import TableError, parse_table
 from dh2urdf.table_file import MAX_LENGTH
-from dh2urdf.urdf_writer import build_urdf, cylinder_inertia, urdf_string
+from dh2urdf.urdf_writer import cylinder_inertia, urdf_string
+from dh2urdf.yourdfpy_model import build_urdf
 
 TABLE = textwrap.dedent(
     """

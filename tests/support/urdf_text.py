@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from lxml import etree
 
-from dh2urdf.urdf_writer import _PLACEHOLDER_NOTE, MUJOCO_COMPILER, build_urdf
+from dh2urdf.urdf_writer import _PLACEHOLDER_NOTE, MUJOCO_COMPILER
+from dh2urdf.yourdfpy_model import build_urdf
 
 
 def yourdfpy_text(table) -> str:
