@@ -4,6 +4,7 @@
 samples by :mod:`kin.path.collision_check`'s rule. See ``docs/planning.md``.
 """
 
+from .ompl_problem import prepare
 from .planner import DEFAULT_CHECKS, DEFAULT_PLANNER, PLANNERS, PlanError, plan
 from .result import STATUSES, PlanResult, PlanStatus
 
@@ -16,4 +17,5 @@ __all__ = [
     "PlanResult",
     "PlanStatus",
     "plan",
+    "prepare",
 ]

@@ -40,7 +40,16 @@ from .sphere_motion import sphere_motion
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
 
-__all__ = ["FAST_AFTER", "RESOLUTION", "Budget", "CertifiedSpace", "joint_bounds", "silence_ompl"]
+__all__ = [
+    "FAST_AFTER",
+    "RESOLUTION",
+    "Budget",
+    "CertifiedSpace",
+    "exact_rule",
+    "joint_bounds",
+    "prepare",
+    "silence_ompl",
+]
 
 #: Link motion [m] below which the motion rule stops halving a motion it cannot show free: the
 #: motion is then refused (a planner edge that grazes a shape within this is not taken).
@@ -50,6 +59,36 @@ RESOLUTION = 1e-4
 FAST_AFTER = 500
 #: Verdicts kept per problem (states are checked as the ends of motions many times).
 _CACHE = 200_000
+
+
+_RULES: weakref.WeakKeyDictionary[CollisionChecker, dict[bool, MotionCheck]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def exact_rule(checker: CollisionChecker, fast: bool = False) -> MotionCheck:
+    """The exact motion rule of ``checker`` at :data:`RESOLUTION`, made once per checker.
+
+    Its remembered distances are the same values whichever plan reads them, so plans share it
+    (one plan at a time: :func:`kin.plan.plan` holds a lock). ``fast``: per-pair sphere bounds
+    first (:mod:`kin.path.pair_distances`).
+    """
+    rules = _RULES.setdefault(checker, {})
+    rule = rules.get(fast)
+    if rule is None:
+        rule = rules[fast] = MotionCheck(checker, RESOLUTION, fast=fast)
+    return rule
+
+
+def prepare(checker: CollisionChecker) -> None:
+    """Make what every plan with ``checker`` uses, once: its spheres' tests and its exact rule.
+
+    :func:`kin.plan.plan` makes them on its first call with a checker (tens of milliseconds for
+    an arm in a cell of a few boxes, more for the first model of an arm: its spheres are fitted);
+    call this to have that done before.
+    """
+    sphere_motion(checker.model)
+    exact_rule(checker)
 
 
 def silence_ompl() -> Any:
@@ -116,6 +155,8 @@ class CertifiedSpace:
             only where the bounds do not decide (:mod:`kin.path.pair_distances`): the same
             verdicts and the same checks, less work once the spheres are fitted (0.1-0.3 s a
             model, once).
+        exact: False: the spheres alone judge (:mod:`kin.plan.sphere_motion`), and a state or
+            motion they do not show free is refused: no coal, a conservative search.
 
     Attributes:
         space: The ``RealVectorStateSpace``.
@@ -130,7 +171,6 @@ class CertifiedSpace:
         budget: Budget,
         fast: bool = True,
         exact: bool = True,
-        exact_at: list[np.ndarray] | None = None,
     ):
         ob, _, _ = silence_ompl()
         self.checker = checker
@@ -141,13 +181,6 @@ class CertifiedSpace:
         self.spheres = sphere_motion(checker.model) if fast or not exact else None
         #: False: the spheres alone judge (what they do not show free is refused): no coal.
         self.exact = exact or self.spheres is None
-        # ends the spheres cannot show free: the exact rule judges the motions from them
-        spheres = self.spheres
-        self._exact_at = {
-            q.tobytes()
-            for q in exact_at or []
-            if spheres is not None and not spheres.state_free(np.ascontiguousarray(q, dtype=float))
-        }
         self._free: dict[bytes, bool] = {}
         self.space = ob.RealVectorStateSpace(self.nq)
         bounds = ob.RealVectorBounds(self.nq)
@@ -181,7 +214,7 @@ class CertifiedSpace:
             fast = self._fast and self.budget.checks >= FAST_AFTER
             if fast:
                 self._fast = False
-            self._motion = MotionCheck(self.checker, RESOLUTION, fast=fast)
+            self._motion = exact_rule(self.checker, fast)
         return self._motion
 
     def free(self, q: np.ndarray) -> bool:
@@ -192,7 +225,7 @@ class CertifiedSpace:
             self.budget.checks += 1
             spheres = self.spheres
             verdict = (spheres is not None and spheres.state_free(q)) or (
-                (self.exact or key in self._exact_at) and not self._checks().in_collision(q)
+                self.exact and not self._checks().in_collision(q)
             )
             if len(self._free) >= _CACHE:
                 self._free.clear()
@@ -206,10 +239,11 @@ class CertifiedSpace:
         """
         return self._checks().distances(q)
 
-    def motion_free(self, q0: np.ndarray, q1: np.ndarray) -> bool:
+    def motion_free(self, q0: np.ndarray, q1: np.ndarray, most: int | None = None) -> bool:
         """Whether every point of the straight motion q0 -> q1 is free by the rule.
 
-        False, without a look, once the budget is spent (the motion is not shown free).
+        False, without a look, once the budget is spent (the motion is not shown free); also
+        when the exact rule would need more than ``most`` checks [count] (None: the budget's).
         """
         if self.budget.spent() or not (self.free(q0) and self.free(q1)):
             return False
@@ -217,13 +251,13 @@ class CertifiedSpace:
             left = max(self.budget.max_checks - self.budget.checks, 1)
             shown, used = self.spheres.motion_free(q0, q1, RESOLUTION, left)
             self.budget.checks += used
-            if shown or not (
-                self.exact or q0.tobytes() in self._exact_at or q1.tobytes() in self._exact_at
-            ):
+            if shown or not self.exact:
                 return shown
         motion = self._checks()
         before = motion.checks
         remaining = max(self.budget.max_checks - self.budget.checks, 1)
+        if most is not None:
+            remaining = min(remaining, most)
         found = motion.between(
             q0, q1, self.distances(q0), self.distances(q1), max_checks=before + remaining
         )

@@ -24,12 +24,18 @@ import numpy.typing as npt
 from ..configuration import as_joint_vector, limit_violations
 from ..exceptions import KinError
 from .goals import GoalSet, goal_configurations, joint_goal
-from .ompl_problem import RESOLUTION, Budget, CertifiedSpace, joint_bounds, silence_ompl
+from .ompl_problem import (
+    RESOLUTION,
+    Budget,
+    CertifiedSpace,
+    exact_rule,
+    joint_bounds,
+    silence_ompl,
+)
 from .result import PlanResult
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
-    from .sphere_motion import SphereMotion
 
 __all__ = ["DEFAULT_CHECKS", "DEFAULT_PLANNER", "PLANNERS", "PlanError", "plan"]
 
@@ -56,6 +62,14 @@ DEFAULT_PLANNER = "RRTConnect"
 DEFAULT_CHECKS = 200_000
 #: Configurations the search may check on the spheres alone before the exact rule joins [count].
 SPHERE_CHECKS = 50_000
+#: Configurations the exact rule may check on a straight motion to a goal [count].
+STRAIGHT_CHECKS = 16
+#: Configurations the exact rule may check on the motion to an escape (:func:`_escape`) [count].
+ESCAPE_CHECKS = 64
+#: Joint-space distances [rad] at which a state near a start or goal is looked for (:func:`_escape`).
+ESCAPE_STEPS = (0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7)
+#: Random directions tried at each of :data:`ESCAPE_STEPS` [count].
+ESCAPE_TRIES = 16
 #: Configurations the simplifier may check after the search [count].
 SIMPLIFY_CHECKS = 20_000
 #: Default wall-clock cap of a plan [s].
@@ -179,46 +193,46 @@ def _search(
     began: float,
     answer: Any,
 ) -> PlanResult:
-    """The OMPL search on the certified space (the start and goals already checked free)."""
+    """The OMPL search on the certified space (the start and goals already checked free).
+
+    Three steps, each bounded by work: the straight motion to each goal (nearest first); the
+    search on the spheres alone (:mod:`kin.plan.sphere_motion`: no coal), from and to states
+    near the start and goals that the spheres show free, reached from them by a short motion the
+    exact rule certifies (:func:`_escape`), for up to :data:`SPHERE_CHECKS` checks; then, if
+    that found nothing, the search on the exact rule (spheres first, coal where they cannot
+    tell) with the whole budget.
+    """
     ob, og, ou = silence_ompl()
     budget = Budget(max_checks, time_limit - (time.perf_counter() - began))
     lower, upper = joint_bounds(robot, np.vstack([q0[None, :], goals.q]))
-    ends = [q0, *goals.q]
-    # first the spheres alone (exact only at the start and goals), then the exact rule
-    first = CertifiedSpace(checker, lower, upper, budget, exact=False, exact_at=ends)
-    spaces: list[CertifiedSpace | None] = [first, None] if first.spheres is not None else [None]
+    exact = CertifiedSpace(checker, lower, upper, budget)
     order = np.argsort(np.linalg.norm(goals.q - q0, axis=1), kind="stable")
-    path: list[np.ndarray] | None = None
-    found: Any = None
-    space = first
-    for phase, given in enumerate(spaces):
-        if given is None:
-            budget.max_checks = max_checks
-            space = CertifiedSpace(checker, lower, upper, budget)
-        else:
-            space = given
-            budget.max_checks = min(max_checks, SPHERE_CHECKS)
-        for index in order:  # the straight motion, nearest goal first
-            if space.motion_free(q0, goals.q[index]):
-                path = [q0, goals.q[index]]
-                break
-            budget.reraise()
-        if path is not None:
-            break
-        ou.RNG.setSeed(seed + 1)  # OMPL's seed 0 means "random"; every plan reseeds it
-        setup = og.SimpleSetup(space.si)
-        setup.setStartState(space.state(q0))
-        goal_states = ob.GoalStates(space.si)
-        for q in goals.q:
-            goal_states.addState(space.state(q))
-        setup.setGoal(goal_states)
-        setup.setPlanner(getattr(og, planner)(space.si))
-        solved = setup.solve(ob.PlannerTerminationCondition(budget.spent))
+    for index in order:  # the straight motion, nearest goal first
+        if exact.motion_free(q0, goals.q[index], STRAIGHT_CHECKS):
+            return _certified(checker, np.array([q0, goals.q[index]]), goals, budget, answer, exact)
         budget.reraise()
-        if solved and setup.haveExactSolutionPath():
-            found = setup.getSolutionPath()
-            break
-        if budget.timed_out or phase + 1 == len(spaces):
+    path = None
+    spheres = exact.spheres
+    if spheres is not None:
+        budget.max_checks = min(max_checks, SPHERE_CHECKS)
+        rng = np.random.default_rng(seed)
+        start = _escape(q0, exact, rng, lower, upper)
+        near = [_escape(q, exact, rng, lower, upper) for q in goals.q]
+        kept = [i for i, q in enumerate(near) if q is not None]
+        targets = [q for q in near if q is not None]
+        if start is not None and kept:
+            space = CertifiedSpace(checker, lower, upper, budget, exact=False)
+            found = _ompl(space, start, targets, planner, seed, simplify, ob, og, ou)
+            budget.reraise()
+            if found is not None:
+                ends = [np.linalg.norm(found[-1] - q) for q in targets]
+                reached = kept[int(np.argmin(ends))]
+                path = _without_collinear(_joined(q0, found, goals.q[reached]))
+    if path is None:
+        budget.max_checks = max_checks
+        found = _ompl(exact, q0, list(goals.q), planner, seed, simplify, ob, og, ou)
+        budget.reraise()
+        if found is None:
             if budget.timed_out:
                 return answer(
                     "timeout",
@@ -232,18 +246,78 @@ def _search(
                 goals=goals.q,
                 checks=budget.checks,
             )
-    if path is None:
-        if simplify:
-            simplifier = og.PathSimplifier(space.si)
-            # its own work budget: once spent, every shortcut is refused and the path kept
-            budget.max_checks = budget.checks + SIMPLIFY_CHECKS
-            simplifier.ropeShortcutPath(found)
-            simplifier.reduceVertices(found)
-            budget.reraise()
-        path = _without_collinear(
-            [space.q(found.getState(i)) for i in range(found.getStateCount())]
-        )
-    return _certified(robot, checker, np.array(path), goals, budget, answer, space.spheres)
+        path = _without_collinear(found)
+    return _certified(checker, np.array(path), goals, budget, answer, exact)
+
+
+def _joined(q0: np.ndarray, found: list[np.ndarray], goal: np.ndarray) -> list[np.ndarray]:
+    """The start, the path found between the escapes, the goal (an escape that is its end kept once)."""
+    head = [] if np.array_equal(found[0], q0) else [q0]
+    tail = [] if np.array_equal(found[-1], goal) else [goal]
+    return head + found + tail
+
+
+def _escape(
+    q: np.ndarray,
+    exact: CertifiedSpace,
+    rng: np.random.Generator,
+    lower: np.ndarray,
+    upper: np.ndarray,
+) -> np.ndarray | None:
+    """``q`` when the spheres show it free, else a state near it that they do, or None.
+
+    The state is reached from ``q`` by a straight motion the exact rule certifies: random
+    directions (``rng``: the plan's seed) at joint-space distances of :data:`ESCAPE_STEPS` [rad],
+    :data:`ESCAPE_TRIES` each, the first that works.
+    """
+    spheres = exact.spheres
+    assert spheres is not None
+    if spheres.state_free(q):
+        return q
+    for step in ESCAPE_STEPS:
+        for _ in range(ESCAPE_TRIES):
+            if exact.budget.spent():
+                return None
+            direction = rng.normal(size=len(q))
+            candidate = np.clip(q + step * direction / np.linalg.norm(direction), lower, upper)
+            exact.budget.checks += 1
+            if spheres.state_free(candidate) and exact.motion_free(q, candidate, ESCAPE_CHECKS):
+                return candidate
+    return None
+
+
+def _ompl(
+    space: CertifiedSpace,
+    start: np.ndarray,
+    goals: list[np.ndarray],
+    planner: str,
+    seed: int,
+    simplify: bool,
+    ob: Any,
+    og: Any,
+    ou: Any,
+) -> list[np.ndarray] | None:
+    """OMPL's ``planner`` on ``space`` from ``start`` to any of ``goals``, simplified; or None."""
+    ou.RNG.setSeed(seed + 1)  # OMPL's seed 0 means "random"; every plan reseeds it
+    setup = og.SimpleSetup(space.si)
+    setup.setStartState(space.state(start))
+    goal_states = ob.GoalStates(space.si)
+    for q in goals:
+        goal_states.addState(space.state(q))
+    setup.setGoal(goal_states)
+    setup.setPlanner(getattr(og, planner)(space.si))
+    budget = space.budget
+    solved = setup.solve(ob.PlannerTerminationCondition(budget.spent))
+    if budget.raised is not None or not (solved and setup.haveExactSolutionPath()):
+        return None
+    found = setup.getSolutionPath()
+    if simplify:
+        simplifier = og.PathSimplifier(space.si)
+        # its own work budget: once spent, every shortcut is refused and the path kept
+        budget.max_checks = budget.checks + SIMPLIFY_CHECKS
+        simplifier.ropeShortcutPath(found)
+        simplifier.reduceVertices(found)
+    return [space.q(found.getState(i)) for i in range(found.getStateCount())]
 
 
 def _without_collinear(path: list[np.ndarray]) -> list[np.ndarray]:
@@ -269,33 +343,38 @@ def _sine(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def _certified(
-    robot: Any,
     checker: CollisionChecker,
     path: np.ndarray,
     goals: GoalSet,
     budget: Budget,
     answer: Any,
-    spheres: SphereMotion | None,
+    space: CertifiedSpace,
 ) -> PlanResult:
-    """The path after its final check of every sample and every motion, from scratch.
+    """The path after its final check of every joint vector and every motion.
 
     Each motion is judged by the spheres' rule (:mod:`kin.plan.sphere_motion`), and where they
-    do not show it free, by :func:`kin.path.collision_check.check_path_collisions` (the exact
-    rule, coal's distances).
+    do not show it free, by the exact rule (:class:`kin.path.collision_check.MotionCheck`,
+    coal's distances, no budget but its own 100,000 checks a motion), its ends by the checker.
     """
-    from ..path.collision_check import check_path_collisions
-
+    spheres = space.spheres
+    exact = exact_rule(checker)
     for i in range(len(path) - 1):
-        if spheres is not None:
-            a, b = path[i], path[i + 1]
-            if spheres.state_free(a) and spheres.state_free(b):
-                if spheres.motion_free(a, b, RESOLUTION, SIMPLIFY_CHECKS)[0]:
-                    continue
-        verdict = check_path_collisions(checker, path[i : i + 2])
-        if not verdict.free:  # never expected: every edge passed the same rule
+        a, b = path[i], path[i + 1]
+        if spheres is not None and spheres.state_free(a) and spheres.state_free(b):
+            if spheres.motion_free(a, b, RESOLUTION, SIMPLIFY_CHECKS)[0]:
+                continue
+        found = None
+        if checker.in_collision(a) or checker.in_collision(b):
+            found = "a joint vector in collision"
+        else:
+            place = exact.between(
+                a, b, exact.distances(a), exact.distances(b), i, exact.checks + 100_000
+            )
+            found = None if place is None else place.describe()
+        if found is not None:  # never expected: every edge passed the same rule
             return answer(
                 "not_found",
-                f"the path failed its final check ({verdict.first.describe()})",  # type: ignore[union-attr]
+                f"the path failed its final check ({found})",
                 goals=goals.q,
                 checks=budget.checks,
             )

@@ -14,9 +14,10 @@ other shape through its bounding box). A test's value is a lower bound of its pa
 * a straight motion q0 -> q1 is **shown free** when, for every test, ``(d0 - tol) + (d1 - tol)
   > B``, ``tol`` the contact tolerance and ``B`` the most the test's two sphere centers can close
   along the motion: the sum over the joints that move one center relative to the other of
-  ``|q1_j - q0_j|`` times the center's distance bound from joint ``j``'s origin (its joint
-  frame's offset and the links in between; the joints that carry both centers of a self test are
-  left out, they move the pair as one body). A test value changes at most as fast as its centers
+  ``|q1_j - q0_j|`` times the center's distance bound from joint ``j``'s axis (from the axis of
+  the joint whose frame holds it, its distance to it; from an axis further up, its distance from
+  its joint's origin plus the links in between; the joints that carry both centers of a self test
+  are left out, they move the pair as one body). A test value changes at most as fast as its centers
   move (a distance less constant radii, or a convex shape's signed distance), so each test stays
   above the tolerance all along, and with it every pair it bounds. Where a test does not hold,
   the motion is halved (its two halves inherit the tests still open) down to
@@ -157,7 +158,13 @@ class SphereMotion:
         sphere_joint = np.array(joints, dtype=np.int32)
         arms = np.zeros((len(sphere_radius), nq))
         for s in range(len(sphere_radius)):
-            arm, k = float(np.linalg.norm(sphere_center[s])), int(sphere_joint[s])
+            center, k = sphere_center[s], int(sphere_joint[s])
+            arm = float(np.linalg.norm(center))
+            if k > 0:  # its own joint turns it about the axis: its distance from the axis
+                u = axis[k]
+                arms[s, qidx[k]] += float(np.linalg.norm(center - (center @ u) * u))
+                arm += links[k]
+                k = int(parents[k])
             while k > 0:
                 arms[s, qidx[k]] += arm
                 arm += links[k]
