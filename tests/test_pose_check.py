@@ -28,6 +28,10 @@ except ImportError:  # not built: the tests of the twin skip
 TOL = target_module._ROTATION_EXACT
 
 needs_twin = pytest.mark.skipif(_exact_pose is None, reason="kin/ik/_pose_check not built")
+#: The library took the twin (not with DH_KINEMATICS_PURE_PYTHON=1): its packed targets are tested.
+needs_loaded_twin = pytest.mark.skipif(
+    target_module._exact_pack is None, reason="kin.ik.target runs without its twin"
+)
 
 
 def _rotation(rng: np.random.Generator) -> np.ndarray:
@@ -144,7 +148,7 @@ def test_short_and_long_way_build_the_same_target(position, rotation):
     assert results[0] == results[1]
 
 
-@needs_twin
+@needs_loaded_twin
 @given(
     arrays(np.float64, 3, elements=st.floats(allow_nan=True, allow_infinity=True)),
     arrays(np.float64, (3, 3), elements=st.floats(allow_nan=True, allow_infinity=True)),
@@ -173,7 +177,7 @@ def test_exact_pack_holds_the_checked_values(position, rotation, order):
     np.testing.assert_array_equal(rotation, before[1])
 
 
-@needs_twin
+@needs_loaded_twin
 def test_exact_pack_declines_what_is_not_an_ndarray():
     """Lists, subclasses, other dtypes and shapes: None (the long way), never an error."""
     short = target_module._exact_pack
@@ -187,7 +191,7 @@ def test_exact_pack_declines_what_is_not_an_ndarray():
         short(np.zeros(3), np.eye(3))
 
 
-@needs_twin
+@needs_loaded_twin
 def test_packed_target_arrays_are_read_only_for_good_and_pickle():
     """A packed target's arrays are views of immutable bytes (no flag makes them writeable); a
     pickled or copied target is the same target."""
