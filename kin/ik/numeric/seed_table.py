@@ -140,12 +140,14 @@ class SeedTable:
     def nearest_rows(self, position: np.ndarray, rotation: np.ndarray | None, k: int) -> np.ndarray:
         """The joint vectors of the ``k`` samples of the target's neighbourhood nearest it, (k, nq).
 
-        Nearest in the pose embedding (position [m], rotation weighed); none when the target's
-        cell is outside the grid or empty (:meth:`ranked`).
+        Nearest in the pose embedding (position [m], rotation weighed); when the target's cell is
+        outside the grid or empty (:meth:`ranked`), the ``k`` nearest of every sample
+        (:meth:`nearest`), as the numeric search's starts take them: a target along a long rail
+        beyond the sampled box (:mod:`.sampling_box`) starts from the samples at its edge.
         """
         found = self.ranked(position, rotation)
         if found is None or not found[0].size:
-            return np.empty((0, self.q.shape[1]))
+            return self.q[self.nearest(position, rotation, k)]
         candidates, distances = found
         order = np.argsort(distances, kind="stable")[:k]
         return self.q[candidates[order]]
