@@ -117,24 +117,19 @@ def test_solver_choice():
     assert choose_solver(load_robot("pickplace3")).name.startswith("closed_form")
 
 
-def test_solve_function_passes_the_budget_when_taken():
-    """The time budget [s] reaches a solve that takes it; a solve without it is called without."""
+def test_solve_function_passes_the_budget_and_all_branches():
+    """The time budget [s] and ``all_branches`` reach the solve (one interface, no sniffing)."""
     seen = []
 
-    class WithBudget:
-        def solve(self, target, seed=None, *, timeout=None):
-            seen.append(timeout)
-            return IKResult(True, "fake", "ok", "")
-
-    class WithoutBudget:
-        def solve(self, target, seed=None):
-            seen.append("none")
+    class Fake:
+        def solve(self, target, seed=None, *, timeout=None, all_branches=False):
+            seen.append((timeout, all_branches))
             return IKResult(True, "fake", "ok", "")
 
     target = PositionTarget([0, 0, 0])
-    solve_function(WithBudget(), 0.25)(target, None)
-    solve_function(WithoutBudget(), 0.25)(target, None)
-    assert seen == [0.25, "none"]
+    solve_function(Fake(), 0.25)(target, None)
+    solve_function(Fake(), None, all_branches=True)(target, None)
+    assert seen == [(0.25, False), (None, True)]
 
 
 def test_nr_reports_the_limits(capsys):

@@ -12,7 +12,7 @@ from support.dh_reference import fk_frames, load_reference, rotation_angle
 
 from dh2urdf import load_table
 from kin._native import twin, why_missing
-from kin.ik.analytic.seven_r import subproblems
+from kin.ik.analytic import twin_support
 from kin.ik.analytic.six_r import general_6r
 from kin.ik.analytic.six_r.general_6r import General6R
 
@@ -33,7 +33,7 @@ def test_threaded_blocks_give_the_one_call_answers(monkeypatch):
     K = np.ascontiguousarray(poses)
     alone_out, alone_roots = np.empty((600, 16, 6)), np.empty(600)
     module.first_pass(block, K, alone_out, alone_roots)
-    monkeypatch.setattr(subproblems, "batch_threads", lambda: 2)
+    monkeypatch.setattr(twin_support, "batch_threads", lambda: 2)
     out, roots = np.empty((600, 16, 6)), np.empty(600)
     general_6r._in_threads(module.first_pass, block, K, out, roots)
     np.testing.assert_array_equal(roots, alone_roots)

@@ -39,7 +39,7 @@ def rounded(tmp_path_factory):
 
 
 def test_outside_agrees_with_the_limit_rule(rounded):
-    """``_far_outside`` is True exactly when no copy is within the margin of the limits."""
+    """``BranchVerifier.far_outside`` is True exactly when no copy is within the margin of the limits."""
     solver = get_solver(load_robot(rounded))
     assert isinstance(solver, ClosedFormSolver) and solver.idealised is not None
     offsets, lower, upper = solver.arm.offsets, solver.arm.lower, solver.arm.upper

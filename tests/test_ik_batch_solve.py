@@ -105,15 +105,15 @@ def test_free_joint_stage_in_a_batch_gives_the_per_call_answers(name):
 @pytest.mark.parametrize("name", ["humanoid7", "panda"])
 def test_threaded_scan_gives_the_single_thread_answers(name, monkeypatch):
     """The free-joint scan cut into blocks solved in threads: the same rows, bit for bit."""
-    from kin.ik.analytic.seven_r import subproblems
+    from kin.ik.analytic import twin_support
     from kin.ik.numeric.solver import NumericIK
 
     robot, points, frames = _poses(name, 700, 11)
     closed = NumericIK(robot, prepare=False).closed_form
     seeds = np.random.default_rng(12).uniform(robot.lower, robot.upper, (700, robot.nq))
-    monkeypatch.setattr(subproblems, "batch_threads", lambda: 3)
+    monkeypatch.setattr(twin_support, "batch_threads", lambda: 3)
     threaded = closed.first_many(points, frames, seeds, (0.05, 0.01))
-    monkeypatch.setattr(subproblems, "PARALLEL_ROWS", 10**9)
+    monkeypatch.setattr(twin_support, "PARALLEL_ROWS", 10**9)
     single = closed.first_many(points, frames, seeds, (0.05, 0.01))
     assert threaded is not None and np.isfinite(threaded).all(axis=1).mean() > 0.95
     np.testing.assert_array_equal(threaded, single)

@@ -316,8 +316,8 @@ def test_refusals():
     )
     rounded_table = DHTable("puma_rounded", "", "", puma.convention, rounded,
                             puma.T_world_base, puma.T_last_tool)  # fmt: skip
-    with pytest.raises(StructureError, match="once rounded values are snapped"):
-        General6R.recognise(rounded_table)
+    with pytest.raises(StructureError, match="once rounded values are snapped"):  # given the rivals
+        General6R.recognise(rounded_table, rivals=registry.CLOSED_FORMS)  # as the registry does
     assert get_solver(kin.robot_from_table(rounded_table)).name != "closed_form:general_6r"
 
 

@@ -149,8 +149,8 @@ class RelabelledSolver:
         self.switch_x = switch_x
         self.target_kinds = self.solver.target_kinds
 
-    def solve(self, target, seed=None):
-        result = self.solver.solve(target, seed)
+    def solve(self, target, seed=None, *, timeout=None, all_branches=False):
+        result = self.solver.solve(target, seed, timeout=timeout)
         if target.position[0] < self.switch_x:
             return result
         result_type = importlib.import_module("kin.ik.result")

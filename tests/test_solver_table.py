@@ -13,7 +13,7 @@ from support.urdf_reference import ARMS, erd
 
 from dh2urdf import ROBOTS
 from kin import load_robot
-from kin.commands.solver_choice import choose_solver
+from kin.commands.solver_choice import COMMAND, choose_solver
 from kin.ik import IKError, PoseTarget, PositionTarget, StructureError, get_solver, solve_batch
 from kin.ik.analytic import registry
 from kin.ik.solver_table import (
@@ -151,9 +151,10 @@ def test_registry_order_is_the_old_list_order():
 
 
 def test_table_is_consistent():
-    """Every front end's choice is a choice; every choice's rows are rows of SOLVERS."""
-    for front in FRONT_ENDS.values():
-        assert set(front.choices) <= set(CHOICES), front.name
+    """Every front end's choice tries rows of SOLVERS; so does every choice of the table."""
+    for front in (*FRONT_ENDS.values(), COMMAND):
+        for choice, rows in front.choices.items():
+            assert rows and set(rows) <= set(SOLVERS), (front.name, choice)
     for choice, rows in CHOICES.items():
         assert rows and set(rows) <= set(SOLVERS), choice
     for name, row in SOLVERS.items():
@@ -175,7 +176,7 @@ def test_unknown_choice_names_the_choices():
     with pytest.raises(IKError, match=r"unknown solver 'qp'; choose one of: auto, closed_form"):
         choose(robot, "qp")
     with pytest.raises(IKError, match=r"choose one of: auto, mink, nr$"):
-        front_end_solver(robot, "command", "differential")
+        front_end_solver(robot, COMMAND, "differential")
     with pytest.raises(PathError, match=r"choose one of: auto, closed_form, differential"):
         path_solver(robot, "mink")
 

@@ -70,6 +70,7 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from ..ik.result import IKResult
+    from ..ik.solver import IKSolver
     from ..mimic.arm import MimicArm
     from ..mimic.solver import MimicSolver
     from ..robot_model import RobotModel
@@ -175,7 +176,7 @@ def _run(args: argparse.Namespace) -> int:
     from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
     from .collision_options import collision_checker
     from .named_states import joint_vector, robot_states
-    from .solver_choice import NewtonRaphsonSolver, choose_solver, solve_function, target_kinds
+    from .solver_choice import checks_own_kinds, choose_solver, solve_function, target_kinds
     from .targets import build_target, check_kind
 
     robot = load_arm_argument(args)
@@ -185,25 +186,17 @@ def _run(args: argparse.Namespace) -> int:
     seed = joint_vector(robot, args.seed_q, units, "--seed-q", args.srdf)
     seed = np.zeros(robot.nq) if seed is None else seed
     checker = None
+    solver: IKSolver
     if isinstance(robot, RobotModel):
-        solver = choose_solver(robot, args.solver)
         checker = collision_checker(args, robot, length_scale(args.unit))
+        # every answer judged: the counts of free and rejected ones do not depend on --all
+        solver = choose_solver(robot, args.solver, collisions=checker, every=True)
     else:  # a URDF chain with mimic joints
         solver = _mimic_solver(robot, args.solver, args.scene or args.srdf)
     timeout = None if args.timeout is None else args.timeout / 1e3
-    solve_all = _every_branch(solver, timeout)
-    if checker is not None:
-        from ..ik.collision_aware import CollisionAwareSolver
-
-        # every answer judged: the counts of free and rejected ones do not depend on --all
-        solver = CollisionAwareSolver(solver, checker, every=True)
-        if solve_all is not None:
-            aware = solver
-            solve_all = lambda t, s: aware.solve(t, s, timeout=timeout, all_branches=True)  # noqa: E731
-    solve = solve_function(solver, timeout)
-    if args.all and solve_all is not None:
-        solve = solve_all
-    kinds = None if isinstance(solver, NewtonRaphsonSolver) else target_kinds(solver)
+    solve_all = solve_function(solver, timeout, all_branches=True)
+    solve = solve_all if args.all else solve_function(solver, timeout)
+    kinds = None if checks_own_kinds(args.solver) else target_kinds(solver)
     length = length_scale(args.unit)
     angle = angle_scale(args.deg)
     if args.stdin:
@@ -220,12 +213,8 @@ def _run(args: argparse.Namespace) -> int:
             angle,
             args.all,
             # the compiled batch route answers without the checker: bypassed with collisions
-            batch=(
-                _batch_stage(robot, solver)
-                if isinstance(robot, RobotModel) and checker is None
-                else None
-            ),
-            pipeline=getattr(solver, "name", ""),
+            batch=_batch_stage(robot, solver) if isinstance(robot, RobotModel) else None,
+            pipeline=solver.name,
             solve_all=solve_all,
             states=robot_states(robot, args.srdf),
         )
@@ -265,24 +254,6 @@ def _run(args: argparse.Namespace) -> int:
     return 0 if result.success else EXIT_NO_SOLUTION
 
 
-def _every_branch(solver: object, timeout: float | None) -> Callable[[Any, Any], IKResult] | None:
-    """``solve(target, seed)`` asking for every branch (``all_branches``), or None.
-
-    None when the solver has no such option (a closed form gives every branch anyway).
-    """
-    import inspect
-
-    solve = getattr(solver, "solve", None)
-    try:
-        takes = solve is not None and "all_branches" in inspect.signature(solve).parameters
-    except (TypeError, ValueError):
-        takes = False
-    if not takes:
-        return None
-    assert solve is not None
-    return lambda target, seed: solve(target, seed, timeout=timeout, all_branches=True)
-
-
 def _mimic_solver(arm: MimicArm, forced: str | None, collisions: str | None = None) -> MimicSolver:
     """The solver of a URDF chain with mimic joints; ``--solver`` cannot choose another.
 
@@ -307,18 +278,19 @@ def _mimic_solver(arm: MimicArm, forced: str | None, collisions: str | None = No
     return MimicSolver(arm)
 
 
-def _batch_stage(robot: RobotModel, solver: object) -> Callable[..., Callable[[], Any]] | None:
+def _batch_stage(robot: RobotModel, solver: IKSolver) -> Callable[..., Callable[[], Any]] | None:
     """``batch(points, rotations, seeds) -> finish`` of the solver's free-joint closed form, or None.
 
     The lines of a read batch are answered together by it
     (:func:`kin.ik.batch_solve.start_free_joint_answers`: its scans started in threads, ``finish()``
-    waits for them and gives ``(q, position errors, rotation errors)``) when the solver is the
-    numeric one with a free-joint closed form (humanoid7, Panda, xArm7): the answers its calls
-    would give first.
+    waits for them and gives ``(q, position errors, rotation errors)``) when the solver has that
+    batch route (:meth:`kin.ik.solver.IKSolver.batch_route`: the numeric one with a free-joint
+    closed form, humanoid7, Panda, xArm7): the answers its calls would give first. The
+    collision-aware solver has none (its answers are judged one by one).
     """
     from ..ik.batch_solve import start_free_joint_answers
 
-    if getattr(solver, "closed_form", None) is None or getattr(solver, "idealised", None):
+    if solver.batch_route() is None:
         return None
 
     def batch(points: Any, rotations: Any, seeds: Any) -> Callable[[], Any]:

@@ -44,6 +44,7 @@ from dh2urdf.output_text import shown_name
 
 from .numeric.sampling_box import sampling_limits
 from .result import IKResult, IKSolution
+from .solver import IKSolver
 from .target import AxisTarget, PoseTarget
 
 __all__ = ["EXTRA_STARTS", "CollisionAwareSolver", "collision_reason"]
@@ -99,7 +100,7 @@ class CollisionAwareSolver:
         name: The wrapped solver's name (:attr:`IKResult.solver`).
     """
 
-    def __init__(self, solver: Any, checker: Any, *, every: bool = False):
+    def __init__(self, solver: IKSolver, checker: Any, *, every: bool = False):
         if checker.model.robot.nq != solver.robot.nq:
             from .exceptions import IKError
 
@@ -122,11 +123,9 @@ class CollisionAwareSolver:
         """The target classes :meth:`solve` accepts (the wrapped solver's)."""
         return tuple(self.solver.target_kinds)
 
-    def __getattr__(self, name: str) -> Any:
-        # The rest of the wrapped solver (structure, numeric, partial, ...), read-only.
-        if name in ("solver", "checker", "_solve_clear"):
-            raise AttributeError(name)
-        return getattr(self.solver, name)
+    def batch_route(self) -> None:
+        """None: every target of a batch is solved and judged one by one."""
+        return None
 
     def solve(
         self,
@@ -134,7 +133,7 @@ class CollisionAwareSolver:
         seed: npt.ArrayLike | None = None,
         *,
         timeout: float | None = None,
-        **options: Any,
+        all_branches: bool = False,
     ) -> IKResult:
         """Solve ``target`` from ``seed`` [rad / m]; only collision-free answers are solutions.
 
@@ -144,17 +143,18 @@ class CollisionAwareSolver:
             timeout: Cap on the whole call [s], extra search included (None:
                 :data:`DEFAULT_TIMEOUT` for the extra search; the first solve the wrapped
                 solver's default).
-            **options: Passed to the wrapped solver's first solve.
+            all_branches: Passed to the wrapped solver's first solve; every answer is judged
+                and every free one kept (as ``every``).
 
         Returns:
             The wrapped solver's result with the colliding answers moved to ``rejected``; status
             ``in_collision`` or ``timeout`` when no free answer is left (see the module).
         """
         start = time.perf_counter()
-        first = self.solver.solve(target, seed, timeout=timeout, **options)
+        first = self.solver.solve(target, seed, timeout=timeout, all_branches=all_branches)
         if not first.solutions:
             return first
-        every = self.every or bool(options.get("all_branches"))
+        every = self.every or all_branches
         free, colliding = self._judge(first.solutions, every)
         if free:
             if not colliding and len(free) == len(first.solutions):
@@ -298,28 +298,31 @@ class CollisionAwareSolver:
             yield lambda left, q=start_q: numeric.solve(target, q, timeout=left)
 
 
-def _numeric_of(solver: Any, partial: bool, target: Any) -> Any:
+def _numeric_of(solver: IKSolver, partial: bool, target: Any) -> Any:
     """The numeric solver that answers ``target`` for ``solver``, or None.
 
     None when a closed form gave every branch (a full pose or position its structure takes) or
-    the solver has no numeric one.
+    the solver has no numeric one (Newton-Raphson).
     """
+    from .analytic.closed_form import ClosedFormSolver
     from .numeric.solver import NumericIK
 
     if isinstance(solver, NumericIK):
         return solver
-    closed = getattr(solver, "closed_form_kinds", None)
-    if closed is None or (target.__class__ in closed and not partial):
+    if not isinstance(solver, ClosedFormSolver):
+        return None
+    if target.__class__ in solver.closed_form_kinds and not partial:
         return None
     return solver.numeric
 
 
-def _partial_of(solver: Any, numeric: Any) -> Any:
+def _partial_of(solver: IKSolver, numeric: Any) -> Any:
     """The partial-pose solver (with the closed-form sweep where the arm has one), or None."""
-    partial = getattr(solver, "partial", None)
-    if partial is None and numeric is not None:
-        partial = numeric.partial
-    return partial
+    from .analytic.closed_form import ClosedFormSolver
+
+    if isinstance(solver, ClosedFormSolver):
+        return solver.partial
+    return None if numeric is None else numeric.partial
 
 
 def _limits(robot: Any) -> tuple[np.ndarray, np.ndarray]:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,9 +20,10 @@ from kin import RobotModel, batch_forward_kinematics
 from kin.configuration import seed_inside
 
 from .judge import batch_pose_errors
+from .solver import FreeJointRoute, IKSolver
 
 if TYPE_CHECKING:
-    from .analytic.seven_r.subproblems import ScanJob
+    from .analytic.twin_support import ScanJob
 
 __all__ = [
     "CLOSED_TOLERANCE",
@@ -41,7 +42,7 @@ FREE_JOINT_STAGE = "closed_form_free_joint"
 
 
 def free_joint_answers(
-    solver: object,
+    solver: IKSolver,
     robot: RobotModel,
     points: np.ndarray,
     frames: np.ndarray | None,
@@ -82,7 +83,7 @@ def free_joint_answers(
 
 
 def start_free_joint_answers(
-    solver: object,
+    solver: IKSolver,
     robot: RobotModel,
     points: np.ndarray,
     frames: np.ndarray | None,
@@ -94,22 +95,23 @@ def start_free_joint_answers(
     lines it read before meanwhile); :meth:`FreeJointAnswers.result` waits for them and judges
     the candidates.
     """
-    closed = getattr(solver, "closed_form", None)
-    if closed is None or getattr(solver, "idealised", None) is not None:
+    route = solver.batch_route()
+    if route is None:
         return None
+    closed = route.closed
     if getattr(closed, "costly", False):  # a general 7R: the solver's stages, seed table first
         return None
     n, nq = points.shape[0], robot.nq
     seeds = seed_inside(robot, seeds)  # as the solver's call moves each
-    near_rows, skipped = _near_seeds(solver, robot, points, frames, seeds)
+    near_rows, skipped = _near_seeds(route, robot, points, frames, seeds)
     candidates = np.full((n, nq), np.nan)
     jobs: list[tuple[np.ndarray, ScanJob]] = []
     first_each = getattr(closed, "first_each", None)
-    many = getattr(solver, "seeded_many", None)
+    many = route.seeded_many
     if many is not None:
         # Compiled end to end: each row's scan and its judge (the table's DH product, the
         # limits) in the threads; the answer rows carry their errors.
-        for index, row_steps in _row_groups(solver, near_rows, skipped):
+        for index, row_steps in _row_groups(route, near_rows, skipped):
             frame_rows = None if frames is None else frames[index]
             job = many.start(points[index], frame_rows, seeds[index], row_steps, CLOSED_TOLERANCE)
             jobs.append((index, job))
@@ -121,12 +123,10 @@ def start_free_joint_answers(
         candidates = first_each(targets, seeds)
         candidates[skipped] = np.nan
     else:
-        jobs = _branches_from_seeds(
-            closed, solver, points, frames, seeds, near_rows, skipped, candidates
-        )
+        jobs = _branches_from_seeds(route, points, frames, seeds, near_rows, skipped, candidates)
     judged = many is not None
     return FreeJointAnswers(
-        solver, robot, points, frames, seeds, near_rows, candidates, jobs, judged
+        route, robot, points, frames, seeds, near_rows, candidates, jobs, judged
     )
 
 
@@ -134,13 +134,13 @@ def start_free_joint_answers(
 class FreeJointAnswers:
     """:func:`start_free_joint_answers` under way.
 
-    Attributes: the solver, robot, targets and seeds it was given; ``near_rows`` as
+    Attributes: the solver's batch route, the robot, targets and seeds it was given; ``near_rows`` as
     :func:`_near_seeds` says; ``candidates`` (N, nq) so far; ``jobs`` the scans still running
     (the rows each fills); ``judged``: the jobs' rows are the solver's ``seeded_many`` answers,
     q and errors, judged in compiled code already (else ``result`` judges the candidates).
     """
 
-    solver: object
+    route: FreeJointRoute
     robot: RobotModel
     points: np.ndarray
     frames: np.ndarray | None
@@ -163,7 +163,7 @@ class FreeJointAnswers:
                 position_error[index], rotation_error[index] = rows[:, 7], rows[:, 8]
         if self.near_rows.any():  # kept only within seed_near of the seed (else damped Newton)
             moved = np.abs(candidates - self.seeds).max(axis=1)
-            limit = getattr(self.solver, "seed_near", 0.0)
+            limit = self.route.seed_near
             far = self.near_rows & ~(moved <= limit)
             candidates[far] = position_error[far] = rotation_error[far] = np.nan
         if self.judged:
@@ -189,8 +189,7 @@ class FreeJointAnswers:
 
 
 def _branches_from_seeds(
-    closed: Any,
-    solver: object,
+    route: FreeJointRoute,
     points: np.ndarray,
     frames: np.ndarray | None,
     seeds: np.ndarray,
@@ -205,12 +204,11 @@ def _branches_from_seeds(
     each fills and its job. Else ``first`` target by target, at once (no job).
     """
     out = np.empty(candidates.shape[1])
-    compiled = bool(getattr(solver, "compiled", False))
-    steps = _steps(solver)
+    closed, compiled, steps = route.closed, route.compiled, route.steps
     first_many = getattr(closed, "first_many", None) if compiled else None
     if first_many is not None:
         jobs = []
-        for index, row_steps in _row_groups(solver, near_rows, skipped):
+        for index, row_steps in _row_groups(route, near_rows, skipped):
             frame_rows = None if frames is None else frames[index]
             job = first_many(points[index], frame_rows, seeds[index], row_steps, later=True)
             if job is None:
@@ -235,25 +233,20 @@ def _branches_from_seeds(
     return []
 
 
-def _steps(solver: object) -> tuple[float, ...]:
-    """The solver's scan steps of the free joint [rad], coarse to fine."""
-    return tuple(getattr(solver, "closed_form_steps", (0.05, 0.01)))
-
-
 def _row_groups(
-    solver: object, near_rows: np.ndarray, skipped: np.ndarray
+    route: FreeJointRoute, near_rows: np.ndarray, skipped: np.ndarray
 ) -> list[tuple[np.ndarray, tuple[float, ...]]]:
     """The rows to scan and their steps [rad], no group empty and no skipped row in any.
 
     The rows far from their seeds take the solver's steps; the near ones their seed's free
     joint only (``0.0``).
     """
-    groups = ((~near_rows & ~skipped, _steps(solver)), (near_rows & ~skipped, (0.0,)))
+    groups = ((~near_rows & ~skipped, route.steps), (near_rows & ~skipped, (0.0,)))
     return [(np.flatnonzero(rows), steps) for rows, steps in groups if rows.any()]
 
 
 def _near_seeds(
-    solver: object,
+    route: FreeJointRoute,
     robot: RobotModel,
     points: np.ndarray,
     frames: np.ndarray | None,
@@ -267,9 +260,9 @@ def _near_seeds(
     """
     n = len(points)
     near = np.zeros(n, dtype=bool)
-    if not getattr(solver, "near_seed", False):
+    if not route.near_seed:
         return near, near
-    reach = max(solver.seed_reach, solver.seed_radius)  # type: ignore[attr-defined]
+    reach = max(route.seed_reach, route.seed_radius)
     if n > 1 and seeds.strides[0] == 0:  # one seed for all (a broadcast view): one FK
         tools = np.broadcast_to(batch_forward_kinematics(robot.table, seeds[:1]), (n, 4, 4))
     else:
@@ -279,6 +272,6 @@ def _near_seeds(
         near = np.hypot(np.hypot(offset[:, 0], offset[:, 1]), offset[:, 2]) <= reach
     if frames is not None:
         inner = np.einsum("nij,nij->n", tools[:, :3, :3], frames)
-        near &= inner >= 1.0 + 2.0 * math.cos(solver.seed_turn)  # type: ignore[attr-defined]
+        near &= inner >= 1.0 + 2.0 * math.cos(route.seed_turn)
     inside = np.all((seeds >= robot.lower) & (seeds <= robot.upper), axis=1)
     return near, near & ~inside

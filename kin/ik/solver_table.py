@@ -19,17 +19,22 @@ nr            any chain; the paper's Newton-Raphson,       positions
 
 **Choices** (:data:`CHOICES`): a name and the rows it tries in turn; the first whose solver
 builds answers (a ``closed_form`` row refuses a table no structure fits). ``auto`` is the
-closed form where one fits, else numeric; ``mink`` (``kin ik --solver``) and ``differential``
-(paths) are the front ends' names of the numeric row.
+closed form where one fits, else numeric.
 
-**Front ends** (:data:`FRONT_ENDS`): the choices each offers (its default first) and its
-options. ``near_seed`` (:attr:`kin.ik.NumericIK.near_seed`): a seeded answer of the free-joint
-closed form far from the seed is checked against damped Newton from the seed; the commands and
-paths, whose users give or carry a seed, set it.
+**Front ends** (:class:`FrontEnd`): the choices each offers (its default first, each a name and
+its rows) and its options. The library's are here (:data:`FRONT_ENDS`: ``library``, ``batch``,
+``path``); the commands' (``kin ik --solver mink``, ``nr``) is theirs
+(:data:`kin.commands.solver_choice.COMMAND`). ``near_seed`` (:attr:`kin.ik.NumericIK.near_seed`):
+a seeded answer of the free-joint closed form far from the seed is checked against damped
+Newton from the seed; the commands and paths, whose users give or carry a seed, set it.
 
-**Collisions**: given a checker (``collisions=``, :class:`~kin.collision.CollisionChecker`), the
-chosen row's solver is wrapped in :class:`~.collision_aware.CollisionAwareSolver`: its colliding
-answers are rejected and the search goes on where the arm has freedom left.
+**Collisions** are decided here alone: given a checker (``collisions=``,
+:class:`~kin.collision.CollisionChecker`), the chosen row's solver is wrapped in
+:class:`~.collision_aware.CollisionAwareSolver` (:func:`with_collisions`): its colliding answers
+are rejected and the search goes on where the arm has freedom left.
+
+Every solver answers one interface, :class:`kin.ik.solver.IKSolver` (``Solver`` here): no
+caller sniffs a signature or asks which class a solver is.
 
 **Batches** take, before the rows, the vectorized closed form (:func:`vectorized_solver`:
 :class:`~.analytic.batch.BatchSolver`, every target at once) when the structure itself takes the
@@ -38,16 +43,14 @@ target kind; else the ``batch`` front end's solver, target by target.
 
 from __future__ import annotations
 
-import inspect
 import threading
 import weakref
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Protocol, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
-import numpy.typing as npt
 
 from ..robot_model import RobotModel
 from .analytic import registry
@@ -57,30 +60,11 @@ from .exceptions import IKError, StructureError
 from .numeric.newton_raphson_solver import NewtonRaphsonSolver
 from .numeric.solver import NumericIK
 from .result import IKResult
+from .solver import IKSolver
 from .target import PoseTarget, PositionTarget
 
-
-class Solver(Protocol):
-    """What every IK solver offers (closed form, numeric, the composite of both).
-
-    Attributes:
-        name: The pipeline, as :attr:`IKResult.solver` reports it (``"closed_form:<structure>"``,
-            ``"numeric"``).
-        target_kinds: The target classes :meth:`solve` accepts.
-    """
-
-    name: str
-
-    @property
-    def target_kinds(self) -> tuple[type, ...]:
-        """The target classes :meth:`solve` accepts."""
-        ...
-
-    def solve(
-        self, target: Any, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
-    ) -> IKResult:
-        """Solve one target from a seed (joint vector [rad] / [m]) within ``timeout`` [s]."""
-        ...
+#: The interface every solver of the table answers (:class:`kin.ik.solver.IKSolver`).
+Solver = IKSolver
 
 
 @dataclass(frozen=True)
@@ -105,12 +89,13 @@ class FrontEnd:
 
     Attributes:
         name: The caller.
-        choices: The names (keys of :data:`CHOICES`) it offers; the first is its default.
+        choices: The names it offers, each with the rows (keys of :data:`SOLVERS`) it tries in
+            turn; the first name is its default.
         near_seed: The numeric solver's :attr:`~kin.ik.NumericIK.near_seed`.
     """
 
     name: str
-    choices: tuple[str, ...]
+    choices: Mapping[str, tuple[str, ...]]
     near_seed: bool
 
 
@@ -141,19 +126,24 @@ CHOICES: Mapping[str, tuple[str, ...]] = MappingProxyType(
         "auto": ("closed_form", "numeric"),
         "closed_form": ("closed_form",),
         "numeric": ("numeric",),
-        "mink": ("numeric",),  # kin ik --solver mink
-        "differential": ("numeric",),  # paths: the first sample numeric, then differential IK
-        "nr": ("nr",),  # kin ik --solver nr
+        "nr": ("nr",),
     }
 )
 
-#: Each front end's choices (default first) and options.
+#: The library's front ends: their choices (default first) and options.
 FRONT_ENDS: Mapping[str, FrontEnd] = MappingProxyType(
     {
-        "library": FrontEnd("library", ("auto",), near_seed=False),  # get_solver, solve_ik
-        "command": FrontEnd("command", ("auto", "mink", "nr"), near_seed=True),  # kin ik, preview
-        "path": FrontEnd("path", ("auto", "closed_form", "differential"), near_seed=True),
-        "batch": FrontEnd("batch", ("auto",), near_seed=False),  # after vectorized_solver
+        "library": FrontEnd("library", {"auto": CHOICES["auto"]}, near_seed=False),  # get_solver
+        "path": FrontEnd(
+            "path",
+            {
+                "auto": CHOICES["auto"],
+                "closed_form": CHOICES["closed_form"],
+                "differential": CHOICES["numeric"],  # the first sample numeric, then differential
+            },
+            near_seed=True,
+        ),
+        "batch": FrontEnd("batch", {"auto": CHOICES["auto"]}, near_seed=False),
     }
 )
 
@@ -164,24 +154,29 @@ def choose(
     *,
     near_seed: bool = False,
     collisions: Any = None,
+    every: bool = False,
+    choices: Mapping[str, tuple[str, ...]] = CHOICES,
 ) -> Solver:
     """The solver that ``choice`` gives ``robot``: the first of its rows that fits.
 
     Args:
         robot: The robot.
-        choice: A key of :data:`CHOICES`.
+        choice: A key of ``choices``.
         near_seed: The numeric solver's :attr:`~kin.ik.NumericIK.near_seed`.
         collisions: A :class:`~kin.collision.CollisionChecker` of ``robot``: the solver is
-            wrapped in :class:`~.collision_aware.CollisionAwareSolver`; None: not.
+            wrapped in :class:`~.collision_aware.CollisionAwareSolver` (:func:`with_collisions`);
+            None: not.
+        every: With ``collisions``: judge every answer and keep every free one.
+        choices: The names and their rows (:data:`CHOICES`, or a front end's).
 
     Raises:
-        IKError: ``choice`` is not in :data:`CHOICES`; the message lists them.
+        IKError: ``choice`` is not in ``choices``; the message lists them.
         StructureError: No row of the choice fits (``"closed_form"`` on an arm no closed form
             fits); ``"auto"`` never raises it.
     """
-    rows = CHOICES.get(choice)
+    rows = choices.get(choice)
     if rows is None:
-        raise IKError(f"unknown solver {choice!r}; choose one of: {', '.join(CHOICES)}")
+        raise IKError(f"unknown solver {choice!r}; choose one of: {', '.join(choices)}")
     solver = None
     for name in rows[:-1]:
         try:
@@ -191,33 +186,55 @@ def choose(
             continue
     if solver is None:
         solver = SOLVERS[rows[-1]].build(robot, near_seed)
-    if collisions is None:
-        return solver
+    return solver if collisions is None else with_collisions(solver, collisions, every=every)
+
+
+def with_collisions(solver: Solver, checker: Any, *, every: bool = False) -> Solver:
+    """``solver`` whose answers are judged by ``checker`` (the one place the wrapper is applied).
+
+    Args:
+        solver: A solver of the table.
+        checker: A :class:`~kin.collision.CollisionChecker` of the same robot.
+        every: Judge every answer and keep every free one (default: up to the first free one).
+    """
     from .collision_aware import CollisionAwareSolver
 
-    return CollisionAwareSolver(solver, collisions)
+    return CollisionAwareSolver(solver, checker, every=every)
 
 
 def front_end_solver(
-    robot: RobotModel, front_end: str, choice: str | None = None, *, collisions: Any = None
+    robot: RobotModel,
+    front_end: str | FrontEnd,
+    choice: str | None = None,
+    *,
+    collisions: Any = None,
+    every: bool = False,
 ) -> Solver:
-    """:func:`choose` with the options of ``front_end`` (a key of :data:`FRONT_ENDS`).
+    """:func:`choose` with the options of ``front_end``.
+
+    ``front_end``: a :class:`FrontEnd`, or a key of :data:`FRONT_ENDS`.
 
     Args:
         robot: The robot.
         front_end: The caller.
         choice: One of the front end's choices; None: its default.
         collisions: A collision checker of ``robot`` (see :func:`choose`), or None.
+        every: With ``collisions``: judge every answer (see :func:`with_collisions`).
 
     Raises:
         IKError: ``choice`` is not one ``front_end`` offers; the message lists them.
         StructureError: As :func:`choose`.
     """
-    front = FRONT_ENDS[front_end]
-    choice = front.choices[0] if choice is None else choice
-    if choice not in front.choices:
-        raise IKError(f"unknown solver {choice!r}; choose one of: {', '.join(front.choices)}")
-    return choose(robot, choice, near_seed=front.near_seed, collisions=collisions)
+    front = FRONT_ENDS[front_end] if isinstance(front_end, str) else front_end
+    choice = next(iter(front.choices)) if choice is None else choice
+    return choose(
+        robot,
+        choice,
+        near_seed=front.near_seed,
+        collisions=collisions,
+        every=every,
+        choices=front.choices,
+    )
 
 
 def vectorized_solver(robot: RobotModel, kind: type) -> BatchSolver | None:
@@ -288,17 +305,14 @@ def kept_for(
     return kept[2]
 
 
-def bind_timeout(solver: object, timeout: float | None) -> Callable[[Any, Any], IKResult]:
+def bind_timeout(
+    solver: Solver, timeout: float | None, *, all_branches: bool = False
+) -> Callable[[Any, Any], IKResult]:
     """``solve(target, seed)`` of ``solver`` with the time budget ``timeout`` [s] bound.
 
-    Every row's solver takes ``timeout``; a caller's own solver whose ``solve`` does not is
-    called without it.
+    Every solver takes ``timeout`` and ``all_branches`` (:class:`kin.ik.solver.IKSolver`).
     """
-    solve = solver.solve  # type: ignore[attr-defined]
-    try:
-        takes_timeout = "timeout" in inspect.signature(solve).parameters
-    except (TypeError, ValueError):  # a compiled solve: assume the common interface
-        takes_timeout = True
-    if takes_timeout:
-        return lambda target, seed: solve(target, seed, timeout=timeout)
-    return lambda target, seed: solve(target, seed)
+    solve = solver.solve
+    if all_branches:
+        return lambda target, seed: solve(target, seed, timeout=timeout, all_branches=True)
+    return lambda target, seed: solve(target, seed, timeout=timeout)

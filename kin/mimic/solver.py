@@ -61,11 +61,21 @@ class MimicSolver:
 
     def __init__(self, arm: MimicArm, restarts: int = RESTARTS, max_iter: int = MAX_ITERATIONS):
         self.arm = arm
+        self.robot = arm  # what it solves, under the solver interface's name
         self.restarts = restarts
         self.max_iter = max_iter
 
+    def batch_route(self) -> None:
+        """None: a batch solves target by target (:class:`kin.ik.solver.IKSolver`)."""
+        return None
+
     def solve(
-        self, target: Target, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
+        self,
+        target: Target,
+        seed: npt.ArrayLike | None = None,
+        *,
+        timeout: float | None = None,
+        all_branches: bool = False,
     ) -> IKResult:
         """Solve a whole pose or a position of the tip in the chain's base link.
 
@@ -78,6 +88,7 @@ class MimicSolver:
             timeout: Cap on the time [s] (None: :data:`DEFAULT_TIMEOUT`): no new start after
                 it (the seed's always runs); a start once begun runs to its end, so a call the
                 cap does not stop gives the answer of an idle machine.
+            all_branches: Ignored (one answer: the search's).
 
         Returns:
             ``"ok"`` with the answer, else ``"not_found"`` (every start done) or ``"timeout"``

@@ -5,7 +5,8 @@ checks it (:func:`~kin.path.collision_check.check_path_collisions`): a free path
 Otherwise it searches the answers of every sample for a free and continuous path:
 
 - the answers of a sample: the free ones of the collision-aware solver
-  (:class:`kin.ik.collision_aware.CollisionAwareSolver`, every free answer kept): every branch of
+  (:class:`kin.ik.collision_aware.CollisionAwareSolver`, every free answer kept; the solver
+  table's :func:`~kin.ik.solver_table.with_collisions` wraps it): every branch of
   a closed form, each revolute joint turned by whole turns toward the previous sample's answers;
   on a 7R arm with a free-joint closed form and a full pose, every branch at a grid of free-joint
   values (``all_branches``); else the numeric solver seeded from the previous sample's best
@@ -155,10 +156,10 @@ class _Search:
         timeout: float,
     ):
         from ..ik import ClosedFormSolver, NumericIK, PoseTarget
-        from ..ik.collision_aware import CollisionAwareSolver
+        from ..ik.solver_table import with_collisions
 
         self.robot, self.path, self.bound, self.timeout = robot, path, bound, timeout
-        self.aware = CollisionAwareSolver(solver, checker, every=True)
+        self.aware = with_collisions(solver, checker, every=True)
         partial = path.axes is not None or path.mask is not None
         closed = isinstance(solver, ClosedFormSolver)
         #: Revolute joints turned toward the previous answers (the closed-form rule); the

@@ -24,6 +24,7 @@ import numpy.typing as npt
 
 from ..configuration import as_joint_vector
 from ..ik import ClosedFormSolver, StructureError
+from ..ik.solver import IKSolver
 from ..ik.solver_table import FRONT_ENDS, bind_timeout, front_end_solver
 from ..robot_model import RobotModel
 from .branch_follow import TurnUnwrapper, follow_closed_form
@@ -48,7 +49,7 @@ def follow_path(
     seed: npt.ArrayLike | None = None,
     *,
     method: Method = "auto",
-    solver: object | None = None,
+    solver: IKSolver | None = None,
     branch: str | None = None,
     max_joint_step: float = MAX_JOINT_STEP,
     substep: float = 0.05,
@@ -137,7 +138,7 @@ def _partial(path: CartesianPath, nq: int) -> bool:
     return path.axes is not None or path.mask is not None or (path.rotations is not None and nq < 6)
 
 
-def path_solver(robot: RobotModel, method: Method = "auto") -> object:
+def path_solver(robot: RobotModel, method: Method = "auto") -> IKSolver:
     """The solver of ``robot``'s paths: its own, or the numeric one (asked, or no closed form).
 
     The solver table's ``path`` front end (:data:`kin.ik.solver_table.FRONT_ENDS`): ``auto`` the
@@ -159,7 +160,7 @@ def path_solver(robot: RobotModel, method: Method = "auto") -> object:
 
 def _solve_first(
     robot: RobotModel,
-    solver: object,
+    solver: IKSolver,
     path: CartesianPath,
     seed: np.ndarray | None,
     timeout: float,

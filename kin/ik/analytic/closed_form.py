@@ -187,8 +187,17 @@ class ClosedFormSolver:
         extra = tuple(kind for kind in (PoseTarget, AxisTarget) if kind not in kinds)
         return (*kinds, *extra)
 
+    def batch_route(self) -> None:
+        """None: a batch takes the vectorized closed form (:func:`kin.ik.solver_table.vectorized_solver`)."""
+        return None
+
     def solve(
-        self, target: Target, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
+        self,
+        target: Target,
+        seed: npt.ArrayLike | None = None,
+        *,
+        timeout: float | None = None,
+        all_branches: bool = False,
     ) -> IKResult:
         """Every branch reaching ``target``, valid ones ordered by distance to ``seed``.
 
@@ -203,6 +212,8 @@ class ClosedFormSolver:
             timeout: Time budget [s] of the numeric solver, which answers the target kinds the
                 closed form does not take (a position on a five-joint arm); the closed form
                 itself ignores it.
+            all_branches: Ignored: every branch is in the answer anyway (the interface's,
+                :class:`kin.ik.solver.IKSolver`).
 
         Returns:
             The result; never raises for unreachable, singular or non-finite targets.

@@ -97,9 +97,17 @@ _entries: list[ClosedFormEntry] = list(SHIPPED)
 #: The registered structures in the order they are asked (kept in step with :func:`entries`;
 #: updated in place by :func:`register`).
 CLOSED_FORMS: list[type[ClosedFormStructure]] = [entry.structure for entry in SHIPPED]
-# The general 6R form refuses a rounded table another family fits once idealised: it reads this
-# list (updated in place) without importing the registry.
-General6R.rivals = CLOSED_FORMS
+
+
+def _recognise(structure: type[ClosedFormStructure], table: DHTable) -> ClosedFormStructure:
+    """``structure.recognise(table)``; the general 6R form is given the registry's structures.
+
+    It refuses a rounded table another family fits once idealised: the registry passes it the
+    list of its rivals (it does not import the registry).
+    """
+    if structure is General6R:
+        return General6R.recognise(table, rivals=tuple(CLOSED_FORMS))
+    return structure.recognise(table)
 
 
 def entries() -> tuple[ClosedFormEntry, ...]:
@@ -184,11 +192,11 @@ def recognise_turned(table: DHTable) -> tuple[ClosedFormStructure, DHTable, np.n
             # the spherical wrist of Pieper's) first, each of the table, then of the turned one.
             for asked in (*getattr(structure, "cases", ()), structure):
                 try:
-                    return asked.recognise(table), table, None
+                    return _recognise(asked, table), table, None
                 except StructureError:
                     pass
                 try:
-                    return asked.recognise(turned), turned, flips
+                    return _recognise(asked, turned), turned, flips
                 except StructureError:
                     pass
     return recognise(table), table, None
@@ -212,7 +220,7 @@ def recognise(table: DHTable) -> ClosedFormStructure:
         if structure.dof != table.dof:
             continue
         try:
-            return structure.recognise(table)
+            return _recognise(structure, table)
         except StructureError as err:
             failures.append(err)
     if len(failures) == 1:

@@ -37,7 +37,7 @@ from dh2urdf import DHTable
 from ..analytic.idealised import polish
 from ..analytic.seven_r.seven_dof import SevenDofIK
 from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK
-from ..analytic.seven_r.subproblems import ScanJob, call_first_many, chain_fields, pack_params
+from ..analytic.twin_support import ScanJob, call_first_many, chain_fields, pack_params
 from ..result import IKResult, IKSolution
 from .free_joint_form import FreeJointClosedForm as FreeJointClosedForm
 from .free_joint_form import free_joint_closed_form as free_joint_closed_form

@@ -28,10 +28,21 @@ class NewtonRaphsonSolver:
     def __init__(self, robot: RobotModel):
         self.robot = robot
 
+    def batch_route(self) -> None:
+        """None: a batch solves target by target."""
+        return None
+
     def solve(
-        self, target: Any, seed: npt.ArrayLike | None = None, *, timeout: float | None = None
+        self,
+        target: Any,
+        seed: npt.ArrayLike | None = None,
+        *,
+        timeout: float | None = None,
+        all_branches: bool = False,
     ) -> IKResult:
-        """Solve a position target from ``seed`` [rad] (q = 0 if None); ``timeout`` is unused.
+        """Solve a position target from ``seed`` [rad] (q = 0 if None).
+
+        ``timeout`` and ``all_branches`` are unused (one run, one answer).
 
         Raises:
             TargetError: Not a position target.

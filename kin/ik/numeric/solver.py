@@ -53,6 +53,7 @@ from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
 from ..partial_pose import PartialPoseIK
 from ..result import IKResult
+from ..solver import FreeJointRoute
 from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
 from .build_context import build_context, compiled_stage0
 from .damped_newton import load_linalg
@@ -66,12 +67,10 @@ from .search import PIPELINE, Search, Stage, run_stages
 from .seed_table import SeedTable, seed_table_of
 from .settings import DEFAULT_CLOSED_FORM_STEPS as DEFAULT_CLOSED_FORM_STEPS
 from .settings import NumericSettings
+from .solver_fields import free_joint_route, read_only_fields
 from .starts import SEED_TABLE, solve_from_starts
 
 logger = logging.getLogger(__name__)
-
-#: What :meth:`NumericIK.__getattr__` finds neither in the context nor in the settings.
-_MISSING = object()
 
 #: Default cap on the time of one solve [s], the partial poses' too: the work
 #: (:data:`~.settings.MAX_ATTEMPTS` starts, about 0.1 s when nothing is found, plus the seed table
@@ -102,7 +101,8 @@ class NumericIK:
         settings: The settings, frozen.
         context: What the stages read (:class:`~.context.NumericContext`): the settings and the
             model handles. Their fields read as the solver's too (``solver.nearest``,
-            ``solver.judge``, ``solver.closed_form``), read-only.
+            ``solver.judge``, ``solver.closed_form``), read-only properties
+            (:func:`.solver_fields.read_only_fields`; no ``__getattr__``).
         stages: The pipeline, in order (:class:`~.search.Stage`): each gets the context and the
             shared search, and returns a verified result or hands the search on.
     """
@@ -146,13 +146,9 @@ class NumericIK:
             if context.closed_form is None and not context.compiled_step:
                 load_linalg()
 
-    def __getattr__(self, name: str) -> Any:
-        """A field of the context or, failing that, of the settings (read-only aliases)."""
-        if name not in ("context", "settings") and not name.startswith("__"):  # built
-            for source in (self.context, self.settings):
-                if (value := getattr(source, name, _MISSING)) is not _MISSING:
-                    return value
-        raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
+    def batch_route(self) -> FreeJointRoute | None:
+        """Stage 0 of a batch of poses (:func:`.solver_fields.free_joint_route`), or None."""
+        return free_joint_route(self.context, self.settings, self.seeded_many)
 
     @property
     def table(self) -> SeedTable:
@@ -339,6 +335,9 @@ class NumericIK:
     def seed_vector(self, seed_q: npt.ArrayLike) -> np.ndarray:
         """The caller's seed as a finite joint vector (:meth:`.NumericContext.seed_vector`)."""
         return self.context.seed_vector(seed_q)
+
+
+read_only_fields(NumericIK)
 
 
 def _beyond_reach(reach: float, distance: float, start: float) -> IKResult:

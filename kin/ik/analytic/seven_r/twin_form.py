@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .subproblems import ScanJob, call_first_many, pack_params
+from ..twin_support import ScanJob, call_first_many, pack_params
 
 
 class TwinForm:

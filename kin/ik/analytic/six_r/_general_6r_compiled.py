@@ -37,7 +37,7 @@ def in_threads(
     """
     import threading
 
-    from ..seven_r.subproblems import _pool, batch_threads
+    from ..twin_support import batch_threads, thread_pool
 
     n, workers = T.shape[0], batch_threads()
     inside = threading.current_thread().name.startswith("kin-batch")
@@ -45,7 +45,7 @@ def in_threads(
         first_pass(block, T, out, roots)
         return
     bounds = np.linspace(0, n, 4 * workers + 1).astype(int).tolist()
-    pool = _pool(workers)
+    pool = thread_pool(workers)
     jobs = [
         pool.submit(first_pass, block, T[a:b], out[a:b], roots[a:b])
         for a, b in zip(bounds[:-1], bounds[1:])
@@ -154,12 +154,12 @@ def _passes(
     """
     import threading
 
-    from ..seven_r.subproblems import _pool, batch_threads
+    from ..twin_support import batch_threads, thread_pool
 
     workers = batch_threads()
     inside = threading.current_thread().name.startswith("kin-batch")
     if workers < 2 or len(blocks) < 2 or inside:
         return [_pass(first_pass, block, T, targets) for block in blocks]
-    pool = _pool(workers)
+    pool = thread_pool(workers)
     jobs = [pool.submit(_pass, first_pass, block, T, targets) for block in blocks]
     return [job.result() for job in jobs]

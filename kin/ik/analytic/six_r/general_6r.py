@@ -125,11 +125,6 @@ class General6R:
     branch_labels: ClassVar[tuple[str, ...]] = tuple(
         f"branch {k} (joints ascending)" for k in range(1, BRANCHES + 1)
     )
-    #: The registered closed forms, in the order they are asked (the registry's list, which it
-    #: sets here: this module does not import the registry): a rounded table that one of the
-    #: other 6R families fits once idealised is refused (:meth:`recognise`).
-    rivals: ClassVar[Sequence[Any]] = ()
-
     robot: str
     formulations: tuple[Formulation, ...]
     F: np.ndarray = field(repr=False)
@@ -157,8 +152,13 @@ class General6R:
         object.__setattr__(self, "_twin", None if module is None else (module, block))
 
     @classmethod
-    def recognise(cls, table: DHTable) -> General6R:
+    def recognise(cls, table: DHTable, rivals: Sequence[Any] = ()) -> General6R:
         """Any 6R table whose sampled poses an elimination recovers.
+
+        ``rivals``: the registered closed forms, in the order they are asked (the registry
+        passes its own, :func:`.registry.recognise`; this module does not import it): a rounded
+        table that one of the other 6R families fits once idealised is refused. None given: no
+        such check (a direct call on a table the caller chose).
 
         Raises:
             StructureError: Not 6 revolute joints; or a rounded table that a special family
@@ -168,7 +168,7 @@ class General6R:
         """
         check = Checker(table, "general 6R")
         check.revolute(6)
-        _refuse_idealised(table, cls.rivals)
+        _refuse_idealised(table, rivals)
         F, signs = chain_transforms(table)
         rng = np.random.default_rng(PROBE_SEED)
         u = rng.uniform(-math.pi, math.pi, size=(PROBES, 6))

@@ -20,7 +20,7 @@ from dh2urdf import DHTable
 
 from ...exceptions import TargetError
 from ...target import PoseTarget
-from ..seven_r.subproblems import pack_params
+from ..twin_support import pack_params
 from ._six_r import BLOCK, TargetFrame, target_arrays
 from .six_r_twin import TwinVerifier, check_params, frame_fields
 

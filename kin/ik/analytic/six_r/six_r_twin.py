@@ -31,7 +31,7 @@ import numpy.typing as npt
 
 from dh2urdf import DHTable
 
-from ..seven_r.subproblems import chain_fields, pack_params
+from ..twin_support import chain_fields, pack_params
 
 #: Status codes of ``verify``'s ``info[:, 0]``.
 MISSING, VALID, OUTSIDE_LIMITS, OFF_TARGET = 0, 1, 2, 3
