@@ -29,11 +29,11 @@ from support.urdf_reference import erd
 
 import kin
 from kin.collision import CollisionChecker, load_collision_model
+from kin.collision.distance_jacobian import pair_rows
 from kin.ik import AxisTarget, PoseTarget, PositionTarget
 from kin.ik.collision_aware import CollisionAwareSolver
 from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK, held_in_scene, solve_clear
 from kin.ik.numeric.distance_bound import DistanceBound
-from kin.ik.numeric.distance_jacobian import pair_rows
 from kin.ik.numeric.solver import NumericIK
 
 #: Overlap the reference may find at a free answer [m] (its shapes are the checker's hulls).

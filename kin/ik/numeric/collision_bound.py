@@ -40,6 +40,7 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from ...collision.distance_jacobian import pair_rows
 from ...collision.requests import CONTACT_TOLERANCE, prepare_requests
 from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, _tool_frame_id
@@ -48,7 +49,6 @@ from ..result import IKResult, IKSolution
 from ..target import AxisTarget, PoseTarget, PositionTarget
 from .dense_qp import solve_dense_qp
 from .distance_bound import DistanceBound
-from .distance_jacobian import pair_rows
 from .numeric_target import NumericTarget
 from .sampling_box import sampling_limits
 
