@@ -63,6 +63,7 @@ def get_argument_parser() -> ArgumentParser:
     add("--count", type=positive_int, default=15, help="problems per arm and scene (default 15)")
     add("--quick", action="store_true", help="the first problem of each arm and scene, cap 5 s")
     add("--no-mplib", action="store_true", help="leave mplib out")
+    add("--arm", choices=BENCH_ARMS, help="only this arm's problems (seeds as in the whole run)")
     add("--time-limit", type=positive_float, default=10.0, help="cap of a plan [s] (default 10)")
     add("--optimal-every", type=int, default=4, help="AORRTC on every K-th solved (0: none)")
     return parser
@@ -280,6 +281,8 @@ def main(argv: list[str] | None = None) -> int:
     entries: list[dict] = []
     try:
         for index, problem in enumerate(problems):
+            if args.arm and problem.arm != args.arm:
+                continue
             done = run_problem(problem, index, planners, cells, args, mplib)
             records += done
             summary = ", ".join(f"{r['planner']} {r['status']} {r['time']:.2f} s" for r in done)

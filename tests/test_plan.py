@@ -139,26 +139,44 @@ def test_bad_requests_are_one_error_each(planar):
     assert "RRTConnect" in PLANNERS and "PRM" not in PLANNERS  # PRM's own thread: a deadlock
 
 
-def test_a_ctrl_c_inside_a_check_is_raised_once_ompl_has_returned(planar):
-    """The KeyboardInterrupt of a callback stops the search and comes out of plan()."""
+@pytest.mark.parametrize("where", ["checker", "spheres"])
+def test_a_ctrl_c_inside_a_check_is_raised_once_ompl_has_returned(planar, monkeypatch, where):
+    """The KeyboardInterrupt of a callback stops the search and comes out of plan().
+
+    Raised by the collision checker (the spheres' checks left out, so that every check is the
+    checker's) or by the spheres' motion check (the search on the spheres alone).
+    """
+    import kin.plan.ompl_problem as ompl_problem
+    from kin.plan.sphere_motion import SphereMotion
+
     robot, checker, _, _ = planar
+    calls = [0]
+    most = 40 if where == "checker" else 3  # the spheres: past the straight motion's check
+
+    def counted() -> None:
+        calls[0] += 1
+        if calls[0] > most:
+            raise KeyboardInterrupt
 
     class Interrupted(CollisionChecker):
-        calls = 0
-
         def in_collision(self, q):
-            Interrupted.calls += 1
-            if Interrupted.calls > 40:
-                raise KeyboardInterrupt
+            counted()
             return super().in_collision(q)
 
+    if where == "checker":
+        monkeypatch.setattr(ompl_problem, "sphere_motion", lambda model: None)
+        collisions = Interrupted(checker.model)
+    else:
+        motion_free = SphereMotion.motion_free
+
+        def interrupted(self, *args):
+            counted()
+            return motion_free(self, *args)
+
+        monkeypatch.setattr(SphereMotion, "motion_free", interrupted)
+        collisions = CollisionChecker(checker.model)
     with pytest.raises(KeyboardInterrupt):
-        plan(
-            robot,
-            np.radians([-90.0, 0.0]),
-            np.radians([90.0, 0.0]),
-            collisions=Interrupted(checker.model),
-        )
+        plan(robot, np.radians([-90.0, 0.0]), np.radians([90.0, 0.0]), collisions=collisions)
 
 
 def test_a_ur5_pose_in_the_example_cell():

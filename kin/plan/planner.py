@@ -30,6 +30,7 @@ from .ompl_problem import (
     CertifiedSpace,
     exact_rule,
     joint_bounds,
+    prepare,
     silence_ompl,
 )
 from .result import PlanResult
@@ -63,7 +64,7 @@ DEFAULT_CHECKS = 200_000
 #: Configurations the search may check on the spheres alone before the exact rule joins [count].
 SPHERE_CHECKS = 50_000
 #: Configurations the exact rule may check on a straight motion to a goal [count].
-STRAIGHT_CHECKS = 16
+STRAIGHT_CHECKS = 64
 #: Configurations the exact rule may check on the motion to an escape (:func:`_escape`) [count].
 ESCAPE_CHECKS = 64
 #: Joint-space distances [rad] at which a state near a start or goal is looked for (:func:`_escape`).
@@ -105,7 +106,8 @@ def plan(
         collisions: The collision checker (scene, SRDF, padding); None: the arm against itself
             (``load_collision_model(robot)``).
         planner: An OMPL planner's name (:data:`PLANNERS`).
-        time_limit: Wall-clock cap of the whole plan [s] (IK of a target included).
+        time_limit: Wall-clock cap of the whole plan [s] (IK of a target included; the
+            checker's one-off setup, :func:`kin.plan.prepare`, made before the clock starts).
         max_checks: Configurations checked before the search gives up [count]: the bound that
             makes the answer the same on a busy machine.
         seed: Random seed of OMPL's sampling (0 to 2**31 - 1).
@@ -133,6 +135,7 @@ def plan(
     if outside:
         raise outside[0]
     checker = collisions if collisions is not None else _self_checker(robot)
+    prepare(checker)  # once per checker: the spheres' tests, the exact rule (not in plan_time)
     began = time.perf_counter()
     empty = np.zeros((0, robot.nq))
 

@@ -43,7 +43,7 @@ class PlanResult:
         goal_index: Which of :attr:`goals` the path reaches, or None.
         goals: The goal configurations offered to the planner (one for a joint goal; every
             collision-free IK branch for a target), shape (G, nq).
-        plan_time: Wall time of the search and simplification [s].
+        plan_time: Wall time of the search and simplification [s] (not the checker's one-off setup).
         length: Joint-space length of :attr:`path`, the sum of each step's Euclidean norm [rad].
         straight_length: The straight joint line's length from the start to the reached goal
             [rad] (the shortest a path to it can be), or None.
