@@ -43,7 +43,7 @@ def search(ctx: PartialContext, task: PartialTask, call: PartialCall) -> IKResul
                 return unreached(ctx, task, inside[0], progress.outside, call.start, 0)
         target = task.target
         full = ctx.samples is not None and isinstance(target, PoseTarget) and target.mask is None
-        if full and not ctx.continuous.any():
+        if full:
             hit, samples = newton_starts(ctx, task, call)
             if hit is not None:
                 progress.found.append(hit)

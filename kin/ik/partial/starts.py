@@ -13,6 +13,7 @@ import time
 import numpy as np
 
 from ..numeric.damped_newton import damped_newton
+from ..numeric.sampling_box import sampling_limits
 from ..result import IKSolution
 from ..target import PoseTarget
 from .context import PartialCall, PartialContext
@@ -92,7 +93,8 @@ def least_squares_starts(
     if samples is not None:
         starts.extend(samples)
     rng = np.random.default_rng(call.random_seed)
-    randoms = list(rng.uniform(ctx.search_lower, ctx.search_upper, (RANDOM_STARTS, ctx.nq)))
+    low, high = sampling_limits(ctx.robot.table, ctx.search_lower, ctx.search_upper)
+    randoms = list(rng.uniform(low, high, (RANDOM_STARTS, ctx.nq)))
     best: tuple[float, np.ndarray] | None = None
     tried = 0
     while True:
