@@ -166,16 +166,24 @@ def same_answers(ours: list[Any], theirs: list[Any], tol: float = 1e-12) -> int:
     return same
 
 
-#: Builds the compiled twins a tree's pyproject.toml lists into that tree (argv: the tree, a
-#: scratch folder), without its project metadata (which this venv's setuptools may not read).
+#: Builds the compiled twins of a tree into that tree (argv: the tree, a scratch folder), without
+#: its project metadata (which this venv's setuptools may not read): from its setup.py's one
+#: declaration (since 7752f8b), else from its pyproject.toml's ext-modules table (before).
 BUILD_TWINS = """
-import sys, tomllib
+import runpy, sys, tomllib
 from pathlib import Path
 from setuptools import Extension, setup
 tree = Path(sys.argv[1])
-listed = tomllib.loads((tree / "pyproject.toml").read_text())["tool"]["setuptools"]["ext-modules"]
+if (tree / "setup.py").is_file():
+    listed = runpy.run_path(str(tree / "setup.py"))["twin_extensions"](tree)
+else:
+    listed = tomllib.loads((tree / "pyproject.toml").read_text())["tool"]["setuptools"]["ext-modules"]
 modules = [
-    Extension(e["name"], [str(tree / s) for s in e["sources"]], include_dirs=[str(tree)])
+    Extension(
+        e["name"],
+        [str(tree / s) for s in e["sources"]],
+        include_dirs=[str(tree), *(str(tree / d) for d in e.get("include_dirs", ()))],
+    )
     for e in listed
 ]
 setup(name="twins", ext_modules=modules, script_args=[
