@@ -16,7 +16,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from kin import load_robot
@@ -147,6 +147,17 @@ tilts = st.one_of(angles, st.lists(near_axes, min_size=3, max_size=3))
 
 
 @settings(max_examples=400, deadline=None, derandomize=True)
+@example(  # the void example: its reference is -DBL_MAX (seen on a CI run)
+    kinds=("cylinder", "cylinder"),
+    sizes1=[0.875, 1.0, 1.0],
+    sizes2=[0.875, 1.0, 1.0],
+    rpy1=[0.0, 0.0, 0.0],
+    rpy2=[0.0, 0.0, 0.0],
+    direction=[0.0, 1.0, 0.0],
+    gap=0.0,
+    padding=0.0,
+    seed=0,
+)
 @given(
     kinds=st.tuples(st.sampled_from(KINDS), st.sampled_from(KINDS)),
     sizes1=sizes,
@@ -187,6 +198,9 @@ def test_verdict_is_never_free_where_the_shapes_overlap(
 
     reference, _ = _reference(g1, m1, g2, m2)
     exact = _analytic(kinds[0], g1, m1, kinds[1], g2, m2)
+    # coal's fresh query has no answer for some exact touches (two equal cylinders side by side
+    # along a line: its EPA returns -DBL_MAX): no reference to compare with, the example is void.
+    assume(exact is not None or abs(reference) < 1e3)
     truth = (reference if exact is None else exact) - padding
     said = f"{kinds=} {truth=} {ours=} {verdict=}"
     if truth < -1e-6:
