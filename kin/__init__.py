@@ -2,26 +2,43 @@
 
 from typing import TYPE_CHECKING
 
-from .batch_fk import batch_forward_kinematics, batch_tool_positions
-from .configuration import Configuration, as_joint_vector, limit_violations
-from .exceptions import (
-    FrameError,
-    JointVectorError,
-    KinError,
-    ModelLoadError,
-    NotWithinLimitsError,
-    RunFaultError,
-)
-from .robot_model import RobotModel, load_robot, robot_from_table
-
 if TYPE_CHECKING:
+    from .batch_fk import batch_forward_kinematics, batch_tool_positions
+    from .configuration import Configuration, as_joint_vector, limit_violations
+    from .exceptions import (
+        FrameError,
+        JointVectorError,
+        KinError,
+        ModelLoadError,
+        NotWithinLimitsError,
+        RunFaultError,
+    )
     from .mimic.arm import MimicArm, load_arm
+    from .robot_model import RobotModel, load_robot, robot_from_table
 
 __version__ = "0.3.0"
 
-#: Names imported on first use: a URDF chain with mimic joints and its loader (the one ``kin fk``
-#: and ``kin ik`` use), whose module pulls in ``kin.ik``; ``import kin`` stays light.
-_LAZY = {"MimicArm": "mimic.arm", "load_arm": "mimic.arm"}
+#: Every name is imported on first use (module under ``kin``): ``import kin`` loads neither
+#: Pinocchio nor the IK solvers, so a program above ``kin`` that needs one corner of it (the
+#: ``dh2urdf`` program's export, ``kin robots``) starts without them.
+_LAZY = {
+    "batch_forward_kinematics": "batch_fk",
+    "batch_tool_positions": "batch_fk",
+    "Configuration": "configuration",
+    "as_joint_vector": "configuration",
+    "limit_violations": "configuration",
+    "FrameError": "exceptions",
+    "JointVectorError": "exceptions",
+    "KinError": "exceptions",
+    "ModelLoadError": "exceptions",
+    "NotWithinLimitsError": "exceptions",
+    "RunFaultError": "exceptions",
+    "MimicArm": "mimic.arm",
+    "load_arm": "mimic.arm",
+    "RobotModel": "robot_model",
+    "load_robot": "robot_model",
+    "robot_from_table": "robot_model",
+}
 
 
 def __getattr__(name: str) -> object:
@@ -30,6 +47,10 @@ def __getattr__(name: str) -> object:
 
         return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_LAZY])
 
 
 __all__ = [

@@ -141,7 +141,13 @@ def import_graph(*roots: Path) -> dict[str, set[str]]:
     exported: dict[str, dict[str, tuple[str, str]]] = {}
     for package in packages:
         table = exported[package] = {}
-        for node in trees[package].body:
+        # a lazy package (names loaded on first use) states its sources under TYPE_CHECKING
+        body = [
+            inner
+            for node in trees[package].body
+            for inner in (node.body if isinstance(node, ast.If) else [node])
+        ]
+        for node in body:
             if isinstance(node, ast.ImportFrom):
                 source = _absolute(package, True, node)
                 for alias in node.names:
