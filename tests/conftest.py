@@ -10,6 +10,7 @@ import zlib
 import numpy as np
 import pytest
 from support.dh_reference import load_reference, random_configurations
+from support.time_caps import DEFAULT_CAPS
 
 from dh2urdf import get_robot
 
@@ -21,24 +22,9 @@ def pytest_collection_modifyitems(items):
             item.add_marker(pytest.mark.xdist_group("browser"))
 
 
-#: The library's default wall-clock caps [s] (module, name). A search is bounded by its work; the
-#: cap only stops it early on a slow machine, and then the answer says ``timeout``. Left in place,
-#: a test's verdict would depend on the machine's load (a busy CI run: not_found became timeout),
-#: so every test runs with these caps infinite unless it is marked ``default_cap`` (the tests of
-#: the cap itself, on a ticking clock). tests/house/test_time_caps.py checks the list is whole.
-DEFAULT_CAPS = (
-    ("kin.ik.numeric.solver", "DEFAULT_TIMEOUT"),
-    ("kin.ik.partial.settings", "DEFAULT_TIMEOUT"),
-    ("kin.ik.partial_pose", "DEFAULT_TIMEOUT"),
-    ("kin.ik.collision_aware", "DEFAULT_TIMEOUT"),
-    ("kin.mimic.solver", "DEFAULT_TIMEOUT"),
-    ("kin.reach.map", "NUMERIC_CAP"),
-)
-
-
 @pytest.fixture(autouse=True)
 def _no_default_time_cap(request, monkeypatch):
-    """The default caps of :data:`DEFAULT_CAPS` infinite, unless the test is marked default_cap."""
+    """The default caps (support.time_caps) infinite, unless the test is marked default_cap."""
     if request.node.get_closest_marker("default_cap") is not None:
         return
     for module, name in DEFAULT_CAPS:

@@ -1,4 +1,4 @@
-"""The tests run without the library's default wall-clock caps (tests/conftest.py), all of them.
+"""The tests run without the library's default wall-clock caps (support.time_caps), all of them.
 
 A default cap left out of conftest's list would let a busy machine turn a test's verdict into
 ``timeout`` again: every module-level constant of ``kin`` named like a default time cap must be
@@ -15,7 +15,7 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import DEFAULT_CAPS
+from support.time_caps import DEFAULT_CAPS, child_environment
 
 KIN = Path(importlib.util.find_spec("kin").origin).resolve().parent  # type: ignore[arg-type]
 
@@ -52,3 +52,25 @@ def test_the_fixture_makes_each_cap_infinite(module, name):
 def test_the_marker_keeps_the_library_cap(module, name):
     value = getattr(importlib.import_module(module), name)
     assert math.isfinite(value) and value > 0.0
+
+
+def test_a_child_process_runs_without_the_caps_too():
+    """A command run as a child process with support.time_caps.child_environment(): its caps are
+    infinite once their modules are imported (and the others are untouched)."""
+    import json
+    import subprocess
+    import sys
+
+    names = json.dumps([list(cap) for cap in DEFAULT_CAPS])
+    code = (
+        "import importlib, json, sys\n"
+        f"caps = json.loads({names!r})\n"
+        "print(json.dumps([getattr(importlib.import_module(m), n) for m, n in caps]))"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code], env=child_environment(), capture_output=True, text=True
+    )
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout) == [math.inf] * len(DEFAULT_CAPS)
+    plain = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert all(math.isfinite(v) for v in json.loads(plain.stdout)), plain.stdout
