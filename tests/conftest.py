@@ -10,7 +10,7 @@ import zlib
 import numpy as np
 import pytest
 from support.dh_reference import load_reference, random_configurations
-from support.time_caps import DEFAULT_CAPS
+from support.time_caps import DEFAULT_CAPS, child_environment
 
 from dh2urdf import get_robot
 
@@ -33,10 +33,13 @@ def _no_default_time_cap(request, monkeypatch):
 
 @pytest.fixture(autouse=True, scope="session")
 def _private_seed_cache(tmp_path_factory):
-    """The seed-table cache of the solvers goes to a temporary folder, not the user's cache."""
+    """The seed-table cache goes to a temporary folder, not the user's; child processes run
+    without the default time caps (support.time_caps)."""
     folder = tmp_path_factory.mktemp("xdg-cache")
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv("XDG_CACHE_HOME", str(folder))
+        # every command a test runs as a child process without the default time caps either
+        patch.setenv("PYTHONPATH", child_environment()["PYTHONPATH"])
         yield folder
 
 
