@@ -1,4 +1,4 @@
-"""The compiled ``all_branches`` and ``sift_rows`` (kin/_native/_branches7.h) against the Python path.
+"""The compiled ``all_branches`` and ``sift_rows`` (kin/_native/ik/analytic/seven_r/_branches7.h) against the Python path.
 
 ``solve(..., all_branches=True)`` on a 7R arm with a compiled free-joint form answers in one C
 call; the NumPy path of :mod:`kin.ik.numeric.all_branches` (``branches_over``, ``distinct``,

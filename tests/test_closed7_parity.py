@@ -1,6 +1,6 @@
 """The compiled twin of the seven-joint closed form changes nothing: same layout, same answers.
 
-``kin/_native/_closed7.c`` declares its parameter layout once (``CLOSED7_PARAMS``, exported as
+``kin/_native/ik/analytic/seven_r/_closed7.c`` declares its parameter layout once (``CLOSED7_PARAMS``, exported as
 ``LAYOUT``); :meth:`SevenDofIK.c_fields` fills it by name. The numeric solver with the twin and
 with the Python module (``NumericIK(compiled=False)``) has the same defaults and returns the same
 joint vectors over 1,000 humanoid7 targets, full pose and position.

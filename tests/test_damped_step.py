@@ -1,4 +1,4 @@
-"""The compiled twin of damped Newton's step (kin/_native/_damped_step.c) against NumPy.
+"""The compiled twin of damped Newton's step (kin/_native/ik/numeric/_damped_step.c) against NumPy.
 
 The twin solves ``J^T (J J^T + lam I)^-1 e`` by Cholesky in one call (NumPy's LU solve of the
 same normal equations is the reference), measures the pose error with its own rotation vector

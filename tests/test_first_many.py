@@ -1,6 +1,6 @@
 """The compiled twins' batched ``first_many`` gives, target by target, the Python ``first``'s answer.
 
-``first_many`` (``kin/_native/_closed7.c``, ``_shoulder7.c``) is what
+``first_many`` (``kin/_native/ik/analytic/seven_r/_closed7.c``, ``_shoulder7.c``) is what
 :func:`kin.ik.solve_batch` calls for the free-joint closed form of humanoid7, Panda and xArm7:
 N targets, each from its own start, the scan steps in turn. The reference is the pure-Python
 ``first`` (``compiled=False``) of each target alone, step after step, as the per-call solver asks

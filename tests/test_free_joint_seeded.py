@@ -1,6 +1,6 @@
 """Stage 0 from the caller's seed in one compiled call changes no answer.
 
-``kin/_native/_seeded7.h`` (the twins' ``seeded``, bound by
+``kin/_native/ik/analytic/seven_r/_seeded7.h`` (the twins' ``seeded``, bound by
 :func:`kin.ik.numeric.free_joint.compiled_seeded`) does what the stages do from a seed: the target
 in the structure's frames, the free-joint scan from the seed, each answer measured by the table's
 DH product. Compared here with the same solver going through the Python stages (its compiled

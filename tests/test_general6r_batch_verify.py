@@ -1,7 +1,7 @@
 """The general 6R batch verified in the compiled twin against the NumPy judge of BatchSolver.
 
 ``kin.ik.solve_batch`` of a general 6R arm whose twin is built moves each of the 16 branches
-into the limits and measures it in C (``check_branches_n`` of ``kin/_native/_six_r_twin.h``,
+into the limits and measures it in C (``check_branches_n`` of ``kin/_native/ik/analytic/six_r/_six_r_twin.h``,
 the 6R twins' verifier widened to 16 branches); ``BatchSolver.solve_poses`` does it in NumPy
 (:func:`kin.ik.limit_rule.nearest_copies`, ``batch_forward_kinematics``): the same joint
 vectors, the same verdicts (reached, inside the limits), the same errors to 1e-12; tight limits,

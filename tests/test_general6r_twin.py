@@ -1,4 +1,4 @@
-"""The general 6R closed form's compiled twin (kin/_native/_general6r.c) against its NumPy path.
+"""The general 6R closed form's compiled twin (kin/_native/ik/analytic/six_r/_general6r.c) against its NumPy path.
 
 The twin repeats the first elimination's pass (the eigenproblem, the joints, the polish, the
 merge) of :class:`~kin.ik.analytic.six_r.general_6r.General6R`; the NumPy path is the reference.

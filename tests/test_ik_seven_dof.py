@@ -1,4 +1,4 @@
-"""Closed-form IK of the seven-joint arm (ik.structure.seven_dof, ik.seven_dof, kin/_native/_closed7.c).
+"""Closed-form IK of the seven-joint arm (ik.structure.seven_dof, ik.seven_dof, kin/_native/ik/analytic/seven_r/_closed7.c).
 
 Pinocchio's forward kinematics of the robot's URDF is the reference for the Python module; the
 Python module is the reference for its compiled twin. Three arms of the structure are solved:

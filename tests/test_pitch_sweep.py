@@ -1,4 +1,4 @@
-"""The compiled walk of a free angle (``kin/_native/_pitch_sweep.c``) gives the Python walk's answer.
+"""The compiled walk of a free angle (``kin/_native/ik/analytic/planar/_pitch_sweep.c``) gives the Python walk's answer.
 
 A position on a ``yaw_planar`` arm leaves the pitch free, on a planar 3R the yaw: when the seed's
 value has no branch inside the limits, a 10-degree then 1-degree walk finds the nearest that has

@@ -1,4 +1,4 @@
-"""The compiled reader and writer of ``kin ik --stdin``'s plainest lines (kin/_native/_plain_lines.c).
+"""The compiled reader and writer of ``kin ik --stdin``'s plainest lines (kin/_native/commands/_plain_lines.c).
 
 The json module is the reference: a line the reader takes (kind 1 or 2) must be one the json
 module reads as ``{"target": [...]}`` or ``{"target": [...], "rpy": [...]}``, with the same

@@ -1,4 +1,4 @@
-"""The compiled pose check (``kin/_native/_pose_check.c``) gives the Python check's verdict.
+"""The compiled pose check (``kin/_native/ik/_pose_check.c``) gives the Python check's verdict.
 
 A :class:`~kin.ik.PoseTarget` built from a float64 (3,) position and (3, 3) rotation takes the
 short way: the compiled twin says whether the copies are finite with ``max |R^T R - I| <= 1e-12``

@@ -1,6 +1,6 @@
 """The batch's compiled closed-form stage (``seeded_many``) answers what the Python pieces answer.
 
-``seeded_many`` (``kin/_native/_seeded7.h``) does in one call per block of rows what
+``seeded_many`` (``kin/_native/ik/analytic/seven_r/_seeded7.h``) does in one call per block of rows what
 :func:`kin.ik.solve_batch` did in NumPy around the twin's ``first_many``: the world targets
 brought to the structure's frames, the scan, then the judge (the table's DH product, 1e-9 m and
 rad, the limits). The reference here is that older path: ``first_many`` on the same targets and

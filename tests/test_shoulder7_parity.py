@@ -1,6 +1,6 @@
 """The compiled twin of the spherical-shoulder closed form changes nothing: same layout, same answers.
 
-``kin/_native/_shoulder7.c`` declares its parameter layout once (``SHOULDER7_PARAMS``, exported
+``kin/_native/ik/analytic/seven_r/_shoulder7.c`` declares its parameter layout once (``SHOULDER7_PARAMS``, exported
 as ``LAYOUT``); :meth:`SphericalShoulder7RIK.c_fields` fills it by name. Over 1,000 Panda and
 1,000 xArm7 full poses (FK of random joint vectors inside the limits), from the ready pose or
 q = 0 and from random starts, with the default joint-7 scan steps: the twin's and the Python

@@ -28,7 +28,7 @@ input) and stops with ``KeyboardInterrupt`` (exit 130); one during a write waits
 The parts: :mod:`.stream_reader` (batches of lines, each line's request), :mod:`.stream_batch`
 (the compiled route: the lines of a batch answered together), :mod:`.stream_records` (the
 records and their writing); this module runs them in turn and holds the compiled twins of the
-plainest lines' reading and writing (``kin/_native/_plain_lines.c``, if built).
+plainest lines' reading and writing (``kin/_native/commands/_plain_lines.c``, if built).
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ _READ = READ
 _CHUNK = CHUNK
 _twin = twin(
     "_plain_lines"
-)  # the plainest lines read and answered in C (kin/_native/_plain_lines.c)
+)  # the plainest lines read and answered in C (kin/_native/commands/_plain_lines.c)
 if _twin is not None:
     _read_plain, _write_plain = _twin.read, _twin.write
 else:  # pragma: no cover - the json module reads them all, %-format writes

@@ -4,7 +4,7 @@ Three ways read a line, each giving the same targets (the same float64 values):
 
 - :func:`plain_groups`: the plainest lines of a batch, ``{"target": [x, y, z]}`` and
   ``{"target": [x, y, z], "rpy": [r, p, y]}``, read together for the batch stage: those spelled as
-  ``json.dumps`` writes them by the compiled reader (``kin/_native/_plain_lines.c``, handed in
+  ``json.dumps`` writes them by the compiled reader (``kin/_native/commands/_plain_lines.c``, handed in
   by the caller), the others by the json module's scanner (:func:`decoded`);
 - :meth:`LineReader.request`: any line, with every check and warning (the lines the batch stage
   does not take).

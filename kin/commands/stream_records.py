@@ -4,7 +4,7 @@ An answer is :meth:`kin.ik.IKResult.to_dict` (SI: q in rad / m, errors in m and 
 with ``"line"`` and ``"q_units"`` (:func:`result_record`, :func:`numbered`); a bad line's is
 ``{"line": n, "error": "..."}`` (:func:`error_record`). The batch stage's verified answers are
 made here too, with the same keys in the same order: as records (:func:`batch_record`) or
-encoded at once (:func:`encode_found`, by the compiled writer ``kin/_native/_plain_lines.c``
+encoded at once (:func:`encode_found`, by the compiled writer ``kin/_native/commands/_plain_lines.c``
 when the caller hands it, else by one %-format per line). :func:`write_records` writes them,
 :data:`FLUSH_EVERY` lines per write.
 """

@@ -3,7 +3,7 @@
 One rule for every solver that moves angles into the limits: the single call of a closed form
 (:mod:`.analytic.branch_verification`), its batches (:mod:`.analytic.batch`, through
 :func:`kin.ik.solve_batch`), the free-joint scans of the 7R forms and the compiled twins
-(``nearest_copy`` and ``wrap_into`` in ``kin/_native/_six_r_twin.h``, operation for operation):
+(``nearest_copy`` and ``wrap_into`` in ``kin/_native/ik/analytic/six_r/_six_r_twin.h``, operation for operation):
 
 - the candidates are ``value + 2 pi k``; one inside ``[lower, upper]`` (with :data:`LIMIT_TOL`
   [rad] of slack for angles computed exactly at a limit) beats one outside;

@@ -64,7 +64,7 @@ class IKSolution:
     ):
         # Slots, set through their descriptors (the generated frozen __init__ looks each one up
         # through object.__setattr__). The closed forms' compiled twins fill the same slots
-        # directly (kin/_native/_six_r_module.h), a few of them per call.
+        # directly (kin/_native/ik/analytic/six_r/_six_r_module.h), a few of them per call.
         _SET_Q(self, q)
         _SET_BRANCH(self, branch)
         _SET_WITHIN_LIMITS(self, within_limits)
@@ -176,7 +176,7 @@ class IKResult:
     ):
         # Same fields and defaults as the generated frozen __init__, set through the slots'
         # descriptors (past the frozen __setattr__, as IKSolution's): a numeric solve makes one
-        # per call. The compiled twins fill the same slots directly (kin/_native/_results.h).
+        # per call. The compiled twins fill the same slots directly (kin/_native/include/_results.h).
         _SET_SUCCESS(self, success)
         _SET_SOLVER(self, solver)
         _SET_STATUS(self, status)

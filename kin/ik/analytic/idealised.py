@@ -204,7 +204,8 @@ def _twin_step(jacobian: np.ndarray, error: np.ndarray, out: np.ndarray, normal:
     return bool(_damped_step(jacobian, error, 0.0, out) == 0)
 
 
-_twin = twin("_damped_step")  # damped Newton's compiled twin (kin/_native/_damped_step.c)
+# damped Newton's compiled twin (kin/_native/ik/numeric/_damped_step.c)
+_twin = twin("_damped_step")
 if _twin is not None:
     _damped_step, _pose_error = _twin.damped_step, _twin.pose_error
 else:  # pragma: no cover - NumPy's least squares and Pinocchio's log3 alone

@@ -30,7 +30,7 @@ from kin._native import twin
 
 _twin = twin(
     "_damped_step"
-)  # the step's error and linear algebra in C (kin/_native/_damped_step.c)
+)  # the step's error and linear algebra in C (kin/_native/ik/numeric/_damped_step.c)
 if _twin is not None:
     _compiled_advance, _compiled_step, _compiled_error = (
         _twin.advance,

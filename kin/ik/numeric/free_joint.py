@@ -66,7 +66,7 @@ def compiled_seeded(
 ) -> Callable[..., Any] | None:
     """This stage from the caller's seed in one compiled call, or None where it does not apply.
 
-    The twin's ``seeded`` (``kin/_native/_seeded7.h``) does what
+    The twin's ``seeded`` (``kin/_native/ik/analytic/seven_r/_seeded7.h``) does what
     :func:`solve_free_joint` does with the seed: the target brought to the structure's frames,
     the closed form from the seed for each scan step in turn, each answer measured by the
     table's DH product (not Pinocchio's FK: the same chain, compared with it in the tests), the
@@ -155,7 +155,7 @@ def chain_block(
 class SeededMany:
     """The batch's closed-form stage in compiled code: N world targets, each from its own start.
 
-    The twin's ``seeded_many`` (``kin/_native/_seeded7.h``) brings each target to
+    The twin's ``seeded_many`` (``kin/_native/ik/analytic/seven_r/_seeded7.h``) brings each target to
     the structure's frames, takes the first scan step whose closed form from the start gives a
     branch, measures it with the table's DH product (as :func:`compiled_seeded`) and keeps it
     when within the tolerances and inside the limits; in threads, without the interpreter lock

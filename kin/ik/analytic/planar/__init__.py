@@ -7,5 +7,5 @@ parallel pitch joints: AL5D, Orion5) and ``yaw_roll`` (a base yaw, two pitch joi
 Kinova's 4-DOF arms, the QArm). Their shared steps: ``plane_chain`` (a chain of parallel axes in
 its plane and its two-link solves), ``base_yaw`` (the yaws that put a point on the chain's
 plane), ``free_angle`` (the free angle a position leaves, and its sweep; compiled twin
-``kin/_native/_pitch_sweep.c``).
+``kin/_native/ik/analytic/planar/_pitch_sweep.c``).
 """

@@ -222,7 +222,7 @@ def _whole_turn(
 def compiled_walk(
     chain: tuple[float, ...], points: list[tuple[float, float]]
 ) -> Callable[[float], float] | None:
-    """The compiled twin of the walk (``kin/_native/_pitch_sweep.c``) of a planar 3R chain.
+    """The compiled twin of the walk (``kin/_native/ik/analytic/planar/_pitch_sweep.c``) of a planar 3R chain.
 
     Args:
         chain: :meth:`~.plane_chain.PlaneChain.walk_data` with its joints' limits [rad].

@@ -5,7 +5,7 @@ Makers' URDFs round and drift: Kinova's Gen3 writes 1.5708 for pi/2 and puts its
 elimination (:mod:`..six_r.general_6r`). Snapped (:func:`ideal_form`: the twists and tiny lengths
 of :func:`~kin.ik.analytic.idealised.idealise`, then every length below :data:`IDEAL_LENGTH`),
 the arm may be humanoid7's (:class:`~.seven_dof.SevenDofIK`, joint 1 free), whose branches at a
-free value are closed form (and compiled: ``held_rows``, ``kin/_native/_held7.h``).
+free value are closed form (and compiled: ``held_rows``, ``kin/_native/ik/analytic/seven_r/_held7.h``).
 :class:`~.general_7r.General7RIK` then holds joint 1 and polishes each of those branches onto the
 true arm with joint 1 fixed (:func:`held_branches`: Newton on the 6R left,
 :func:`~kin.ik.analytic.six_r._general_6r_chain.polish`), as ssik's ``srs_polished`` does for such

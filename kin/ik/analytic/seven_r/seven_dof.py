@@ -8,7 +8,7 @@ to 4 for a position (the wrist angles ``q5, q6, q7`` chosen too). This module ch
 
 The numeric solver (:mod:`ik.numeric`) picks ``q1`` (and the wrist) from its seed table and has
 Pinocchio judge every answer. :meth:`SevenDofIK.first` runs the compiled twin of these steps
-(``kin/_native/_closed7.c``, an optional extension built at install when a C compiler is there)
+(``kin/_native/ik/analytic/seven_r/_closed7.c``, an optional extension built at install when a C compiler is there)
 and their Python code otherwise; the tests compare the two. ``t_i`` are DH angles,
 ``q_i = t_i - theta_i`` joint values [rad]; lengths in [m].
 """
@@ -29,7 +29,7 @@ from .subproblems import scan
 
 _closed7 = twin("_closed7")
 
-#: Whether the compiled twin (``kin/_native/_closed7.c``) is built.
+#: Whether the compiled twin (``kin/_native/ik/analytic/seven_r/_closed7.c``) is built.
 COMPILED = _closed7 is not None
 
 

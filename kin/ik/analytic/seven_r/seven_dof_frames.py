@@ -2,7 +2,7 @@
 
 A full pose is read as the wrist centre and two axes of frame 7 in DH frame 0
 (:meth:`SevenDofFrames.pose_frame`), a point in DH frame 0 (:meth:`SevenDofFrames.frame0`); the
-compiled twin (``kin/_native/_closed7.c``) reads the same through :meth:`SevenDofFrames.prepare`,
+compiled twin (``kin/_native/ik/analytic/seven_r/_closed7.c``) reads the same through :meth:`SevenDofFrames.prepare`,
 :meth:`SevenDofFrames.many_targets`, its parameters :meth:`SevenDofFrames.c_fields` and the
 frames of its seeded call :meth:`SevenDofFrames.seed_frames`. Mixed into
 :class:`~.seven_dof.SevenDofIK`, which sets the constants. ``t_i`` are DH angles, ``q_i`` joint

@@ -13,7 +13,7 @@ For a given ``q1`` (:class:`SevenDofSteps`, mixed into :class:`~.seven_dof.Seven
 Up to 8 joint vectors per ``q1`` (:meth:`SevenDofSteps.pose`). For a position-only target the
 wrist angles are chosen too (``q5, q6, q7``): the tool point is then fixed in frame 4 and steps 1-2
 place it (up to 4 vectors, :meth:`SevenDofSteps.position`). All of it is scalar arithmetic; the
-compiled twin (``kin/_native/_closed7.c``) runs the same steps. ``t_i`` are DH angles,
+compiled twin (``kin/_native/ik/analytic/seven_r/_closed7.c``) runs the same steps. ``t_i`` are DH angles,
 ``q_i = t_i - theta_i`` joint values [rad]; lengths in [m].
 """
 

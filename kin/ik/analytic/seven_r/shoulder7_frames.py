@@ -1,7 +1,7 @@
 """The frames of :class:`~.spherical_shoulder7.SphericalShoulder7RIK`: its targets and its twin's parameters.
 
 A full pose is read as ``R_K_J7`` and the shoulder point ``S`` seen from ``J_7``
-(:meth:`Shoulder7Frames.prepare`); the compiled twin (``kin/_native/_shoulder7.c``) reads the
+(:meth:`Shoulder7Frames.prepare`); the compiled twin (``kin/_native/ik/analytic/seven_r/_shoulder7.c``) reads the
 same, its parameters :meth:`Shoulder7Frames.c_fields` (with the range of ``|S - W|^2`` over
 joint 4's limits, :meth:`Shoulder7Frames.elbow_range`) and the frames of its seeded call
 :meth:`Shoulder7Frames.seed_frames`. Mixed into

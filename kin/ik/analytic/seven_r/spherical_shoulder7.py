@@ -21,7 +21,7 @@ Up to 8 joint vectors per ``q7``. ``t_i`` are DH angles, ``q_i = t_i - theta_i``
 returns None): the numeric stages answer it. The sub-problems are those of :mod:`.seven_dof`
 (:mod:`.subproblems`), the joint-7 scan its
 :func:`~.subproblems.scan`. :meth:`SphericalShoulder7RIK.first` runs the compiled twin of this
-module (``kin/_native/_shoulder7.c``, an optional extension built at install when a C compiler
+module (``kin/_native/ik/analytic/seven_r/_shoulder7.c``, an optional extension built at install when a C compiler
 is there) and this Python code otherwise; ``tests/test_shoulder7_parity.py`` compares the two.
 """
 
@@ -48,7 +48,7 @@ from .subproblems import (
 
 _shoulder7 = twin("_shoulder7")
 
-#: Whether the compiled twin (``kin/_native/_shoulder7.c``) is built.
+#: Whether the compiled twin (``kin/_native/ik/analytic/seven_r/_shoulder7.c``) is built.
 COMPILED = _shoulder7 is not None
 
 

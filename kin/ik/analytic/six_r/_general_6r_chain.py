@@ -3,7 +3,7 @@
 What :mod:`.general_6r` does with the elimination's candidates (:mod:`._general_6r_elimination`):
 the chain ``T_world_tool(u) = F0 Rz(u1) F1 ... Rz(u6) F6`` of the DH joint variables ``u``
 [rad], Newton steps onto a target pose (:func:`polish`) and the distinct branches of a pose
-(:func:`distinct`). ``kin/_native/_general6r.c`` repeats them for its first pass.
+(:func:`distinct`). ``kin/_native/ik/analytic/six_r/_general6r.c`` repeats them for its first pass.
 """
 
 from __future__ import annotations

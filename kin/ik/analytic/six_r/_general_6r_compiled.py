@@ -1,4 +1,4 @@
-"""The general 6R closed form's passes in its compiled twin (``kin/_native/_general6r.c``).
+"""The general 6R closed form's passes in its compiled twin (``kin/_native/ik/analytic/six_r/_general6r.c``).
 
 :class:`.general_6r.General6R` asks the twin for the first elimination's pass of every pose
 (:func:`in_threads`: row blocks over the processors). A pose that pass does not solve cleanly

@@ -9,7 +9,7 @@ factor ``1 + x^2``, and through a left multiplication). So the null space of the
 space of ``P(i)``), and the 24 x 24 companion matrix has the invariant subspace spanned by the
 real and imaginary parts of ``(v, x v)`` (8 dimensions): its 8 spurious eigenvalues. An
 orthonormal basis ``Q2`` (24 x 16) of its complement, made here once, leaves the 16 others as
-the eigenvalues of ``Q2^T A Q2``, which ``kin/_native/_general6r.c`` hands LAPACK instead of
+the eigenvalues of ``Q2^T A Q2``, which ``kin/_native/ik/analytic/six_r/_general6r.c`` hands LAPACK instead of
 ``A`` (about a third of the work).
 """
 

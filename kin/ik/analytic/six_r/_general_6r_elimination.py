@@ -149,7 +149,7 @@ class Formulation:
         setattr_(self, "_h0", np.kron(np.array([1.0, 0.0, 1.0]), np.array([1.0, 0.0, 1.0])))
 
     def twin_block(self) -> np.ndarray:
-        """The arm's float64 block of ``kin/_native/_general6r.c`` (its ``ARM_*`` layout).
+        """The arm's float64 block of ``kin/_native/ik/analytic/six_r/_general6r.c`` (its ``ARM_*`` layout).
 
         Start, reading, the fixed ``C_k`` and their inverses, the left side's coefficients, the
         chain ``F0 .. F6`` [m] and ``F0^-1``, ``F6^-1``, the fit on the grid, :data:`TAU` and the

@@ -4,7 +4,7 @@
 (:meth:`.general_6r.General6R.solve_batch`) to the twin's ``verify`` instead of the NumPy
 judge of :class:`~..batch.BatchSolver`: each of the 16 branches of a target moved to the ``2 pi``
 copy inside the limits nearest the target's seed (the limit rule, :mod:`kin.ik.limit_rule`, as
-``wrap_into`` of ``kin/_native/_six_r_twin.h`` repeats it) and measured by a plain DH product of
+``wrap_into`` of ``kin/_native/ik/analytic/six_r/_six_r_twin.h`` repeats it) and measured by a plain DH product of
 the table (``check_branches_n``, the 6R twins' verifier); the verdicts of
 :class:`~..batch.BatchSolver` (the tests compare the two).
 """

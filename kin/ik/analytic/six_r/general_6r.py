@@ -27,7 +27,7 @@ Every candidate is polished by Newton steps on the true chain (to about 1e-13 [m
 kept only when on target to :data:`KEEP_TOL`, and duplicates are merged (:mod:`._general_6r_chain`);
 the solvers' judge then verifies each branch as for any structure.
 
-The eliminations run in the compiled twin ``kin/_native/_general6r.c`` when it is built (LAPACK
+The eliminations run in the compiled twin ``kin/_native/ik/analytic/six_r/_general6r.c`` when it is built (LAPACK
 through SciPy; the spurious roots deflated once per arm, :mod:`._general_6r_deflation`): the
 first pass, and for a pose it does not solve cleanly the fallbacks and the nudged poses by every
 cut (:mod:`._general_6r_compiled`). A pose the twin cannot answer (a singular pencil), or that
@@ -115,7 +115,7 @@ class General6R:
             root unsolved (two solutions sharing the eliminated joint's angle, a root that does
             not polish onto the target, an odd count): their branches are merged.
         compiled: Run the first elimination's pass in the compiled twin
-            (``kin/_native/_general6r.c``) when it is built and one elimination is used; the
+            (``kin/_native/ik/analytic/six_r/_general6r.c``) when it is built and one elimination is used; the
             NumPy path is the reference, the fallback and every later pass.
     """
 

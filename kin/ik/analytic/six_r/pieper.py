@@ -17,7 +17,7 @@ Structure, read from the table brought to the standard chain (:mod:`._six_r`, ei
   * ``parallel23``: ``sin alpha1 != 0``, axes 2 and 3 parallel (``alpha2 = 0``, ``a2 != 0``), any
     ``a1``: the spherical-wrist case (PUMA 560, Kinova Jaco 2 and most industrial arms), read
     before the three others: :class:`SphericalWrist6R`, named ``spherical_wrist`` in answers,
-    solved by the family's algorithm and by its compiled twin (``kin/_native/_pieper_arms.c``).
+    solved by the family's algorithm and by its compiled twin (``kin/_native/ik/analytic/six_r/_pieper_arms.c``).
 
 Solution (``t_i`` DH angles, ``q_i = t_i - theta_i`` [rad], lengths [m]; standard DH,
 ``T_i = Rz(t_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``, ``s``/``c`` of a twist written ``sa_i``/``ca_i``):
@@ -207,7 +207,7 @@ class Pieper6R(PieperBatch):
     """
 
     name: ClassVar[str] = "pieper"
-    #: The family's compiled twin (``kin/_native/_pieper_arms.c``, its four families), or None
+    #: The family's compiled twin (``kin/_native/ik/analytic/six_r/_pieper_arms.c``, its four families), or None
     #: when it is not built; a general-family arm uses it only when LAPACK loads for its quartic.
     compiled_twin: ClassVar[ModuleType | None] = _TWIN
 

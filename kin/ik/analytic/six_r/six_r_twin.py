@@ -1,6 +1,6 @@
 """The compiled twins of the 6R closed forms: their parameter blocks, solve and verify.
 
-``kin/_native/_three_parallel.c`` and ``_pieper_arms.c`` (optional extensions, built at install
+``kin/_native/ik/analytic/six_r/_three_parallel.c`` and ``_pieper_arms.c`` (optional extensions, built at install
 when a C compiler is there) repeat, target by target, the NumPy algorithm of a family for all its
 cases: the three-parallel family's (:mod:`.three_parallel_batch`; its UR case, axes 5 and 6
 meeting, among them), Pieper's (:mod:`.pieper_batch`; its spherical wrist with parallel axes 2

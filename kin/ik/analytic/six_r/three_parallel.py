@@ -11,7 +11,7 @@ Structure, read from the table brought to the standard chain (:mod:`._six_r`, ei
   * ``intersecting``: ``a5 = 0``, axes 5 and 6 meet: quadratics. This is the UR case (UR3, UR5,
     UR10 and the e-series: ``alpha = (90, 0, 0, 90, -90, 0) deg``, ``a = (0, a2, a3, 0, 0, 0)``,
     ``d = (d1, 0, 0, d4, d5, d6)``; Unitree Z1): :class:`URWrist6R`, named ``ur_wrist`` in answers,
-    solved by the family's algorithm and by its compiled twin (``kin/_native/_three_parallel.c``);
+    solved by the family's algorithm and by its compiled twin (``kin/_native/ik/analytic/six_r/_three_parallel.c``);
   * ``general``: ``a5 != 0``: a quartic (IK-Geo solves it with its subproblem 6); refused when
     ``0 < |a5| < NEAR_MEET (|a2| + |a3|)`` (:data:`NEAR_MEET`: nearly meeting axes 5 and 6
     make the quartic's roots pair up too closely; such tables go to the numeric solver).
@@ -155,7 +155,7 @@ class ThreeParallel6R(ThreeParallelBatch):
     """
 
     name: ClassVar[str] = "three_parallel"
-    #: The family's compiled twin (``kin/_native/_three_parallel.c``, both families), or None
+    #: The family's compiled twin (``kin/_native/ik/analytic/six_r/_three_parallel.c``, both families), or None
     #: when it is not built; a general-family arm uses it only when LAPACK loads for its quartic.
     compiled_twin: ClassVar[ModuleType | None] = _TWIN
 
