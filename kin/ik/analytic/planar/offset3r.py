@@ -207,7 +207,7 @@ def solve_offset3r(
         phi = math.atan2(y, x)
         ratio = max(-1.0, min(1.0, s * d / rho))
         delta = math.asin(ratio)
-        reach = math.sqrt(max(0.0, rho * rho - d * d))
+        reach = math.sqrt(max(0.0, rho - abs(d))) * math.sqrt(rho + abs(d))  # no overflow
         if reach <= REACH_TOL:
             bases = [(phi + delta, 0.0)]
             branches.singular(
