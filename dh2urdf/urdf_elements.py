@@ -5,7 +5,7 @@ string formatting: no yourdfpy (which imports trimesh, about 0.7 s) and no lxml.
 one yourdfpy's ``URDF.write_xml`` and lxml's ``pretty_print`` give for the same elements (elements
 and attributes in yourdfpy's order, numbers as ``str`` of the same values, an origin's rotation as
 static x-y-z Euler angles, lxml's escaping and two-space indentation);
-``tests/test_dh2urdf_urdf_text.py`` compares the two on every shipped table and on generated ones. ``dh2urdf.urdf_writer.build_urdf``
+``tests/dh2urdf/test_dh2urdf_urdf_text.py`` compares the two on every shipped table and on generated ones. ``dh2urdf.urdf_writer.build_urdf``
 turns the same elements into a yourdfpy model where one is wanted.
 """
 

@@ -1,7 +1,7 @@
 """Benchmark one target of every case of the two 6R families (issue 34 item 3).
 
-Random tables of each case (the recipes of ``tests/test_ik_pieper.py`` and
-``tests/test_ik_three_parallel.py``, standard convention, seeds 0..``--tables - 1``, random base
+Random tables of each case (the recipes of ``tests/ik/analytic/six_r/test_ik_pieper.py`` and
+``tests/ik/analytic/six_r/test_ik_three_parallel.py``, standard convention, seeds 0..``--tables - 1``, random base
 and tool): Pieper ``intersecting`` (axes 1, 2 meet), ``parallel`` (axes 1, 2 parallel),
 ``general`` (a quartic in q3) and ``parallel23`` (axes 2, 3 parallel: the spherical-wrist case),
 three-parallel ``general`` (``a5 != 0``, a quartic in q1) and ``intersecting`` (``a5 = 0``: the

@@ -1,6 +1,6 @@
 """ssik's prebuilt arms as URDFs: the chain ssik baked for an arm, read by ``kin`` as a user's URDF.
 
-Shared by ``bench_ik_6r.py``, ``bench_ik_7r_branches.py`` and ``tests/test_ssik_chains_6r.py``.
+Shared by ``bench_ik_6r.py``, ``bench_ik_7r_branches.py`` and ``tests/scripts/test_ssik_chains_6r.py``.
 Not a script: helpers only (ssik is a peer, installed with the ``[bench]`` extra).
 """
 

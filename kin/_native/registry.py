@@ -29,16 +29,16 @@ TWINS: dict[str, str] = {
 
 #: Each twin's name -> the test file (under ``tests/``) that compares it with its NumPy form.
 PARITY_TESTS: dict[str, str] = {
-    "_closed7": "test_closed7_parity.py",
-    "_damped_step": "test_damped_step.py",
-    "_general6r": "test_general6r_twin.py",
-    "_plain_lines": "test_plain_lines.py",
-    "_pitch_sweep": "test_pitch_sweep.py",
-    "_pieper_arms": "test_six_r_family_twins.py",
-    "_pose_check": "test_pose_check.py",
-    "_shoulder7": "test_shoulder7_parity.py",
-    "_sphere_motion": "test_sphere_motion.py",
-    "_three_parallel": "test_six_r_family_twins.py",
+    "_closed7": "native/test_closed7_parity.py",
+    "_damped_step": "native/test_damped_step.py",
+    "_general6r": "native/test_general6r_twin.py",
+    "_plain_lines": "native/test_plain_lines.py",
+    "_pitch_sweep": "native/test_pitch_sweep.py",
+    "_pieper_arms": "native/test_six_r_family_twins.py",
+    "_pose_check": "native/test_pose_check.py",
+    "_shoulder7": "native/test_shoulder7_parity.py",
+    "_sphere_motion": "native/test_sphere_motion.py",
+    "_three_parallel": "native/test_six_r_family_twins.py",
 }
 
 #: The C sources' root, relative to the project (the folder holding ``pyproject.toml``).

@@ -265,7 +265,7 @@ class CollisionChecker:
         to batch (making one costs 1-1.5 ms on Panda): its verdicts do not depend on what it
         computed before, since GJK starts from its default guess (:mod:`.requests`; a pool once
         called a Panda configuration free after other batches, when GJK started from the
-        previous answer: tests/test_collision_batch_history.py).
+        previous answer: tests/collision/test_collision_batch_history.py).
         """
         pool = self._pools.get(count)
         if pool is None:

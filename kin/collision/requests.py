@@ -13,7 +13,7 @@ tolerance, and its support functions of boxes, cylinders and capsules compare th
 an unnormalised direction with 1e-12 absolutely: where GJK's direction is short (micrometers, near
 contact) they return a point off the extreme one, and the early stop overstates the distance.
 Measured with coal 3.0.3 on random and nearly axis-aligned pairs of boxes, spheres, cylinders,
-capsules and hulls up to 10 m (tests/test_collision_one_verdict.py): without the tolerance the
+capsules and hulls up to 10 m (tests/collision/test_collision_one_verdict.py): without the tolerance the
 verdict called overlaps of up to 4.3 um free (10 um with GJK's tolerance at 1e-7), and coal's
 distance erred by up to 2.2 um; with it, no overlap is called free and no pair closer than half
 the tolerance.
@@ -41,7 +41,7 @@ __all__ = ["CONTACT_TOLERANCE", "GJK_TOLERANCE", "prepare_requests"]
 
 #: GJK's stopping tolerance in every request [m]. coal's default 1e-6 let a verdict-only query call
 #: one UR5 configuration in 10,000 free whose forearm and wrist_2 hulls overlap by 2 cm (GJK's
-#: estimate stopped below its tolerance, above a zero margin: tests/test_collision_broad_phase.py);
+#: estimate stopped below its tolerance, above a zero margin: tests/collision/test_collision_broad_phase.py);
 #: 1e-8 costs no measurable time. Larger values make the support-function error above larger
 #: (coal 3.0.3 also returned a distance of 1.8e308 at 1e-7 and 1e-6 for some touching pairs).
 GJK_TOLERANCE = 1e-8

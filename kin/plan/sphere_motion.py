@@ -29,7 +29,7 @@ coarse test of one sphere about each shape's whole cover: when it holds, the gro
 are skipped.
 
 The arithmetic runs in a compiled twin (``kin/_native/plan/_sphere_motion.c``) when it is built,
-else in the NumPy form here; the two reach the same verdicts (``tests/test_sphere_motion.py``).
+else in the NumPy form here; the two reach the same verdicts (``tests/native/test_sphere_motion.py``).
 Only arms whose joints are all revolute with one coordinate each (``RX``, ``RY``, ``RZ``,
 ``RevoluteUnaligned``) are covered: :func:`sphere_motion` is None for any other arm, or when a
 pair of shapes fixed to the world is itself within twice the contact tolerance.

@@ -8,7 +8,7 @@ from __future__ import annotations
 SNAKE8_TOML = """
 name = "snake8"
 description = "8R test arm for the stream's Ctrl-C"
-source = "tests/test_interrupts.py: invented"
+source = "tests/commands/test_interrupts.py: invented"
 convention = "standard"
 length_unit = "m"
 angle_unit = "deg"

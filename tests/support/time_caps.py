@@ -5,7 +5,7 @@ answer says ``timeout``. Left in place, a test's verdict would depend on the mac
 busy CI run: not_found became timeout), so tests run with these caps infinite unless marked
 ``default_cap`` (the tests of the cap itself, on a ticking clock). A child process gets the same
 through :data:`CHILD_PATH` on its ``PYTHONPATH`` (:func:`child_environment`).
-tests/test_time_caps.py checks that the list is whole.
+tests/house/test_time_caps.py checks that the list is whole.
 """
 
 from __future__ import annotations

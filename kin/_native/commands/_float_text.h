@@ -6,7 +6,7 @@
  * PLDI 2010): the value and the two bounds of its rounding interval scaled by a cached power of
  * ten into 64-bit integers, then the digits generated until the number lies inside the interval.
  * What it writes always reads back as the same float64 and has at most 17 digits; in nearly
- * every case (all but about one value in a thousand, tests/test_plain_lines.py counts them) it
+ * every case (all but about one value in a thousand, tests/native/test_plain_lines.py counts them) it
  * is the text Python's repr writes: the shortest, and of the shortest the nearest the value.
  * Else a digit or two longer, or another of the shortest. Laid out as repr lays
  * it out: "0.001", "123.0", "1e-05", "1.5e+16", "-0.0"; NaN and the infinities as the json

@@ -1,6 +1,6 @@
 /*
  * Compiled twin of the check kin/ik/target.py makes of a pose target on its short way (optional:
- * without it the Python check runs, with the same verdict; tests/test_pose_check.py holds them
+ * without it the Python check runs, with the same verdict; tests/native/test_pose_check.py holds them
  * to it). One question: are a position (float64, shape (3,)) and a rotation (float64, shape (3, 3),
  * C order) all finite, with max |R^T R - I| <= tolerance and det R > 0? Anything else (a NaN, a matrix to snap
  * or refuse) is answered 0, and the Python check then says what is wrong. exact_pack asks it of

@@ -1,6 +1,6 @@
 /*
  * Compiled twin of kin/plan/sphere_motion.py (optional: without it the NumPy form runs, with the
- * same verdicts; tests/test_sphere_motion.py holds them to it). The motion rule of
+ * same verdicts; tests/native/test_sphere_motion.py holds them to it). The motion rule of
  * kin/path/collision_check.py applied to spheres that enclose the arm's shapes: a state is shown
  * free when every test (a sphere against a sphere of another shape, or against a scene shape) is
  * farther apart than twice the contact tolerance; a straight joint motion when, for every test,

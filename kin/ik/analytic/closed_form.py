@@ -6,7 +6,7 @@ no structure by name), then moves each branch into the joint limits and has the 
 it (:mod:`.branch_verification`: valid, rejected or dropped; valid ones ordered by distance to
 the seed). A structure with a compiled twin that verifies (the 6R closed forms,
 :mod:`.six_r.six_r_twin`) does that for a pose target in one C call: the same wrapping, and the
-table's plain DH product in C as the judge instead of Pinocchio (``tests/test_six_r_twins.py``
+table's plain DH product in C as the judge instead of Pinocchio (``tests/native/test_six_r_twins.py``
 checks that both paths return the same solutions and errors). A rounded table is solved on its
 idealised geometry and every branch polished on the true chain (:mod:`.idealised`), but those far
 outside the limits, judged as they are (:mod:`.branch_verification`); when none is valid,

@@ -29,7 +29,7 @@ Where the form has a compiled twin (:class:`~kin.ik.analytic.seven_r.seven_dof.S
 revolute rows turning forward), each set of values is one C call
 (``all_branches``, ``kin/_native/ik/analytic/seven_r/_branches7.h``): the same steps in the same order, the judge's
 errors by the table's DH product; a near miss hands the target back to this module's path
-(``tests/test_all_branches_twin.py`` holds the two to the same answers).
+(``tests/native/test_all_branches_twin.py`` holds the two to the same answers).
 
 Any other arm or target (a position, a mask, an axis) gets the usual answer.
 """

@@ -13,7 +13,7 @@ arms; a value where the snapped arm is near a double root (within a margin propo
 deviation: a pair of branches the true arm has there may be missing) is solved by the 6R
 elimination instead. It keeps this route only when it recovers the arm's sampled joint vectors
 from their poses (:meth:`~.general_7r.General7RIK.__init__`); the tests hold its branches to the
-elimination's at every value (tests/test_ik_ideal_7r.py). Lengths [m], angles [rad].
+elimination's at every value (tests/ik/analytic/seven_r/test_ik_ideal_7r.py). Lengths [m], angles [rad].
 """
 
 from __future__ import annotations

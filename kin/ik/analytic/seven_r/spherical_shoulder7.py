@@ -22,7 +22,7 @@ returns None): the numeric stages answer it. The sub-problems are those of :mod:
 (:mod:`.subproblems`), the joint-7 scan its
 :func:`~.subproblems.scan`. :meth:`SphericalShoulder7RIK.first` runs the compiled twin of this
 module (``kin/_native/ik/analytic/seven_r/_shoulder7.c``, an optional extension built at install when a C compiler
-is there) and this Python code otherwise; ``tests/test_shoulder7_parity.py`` compares the two.
+is there) and this Python code otherwise; ``tests/native/test_shoulder7_parity.py`` compares the two.
 """
 
 from __future__ import annotations

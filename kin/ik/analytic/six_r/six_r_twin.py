@@ -9,7 +9,7 @@ and 3 among them); the NumPy forms are the reference and the fallback
 branches of one target, each moved into the joint limits (the ``2 pi`` copy nearest the seed, as
 :class:`~.closed_form.ClosedFormSolver` does) and measured by a plain DH product of the table as
 written (either convention, its base and tool): an FK independent of the closed form's algebra,
-and of Pinocchio (``tests/test_six_r_twins.py`` compares it with Pinocchio's).
+and of Pinocchio (``tests/native/test_six_r_twins.py`` compares it with Pinocchio's).
 
 A structure's parameters travel as one float64 vector in the order its twin declares
 (``LAYOUT``, filled by field name with :func:`~.seven_dof.pack_params`); the table, the limits and

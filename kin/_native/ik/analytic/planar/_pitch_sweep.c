@@ -1,6 +1,6 @@
 /*
  * Compiled twin of the free-angle walk of kin/ik/analytic/planar/free_angle.py (optional: without
- * it the Python walk runs, with the same answer; tests/test_pitch_sweep.py holds them to it).
+ * it the Python walk runs, with the same answer; tests/native/test_pitch_sweep.py holds them to it).
  *
  * A position on a planar 3R chain (a SCARA-like arm of three parallel revolute axes, or the pitch
  * chain of a yaw_planar arm) leaves the last link's angle psi free. When the seed's psi has no

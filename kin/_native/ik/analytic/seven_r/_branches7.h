@@ -3,7 +3,7 @@
  * compiled twin of kin/ik/numeric/all_branches.py's path (kin/ik/analytic/seven_r/branches7.py:
  * branches_over, distinct, windings; the judge's errors by the table's DH product, chain_pose7).
  * The same steps in the same order, so the same branches in the same order: the Python path is
- * the reference and the fallback (tests/test_all_branches_twin.py holds the two to it).
+ * the reference and the fallback (tests/native/test_all_branches_twin.py holds the two to it).
  * Included by _closed7.c and _shoulder7.c after _seeded7.h, which need
  *   static int branches_at_value(const Params *P, const double *T, double value,
  *                                double (*sol)[7]);

@@ -3,7 +3,7 @@
  * branches, the joint-7 scan and the branch nearest a start): the same arithmetic, operation for
  * operation, for speed, except that the angle pairs a limit check drops are dropped before their
  * second angle is computed (rotation_pair_fit in _twin.h). The Python module is the reference
- * and the fallback when this extension is not built; tests/test_shoulder7_parity.py compares the
+ * and the fallback when this extension is not built; tests/native/test_shoulder7_parity.py compares the
  * two. Angles in radians, lengths in meters.
  *
  * first(params, target, starts, out, step) -> int

@@ -2,7 +2,7 @@
  * Compiled twin of the first pass of the general 6R closed form (optional: without it the NumPy
  * path runs alone). kin/ik/analytic/six_r/_general_6r_elimination.py (Formulation.candidates,
  * careful=False) and general_6r.py (polish, distinct) are the reference; this file repeats them
- * operation for operation for one formulation and N poses, and tests/test_general6r_twin.py holds
+ * operation for operation for one formulation and N poses, and tests/native/test_general6r_twin.py holds
  * the two to the same branches.
  *
  * Per pose: the right side of the loop at its 9 grid points -> Q (14x9); the left null space of

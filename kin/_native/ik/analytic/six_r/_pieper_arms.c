@@ -7,7 +7,7 @@
  * the general case's quartic by _trig_quartic.h, the wrist's flips by _wrist_flips.h; with verify
  * (each branch moved into the limits and measured by the table's DH product, _six_r_twin.h). The
  * NumPy form is the reference and the fallback when this extension is not built;
- * tests/test_six_r_twins.py (the parallel23 case) and tests/test_six_r_family_twins.py (the three
+ * tests/native/test_six_r_twins.py (the parallel23 case) and tests/native/test_six_r_family_twins.py (the three
  * others) compare the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"

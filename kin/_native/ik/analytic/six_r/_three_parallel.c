@@ -6,7 +6,7 @@
  * _arm_batch) in the same order, the general case's quartic in t1 by _trig_quartic.h; with verify
  * (each branch moved into the limits and measured by the table's DH product, _six_r_twin.h). The
  * NumPy form is the reference and the fallback when this extension is not built;
- * tests/test_six_r_twins.py (the UR case) and tests/test_six_r_family_twins.py (the general case)
+ * tests/native/test_six_r_twins.py (the UR case) and tests/native/test_six_r_family_twins.py (the general case)
  * compare the two. Angles in radians, lengths in meters.
  */
 #include "_six_r_twin.h"
