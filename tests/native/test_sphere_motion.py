@@ -94,3 +94,29 @@ def test_shown_free_is_free():
             for t in np.linspace(0.0, 1.0, steps + 1):
                 assert _coal_free(model, q0 + t * (q1 - q0))
     assert motions >= 3
+
+
+def test_twin_and_numpy_agree_on_hostile_motions():
+    """A NaN joint value is never shown free (state or motion), and a motion whose midpoints run
+    past the budget is not shown free: the twin and the NumPy form alike, the same counts."""
+    if twin("_sphere_motion") is None:
+        pytest.skip("the compiled twin is not built")
+    robot, model = _model()
+    native = sphere_motion(model)
+    assert native is not None
+    python = SphereMotion(native.arrays)
+    python._capsule = None
+    q = np.zeros(robot.nq)
+    broken = q.copy()
+    broken[2] = np.nan
+    for form in (native, python):
+        assert not form.state_free(broken)
+        assert not form.motion_free(q, broken, 1e-4, 5000)[0]
+    rng = np.random.default_rng(3)
+    lower, upper = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
+    for _ in range(40):
+        q0, q1 = rng.uniform(lower, upper), rng.uniform(lower, upper)
+        a, b = native.motion_free(q0, q1, 1e-4, 1), python.motion_free(q0, q1, 1e-4, 1)
+        assert a == b
+        if a[0]:  # shown within one midpoint: the full budget shows it too
+            assert native.motion_free(q0, q1, 1e-4, 5000)[0]
