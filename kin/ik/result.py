@@ -72,12 +72,6 @@ class IKSolution:
         _SET_ROTATION_ERROR(self, rotation_error)
         _SET_REASON(self, reason)
 
-    def __getattr__(self, name: str) -> Any:
-        # Only reached when a slot is unset: the compiled twins fill the first five fields alone.
-        if name == "reason":
-            return ""
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict, SI: ``q`` in rad (revolute) / m (prismatic), errors in m and rad.
 

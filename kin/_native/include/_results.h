@@ -14,16 +14,17 @@
 /* The field names of IKSolution and IKResult (in the order of their constructors), an empty
    tuple (object.__new__'s arguments and IKResult.free), the status "ok" and the empty branch
    label, set by results_init. */
+#define SOLUTION_FIELDS 6
 #define RESULT_FIELDS 11
-static PyObject *solution_fields[5], *result_fields[RESULT_FIELDS], *no_args, *status_ok,
+static PyObject *solution_fields[SOLUTION_FIELDS], *result_fields[RESULT_FIELDS], *no_args, *status_ok,
     *empty_label;
 
 /* The names above, made once when the module is imported: 0, else -1 and an error. */
 static int results_init(void)
 {
-    static const char *const fields[5] = {"q", "branch", "within_limits", "position_error",
-                                          "rotation_error"};
-    for (int i = 0; i < 5; i++)
+    static const char *const fields[SOLUTION_FIELDS] = {
+        "q", "branch", "within_limits", "position_error", "rotation_error", "reason"};
+    for (int i = 0; i < SOLUTION_FIELDS; i++)
         if ((solution_fields[i] = PyUnicode_InternFromString(fields[i])) == NULL) return -1;
     static const char *const results[RESULT_FIELDS] = {
         "success", "solver",     "status", "message", "solutions", "rejected",
@@ -108,8 +109,8 @@ static PyObject *make_fields(PyTypeObject *cls, PyObject *const *names, PyObject
     return obj;
 }
 
-/* An IKSolution (cls) of its fields; q is stolen; rotation_error NaN stands for None (a position
-   target). Written straight into its slots when it has them, else set by name as its __init__
+/* An IKSolution (cls) of its fields, reason empty; q is stolen; rotation_error NaN stands for
+   None (a position target). Written straight into its slots when it has them, else set by name as its __init__
    would (make_fields). */
 static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, int inside,
                                double position_error, double rotation_error)
@@ -120,9 +121,11 @@ static PyObject *make_solution(PyTypeObject *cls, PyObject *q, PyObject *label, 
         Py_INCREF(rotation);
     else
         rotation = PyFloat_FromDouble(rotation_error);
-    PyObject *values[5] = {q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error),
-                           rotation};
-    return make_fields(cls, solution_fields, values, 5, &solution_slots_of);
+    Py_INCREF(empty_label); /* reason: none (a rejection's reason is set in Python) */
+    PyObject *values[SOLUTION_FIELDS] = {
+        q, label, PyBool_FromLong(inside), PyFloat_FromDouble(position_error), rotation,
+        empty_label};
+    return make_fields(cls, solution_fields, values, SOLUTION_FIELDS, &solution_slots_of);
 }
 
 /* A successful IKResult (cls) of one pipeline (name), status "ok", with its message, valid

@@ -54,8 +54,9 @@ def _swept(
 ) -> Iterator[list[tuple[np.ndarray, str]]]:
     """The branches of each rotation of the sweep, one group per rotation."""
     structure = ctx.structure
-    position = task.target.position
-    rotations, names = sweep(task, ctx.fk(seed)[1], grid)
+    at_seed, turned = ctx.fk(seed)
+    position = task.near(at_seed)  # a free component is any value: the seed's instead
+    rotations, names = sweep(task, turned, grid)
     if ctx.pose_candidates is None:  # the structure's batch, then one group each
         positions = np.repeat(position[None, :], len(rotations), axis=0)
         raw = np.asarray(structure.solve_batch(positions, rotations), dtype=float)

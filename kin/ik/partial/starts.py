@@ -83,7 +83,6 @@ def least_squares_starts(
         The lowest weighted cost and its joint vector (None: no start ran), the starts run,
         and whether the time cap stopped them.
     """
-    target = task.target
     starts = [q for _, q in progress.attempts]
     refined = len(starts)  # the first starts: the closed form's branches off target
     starts.append(call.seed)
@@ -104,12 +103,13 @@ def least_squares_starts(
                 # A mask that frees a rotation on an arm of fewer than six joints: the
                 # samples nearest the position alone (the given rotation is one of many
                 # the target allows, and most of them are off the arm's thin set).
+                at_seed, turned = ctx.fk(call.seed)
                 rotation = (
                     None
                     if ctx.nq < 6 and len(task.rotation_rows) < 3 and task.axis_column is None
-                    else sweep(task, ctx.fk(call.seed)[1], False)[0][0]
+                    else sweep(task, turned, False)[0][0]
                 )
-                starts.extend(ctx.samples(target.position, rotation, call.deadline))  # type: ignore[misc]
+                starts.extend(ctx.samples(task.near(at_seed), rotation, call.deadline))  # type: ignore[misc]
                 continue
             if not randoms:
                 return best, tried, False  # the work is done

@@ -54,6 +54,16 @@ class PartialTask:
             e[3:] = axis_turn(rotation[:, self.axis_column], self.target.axis)  # type: ignore[union-attr]
         return e
 
+    def near(self, p: np.ndarray) -> np.ndarray:
+        """The target's constrained position components [m], the others taken from ``p`` [m].
+
+        A masked target's free components are any values (``1e308`` included): a lookup of the
+        poses near the target (the seed table's) measures from this point instead.
+        """
+        point = np.array(p, dtype=float)
+        point[self.position_rows] = self.position[self.position_rows]
+        return point
+
     def errors(self, e: np.ndarray) -> tuple[float, float]:
         """Position and rotation errors [m], [rad] of the constrained components of ``e``."""
         values = e.tolist()

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from support.dh_reference import fk_frames, load_reference, random_configurations
 from support.solver_caps import NO_CAP
@@ -202,6 +202,11 @@ hostile = st.one_of(
     axis=st.lists(hostile, min_size=3, max_size=3),
     mask=st.lists(st.sampled_from([0, 1]), min_size=6, max_size=6),
 )
+# Free position components of 1e308 (once the seed table's lookup squared them) and a wrist
+# centre 1e-300 m off the shoulder's axis (once the NumPy 6R form warned where C gives NaN).
+@example("planar3", [1e-300, 1e308, 1e308], [1e6, 1e-300, 1e308], [1, 0, 0, 1, 1, 0])
+@example("ur5", [1e308, 1e200, -1e6], [1e-300, 1e6, 0.0], [0, 0, 0, 1, 1, 1])
+@example("ur5", [5e-324, 0.0, 1e-300], [0.0, 5e-324, 1e6], [1, 1, 1, 0, 0, 1])
 def test_hostile_partial_targets_never_crash(name, position, axis, mask):
     """Any values: a TargetError when built, or a result; a success is on target (independently)."""
     reference, source = _reference(name)

@@ -130,12 +130,15 @@ class SixRFamily:
             out = np.empty((p.shape[0], 8, 6))
             twin.solve(params, p, r, float(free), out)
             return out
-        if len(p) <= BLOCK:  # blocks of BLOCK targets: their arrays stay in the CPU cache
-            return self._solve_block(p, r, free)
-        blocks = range(0, len(p), BLOCK)
-        return np.concatenate(
-            [self._solve_block(p[i : i + BLOCK], r[i : i + BLOCK], free) for i in blocks]
-        )
+        # The twin's IEEE arithmetic: a degenerate pose (a wrist centre on an axis, 1e-300 m
+        # away) gives inf or NaN, a branch that does not exist, as the C code does, not a warning.
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            if len(p) <= BLOCK:  # blocks of BLOCK targets: their arrays stay in the CPU cache
+                return self._solve_block(p, r, free)
+            blocks = range(0, len(p), BLOCK)
+            return np.concatenate(
+                [self._solve_block(p[i : i + BLOCK], r[i : i + BLOCK], free) for i in blocks]
+            )
 
     def _pack_twin(self) -> None:
         twin = self.compiled_twin
