@@ -1,9 +1,9 @@
 """The compiled twins' build: one optional C extension per entry of ``kin/_native/registry.py``.
 
 Everything else about the package is declared in ``pyproject.toml``; this file only computes what
-a TOML table cannot: each twin's source from the module it builds (``kin.ik._pose_check`` from
-``kin/_native/ik/_pose_check.c``), and its ``depends`` (the headers it reaches through
-``#include "..."`` lines, so that a header edited rebuilds exactly the twins that include it). The
+a TOML table cannot: each twin's source from the module it builds
+(``kin.ik.targets._pose_check`` from ``kin/_native/ik/targets/_pose_check.c``), and its ``depends``
+(the headers it reaches through ``#include "..."`` lines, so that a header edited rebuilds exactly the twins that include it). The
 extensions are optional: without a C compiler the install goes on and the pure-Python modules run
 alone (same answers, slower). The registry is read by itself, so the build imports no NumPy and
 no ``kin``.
@@ -27,7 +27,7 @@ def headers_reached(source: str, root: Path, include_dir: str) -> list[str]:
     shared include folder. A name found in neither is left to the compiler to report.
 
     Args:
-        source: The C file, relative to ``root`` (``kin/_native/ik/_pose_check.c``).
+        source: The C file, relative to ``root`` (``kin/_native/ik/targets/_pose_check.c``).
         root: The folder holding ``kin/``: the project, or where the package is installed.
         include_dir: The shared headers' folder, relative to ``root``.
 

@@ -1,8 +1,8 @@
-"""Benchmark the distance bound inside the numeric solve (kin.ik.numeric.collision_bound).
+"""Benchmark the distance bound inside the numeric solve (kin.ik.collision.collision_bound).
 
 Panda (the maker's URDF and SRDF, example-robot-data), targets near a free seed: a 5 cm box is
 put where the plain answer's forearm (panda_link4 or panda_link5) is, so the plain answer
-collides and the seed stays free. Each case is solved by :class:`kin.ik.collision_aware.
+collides and the seed stays free. Each case is solved by :class:`kin.ik.collision.collision_aware.
 CollisionAwareSolver` with the distance-bounded search (``bound``) and without it (``no bound``:
 the closed-form sweeps and the random restarts alone), the two alternated case by case, for:
 
@@ -35,7 +35,7 @@ from kin import Configuration, load_robot  # noqa: E402
 from kin.cli import ArgumentParser, positive_int  # noqa: E402
 from kin.collision import CollisionChecker, load_collision_model  # noqa: E402
 from kin.ik import AxisTarget, PoseTarget, get_solver  # noqa: E402
-from kin.ik.collision_aware import CollisionAwareSolver  # noqa: E402
+from kin.ik.collision.collision_aware import CollisionAwareSolver  # noqa: E402
 from kin.ik.numeric.solver import NumericIK  # noqa: E402
 from kin.ik.result import IKResult  # noqa: E402
 
@@ -91,7 +91,9 @@ def _solve(solver, target, seed, checker, bound: bool) -> tuple[bool, float]:
     switch = (
         contextlib.nullcontext()
         if bound
-        else mock.patch("kin.ik.numeric.collision_bound.solve_clear", lambda *args, **options: off)
+        else mock.patch(
+            "kin.ik.collision.collision_bound.solve_clear", lambda *args, **options: off
+        )
     )
     with switch:
         start = time.perf_counter()

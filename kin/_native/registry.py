@@ -21,7 +21,7 @@ TWINS: dict[str, str] = {
     "_plain_lines": "kin.commands._plain_lines",
     "_pitch_sweep": "kin.ik.analytic.planar._pitch_sweep",
     "_pieper_arms": "kin.ik.analytic.six_r._pieper_arms",
-    "_pose_check": "kin.ik._pose_check",
+    "_pose_check": "kin.ik.targets._pose_check",
     "_shoulder7": "kin.ik.analytic.seven_r._shoulder7",
     "_sphere_motion": "kin.plan._sphere_motion",
     "_three_parallel": "kin.ik.analytic.six_r._three_parallel",
@@ -59,7 +59,7 @@ def source_of(module: str) -> str:
 
     Returns:
         ``kin/_native/`` + the module's path below ``kin`` + ``.c``
-        (``kin.ik._pose_check`` -> ``kin/_native/ik/_pose_check.c``).
+        (``kin.ik.targets._pose_check`` -> ``kin/_native/ik/targets/_pose_check.c``).
     """
     package, _, below = module.partition(".")
     if package != "kin" or not below:

@@ -35,7 +35,7 @@ the free joint's range, the seed's and the answer's, nearest the seed first ("al
 --stdin line does the same for that line).
 
 --scene FILE (a TOML cell or a URDF) and/or --srdf FILE [--padding M, in --unit] make the solve
-collision-aware (kin.ik.collision_aware): a colliding answer is rejected with its reason
+collision-aware (kin.ik.collision.collision_aware): a colliding answer is rejected with its reason
 ("self: a/b", "scene: name"; shown with --all), the search goes on through the free joint of a
 7R arm, every roll of an --axis target or --mask, and more numeric starts; "in_collision" when
 the target is reached but every answer found collides. With --stdin every line is solved so.
@@ -171,7 +171,7 @@ def _run(args: argparse.Namespace) -> int:
     """Load the robot and its solver, then solve the target or the stdin stream."""
     import numpy as np
 
-    from ..ik.target import PositionTarget
+    from ..ik.targets.target import PositionTarget
     from ..robot_model import RobotModel
     from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
     from .collision_options import collision_checker

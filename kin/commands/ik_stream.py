@@ -44,7 +44,7 @@ import numpy as np
 from kin._native import twin
 
 from ..ik.result import IKResult
-from ..ik.target import PoseTarget, PositionTarget, Target
+from ..ik.targets.target import PoseTarget, PositionTarget, Target
 from .interrupt_gate import InterruptGate, interrupt_gate
 from .joint_units import JointUnits
 from .json_output import dumps

@@ -62,7 +62,7 @@ from .preview_picture import (
 if TYPE_CHECKING:
     import numpy as np
 
-    from ..ik.target import Target
+    from ..ik.targets.target import Target
     from ..robot_model import RobotModel
     from .joint_units import JointUnits
 

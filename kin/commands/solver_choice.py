@@ -21,7 +21,7 @@ from ..ik.numeric.newton_raphson_solver import NewtonRaphsonSolver
 from ..ik.result import IKResult
 from ..ik.solver import IKSolver
 from ..ik.solver_table import CHOICES, FrontEnd, bind_timeout, front_end_solver
-from ..ik.target import Target
+from ..ik.targets.target import Target
 from ..robot_model import RobotModel
 
 __all__ = [

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..exceptions import KinError
 from ..ik.angles import rpy_matrices
-from ..ik.target import PoseTarget, Target
+from ..ik.targets.target import PoseTarget, Target
 from .joint_units import JointUnits
 from .stream_records import PlainWriter, batch_record, encode_found
 from .targets import build_target

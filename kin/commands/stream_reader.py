@@ -26,7 +26,7 @@ import numpy as np
 
 from dh2urdf.quoted_input import quoted
 
-from ..ik.target import Target
+from ..ik.targets.target import Target
 from .joint_units import JointUnits
 from .targets import build_target, check_kind
 

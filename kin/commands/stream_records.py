@@ -22,7 +22,7 @@ from ..exceptions import KinError
 from ..ik.batch_solve import FREE_JOINT_STAGE
 from ..ik.numeric.free_joint import FROM_SEED
 from ..ik.result import IKResult, counts_record
-from ..ik.target import PositionTarget, Target
+from ..ik.targets.target import PositionTarget, Target
 
 logger = logging.getLogger(__name__)
 

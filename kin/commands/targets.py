@@ -20,7 +20,7 @@ from dh2urdf.units import angle_to_radians
 from ..cli import finite_float
 from ..ik.angles import quaternion_matrix as unit_quaternion_matrix
 from ..ik.exceptions import TargetError
-from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
+from ..ik.targets.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
 from .joint_units import beyond_a_turn
 
 #: What each target class is called on the command line.

@@ -18,7 +18,7 @@ from .numeric.numeric_target import NumericTarget
 from .numeric.solver import NumericIK, solve_numeric
 from .partial_pose import PartialPoseIK
 from .result import IKResult, IKSolution
-from .target import AxisTarget, PitchTarget, PoseTarget, PositionTarget
+from .targets.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget
 
 __all__ = [
     "AxisTarget",

@@ -27,11 +27,11 @@ from kin import RobotModel
 from kin.configuration import default_seed, seed_inside
 
 from .analytic.batch import BatchResult, BatchSolver
-from .batch_targets import checked_array
-from .batch_targets import checked_rotations as _rotations
 from .free_joint_batch import FREE_JOINT_STAGE, free_joint_answers, start_free_joint_answers
 from .solver_table import Kept, front_end_solver, kept_for, vectorized_solver
-from .target import PoseTarget, PositionTarget
+from .targets.batch import checked_array
+from .targets.batch import checked_rotations as _rotations
+from .targets.target import PoseTarget, PositionTarget
 
 # The free-joint stage lives in .free_joint_batch; its names stay importable from here.
 __all__ = [

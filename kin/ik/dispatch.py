@@ -42,7 +42,7 @@ def get_solver(
             free-joint closed form far from the seed is checked against damped Newton from the
             seed (about 1.3 us more per seeded solve; the ``kin`` commands and the paths use it).
         collisions: A :class:`~kin.collision.CollisionChecker` of ``robot``: every answer is
-            also judged by it (:class:`~kin.ik.collision_aware.CollisionAwareSolver`: colliding
+            also judged by it (:class:`~kin.ik.collision.collision_aware.CollisionAwareSolver`: colliding
             ones rejected with their reason, status ``in_collision`` when all collide).
 
     Raises:

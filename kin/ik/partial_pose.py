@@ -62,7 +62,7 @@ from .partial.settings import (
 )
 from .partial.task import PartialTask, sweeps
 from .result import IKResult
-from .target import AxisTarget, PoseTarget, is_partial
+from .targets.target import AxisTarget, PoseTarget, is_partial
 
 # The settings and the task live in kin.ik.partial (the stages); their names stay importable here.
 __all__ = [

@@ -40,7 +40,7 @@ class IKSolution:
         rotation_error: Angle of ``R_fk(q)^T R_target`` [rad]; None when the target does not
             constrain the orientation (a position target).
         reason: Why it is rejected, where more than the limits and errors say: a collision-aware
-            solve's (:mod:`kin.ik.collision_aware`) ``"self: forearm/base"`` or
+            solve's (:mod:`kin.ik.collision.collision_aware`) ``"self: forearm/base"`` or
             ``"scene: table"``; a rounded arm's branch far outside the limits, judged without
             its polish (:mod:`kin.ik.analytic.branch_verification`), names the joint farthest
             out; ``""`` otherwise.
@@ -128,7 +128,7 @@ class IKResult:
             search did its bounded work without an answer (no claim of unreachability);
             ``"timeout"`` when the time cap stopped a search first; ``"in_collision"`` when the
             target is reachable but every answer found collides (a collision-aware solve,
-            :mod:`kin.ik.collision_aware`; the colliding answers are ``rejected``).
+            :mod:`kin.ik.collision.collision_aware`; the colliding answers are ``rejected``).
         message: One sentence for a person (e.g. how far out of reach the target is).
         solutions: Valid solutions (on target, within limits), closest to the seed first.
         rejected: Solutions on target but outside the limits (a rounded arm's branch far outside

@@ -30,7 +30,7 @@ Newton from the seed; the commands and paths, whose users give or carry a seed, 
 
 **Collisions** are decided here alone: given a checker (``collisions=``,
 :class:`~kin.collision.CollisionChecker`), the chosen row's solver is wrapped in
-:class:`~.collision_aware.CollisionAwareSolver` (:func:`with_collisions`): its colliding answers
+:class:`~.collision.collision_aware.CollisionAwareSolver` (:func:`with_collisions`): its colliding answers
 are rejected and the search goes on where the arm has freedom left.
 
 Every solver answers one interface, :class:`kin.ik.solver.IKSolver` (``Solver`` here): no
@@ -61,7 +61,7 @@ from .numeric.newton_raphson_solver import NewtonRaphsonSolver
 from .numeric.solver import NumericIK
 from .result import IKResult
 from .solver import IKSolver
-from .target import PoseTarget, PositionTarget
+from .targets.target import PoseTarget, PositionTarget
 
 #: The interface every solver of the table answers (:class:`kin.ik.solver.IKSolver`).
 Solver = IKSolver
@@ -164,7 +164,7 @@ def choose(
         choice: A key of ``choices``.
         near_seed: The numeric solver's :attr:`~kin.ik.NumericIK.near_seed`.
         collisions: A :class:`~kin.collision.CollisionChecker` of ``robot``: the solver is
-            wrapped in :class:`~.collision_aware.CollisionAwareSolver` (:func:`with_collisions`);
+            wrapped in :class:`~.collision.collision_aware.CollisionAwareSolver` (:func:`with_collisions`);
             None: not.
         every: With ``collisions``: judge every answer and keep every free one.
         choices: The names and their rows (:data:`CHOICES`, or a front end's).
@@ -197,7 +197,7 @@ def with_collisions(solver: Solver, checker: Any, *, every: bool = False) -> Sol
         checker: A :class:`~kin.collision.CollisionChecker` of the same robot.
         every: Judge every answer and keep every free one (default: up to the first free one).
     """
-    from .collision_aware import CollisionAwareSolver
+    from .collision.collision_aware import CollisionAwareSolver
 
     return CollisionAwareSolver(solver, checker, every=every)
 

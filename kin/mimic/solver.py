@@ -26,10 +26,10 @@ import numpy.typing as npt
 
 from ..ik.exceptions import TargetError
 from ..ik.result import IKResult
-from ..ik.target import PoseTarget, PositionTarget
+from ..ik.targets.target import PoseTarget, PositionTarget
 
 if TYPE_CHECKING:
-    from ..ik.target import Target
+    from ..ik.targets.target import Target
     from .arm import MimicArm
 
 __all__ = ["MimicSolver"]
@@ -80,8 +80,8 @@ class MimicSolver:
         """Solve a whole pose or a position of the tip in the chain's base link.
 
         Args:
-            target: A :class:`~kin.ik.target.PoseTarget` (no mask) or a
-                :class:`~kin.ik.target.PositionTarget`, in the base link [m].
+            target: A :class:`~kin.ik.targets.target.PoseTarget` (no mask) or a
+                :class:`~kin.ik.targets.target.PositionTarget`, in the base link [m].
             seed: First start [rad] or [m] of the independent joints, clipped into the limits
                 (default: zero, clipped so: ``kin ik``'s seed without ``--seed-q``, as
                 :func:`kin.configuration.default_seed` is every other arm's).

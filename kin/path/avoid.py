@@ -5,7 +5,7 @@ checks it (:func:`~kin.path.collision_check.check_path_collisions`): a free path
 Otherwise it searches the answers of every sample for a free and continuous path:
 
 - the answers of a sample: the free ones of the collision-aware solver
-  (:class:`kin.ik.collision_aware.CollisionAwareSolver`, every free answer kept; the solver
+  (:class:`kin.ik.collision.collision_aware.CollisionAwareSolver`, every free answer kept; the solver
   table's :func:`~kin.ik.solver_table.with_collisions` wraps it): every branch of
   a closed form, each revolute joint turned by whole turns toward the previous sample's answers;
   on a 7R arm with a free-joint closed form and a full pose, every branch at a grid of free-joint

@@ -21,7 +21,14 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..ik.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target, axis_turn
+from ..ik.targets.target import (
+    AxisTarget,
+    PitchTarget,
+    PoseTarget,
+    PositionTarget,
+    Target,
+    axis_turn,
+)
 from .exceptions import PathError
 
 #: Length that one radian of tool rotation (or pitch) counts for when steps are shared out among

@@ -134,7 +134,7 @@ def follow_path(
 
 
 def _partial(path: CartesianPath, nq: int) -> bool:
-    """Whether the path's samples are partial poses (:func:`kin.ik.target.is_partial`)."""
+    """Whether the path's samples are partial poses (:func:`kin.ik.targets.target.is_partial`)."""
     return path.axes is not None or path.mask is not None or (path.rotations is not None and nq < 6)
 
 

@@ -1,7 +1,7 @@
 """The goal configurations of a plan: a joint vector, or every collision-free IK answer of a target.
 
 A target (pose, position, axis, masked pose) becomes every answer the collision-aware IK gives
-with ``all_branches=True`` (:class:`kin.ik.collision_aware.CollisionAwareSolver`: the closed
+with ``all_branches=True`` (:class:`kin.ik.collision.collision_aware.CollisionAwareSolver`: the closed
 forms' every branch, a 7R arm's free-joint grid, the numeric solver's answers), each one free and
 within the limits, so a pose goal never fails for want of goal samples. A revolute joint whose
 range spans more than a turn gets each answer's value moved by whole turns to the one nearest the
@@ -46,7 +46,7 @@ def joint_goal(robot: Any, goal: Any, checker: CollisionChecker) -> GoalSet:
         kin.JointVectorError: Wrong size or a non-finite value.
         kin.NotWithinLimitsError: Outside the joint limits (the first joint out).
     """
-    from ..ik.collision_aware import collision_reason
+    from ..ik.collision.collision_aware import collision_reason
 
     q = as_joint_vector(robot, goal)
     outside = limit_violations(robot, q)
@@ -73,7 +73,7 @@ def goal_configurations(
         timeout: Cap of the IK search [s].
     """
     from ..ik import get_solver
-    from ..ik.collision_aware import CollisionAwareSolver
+    from ..ik.collision.collision_aware import CollisionAwareSolver
 
     solver = CollisionAwareSolver(get_solver(robot), checker, every=True)
     result = solver.solve(target, start, timeout=timeout)

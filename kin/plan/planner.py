@@ -151,7 +151,7 @@ def plan(
         )
 
     if checker.in_collision(q0):
-        from ..ik.collision_aware import collision_reason
+        from ..ik.collision.collision_aware import collision_reason
 
         reason = collision_reason(checker, q0)
         return answer("start_in_collision", f"the start is in collision ({reason})")

@@ -165,7 +165,7 @@ def _sample_scans(
     numeric solver; its later stages are dropped here.
     """
     from ..ik.numeric.solver import STAGES
-    from ..ik.target import PoseTarget
+    from ..ik.targets.target import PoseTarget
 
     solver.stages = STAGES[:1]
     results = [
@@ -182,7 +182,7 @@ def _numeric_success(
     timeout: float | None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per pose (N,), whether the numeric solver answers it within its work bound, and q."""
-    from ..ik.target import PoseTarget
+    from ..ik.targets.target import PoseTarget
 
     cap = NUMERIC_CAP if timeout is None else timeout
     results = [

@@ -189,7 +189,7 @@ xyz = [0.0, 0.0, 0.21]  # 1 cm beyond the flange: clear of the wrist
 def test_ik_rejects_answers_that_put_the_rod_in_the_table(tmp_path):
     """Tool 0.2 m above a table pointing down: the rod (0.4 m) reaches through it, no answer."""
     from kin.ik import PoseTarget, get_solver
-    from kin.ik.collision_aware import CollisionAwareSolver
+    from kin.ik.collision.collision_aware import CollisionAwareSolver
 
     robot = kin.load_robot("ur5")
     target = PoseTarget([0.4, 0.2, 0.3], pin.rpy.rpyToMatrix(math.pi, 0.0, 0.0))  # z down

@@ -18,8 +18,8 @@ from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model
 from kin.collision.requests import CONTACT_TOLERANCE
 from kin.ik import PositionTarget
-from kin.ik.numeric.collision_bound import DistanceBoundedIK
-from kin.ik.numeric.distance_bound import DistanceBound
+from kin.ik.collision.collision_bound import DistanceBoundedIK
+from kin.ik.collision.distance_bound import DistanceBound
 from kin.path import check_path_collisions
 
 #: A two-joint arm about z: a sphere of radius 5 cm centred 0.5 m out along x on the first link,

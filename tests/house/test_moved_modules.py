@@ -1,7 +1,8 @@
 """Modules moved into kin's folders (issue 46): the old import paths that docs named still work.
 
 ``kin.mimic_arm`` and ``kin.reach_map`` became :mod:`kin.mimic.arm` and :mod:`kin.reach.map`;
-the old modules hand on the same objects with a DeprecationWarning. ``kin.workspace`` became a
+the old modules hand on the same objects with a DeprecationWarning, as do ``kin.ik.target`` and
+``kin.ik.collision_aware`` (now in the folders ``kin/ik/targets/`` and ``kin/ik/collision/``). ``kin.workspace`` became a
 package whose face holds the old module's names.
 """
 
@@ -18,6 +19,12 @@ import pytest
     [
         ("kin.mimic_arm", "kin.mimic.arm", ["MimicArm", "load_arm", "load_mimic_arm"]),
         ("kin.reach_map", "kin.reach.map", ["reachability_map", "save_reach_map", "ReachMap"]),
+        ("kin.ik.target", "kin.ik.targets.target", ["PoseTarget", "PositionTarget", "AxisTarget"]),
+        (
+            "kin.ik.collision_aware",
+            "kin.ik.collision.collision_aware",
+            ["CollisionAwareSolver", "collision_reason"],
+        ),
     ],
 )
 def test_an_old_path_warns_and_hands_on_the_same_objects(old, new, names):

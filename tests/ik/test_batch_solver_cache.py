@@ -11,7 +11,7 @@ import pinocchio as pin
 
 from kin import Configuration, load_robot
 from kin.ik import solve_batch, solver_table
-from kin.ik.target import PoseTarget, PositionTarget
+from kin.ik.targets.target import PoseTarget, PositionTarget
 
 
 def _poses(robot, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:

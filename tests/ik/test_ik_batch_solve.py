@@ -170,7 +170,7 @@ def test_rotation_check_agrees_with_numpy_gram_and_det():
     """The batch's rotation check (elementwise |R^T R - I| and det) takes and refuses what
     einsum's Gram matrix and numpy.linalg.det say, and snaps what is near a rotation."""
     from kin.ik import batch_solve
-    from kin.ik.target import ROTATION_SNAP
+    from kin.ik.targets.target import ROTATION_SNAP
 
     robot, points, frames = _poses("humanoid7", 200, 21)
     rng = np.random.default_rng(22)

@@ -60,7 +60,7 @@ def _headers_reached(source: Path) -> set[Path]:
 
 
 def _module_path(module: str) -> str:
-    """``kin.ik._pose_check`` -> ``ik/_pose_check``: the module's path below ``kin``."""
+    """``kin.ik.targets._pose_check`` -> ``ik/targets/_pose_check``: the module's path below ``kin``."""
     return module.removeprefix("kin.").replace(".", "/")
 
 

@@ -1,9 +1,9 @@
-"""The compiled pose check (``kin/_native/ik/_pose_check.c``) gives the Python check's verdict.
+"""The compiled pose check (``kin/_native/ik/targets/_pose_check.c``) gives the Python check's verdict.
 
 A :class:`~kin.ik.PoseTarget` built from a float64 (3,) position and (3, 3) rotation takes the
 short way: the compiled twin says whether the copies are finite with ``max |R^T R - I| <= 1e-12``
-and ``det R > 0``; anything else goes the long way (:func:`kin.ik.target._rotation`). Both are
-held here to :func:`kin.ik.target.orthonormality` (plain Python floats) and to NumPy's
+and ``det R > 0``; anything else goes the long way (:func:`kin.ik.targets.target._rotation`). Both are
+held here to :func:`kin.ik.targets.target.orthonormality` (plain Python floats) and to NumPy's
 ``R.T @ R`` and ``det``, over rotations, near-rotations, reflections, extreme and non-finite
 values, other dtypes, shapes and memory orders; the target built either way is the same.
 """
@@ -19,18 +19,18 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from kin.ik import PoseTarget, TargetError
-from kin.ik import target as target_module
+from kin.ik.targets import target as target_module
 
 try:
-    from kin.ik._pose_check import exact_pose as _exact_pose
+    from kin.ik.targets._pose_check import exact_pose as _exact_pose
 except ImportError:  # not built: the tests of the twin skip
     _exact_pose = None
 TOL = target_module._ROTATION_EXACT
 
-needs_twin = pytest.mark.skipif(_exact_pose is None, reason="kin/ik/_pose_check not built")
+needs_twin = pytest.mark.skipif(_exact_pose is None, reason="kin/ik/targets/_pose_check not built")
 #: The library took the twin (not with DH_KINEMATICS_PURE_PYTHON=1): its packed targets are tested.
 needs_loaded_twin = pytest.mark.skipif(
-    target_module._exact_pack is None, reason="kin.ik.target runs without its twin"
+    target_module._exact_pack is None, reason="kin.ik.targets.target runs without its twin"
 )
 
 

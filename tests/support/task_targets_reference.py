@@ -17,7 +17,7 @@ from dh2urdf import get_robot
 from dh2urdf.robots import robot_names
 from kin import load_robot
 from kin.ik import AxisTarget, PoseTarget, get_solver
-from kin.ik.target import rpy_matrix
+from kin.ik.targets.target import rpy_matrix
 from support.dh_reference import fk_frames, load_reference
 from support.urdf_reference import ARMS, UrdfReference, erd
 

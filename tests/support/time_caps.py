@@ -18,7 +18,7 @@ DEFAULT_CAPS = (
     ("kin.ik.numeric.solver", "DEFAULT_TIMEOUT"),
     ("kin.ik.partial.settings", "DEFAULT_TIMEOUT"),
     ("kin.ik.partial_pose", "DEFAULT_TIMEOUT"),
-    ("kin.ik.collision_aware", "DEFAULT_TIMEOUT"),
+    ("kin.ik.collision.collision_aware", "DEFAULT_TIMEOUT"),
     ("kin.mimic.solver", "DEFAULT_TIMEOUT"),
     ("kin.reach.map", "NUMERIC_CAP"),
 )

@@ -24,7 +24,7 @@ from kin import RobotModel, batch_forward_kinematics
 from ..exceptions import TargetError
 from ..judge import batch_axis_errors, batch_pose_errors
 from ..limit_rule import nearest_copies
-from ..target import PitchTarget, PoseTarget, PositionTarget
+from ..targets.target import PitchTarget, PoseTarget, PositionTarget
 from .closed_form_structure import BatchBranches, DetailedStructure, PitchStructure
 from .joint_directions import forward_table, mirrored_limits, reversed_joints, to_joint
 from .registry import recognise_turned

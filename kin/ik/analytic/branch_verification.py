@@ -47,7 +47,7 @@ from kin import RobotModel
 from ..judge import ToolJudge, axis_error, rotation_error
 from ..limit_rule import FAST_COPY, FAST_SEED, LIMIT_TOL, TWO_PI, wrap_into
 from ..result import IKResult, IKSolution, Status
-from ..target import PitchTarget, PositionTarget, Target
+from ..targets.target import PitchTarget, PositionTarget, Target
 from .branches import Branches, BranchStatus
 from .closed_form_branches import ClosedFormArm
 from .closed_form_structure import PitchStructure

@@ -29,7 +29,7 @@ from kin.configuration import default_seed, seed_inside
 
 from ..judge import ToolJudge
 from ..result import IKResult
-from ..target import (
+from ..targets.target import (
     AxisTarget,
     PitchTarget,
     PoseTarget,

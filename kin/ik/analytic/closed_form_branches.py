@@ -22,7 +22,7 @@ from dh2urdf import DHTable
 from kin import RobotModel
 
 from ..exceptions import StructureError, TargetError
-from ..target import PoseTarget, Target
+from ..targets.target import PoseTarget, Target
 from .branches import Branches
 from .closed_form_structure import ClosedFormStructure, DetailedStructure, candidate_branches
 from .idealised import Idealised, idealise

@@ -22,7 +22,7 @@ import numpy.typing as npt
 
 from ...configuration import default_seed, seed_inside
 from ..result import IKResult, IKSolution
-from ..target import PoseTarget, PositionTarget, Target
+from ..targets.target import PoseTarget, PositionTarget, Target
 from .branch_verification import BranchVerifier
 from .closed_form_branches import ClosedFormArm
 from .closed_form_structure import candidate_branches

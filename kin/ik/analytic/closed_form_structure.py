@@ -52,7 +52,7 @@ from .branches import Branches
 from .structure import BaseFrame
 
 if TYPE_CHECKING:
-    from ..target import PitchTarget, Target
+    from ..targets.target import PitchTarget, Target
 
 
 @runtime_checkable

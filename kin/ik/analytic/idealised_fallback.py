@@ -50,7 +50,7 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from ..result import IKResult, IKSolution
-from ..target import PoseTarget, Target
+from ..targets.target import PoseTarget, Target
 from .branch_verification import OUTSIDE_MARGIN, BranchVerifier
 from .branches import Branches
 from .closed_form_branches import ClosedFormArm

@@ -50,7 +50,7 @@ from ..analytic.idealised import polish
 from ..analytic.seven_r.branches7 import GRID, branches_over, distinct, windings
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, batch_pose_errors
 from ..result import IKResult, IKSolution
-from ..target import PoseTarget
+from ..targets.target import PoseTarget
 from .branch_arm import BranchArm, branch_arm, form_rows
 from .free_joint import METHOD
 from .numeric_target import NumericTarget

@@ -12,7 +12,7 @@ import numpy.typing as npt
 from ...robot_model import RobotModel
 from ..exceptions import TargetError
 from ..result import IKResult
-from ..target import PositionTarget
+from ..targets.target import PositionTarget
 
 
 class NewtonRaphsonSolver:

@@ -78,7 +78,7 @@ class NumericTarget:
         """
         if isinstance(target, NumericTarget):
             return target
-        from ..target import PoseTarget, PositionTarget
+        from ..targets.target import PoseTarget, PositionTarget
 
         # Checked when they were built (finite, a rotation matrix): no second check.
         if isinstance(target, PoseTarget):

@@ -54,7 +54,7 @@ from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
 from ..partial_pose import PartialPoseIK
 from ..result import IKResult
 from ..solver import FreeJointRoute
-from ..target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
+from ..targets.target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
 from .build_context import build_context, compiled_stage0
 from .damped_newton import load_linalg
 from .free_joint import METHOD as FREE_JOINT

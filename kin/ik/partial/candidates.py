@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ..target import AxisTarget, PoseTarget, PositionTarget
+from ..targets.target import AxisTarget, PoseTarget, PositionTarget
 from .context import PartialContext
 from .task import PartialTask, sweep
 

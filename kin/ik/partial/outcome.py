@@ -7,7 +7,7 @@ import time
 import numpy as np
 
 from ..result import IKResult, IKSolution, Status
-from ..target import PoseTarget
+from ..targets.target import PoseTarget
 from .context import PartialCall, PartialContext
 from .progress import Progress
 from .settings import RANDOM_STARTS

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..result import IKResult
-from ..target import PoseTarget
+from ..targets.target import PoseTarget
 from .candidates import candidates
 from .context import PartialCall, PartialContext
 from .outcome import solved, unreached

@@ -15,7 +15,7 @@ import numpy as np
 from ..numeric.damped_newton import damped_newton
 from ..numeric.sampling_box import sampling_limits
 from ..result import IKSolution
-from ..target import PoseTarget
+from ..targets.target import PoseTarget
 from .context import PartialCall, PartialContext
 from .least_squares import least_squares
 from .progress import Progress

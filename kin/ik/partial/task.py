@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from ..target import TOOL_AXES, AxisTarget, PoseTarget, axis_turn
+from ..targets.target import TOOL_AXES, AxisTarget, PoseTarget, axis_turn
 from .settings import ROLL_GRID, ROTATION_WEIGHT
 
 __all__ = ["PartialTask", "free_rotation", "sweep", "sweeps"]

@@ -1,4 +1,4 @@
-"""The distance bound inside the numeric solve (kin/ik/numeric/collision_bound.py).
+"""The distance bound inside the numeric solve (kin/ik/collision/collision_bound.py).
 
 Judged apart from the code under test: the distance Jacobians against central differences of
 coal's distances; every answer's clearance by the direct coal check of the maker's URDF
@@ -31,9 +31,9 @@ import kin
 from kin.collision import CollisionChecker, load_collision_model
 from kin.collision.distance_jacobian import pair_rows
 from kin.ik import AxisTarget, PoseTarget, PositionTarget
-from kin.ik.collision_aware import CollisionAwareSolver
-from kin.ik.numeric.collision_bound import METHOD, DistanceBoundedIK, held_in_scene, solve_clear
-from kin.ik.numeric.distance_bound import DistanceBound
+from kin.ik.collision.collision_aware import CollisionAwareSolver
+from kin.ik.collision.collision_bound import METHOD, DistanceBoundedIK, held_in_scene, solve_clear
+from kin.ik.collision.distance_bound import DistanceBound
 from kin.ik.numeric.solver import NumericIK
 
 #: Overlap the reference may find at a free answer [m] (its shapes are the checker's hulls).

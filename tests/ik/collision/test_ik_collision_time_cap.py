@@ -1,4 +1,4 @@
-"""The time cap of the distance-bounded solve (kin/ik/numeric/collision_bound.py) and of the
+"""The time cap of the distance-bounded solve (kin/ik/collision/collision_bound.py) and of the
 collision-aware search over it: checked inside a run too, a run it stops gives ``timeout`` (never
 an answer), the time reported is the time the call took, and no cap that does not fire changes an
 answer. A clock of the test's own (1 ms a reading) stops a run at a known step, whatever the
@@ -21,9 +21,9 @@ from support.solver_caps import NO_CAP
 from support.urdf_reference import erd
 
 import kin
-from kin.ik.collision_aware import CollisionAwareSolver
-from kin.ik.numeric import collision_bound
-from kin.ik.numeric.collision_bound import DistanceBoundedIK
+from kin.ik.collision import collision_bound
+from kin.ik.collision.collision_aware import CollisionAwareSolver
+from kin.ik.collision.collision_bound import DistanceBoundedIK
 from kin.ik.numeric.solver import NumericIK
 
 
@@ -115,7 +115,7 @@ def test_the_bounded_solve_is_loaded_with_the_solver_not_in_a_capped_call():
         "import sys, kin\n"
         "from kin.collision import CollisionChecker, load_collision_model\n"
         "from kin.ik import get_solver\n"
-        "name = 'kin.ik.numeric.collision_bound'\n"
+        "name = 'kin.ik.collision.collision_bound'\n"
         "robot = kin.load_robot('humanoid7')\n"
         "checker = CollisionChecker(load_collision_model(robot))\n"
         "before = name in sys.modules\n"

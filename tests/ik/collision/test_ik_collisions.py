@@ -1,4 +1,4 @@
-"""Collision-aware IK (kin/ik/collision_aware.py) judged by a direct coal check built apart.
+"""Collision-aware IK (kin/ik/collision/collision_aware.py) judged by a direct coal check built apart.
 
 Every verdict below is the reference's (tests/support/collision_reference.py: the original URDF's
 shapes placed by Pinocchio and asked of coal pair by pair), not the checker's under test: a
@@ -20,7 +20,7 @@ from support.collision_setup import setup
 import kin
 from kin.collision import CollisionChecker, load_collision_model
 from kin.ik import AxisTarget, PoseTarget, get_solver
-from kin.ik.collision_aware import CollisionAwareSolver
+from kin.ik.collision.collision_aware import CollisionAwareSolver
 
 CONTACT_TOL = 1e-6
 #: Random targets per robot in the property test.

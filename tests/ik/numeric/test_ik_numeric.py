@@ -94,7 +94,7 @@ def test_round_trip_reaches_every_target(robot, solver, position_only):
 
 def test_accepts_the_closed_form_target_types(robot, solver):
     """ik.target's PoseTarget and PositionTarget are solved like a NumericTarget."""
-    from kin.ik.target import PoseTarget, PositionTarget
+    from kin.ik.targets.target import PoseTarget, PositionTarget
 
     pose = tool_pose(robot, random_q(robot, 1, 3)[0])
     full = solver.solve(PoseTarget.from_matrix(pose), timeout=TIMEOUT)
@@ -409,7 +409,7 @@ def test_reproduction_section_has_four_rows_per_case():
 
 def test_non_finite_target_is_a_target_error_naming_the_field(solver):
     """A PositionTarget with a NaN is refused when built: a TargetError naming position[1]."""
-    from kin.ik.target import PositionTarget
+    from kin.ik.targets.target import PositionTarget
 
     with pytest.raises(TargetError, match=r"position\[1\] is nan"):
         PositionTarget([0.3, float("nan"), 0.0])
@@ -417,7 +417,7 @@ def test_non_finite_target_is_a_target_error_naming_the_field(solver):
 
 def test_target_changed_after_it_was_built_is_an_invalid_target_result(solver):
     """A target whose array is overwritten with a NaN later gives status invalid_target."""
-    from kin.ik.target import PositionTarget
+    from kin.ik.targets.target import PositionTarget
 
     target = PositionTarget([0.3, 0.0, 0.0])
     with pytest.raises(ValueError, match="read-only"):  # a target cannot change after its check
@@ -430,7 +430,7 @@ def test_target_changed_after_it_was_built_is_an_invalid_target_result(solver):
 
 def test_pitch_target_is_rejected(solver):
     """A PitchTarget (five-joint arms) is a TargetError naming the accepted kinds."""
-    from kin.ik.target import PitchTarget
+    from kin.ik.targets.target import PitchTarget
 
     with pytest.raises(
         TargetError, match=r"takes a position, .*full pose target, not a position with pitch"

@@ -19,8 +19,8 @@ from support.solver_caps import NO_CAP
 from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model
 from kin.ik import PoseTarget, PositionTarget, get_solver
-from kin.ik.collision_aware import CollisionAwareSolver, _limits
-from kin.ik.numeric.collision_bound import DistanceBoundedIK
+from kin.ik.collision.collision_aware import CollisionAwareSolver, _limits
+from kin.ik.collision.collision_bound import DistanceBoundedIK
 from kin.ik.reach import arm_reach
 
 #: Sphere radius on the arm's links [m]; the box's centre and side [m].

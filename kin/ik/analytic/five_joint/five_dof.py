@@ -29,7 +29,7 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from ...target import PitchTarget, PoseTarget, Target
+from ...targets.target import PitchTarget, PoseTarget, Target
 from ..branches import REACH_TOL, Branches
 from ..closed_form_structure import BatchBranches, TableStructure
 from ..planar.offset3r import elbow_branches, yaw_over_pitch

@@ -21,7 +21,7 @@ import numpy as np
 
 from dh2urdf import DHTable
 
-from ...target import PositionTarget, Target
+from ...targets.target import PositionTarget, Target
 from ..branches import REACH_TOL, Branches
 from ..closed_form_structure import BatchBranches, TableStructure
 from ..structure import BaseFrame, Checker, Link, tool_point

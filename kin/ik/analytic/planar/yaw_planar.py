@@ -31,7 +31,7 @@ import pinocchio as pin
 
 from dh2urdf import DHTable
 
-from ...target import PoseTarget, PositionTarget, Target
+from ...targets.target import PoseTarget, PositionTarget, Target
 from ..branches import Branches
 from ..closed_form_structure import candidate_branches
 from .base_yaw import BaseYaw, Point, Vector, plane_yaws

@@ -30,7 +30,7 @@ import numpy as np
 from dh2urdf import DHTable
 
 from ...exceptions import StructureError
-from ...target import PoseTarget, PositionTarget, Target
+from ...targets.target import PoseTarget, PositionTarget, Target
 from ..branches import Branches
 from ..closed_form_structure import candidate_branches
 from .base_yaw import BaseYaw, Point, apply_rows, dot, turn

@@ -48,7 +48,7 @@ from dh2urdf import DHTable
 from kin._native import twin
 
 from ...exceptions import StructureError, TargetError
-from ...target import PoseTarget
+from ...targets.target import PoseTarget
 from ..structure import Checker
 from . import _general_6r_chain as _chain
 from . import _general_6r_compiled as _compiled

@@ -32,7 +32,7 @@ from dh2urdf import DHTable
 from dh2urdf.dh_table import Convention
 
 from ...exceptions import StructureError, TargetError
-from ...target import PoseTarget
+from ...targets.target import PoseTarget
 from ..closed_form_structure import ClosedFormStructure
 from ._six_r import target_arrays, wrap_array
 from .pieper import Pieper6R

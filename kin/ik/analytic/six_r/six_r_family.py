@@ -19,7 +19,7 @@ import numpy.typing as npt
 from dh2urdf import DHTable
 
 from ...exceptions import TargetError
-from ...target import PoseTarget
+from ...targets.target import PoseTarget
 from ..twin_support import pack_params
 from ._six_r import BLOCK, TargetFrame, target_arrays
 from .six_r_twin import TwinVerifier, check_params, frame_fields

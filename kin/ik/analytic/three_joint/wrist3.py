@@ -27,7 +27,7 @@ import numpy as np
 from dh2urdf import DHTable
 
 from ...exceptions import StructureError
-from ...target import PoseTarget, PositionTarget, Target
+from ...targets.target import PoseTarget, PositionTarget, Target
 from ..branches import REACH_TOL, Branches
 from ..closed_form_structure import candidate_branches
 from ..per_target_batch import PerTargetBatch

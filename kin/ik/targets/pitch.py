@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from .target_values import checked_angle, checked_vector
+from .values import checked_angle, checked_vector
 
 __all__ = ["PitchTarget"]
 

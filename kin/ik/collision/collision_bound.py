@@ -44,13 +44,13 @@ from ...collision.distance_jacobian import pair_rows
 from ...collision.requests import CONTACT_TOLERANCE, prepare_requests
 from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE, _tool_frame_id
+from ..numeric.dense_qp import solve_dense_qp
+from ..numeric.numeric_target import NumericTarget
+from ..numeric.sampling_box import sampling_limits
 from ..partial_pose import PartialTask
 from ..result import IKResult, IKSolution
-from ..target import AxisTarget, PoseTarget, PositionTarget
-from .dense_qp import solve_dense_qp
+from ..targets.target import AxisTarget, PoseTarget, PositionTarget
 from .distance_bound import DistanceBound
-from .numeric_target import NumericTarget
-from .sampling_box import sampling_limits
 
 __all__ = [
     "METHOD",

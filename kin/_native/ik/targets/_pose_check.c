@@ -1,5 +1,5 @@
 /*
- * Compiled twin of the check kin/ik/target.py makes of a pose target on its short way (optional:
+ * Compiled twin of the check kin/ik/targets/target.py makes of a pose target on its short way (optional:
  * without it the Python check runs, with the same verdict; tests/native/test_pose_check.py holds them
  * to it). One question: are a position (float64, shape (3,)) and a rotation (float64, shape (3, 3),
  * C order) all finite, with max |R^T R - I| <= tolerance and det R > 0? Anything else (a NaN, a matrix to snap
@@ -117,14 +117,14 @@ static PyObject *exact_pack(PyObject *self, PyObject *const *args, Py_ssize_t na
 static PyMethodDef methods[] = {
     {"exact_pack", (PyCFunction)(void (*)(void))exact_pack, METH_FASTCALL,
      "exact_pack(position, rotation, tolerance) -> bytes of the 12 float64 values of two numpy "
-     "arrays that pass exact_pose, else None. See kin/ik/target.py."},
+     "arrays that pass exact_pose, else None. See kin/ik/targets/target.py."},
     {"exact_pose", (PyCFunction)(void (*)(void))exact_pose, METH_FASTCALL,
      "exact_pose(position, rotation, tolerance) -> whether 3 + 9 float64 values are finite, with "
-     "max |R^T R - I| <= tolerance and det R > 0. See kin/ik/target.py."},
+     "max |R^T R - I| <= tolerance and det R > 0. See kin/ik/targets/target.py."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_pose_check",
-                                    "Compiled twin of kin.ik.target's pose check (optional speed-up).",
+                                    "Compiled twin of kin.ik.targets.target's pose check (optional speed-up).",
                                     -1, methods};
 
 PyMODINIT_FUNC PyInit__pose_check(void)

@@ -1,7 +1,7 @@
 """The targets of a batch checked: arrays of numbers of the right shape, rotations snapped.
 
 :func:`checked_array` refuses a non-finite value or a wrong shape, :func:`checked_rotations` a
-matrix that is no rotation (within :data:`~kin.ik.target.ROTATION_SNAP`, then snapped to the
+matrix that is no rotation (within :data:`~kin.ik.targets.target.ROTATION_SNAP`, then snapped to the
 nearest one); the message names the array and the row (:class:`~kin.ik.TargetError`).
 """
 
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from .exceptions import TargetError
+from ..exceptions import TargetError
 from .target import ROTATION_SNAP
 
 __all__ = ["checked_array", "checked_rotations"]

@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 
 from ..exceptions import IKError
-from .differential_ik import QP_SOLVERS
+from ..numeric.differential_ik import QP_SOLVERS
 
 __all__ = ["DistanceBound"]
 

@@ -12,7 +12,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from .exceptions import TargetError
+from ..exceptions import TargetError
 
 __all__ = [
     "FLOAT64",

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from .exceptions import TargetError
-from .target_values import checked_vector
+from ..exceptions import TargetError
+from .values import checked_vector
 
 __all__ = ["TOOL_AXES", "AxisTarget", "axis_turn"]
 
