@@ -19,7 +19,9 @@ from kin.ik.analytic.seven_r.free_value_scan import (
     first,
     first_each,
     nearest_inside,
+    nearest_inside_each,
 )
+from kin.ik.limit_rule import nearest_copy
 
 REACH = 0.45
 TARGET = np.eye(4)
@@ -105,3 +107,43 @@ def test_nearest_inside_keeps_the_limits():
     found = nearest_inside(branch, start, lower - 1.0, upper)
     assert found[1] == pytest.approx(3.0 - 2 * math.pi, abs=1e-12)
     assert nearest_inside(branch, start, lower, np.full(7, 2.0)) is None
+
+
+def _one_by_one(branches, start, lower, upper):
+    """The rule joint by joint with the scalar nearest_copy: the inside rows, the nearest first."""
+    best, best_distance = None, math.inf
+    for row in branches[~np.isnan(branches).any(axis=1)]:
+        copies = [nearest_copy(v, s, lo, hi) for v, s, lo, hi in zip(row, start, lower, upper)]
+        if all(inside for _, inside in copies):
+            q = np.array([c for c, _ in copies])
+            distance = float(((q - start) ** 2).sum())
+            if distance < best_distance:
+                best, best_distance = q, distance
+    return best
+
+
+def test_nearest_inside_each_is_the_scalar_rule_set_by_set():
+    """Many branch sets in one pass give, set by set, the scalar rule's branch (or NaN: none)."""
+    rng = np.random.default_rng(7)
+    lower, upper = np.full(7, -2.5), np.full(7, 2.5)
+    lower[3], upper[3] = -6.0, 0.5  # one joint over a whole turn, one lopsided
+    branches = rng.uniform(-9.0, 9.0, (40, 6, 7))
+    branches[rng.random((40, 6)) < 0.3] = np.nan  # NaN rows: no branch there
+    branches[5] = np.nan  # a set with none at all
+    starts = rng.uniform(-2.0, 2.0, (40, 7))
+    for each_start in (starts, starts[0]):
+        found = nearest_inside_each(branches, each_start, lower, upper)
+        for k in range(40):
+            start = each_start if each_start.ndim == 1 else each_start[k]
+            expected = _one_by_one(branches[k], start, lower, upper)
+            if expected is None:
+                assert np.isnan(found[k]).all()
+                assert nearest_inside(branches[k], start, lower, upper) is None
+            else:
+                np.testing.assert_allclose(found[k], expected, rtol=0, atol=1e-12)
+                np.testing.assert_array_equal(
+                    nearest_inside(branches[k], start, lower, upper), found[k]
+                )
+    assert np.isnan(found[5]).all()
+    assert (~np.isnan(found[:, 0])).sum() >= 5  # the test sees sets with a branch inside
+    assert nearest_inside_each(np.empty((3, 0, 7)), starts[:3], lower, upper).shape == (3, 7)

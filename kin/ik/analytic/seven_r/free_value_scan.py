@@ -5,7 +5,7 @@ A form that gives every branch of many targets at many free-joint values in one 
 first stage here: :func:`first_each` (one start per target, each at its own free value: one
 batched solve), :func:`first` (the first of a target's starts with a branch inside the limits,
 the free joint scanned outward in batches when asked) and the rule both share,
-:func:`nearest_inside`. Angles [rad].
+:func:`nearest_inside` (:func:`nearest_inside_each` on many sets at once). Angles [rad].
 """
 
 from __future__ import annotations
@@ -51,12 +51,36 @@ def nearest_inside(
         lower: Lower joint limits (7,) [rad].
         upper: Upper joint limits (7,) [rad].
     """
-    chosen, inside = nearest_copies(branches, start, lower, upper)
-    ok = inside.all(axis=-1)
-    if not ok.any():
-        return None
-    rows = chosen[ok]
-    return rows[((rows - start) ** 2).sum(axis=1).argmin()]
+    found = nearest_inside_each(branches[None], start[None], lower, upper)[0]
+    return found if found[0] == found[0] else None
+
+
+def nearest_inside_each(
+    branches: np.ndarray, starts: np.ndarray, lower: np.ndarray, upper: np.ndarray
+) -> np.ndarray:
+    """:func:`nearest_inside` of many branch sets at once: one limit-rule pass over all of them.
+
+    Args:
+        branches: Branch sets (n, B, 7) [rad], NaN rows.
+        starts: The start joint vector of each set (n, 7), or one for all (7,) [rad].
+        lower: Lower joint limits (7,) [rad].
+        upper: Upper joint limits (7,) [rad].
+
+    Returns:
+        (n, 7) [rad]: per set, the branch inside the limits nearest its start; a NaN row where
+        there is none.
+    """
+    starts = np.asarray(starts, dtype=float)
+    if not branches.shape[1]:  # no branch at all
+        return np.full((branches.shape[0], 7), np.nan)
+    near = starts[..., None, :]  # (n, 1, 7) or (1, 7): against every branch of its set
+    chosen, inside = nearest_copies(branches, near, lower, upper)
+    ok = inside.all(axis=-1)  # (n, B)
+    distance = np.where(ok, ((chosen - near) ** 2).sum(axis=-1), np.inf)
+    best = distance.argmin(axis=-1)
+    out = np.take_along_axis(chosen, best[:, None, None], axis=1)[:, 0]
+    out[~ok.any(axis=-1)] = np.nan
+    return out
 
 
 def first_each(form: BatchedFreeForm, targets: np.ndarray, starts: np.ndarray) -> np.ndarray:
@@ -80,10 +104,7 @@ def first_each(form: BatchedFreeForm, targets: np.ndarray, starts: np.ndarray) -
         return out
     clipped = np.clip(starts[rows], form.lower, form.upper)
     branches = form.branches(targets[rows], clipped[:, form.free])
-    for k, row in enumerate(rows.tolist()):
-        found = nearest_inside(branches[k], clipped[k], form.lower, form.upper)
-        if found is not None:
-            out[row] = found
+    out[rows] = nearest_inside_each(branches, clipped, form.lower, form.upper)
     return out
 
 
@@ -117,18 +138,18 @@ def first(
             return -1
         targets = np.broadcast_to(target, (rows.size, 4, 4))
         branches = form.branches(targets, clipped[rows, form.free])
-        for k, row in enumerate(rows.tolist()):
-            found = nearest_inside(branches[k], clipped[row], form.lower, form.upper)
-            if found is not None:
-                out[:] = found
-                return row
-        return -1
+        found = nearest_inside_each(branches, clipped[rows], form.lower, form.upper)
+        hits = np.flatnonzero(found[:, 0] == found[:, 0])
+        if not hits.size:
+            return -1
+        out[:] = found[hits[0]]
+        return int(rows[hits[0]])
     if step < SCAN_STEP:
         return -1
     for row in np.flatnonzero(finite).tolist():
-        found = _scan(form, target, clipped[row], step)
-        if found is not None:
-            out[:] = found
+        scanned = _scan(form, target, clipped[row], step)
+        if scanned is not None:
+            out[:] = scanned
             return row
     return -1
 
@@ -147,8 +168,8 @@ def _scan(
         if not chunk.size:
             continue
         branches = form.branches(np.broadcast_to(target, (chunk.size, 4, 4)), chunk)
-        for k in range(chunk.size):
-            found = nearest_inside(branches[k], start, form.lower, form.upper)
-            if found is not None:
-                return found
+        found = nearest_inside_each(branches, start, form.lower, form.upper)
+        hits = np.flatnonzero(found[:, 0] == found[:, 0])
+        if hits.size:
+            return found[hits[0]]
     return None

@@ -125,10 +125,15 @@ def held_branches(
     n = values.shape[0]
     folds = np.full(n, np.inf)
     found = np.full((n, BRANCHES, 7), np.nan)
-    for k, T in enumerate(targets):
-        at = ideal.branches_at(T[:3, 3], T[:3, :3], values[k : k + 1], folds[k : k + 1])
+    if n and (targets == targets[0]).all():  # one target at many values (a scan): one frame
+        at = ideal.branches_at(targets[0, :3, 3], targets[0, :3, :3], values, folds)
         assert at is not None  # a full pose
-        found[k, :8] = at[0]
+        found[:, :8] = at
+    else:
+        for k, T in enumerate(targets):
+            at = ideal.branches_at(T[:3, 3], T[:3, :3], values[k : k + 1], folds[k : k + 1])
+            assert at is not None  # a full pose
+            found[k, :8] = at[0]
     doubt = folds < fold_margin
     found[doubt] = np.nan
     pose, branch = np.nonzero(np.isfinite(found).all(axis=2))
