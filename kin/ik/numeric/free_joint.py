@@ -41,6 +41,7 @@ from ..analytic.twin_support import ScanJob, call_first_many, chain_fields, pack
 from ..result import IKResult, IKSolution
 from .free_joint_form import FreeJointClosedForm as FreeJointClosedForm
 from .free_joint_form import free_joint_closed_form as free_joint_closed_form
+from .seed_table import nearest_first
 from .starts import DAMPED_NEWTON, seed_leash
 
 if TYPE_CHECKING:
@@ -382,7 +383,7 @@ def _sample_starts(
         first = int(distances.argmin())
         for step in steps:
             yield table.q[candidates[first : first + 1]], candidates[first:], step
-        order = np.argsort(distances, kind="stable")[: ik.settings.closed_form_starts]
+        order = nearest_first(distances, ik.settings.closed_form_starts)
         rest = candidates[order[order != first]]
     if rest.size:
         yield table.q[rest], rest, 0.0

@@ -99,10 +99,7 @@ class SeedTable:
             distances = np.einsum("ij,ij->i", points - point, points - point)
         else:
             distances = self._lifted @ self._query(position, rotation)
-        if k == 1:
-            return np.array([int(np.argmin(distances))])
-        best = np.argpartition(distances, k - 1)[:k]
-        return best[np.argsort(distances[best], kind="stable")]
+        return nearest_first(distances, k)
 
     def _query(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
         """The target's row whose product with a lifted sample row is their squared distance."""
@@ -149,8 +146,7 @@ class SeedTable:
         if found is None or not found[0].size:
             return self.q[self.nearest(position, rotation, k)]
         candidates, distances = found
-        order = np.argsort(distances, kind="stable")[:k]
-        return self.q[candidates[order]]
+        return self.q[candidates[nearest_first(distances, k)]]
 
     def _neighbourhood(self, key: int) -> tuple[np.ndarray, np.ndarray]:
         """The samples of cell ``key``'s 3 x 3 x 3 neighbourhood and their lifted rows (cached)."""
@@ -217,10 +213,26 @@ class SeedTable:
         if found is None or found[0].size < k:
             return None
         candidates, distances = found
-        if k == 1:
-            return candidates[[int(np.argmin(distances))]]
-        best = np.argpartition(distances, k - 1)[:k]
-        return candidates[best[np.argsort(distances[best])]]
+        return candidates[nearest_first(distances, k)]
+
+
+def nearest_first(distances: np.ndarray, k: int) -> np.ndarray:
+    """Indices of the ``k`` smallest ``distances``, smallest first, ties in index order.
+
+    ``np.argsort(distances, kind="stable")[:k]`` without sorting them all: a partition, then a
+    stable sort of the ones at or below the ``k``-th smallest (a neighbourhood of tens of
+    thousands of samples then costs a pass, not a sort). NaN distances come last, as there.
+    """
+    n = distances.shape[0]
+    if k >= n or 8 * k >= n:
+        return np.argsort(distances, kind="stable")[:k]
+    if k <= 0:
+        return np.zeros(0, dtype=np.intp)
+    kth = distances[np.argpartition(distances, k - 1)[k - 1]]
+    if not kth == kth:  # fewer than k numbers: NaN among the k
+        return np.argsort(distances, kind="stable")[:k]
+    pick = np.flatnonzero(distances <= kth)  # in index order: the stable sort keeps it on ties
+    return pick[np.argsort(distances[pick], kind="stable")[:k]]
 
 
 #: The 27 cell offsets of a neighbourhood.

@@ -25,7 +25,7 @@ import pinocchio as pin
 
 from ..result import IKResult
 from .numeric_target import NumericTarget
-from .seed_table import DEFAULT_ROTATION_WEIGHT
+from .seed_table import DEFAULT_ROTATION_WEIGHT, nearest_first
 
 if TYPE_CHECKING:
     from .context import NumericContext
@@ -118,7 +118,7 @@ def seed_table_starts(
     if distances is None:
         rest = candidates[1:].tolist()
     else:
-        ranked = np.argsort(distances, kind="stable")[:count]
+        ranked = nearest_first(distances, count)
         rest = [candidates[i] for i in ranked if i != first_index][: count - 1]
     for i in rest:
         index = int(i)
