@@ -2,7 +2,7 @@
 
 A closed form's twin (:mod:`kin._native`) reads its arm as one float64 vector in the layout the C
 declares (:func:`pack_params`; a table's DH chain as the compiled checks read it:
-:func:`chain_fields`), and a batch's rows run in this process's thread pool, the interpreter lock
+:func:`chain_fields`; as a twin's Seed block: :func:`chain_block`), and a batch's rows run in this process's thread pool, the interpreter lock
 released (:func:`call_first_many`, :class:`ScanJob`, :func:`batch_threads`, :func:`thread_pool`).
 The 6R forms (:mod:`.six_r.six_r_family`, :mod:`.six_r.six_r_twin`, the general 6R's batches)
 and the 7R forms (:mod:`.seven_r`) both import it; neither imports the other for it. Angles in
@@ -15,6 +15,7 @@ import math
 import os
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
+from typing import Any
 
 import numpy as np
 
@@ -25,6 +26,7 @@ __all__ = [
     "ScanJob",
     "batch_threads",
     "call_first_many",
+    "chain_block",
     "chain_fields",
     "pack_params",
     "thread_pool",
@@ -74,6 +76,33 @@ def chain_fields(table: DHTable) -> dict[str, tuple[float, ...]]:
         "base": tuple(np.asarray(table.T_world_base, dtype=float)[:3].ravel().tolist()),
         "tool": tuple(np.asarray(table.T_last_tool, dtype=float)[:3].ravel().tolist()),
     }
+
+
+def chain_block(
+    table: DHTable,
+    twin: Any,
+    frames: dict[str, tuple[float, ...]] | None = None,
+    base_origin: Sequence[float] = (0.0, 0.0, 0.0),
+    reach: float = 0.0,
+) -> bytes | None:
+    """A Seed block (``twin.SEED_LAYOUT``) of ``table``'s chain, or None (not 7 forward revolute rows).
+
+    ``frames``: the closed form's (``seed_frames``); None: identities and zeros, for the calls
+    that read the chain alone (``sift_rows``, the judge's DH product of any 7R form's branches).
+    """
+    rows = table.rows
+    if len(rows) != 7 or any(r.joint_type != "revolute" or r.direction != 1 for r in rows):
+        return None
+    if frames is None:
+        eye = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+        zero = (0.0, 0.0, 0.0)
+        frames = {"frame_r": eye, "frame_t": zero, "end_r": eye, "end_t": zero, "point": zero}
+    fields = {
+        **chain_fields(table),
+        **frames,
+        "reach": (*(float(v) for v in base_origin), float(reach)),
+    }
+    return pack_params(fields, twin.SEED_LAYOUT).tobytes()
 
 
 def call_first_many(

@@ -25,7 +25,8 @@ from ..analytic.seven_r.branches7 import GRID, free_grid
 from ..analytic.seven_r.general_7r import General7RIK
 from ..analytic.seven_r.seven_dof import SevenDofIK
 from ..analytic.six_r.general_6r import KEEP_TOL
-from .free_joint import chain_block, seed_block
+from ..analytic.twin_support import chain_block
+from .free_joint import seed_block
 
 
 @dataclasses.dataclass(frozen=True)
@@ -41,7 +42,7 @@ class BranchArm:
             limits (joints in ``[-pi, pi]``, as ``branches_at``) and the Seed block of the table
             (:func:`.free_joint.seed_block`: the judge's DH product); None: the Python path.
         sift: A form without that twin (the general 7R form): a twin's ``sift_rows`` bound to
-            the table's chain (:func:`.free_joint.chain_block`), which takes the form's own
+            the table's chain (:func:`~kin.ik.analytic.twin_support.chain_block`), which takes the form's own
             branches from there; None: the Python path.
         rows: The general 7R form on a snapped arm's form (``General7RIK.ideal``): its twin's
             ``held_rows`` (:func:`_held_rows`), the form's branches without the NaN rows (as

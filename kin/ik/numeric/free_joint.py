@@ -37,7 +37,7 @@ from dh2urdf import DHTable
 from ..analytic.idealised import polish
 from ..analytic.seven_r.seven_dof import SevenDofIK
 from ..analytic.seven_r.spherical_shoulder7 import SphericalShoulder7RIK
-from ..analytic.twin_support import ScanJob, call_first_many, chain_fields, pack_params
+from ..analytic.twin_support import ScanJob, call_first_many, chain_block
 from ..result import IKResult, IKSolution
 from .free_joint_form import FreeJointClosedForm as FreeJointClosedForm
 from .free_joint_form import free_joint_closed_form as free_joint_closed_form
@@ -124,33 +124,6 @@ def seed_block(
     if not isinstance(closed, (SevenDofIK, SphericalShoulder7RIK)) or closed.twin is None:
         return None
     return chain_block(table, closed.twin, closed.seed_frames(), base_origin, reach)
-
-
-def chain_block(
-    table: DHTable,
-    twin: Any,
-    frames: dict[str, tuple[float, ...]] | None = None,
-    base_origin: Sequence[float] = (0.0, 0.0, 0.0),
-    reach: float = 0.0,
-) -> bytes | None:
-    """A Seed block (``twin.SEED_LAYOUT``) of ``table``'s chain, or None (not 7 forward revolute rows).
-
-    ``frames``: the closed form's (``seed_frames``); None: identities and zeros, for the calls
-    that read the chain alone (``sift_rows``, the judge's DH product of any 7R form's branches).
-    """
-    rows = table.rows
-    if len(rows) != 7 or any(r.joint_type != "revolute" or r.direction != 1 for r in rows):
-        return None
-    if frames is None:
-        eye = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
-        zero = (0.0, 0.0, 0.0)
-        frames = {"frame_r": eye, "frame_t": zero, "end_r": eye, "end_t": zero, "point": zero}
-    fields = {
-        **chain_fields(table),
-        **frames,
-        "reach": (*(float(v) for v in base_origin), float(reach)),
-    }
-    return pack_params(fields, twin.SEED_LAYOUT).tobytes()
 
 
 class SeededMany:

@@ -38,7 +38,7 @@ from ..six_r.general_6r import General6R
 from ..structure import refuse_tilts
 from . import free_value_scan
 from .held_end import HeldEnd, held_end, six_r_table
-from .ideal_7r import FOLD_PER_METER, held_branches, ideal_form
+from .ideal_7r import FOLD_PER_METER, HeldTwin, held_branches, held_rows_at, held_twin, ideal_form
 from .seven_dof import SevenDofIK
 
 #: Sampled joint vectors by which the free joint is chosen, and their seed.
@@ -91,6 +91,7 @@ class General7RIK:
         ends = {}
         self.ideal: SevenDofIK | None = None
         self.fold_margin = 0.0
+        self._held: HeldTwin | None | bool = False  # not yet made (:meth:`_held_twin`)
         for free in (6, 0):
             try:
                 structure, _, flips = recognise_turned(six_r_table(table, free))
@@ -149,12 +150,29 @@ class General7RIK:
         ``exact``: by the 6R closed form (:attr:`structure`) even where :attr:`ideal` answers.
         """
         values = np.asarray(values, dtype=float)
+        if self.ideal is not None and not exact and values.shape[0]:
+            if (targets == targets[0]).all():  # one target at many values (a scan): compiled
+                twin = self._held_twin()
+                found = (
+                    None
+                    if twin is None
+                    else held_rows_at(twin, self.fold_margin, self.end, targets[0], values)
+                )
+                if found is not None:
+                    return found
         sub = self.end.targets(targets, values)
         if self.ideal is not None and not exact:
             q6 = held_branches(self.ideal, self.fold_margin, self.end, targets, values, sub)
         else:
             q6 = self.end.six_r(sub)
         return self.end.joint_vectors(q6, values)
+
+    def _held_twin(self) -> HeldTwin | None:
+        """:func:`~.ideal_7r.held_twin` of :attr:`ideal` on this table, made on first use."""
+        if self._held is False:
+            assert self.ideal is not None
+            self._held = held_twin(self.ideal, self.table)
+        return self._held  # type: ignore[return-value]
 
     def branches_at(
         self,

@@ -5,7 +5,8 @@ Makers' URDFs round and drift: Kinova's Gen3 writes 1.5708 for pi/2 and puts its
 elimination (:mod:`..six_r.general_6r`). Snapped (:func:`ideal_form`: the twists and tiny lengths
 of :func:`~kin.ik.analytic.idealised.idealise`, then every length below :data:`IDEAL_LENGTH`),
 the arm may be humanoid7's (:class:`~.seven_dof.SevenDofIK`, joint 1 free), whose branches at a
-free value are closed form (and compiled: ``held_rows``, ``kin/_native/ik/analytic/seven_r/_held7.h``).
+free value are closed form (and compiled: ``held_rows``, ``kin/_native/ik/analytic/seven_r/_held7.h``,
+bound by :func:`held_twin`; :func:`held_rows_at` answers a target at many values through it).
 :class:`~.general_7r.General7RIK` then holds joint 1 and polishes each of those branches onto the
 true arm with joint 1 fixed (:func:`held_branches`: Newton on the 6R left,
 :func:`~kin.ik.analytic.six_r._general_6r_chain.polish`), as ssik's ``srs_polished`` does for such
@@ -19,7 +20,8 @@ elimination's at every value (tests/ik/analytic/seven_r/test_ik_ideal_7r.py). Le
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+import math
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -31,6 +33,7 @@ from ..idealised import FK_TOLERANCE, idealise
 from ..six_r._general_6r_chain import BRANCHES, polish
 from ..six_r.general_6r import KEEP_TOL
 from ..structure import seven_dof
+from ..twin_support import chain_block
 from .held_end import HeldEnd
 from .seven_dof import SevenDofIK
 
@@ -148,4 +151,86 @@ def held_branches(
     out[pose, slot] = u
     if doubt.any():
         out[doubt] = end.six_r(sub[doubt])
+    return out
+
+
+@dataclasses.dataclass(frozen=True)
+class HeldTwin:
+    """The twin's ``held_rows`` bound to a snapped arm on its true table (:func:`held_twin`).
+
+    Attributes:
+        call: ``held_rows`` of ``kin/_native/ik/analytic/seven_r/_held7.h``.
+        params: The snapped form's parameters without limits (joints in ``[-pi, pi]``).
+        frames: A Seed block of the true table with the snapped form's frames (its targets).
+        chain: A Seed block of the true table alone (the polish's chain).
+    """
+
+    call: Callable[..., int]
+    params: bytes
+    frames: bytes
+    chain: bytes
+
+
+@dataclasses.dataclass(frozen=True)
+class _Packed:
+    """A pose as the twins read it: position [m] then ``R_world_tool`` row-major, 12 float64."""
+
+    _packed: bytes
+
+
+def held_twin(ideal: SevenDofIK, table: DHTable) -> HeldTwin | None:
+    """``held_rows`` bound to ``ideal`` (:func:`ideal_form`) on ``table``, or None (no twin).
+
+    Args:
+        ideal: The snapped arm's form.
+        table: The true arm's forward table (every direction 1), the general form's.
+    """
+    twin = ideal.twin
+    if twin is None or not hasattr(twin, "held_rows"):
+        return None
+    frames = chain_block(table, twin, ideal.seed_frames())
+    chain = chain_block(table, twin)
+    if frames is None or chain is None:
+        return None
+    unlimited = SevenDofIK(ideal.structure, [-math.pi] * 7, [math.pi] * 7)
+    return HeldTwin(twin.held_rows, unlimited.c_params.tobytes(), frames, chain)
+
+
+def held_rows_at(
+    twin: HeldTwin, fold_margin: float, end: HeldEnd, target: np.ndarray, values: np.ndarray
+) -> np.ndarray | None:
+    """The branches (n, 16, 7) [rad] of one target at joint-1 values (n,), NaN rows, compiled.
+
+    What :func:`held_branches` then :meth:`~.held_end.HeldEnd.joint_vectors` give for the
+    target repeated at every value (the rows of a value in the same order; the polish in C,
+    equal up to rounding): the twin polishes the snapped arm's branches; a value it leaves (near
+    a double root: count -1) is solved by the 6R closed form, as there. None when the target is
+    not a finite pose.
+
+    Args:
+        twin: :func:`held_twin` of the snapped arm.
+        fold_margin: :data:`FOLD_PER_METER` times the snapped arm's deviation [m].
+        end: The true arm with joint 1 held.
+        target: ``T_world_tool`` (4, 4).
+        values: Joint-1 values [rad] (n,).
+    """
+    values = np.ascontiguousarray(values, dtype=float)
+    g = values.shape[0]
+    rows, counts = np.empty((g * 8, 7)), np.empty(g)
+    pose = _Packed(np.concatenate((target[:3, 3], target[:3, :3].ravel())).tobytes())
+    total = twin.call(twin.params, twin.frames, twin.chain, pose, values, 0, KEEP_TOL, fold_margin,
+                      rows, counts)  # fmt: skip
+    if total < 0:
+        return None
+    each = counts.astype(int)
+    kept = np.maximum(each, 0)
+    out = np.full((g, BRANCHES, 7), np.nan)
+    out[..., 0] = values[:, None]  # every slot holds its value, a row without branch too
+    slot = np.arange(total) - np.repeat(np.cumsum(kept) - kept, kept)  # a row's place at its value
+    out[np.repeat(np.arange(g), kept), slot] = rows[:total]
+    doubt = each < 0
+    if doubt.any():
+        held = values[doubt]
+        sub = end.targets(np.broadcast_to(target, (held.size, 4, 4)), held)
+        out[doubt] = end.joint_vectors(end.six_r(sub), held)
     return out

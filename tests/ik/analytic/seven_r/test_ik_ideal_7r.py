@@ -8,7 +8,7 @@ the general form holds joint 1 and polishes the snapped arm's branches with join
   Raghavan-Roth / Manocha-Canny on the same 6R), each on the pose by the plain NumPy DH product
   (``tests/support/dh_reference.py``), the q the pose came from among them;
 - ``solve(..., all_branches=True)`` gives the same answer through the twin's ``held_rows`` and
-  through the Python path;
+  through the Python path, and so does a scan of one target over many held values;
 - an arm far from every special one (random offsets) gets no snapped form.
 """
 
@@ -26,7 +26,7 @@ from support.dh_reference import fk_frames, load_reference, rotation_angle
 import kin
 from kin.ik import PoseTarget, get_solver
 from kin.ik.analytic.seven_r.general_7r import General7RIK
-from kin.ik.analytic.seven_r.ideal_7r import ideal_form
+from kin.ik.analytic.seven_r.ideal_7r import held_branches, held_rows_at, held_twin, ideal_form
 from kin.ik.analytic.seven_r.seven_dof import SevenDofIK
 from kin.ik.numeric import branch_arm
 
@@ -134,3 +134,35 @@ def test_an_arm_far_from_a_special_one_gets_no_snapped_form():
     table = make_table(a, alpha, d, theta, "standard", random_pose(rng), random_pose(rng))
     assert ideal_form(table, table.lower, table.upper) is None
     assert General7RIK(table, table.lower, table.upper).ideal is None
+
+
+def test_a_scan_through_the_twin_gives_the_python_branches(gen3):
+    """One target at many held values (a free-joint scan): ``held_rows_at`` (the twin, values
+    near a double root by the 6R elimination) gives :func:`held_branches`' rows, slot by slot."""
+    table, reference, closed = gen3
+    twin = held_twin(closed.ideal, closed.table)
+    if twin is None:
+        pytest.skip("the compiled twins are not built")
+    rng = np.random.default_rng(11)
+    q = rng.uniform(-2.5, 2.5, (6, 7))
+    poses = fk_frames(reference, q)[:, -1]
+    values = np.concatenate((np.linspace(-math.pi, math.pi, 61), q[:, 0]))
+    doubts = compared = 0
+    for pose in poses:
+        fast = held_rows_at(twin, closed.fold_margin, closed.end, pose, values)
+        targets = np.broadcast_to(pose, (values.size, 4, 4))
+        sub = closed.end.targets(targets, values)
+        q6 = held_branches(closed.ideal, closed.fold_margin, closed.end, targets, values, sub)
+        slow = closed.end.joint_vectors(q6, values)
+        assert fast is not None and fast.shape == slow.shape
+        np.testing.assert_array_equal(np.isnan(fast), np.isnan(slow))
+        np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-10, equal_nan=True)
+        compared += int(np.isfinite(fast).all(axis=2).sum())
+        folds = np.full(values.size, np.inf)
+        closed.ideal.branches_at(pose[:3, 3], pose[:3, :3], values, folds)  # the folds alone
+        doubts += int((folds < closed.fold_margin).sum())
+    assert compared > 6 * values.size  # rows on most values
+    assert doubts > 0  # values left to the 6R elimination are among them
+    assert (
+        held_rows_at(twin, closed.fold_margin, closed.end, np.full((4, 4), np.nan), values) is None
+    )

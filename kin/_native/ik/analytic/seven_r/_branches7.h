@@ -29,7 +29,7 @@
  * sift_rows(seed_block, target, rows, lower, upper, near, position_tol, rotation_tol, near_miss,
  *           solution, empty): the same answer for branches already found (rows: float64[M, 7],
  *   limits ignored, no NaN row): the general 7R form's (General7RIK.branches_at, in NumPy),
- *   judged by the chain of a Seed block whose frames are unused (free_joint.chain_block).
+ *   judged by the chain of a Seed block whose frames are unused (twin_support.chain_block).
  */
 #ifndef KIN_IK_ANALYTIC_SEVEN_R_BRANCHES7_H
 #define KIN_IK_ANALYTIC_SEVEN_R_BRANCHES7_H

@@ -22,7 +22,7 @@
  *           counts)
  *   params:      bytes of the idealised form's Params without limits (joints in [-pi, pi]);
  *   ideal_block: bytes of its Seed block (the frames its target is prepared in);
- *   chain_block: bytes of a Seed block of the true table (free_joint.chain_block);
+ *   chain_block: bytes of a Seed block of the true table (twin_support.chain_block);
  *   target:      a full pose (target_values in _twin.h);
  *   values:      float64[G], the held joint's values [rad];
  *   free:        the held joint (0-based);
