@@ -69,3 +69,17 @@ def xml_text(path: str, value: str, row: int | None, key: str) -> str:
             path, f"contains the character {bad.group()!r}, which XML cannot carry", row, key
         )
     return value
+
+
+def check_keys(
+    path: str, data: dict[str, Any], allowed: set[str], row: int | None, what: str
+) -> None:
+    """Refuse a field of ``data`` not in ``allowed``, naming the first unknown one (``what``: where)."""
+    unknown = sorted(set(data) - allowed)
+    if unknown:
+        raise TableError(
+            path,
+            f"unknown field in {what}; allowed fields: {', '.join(sorted(allowed))}",
+            row,
+            quoted(unknown[0])[1:-1],
+        )

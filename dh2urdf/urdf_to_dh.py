@@ -32,7 +32,8 @@ from pathlib import Path
 import numpy as np
 
 from .dh_table import Convention, DHRow, DHTable
-from .table_file import DEFAULT_EFFORT, DEFAULT_VELOCITY, LIMIT_SUSPECT
+from .table_rows import DEFAULT_EFFORT, DEFAULT_VELOCITY
+from .table_units import LIMIT_SUSPECT
 from .table_values import MAX_LENGTH
 from .urdf_chain import ChainJoint, UrdfChain, UrdfChainError, read_chain
 
@@ -140,7 +141,7 @@ def table_from_chain(chain: UrdfChain, convention: Convention = "standard") -> D
 def _limits(path: str, joint: ChainJoint) -> tuple[float, float, bool]:
     """``(lower, upper, continuous)`` of a chain joint as a table row carries them.
 
-    A revolute joint whose limits reach beyond :data:`~dh2urdf.table_file.LIMIT_SUSPECT` (four
+    A revolute joint whose limits reach beyond :data:`~dh2urdf.table_units.LIMIT_SUSPECT` (four
     turns; URDFs write 1e16 or 1e308 for "no limits") is read as continuous: limits [-pi, pi],
     every angle having a copy there.
 

@@ -5,9 +5,9 @@ The units and their factors are the tables' (:mod:`dh2urdf.units`): lengths ``m`
 (:mod:`dh2urdf.table_file`), each one :class:`~dh2urdf.exceptions.UnitWarning` line naming the
 file and the first field at fault, the value used as given:
 
-- an ``rpy`` angle beyond a turn (:data:`~dh2urdf.table_file.RADIAN_SUSPECT`) in a radian scene:
+- an ``rpy`` angle beyond a turn (:data:`~dh2urdf.table_units.RADIAN_SUSPECT`) in a radian scene:
   degrees read as radians;
-- a coordinate farther than :data:`~dh2urdf.table_file.LENGTH_SUSPECT` (20 m, where a table's
+- a coordinate farther than :data:`~dh2urdf.table_units.LENGTH_SUSPECT` (20 m, where a table's
   arm laid end to end is "not in meters") from the arm's base: millimetres read as meters.
 
 Beyond the bounds of :mod:`.bounds` (a shape over 10 m, a coordinate beyond 1 km) the value is
@@ -21,7 +21,7 @@ from typing import Any
 
 from dh2urdf.exceptions import UnitWarning
 from dh2urdf.quoted_input import quoted
-from dh2urdf.table_file import LENGTH_SUSPECT, RADIAN_SUSPECT
+from dh2urdf.table_units import LENGTH_SUSPECT, RADIAN_SUSPECT
 from dh2urdf.units import ANGLE_UNITS, LENGTH_UNITS
 
 from ..exceptions import CollisionModelError

@@ -20,7 +20,7 @@ from dh2urdf.command_line import angle_scale, length_scale
 from dh2urdf.exceptions import UnitWarning
 from dh2urdf.output_text import shown_name
 from dh2urdf.quoted_input import quoted
-from dh2urdf.table_file import RADIAN_SUSPECT
+from dh2urdf.table_units import RADIAN_SUSPECT
 from dh2urdf.table_values import MAX_LENGTH
 
 from ..exceptions import JointVectorError, NotWithinLimitsError

@@ -84,7 +84,7 @@ class BatchRoute:
         callable returned (:meth:`finish`) gives the answers by line index and adds to
         ``tried`` the lines the stage read and left, with their targets.
         """
-        from dh2urdf.table_file import RADIAN_SUSPECT
+        from dh2urdf.table_units import RADIAN_SUSPECT
 
         poses = rpys is not None
         try:
