@@ -55,9 +55,7 @@ DEEP_FAMILIES = frozenset(
 )
 
 #: Classes allowed a ``__getattr__`` (``module:class``), each with its reason.
-GETATTR_ALLOWED = {
-    "kin.ik.result:IKSolution": "the compiled twins leave the reason slot unset: its default",
-}
+GETATTR_ALLOWED: dict[str, str] = {}
 
 
 def _solvers() -> list[tuple[str, object]]:
