@@ -71,8 +71,6 @@ if TYPE_CHECKING:
 
     from ..ik.result import IKResult
     from ..ik.solver import IKSolver
-    from ..mimic.arm import MimicArm
-    from ..mimic.solver import MimicSolver
     from ..robot_model import RobotModel
     from .joint_units import JointUnits
 
@@ -176,8 +174,8 @@ def _run(args: argparse.Namespace) -> int:
     from .arm_route import arm_units, load_arm_argument, mimic_line, mimic_records
     from .collision_options import collision_checker
     from .named_states import joint_vector, robot_states
-    from .solver_choice import checks_own_kinds, choose_solver, solve_function, target_kinds
-    from .targets import build_target, check_kind
+    from .solver_choice import command_solver
+    from .targets import Takes, build_target
 
     robot = load_arm_argument(args)
     units = arm_units(robot, args.unit, args.deg)
@@ -186,17 +184,17 @@ def _run(args: argparse.Namespace) -> int:
     seed = joint_vector(robot, args.seed_q, units, "--seed-q", args.srdf)
     seed = np.zeros(robot.nq) if seed is None else seed
     checker = None
-    solver: IKSolver
     if isinstance(robot, RobotModel):
         checker = collision_checker(args, robot, length_scale(args.unit))
-        # every answer judged: the counts of free and rejected ones do not depend on --all
-        solver = choose_solver(robot, args.solver, collisions=checker, every=True)
-    else:  # a URDF chain with mimic joints
-        solver = _mimic_solver(robot, args.solver, args.scene or args.srdf)
-    timeout = None if args.timeout is None else args.timeout / 1e3
-    solve_all = solve_function(solver, timeout, all_branches=True)
-    solve = solve_all if args.all else solve_function(solver, timeout)
-    kinds = None if checks_own_kinds(args.solver) else target_kinds(solver)
+    chosen = command_solver(
+        robot,
+        args.solver,
+        collisions=checker,
+        collision_files=args.scene or args.srdf,
+        timeout=None if args.timeout is None else args.timeout / 1e3,
+        all_branches=args.all,
+    )
+    solver, solve, kinds = chosen.solver, chosen.solve, chosen.kinds
     length = length_scale(args.unit)
     angle = angle_scale(args.deg)
     if args.stdin:
@@ -215,11 +213,11 @@ def _run(args: argparse.Namespace) -> int:
             # the compiled batch route answers without the checker: bypassed with collisions
             batch=_batch_stage(robot, solver) if isinstance(robot, RobotModel) else None,
             pipeline=solver.name,
-            solve_all=solve_all,
+            solve_all=chosen.solve_all,
             states=robot_states(robot, args.srdf),
         )
         return stream.run(sys.stdin, sys.stdout)
-    target, given = build_target(
+    target, _ = build_target(
         args.target,
         rpy=args.rpy,
         quat=args.quat,
@@ -231,9 +229,8 @@ def _run(args: argparse.Namespace) -> int:
         mask=args.mask,
         axis=args.axis,
         tool_axis=args.tool_axis,
+        takes=None if kinds is None else Takes(robot.name, robot.nq, kinds),
     )
-    if kinds is not None:
-        check_kind(robot.name, robot.nq, kinds, target, given)
     result = solve(target, seed)
     if args.json:
         from .ik_stream import result_record
@@ -252,30 +249,6 @@ def _run(args: argparse.Namespace) -> int:
         if note is not None:
             print(note)
     return 0 if result.success else EXIT_NO_SOLUTION
-
-
-def _mimic_solver(arm: MimicArm, forced: str | None, collisions: str | None = None) -> MimicSolver:
-    """The solver of a URDF chain with mimic joints; ``--solver`` cannot choose another.
-
-    Raises:
-        TargetError: ``--solver`` given (mink and nr read one joint per DH row), or
-            ``--scene``/``--srdf`` (``collisions``: no collision model of such a chain yet).
-    """
-    from ..ik.exceptions import TargetError
-    from ..mimic.solver import MimicSolver
-
-    if collisions is not None:
-        raise TargetError(
-            f"--scene/--srdf: '{arm.name}' is a chain with mimic joints, which has no collision "
-            "model yet; drop --scene and --srdf"
-        )
-
-    if forced is not None:
-        raise TargetError(
-            f"--solver {forced}: '{arm.name}' is a chain with mimic joints, solved by damped "
-            "least squares over its independent joints; drop --solver"
-        )
-    return MimicSolver(arm)
 
 
 def _batch_stage(robot: RobotModel, solver: IKSolver) -> Callable[..., Callable[[], Any]] | None:

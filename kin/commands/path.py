@@ -207,7 +207,7 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
     from .output_file import checked_output, input_files
     from .path_output import print_text, write_csv
     from .progress import ProgressBar
-    from .targets import build_target, check_kind
+    from .targets import Takes, build_target
 
     if args.csv:
         inputs = input_files(args, "--robot", "--scene", "--srdf")  # never written over
@@ -220,10 +220,10 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
     ordered += [p for p in points if p["option"] == "--to"]
     _check_orientations(ordered)
     solver = path_solver(robot)
-    path_kinds = tuple(solver.target_kinds)  # type: ignore[attr-defined]
+    takes = Takes(robot.name, robot.nq, tuple(solver.target_kinds))  # type: ignore[attr-defined]
     waypoints = []
     for point in ordered:
-        target, given = build_target(
+        target, _ = build_target(
             point["xyz"],
             rpy=point.get("rpy"),
             quat=point.get("quat"),
@@ -234,8 +234,8 @@ def _run(args: argparse.Namespace, points: list[dict[str, Any]], prog: str = PRO
             mask=args.mask if ("rpy" in point or "quat" in point) else None,
             axis=point.get("axis"),
             tool_axis=args.tool_axis if "axis" in point else None,
+            takes=takes,
         )
-        check_kind(robot.name, robot.nq, path_kinds, target, given)
         waypoints.append(target)
     checker = collision_checker(args, robot, length)  # bad files fail before the solve
     seed = joint_vector(robot, args.seed_q, units, "--seed-q", args.srdf)

@@ -13,13 +13,14 @@ from __future__ import annotations
 import argparse
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
 
 from dh2urdf.quoted_input import quoted
-from dh2urdf.units import angle_to_radians
 
 from ..cli import finite_float
-from ..ik.angles import quaternion_matrix as unit_quaternion_matrix
 from ..ik.exceptions import TargetError
+from ..ik.targets.given import target_from_values
 from ..ik.targets.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
 from .joint_units import beyond_a_turn
 
@@ -87,17 +88,6 @@ def _refuse_degrees(option: str, values: list[float]) -> None:
         )
 
 
-def quaternion_matrix(w: float, x: float, y: float, z: float) -> list[list[float]]:
-    """Rotation matrix of the quaternion ``w + xi + yj + zk`` (:func:`kin.ik.angles.quaternion_matrix`).
-
-    Raises:
-        TargetError: A zero quaternion.
-    """
-    if math.sqrt(w * w + x * x + y * y + z * z) < 1e-9:
-        raise TargetError(f"--quat must not be zero, got {[w, x, y, z]}")
-    return unit_quaternion_matrix(w, x, y, z)
-
-
 def _mask_flags(values: object) -> list[int]:
     """``--mask``: six flags 0 or 1 (x y z rx ry rz)."""
     items = values if isinstance(values, (list, tuple)) else [values]
@@ -108,6 +98,30 @@ def _mask_flags(values: object) -> list[int]:
             f"--mask must be 6 flags 0 or 1 (x y z rx ry rz; 1 = constrained), got {quoted(values)}"
         )
     return [int(v) for v in items]  # type: ignore[call-overload, arg-type]
+
+
+@dataclass(frozen=True)
+class Takes:
+    """The target kinds a solver takes, refused by :func:`build_target` before it builds one.
+
+    Attributes:
+        robot: Robot name (for the message).
+        nq: Number of joints.
+        kinds: Target classes the solver accepts.
+    """
+
+    robot: str
+    nq: int
+    kinds: tuple[type, ...]
+
+
+#: The target class each orientation option chooses.
+_OPTION_KINDS: dict[str, type] = {
+    "--rpy": PoseTarget,
+    "--quat": PoseTarget,
+    "--axis": AxisTarget,
+    "--pitch": PitchTarget,
+}
 
 
 def build_target(
@@ -123,6 +137,7 @@ def build_target(
     mask: Sequence[float] | None = None,
     axis: Sequence[float] | None = None,
     tool_axis: str | None = None,
+    takes: Takes | None = None,
 ) -> tuple[Target, str]:
     """The target of the command-line values, and the option that chose its kind.
 
@@ -138,6 +153,8 @@ def build_target(
         mask: Six flags 0/1 (x y z rx ry rz) with ``rpy`` or ``quat``, or None.
         axis: World direction of the tool's z axis (the roll about it free), or None.
         tool_axis: With ``axis``: the tool axis ``"x"``, ``"y"`` or ``"z"`` (None: z).
+        takes: The kinds the solver takes (a kind it does not take is refused before the target
+            is built, as :func:`check_kind` words it), or None.
 
     Returns:
         The target in SI units, and ``"--rpy"``, ``"--quat"``, ``"--axis"``, ``"--pitch"`` or
@@ -147,12 +164,8 @@ def build_target(
         TargetError: Contradictory options or malformed values.
     """
     p = _finite(position, 3, "the target position")
-    if length != 1.0:
-        p = [v * length for v in p]
     if mask is not None and rpy is None and quat is None:
         raise TargetError("--mask needs --rpy or --quat (the pose whose components it keeps)")
-    if rpy is None and quat is None and pitch is None and roll is None and axis is None:
-        return PositionTarget(p), "a position target"
     given = [
         name
         for name, v in (("--rpy", rpy), ("--quat", quat), ("--axis", axis), ("--pitch", pitch))
@@ -166,28 +179,39 @@ def build_target(
         raise TargetError("--roll needs --pitch")
     if tool_axis is not None and axis is None:
         raise TargetError("--tool-axis needs --axis (the world direction it points along)")
+    if tool_axis is not None and tool_axis not in ("x", "y", "z"):
+        raise TargetError(f"--tool-axis must be x, y or z, got {quoted(tool_axis)}")
+    # Every value checked in the command line's words first; the library builds the target.
+    values = _checked_values(rpy, quat, axis, pitch, roll, mask, angle)
+    option = given[0] if given else "a position target"
+    if takes is not None:
+        _refuse_kind(takes, _OPTION_KINDS.get(option, PositionTarget), option)
+    target = target_from_values(p, tool_axis=tool_axis or "z", length=length, angle=angle, **values)
+    return target, option
+
+
+def _checked_values(
+    rpy: object, quat: object, axis: object, pitch: object, roll: object, mask: object, angle: float
+) -> dict[str, Any]:
+    """The orientation values of :func:`build_target`, checked and named as the library's."""
+    values: dict[str, Any] = {}
     if mask is not None:
-        mask = _mask_flags(mask)
+        values["mask"] = _mask_flags(mask)
     if axis is not None:
-        if tool_axis is not None and tool_axis not in ("x", "y", "z"):
-            raise TargetError(f"--tool-axis must be x, y or z, got {quoted(tool_axis)}")
-        return AxisTarget(p, _finite(axis, 3, "--axis"), tool_axis or "z"), "--axis"
+        values["axis"] = _finite(axis, 3, "--axis")
     if quat is not None:
-        rotation = quaternion_matrix(*_finite(quat, 4, "--quat"))
-        return PoseTarget(p, rotation, mask), "--quat"
-    if rpy is not None:
-        rpy_values = _finite(rpy, 3, "--rpy")
-        if angle == 1.0:
-            _refuse_degrees("--rpy", rpy_values)
-        rpy_si = [angle_to_radians(v, angle) for v in rpy_values]  # any size: reduced first
-        return PoseTarget.from_rpy(p, rpy_si, mask), "--rpy"
-    if pitch is not None:
-        if angle == 1.0:
-            _refuse_degrees("--pitch", _finite(pitch, 1, "--pitch"))
-        pitch_si = angle_to_radians(_finite(pitch, 1, "--pitch")[0], angle)
-        roll_si = None if roll is None else _finite(roll, 1, "--roll")[0] * angle
-        return PitchTarget(p, pitch_si, roll_si), "--pitch"
-    return PositionTarget(p), "a position target"
+        w, x, y, z = values["quaternion"] = _finite(quat, 4, "--quat")
+        if math.sqrt(w * w + x * x + y * y + z * z) < 1e-9:
+            raise TargetError(f"--quat must not be zero, got {[w, x, y, z]}")
+    for option, given, size in (("--rpy", rpy, 3), ("--pitch", pitch, 1)):
+        if given is not None:
+            checked = _finite(given, size, option)
+            if angle == 1.0:
+                _refuse_degrees(option, checked)
+            values[option[2:]] = checked if size == 3 else checked[0]
+    if roll is not None:
+        values["roll"] = _finite(roll, 1, "--roll")[0]
+    return values
 
 
 def check_kind(robot: str, nq: int, kinds: tuple[type, ...], target: Target, given: str) -> None:
@@ -203,13 +227,19 @@ def check_kind(robot: str, nq: int, kinds: tuple[type, ...], target: Target, giv
     Raises:
         TargetError: ``target`` is not of one of ``kinds``.
     """
-    if isinstance(target, kinds):
+    _refuse_kind(Takes(robot, nq, kinds), type(target), given)
+
+
+def _refuse_kind(takes: Takes, kind: type, given: str) -> None:
+    """Raise when a target of class ``kind`` is not one ``takes`` accepts (:func:`check_kind`)."""
+    kinds = takes.kinds
+    if issubclass(kind, kinds):
         return
-    terms = [term for kind, term in KIND_TERMS.items() if kind in kinds]
-    takes = ", ".join(terms[:-1]) + ", or " + terms[-1] if len(terms) > 1 else "".join(terms)
-    if isinstance(target, PoseTarget) and nq < 6:
+    terms = [term for k, term in KIND_TERMS.items() if k in kinds]
+    takes_terms = ", ".join(terms[:-1]) + ", or " + terms[-1] if len(terms) > 1 else "".join(terms)
+    if issubclass(kind, PoseTarget) and takes.nq < 6:
         raise TargetError(
-            f"a full pose needs at least 6 joints; '{robot}' ({nq} joints) takes {takes}: "
-            "drop --rpy/--quat"
+            f"a full pose needs at least 6 joints; '{takes.robot}' ({takes.nq} joints) takes "
+            f"{takes_terms}: drop --rpy/--quat"
         )
-    raise TargetError(f"'{robot}' ({nq} joints) takes: {takes}; got {given}")
+    raise TargetError(f"'{takes.robot}' ({takes.nq} joints) takes: {takes_terms}; got {given}")
