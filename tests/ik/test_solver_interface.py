@@ -37,11 +37,6 @@ ARMS = ("ur5", "planar2", "lab5", "humanoid7")
 #: whose special cases subclass the family's batch steps (issue 46 item 4 is to compose them).
 DEEP_FAMILIES = frozenset(
     {
-        "kin.ik.analytic.planar.parallel_axes:ParallelAxes",
-        "kin.ik.analytic.planar.parallel_axes:ParallelAxes2",
-        "kin.ik.analytic.planar.parallel_axes:ParallelAxes3",
-        "kin.ik.analytic.planar.yaw_planar:YawPlanar",
-        "kin.ik.analytic.planar.yaw_roll:YawPlanarRoll",
         "kin.ik.analytic.seven_r.seven_dof_steps:SevenDofSteps",
         "kin.ik.analytic.seven_r.seven_dof:SevenDofIK",
         "kin.ik.analytic.seven_r.shoulder7_batch:Shoulder7Batch",

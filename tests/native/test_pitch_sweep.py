@@ -147,4 +147,5 @@ def test_a_chain_with_a_slide_walks_in_python():
     from kin.ik.analytic.planar.parallel_axes import ParallelAxes
 
     structure = ParallelAxes(load_table(TOOLBOX / "cobra600.toml"))
-    assert structure.prismatic and structure.walk_data([0.0] * 3, [1.0] * 3) is None
+    chain = structure.chain
+    assert chain.prismatic and chain.walk_data([0.0] * 3, [1.0] * 3) is None

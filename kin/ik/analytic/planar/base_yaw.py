@@ -20,7 +20,8 @@ import numpy as np
 from dh2urdf import DHTable
 
 from ...exceptions import StructureError
-from ..per_target_batch import PerTargetBatch
+from ..closed_form_structure import BatchBranches
+from ..per_target_batch import branches_of_each, solve_each
 from .plane_chain import PARALLEL_TOL, joint_axes
 
 #: A 3-vector as an array or plain floats.
@@ -76,7 +77,7 @@ def apply_rows(rows: Sequence[Sequence[float]], v: Sequence[float]) -> Point:
     return (dot(rows[0], v), dot(rows[1], v), dot(rows[2], v))
 
 
-class BaseYaw(PerTargetBatch):
+class BaseYaw:
     """A base yaw normal to the parallel pitch axes that follow it (see the module).
 
     Attributes:
@@ -97,6 +98,18 @@ class BaseYaw(PerTargetBatch):
     )
     #: The candidates are the projection of a pose on what the arm reaches.
     projects: ClassVar[bool] = True
+
+    def solve(self, position: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        """Candidate joint vectors (B, 4) [rad] of one world target (the subclass's form)."""
+        raise NotImplementedError
+
+    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
+        """:meth:`solve` of N targets (N, 3) [m], rotations (N, 3, 3) or None: (N, B, dof)."""
+        return solve_each(self, positions, rotations)
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """:meth:`solve_batch`; no elbow side (all False)."""
+        return branches_of_each(self, positions, rotations)
 
     def _base_yaw(self, table: DHTable) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
         """Read the base yaw of a table of four revolute joints: its joint axes and tool.

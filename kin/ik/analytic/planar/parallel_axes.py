@@ -31,23 +31,23 @@ from dh2urdf import DHTable
 from ...exceptions import StructureError
 from ...targets.target import PoseTarget, PositionTarget, Target
 from ..branches import REACH_TOL, Branches
-from ..closed_form_structure import candidate_branches
-from ..per_target_batch import PerTargetBatch
+from ..closed_form_structure import BatchBranches, candidate_branches
+from ..per_target_batch import branches_of_each, solve_each
 from .free_angle import compiled_walk, free_angle_branches, free_label
 from .plane_chain import PlaneChain, joint_axes, solve_angles
 
 
-class ParallelAxes(PlaneChain, PerTargetBatch):
+class ParallelAxes:
     """The closed form of an arm with every joint axis parallel (see the module).
 
     Attributes:
+        chain: The arm's plane chain (its geometry and two-link solves).
         offsets: DH angle offsets ``theta`` [rad] of the table.
         lower, upper: Joint limits [rad] or [m].
         is_revolute: Per joint whether it is revolute.
-        tool_on_axis: Three revolute joints and the tool point on the last one's axis: a
-            position leaves that joint free.
     """
 
+    name: ClassVar[str] = PlaneChain.name
     dof: ClassVar[int] = 4
     target_kinds: ClassVar[tuple[type, ...]] = (PositionTarget, PoseTarget)
     branch_labels: tuple[str, ...] = ("elbow left", "elbow right")
@@ -60,7 +60,7 @@ class ParallelAxes(PlaneChain, PerTargetBatch):
     def __init__(self, table: DHTable):
         directions, points, tool = joint_axes(table)
         kinds: list[str] = [row.joint_type for row in table.rows]
-        super().__init__(table.name, directions, points, tool, kinds)
+        self.chain = PlaneChain(table.name, directions, points, tool, kinds)
         self.lower = np.array([row.lower for row in table.rows], dtype=float)
         self.upper = np.array([row.upper for row in table.rows], dtype=float)
         self.is_revolute = np.array([kind == "revolute" for kind in kinds])
@@ -83,9 +83,18 @@ class ParallelAxes(PlaneChain, PerTargetBatch):
         A position (``rotation`` None) on three revolute joints: :meth:`free_branches` from
         ``q = 0``.
         """
-        if rotation is None and len(self.links) == 3:
-            return self.free_branches(position, np.zeros(self.nq))[0]
-        return np.array(self.solve_chain(position, rotation), dtype=float)
+        chain = self.chain
+        if rotation is None and len(chain.links) == 3:
+            return self.free_branches(position, np.zeros(chain.nq))[0]
+        return np.array(chain.solve_chain(position, rotation), dtype=float)
+
+    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
+        """:meth:`solve` of N targets (N, 3) [m], rotations (N, 3, 3) or None: (N, B, dof)."""
+        return solve_each(self, positions, rotations)
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """:meth:`solve_batch`; no elbow side (all False)."""
+        return branches_of_each(self, positions, rotations)
 
     def free_branches(self, position: np.ndarray, seed: np.ndarray) -> tuple[np.ndarray, str]:
         """Both branches (2, dof) of a position, the free yaw stated (see the module).
@@ -97,23 +106,24 @@ class ParallelAxes(PlaneChain, PerTargetBatch):
         Returns:
             The branches ``q`` (NaN: none) and what the free angle is (``""``: none is free).
         """
-        last = self.revolute[-1]
+        chain = self.chain
+        last = chain.revolute[-1]
         point = (float(position[0]), float(position[1]), float(position[2]))
-        if not self.prismatic and abs(self._along(np.asarray(point)) - self.height) > REACH_TOL:
-            return np.full((2, self.nq), np.nan), ""  # off the plane the tool moves in
-        if len(self.links) == 2:
+        if not chain.prismatic and abs(chain.along(np.asarray(point)) - chain.height) > REACH_TOL:
+            return np.full((2, chain.nq), np.nan), ""  # off the plane the tool moves in
+        if len(chain.links) == 2:
             return self._free_last_of_two(point, seed)
-        if self.tool_on_axis:  # the last joint does not move the tool point: the seed's
-            q = np.array(self.solve_angle(point, 0.0), dtype=float)
+        if chain.tool_on_axis:  # the last joint does not move the tool point: the seed's
+            q = np.array(chain.solve_angle(point, 0.0), dtype=float)
             q[:, last] = np.where(np.isnan(q[:, last]), np.nan, seed[last])
             return q, f"joint {last + 1} free: the seed's value"
-        data = self.walk_data(self.lower.tolist(), self.upper.tolist()) if self.compiled else None
+        data = chain.walk_data(self.lower.tolist(), self.upper.tolist()) if self.compiled else None
         q, angle, swept = free_angle_branches(
-            lambda psis: solve_angles(self, np.asarray(point), psis),
-            self.last_angle(seed),
+            lambda psis: solve_angles(chain, np.asarray(point), psis),
+            chain.last_angle(seed),
             (self.lower, self.upper, self.is_revolute),
-            lambda psi: self.solve_angle(point, psi),
-            walk=None if data is None else compiled_walk(data, [self.in_plane(point)]),
+            lambda psi: chain.solve_angle(point, psi),
+            walk=None if data is None else compiled_walk(data, [chain.in_plane(point)]),
         )
         return q, free_label("yaw", angle, swept)
 
@@ -124,15 +134,16 @@ class ParallelAxes(PlaneChain, PerTargetBatch):
 
         The tool on the last axis: the first angle puts it on its circle, the last is the seed's.
         """
-        l1, l2 = self.links
+        chain = self.chain
+        l1, l2 = chain.links
         if not float(l2 @ l2) < 1e-24 < float(l1 @ l1):
-            return np.array(self.solve_chain(np.asarray(point), None), dtype=float), ""
-        last, first = self.revolute[-1], self.revolute[0]
-        q = np.full((2, self.nq), np.nan)
-        wx, wy = self.in_plane(point)
+            return np.array(chain.solve_chain(np.asarray(point), None), dtype=float), ""
+        last, first = chain.revolute[-1], chain.revolute[0]
+        q = np.full((2, chain.nq), np.nan)
+        wx, wy = chain.in_plane(point)
         if abs(math.hypot(wx, wy) - math.sqrt(float(l1 @ l1))) <= REACH_TOL:
             phi1 = math.atan2(wy, wx) - math.atan2(l1[1], l1[0])
-            q[0] = self.branch([phi1, phi1], point)
+            q[0] = chain.branch([phi1, phi1], point)
             q[0, last] = seed[last]
             q[0, first] = math.remainder(q[0, first], 2.0 * math.pi)
         return q, f"joint {last + 1} free: the seed's value"

@@ -12,8 +12,8 @@ turns about ``n`` only: ``R = Rot(n, phi_last) R0``.
 once when it is built) and solves it: the two elbow branches of a tool point with the last
 link's angle ``psi`` given (three revolute joints: the wrist point ``W = P - Rot(psi) L3``), one
 ``psi`` in plain floats (:meth:`~PlaneChain.solve_angle`, the single-target path) or many in
-NumPy (:func:`solve_angles`, the sweeps). The closed-form structure over it is
-:class:`~.parallel_axes.ParallelAxes`; the ``yaw_planar`` arms use it for their pitch chain.
+NumPy (:func:`solve_angles`, the sweeps). The closed-form structures hold one:
+:class:`~.parallel_axes.ParallelAxes` (the whole arm) and the ``yaw_planar`` arms (their pitch chain).
 """
 
 from __future__ import annotations
@@ -155,7 +155,7 @@ class PlaneChain:
     def _plane(self, point: np.ndarray) -> np.ndarray:
         return np.array([point @ self.e1, point @ self.e2])
 
-    def _along(self, point: np.ndarray) -> float:
+    def along(self, point: np.ndarray) -> float:
         """The point's height [m] along ``n`` from the first revolute axis's point."""
         return float((point - self.base_point) @ self.n)
 
@@ -336,7 +336,7 @@ def solve_angles(chain: PlaneChain, position: np.ndarray, psis: np.ndarray) -> n
         out[:, :, i] = np.remainder(angle + math.pi, 2.0 * math.pi) - math.pi
         previous = phi
     if chain.prismatic:
-        along = chain._along(np.asarray(position, dtype=float))
+        along = chain.along(np.asarray(position, dtype=float))
         out[:, :, chain.prismatic[0]] = chain.prismatic_sign * (along - chain.height)
     out[np.abs(cosine) > 1.0 + 1e-12] = np.nan
     return out

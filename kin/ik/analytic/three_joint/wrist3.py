@@ -29,8 +29,8 @@ from dh2urdf import DHTable
 from ...exceptions import StructureError
 from ...targets.target import PoseTarget, PositionTarget, Target
 from ..branches import REACH_TOL, Branches
-from ..closed_form_structure import candidate_branches
-from ..per_target_batch import PerTargetBatch
+from ..closed_form_structure import BatchBranches, candidate_branches
+from ..per_target_batch import branches_of_each, solve_each
 from ..planar.base_yaw import Point, apply_rows, dot, turn
 from ..planar.plane_chain import PARALLEL_TOL, joint_axes
 
@@ -82,7 +82,7 @@ def rotation_pair(u1: Point, u2: Point, p: Point, d: Point) -> list[tuple[float,
     return pairs
 
 
-class Wrist3(PerTargetBatch):
+class Wrist3:
     """Three revolute joints whose axes meet at one point (see the module).
 
     Attributes:
@@ -137,6 +137,14 @@ class Wrist3(PerTargetBatch):
             StructureError: What does not fit.
         """
         return cls(table)
+
+    def solve_batch(self, positions: np.ndarray, rotations: np.ndarray | None) -> np.ndarray:
+        """:meth:`solve` of N targets (N, 3) [m], rotations (N, 3, 3) or None: (N, B, dof)."""
+        return solve_each(self, positions, rotations)
+
+    def batch_branches(self, positions: np.ndarray, rotations: np.ndarray | None) -> BatchBranches:
+        """:meth:`solve_batch`; no elbow side (all False)."""
+        return branches_of_each(self, positions, rotations)
 
     def pose_rows(self, rotation: np.ndarray) -> list[tuple[float, ...]]:
         """The two branches ``q`` [rad] of a tool rotation ``R_world_tool`` (NaN rows: none)."""
