@@ -8,10 +8,10 @@ target?". Poses are compared in an embedding where 1 rad of rotation weighs abou
 
 Queries look up a uniform grid over the tool positions first: on a cell's first query the samples
 of its 3 x 3 x 3 neighbourhood and their lifted embeddings are gathered into one contiguous block
-and kept; each query then ranks them by one matrix-vector product (a few microseconds). Only when
-that neighbourhood holds fewer than ``k`` samples (the target is outside the sampled workspace,
-or at its thin edge) does the query rank every sample (one matrix-vector product, tens of
-microseconds; no KD-tree to import and build inside a solve's time budget). Building a table of
+and kept; each query then ranks them by one matrix-vector product (a few microseconds). A target
+outside the grid ranks the samples of the boxes that can hold its nearest (:mod:`.seed_cells`:
+a box bounds its samples' distances); one at the grid's thin edge ranks every sample.
+Building a table of
 20,000 samples takes about 30 ms; the samples and the grid are cached on disk per table
 (:mod:`.seed_cache`).
 """
@@ -30,6 +30,7 @@ from kin.batch_fk import batch_forward_kinematics
 
 from . import seed_cache
 from .sampling_box import sampling_limits
+from .seed_cells import SampleBoxes, grid_of, spans_dict
 
 logger = logging.getLogger(__name__)
 
@@ -62,6 +63,8 @@ class SeedTable:
     _grid_shape: tuple[int, int, int] = (0, 0, 0)
     _lifted: np.ndarray | None = None
     _owners: np.ndarray | None = None
+    #: The samples in boxes of grid cells (the search of a target outside the grid).
+    _boxes: SampleBoxes | None = None
     #: Per cell key: the samples of its 3 x 3 x 3 neighbourhood and their lifted embeddings as
     #: one contiguous block (gathered on the cell's first query).
     _blocks: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
@@ -89,6 +92,12 @@ class SeedTable:
         found = self._nearest_in_grid(position, rotation, k)
         if found is not None:
             return found
+        if self._boxes is not None and self._owners is not None and self._lifted is not None:
+            far = self._boxes.far_candidates(
+                self._owners, self._lifted, self._query(position, rotation), position, k
+            )
+            if far is not None:  # the cells that can hold the k nearest (a far target)
+                return far[0][nearest_first(far[1], k)]
         # Outside the grid (or at its thin edge): every sample, one matrix-vector product.
         if self._lifted is None:
             points = np.hstack((self.positions, self.rotation_weight * self.rotations))
@@ -239,53 +248,6 @@ def nearest_first(distances: np.ndarray, k: int) -> np.ndarray:
 _OFFSETS = tuple((dx - 1, dy - 1, dz - 1) for dx, dy, dz in np.ndindex(3, 3, 3))
 
 
-def _spans_dict(
-    keys: np.ndarray, begins: np.ndarray, ends: np.ndarray
-) -> dict[int, tuple[int, int]]:
-    """``{key: (begin, end)}``, built in slices of 1024.
-
-    A table built in a background thread must not hold the interpreter lock for milliseconds in
-    one C call: a solve with a budget of a few milliseconds waits on it.
-    """
-    spans: dict[int, tuple[int, int]] = {}
-    for i in range(0, len(keys), 1024):
-        part = slice(i, i + 1024)
-        spans.update(
-            zip(
-                keys[part].tolist(),
-                zip(begins[part].tolist(), ends[part].tolist(), strict=True),
-                strict=True,
-            )
-        )
-    return spans
-
-
-def _grid(
-    positions: np.ndarray, cell_size: float
-) -> tuple[dict[int, tuple[int, int]], np.ndarray, np.ndarray, tuple[int, int, int]]:
-    """A uniform grid over the tool positions: each cell's own samples.
-
-    A query gathers the 27 cells around the target's on its first visit (``_neighbourhood``).
-    The grid has one empty layer of cells around the samples, so that a cell's neighbours are
-    never outside it.
-
-    Returns:
-        ``(spans, owners, origin, shape)``: cell key -> ``(begin, end)`` into ``owners``, the
-        sample indices sorted by cell.
-    """
-    origin = positions.min(axis=0) - cell_size
-    cell = np.floor((positions - origin) / cell_size).astype(np.int64)
-    shape = tuple(int(v) for v in cell.max(axis=0) + 2)
-    nx, ny, nz = shape
-    key = (cell[:, 0] * ny + cell[:, 1]) * nz + cell[:, 2]
-    owner = np.argsort(key, kind="stable")
-    key = key[owner]
-    starts = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
-    ends = np.append(starts[1:], len(key))
-    spans = _spans_dict(key[starts], starts, ends)
-    return spans, owner, origin, (nx, ny, nz)
-
-
 def build_seed_table(
     robot: RobotModel,
     size: int = 20000,
@@ -333,7 +295,7 @@ def _sample(robot: RobotModel, size: int, seed: int, cell_size: float) -> dict[s
     poses = batch_forward_kinematics(robot.table, q)
     positions = np.ascontiguousarray(poses[:, :3, 3])
     rotations = np.ascontiguousarray(poses[:, :3, :3]).reshape(size, 9)
-    cells, owners, origin, shape = _grid(positions, cell_size)
+    cells, owners, origin, shape = grid_of(positions, cell_size)
     return {
         "q": q,
         "positions": positions,
@@ -351,7 +313,7 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
     q, positions, rotations = arrays["q"], arrays["positions"], arrays["rotations"]
     owners = arrays["owners"]
     spans_array = arrays["spans"]
-    cells = _spans_dict(arrays["keys"], spans_array[:, 0], spans_array[:, 1])
+    cells = spans_dict(arrays["keys"], spans_array[:, 0], spans_array[:, 1])
     size = len(q)
     # The lifted embedding of every sample (see ``SeedTable.ranked``); a cell's rows are gathered
     # into a contiguous block on its first query.
@@ -375,6 +337,7 @@ def _assemble(arrays: dict[str, np.ndarray], rotation_weight: float, cell_size: 
         (nx, ny, nz),
         lifted,
         owners,
+        SampleBoxes.of(positions, owners, arrays["origin"], cell_size),
     )
 
 
