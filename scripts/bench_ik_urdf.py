@@ -100,8 +100,11 @@ def erd(relative: str) -> Path:
 class Judge:
     """Pinocchio's FK of the original URDF between base and tip, and its limits."""
 
-    def __init__(self, urdf: Path, base: str, tip: str, joints: tuple[str, ...]):
-        self.model = pin.buildModelFromUrdf(str(urdf))
+    def __init__(
+        self, urdf: Path, base: str, tip: str, joints: tuple[str, ...], mimic: bool = False
+    ):
+        # mimic: Pinocchio's own mimic joints (``joints`` then the independent ones)
+        self.model = pin.buildModelFromUrdf(str(urdf), mimic=mimic)
         self.data = self.model.createData()
         self.base = self.model.getFrameId(base, pin.FrameType.BODY)
         self.tip = self.model.getFrameId(tip, pin.FrameType.BODY)
