@@ -124,10 +124,17 @@ def descend(
     model = chain.robot.model
     data = model.createData()
     tool = model.getFrameId(chain.robot.tool_frame)
-    coupling, expand = chain.coupling, chain.expand
+    coupling = chain.coupling
     frame = pin.LOCAL if oriented else pin.LOCAL_WORLD_ALIGNED
     rows = 6 if oriented else 3
     nq = coupling.shape[1]
+    # The coupling is affine: every joint's value is ``coupling @ q`` plus the mimic offsets,
+    # the same numbers ``chain.expand`` gives (one product per step instead of a column loop).
+    shift = chain.expand(np.zeros(nq))
+    regular = 1e-9 * np.eye(nq)
+
+    def expand(q: np.ndarray) -> np.ndarray:
+        return coupling @ q + shift
 
     def residual(q: np.ndarray) -> np.ndarray:
         pin.framesForwardKinematics(model, data, expand(q))
@@ -147,7 +154,7 @@ def descend(
         jacobian = pin.computeFrameJacobian(model, data, full, tool, frame)[:rows] @ coupling
         normal = jacobian.T @ jacobian
         step = np.linalg.solve(
-            normal + damping * (np.diag(np.diag(normal)) + 1e-9 * np.eye(nq)),
+            normal + damping * (np.diag(np.diag(normal)) + regular),
             jacobian.T @ error,
         )
         largest = float(np.abs(step).max())

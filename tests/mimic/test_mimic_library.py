@@ -102,3 +102,16 @@ def test_load_arm_loads_every_other_robot_as_load_robot(arm_file):
     assert kin.load_arm("ur5") is load_robot("ur5")  # the registry's cached model
     with pytest.raises(ModelLoadError, match=r"kin\.load_arm in Python"):
         load_robot(path)
+
+
+@pytest.mark.parametrize("multiplier", [0.5, -1.3, 2.0])
+def test_the_coupling_is_the_expansion_bit_for_bit(tmp_path, multiplier):
+    """``coupling @ q + expand(0)`` (the descent's affine shortcut) equals ``chain.expand(q)``
+    exactly, joint for joint, over random vectors inside and beyond the limits."""
+    path = tmp_path / "mimic6r.urdf"
+    path.write_text(_urdf(multiplier), encoding="utf-8")
+    arm = kin.load_arm(path)
+    rng = np.random.default_rng(7)
+    shift = arm.chain.expand(np.zeros(arm.nq))
+    for q in rng.uniform(-10.0, 10.0, size=(200, arm.nq)):
+        np.testing.assert_array_equal(arm.coupling @ q + shift, arm.chain.expand(q))
