@@ -22,6 +22,7 @@ forms read one variable per table row, refuse it in one line.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -205,6 +206,7 @@ class MimicArm:
         max_iter: int = 200,
         rng_seed: int = 0,
         timeout: float | None = None,
+        near: Callable[[], npt.ArrayLike] | None = None,
     ) -> MimicSearch:
         """Damped least squares on the coupled Jacobian, from the seed then random starts.
 
@@ -220,6 +222,9 @@ class MimicArm:
             max_iter: Damped least-squares steps per start.
             rng_seed: Seed of the random starts.
             timeout: No new start after this time [s] (the first one always runs); None: all.
+            near: Gives the starts to try after the seed, before random ones, within
+                ``restarts`` (:func:`kin.mimic.starts.sample_table`'s samples nearest the
+                target); called only when the seed's descent fails. None: random ones only.
 
         Returns:
             The first answer judged on target inside every joint's limits (Pinocchio's mimic
@@ -239,7 +244,8 @@ class MimicArm:
         chain = CoupledChain(
             self.robot, self.chain.expand, self.coupling, self.lower, self.upper, self._judged
         )
-        return search(chain, goal, oriented, first, restarts, max_iter, rng_seed, timeout)
+        ahead = None if near is None else lambda: np.asarray(near(), dtype=float)
+        return search(chain, goal, oriented, first, restarts, max_iter, rng_seed, timeout, ahead)
 
     def _judged(self, q: np.ndarray, goal: pin.SE3, oriented: bool) -> IKSolution:
         """``q`` measured by the URDF's mimic model: errors to ``goal`` and every joint's limits.

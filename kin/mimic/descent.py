@@ -74,8 +74,9 @@ def search(
     max_iter: int,
     rng_seed: int,
     timeout: float | None,
+    near: Callable[[], np.ndarray] | None = None,
 ) -> MimicSearch:
-    """:func:`descend` from ``first``, then from random starts, until one is judged on target.
+    """:func:`descend` from ``first``, then from ``near`` and random starts, until one is on target.
 
     Args:
         chain: The chain.
@@ -86,7 +87,11 @@ def search(
         max_iter: Damped least-squares steps per start.
         rng_seed: Seed of the random starts.
         timeout: No new start after this time [s] (the first one always runs); None: all.
+        near: Gives the starts (k, n) to try after ``first``, before random ones, within the
+            ``restarts`` (samples whose poses are near the goal: :mod:`.starts`); called when
+            ``first`` fails. None: random ones only.
     """
+    ahead = np.zeros((0, len(first)))
     started = time.perf_counter()
     rng = np.random.default_rng(rng_seed)
     best, best_residual, iterations, starts = first, math.inf, 0, 0
@@ -94,7 +99,14 @@ def search(
         if start and timeout is not None and time.perf_counter() - started > timeout:
             break
         starts += 1
-        q = first if start == 0 else rng.uniform(chain.lower, chain.upper)
+        if start == 1 and near is not None:
+            ahead = np.asarray(near(), dtype=float).reshape(-1, len(first))
+        if start == 0:
+            q = first
+        elif start <= len(ahead):
+            q = np.clip(ahead[start - 1], chain.lower, chain.upper)
+        else:
+            q = rng.uniform(chain.lower, chain.upper)
         q, steps = descend(chain, q, goal, oriented, max_iter)
         iterations += steps
         answer = chain.judge(q, goal, oriented)

@@ -10,8 +10,9 @@ A search that ends without an answer proves nothing about the target: its status
 ``"not_found"`` (``"timeout"`` when the time cap stopped it first), never ``"out_of_reach"``,
 with the best attempt as the rejected solution.
 
-Work, not time, decides the answer: the seed, then :data:`RESTARTS` random starts (seeded), each of
-at most :data:`MAX_ITERATIONS` steps. The timeout (:data:`DEFAULT_TIMEOUT`) is only a cap, checked
+Work, not time, decides the answer: the seed, then :data:`RESTARTS` starts, the first
+:data:`NEAR_STARTS` of them sampled poses nearest the target (:mod:`.starts`), the rest random
+(seeded), each of at most :data:`MAX_ITERATIONS` steps. The timeout (:data:`DEFAULT_TIMEOUT`) is only a cap, checked
 before each start after the seed's: a call that reaches it says ``"timeout"``, else its answer is
 the one an idle machine gives.
 """
@@ -27,8 +28,10 @@ import numpy.typing as npt
 from ..ik.exceptions import TargetError
 from ..ik.result import IKResult
 from ..ik.targets.target import PoseTarget, PositionTarget
+from .starts import sample_table
 
 if TYPE_CHECKING:
+    from ..ik.numeric.seed_table import SeedTable
     from ..ik.targets.target import Target
     from .arm import MimicArm
 
@@ -39,6 +42,10 @@ PIPELINE = "mimic_dls"
 
 #: Random starts after the seed: the work of one search (about 0.15 s when nothing is found).
 RESTARTS = 40
+
+#: Starts from the samples whose poses are nearest the target (:mod:`.starts`), after the
+#: seed and before the random ones (within :data:`RESTARTS`).
+NEAR_STARTS = 8
 
 #: Damped least-squares steps per start at most (a start also stops when stuck).
 MAX_ITERATIONS = 200
@@ -64,6 +71,7 @@ class MimicSolver:
         self.robot = arm  # what it solves, under the solver interface's name
         self.restarts = restarts
         self.max_iter = max_iter
+        self._table: SeedTable | None = None  # the samples of the starts, made on first solve
 
     def batch_route(self) -> None:
         """None: a batch solves target by target (:class:`kin.ik.solver.IKSolver`)."""
@@ -108,17 +116,32 @@ class MimicSolver:
                 "--quat, no --mask) or a position"
             )
         rotation = None if isinstance(target, PositionTarget) else np.asarray(target.rotation)
+        position = np.asarray(target.position)
+
+        def near() -> np.ndarray:
+            table = self._table
+            if table is None:  # two threads may both build it: the same samples (seeded)
+                table = self._table = sample_table(self.arm)
+            return table.nearest_rows(position, rotation, NEAR_STARTS)
+
         found = self.arm.search(
-            np.asarray(target.position),
+            position,
             rotation,
             np.zeros(self.arm.nq) if seed is None else seed,
             restarts=self.restarts,
             max_iter=self.max_iter,
             timeout=cap,
+            near=near,
         )
         elapsed = time.perf_counter() - started
         if found.answer is not None:
-            method = "damped_least_squares" if found.starts == 1 else "random_restart"
+            method = (
+                "damped_least_squares"
+                if found.starts == 1
+                else "seed_table"
+                if found.starts <= 1 + NEAR_STARTS
+                else "random_restart"
+            )
             return IKResult(
                 True,
                 PIPELINE,

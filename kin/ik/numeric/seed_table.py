@@ -292,7 +292,28 @@ def _sample(robot: RobotModel, size: int, seed: int, cell_size: float) -> dict[s
     lower, upper = sampling_limits(robot.table, model.lowerPositionLimit, model.upperPositionLimit)
     q = rng.uniform(lower, upper, size=(size, model.nq))
     # The table's DH product in NumPy, all samples at once (the tests hold it to Pinocchio's FK).
-    poses = batch_forward_kinematics(robot.table, q)
+    return _arrays(q, batch_forward_kinematics(robot.table, q), cell_size)
+
+
+def table_of_poses(
+    q: np.ndarray,
+    poses: np.ndarray,
+    rotation_weight: float = DEFAULT_ROTATION_WEIGHT,
+    cell_size: float = DEFAULT_CELL_SIZE,
+) -> SeedTable:
+    """The table of given samples: joint vectors ``q`` (N, n) and their tool poses (N, 4, 4).
+
+    For a chain whose samples another FK gives (a chain with mimic joints:
+    :mod:`kin.mimic.starts`); not cached on disk.
+    """
+    return _assemble(
+        _arrays(np.asarray(q, dtype=float), poses, cell_size), rotation_weight, cell_size
+    )
+
+
+def _arrays(q: np.ndarray, poses: np.ndarray, cell_size: float) -> dict[str, np.ndarray]:
+    """The arrays of :data:`CACHED_ARRAYS` of samples ``q`` and their poses (N, 4, 4)."""
+    size = len(q)
     positions = np.ascontiguousarray(poses[:, :3, 3])
     rotations = np.ascontiguousarray(poses[:, :3, :3]).reshape(size, 9)
     cells, owners, origin, shape = grid_of(positions, cell_size)
