@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,9 +24,11 @@ from ..ik.result import IKResult
 from ..ik.solver import IKSolver
 from ..ik.solver_table import CHOICES, FrontEnd, bind_timeout, front_end_solver
 from ..ik.targets.target import Target
-from ..mimic.arm import MimicArm
-from ..mimic.solver import MimicSolver
 from ..robot_model import RobotModel
+
+if TYPE_CHECKING:
+    from ..mimic.arm import MimicArm
+    from ..mimic.solver import MimicSolver
 
 __all__ = [
     "COMMAND",
@@ -133,7 +135,7 @@ def command_solver(
         kin.ik.IKError: ``forced`` is not a choice of the command (the message lists them).
     """
     solver: IKSolver
-    if isinstance(robot, MimicArm):
+    if not isinstance(robot, RobotModel):  # a chain with mimic joints
         solver = _mimic_solver(robot, forced, collision_files)
     else:  # every answer judged: the counts of free and rejected ones do not depend on --all
         solver = front_end_solver(robot, COMMAND, forced, collisions=collisions, every=True)
@@ -160,4 +162,6 @@ def _mimic_solver(arm: MimicArm, forced: str | None, collisions: str | None) -> 
             f"--solver {forced}: '{arm.name}' is a chain with mimic joints, solved by damped "
             "least squares over its independent joints; drop --solver"
         )
+    from ..mimic.solver import MimicSolver  # only a mimic chain needs it
+
     return MimicSolver(arm)

@@ -20,7 +20,7 @@ from dh2urdf.quoted_input import quoted
 
 from ..cli import finite_float
 from ..ik.exceptions import TargetError
-from ..ik.targets.given import target_from_values
+from ..ik.targets.given import ZERO_QUATERNION, target_from_values
 from ..ik.targets.target import AxisTarget, PitchTarget, PoseTarget, PositionTarget, Target
 from .joint_units import beyond_a_turn
 
@@ -201,7 +201,7 @@ def _checked_values(
         values["axis"] = _finite(axis, 3, "--axis")
     if quat is not None:
         w, x, y, z = values["quaternion"] = _finite(quat, 4, "--quat")
-        if math.sqrt(w * w + x * x + y * y + z * z) < 1e-9:
+        if math.sqrt(w * w + x * x + y * y + z * z) < ZERO_QUATERNION:
             raise TargetError(f"--quat must not be zero, got {[w, x, y, z]}")
     for option, given, size in (("--rpy", rpy, 3), ("--pitch", pitch, 1)):
         if given is not None:

@@ -208,7 +208,7 @@ class MimicArm:
         timeout: float | None = None,
         near: Callable[[], npt.ArrayLike] | None = None,
     ) -> MimicSearch:
-        """Damped least squares on the coupled Jacobian, from the seed then random starts.
+        """Damped least squares on the coupled Jacobian, from the seed, then near and random starts.
 
         The stages are :mod:`kin.mimic.descent`'s (:func:`~kin.mimic.descent.search`).
 
@@ -244,8 +244,7 @@ class MimicArm:
         chain = CoupledChain(
             self.robot, self.chain.expand, self.coupling, self.lower, self.upper, self._judged
         )
-        ahead = None if near is None else lambda: np.asarray(near(), dtype=float)
-        return search(chain, goal, oriented, first, restarts, max_iter, rng_seed, timeout, ahead)
+        return search(chain, goal, oriented, first, restarts, max_iter, rng_seed, timeout, near)
 
     def _judged(self, q: np.ndarray, goal: pin.SE3, oriented: bool) -> IKSolution:
         """``q`` measured by the URDF's mimic model: errors to ``goal`` and every joint's limits.

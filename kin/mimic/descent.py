@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 import pinocchio as pin
 
 from ..ik.judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
@@ -74,7 +75,7 @@ def search(
     max_iter: int,
     rng_seed: int,
     timeout: float | None,
-    near: Callable[[], np.ndarray] | None = None,
+    near: Callable[[], npt.ArrayLike] | None = None,
 ) -> MimicSearch:
     """:func:`descend` from ``first``, then from ``near`` and random starts, until one is on target.
 

@@ -12,9 +12,9 @@ with the best attempt as the rejected solution.
 
 Work, not time, decides the answer: the seed, then :data:`RESTARTS` starts, the first
 :data:`NEAR_STARTS` of them sampled poses nearest the target (:mod:`.starts`), the rest random
-(seeded), each of at most :data:`MAX_ITERATIONS` steps. The timeout (:data:`DEFAULT_TIMEOUT`) is only a cap, checked
-before each start after the seed's: a call that reaches it says ``"timeout"``, else its answer is
-the one an idle machine gives.
+(seeded), each of at most :data:`MAX_ITERATIONS` steps. The timeout (:data:`DEFAULT_TIMEOUT`) is
+only a cap, checked before each start after the seed's: a call that reaches it says
+``"timeout"``, else its answer is the one an idle machine gives.
 """
 
 from __future__ import annotations
@@ -40,7 +40,8 @@ __all__ = ["MimicSolver"]
 #: The pipeline name in results.
 PIPELINE = "mimic_dls"
 
-#: Random starts after the seed: the work of one search (about 0.15 s when nothing is found).
+#: Starts after the seed (near ones, then random): the work of one search (about 0.15 s when
+#: nothing is found).
 RESTARTS = 40
 
 #: Starts from the samples whose poses are nearest the target (:mod:`.starts`), after the

@@ -33,6 +33,4 @@ def sample_table(arm: MimicArm, size: int = SAMPLES, seed: int = 0) -> SeedTable
     """``size`` samples of ``arm``'s independent joints inside the limits, with their tool poses."""
     rng = np.random.default_rng([seed, _STREAM])
     q = rng.uniform(arm.lower, arm.upper, size=(size, arm.nq))
-    shift = arm.chain.expand(np.zeros(arm.nq))
-    every = q @ arm.coupling.T + shift  # each joint's value (the coupling is affine)
-    return table_of_poses(q, batch_forward_kinematics(arm.table, every))
+    return table_of_poses(q, batch_forward_kinematics(arm.table, arm.chain.expand(q)))

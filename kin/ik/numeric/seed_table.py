@@ -10,10 +10,9 @@ Queries look up a uniform grid over the tool positions first: on a cell's first 
 of its 3 x 3 x 3 neighbourhood and their lifted embeddings are gathered into one contiguous block
 and kept; each query then ranks them by one matrix-vector product (a few microseconds). A target
 outside the grid ranks the samples of the boxes that can hold its nearest (:mod:`.seed_cells`:
-a box bounds its samples' distances); one at the grid's thin edge ranks every sample.
-Building a table of
-20,000 samples takes about 30 ms; the samples and the grid are cached on disk per table
-(:mod:`.seed_cache`).
+a box bounds its samples' distances); so does one asking for more samples than its
+neighbourhood holds. Building a table of 20,000 samples takes about 30 ms; the samples and the
+grid are cached on disk per table (:mod:`.seed_cache`).
 """
 
 from __future__ import annotations
@@ -96,9 +95,9 @@ class SeedTable:
             far = self._boxes.far_candidates(
                 self._owners, self._lifted, self._query(position, rotation), position, k
             )
-            if far is not None:  # the cells that can hold the k nearest (a far target)
+            if far is not None:  # the boxes that can hold the k nearest
                 return far[0][nearest_first(far[1], k)]
-        # Outside the grid (or at its thin edge): every sample, one matrix-vector product.
+        # No boxes (a table built by hand) or a position too large to bound: every sample.
         if self._lifted is None:
             points = np.hstack((self.positions, self.rotation_weight * self.rotations))
             if rotation is None:

@@ -10,6 +10,7 @@ first (:func:`kin.commands.targets.build_target`) and then builds the target her
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 from dh2urdf.units import angle_to_radians
@@ -21,7 +22,10 @@ from .pitch import PitchTarget
 from .target import PoseTarget, PositionTarget, Target
 from .values import checked_angle, checked_floats
 
-__all__ = ["target_from_values"]
+__all__ = ["ZERO_QUATERNION", "target_from_values"]
+
+#: A quaternion whose norm is below this is refused as zero (it names no rotation).
+ZERO_QUATERNION = 1e-9
 
 
 def target_from_values(
@@ -79,7 +83,7 @@ def target_from_values(
         return AxisTarget(p, axis, tool_axis)
     if quaternion is not None:
         w, x, y, z = checked_floats(quaternion, 4, "quaternion")[1]
-        if (w * w + x * x + y * y + z * z) ** 0.5 < 1e-9:
+        if math.sqrt(w * w + x * x + y * y + z * z) < ZERO_QUATERNION:
             raise TargetError(f"quaternion must not be zero, got {[w, x, y, z]}")
         return PoseTarget(p, angles.quaternion_matrix(w, x, y, z), mask)
     if rpy is not None:
