@@ -162,7 +162,7 @@ def _median(values: list[float]) -> float:
 def print_tables(records: list[dict], planners, note: dict) -> None:
     """One table per arm and scene: solved, plan times, length, certified share."""
     header = (
-        f"{'planner':<14} {'solved':>7} {'median [s]':>10} {'p95 [s]':>8} {'length [rad]':>12} "
+        f"{'planner':<14} {'solved':>7} {'median [ms]':>11} {'p95 [ms]':>9} {'length [rad]':>12} "
         f"{'/straight':>9} {'certified':>9} {'closest [mm]':>12}"
     )
     for arm in BENCH_ARMS:
@@ -187,8 +187,8 @@ def print_tables(records: list[dict], planners, note: dict) -> None:
                 share = _share(good, len(paths))
                 closest = min((r["closest"] for r in paths), default=float("nan")) * 1e3
                 print(
-                    f"{planner:<14} {len(solved) / len(mine):>7.0%} {_median(times):>10.3f} "
-                    f"{_p95(times):>8.3f} {_median([r['length'] for r in paths]):>12.3f} "
+                    f"{planner:<14} {len(solved) / len(mine):>7.0%} {1e3 * _median(times):>11.1f} "
+                    f"{1e3 * _p95(times):>9.1f} {_median([r['length'] for r in paths]):>12.3f} "
                     f"{_median([r['ratio'] for r in paths]):>9.2f} {share:>9} {closest:>12.3f}"
                 )
             setups = [r["setup"] for r in rows if "setup" in r]

@@ -42,6 +42,7 @@ earlier half first).
 from __future__ import annotations
 
 import dataclasses
+from collections import deque
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -288,6 +289,7 @@ class MotionCheck:
         d1: np.ndarray,
         segment: int = 0,
         max_checks: int = 100_000,
+        first: bool = True,
     ) -> PathCollision | None:
         """The first colliding place on the straight motion q0 -> q1 (free ends), or None.
 
@@ -298,11 +300,15 @@ class MotionCheck:
             d1: :meth:`distances` at ``q1`` [m].
             segment: The segment index the answer names.
             max_checks: Most checks in all (:attr:`checks` included): the rest is not shown free.
+            first: True: the first colliding place along the motion. False: any (a planner's
+                question, free or not): the halves are judged coarsest first, and a colliding
+                midpoint is named without searching the half before it (the same verdict, less
+                work on a motion that collides).
         """
         if self.helper is None:
             return None
         found, used = _segment(
-            self.helper, q0, q1, d0, d1, self.tolerance, max_checks - self.checks
+            self.helper, q0, q1, d0, d1, self.tolerance, max_checks - self.checks, first
         )
         self.checks += used
         if found is None:
@@ -327,14 +333,20 @@ def _segment(
     d1: np.ndarray,
     tolerance: float,
     budget: int,
+    first: bool = True,
 ) -> tuple[tuple[float, np.ndarray, int, bool] | None, int]:
-    """First colliding place on q0 -> q1 (fraction, q, pair index, proven), checks used."""
+    """First colliding place on q0 -> q1 (fraction, q, pair index, proven), checks used.
+
+    ``first`` False: any colliding place (breadth-first: the coarsest midpoints first).
+    """
     checks = 0
     measured = helper.measured
-    # depth-first, earliest half first: the first place found is the first along the segment
-    stack = [(0.0, 1.0, q0, q1, d0, d1, np.arange(len(helper.pairs)))]
+    # first: depth-first, earliest half first, so the first place found is the first along the
+    # segment; else breadth-first, so a motion that collides over a stretch is caught early
+    stack = deque([(0.0, 1.0, q0, q1, d0, d1, np.arange(len(helper.pairs)))])
+    take = stack.pop if first else stack.popleft
     while stack:
-        t0, t1, qa, qb, da, db, open_pairs = stack.pop()
+        t0, t1, qa, qb, da, db, open_pairs = take()
         closing = helper.pair_motion(qa, qb)
         bound = closing[open_pairs]
         # apart beyond the contact tolerance all along: (da - tol) + (db - tol) > bound
@@ -359,6 +371,8 @@ def _segment(
         dm = measured.of(qm, open_pairs, below)
         if measured.in_collision(qm, dm):  # the checker's verdict, whatever the distances
             index = int(open_pairs[np.argmin(dm[open_pairs])])
+            if not first:
+                return (tm, qm, index, True), checks
             # the earlier half may hold an earlier contact: look there first
             found, used = _segment(helper, qa, qm, da, dm, tolerance, budget - checks)
             checks += used
@@ -366,6 +380,6 @@ def _segment(
                 t, q_at, i, proven = found
                 return (t0 + t * (tm - t0), q_at, i, proven), checks
             return (tm, qm, index, True), checks
-        stack.append((tm, t1, qm, qb, dm, db, open_pairs))
-        stack.append((t0, tm, qa, qm, da, dm, open_pairs))
+        halves = [(tm, t1, qm, qb, dm, db, open_pairs), (t0, tm, qa, qm, da, dm, open_pairs)]
+        stack.extend(halves if first else halves[::-1])
     return None, checks

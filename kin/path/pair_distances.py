@@ -135,6 +135,25 @@ class PairDistances:
         self.exact_pairs += len(todo)
         return True
 
+    def smallest(self, q: np.ndarray, below: np.ndarray) -> float:
+        """The smallest distance of any pair at ``q`` [m], padding taken off: coal's, exactly.
+
+        The pairs are asked in the order of ``below`` (lower bounds of their distances at ``q``
+        [m], e.g. :meth:`kin.collision.sphere_bound.SphereBound.lower_bounds`), until the next
+        bound is above the smallest distance found by more than the contact tolerance (coal's
+        error is below half of it): the pairs left cannot be closer, and the value is the one
+        :meth:`kin.collision.CollisionChecker.distance` gives at ``q``.
+        """
+        self._place(q, q.tobytes())
+        best = np.inf
+        for k in np.argsort(below, kind="stable").tolist():
+            if below[k] > best + CONTACT_TOLERANCE:
+                break
+            found = pin.computeDistance(self._geometry, self._geometry_data, k)
+            best = min(best, found.min_distance - self._padding)
+            self.exact_pairs += 1
+        return float(best)
+
     def in_collision(self, q: np.ndarray, below: np.ndarray | None = None) -> bool:
         """The checker's verdict at ``q``; with ``fast``, coal asked only where the bounds fail.
 

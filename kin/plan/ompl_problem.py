@@ -45,6 +45,7 @@ __all__ = [
     "RESOLUTION",
     "Budget",
     "CertifiedSpace",
+    "ShownMotions",
     "exact_rule",
     "joint_bounds",
     "prepare",
@@ -143,6 +144,33 @@ def joint_bounds(
     return np.minimum(lower, points.min(axis=0)), np.maximum(upper, points.max(axis=0))
 
 
+class ShownMotions:
+    """The straight motions a plan's rules have shown free, known by their two ends.
+
+    A motion is the same set of joint vectors either way round, so ``q0 -> q1`` and ``q1 -> q0``
+    are one entry; the ends are compared bit for bit (float64). At most :data:`_CACHE` are kept
+    (then all are forgotten at once: a motion not found is checked again, never assumed).
+    """
+
+    def __init__(self) -> None:
+        self._keys: set[bytes] = set()
+
+    @staticmethod
+    def _key(q0: np.ndarray, q1: np.ndarray) -> bytes:
+        a, b = q0.tobytes(), q1.tobytes()
+        return a + b if a <= b else b + a
+
+    def add(self, q0: np.ndarray, q1: np.ndarray) -> None:
+        """Remember that the straight motion q0 -> q1 was shown free (float64 vectors)."""
+        if len(self._keys) >= _CACHE:
+            self._keys.clear()
+        self._keys.add(self._key(q0, q1))
+
+    def holds(self, q0: np.ndarray, q1: np.ndarray) -> bool:
+        """Whether the straight motion q0 -> q1 (either way round) was shown free."""
+        return self._key(q0, q1) in self._keys
+
+
 class CertifiedSpace:
     """The OMPL space information of a robot's joint space with the certified checks.
 
@@ -157,6 +185,8 @@ class CertifiedSpace:
             model, once).
         exact: False: the spheres alone judge (:mod:`kin.plan.sphere_motion`), and a state or
             motion they do not show free is refused: no coal, a conservative search.
+        shown: Where the motions shown free are remembered (shared by the spaces of one plan, so
+            that its final check knows them); None: a memory of its own.
 
     Attributes:
         space: The ``RealVectorStateSpace``.
@@ -171,9 +201,11 @@ class CertifiedSpace:
         budget: Budget,
         fast: bool = True,
         exact: bool = True,
+        shown: ShownMotions | None = None,
     ):
         ob, _, _ = silence_ompl()
         self.checker = checker
+        self.shown = ShownMotions() if shown is None else shown
         self.budget = budget
         self.nq = len(lower)
         self._motion: MotionCheck | None = None  # the exact rule, made when first needed
@@ -251,17 +283,28 @@ class CertifiedSpace:
             left = max(self.budget.max_checks - self.budget.checks, 1)
             shown, used = self.spheres.motion_free(q0, q1, RESOLUTION, left)
             self.budget.checks += used
+            if shown:
+                self.shown.add(q0, q1)
             if shown or not self.exact:
                 return shown
         motion = self._checks()
+        # a motion the spheres could not show free often collides across its middle: the
+        # checker's verdict there (one check, stops at the first contact) refuses it before the
+        # rule measures its ends' distances
+        self.budget.checks += 1
+        if motion.in_collision(0.5 * (q0 + q1)):
+            return False
         before = motion.checks
         remaining = max(self.budget.max_checks - self.budget.checks, 1)
         if most is not None:
             remaining = min(remaining, most)
         found = motion.between(
-            q0, q1, self.distances(q0), self.distances(q1), max_checks=before + remaining
-        )
+            q0, q1, self.distances(q0), self.distances(q1), max_checks=before + remaining,
+            first=False,
+        )  # fmt: skip
         self.budget.checks += motion.checks - before
+        if found is None:
+            self.shown.add(q0, q1)
         return found is None
 
     def _valid(self, state: Any) -> bool:

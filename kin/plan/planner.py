@@ -37,6 +37,7 @@ from .result import PlanResult
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
+    from ..path.collision_check import MotionCheck
 
 __all__ = ["DEFAULT_CHECKS", "DEFAULT_PLANNER", "PLANNERS", "PlanError", "plan"]
 
@@ -224,7 +225,7 @@ def _search(
         kept = [i for i, q in enumerate(near) if q is not None]
         targets = [q for q in near if q is not None]
         if start is not None and kept:
-            space = CertifiedSpace(checker, lower, upper, budget, exact=False)
+            space = CertifiedSpace(checker, lower, upper, budget, exact=False, shown=exact.shown)
             found = _ompl(space, start, targets, planner, seed, simplify, ob, og, ou)
             budget.reraise()
             if found is not None:
@@ -345,6 +346,25 @@ def _sine(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.sqrt(max((a @ a) * (b @ b) - (a @ b) ** 2, 0.0)))
 
 
+def _clearance(
+    checker: CollisionChecker, path: np.ndarray, space: CertifiedSpace, exact: MotionCheck
+) -> float | None:
+    """The smallest distance of any checked pair at the path's joint vectors [m] (None: no pair).
+
+    Coal's distances (:meth:`kin.collision.CollisionChecker.distance`'s values), asked in the
+    order of the spheres' lower bounds where the plan has spheres, so that the pairs far apart
+    are not measured (:meth:`kin.path.pair_distances.PairDistances.smallest`).
+    """
+    if not checker.model.pairs:
+        return None
+    if space.spheres is None or exact.helper is None:
+        return min(checker.distance(q).distance for q in path)
+    from ..collision.sphere_bound import sphere_bound
+
+    below = sphere_bound(checker.model).lower_bounds(path)
+    return min(exact.helper.measured.smallest(q, b) for q, b in zip(path, below))
+
+
 def _certified(
     checker: CollisionChecker,
     path: np.ndarray,
@@ -355,14 +375,18 @@ def _certified(
 ) -> PlanResult:
     """The path after its final check of every joint vector and every motion.
 
-    Each motion is judged by the spheres' rule (:mod:`kin.plan.sphere_motion`), and where they
-    do not show it free, by the exact rule (:class:`kin.path.collision_check.MotionCheck`,
-    coal's distances, no budget but its own 100,000 checks a motion), its ends by the checker.
+    A motion the plan's rules showed free during the search (the same two ends, bit for bit:
+    ``space.shown``) is known free, its ends with it. Any other (an edge the path's assembly
+    made) is judged by the spheres' rule (:mod:`kin.plan.sphere_motion`), and where they do not
+    show it free, by the exact rule (:class:`kin.path.collision_check.MotionCheck`, coal's
+    distances, no budget but its own 100,000 checks a motion), its ends by the checker.
     """
     spheres = space.spheres
     exact = exact_rule(checker)
     for i in range(len(path) - 1):
         a, b = path[i], path[i + 1]
+        if space.shown.holds(a, b):
+            continue
         if spheres is not None and spheres.state_free(a) and spheres.state_free(b):
             if spheres.motion_free(a, b, RESOLUTION, SIMPLIFY_CHECKS)[0]:
                 continue
@@ -383,7 +407,7 @@ def _certified(
             )
     reached = int(np.argmin(np.linalg.norm(goals.q - path[-1], axis=1)))
     steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
-    clearance = min(checker.distance(q).distance for q in path) if checker.model.pairs else None
+    clearance = _clearance(checker, path, space, exact)
     cut = " (the time cap cut its simplification short)" if budget.timed_out else ""
     return answer(
         "ok",

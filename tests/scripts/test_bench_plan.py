@@ -15,8 +15,8 @@ from support.scripts_helper import SCRIPTS, load_script
 HEADER = [
     "planner",
     "solved",
-    "median [s]",
-    "p95 [s]",
+    "median [ms]",
+    "p95 [ms]",
     "length [rad]",
     "/straight",
     "certified",
