@@ -19,6 +19,7 @@ import pytest
 from support.scripts_helper import SCRIPTS, load_script
 
 from kin._native import twin
+from kin.collision.requests import CONTACT_TOLERANCE
 from kin.plan.sphere_motion import SphereMotion, sphere_motion
 
 pytestmark = pytest.mark.filterwarnings("ignore")
@@ -70,6 +71,34 @@ def test_twin_and_numpy_agree():
         assert a == b
         shown += a[0]
     assert shown >= 5
+
+
+def test_twin_and_numpy_agree_on_long_motions():
+    """Long motions between states the spheres show free (many refused at their midpoint, one
+    check; the rest halved): the same verdicts and counts; a motion refused at once has its
+    midpoint's spheres within the contact tolerance, by the NumPy arithmetic."""
+    if twin("_sphere_motion") is None:
+        pytest.skip("the compiled twin is not built")
+    robot, model = _model()
+    native = sphere_motion(model)
+    assert native is not None
+    python = SphereMotion(native.arrays)
+    python._capsule = None
+    rng = np.random.default_rng(4)
+    lower, upper = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
+    at_once = halved = 0
+    while at_once < 10 or halved < 10:
+        q0, q1 = rng.uniform(lower, upper), rng.uniform(lower, upper)
+        if not (python.state_free(q0) and python.state_free(q1)):
+            continue
+        a = native.motion_free(q0, q1, 1e-4, 5000)
+        assert a == python.motion_free(q0, q1, 1e-4, 5000), (q0, q1)
+        if a == (False, 1):
+            at_once += 1
+            middle = python._values(python._centers(0.5 * (q0 + q1)))
+            assert not python._group_holds(middle > CONTACT_TOLERANCE).all()
+        elif a[1] > 1:
+            halved += 1
 
 
 def test_shown_free_is_free():

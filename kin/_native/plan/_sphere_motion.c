@@ -8,6 +8,10 @@
  * test's arms [m/rad] times |q1 - q0|), halved where it cannot tell. "Not shown" (0) is never
  * "in collision": the caller then asks the exact rule.
  *
+ * The motion's midpoint is looked at first (a test at or below tol there refuses the motion, one
+ * check, as the halving would at its first midpoint); each end of a segment is placed once and
+ * each test's value at it computed once, when first read, whichever half reads it.
+ *
  * Tests come in groups (one pair of shapes): a group's first test is a coarse one, of one sphere
  * enclosing each shape's cover; when it shows the motion free the group's other tests are skipped.
  *
@@ -25,6 +29,8 @@
 
 #define MAX_Q 32
 #define MAX_DEPTH 60
+/* Ends alive at once in motion(): one more than the segments on its stack. */
+#define END_SLOTS (MAX_DEPTH + 4)
 
 typedef struct {
     int nj, nq, ns, nt, ng, nk;
@@ -38,6 +44,12 @@ typedef struct {
     int *kkind;              /* per shape: 0 box, 1 sphere, 2 cylinder, 3 capsule */
     double *krot, *kcen, *khalf;
     double *oM;              /* scratch: nj * 12 */
+    /* scratch of motion(): the ends of the segments on its stack (END_SLOTS of them), each
+       end's sphere centers placed once and its test values computed when first read */
+    double *end_centers;     /* END_SLOTS * ns * 3 */
+    double *end_values;      /* END_SLOTS * nt */
+    unsigned char *end_known; /* END_SLOTS * nt */
+    int end_refs[MAX_DEPTH + 4], end_free[MAX_DEPTH + 4], end_nfree;
 } Model;
 
 static void model_free(Model *m)
@@ -46,6 +58,7 @@ static void model_free(Model *m)
     free(m->parent); free(m->qidx); free(m->axis); free(m->place); free(m->sjoint);
     free(m->scenter); free(m->ta); free(m->tb); free(m->tk); free(m->tarms); free(m->toff);
     free(m->gstart); free(m->kkind); free(m->krot); free(m->kcen); free(m->khalf); free(m->oM);
+    free(m->end_centers); free(m->end_values); free(m->end_known);
     free(m);
 }
 
@@ -136,7 +149,10 @@ static PyObject *make(PyObject *self, PyObject *args)
         return NULL;
     }
     m->oM = malloc(sizeof(double) * 12 * (size_t)nj);
-    if (!m->oM) {
+    m->end_centers = malloc(sizeof(double) * 3 * (size_t)(ns + 1) * END_SLOTS);
+    m->end_values = malloc(sizeof(double) * (size_t)(nt + 1) * END_SLOTS);
+    m->end_known = malloc((size_t)(nt + 1) * END_SLOTS);
+    if (!m->oM || !m->end_centers || !m->end_values || !m->end_known) {
         model_free(m);
         return PyErr_NoMemory();
     }
@@ -278,16 +294,55 @@ static PyObject *state(PyObject *self, PyObject *args)
 
 typedef struct {
     double qa[MAX_Q], qb[MAX_Q];
-    int *open; /* groups still open on this segment */
+    int ea, eb; /* the ends' slots (Model.end_*) */
+    int *open;  /* groups still open on this segment */
     int count;
 } Segment;
 
+/* A slot for the end q (its centers placed, no test value known yet), held `refs` times. */
+static int end_new(Model *m, const double *q, int refs)
+{
+    int e = m->end_free[--m->end_nfree];
+    place(m, q, m->end_centers + (size_t)e * 3 * (m->ns + 1));
+    memset(m->end_known + (size_t)e * (m->nt + 1), 0, (size_t)m->nt + 1);
+    m->end_refs[e] = refs;
+    return e;
+}
+
+static void end_release(Model *m, int e)
+{
+    if (--m->end_refs[e] == 0) m->end_free[m->end_nfree++] = e;
+}
+
+/* Test t's value at end e, computed once per end. */
+static double end_value(Model *m, int e, int t)
+{
+    size_t at = (size_t)e * (m->nt + 1) + t;
+    if (!m->end_known[at]) {
+        m->end_values[at] = test_distance(m, t, m->end_centers + (size_t)e * 3 * (m->ns + 1));
+        m->end_known[at] = 1;
+    }
+    return m->end_values[at];
+}
+
+/* Whether every group is above tol at end e: its coarse test, else every other test of it. */
+static int end_apart(Model *m, int e, double tol)
+{
+    for (int g = 0; g < m->ng; g++) {
+        int first = m->gstart[g], end = m->gstart[g + 1];
+        if (end_value(m, e, first) > tol) continue;
+        for (int t = first + 1; t < end; t++)
+            if (!(end_value(m, e, t) > tol)) return 0;
+    }
+    return 1;
+}
+
 /* Whether test t shows the segment: 1 yes, 0 no (halve), -1 never (an end not apart, or the
    bound below the resolution). */
-static int shows(const Model *m, int t, const double *ca, const double *cb, const double *dq,
-                 double tol, double resolution)
+static int shows(Model *m, int t, int ea, int eb, const double *dq, double tol,
+                 double resolution)
 {
-    double da = test_distance(m, t, ca), db = test_distance(m, t, cb);
+    double da = end_value(m, ea, t), db = end_value(m, eb, t);
     double bound = test_motion(m, t, dq);
     if ((da - tol) + (db - tol) > bound) return 1;
     if (!(da > tol) || !(db > tol) || bound <= resolution) return -1;
@@ -306,35 +361,46 @@ static PyObject *motion(PyObject *self, PyObject *args)
     int nq = m->nq, ng = m->ng;
     Segment *stack = malloc(sizeof(Segment) * (MAX_DEPTH + 2));
     int *lists = malloc(sizeof(int) * (size_t)(ng + 1) * (MAX_DEPTH + 2));
-    double *ca = malloc(sizeof(double) * 3 * (size_t)(m->ns + 1));
-    double *cb = malloc(sizeof(double) * 3 * (size_t)(m->ns + 1));
-    if (!stack || !lists || !ca || !cb) {
-        free(stack); free(lists); free(ca); free(cb);
+    if (!stack || !lists) {
+        free(stack); free(lists);
         return PyErr_NoMemory();
     }
     for (int i = 0; i < MAX_DEPTH + 2; i++) stack[i].open = lists + (size_t)(ng + 1) * i;
     if (!read_q(q0o, nq, stack[0].qa) || !read_q(q1o, nq, stack[0].qb)) {
-        free(stack); free(lists); free(ca); free(cb);
+        free(stack); free(lists);
         return NULL;
     }
+    m->end_nfree = END_SLOTS;
+    for (int e = 0; e < END_SLOTS; e++) m->end_free[e] = END_SLOTS - 1 - e;
+    /* the midpoint first: a test at or below tol there refuses the motion at once, one check
+       (as the halving would at its first midpoint); else its values serve the first halving */
+    int top = 1, verdict = 1, first_mid = -1;
+    long checks = 0;
+    double qm0[MAX_Q];
+    for (int i = 0; i < nq; i++) qm0[i] = 0.5 * (stack[0].qa[i] + stack[0].qb[i]);
+    if (max_checks >= 1) {
+        first_mid = end_new(m, qm0, 1);
+        if (!end_apart(m, first_mid, tol)) {
+            free(stack); free(lists);
+            return Py_BuildValue("(Nl)", PyBool_FromLong(0), 1L);
+        }
+    }
+    stack[0].ea = end_new(m, stack[0].qa, 1);
+    stack[0].eb = end_new(m, stack[0].qb, 1);
     for (int g = 0; g < ng; g++) stack[0].open[g] = g;
     stack[0].count = ng;
-    int top = 1, verdict = 1;
-    long checks = 0;
     while (top > 0 && verdict == 1) {
         Segment *seg = &stack[--top];
         double dq[MAX_Q];
         for (int i = 0; i < nq; i++) dq[i] = fabs(seg->qb[i] - seg->qa[i]);
-        place(m, seg->qa, ca);
-        place(m, seg->qb, cb);
         int kept = 0;
         for (int n = 0; n < seg->count && verdict == 1; n++) {
             int g = seg->open[n], first = m->gstart[g], end = m->gstart[g + 1];
-            int coarse = shows(m, first, ca, cb, dq, tol, resolution);
+            int coarse = shows(m, first, seg->ea, seg->eb, dq, tol, resolution);
             if (coarse == 1) continue;
             int open = 0;
             for (int t = first + 1; t < end; t++) {
-                int found = shows(m, t, ca, cb, dq, tol, resolution);
+                int found = shows(m, t, seg->ea, seg->eb, dq, tol, resolution);
                 if (found == -1) {
                     verdict = 0;
                     break;
@@ -343,7 +409,11 @@ static PyObject *motion(PyObject *self, PyObject *args)
             }
             if (open) seg->open[kept++] = g;
         }
-        if (verdict != 1 || kept == 0) continue;
+        if (verdict != 1 || kept == 0) {
+            end_release(m, seg->ea);
+            end_release(m, seg->eb);
+            continue;
+        }
         if (top + 2 > MAX_DEPTH || checks >= max_checks) {
             verdict = 0;
             break;
@@ -354,13 +424,25 @@ static PyObject *motion(PyObject *self, PyObject *args)
         Segment *later = &stack[top + 1], *earlier = &stack[top];
         double qm[MAX_Q];
         for (int i = 0; i < nq; i++) qm[i] = 0.5 * (seg->qa[i] + seg->qb[i]);
+        /* the midpoint: one end of each half (its values computed once, read by both) */
+        int em;
+        if (first_mid >= 0) { /* the first halving: the midpoint looked at first */
+            em = first_mid;
+            m->end_refs[em] = 2;
+            first_mid = -1;
+        } else {
+            em = end_new(m, qm, 2);
+        }
         /* seg is stack[top] (just popped): write the later half into top + 1 first */
         memcpy(later->qa, qm, sizeof(double) * nq);
         memcpy(later->qb, seg->qb, sizeof(double) * nq);
+        later->ea = em;
+        later->eb = seg->eb;
         memcpy(later->open, seg->open, sizeof(int) * (size_t)kept);
         later->count = kept;
         /* earlier half in place: qa stays, qb becomes the midpoint, open list the same */
         memcpy(earlier->qb, qm, sizeof(double) * nq);
+        earlier->eb = em;
         earlier->count = kept;
         /* order: pop the earlier first -> it must be on top: swap the two slots' roles */
         Segment tmp = stack[top];
@@ -368,7 +450,7 @@ static PyObject *motion(PyObject *self, PyObject *args)
         stack[top + 1] = tmp;
         top += 2;
     }
-    free(stack); free(lists); free(ca); free(cb);
+    free(stack); free(lists);
     return Py_BuildValue("(Nl)", PyBool_FromLong(verdict), checks);
 }
 
