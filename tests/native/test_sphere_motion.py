@@ -51,7 +51,8 @@ def _coal_free(model, q: np.ndarray) -> bool:
     return min(r.min_distance for r in geometry_data.distanceResults) - model.padding > 0.0
 
 
-def test_twin_and_numpy_agree():
+def _both_forms():
+    """The robot, the twin's SphereMotion of its cell and the NumPy form of the same arrays."""
     if twin("_sphere_motion") is None:
         pytest.skip("the compiled twin is not built")
     robot, model = _model()
@@ -59,6 +60,11 @@ def test_twin_and_numpy_agree():
     assert native is not None and native._capsule is not None
     python = SphereMotion(native.arrays)
     python._capsule = None
+    return robot, native, python
+
+
+def test_twin_and_numpy_agree():
+    robot, native, python = _both_forms()
     rng = np.random.default_rng(0)
     lower, upper = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
     shown = 0
@@ -77,13 +83,7 @@ def test_twin_and_numpy_agree_on_long_motions():
     """Long motions between states the spheres show free (many refused at their midpoint, one
     check; the rest halved): the same verdicts and counts; a motion refused at once has its
     midpoint's spheres within the contact tolerance, by the NumPy arithmetic."""
-    if twin("_sphere_motion") is None:
-        pytest.skip("the compiled twin is not built")
-    robot, model = _model()
-    native = sphere_motion(model)
-    assert native is not None
-    python = SphereMotion(native.arrays)
-    python._capsule = None
+    robot, native, python = _both_forms()
     rng = np.random.default_rng(4)
     lower, upper = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
     at_once = halved = 0
@@ -128,13 +128,7 @@ def test_shown_free_is_free():
 def test_twin_and_numpy_agree_on_hostile_motions():
     """A NaN joint value is never shown free (state or motion), and a motion whose midpoints run
     past the budget is not shown free: the twin and the NumPy form alike, the same counts."""
-    if twin("_sphere_motion") is None:
-        pytest.skip("the compiled twin is not built")
-    robot, model = _model()
-    native = sphere_motion(model)
-    assert native is not None
-    python = SphereMotion(native.arrays)
-    python._capsule = None
+    robot, native, python = _both_forms()
     q = np.zeros(robot.nq)
     broken = q.copy()
     broken[2] = np.nan

@@ -262,36 +262,6 @@ static int read_q(PyObject *obj, int nq, double *out)
     return ok;
 }
 
-/* Whether every test is above `apart` at the centers (a group's members only when its coarse
-   test is not). */
-static int all_apart(const Model *m, const double *centers, double apart)
-{
-    for (int g = 0; g < m->ng; g++) {
-        int first = m->gstart[g], end = m->gstart[g + 1];
-        if (test_distance(m, first, centers) > apart) continue;
-        for (int t = first + 1; t < end; t++)
-            if (!(test_distance(m, t, centers) > apart)) return 0;
-    }
-    return 1;
-}
-
-static PyObject *state(PyObject *self, PyObject *args)
-{
-    PyObject *cap, *qo;
-    double apart;
-    if (!PyArg_ParseTuple(args, "OOd", &cap, &qo, &apart)) return NULL;
-    Model *m = PyCapsule_GetPointer(cap, "kin.sphere_motion");
-    if (!m) return NULL;
-    double q[MAX_Q];
-    if (!read_q(qo, m->nq, q)) return NULL;
-    double *centers = malloc(sizeof(double) * 3 * (size_t)(m->ns + 1));
-    if (!centers) return PyErr_NoMemory();
-    place(m, q, centers);
-    int ok = all_apart(m, centers, apart);
-    free(centers);
-    return PyBool_FromLong(ok);
-}
-
 typedef struct {
     double qa[MAX_Q], qb[MAX_Q];
     int ea, eb; /* the ends' slots (Model.end_*) */
@@ -325,16 +295,35 @@ static double end_value(Model *m, int e, int t)
     return m->end_values[at];
 }
 
-/* Whether every group is above tol at end e: its coarse test, else every other test of it. */
-static int end_apart(Model *m, int e, double tol)
+/* Whether every group is above `apart` at end e: its coarse test, else every other test of it. */
+static int end_apart(Model *m, int e, double apart)
 {
     for (int g = 0; g < m->ng; g++) {
         int first = m->gstart[g], end = m->gstart[g + 1];
-        if (end_value(m, e, first) > tol) continue;
+        if (end_value(m, e, first) > apart) continue;
         for (int t = first + 1; t < end; t++)
-            if (!(end_value(m, e, t) > tol)) return 0;
+            if (!(end_value(m, e, t) > apart)) return 0;
     }
     return 1;
+}
+
+static void ends_reset(Model *m)
+{
+    m->end_nfree = END_SLOTS;
+    for (int e = 0; e < END_SLOTS; e++) m->end_free[e] = END_SLOTS - 1 - e;
+}
+
+static PyObject *state(PyObject *self, PyObject *args)
+{
+    PyObject *cap, *qo;
+    double apart;
+    if (!PyArg_ParseTuple(args, "OOd", &cap, &qo, &apart)) return NULL;
+    Model *m = PyCapsule_GetPointer(cap, "kin.sphere_motion");
+    if (!m) return NULL;
+    double q[MAX_Q];
+    if (!read_q(qo, m->nq, q)) return NULL;
+    ends_reset(m);
+    return PyBool_FromLong(end_apart(m, end_new(m, q, 1), apart));
 }
 
 /* Whether test t shows the segment: 1 yes, 0 no (halve), -1 never (an end not apart, or the
@@ -370,8 +359,7 @@ static PyObject *motion(PyObject *self, PyObject *args)
         free(stack); free(lists);
         return NULL;
     }
-    m->end_nfree = END_SLOTS;
-    for (int e = 0; e < END_SLOTS; e++) m->end_free[e] = END_SLOTS - 1 - e;
+    ends_reset(m);
     /* the midpoint first: a test at or below tol there refuses the motion at once, one check
        (as the halving would at its first midpoint); else its values serve the first halving */
     int top = 1, verdict = 1, first_mid = -1;
