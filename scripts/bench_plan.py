@@ -9,6 +9,8 @@ URDF and SRDF, meshes as convex hulls) in four kinds of cell made of boxes (``ta
 Planners, their order turned by one at each problem (the machine is shared):
 
 * ``kin``: :func:`kin.plan.plan` (RRTConnect on kin's certified motion rule, simplified);
+* ``kin+turns``: the same with ``any_turn=True``: the goal's whole-turn copies within the limits
+  are goals too, as mplib offers them;
 * ``mplib``: mplib's RRTConnect (``Planner.planner.plan``, range 0.1, simplified, meshes as convex
   hulls, the same self pairs as kin) in its own venv and process (scripts/plan_peers.py); its
   path is judged as it moves, straight in joint space between its joint vectors (mplib plans on
@@ -51,7 +53,7 @@ from kin.cli import ArgumentParser, positive_float, positive_int  # noqa: E402
 PROBLEMS = Path(__file__).with_name("bench_plan_problems.json")
 #: The arms of the benchmark (issue 44: Panda and UR5).
 BENCH_ARMS = ("panda", "ur5")
-PLANNERS = ("kin", "mplib", "ompl+coal", "ompl+coal .02")
+PLANNERS = ("kin", "kin+turns", "mplib", "ompl+coal", "ompl+coal .02")
 
 
 def get_argument_parser() -> ArgumentParser:
@@ -98,13 +100,14 @@ def run_problem(problem: Problem, index: int, planners, cells, args, mplib) -> l
     k = index % len(planners)
     for planner in planners[k:] + planners[:k]:
         path, extra = None, {}
-        if planner == "kin":
+        if planner.startswith("kin"):
             began = time.perf_counter()  # the cell's spheres and tests, once per scene
             prepare(cell.checker)
-            extra["setup"] = time.perf_counter() - began
+            if planner == "kin":
+                extra["setup"] = time.perf_counter() - began
             result = plan(
                 robot, problem.start, problem.goal, collisions=cell.checker, seed=index,
-                time_limit=args.time_limit,
+                time_limit=args.time_limit, any_turn=planner == "kin+turns",
             )  # fmt: skip
             status, elapsed = result.status, result.plan_time
             path = result.path if result.success else None
@@ -143,7 +146,7 @@ def _record(problem, planner, status, elapsed, path, cell, extra) -> dict:
             length=length, ratio=length / straight if straight > 0 else 1.0,
             certified=verdict.free, closest=verdict.smallest, first=verdict.first,
         )  # fmt: skip
-        if not verdict.free and planner == "kin":
+        if not verdict.free and planner.startswith("kin"):
             print(
                 f"NOT CERTIFIED: kin's path on {problem.id} (start {problem.start.tolist()}, "
                 f"goal {problem.goal.tolist()}): sample {verdict.first}", file=sys.stderr,

@@ -2,7 +2,8 @@
 
 Joint values as in `kin fk`: revolute in radians (degrees with --deg), prismatic in --unit; a
 target as in `kin ik` (--target X Y Z with --rpy, --quat, --mask or --axis; position only
-without). Every collision-free IK answer of a target is a goal. The search is OMPL's (--planner),
+without). Every collision-free IK answer of a target is a goal; --any-turn makes a --goal's
+whole-turn copies within the limits goals too. The search is OMPL's (--planner),
 bounded by --max-checks (the same --seed gives the same path on a busy machine) and capped by
 --time-limit; every returned path is certified collision-free between its joint vectors by the
 rule `kin path` prints, and checked once more whole. Collisions: the arm with itself, --scene
@@ -11,8 +12,8 @@ path (toppra, the table's or URDF's velocity and acceleration limits). --json pr
 SI units; -o writes the path (CSV, or JSON that `kin preview --plan` animates).
 
 --stdin plans one JSON request per input line ({"start": [...], "goal": [...]} or "target" with
-"rpy", "quat", "mask", "axis", and "deg", "planner", "seed", "time_limit", "max_checks", "time";
-the command's options are the defaults) and answers each with one line, the object --json
+"rpy", "quat", "mask", "axis", and "deg", "planner", "seed", "time_limit", "max_checks", "time",
+"any_turn"; the command's options are the defaults) and answers each with one line, the object --json
 prints plus "line", in order; a bad line gets {"line": n, "error": ...}. The robot and the
 collision model are built once. --workers N plans on a local Dask cluster of N processes,
 --scheduler ADDRESS on a running one: the answers still in input order, a bounded number of plans
@@ -97,6 +98,12 @@ def get_argument_parser(prog: str = PROG) -> ArgumentParser:
         help=f"configurations checked before 'not_found' (default {DEFAULT_CHECKS})",
     )
     add("--seed", type=int, default=0, help="random seed of the search (default 0)")
+    add(
+        "--any-turn",
+        action="store_true",
+        help="a --goal's whole-turn copies within the limits are goals too (the same place of "
+        "the arm; the path may end a turn away)",
+    )
     add("--time", action="store_true", help="time the path (toppra, the joint limits)")
     add("-o", "--output", metavar="FILE", help="write the path: .csv or .json (SI units)")
     add("--json", action="store_true", help="print one JSON object, SI units")
@@ -169,6 +176,7 @@ def _run(args: argparse.Namespace) -> int:
         time_limit=args.time_limit,
         max_checks=args.max_checks,
         seed=args.seed,
+        any_turn=args.any_turn,
     )
     timed = timed_plan(robot, result) if args.time and result.success else None
     record = plan_record(robot, units, result, timed)

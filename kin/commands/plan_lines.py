@@ -4,7 +4,7 @@ A line is an object with the keys of :data:`KEYS`, named as the command's option
 and ``"goal"`` (joint values: revolute [rad, or deg with ``"deg": true``], prismatic [--unit]) or
 ``"target"`` [--unit] with ``"rpy"``, ``"quat"``, ``"mask"``, ``"axis"`` (and ``"tool_axis"``)
 as in ``kin ik --stdin``; ``"planner"``, ``"seed"``, ``"time_limit"`` [s], ``"max_checks"``,
-``"time"``. What a line leaves out is the command line's (:class:`StreamSetup`).
+``"time"``, ``"any_turn"``. What a line leaves out is the command line's (:class:`StreamSetup`).
 
 The answer is the object ``kin plan --json`` prints (:func:`kin.commands.plan_answer.plan_record`), SI,
 with ``"line"`` (the 1-based input line number) and ``"warnings"`` (a unit slip of the line);
@@ -47,6 +47,7 @@ KEYS = (
     "time_limit",
     "max_checks",
     "time",
+    "any_turn",
 )
 _KEYS = frozenset(KEYS)
 #: :class:`PlanLines` a worker process keeps (one per stream and worker thread it served).
@@ -70,6 +71,7 @@ class StreamSetup:
         time_limit: ``--time-limit`` [s].
         max_checks: ``--max-checks``.
         time: ``--time``.
+        any_turn: ``--any-turn``.
         scene: ``--scene`` (absolute path), or None.
         srdf: ``--srdf`` (absolute path), or None.
         padding: ``--padding`` [--unit], or None.
@@ -87,6 +89,7 @@ class StreamSetup:
     time_limit: float
     max_checks: int
     time: bool
+    any_turn: bool
     scene: str | None
     srdf: str | None
     padding: float | None
@@ -112,6 +115,7 @@ class StreamSetup:
             time_limit=args.time_limit,
             max_checks=args.max_checks,
             time=args.time,
+            any_turn=args.any_turn,
             scene=None if args.scene is None else _absolute(args.scene),
             srdf=None if args.srdf is None else _absolute(args.srdf),
             padding=args.padding,
@@ -204,6 +208,7 @@ class PlanLines:
             time_limit=_seconds(request.get("time_limit", setup.time_limit)),
             max_checks=request.get("max_checks", setup.max_checks),
             seed=request.get("seed", setup.seed),
+            any_turn=_flag(request, "any_turn", setup.any_turn),
         )
         timed = None
         if _flag(request, "time", setup.time) and result.success:

@@ -13,7 +13,8 @@ One rule for every solver that moves angles into the limits: the single call of 
 
 :func:`nearest_copy` is the rule; :func:`wrap_into` the same answer, comparing only the
 candidates that can win; :func:`nearest_copies` the rule on arrays; :func:`nearest_inside` its
-answer when inside, else None.
+answer when inside, else None; :func:`turn_copies` every copy within the limits (a planner's goal
+twins).
 """
 
 from __future__ import annotations
@@ -98,6 +99,25 @@ def nearest_inside(value: float, seed: float, lower: float, upper: float) -> flo
     """The copy of :func:`wrap_into` when it is inside the limits [rad], else None."""
     copy, inside = wrap_into(value, seed, lower, upper)
     return copy if inside else None
+
+
+def turn_copies(
+    value: float, lower: float, upper: float, near: float, most: int = 3
+) -> list[float]:
+    """``value`` and its copies ``value + 2 pi k`` within ``[lower, upper]`` nearest ``near`` [rad].
+
+    At most ``most`` values in all, ``value`` always among them (inside or not; the other copies
+    inside, with :data:`LIMIT_TOL` of slack), nearest ``near`` first. Non-finite values or limits
+    give ``value`` alone.
+    """
+    if not all(math.isfinite(x) for x in (value, lower, upper, near)):
+        return [value]
+    low = math.ceil((lower - LIMIT_TOL - value) / TWO_PI)
+    high = math.floor((upper + LIMIT_TOL - value) / TWO_PI)
+    middle = round((near - value) / TWO_PI)  # the copy nearest ``near``
+    turns = range(max(low, middle - most), min(high, middle + most) + 1)
+    copies = sorted((value + k * TWO_PI for k in turns if k != 0), key=lambda c: abs(c - near))
+    return [value, *copies[: most - 1]]
 
 
 def nearest_copies(

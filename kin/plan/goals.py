@@ -7,10 +7,17 @@ within the limits, so a pose goal never fails for want of goal samples. A revolu
 range spans more than a turn gets each answer's value moved by whole turns to the one nearest the
 start within its limits (the same place of the arm, a shorter motion); both are offered when
 they differ.
+
+A joint vector is the goal as given; with ``any_turn`` its whole-turn copies are goals too: the
+combinations of ``q_j + 2 pi k`` within the limits on its revolute joints (per joint ``q_j`` and
+its two copies nearest the start's value; the same place of the arm, so as free as ``q``), the
+:data:`MOST_TURNS` nearest the start. The path then ends at the
+copy it reaches (``PlanResult.goal_index``), which may be a turn away from the values given.
 """
 
 from __future__ import annotations
 
+import itertools
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -20,7 +27,10 @@ from ..configuration import as_joint_vector, limit_violations
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
 
-__all__ = ["GoalSet", "goal_configurations", "joint_goal"]
+__all__ = ["MOST_TURNS", "GoalSet", "goal_configurations", "joint_goal"]
+
+#: Most whole-turn copies of a joint goal offered with ``any_turn`` (the nearest the start).
+MOST_TURNS = 64
 
 
 class GoalSet:
@@ -39,8 +49,21 @@ class GoalSet:
         self.message = message
 
 
-def joint_goal(robot: Any, goal: Any, checker: CollisionChecker) -> GoalSet:
+def joint_goal(
+    robot: Any,
+    goal: Any,
+    checker: CollisionChecker,
+    start: np.ndarray | None = None,
+    any_turn: bool = False,
+) -> GoalSet:
     """A joint vector as the goal: checked for size, limits and collisions.
+
+    Args:
+        robot: The robot.
+        goal: The goal joint vector [rad] / [m].
+        checker: The collision checker the goal must pass.
+        start: The plan's start [rad] / [m] (with ``any_turn``: the copies nearest it are kept).
+        any_turn: Offer the goal's whole-turn copies within the limits too (the module).
 
     Raises:
         kin.JointVectorError: Wrong size or a non-finite value.
@@ -57,7 +80,30 @@ def joint_goal(robot: Any, goal: Any, checker: CollisionChecker) -> GoalSet:
         return GoalSet(
             np.zeros((0, robot.nq)), "goal_in_collision", f"the goal is in collision ({reason})"
         )
-    return GoalSet(q[None, :])
+    if not any_turn:
+        return GoalSet(q[None, :])
+    return GoalSet(_turns(robot, q, q if start is None else start))
+
+
+def _turns(robot: Any, q: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """``q`` and its whole-turn copies within the limits, nearest ``start`` first.
+
+    At most :data:`MOST_TURNS` of them, ``q`` always among them.
+    """
+    from ..ik.limit_rule import turn_copies
+
+    values = [  # per joint, the value and its two copies nearest the start (5 joints: 243)
+        turn_copies(float(v), float(lo), float(hi), float(s))
+        if row.joint_type == "revolute"
+        else [float(v)]
+        for v, lo, hi, s, row in zip(q, robot.lower, robot.upper, start, robot.table.rows)
+    ]
+    copies = np.array(list(itertools.product(*values)), dtype=float)
+    order = np.argsort(np.linalg.norm(copies - start, axis=1), kind="stable")
+    kept = copies[order[:MOST_TURNS]]
+    if not (kept == q).all(axis=1).any():
+        kept = np.vstack([q[None, :], kept[: MOST_TURNS - 1]])
+    return kept
 
 
 def goal_configurations(

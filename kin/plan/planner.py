@@ -95,6 +95,7 @@ def plan(
     max_checks: int = DEFAULT_CHECKS,
     seed: int = 0,
     simplify: bool = True,
+    any_turn: bool = False,
 ) -> PlanResult:
     """Plan a collision-free joint path from ``start`` to ``goal``.
 
@@ -114,6 +115,9 @@ def plan(
         seed: Random seed of OMPL's sampling (0 to 2**31 - 1).
         simplify: Shorten the path with OMPL's simplifier (rope shortcuts, then vertex
             reduction), each shortcut certified.
+        any_turn: A joint goal's whole-turn copies within the limits are goals too (the same
+            place of the arm; :func:`kin.plan.goals.joint_goal`): the path may end a turn away
+            from the values given, at ``goals[goal_index]``. A target's goals have theirs anyway.
 
     Returns:
         The path and how it was found, or the status saying why there is none.
@@ -157,7 +161,7 @@ def plan(
         reason = collision_reason(checker, q0)
         return answer("start_in_collision", f"the start is in collision ({reason})")
     if isinstance(goal, (list, tuple, np.ndarray)):
-        goals = joint_goal(robot, goal, checker)
+        goals = joint_goal(robot, goal, checker, q0, any_turn)
     else:
         goals = goal_configurations(robot, goal, q0, checker, time_limit)
     if goals.status != "ok":

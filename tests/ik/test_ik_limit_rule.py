@@ -15,7 +15,14 @@ from kin import Configuration, load_robot
 from kin.ik import PoseTarget, solve_batch
 from kin.ik.analytic.batch import BatchSolver
 from kin.ik.analytic.closed_form import ClosedFormSolver
-from kin.ik.limit_rule import LIMIT_TOL, nearest_copies, nearest_copy, nearest_inside, wrap_into
+from kin.ik.limit_rule import (
+    LIMIT_TOL,
+    nearest_copies,
+    nearest_copy,
+    nearest_inside,
+    turn_copies,
+    wrap_into,
+)
 
 
 def _brute_force(value: float, seed: float, lower: float, upper: float) -> tuple[float, bool]:
@@ -90,3 +97,27 @@ def test_single_call_batch_and_twin_move_branches_alike(name):
                 assert np.allclose(solution.q, branches.q[i, b], atol=1e-8), (name, i)
                 compared += 1
     assert compared >= 2 * n * 4
+
+
+def test_turn_copies_are_the_brute_force_nearest_inside():
+    """``turn_copies``: the value and the copies within the limits nearest ``near``, against a
+    brute force over |k| <= 12; never more than ``most``; hostile values give the value alone."""
+    rng = np.random.default_rng(12)
+    for _ in range(2000):
+        lower = rng.uniform(-4 * math.pi, 0.0)
+        upper = lower + rng.uniform(0.0, 8 * math.pi)
+        value, near = rng.uniform(lower, upper), rng.uniform(lower, upper)
+        most = int(rng.integers(1, 5))
+        found = turn_copies(value, lower, upper, near, most)
+        inside = [
+            value + 2 * math.pi * k
+            for k in range(-12, 13)
+            if k != 0 and lower - LIMIT_TOL <= value + 2 * math.pi * k <= upper + LIMIT_TOL
+        ]
+        inside.sort(key=lambda c: abs(c - near))
+        assert found[0] == value and len(found) <= most
+        assert found[1:] == pytest.approx(inside[: most - 1], abs=0.0), (value, lower, upper, near)
+    assert turn_copies(0.5, -math.inf, math.inf, 0.0) == [0.5]
+    assert turn_copies(0.5, -1e300, 1e300, 0.0, 3) == [0.5, 0.5 - 2 * math.pi, 0.5 + 2 * math.pi]
+    copies = turn_copies(math.nan, -1.0, 1.0, 0.0)
+    assert len(copies) == 1 and math.isnan(copies[0])

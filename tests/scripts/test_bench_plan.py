@@ -1,4 +1,5 @@
-"""scripts/bench_plan.py --quick: the tables' columns, and every path kin returns certified.
+"""scripts/bench_plan.py --quick: the tables' columns, and every path kin returns certified
+(with and without the goal's whole-turn copies).
 
 The certification is the script's own reference (Pinocchio + coal built apart from kin, every
 0.005 rad of joint motion), so this test fails when kin returns a path that touches the cell
@@ -35,12 +36,13 @@ def test_quick_bench_certifies_every_kin_path(capsys, monkeypatch):
     for _, _, header, body in tables:
         assert header.split()[0] == "planner" and all(c in header for c in HEADER), header
         rows = {line.split()[0]: line for line in body.strip().splitlines()}
-        assert {"kin", "ompl+coal"} <= set(rows), body
-        kin = rows["kin"].split()
-        if kin[1] == "100%":  # kin returned a path: the reference must find it free
-            solved += 1
-            assert kin[6] == "100%", rows["kin"]
-            assert float(kin[7]) > 0.0, rows["kin"]  # the smallest distance seen [mm]
-        else:
-            assert kin[1] == "0%" and kin[6] == "-", rows["kin"]
+        assert {"kin", "kin+turns", "ompl+coal"} <= set(rows), body
+        for name in ("kin", "kin+turns"):
+            kin = rows[name].split()
+            if kin[1] == "100%":  # kin returned a path: the reference must find it free
+                solved += name == "kin"
+                assert kin[6] == "100%", rows[name]
+                assert float(kin[7]) > 0.0, rows[name]  # the smallest distance seen [mm]
+            else:
+                assert kin[1] == "0%" and kin[6] == "-", rows[name]
     assert solved >= 6, out  # a hard problem may meet the 5 s cap on a loaded machine
