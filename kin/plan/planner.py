@@ -4,8 +4,8 @@
 (most plans in an open cell need nothing else), then runs an OMPL planner on
 :class:`~kin.plan.ompl_problem.CertifiedSpace` (the project's collision checker and its motion
 rule, so every edge is certified), shortens the path with OMPL's simplifier (whose shortcuts go
-through the same motion rule), and checks the whole result once more with
-:func:`kin.path.collision_check.check_path_collisions` before it is returned.
+through the same motion rule), and checks the whole result once more
+(:func:`kin.plan.final_check.certified`) before it is returned.
 
 Same input, same path: OMPL's random numbers are seeded from ``seed`` before each plan
 (``ompl.util.RNG.setSeed``, process-wide: one plan at a time per process) and the search is
@@ -23,12 +23,11 @@ import numpy.typing as npt
 
 from ..configuration import as_joint_vector, limit_violations
 from ..exceptions import KinError
+from .final_check import certified
 from .goals import GoalSet, goal_configurations, joint_goal
 from .ompl_problem import (
-    RESOLUTION,
     Budget,
     CertifiedSpace,
-    exact_rule,
     joint_bounds,
     prepare,
     silence_ompl,
@@ -37,7 +36,6 @@ from .result import PlanResult
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
-    from ..path.collision_check import MotionCheck
 
 __all__ = ["DEFAULT_CHECKS", "DEFAULT_PLANNER", "PLANNERS", "PlanError", "plan"]
 
@@ -217,7 +215,7 @@ def _search(
     order = np.argsort(np.linalg.norm(goals.q - q0, axis=1), kind="stable")
     for index in order:  # the straight motion, nearest goal first
         if exact.motion_free(q0, goals.q[index], STRAIGHT_CHECKS):
-            return _certified(checker, np.array([q0, goals.q[index]]), goals, budget, answer, exact)
+            return certified(checker, np.array([q0, goals.q[index]]), goals, budget, answer, exact)
         budget.reraise()
     path = None
     spheres = exact.spheres
@@ -255,7 +253,7 @@ def _search(
                 checks=budget.checks,
             )
         path = _without_collinear(found)
-    return _certified(checker, np.array(path), goals, budget, answer, exact)
+    return certified(checker, np.array(path), goals, budget, answer, exact)
 
 
 def _joined(q0: np.ndarray, found: list[np.ndarray], goal: np.ndarray) -> list[np.ndarray]:
@@ -348,79 +346,3 @@ def _without_collinear(path: list[np.ndarray]) -> list[np.ndarray]:
 def _sine(a: np.ndarray, b: np.ndarray) -> float:
     """|a| |b| sin(angle between a and b), in any dimension (the area of their parallelogram)."""
     return float(np.sqrt(max((a @ a) * (b @ b) - (a @ b) ** 2, 0.0)))
-
-
-def _clearance(
-    checker: CollisionChecker, path: np.ndarray, space: CertifiedSpace, exact: MotionCheck
-) -> float | None:
-    """The smallest distance of any checked pair at the path's joint vectors [m] (None: no pair).
-
-    Coal's distances (:meth:`kin.collision.CollisionChecker.distance`'s values), asked in the
-    order of the spheres' lower bounds where the plan has spheres, so that the pairs far apart
-    are not measured (:meth:`kin.path.pair_distances.PairDistances.smallest`).
-    """
-    if not checker.model.pairs:
-        return None
-    if space.spheres is None or exact.helper is None:
-        return min(checker.distance(q).distance for q in path)
-    from ..collision.sphere_bound import sphere_bound
-
-    below = sphere_bound(checker.model).lower_bounds(path)
-    return min(exact.helper.measured.smallest(q, b) for q, b in zip(path, below))
-
-
-def _certified(
-    checker: CollisionChecker,
-    path: np.ndarray,
-    goals: GoalSet,
-    budget: Budget,
-    answer: Any,
-    space: CertifiedSpace,
-) -> PlanResult:
-    """The path after its final check of every joint vector and every motion.
-
-    A motion the plan's rules showed free during the search (the same two ends, bit for bit:
-    ``space.shown``) is known free, its ends with it. Any other (an edge the path's assembly
-    made) is judged by the spheres' rule (:mod:`kin.plan.sphere_motion`), and where they do not
-    show it free, by the exact rule (:class:`kin.path.collision_check.MotionCheck`, coal's
-    distances, no budget but its own 100,000 checks a motion), its ends by the checker.
-    """
-    spheres = space.spheres
-    exact = exact_rule(checker)
-    for i in range(len(path) - 1):
-        a, b = path[i], path[i + 1]
-        if space.shown.holds(a, b):
-            continue
-        if spheres is not None and spheres.state_free(a) and spheres.state_free(b):
-            if spheres.motion_free(a, b, RESOLUTION, SIMPLIFY_CHECKS)[0]:
-                continue
-        found = None
-        if checker.in_collision(a) or checker.in_collision(b):
-            found = "a joint vector in collision"
-        else:
-            place = exact.between(
-                a, b, exact.distances(a), exact.distances(b), i, exact.checks + 100_000
-            )
-            found = None if place is None else place.describe()
-        if found is not None:  # never expected: every edge passed the same rule
-            return answer(
-                "not_found",
-                f"the path failed its final check ({found})",
-                goals=goals.q,
-                checks=budget.checks,
-            )
-    reached = int(np.argmin(np.linalg.norm(goals.q - path[-1], axis=1)))
-    steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
-    clearance = _clearance(checker, path, space, exact)
-    cut = " (the time cap cut its simplification short)" if budget.timed_out else ""
-    return answer(
-        "ok",
-        f"a collision-free path of {len(path)} joint vectors{cut}",
-        path=path,
-        goal_index=reached,
-        goals=goals.q,
-        length=float(steps.sum()),
-        straight_length=float(np.linalg.norm(path[-1] - path[0])),
-        checks=budget.checks,
-        clearance=clearance,
-    )

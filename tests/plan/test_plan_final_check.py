@@ -18,6 +18,7 @@ from kin import load_robot
 from kin.collision import CollisionChecker, load_collision_model
 from kin.collision.sphere_bound import sphere_bound
 from kin.plan import plan, planner
+from kin.plan.final_check import certified
 from kin.plan.ompl_problem import Budget, CertifiedSpace, ShownMotions, exact_rule, joint_bounds
 
 CELL = Path(__file__).resolve().parents[2] / "examples" / "cell.toml"
@@ -79,8 +80,8 @@ def test_a_motion_never_shown_free_is_judged_by_the_final_check(ur5):
     def answer(status, message, **fields):
         return status, message
 
-    status, message = planner._certified(checker, path, goals, space.budget, answer, space)
+    status, message = certified(checker, path, goals, space.budget, answer, space)
     assert status == "not_found" and "final check" in message
     space.shown.add(start, goal)  # the memory is trusted: only the search puts motions there
-    status, _ = planner._certified(checker, path, goals, space.budget, answer, space)
+    status, _ = certified(checker, path, goals, space.budget, answer, space)
     assert status == "ok"
