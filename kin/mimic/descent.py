@@ -131,7 +131,9 @@ def descend(
     The residual is the tip's pose error ``log6(T_tip^-1 T_goal)`` (LOCAL), or its position
     error in base axes when not ``oriented``; a step is kept when it lowers the residual
     (then the damping shrinks), else the damping grows; a step moves no joint more than
-    :data:`_MAX_STEP`. The descent stops on target, after ``max_iter`` steps, or stuck
+    :data:`_MAX_STEP`. A joint at a limit that the step would push further out is held there
+    for that step, the step solved again over the others (an active set), so the others take
+    its share instead of the step being clipped. The descent stops on target, after ``max_iter`` steps, or stuck
     (the damping past 1e8, or the residual cut by less than 10 % in :data:`_STALL` steps).
     """
     model = chain.robot.model
@@ -165,11 +167,14 @@ def descend(
             return q, step_count - 1
         full = expand(q)
         jacobian = pin.computeFrameJacobian(model, data, full, tool, frame)[:rows] @ coupling
-        normal = jacobian.T @ jacobian
-        step = np.linalg.solve(
-            normal + damping * (np.diag(np.diag(normal)) + regular),
-            jacobian.T @ error,
-        )
+        step = _step(jacobian, error, damping, regular)
+        # a joint at a limit that the step pushes further out is held there: the step is
+        # solved again without it, so the others take its share instead of being clipped
+        held = ((q <= chain.lower) & (step < 0.0)) | ((q >= chain.upper) & (step > 0.0))
+        if held.any() and not held.all():
+            free = ~held
+            step = np.zeros(nq)
+            step[free] = _step(jacobian[:, free], error, damping, regular[np.ix_(free, free)])
         largest = float(np.abs(step).max())
         if largest > _MAX_STEP:
             step *= _MAX_STEP / largest
@@ -183,3 +188,13 @@ def descend(
             damping *= 10.0
         history.append(norm)
     return q, max_iter
+
+
+def _step(
+    jacobian: np.ndarray, error: np.ndarray, damping: float, regular: np.ndarray
+) -> np.ndarray:
+    """The Levenberg-Marquardt step (Marquardt's diagonal scaling) of ``jacobian`` and ``error``."""
+    normal = jacobian.T @ jacobian
+    return np.linalg.solve(
+        normal + damping * (np.diag(np.diag(normal)) + regular), jacobian.T @ error
+    )
