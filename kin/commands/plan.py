@@ -13,8 +13,8 @@ SI units; -o writes the path (CSV, or JSON that `kin preview --plan` animates).
 
 --stdin plans one JSON request per input line ({"start": [...], "goal": [...]} or "target" with
 "rpy", "quat", "mask", "axis", and "deg", "planner", "seed", "time_limit", "max_checks", "time",
-"any_turn"; the command's options are the defaults) and answers each with one line, the object --json
-prints plus "line", in order; a bad line gets {"line": n, "error": ...}. The robot and the
+"any_turn"; the command's options are the defaults) and answers each with one line, the object
+--json prints plus "line", in order; a bad line gets {"line": n, "error": ...}. The robot and the
 collision model are built once. --workers N plans on a local Dask cluster of N processes,
 --scheduler ADDRESS on a running one: the answers still in input order, a bounded number of plans
 in flight (a progress bar on a terminal's stderr).

@@ -77,7 +77,7 @@ def search(
     timeout: float | None,
     near: Callable[[], npt.ArrayLike] | None = None,
 ) -> MimicSearch:
-    """:func:`descend` from ``first``, then from ``near`` and random starts, until one is on target.
+    """:func:`descend` from ``first``, then ``near`` and random starts, until one is on target.
 
     Args:
         chain: The chain.
@@ -133,7 +133,8 @@ def descend(
     (then the damping shrinks), else the damping grows; a step moves no joint more than
     :data:`_MAX_STEP`. A joint at a limit that the step would push further out is held there
     for that step, the step solved again over the others (an active set), so the others take
-    its share instead of the step being clipped. The descent stops on target, after ``max_iter`` steps, or stuck
+    its share instead of the step being clipped. The descent stops on target, after
+    ``max_iter`` steps, or stuck
     (the damping past 1e8, or the residual cut by less than 10 % in :data:`_STALL` steps).
     """
     model = chain.robot.model
@@ -193,7 +194,7 @@ def descend(
 def _step(
     jacobian: np.ndarray, error: np.ndarray, damping: float, regular: np.ndarray
 ) -> np.ndarray:
-    """The Levenberg-Marquardt step (Marquardt's diagonal scaling) of ``jacobian`` and ``error``."""
+    """The Levenberg-Marquardt step (Marquardt's diagonal scaling) of ``jacobian``, ``error``."""
     normal = jacobian.T @ jacobian
     return np.linalg.solve(
         normal + damping * (np.diag(np.diag(normal)) + regular), jacobian.T @ error

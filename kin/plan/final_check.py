@@ -12,12 +12,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .ompl_problem import RESOLUTION, Budget, CertifiedSpace, exact_rule
+from .ompl_problem import RESOLUTION, exact_rule
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..collision import CollisionChecker
     from ..path.collision_check import MotionCheck
     from .goals import GoalSet
+    from .ompl_problem import Budget, CertifiedSpace
     from .result import PlanResult
 
 __all__ = ["MOTION_CHECKS", "certified"]

@@ -24,6 +24,7 @@ from ..judge import ToolJudge
 from ..reach import reach_bound
 from .context import NumericContext
 from .damped_newton import COMPILED as COMPILED_STEP
+from .differential_ik import import_mink
 from .free_joint import (
     FreeJointClosedForm,
     SeededMany,
@@ -42,7 +43,9 @@ def build_context(robot: RobotModel, settings: NumericSettings) -> NumericContex
     damped Newton finds a solution across pi instead of clamping it away. The free-joint closed
     form, when asked for: the special forms on the true table, then on the idealised one (a
     rounded URDF); only then the general 7R form on the true table (slower, no compiled twin).
+    mink is imported here (once per process), not by the first call that runs a QP step.
     """
+    import_mink()
     model = robot.model
     data = model.createData()
     lower = model.lowerPositionLimit.copy()

@@ -92,3 +92,23 @@ def test_the_pipeline_is_an_ordered_list_of_stages(humanoid7):
         result = solver.solve(_pose(humanoid7, q), timeout=0.2)
         methods.add(result.method if result.success else "")
     assert methods <= {"seed_table", "damped_newton", ""} and "seed_table" in methods
+
+
+def test_building_a_numeric_solver_imports_mink_not_the_first_qp_run():
+    """mink's import (about 0.3 s) is paid by ``get_solver``, not by a call (issue 47 item 1)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from kin import load_robot\n"
+        "from kin.ik import get_solver\n"
+        "robot = load_robot('panda')\n"
+        "assert 'mink' not in sys.modules\n"
+        "solver = get_solver(robot)\n"
+        "print(type(solver).__name__, 'mink' in sys.modules)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout.split()
+    assert out == ["NumericIK", "True"]
