@@ -43,9 +43,11 @@ def build_context(robot: RobotModel, settings: NumericSettings) -> NumericContex
     damped Newton finds a solution across pi instead of clamping it away. The free-joint closed
     form, when asked for: the special forms on the true table, then on the idealised one (a
     rounded URDF); only then the general 7R form on the true table (slower, no compiled twin).
-    mink is imported here (once per process), not by the first call that runs a QP step.
+    Without a free-joint closed form, mink is imported here (once per process, about 0.3 s),
+    not by the first call that falls back to a QP run; with one (humanoid7, Panda), which
+    answers nearly every reachable pose, the import waits for a QP run (a one-shot command
+    stays fast).
     """
-    import_mink()
     model = robot.model
     data = model.createData()
     lower = model.lowerPositionLimit.copy()
@@ -67,6 +69,8 @@ def build_context(robot: RobotModel, settings: NumericSettings) -> NumericContex
             idealised = ideal if closed_form is not None else None
         if closed_form is None:
             closed_form = free_joint_closed_form(robot.table, lower, upper)
+    if closed_form is None:
+        import_mink()
     draw_lower, draw_upper = sampling_limits(robot.table, lower, upper)
     x, y, z = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].tolist()
     return NumericContext(

@@ -31,11 +31,16 @@ class SampleBoxes:
         lower: Each box's lower corner (B, 3) [m] (the least coordinates of its samples).
         upper: Each box's upper corner (B, 3) [m].
         box_of: Per entry of the table's ``owners`` (samples sorted by cell), its box's row (N,).
+        by_box: The entries of ``owners`` grouped by box (box 0's first, each box's ascending),
+            (N,): box ``b``'s are ``by_box[starts[b]:starts[b + 1]]``.
+        starts: Where each box's entries begin in ``by_box``, and N at the end (B + 1,).
     """
 
     lower: np.ndarray
     upper: np.ndarray
     box_of: np.ndarray
+    by_box: np.ndarray
+    starts: np.ndarray
 
     @classmethod
     def of(
@@ -51,16 +56,26 @@ class SampleBoxes:
         starts = np.searchsorted(box_of[order], np.arange(len(keys)))
         lower = np.minimum.reduceat(placed[order], starts) if len(keys) else placed[:0]
         upper = np.maximum.reduceat(placed[order], starts) if len(keys) else placed[:0]
-        return cls(lower, upper, box_of)
+        ends = np.append(starts, len(order)).astype(np.intp)
+        return cls(lower, upper, box_of, order.astype(np.intp), ends)
 
     def bounds(self, position: np.ndarray) -> np.ndarray:
         """Squared distance (B,) [m^2] from ``position`` to each box."""
         gap = np.maximum(np.maximum(self.lower - position, 0.0), position - self.upper)
         return np.einsum("ij,ij->i", gap, gap)
 
-    def candidates(self, bounds: np.ndarray, within: float) -> np.ndarray:
-        """Positions in ``owners`` (ascending) of the samples whose box's bound is ``<= within``."""
-        return np.flatnonzero((bounds <= within)[self.box_of])
+    def members(self, boxes: np.ndarray) -> np.ndarray:
+        """Positions in ``owners`` of the samples of ``boxes``, box by box.
+
+        Their slices of :attr:`by_box`, gathered without a pass over every sample.
+        """
+        begin, end = self.starts[boxes], self.starts[boxes + 1]
+        if len(boxes) == 1:
+            return self.by_box[begin[0] : end[0]]
+        counts = end - begin
+        # each member's place in by_box: its box's begin plus its rank within the box
+        rank = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+        return self.by_box[np.repeat(begin, counts) + rank]
 
     def far_candidates(
         self,
@@ -91,9 +106,8 @@ class SampleBoxes:
         m = len(bounds)
         if m == 0:
             return None
-        mask = np.zeros(m, dtype=bool)
-        mask[np.argpartition(bounds, k - 1)[:k] if k < m else slice(None)] = True
-        first = owners[mask[self.box_of]]  # every box holds a sample: k boxes, >= k samples
+        nearest = np.argpartition(bounds, k - 1)[:k] if k < m else np.arange(m)
+        first = owners[self.members(nearest)]  # every box holds a sample: k boxes, >= k samples
         distances = lifted[first] @ query
         if first.size < k:
             return None
@@ -103,7 +117,7 @@ class SampleBoxes:
         # The lifted distances round to about 1e-15 of the squared lengths in them: a margin
         # far above that keeps every sample whose rounded distance could reach the k-th.
         within = kth + 1e-9 * (1.0 + px * px + py * py + pz * pz)
-        samples = np.sort(owners[self.candidates(bounds, within)])
+        samples = np.sort(owners[self.members(np.flatnonzero(bounds <= within))])
         return samples, lifted[samples] @ query
 
 

@@ -28,5 +28,9 @@ MAX_STEP = 0.5
 #: for a full pose before the least-squares starts (:func:`.starts.newton_starts`).
 NEWTON_ITERATIONS, NEWTON_PATIENCE = 20, 3
 
+#: Random starts (the first of the least squares' draw) damped Newton takes after the seed-table
+#: samples, before the least squares.
+NEWTON_RANDOM_STARTS = 8
+
 #: Two solutions closer than this (largest joint difference [rad]) are the same.
 SAME_SOLUTION = 1e-6

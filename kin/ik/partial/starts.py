@@ -19,7 +19,7 @@ from ..targets.target import PoseTarget
 from .context import PartialCall, PartialContext
 from .least_squares import least_squares
 from .progress import Progress
-from .settings import NEWTON_ITERATIONS, NEWTON_PATIENCE, RANDOM_STARTS
+from .settings import NEWTON_ITERATIONS, NEWTON_PATIENCE, NEWTON_RANDOM_STARTS, RANDOM_STARTS
 from .task import PartialTask, sweep
 
 __all__ = ["least_squares_starts", "newton_starts"]
@@ -28,10 +28,13 @@ __all__ = ["least_squares_starts", "newton_starts"]
 def newton_starts(
     ctx: PartialContext, task: PartialTask, call: PartialCall
 ) -> tuple[IKSolution | None, np.ndarray | None]:
-    """Damped Newton on a full pose from the seed, then from the samples nearest it.
+    """Damped Newton on a full pose from the seed, the samples nearest it, then random starts.
 
     The first answer the judge finds on the pose inside the limits, else None; and the
-    samples when they were looked up (the least-squares starts take them next). Damped
+    samples when they were looked up (the least-squares starts take them next). The random
+    starts are the first :data:`~.settings.NEWTON_RANDOM_STARTS` of the least squares' draw: a
+    pose whose samples lie on another branch (Fetch's head camera beyond its sampled rail) is
+    found there at the cost of a few damped Newton runs, not of every least-squares start. Damped
     Newton's steps (its compiled twin) are several times cheaper than the least-squares
     ones, and a reachable full pose needs no weighing of components.
     """
@@ -39,7 +42,12 @@ def newton_starts(
     assert isinstance(target, PoseTarget) and ctx.samples is not None
     starts: list[np.ndarray] = [call.seed]
     samples: np.ndarray | None = None
-    while starts:
+    randoms = False
+    while starts or not randoms:
+        if not starts:  # the seed and the samples failed: the first random starts
+            randoms = True
+            starts.extend(random_starts(ctx, call)[:NEWTON_RANDOM_STARTS])
+            continue
         outcome = damped_newton(
             ctx.model,
             ctx.data,
@@ -62,6 +70,17 @@ def newton_starts(
         if time.perf_counter() > call.deadline:
             break
     return None, samples
+
+
+def random_starts(ctx: PartialContext, call: PartialCall) -> list[np.ndarray]:
+    """The search's random starts, drawn from ``call.random_seed``.
+
+    :data:`~.settings.RANDOM_STARTS` joint vectors inside the limits (a long rail within the
+    arm's size).
+    """
+    rng = np.random.default_rng(call.random_seed)
+    low, high = sampling_limits(ctx.robot.table, ctx.search_lower, ctx.search_upper)
+    return list(rng.uniform(low, high, (RANDOM_STARTS, ctx.nq)))
 
 
 def least_squares_starts(
@@ -91,9 +110,7 @@ def least_squares_starts(
     lazy = ctx.samples is not None and samples is None
     if samples is not None:
         starts.extend(samples)
-    rng = np.random.default_rng(call.random_seed)
-    low, high = sampling_limits(ctx.robot.table, ctx.search_lower, ctx.search_upper)
-    randoms = list(rng.uniform(low, high, (RANDOM_STARTS, ctx.nq)))
+    randoms = random_starts(ctx, call)
     best: tuple[float, np.ndarray] | None = None
     tried = 0
     while True:

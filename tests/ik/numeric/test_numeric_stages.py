@@ -94,21 +94,22 @@ def test_the_pipeline_is_an_ordered_list_of_stages(humanoid7):
     assert methods <= {"seed_table", "damped_newton", ""} and "seed_table" in methods
 
 
-def test_building_a_numeric_solver_imports_mink_not_the_first_qp_run():
-    """mink's import (about 0.3 s) is paid by ``get_solver``, not by a call (issue 47 item 1)."""
+def test_building_a_numeric_solver_without_closed_form_imports_mink():
+    """mink's import (about 0.3 s) is paid when such a solver is built, not by the first call
+    that falls back to a QP run (issue 47 item 1); with a free-joint closed form it waits."""
     import subprocess
     import sys
 
     code = (
         "import sys\n"
         "from kin import load_robot\n"
-        "from kin.ik import get_solver\n"
-        "robot = load_robot('panda')\n"
-        "assert 'mink' not in sys.modules\n"
-        "solver = get_solver(robot)\n"
-        "print(type(solver).__name__, 'mink' in sys.modules)\n"
+        "from kin.ik import NumericIK\n"
+        "NumericIK(load_robot('humanoid7'))\n"
+        "print('mink' in sys.modules)\n"
+        "NumericIK(load_robot('ur5'), closed_form=False)\n"
+        "print('mink' in sys.modules)\n"
     )
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     ).stdout.split()
-    assert out == ["NumericIK", "True"]
+    assert out == ["False", "True"]

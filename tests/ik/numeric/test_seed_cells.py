@@ -87,6 +87,15 @@ def test_the_boxes_hold_their_samples():
         np.testing.assert_array_equal(mine.min(axis=0), boxes.lower[row])
         np.testing.assert_array_equal(mine.max(axis=0), boxes.upper[row])
     assert np.array_equal(np.sort(owners), np.arange(len(table)))
+    # grouped by box: each box's slice holds its entries, ascending, and nothing else
+    assert boxes.starts[0] == 0 and boxes.starts[-1] == len(table)
+    for row in range(len(boxes.lower)):
+        mine = boxes.by_box[boxes.starts[row] : boxes.starts[row + 1]]
+        np.testing.assert_array_equal(mine, np.flatnonzero(boxes.box_of == row))
+    some = np.array([3, 0, len(boxes.lower) - 1])
+    np.testing.assert_array_equal(
+        np.sort(boxes.members(some)), np.flatnonzero(np.isin(boxes.box_of, some))
+    )
 
 
 def test_a_huge_or_non_finite_position_ranks_every_sample():
