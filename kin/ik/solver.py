@@ -4,9 +4,11 @@ Every solver the solver table builds (:mod:`.solver_table`: the closed form, the
 pipeline, the paper's Newton-Raphson, and any of them wrapped by the collision-aware solver)
 answers the same calls, as mink's and pink's solvers do: a ``name``, the ``robot`` it solves,
 the ``target_kinds`` it takes, ``solve(target, seed=None, *, timeout=None, all_branches=False)``
-and ``batch_route()``. No caller sniffs a signature or fishes an attribute out of a solver:
-what a batch of 7R poses reads of the numeric solver is its :class:`FreeJointRoute`, asked
-through ``batch_route()`` (None: target by target).
+and ``batch_route()``; and which of its parts answers what: ``closed_form_kinds`` (every branch
+in one solve), its ``numeric`` and ``partial`` solvers. No caller sniffs a signature, fishes an
+attribute out of a solver or asks which class it is: what a batch of 7R poses reads of the
+numeric solver is its :class:`FreeJointRoute`, asked through ``batch_route()`` (None: target by
+target); a path or the collision search asks ``closed_form_kinds``, ``numeric`` and ``partial``.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import numpy.typing as npt
 
 from .result import IKResult
 
-__all__ = ["FreeJointRoute", "IKSolver"]
+__all__ = ["FreeJointRoute", "IKSolver", "PartialSolver"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +54,24 @@ class FreeJointRoute:
     seed_reach: float
     seed_radius: float
     seed_turn: float
+
+
+class PartialSolver(Protocol):
+    """What a solver of partial poses (:class:`kin.ik.partial_pose.PartialPoseIK`) answers."""
+
+    def solve(
+        self,
+        target: Any,
+        seed: npt.ArrayLike | None = None,
+        *,
+        timeout: float | None = None,
+        every_roll: bool = False,
+    ) -> IKResult:
+        """The answers inside the limits on the target's constrained components.
+
+        ``every_roll``: the closed form's branches at every roll of its grid too.
+        """
+        ...
 
 
 @runtime_checkable
@@ -89,4 +109,29 @@ class IKSolver(Protocol):
 
     def batch_route(self) -> FreeJointRoute | None:
         """The free-joint stage a batch of poses runs at once, or None (target by target)."""
+        ...
+
+    @property
+    def closed_form_kinds(self) -> tuple[type, ...]:
+        """The target classes one :meth:`solve` answers with every branch of a closed form.
+
+        Empty for a search (numeric, Newton-Raphson): one answer near the seed.
+        """
+        ...
+
+    @property
+    def numeric(self) -> IKSolver | None:
+        """The numeric solver that answers the targets the closed form does not take.
+
+        The numeric solver itself; a closed form's numeric solver of the same robot (built on
+        first use); None when the solver has none (Newton-Raphson).
+        """
+        ...
+
+    @property
+    def partial(self) -> PartialSolver | None:
+        """The solver of partial poses (masked, axis, a pose on fewer than six joints), or None.
+
+        A closed form's takes its branches as candidates (:mod:`kin.ik.partial_pose`).
+        """
         ...

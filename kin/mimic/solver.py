@@ -66,6 +66,10 @@ class MimicSolver:
 
     name = PIPELINE
     target_kinds: tuple[type, ...] = (PoseTarget, PositionTarget)
+    #: No closed form, no numeric or partial-pose solver behind it: its own descent.
+    closed_form_kinds: tuple[type, ...] = ()
+    numeric = None
+    partial = None
 
     def __init__(self, arm: MimicArm, restarts: int = RESTARTS, max_iter: int = MAX_ITERATIONS):
         self.arm = arm

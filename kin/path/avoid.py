@@ -155,17 +155,19 @@ class _Search:
         bound: float,
         timeout: float,
     ):
-        from ..ik import ClosedFormSolver, NumericIK, PoseTarget
+        from ..ik import PoseTarget
         from ..ik.solver_table import with_collisions
 
         self.robot, self.path, self.bound, self.timeout = robot, path, bound, timeout
         self.aware = with_collisions(solver, checker, every=True)
         partial = path.axes is not None or path.mask is not None
-        closed = isinstance(solver, ClosedFormSolver)
+        closed = bool(solver.closed_form_kinds)
         #: Revolute joints turned toward the previous answers (the closed-form rule); the
         #: answers' labels are branches only then (a numeric answer's names its method).
         self.unwrap = TurnUnwrapper(robot) if closed or partial else None
-        grid = isinstance(solver, NumericIK) and path.kind is PoseTarget and not partial
+        # a search of its own (the numeric solver): asked for all branches, a 7R pose's grid
+        search = not closed and solver.numeric is solver
+        grid = search and path.kind is PoseTarget and not partial
         #: One solve per sample gives every branch (its seed orders them, adds one grid value).
         self.once = (closed and not partial) or grid
         self.options = {"all_branches": True} if grid else {}

@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..configuration import as_joint_vector
-from ..ik import ClosedFormSolver, StructureError
+from ..ik import StructureError
 from ..ik.solver import IKSolver
 from ..ik.solver_table import FRONT_ENDS, bind_timeout, front_end_solver
 from ..robot_model import RobotModel
@@ -90,10 +90,11 @@ def follow_path(
     solver = path_solver(robot, method) if solver is None else solver
     if progress is not None:
         progress(0, len(path))  # at once: a numeric first sample may take its whole budget
-    if isinstance(solver, ClosedFormSolver) or _partial(path, robot.nq):
+    closed = bool(solver.closed_form_kinds)
+    if closed or _partial(path, robot.nq):
         # A partial pose (a mask, a free tool axis, a pose on a short arm) is solved per sample
         # from the previous one (kin.ik.partial_pose), every answer verified: the nearest is kept.
-        chosen = "closed_form" if isinstance(solver, ClosedFormSolver) else "partial"
+        chosen = "closed_form" if closed else "partial"
         trace = follow_closed_form(robot, solver, path, seed_q, branch, max_joint_step, progress)
     else:
         chosen = "differential"

@@ -100,7 +100,6 @@ def count_reached(
     """
     from ..ik.batch_solve import free_joint_answers, solve_batch
     from ..ik.dispatch import get_solver
-    from ..ik.numeric.solver import NumericIK
 
     n, k = len(centers), len(rotations)
     positions = np.repeat(centers, k, axis=0)
@@ -108,7 +107,7 @@ def count_reached(
     seeds = np.zeros((n * k, robot.nq))
     solver = get_solver(robot)
     checker = _checker(robot, collisions)
-    if not isinstance(solver, NumericIK):
+    if solver.closed_form_kinds:  # a closed form: the vectorized batch
         result = solve_batch(robot, positions, frames, seeds, all_branches=checker is not None)
         success, q = result.success, result.q
         if checker is not None and result.branches is not None:  # any free branch counts

@@ -44,7 +44,7 @@ from dh2urdf.output_text import shown_name
 
 from ..numeric.sampling_box import sampling_limits
 from ..result import IKResult, IKSolution
-from ..solver import IKSolver
+from ..solver import IKSolver, PartialSolver
 from ..targets.target import AxisTarget, PoseTarget
 
 __all__ = ["EXTRA_STARTS", "CollisionAwareSolver", "collision_reason"]
@@ -126,6 +126,21 @@ class CollisionAwareSolver:
     def batch_route(self) -> None:
         """None: every target of a batch is solved and judged one by one."""
         return None
+
+    @property
+    def closed_form_kinds(self) -> tuple[type, ...]:
+        """The wrapped solver's (its answers are judged, not searched again)."""
+        return tuple(self.solver.closed_form_kinds)
+
+    @property
+    def numeric(self) -> IKSolver | None:
+        """The wrapped solver's numeric solver (its answers not judged: the search's part)."""
+        return self.solver.numeric
+
+    @property
+    def partial(self) -> PartialSolver | None:
+        """The wrapped solver's partial-pose solver (its answers not judged)."""
+        return self.solver.partial
 
     def solve(
         self,
@@ -279,7 +294,7 @@ class CollisionAwareSolver:
         numeric = _numeric_of(solver, partial, target)
         swept = False  # the free-joint grid swept the self-motion: the bound from the seed alone
         if partial:
-            sweeper = _partial_of(solver, numeric)
+            sweeper = solver.partial
             if sweeper is not None:
                 yield lambda left: sweeper.solve(target, seed, timeout=left, every_roll=True)
         elif cls is PoseTarget and numeric is not None and self.robot.nq == 7:
@@ -304,25 +319,9 @@ def _numeric_of(solver: IKSolver, partial: bool, target: Any) -> Any:
     None when a closed form gave every branch (a full pose or position its structure takes) or
     the solver has no numeric one (Newton-Raphson).
     """
-    from ..analytic.closed_form import ClosedFormSolver
-    from ..numeric.solver import NumericIK
-
-    if isinstance(solver, NumericIK):
-        return solver
-    if not isinstance(solver, ClosedFormSolver):
-        return None
     if target.__class__ in solver.closed_form_kinds and not partial:
         return None
     return solver.numeric
-
-
-def _partial_of(solver: IKSolver, numeric: Any) -> Any:
-    """The partial-pose solver (with the closed-form sweep where the arm has one), or None."""
-    from ..analytic.closed_form import ClosedFormSolver
-
-    if isinstance(solver, ClosedFormSolver):
-        return solver.partial
-    return None if numeric is None else numeric.partial
 
 
 def _limits(robot: Any) -> tuple[np.ndarray, np.ndarray]:

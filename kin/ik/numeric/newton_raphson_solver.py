@@ -24,6 +24,10 @@ class NewtonRaphsonSolver:
 
     name = "nr"
     target_kinds: tuple[type, ...] = (PositionTarget,)
+    #: No closed form, no numeric or partial-pose solver behind it: one run from the seed.
+    closed_form_kinds: tuple[type, ...] = ()
+    numeric = None
+    partial = None
 
     def __init__(self, robot: RobotModel):
         self.robot = robot

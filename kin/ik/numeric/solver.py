@@ -160,6 +160,16 @@ class NumericIK:
         return self._table
 
     @property
+    def closed_form_kinds(self) -> tuple[type, ...]:
+        """None of them: a search gives one answer (a 7R grid of branches only when asked)."""
+        return ()
+
+    @property
+    def numeric(self) -> NumericIK:
+        """Itself: the numeric solver answers every target kind it takes."""
+        return self
+
+    @property
     def partial(self) -> PartialPoseIK:
         """The solver of partial poses (:mod:`kin.ik.partial_pose`), built on first use."""
         if self._partial is None:
