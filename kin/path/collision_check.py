@@ -290,6 +290,7 @@ class MotionCheck:
         segment: int = 0,
         max_checks: int = 100_000,
         first: bool = True,
+        middle_free: bool = False,
     ) -> PathCollision | None:
         """The first colliding place on the straight motion q0 -> q1 (free ends), or None.
 
@@ -304,12 +305,16 @@ class MotionCheck:
                 question, free or not): the halves are judged coarsest first, and a colliding
                 midpoint is named without searching the half before it (the same verdict, less
                 work on a motion that collides).
+            middle_free: The checker's verdict at the motion's middle, ``0.5 * (q0 + q1)``, is
+                known to be free (the caller asked it): its distances are measured there, the
+                verdict not asked again.
         """
         if self.helper is None:
             return None
         found, used = _segment(
-            self.helper, q0, q1, d0, d1, self.tolerance, max_checks - self.checks, first
-        )
+            self.helper, q0, q1, d0, d1, self.tolerance, max_checks - self.checks, first,
+            middle_free,
+        )  # fmt: skip
         self.checks += used
         if found is None:
             return None
@@ -334,10 +339,12 @@ def _segment(
     tolerance: float,
     budget: int,
     first: bool = True,
+    middle_free: bool = False,
 ) -> tuple[tuple[float, np.ndarray, int, bool] | None, int]:
     """First colliding place on q0 -> q1 (fraction, q, pair index, proven), checks used.
 
     ``first`` False: any colliding place (breadth-first: the coarsest midpoints first).
+    ``middle_free``: the checker's verdict at the middle of q0 -> q1 is known to be free.
     """
     checks = 0
     measured = helper.measured
@@ -369,7 +376,8 @@ def _segment(
         # ends (a pair closes at most half its bound on each half), which decide the verdict
         below = None if measured.bound is None else np.maximum(da, db) - 0.5 * closing
         dm = measured.of(qm, open_pairs, below)
-        if measured.in_collision(qm, dm):  # the checker's verdict, whatever the distances
+        known = middle_free and t0 == 0.0 and t1 == 1.0
+        if not known and measured.in_collision(qm, dm):  # the verdict, whatever the distances
             index = int(open_pairs[np.argmin(dm[open_pairs])])
             if not first:
                 return (tm, qm, index, True), checks

@@ -300,7 +300,7 @@ class CertifiedSpace:
             remaining = min(remaining, most)
         found = motion.between(
             q0, q1, self.distances(q0), self.distances(q1), max_checks=before + remaining,
-            first=False,
+            first=False, middle_free=True,
         )  # fmt: skip
         self.budget.checks += motion.checks - before
         if found is None:
