@@ -22,6 +22,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from support.import_names import absolute_module
 
 #: The packages as installed (their sources in an editable install, site-packages from a wheel).
 KIN = Path(importlib.util.find_spec("kin").origin).resolve().parent  # type: ignore[arg-type]
@@ -153,15 +154,6 @@ def test_the_ratchet_sees_a_module_that_grows():
     ]
 
 
-def _absolute(module: str, package: bool, node: ast.ImportFrom) -> str:
-    """The dotted name a ``from ... import`` of ``module`` reads (relative ones resolved)."""
-    if node.level == 0:
-        return node.module or ""
-    base = module.split(".") if package else module.split(".")[:-1]
-    base = base[: len(base) - node.level + 1]
-    return ".".join([*base, *([node.module] if node.module else [])])
-
-
 def import_graph(*roots: Path) -> dict[str, set[str]]:
     """Each module of the packages under ``roots`` (kin's and dh2urdf's when none is given) and
     the modules of those packages it imports.
@@ -191,7 +183,7 @@ def import_graph(*roots: Path) -> dict[str, set[str]]:
         ]
         for node in body:
             if isinstance(node, ast.ImportFrom):
-                source = _absolute(package, True, node)
+                source = absolute_module(package, True, node)
                 for alias in node.names:
                     table[alias.asname or alias.name] = (source, alias.name)
 
@@ -212,7 +204,7 @@ def import_graph(*roots: Path) -> dict[str, set[str]]:
             if isinstance(node, ast.Import):
                 graph[module].update(alias.name for alias in node.names if alias.name in trees)
             elif isinstance(node, ast.ImportFrom):
-                source = _absolute(module, module in packages, node)
+                source = absolute_module(module, module in packages, node)
                 if source.split(".")[0] not in tops:
                     continue
                 for alias in node.names:

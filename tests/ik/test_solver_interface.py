@@ -8,9 +8,7 @@
 - No class of ``kin/`` defines ``__getattr__`` (module-level lazy loaders are functions, not
   classes), but :class:`kin.ik.result.IKSolution`, whose compiled twins leave its ``reason`` slot
   unset (a default, not a proxy: it forwards nothing).
-- No project class hierarchy is deeper than two project classes (a class and one project base),
-  Protocols and exceptions aside, but the closed-form structure families listed in
-  :data:`DEEP_FAMILIES` (a ratchet: the list may only shrink).
+- No project class hierarchy deeper than two project classes: tests/house/test_class_depth.py.
 """
 
 from __future__ import annotations
@@ -32,22 +30,6 @@ from kin.ik.solver_table import CHOICES, FRONT_ENDS, SOLVERS, choose, with_colli
 #: (planar2), a five-joint closed form (lab5), a 7R arm with a free-joint closed form
 #: (humanoid7).
 ARMS = ("ur5", "planar2", "lab5", "humanoid7")
-
-#: Project classes more than two deep today (``module:class``): closed-form structure families
-#: whose special cases subclass the family's batch steps (issue 46 item 4 is to compose them).
-DEEP_FAMILIES = frozenset(
-    {
-        "kin.ik.analytic.seven_r.seven_dof_steps:SevenDofSteps",
-        "kin.ik.analytic.seven_r.seven_dof:SevenDofIK",
-        "kin.ik.analytic.seven_r.shoulder7_batch:Shoulder7Batch",
-        "kin.ik.analytic.seven_r.spherical_shoulder7:SphericalShoulder7RIK",
-        "kin.ik.analytic.six_r.pieper_batch:PieperBatch",
-        "kin.ik.analytic.six_r.pieper:Pieper6R",
-        "kin.ik.analytic.six_r.pieper:SphericalWrist6R",
-        "kin.ik.analytic.six_r.three_parallel:ThreeParallel6R",
-        "kin.ik.analytic.six_r.three_parallel:URWrist6R",
-    }
-)
 
 #: Classes allowed a ``__getattr__`` (``module:class``), each with its reason.
 GETATTR_ALLOWED: dict[str, str] = {}
@@ -94,10 +76,6 @@ def _project_classes() -> list[type]:
             if inspect.isclass(value) and value.__module__ == module.__name__:  # type: ignore[attr-defined]
                 seen[f"{value.__module__}:{value.__qualname__}"] = value
     return list(seen.values())
-
-
-def _own(cls: type) -> bool:
-    return cls.__module__.split(".")[0] in ("kin", "dh2urdf")
 
 
 @pytest.mark.parametrize(("label", "solver"), _solvers(), ids=lambda value: str(value)[:40])
@@ -151,16 +129,3 @@ def test_no_class_forwards_attributes_with_getattr():
         if "__getattr__" in vars(cls)
     }
     assert found <= set(GETATTR_ALLOWED), sorted(found - set(GETATTR_ALLOWED))
-
-
-def test_no_project_hierarchy_deeper_than_two():
-    deep = set()
-    for cls in _project_classes():
-        if issubclass(cls, BaseException) or getattr(cls, "_is_protocol", False):
-            continue
-        chain = [base for base in cls.__mro__ if _own(base)]
-        if len(chain) > 2:
-            deep.add(f"{cls.__module__}:{cls.__qualname__}")
-    assert deep <= DEEP_FAMILIES, sorted(deep - DEEP_FAMILIES)
-    closed_form = {name for name in deep if ".closed_form" in name or "idealised" in name}
-    assert not closed_form, closed_form

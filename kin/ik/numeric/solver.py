@@ -107,8 +107,10 @@ class NumericIK:
             shared search, and returns a verified result or hands the search on.
     """
 
-    #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol).
+    #: Pipeline name reported in :attr:`IKResult.solver` (the :class:`~kin.ik.Solver` protocol);
+    #: no kind answered with every branch in one solve (a search: a 7R's grid only when asked).
     name = PIPELINE
+    closed_form_kinds: tuple[type, ...] = ()
 
     def __init__(
         self, robot: RobotModel, settings: NumericSettings | None = None, **options: Any
@@ -120,8 +122,7 @@ class NumericIK:
         self.nq: int = context.nq
         self.lower, self.upper = context.lower, context.upper
         self._shape = (self.nq,)
-        # A pose on an arm of fewer than six joints, a masked pose and an axis target go to
-        # :mod:`kin.ik.partial_pose` (weighted least squares on the constrained components).
+        # A pose on fewer than six joints, a masked pose, an axis target: kin.ik.partial_pose.
         self._kinds: tuple[type, ...] = (NumericTarget, PoseTarget, PositionTarget, AxisTarget)
         self._partial: PartialPoseIK | None = None
         self._table: SeedTable | None = None
@@ -134,8 +135,7 @@ class NumericIK:
         self._seeded, self.seeded_many = None, None
         if context.compiled and context.idealised is None and self.stages is STAGES:
             self._seeded, self.seeded_many = compiled_stage0(context, PIPELINE)
-        # One solve at a time per solver: the stages share the context's data and the caches
-        # (threads that share a solver get the answers one thread would).
+        # One solve at a time per solver: the stages share the context's data and the caches.
         self._lock = threading.Lock()
         self._table_lock = threading.Lock()
         # The seed table and, for an arm without a free-joint closed form nor the steps' compiled
@@ -160,11 +160,6 @@ class NumericIK:
         return self._table
 
     @property
-    def closed_form_kinds(self) -> tuple[type, ...]:
-        """None of them: a search gives one answer (a 7R grid of branches only when asked)."""
-        return ()
-
-    @property
     def numeric(self) -> NumericIK:
         """Itself: the numeric solver answers every target kind it takes."""
         return self
@@ -181,10 +176,8 @@ class NumericIK:
     ) -> np.ndarray:
         """The joint vectors of the :attr:`nearest` seed-table samples nearest a pose, (k, nq).
 
-        Nearest in the table's pose embedding (position [m], rotation weighed); none when the
-        target's cell is empty. The table is built or loaded now if need be, whatever ``end``
-        (the caller's cap, a ``time.perf_counter()`` value, which it checks itself after): the
-        samples depend on the target alone.
+        Nearest in the table's pose embedding (position [m], rotation weighed). The table is
+        built or loaded now if need be, whatever ``end`` (the caller's cap, which it checks).
         """
         del end  # the work, not the time left, decides what is returned
         return self.table.nearest_rows(position, rotation, self.settings.nearest)

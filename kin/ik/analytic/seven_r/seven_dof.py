@@ -1,7 +1,8 @@
 """Closed-form IK of the seven-joint arm (:class:`~kin.ik.analytic.structure.SevenDof`) for chosen joint-1 angles.
 
 The arm is redundant: joint 1 is left free. For a given ``q1`` the elbow, the shoulder and the
-wrist follow in closed form (:mod:`.seven_dof_steps`): up to 8 joint vectors for a full pose, up
+wrist follow in closed form (:mod:`.seven_dof_steps`, its frames :mod:`.seven_dof_frames`;
+both held by :class:`SevenDofIK`): up to 8 joint vectors for a full pose, up
 to 4 for a position (the wrist angles ``q5, q6, q7`` chosen too). This module chooses ``q1``:
 :meth:`SevenDofIK.first` from starts (their joint 1, scanned outward when asked),
 :meth:`SevenDofIK.branches_at` at stated values (limits ignored).
@@ -17,15 +18,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
 from kin._native import twin
 
 from ..structure import SevenDof
+from .seven_dof_frames import SevenDofFrames
 from .seven_dof_steps import SevenDofSteps
 from .subproblems import scan
+from .twin_form import TwinForm
 
 _closed7 = twin("_closed7")
 
@@ -33,11 +36,17 @@ _closed7 = twin("_closed7")
 COMPILED = _closed7 is not None
 
 
-class SevenDofIK(SevenDofSteps):
+class SevenDofIK(TwinForm):
     """Closed-form branches of a :class:`~kin.ik.analytic.structure.SevenDof` arm for chosen free joints.
 
-    Its steps at one joint-1 value: :class:`~.seven_dof_steps.SevenDofSteps`; its targets' frames
-    and its twin's parameters: :class:`~.seven_dof_frames.SevenDofFrames`.
+    Holds its constants and targets' frames (:attr:`frames`,
+    :class:`~.seven_dof_frames.SevenDofFrames`) and its steps at one joint-1 value (:attr:`steps`,
+    :class:`~.seven_dof_steps.SevenDofSteps`), and hands on their methods as its own
+    (:meth:`~.SevenDofFrames.prepare`, :meth:`~.SevenDofFrames.pose_frame`,
+    :meth:`~.SevenDofFrames.frame0`, :meth:`~.SevenDofFrames.tool_point4`,
+    :meth:`~.SevenDofFrames.elbow_vector`, :meth:`~.SevenDofFrames.seed_frames`,
+    :meth:`~.SevenDofSteps.pose`, :meth:`~.SevenDofSteps.position`): bound, not forwarded, so a
+    call costs no more than before.
 
     Args:
         structure: The arm's parameters.
@@ -51,32 +60,36 @@ class SevenDofIK(SevenDofSteps):
 
     def __init__(self, structure: SevenDof, lower: Sequence[float], upper: Sequence[float]):
         self.structure = structure
-        self.lower = tuple(float(v) for v in lower)
-        self.upper = tuple(float(v) for v in upper)
-        a, alpha, d = structure.a, structure.alpha, structure.d
-        self._a, self._d, self._offsets = a, d, structure.offsets
-        self._sin = tuple(math.sin(v) for v in alpha)
-        self._cos = tuple(math.cos(v) for v in alpha)
-        base = structure.T_world_base
-        self._base_r = np.array(base[:3, :3], dtype=float)
-        self._base_t = np.array(base[:3, 3], dtype=float)
-        tool = structure.T_last_tool
-        self._tool_r = np.array(tool[:3, :3], dtype=float)
-        self._tool_t = np.array(tool[:3, 3], dtype=float)
+        frames = SevenDofFrames(structure, lower, upper)
+        steps = SevenDofSteps(frames)
+        self.frames, self.steps = frames, steps
+        self.lower, self.upper = frames.lower, frames.upper
+        self._sin, self._cos, self._offsets = frames.sin, frames.cos, frames.offsets
+        self._plain = frames.plain
         self._c_params = None
-        self._plain = bool(np.array_equal(base, np.eye(4)) and np.array_equal(tool, np.eye(4)))
-        s, c = self._sin, self._cos
-        # Shoulder point in frame 3: o2 = -Rx(alpha3)^T (a3, 0, d3), whatever t3.
-        self._shoulder3 = (-a[2], -s[2] * d[2], -c[2] * d[2])
-        self._shoulder3_2 = sum(v * v for v in self._shoulder3)
-        # Wrist centre in frame 3: Rz(t4) u.
-        self._wrist_u = self._elbow_vector(0.0, 0.0, d[4])
-        # Wrist centre in frame 7: o6 = -Rx(alpha7)^T (a7, 0, d7).
-        self._wrist7 = (-a[6], -s[6] * d[6], -c[6] * d[6])
-        # Joint-7 axis direction (frame 7 z of M = R47 Rx(alpha7)^T) seen in frame 7.
-        self._axis7 = (0.0, s[6], c[6])
-        self._g = (0.0, -s[5], c[5])  # Rx(alpha6) e_z
         self._unlimited: SevenDofIK | None = None
+        # their methods, handed on as this solver's own: bound, so no forwarding call
+        self.prepare = frames.prepare
+        self.pose_frame = frames.pose_frame
+        self.frame0 = frames.frame0
+        self.tool_point4 = frames.tool_point4
+        self.elbow_vector = frames.elbow_vector
+        self.seed_frames = frames.seed_frames
+        self.pose = steps.pose
+        self.position = steps.position
+
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (:meth:`~.SevenDofFrames.c_fields`)."""
+        return self.frames.c_fields()
+
+    def many_targets(
+        self, positions: np.ndarray, rotations: np.ndarray | None
+    ) -> tuple[tuple[Any, ...], np.ndarray | None]:
+        """N world targets as the twin's ``first_many`` reads them.
+
+        :meth:`~.SevenDofFrames.many_targets`: ``((mode,), targets)``, positions [m].
+        """
+        return self.frames.many_targets(positions, rotations)
 
     def branches_at(
         self,
@@ -144,7 +157,7 @@ class SevenDofIK(SevenDofSteps):
             return _closed7.first(self.c_params, mode, values, starts, out, step)
         lows, highs = self.lower, self.upper
         if mode == 0:
-            frame = self._frame_of(values[:3].tolist(), values[3:].reshape(3, 3).tolist())
+            frame = self.frames.frame_of(values[:3].tolist(), values[3:].reshape(3, 3).tolist())
         else:
             point = values.tolist()
         if starts.ndim != 2 or starts.shape[1] != 7:

@@ -1,6 +1,6 @@
 """The closed-form steps of humanoid7's seven-joint arm at one joint-1 value: elbow, shoulder, wrist.
 
-For a given ``q1`` (:class:`SevenDofSteps`, mixed into :class:`~.seven_dof.SevenDofIK`):
+For a given ``q1`` (:class:`SevenDofSteps`, held by :class:`~.seven_dof.SevenDofIK`):
 
 1. the shoulder point ``S`` (where axes 2 and 3 meet) is fixed, and the wrist centre ``W`` (where
    axes 5, 6 and 7 meet) follows from the tool pose; ``|SW|`` depends on the elbow angle only:
@@ -28,12 +28,23 @@ from .subproblems import fold_distance, harmonic_roots, rotation_pair
 _TWO_PI = 2.0 * math.pi
 
 
-class SevenDofSteps(SevenDofFrames):
-    """The branches of a :class:`~kin.ik.analytic.structure.SevenDof` arm at one joint-1 value (mixed in).
+class SevenDofSteps:
+    """The branches of a :class:`~kin.ik.analytic.structure.SevenDof` arm at one joint-1 value.
 
-    Its constants are set by :class:`~.seven_dof.SevenDofIK` (their frames:
-    :class:`~.seven_dof_frames.SevenDofFrames`).
+    Held by :class:`~.seven_dof.SevenDofIK`; it reads the arm's constants from the arm's
+    :class:`~.seven_dof_frames.SevenDofFrames` (and asks it :meth:`~.SevenDofFrames.elbow_vector`).
+
+    Args:
+        frames: The arm's constants and frames.
     """
+
+    def __init__(self, frames: SevenDofFrames):
+        self.frames = frames
+        self.lower, self.upper = frames.lower, frames.upper
+        self._sin, self._cos, self._offsets = frames.sin, frames.cos, frames.offsets
+        self._a, self._d = frames.a, frames.d
+        self._shoulder3, self._shoulder3_2 = frames.shoulder3, frames.shoulder3_2
+        self._wrist_u, self._g = frames.wrist_u, frames.g
 
     def _arm(
         self,
@@ -100,7 +111,7 @@ class SevenDofSteps(SevenDofFrames):
 
         Args:
             q1: Joint-1 value [rad].
-            frame: :meth:`pose_frame` of the target.
+            frame: :meth:`~.SevenDofFrames.pose_frame` of the target.
             folds: Receives the :func:`~.subproblems.fold_distance` of each equation solved
                 (the elbow's, each elbow's shoulder equation, each arm's wrist equation).
         """
@@ -160,11 +171,12 @@ class SevenDofSteps(SevenDofFrames):
         Args:
             q1: Joint-1 value [rad].
             wrist: Joint values ``q5, q6, q7`` [rad].
-            point0: Target point in DH frame 0 [m] (:meth:`frame0`).
-            u: :meth:`elbow_vector` of ``wrist`` [m] when the caller has it (it depends on the
-                wrist only: A4(t4) maps the tool origin of frame 4 to ``Rz(t4) u``).
+            point0: Target point in DH frame 0 [m] (:meth:`~.SevenDofFrames.frame0`).
+            u: :meth:`~.SevenDofFrames.elbow_vector` of ``wrist`` [m] when the caller has it
+                (it depends on the wrist only: A4(t4) maps the tool origin of frame 4 to
+                ``Rz(t4) u``).
         """
         q5, q6, q7 = wrist
         if u is None:
-            u = self.elbow_vector(q5, q6, q7)
+            u = self.frames.elbow_vector(q5, q6, q7)
         return [[q1, q2, q3, q4, q5, q6, q7] for _, q2, q3, q4, *_ in self._arm(q1, point0, u)]

@@ -1,7 +1,9 @@
 """The batched steps of :class:`~.spherical_shoulder7.SphericalShoulder7RIK`: N poses in NumPy.
 
 The same arithmetic as :meth:`~.spherical_shoulder7.SphericalShoulder7RIK.branches` (elbow,
-wrist, shoulder), array by array, for N targets at their joint-7 values;
+wrist, shoulder), array by array, for N targets at their joint-7 values (:class:`Shoulder7Batch`,
+held by the solver, reads the arm's constants from its
+:class:`~.shoulder7_frames.Shoulder7Frames`);
 :meth:`Shoulder7Batch.solve_batch` of one pose equals
 :meth:`~.spherical_shoulder7.SphericalShoulder7RIK.solve` (the tests hold them to it). Angles in
 [rad], lengths in [m].
@@ -15,21 +17,21 @@ import numpy.typing as npt
 from ...angles import wrap_array
 from ...exceptions import TargetError
 from .shoulder7_frames import Shoulder7Frames
-from .shoulder7_structure import SphericalShoulder7R
 from .subproblems import harmonic_roots_array, rotation_pair_array
 
 #: Branches per joint-7 value: 2 elbows x 2 wrists x 2 shoulders.
 BRANCHES = 8
 
 
-class Shoulder7Batch(Shoulder7Frames):
-    """:meth:`solve_batch` of a :class:`~.spherical_shoulder7.SphericalShoulder7RIK` (mixed in)."""
+class Shoulder7Batch:
+    """:meth:`solve_batch` of a :class:`~.spherical_shoulder7.SphericalShoulder7RIK` (held by it).
 
-    structure: SphericalShoulder7R
-    _k_rot: np.ndarray
-    _k_pos: np.ndarray
-    _tool_rot: np.ndarray
-    _tool_pos: np.ndarray
+    Args:
+        frames: The arm's constants and frames (:class:`~.shoulder7_frames.Shoulder7Frames`).
+    """
+
+    def __init__(self, frames: Shoulder7Frames):
+        self.frames = frames
 
     def solve_batch(
         self, positions: npt.ArrayLike, rotations: npt.ArrayLike, q7: npt.ArrayLike
@@ -58,13 +60,14 @@ class Shoulder7Batch(Shoulder7Frames):
         q7 = np.asarray(q7, dtype=float)
         if q7.shape != (n,):
             raise TargetError(f"q7 must be ({n},), got {q7.shape}")
-        s, c, off = self._sin, self._cos, self._offsets
-        rk, e = self._prepare_array(p, r)
+        frames = self.frames
+        s, c, off = frames.sin, frames.cos, frames.offsets
+        rk, e = frames.prepare_array(p, r)
         t7 = q7 + off[6]
         c7, s7 = np.cos(t7), np.sin(t7)
         rv = np.stack((c7 * e[:, 0] - s7 * e[:, 1], s7 * e[:, 0] + c7 * e[:, 1], e[:, 2]), 1)
-        rv -= np.asarray(self._c7)
-        m7 = np.asarray(self._m7_rot)
+        rv -= np.asarray(frames.c7)
+        m7 = np.asarray(frames.m7_rot)
         v6 = rv @ m7.T
         z7 = np.zeros((n, 3, 3))
         z7[:, 0, 0], z7[:, 0, 1], z7[:, 1, 0], z7[:, 1, 1], z7[:, 2, 2] = c7, s7, -s7, c7, 1.0
@@ -73,9 +76,9 @@ class Shoulder7Batch(Shoulder7Frames):
         out = np.full((n, BRANCHES, 7), np.nan)
         out[:, :, 6] = q7[:, None]
         elbows = harmonic_roots_array(
-            np.full(n, self._p4), np.full(n, self._q4), self._k4 - 0.5 * distance2
+            np.full(n, frames.p4), np.full(n, frames.q4), frames.k4 - 0.5 * distance2
         )
-        u, w4 = np.asarray(self._u), np.asarray(self._w4)
+        u, w4 = np.asarray(frames.u), np.asarray(frames.w4)
         for ei in range(2):
             t4 = elbows[:, ei]
             c4, s4 = np.cos(t4), np.sin(t4)
@@ -106,24 +109,6 @@ class Shoulder7Batch(Shoulder7Frames):
         missing = np.isnan(out[:, :, :6]).any(axis=2)
         out[missing] = np.nan
         return out
-
-    def _prepare_array(self, p: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`prepare` of N poses: ``R_K_J7`` (N, 3, 3) and ``S`` seen from ``J_7`` (N, 3) [m]."""
-        rk = self._k_rot.T @ r @ self._tool_rot.T
-        pk = (p - self._k_pos) @ self._k_rot - rk @ self._tool_pos
-        return rk, np.einsum("nji,nj->ni", rk, np.asarray(self.structure.shoulder) - pk)
-
-    def many_targets(
-        self, positions: np.ndarray, rotations: np.ndarray | None
-    ) -> tuple[tuple[()], np.ndarray | None]:
-        """N world poses as the twin's ``first_many`` reads them: ``R_K_J7`` and ``S`` (N, 12).
-
-        None for positions (this form takes no point: every row of the answer NaN).
-        """
-        if rotations is None:
-            return (), None
-        rk, e = self._prepare_array(positions, rotations)
-        return (), np.concatenate((rk.reshape(-1, 9), e), axis=1)
 
 
 def _back_array(

@@ -39,12 +39,14 @@ from kin._native import twin
 from ...angles import wrap
 from ...limit_rule import nearest_inside
 from .shoulder7_batch import BRANCHES, Shoulder7Batch
-from .shoulder7_structure import SphericalShoulder7R, inverse_point
+from .shoulder7_frames import Shoulder7Frames
+from .shoulder7_structure import SphericalShoulder7R
 from .subproblems import (
     harmonic_roots,
     rotation_pair,
     scan,
 )
+from .twin_form import TwinForm
 
 _shoulder7 = twin("_shoulder7")
 
@@ -55,8 +57,15 @@ COMPILED = _shoulder7 is not None
 _TWO_PI = 2.0 * math.pi
 
 
-class SphericalShoulder7RIK(Shoulder7Batch):
+class SphericalShoulder7RIK(TwinForm):
     """Closed-form branches of a :class:`SphericalShoulder7R` arm for chosen joint-7 values.
+
+    Holds its constants and targets' frames (:attr:`frames`,
+    :class:`~.shoulder7_frames.Shoulder7Frames`) and its batched steps (:attr:`batch`,
+    :class:`~.shoulder7_batch.Shoulder7Batch`), and hands on their methods as its own
+    (:meth:`~.Shoulder7Frames.prepare`, :meth:`~.Shoulder7Frames.seed_frames`,
+    :meth:`~.Shoulder7Frames.elbow_range`, :meth:`~.Shoulder7Batch.solve_batch`): bound, not
+    forwarded, so a call costs no more than before.
 
     Args:
         structure: The arm's parameters (:func:`spherical_shoulder7`).
@@ -72,32 +81,30 @@ class SphericalShoulder7RIK(Shoulder7Batch):
         self, structure: SphericalShoulder7R, lower: Sequence[float], upper: Sequence[float]
     ):
         self.structure = structure
-        self.lower = tuple(float(v) for v in lower)
-        self.upper = tuple(float(v) for v in upper)
-        frames, twists = structure.frames, structure.twists
-        self._sin = tuple(math.sin(v) for v in twists)
-        self._cos = tuple(math.cos(v) for v in twists)
-        self._offsets = structure.offsets
-        self._k_rot = np.array(frames[0][:3, :3])
-        self._k_pos = np.array(frames[0][:3, 3])
-        self._tool_rot = np.array(frames[7][:3, :3])
-        self._tool_pos = np.array(frames[7][:3, 3])
-        self._m7_rot = tuple(tuple(r) for r in frames[6][:3, :3].tolist())
-        # W just before Rz(t7): M_7^-1 W_6.
-        self._c7 = inverse_point(frames[6], structure.wrist6)
-        self._u = inverse_point(frames[3], structure.shoulder3)  # S just before Rz(t4)
-        self._w4 = structure.wrist4
-        u, w = self._u, self._w4
-        self._p4 = u[0] * w[0] + u[1] * w[1]
-        self._q4 = u[1] * w[0] - u[0] * w[1]
-        self._k4 = 0.5 * (sum(v * v for v in u) + sum(v * v for v in w)) - u[2] * w[2]
-        self._reach2 = self.elbow_range()
-        self._k_flat = tuple(self._k_rot.ravel().tolist())
-        self._k_t = tuple(self._k_pos.tolist())
-        self._tool_flat = tuple(self._tool_rot.ravel().tolist())
-        self._tool_t = tuple(self._tool_pos.tolist())
-        self._shoulder_z = structure.shoulder[2]
+        frames = Shoulder7Frames(structure, lower, upper)
+        batch = Shoulder7Batch(frames)
+        self.frames, self.batch = frames, batch
+        self.lower, self.upper = frames.lower, frames.upper
+        self._sin, self._cos, self._offsets = frames.sin, frames.cos, frames.offsets
         self._c_params = None
+        # their methods, handed on as this solver's own: bound, so no forwarding call
+        self.prepare = frames.prepare
+        self.seed_frames = frames.seed_frames
+        self.elbow_range = frames.elbow_range
+        self.solve_batch = batch.solve_batch
+
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (:meth:`~.Shoulder7Frames.c_fields`)."""
+        return self.frames.c_fields()
+
+    def many_targets(
+        self, positions: np.ndarray, rotations: np.ndarray | None
+    ) -> tuple[tuple[()], np.ndarray | None]:
+        """N world poses as the twin's ``first_many`` reads them.
+
+        :meth:`~.Shoulder7Frames.many_targets`: ``R_K_J7`` and ``S`` (N, 12), None for positions.
+        """
+        return self.frames.many_targets(positions, rotations)
 
     def branches(
         self, target: tuple[float, ...], q7: float, fit: Callable[[int, float], float | None]
@@ -117,19 +124,20 @@ class SphericalShoulder7RIK(Shoulder7Batch):
         """
         r00, r01, r02, r10, r11, r12, r20, r21, r22, ex, ey, ez = target
         s, c, off = self._sin, self._cos, self._offsets
+        frames = self.frames
         cos, sin, atan2 = math.cos, math.sin, math.atan2
         t7 = q7 + off[6]
         c7, s7 = cos(t7), sin(t7)
-        wx, wy, wz = self._c7
+        wx, wy, wz = frames.c7
         # S - W before Rz(t7): Rz(t7) e - c7; in J_6: M_7's rotation of it.
         rx, ry, rz = c7 * ex - s7 * ey - wx, s7 * ex + c7 * ey - wy, ez - wz
-        ux, uy, uz = self._u
-        w4x, w4y, w4z = self._w4
+        ux, uy, uz = frames.u
+        w4x, w4y, w4z = frames.w4
         distance2 = rx * rx + ry * ry + rz * rz
-        elbows = harmonic_roots(self._p4, self._q4, self._k4 - 0.5 * distance2)
+        elbows = harmonic_roots(frames.p4, frames.q4, frames.k4 - 0.5 * distance2)
         if not elbows:
             return []
-        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = self._m7_rot
+        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = frames.m7_rot
         v6x = a00 * rx + a01 * ry + a02 * rz
         v6y = a10 * rx + a11 * ry + a12 * rz
         v6z = a20 * rx + a21 * ry + a22 * rz
@@ -255,12 +263,13 @@ class SphericalShoulder7RIK(Shoulder7Batch):
         if starts.ndim != 2 or starts.shape[1] != 7:
             raise ValueError(f"starts: not k x 7, got shape {starts.shape}")
         lows, highs = self.lower, self.upper
+        frames = self.frames
         # |S - W|^2 at t7 is |e|^2 + |c7|^2 - 2 c7 . Rz(t7) e: skip values outside the elbow's range.
         ex, ey, ez = target[9:]
-        wx, wy, wz = self._c7
+        wx, wy, wz = frames.c7
         base2 = ex * ex + ey * ey + ez * ez + wx * wx + wy * wy + wz * wz - 2.0 * wz * ez
         cx, cy = 2.0 * (wx * ex + wy * ey), 2.0 * (wy * ex - wx * ey)
-        low2, high2 = self._reach2
+        low2, high2 = frames.reach2
         off7 = self._offsets[6]
         cos, sin = math.cos, math.sin
         for index, start in enumerate(starts.tolist()):

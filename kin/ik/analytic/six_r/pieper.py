@@ -67,17 +67,22 @@ the four families (``_pieper_arms.c``, the general family's quartic by NumPy's L
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, ClassVar
+
+import numpy as np
 
 from dh2urdf import DHTable
 from kin._native import twin
 
 from ...exceptions import StructureError
-from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker
+from ...targets.target import PoseTarget
+from ._six_r import ANGLE_TOL, LENGTH_TOL, SixRChecker, TargetFrame
 from .pieper_batch import PieperBatch
-from .six_r_twin import quartic_twin
+from .six_r_family import SixRFamily
+from .six_r_twin import TwinVerifier, frame_fields, quartic_twin
 
 #: The family's compiled twin (its four families), or None when it is not built; the families by
 #: their number in its parameters.
@@ -186,15 +191,21 @@ def _read(table: DHTable) -> dict[str, Any]:
 
 
 @dataclass(frozen=True)
-class Pieper6R(PieperBatch):
+class Pieper6R:
     """A 6R arm with a spherical wrist and a general 3R arm: parameters in SI, closed form (8 branches).
 
     :meth:`recognise` gives the spherical-wrist case (axes 2 and 3 parallel) as a
-    :class:`SphericalWrist6R`.
+    :class:`SphericalWrist6R`. It holds its NumPy algorithm (:class:`~.pieper_batch.PieperBatch`)
+    and its solve of one or N targets (:class:`~.six_r_family.SixRFamily`: the compiled twin
+    where it fits, else that algorithm).
 
-    Attributes (besides :class:`~.six_r_family.SixRFamily`'s):
+    Attributes:
+        robot: Robot name.
         family: ``"intersecting"`` (axes 1, 2 meet), ``"parallel"`` (axes 1, 2 parallel),
             ``"general"`` or ``"parallel23"`` (axes 2, 3 parallel; see the module).
+        offsets: Joint offsets ``theta1 .. theta6`` [rad] (DH angle = q + offset).
+        T_base: World -> standard DH frame 0 (4x4) [m].
+        T_tool: Standard frame 6 (``Rz(t6) Tz(d6)``) -> tool (4x4) [m].
         a1: Length of the common normal of axes 1 and 2 [m].
         d1: Height of that normal along axis 1 [m].
         alpha1: Twist between axes 1 and 2 [rad] (0 or pi exactly in the parallel family).
@@ -207,10 +218,20 @@ class Pieper6R(PieperBatch):
     """
 
     name: ClassVar[str] = "pieper"
+    #: Six revolute joints; a full pose as the target.
+    dof: ClassVar[int] = 6
+    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     #: The family's compiled twin (``kin/_native/ik/analytic/six_r/_pieper_arms.c``, its four families), or None
     #: when it is not built; a general-family arm uses it only when LAPACK loads for its quartic.
     compiled_twin: ClassVar[ModuleType | None] = _TWIN
+    #: The family's special cases (subclasses), asked first by the registry.
+    cases: ClassVar[tuple[type[Pieper6R], ...]] = ()
 
+    robot: str
+    family: str
+    offsets: tuple[float, ...]
+    T_base: np.ndarray = field(repr=False)
+    T_tool: np.ndarray = field(repr=False)
     a1: float
     d1: float
     alpha1: float
@@ -224,79 +245,48 @@ class Pieper6R(PieperBatch):
     alpha4: float
     alpha5: float
     d6: float
-    _g: tuple[tuple[float, float, float], ...] = field(init=False, repr=False, compare=False)
-    _e: tuple[float, ...] = field(init=False, repr=False, compare=False)
-    _wrist: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    _batch: PieperBatch = field(init=False, repr=False, compare=False)
+    _solve: SixRFamily = field(init=False, repr=False, compare=False)
+    #: The held :class:`~.six_r_family.SixRFamily`'s ``solve`` (the 8 branches (8, 6) [rad] of
+    #: one tool pose), ``solve_batch`` ((N, 8, 6) of N) and ``verifier`` (the compiled
+    #: solve-and-verify, or None): its bound methods, no call in between.
+    solve: Callable[..., np.ndarray] = field(init=False, repr=False, compare=False)
+    solve_batch: Callable[..., np.ndarray] = field(init=False, repr=False, compare=False)
+    verifier: Callable[..., TwinVerifier | None] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        super().__post_init__()
-        setattr_ = object.__setattr__
-        sa2, ca2 = math.sin(self.alpha2), math.cos(self.alpha2)
-        sa3, ca3 = math.sin(self.alpha3), math.cos(self.alpha3)
-        f3 = self.d3 + ca3 * self.d4
-        ly = sa3 * self.d4  # f = Rz(t3) (a3, -ly, f3)
-        g = (
-            (self.a2, self.a3, ly),
-            (-sa2 * f3, -ca2 * ly, ca2 * self.a3),
-            (self.d2 + ca2 * f3, -sa2 * ly, sa2 * self.a3),
-        )
-        setattr_(self, "_g", g)
-        sa1, ca1 = math.sin(self.alpha1), math.cos(self.alpha1)
-        # |g|^2 = G0 + Gc cos t3 + Gs sin t3
-        g0 = sum(gk[0] * gk[0] + 0.5 * (gk[1] * gk[1] + gk[2] * gk[2]) for gk in g)
-        gc = sum(2.0 * gk[0] * gk[1] for gk in g)
-        gs = sum(2.0 * gk[0] * gk[2] for gk in g)
-        setattr_(self, "_k", (self.a1, self.d1, sa1, ca1, g0, gc, gs))
-        e: tuple[float, ...] = ()
-        if self.family == "parallel23":
-            # the forearm from axis 3 to the wrist centre in the arm plane, and the wrist
-            # centre's offset along axis 2: (lx, ly, |l|, angle of l, h)
-            lx, ly = self.a3, -sa3 * self.d4
-            lateral = self.d2 + self.d3 + ca3 * self.d4
-            e = (lx, ly, math.hypot(lx, ly), math.atan2(ly, lx), lateral)
-        elif self.family == "intersecting":
-            e = (math.hypot(gc, gs), math.atan2(gs, gc))
-        elif self.family == "parallel":
-            e = (math.hypot(g[2][1], g[2][2]), math.atan2(g[2][2], g[2][1]))
-        else:
-            # E = u^2 + w^2 - P: the t3-parts of u, w (uc, us, wc, ws) and the harmonics of the
-            # fixed terms; the target adds u0, w0 (see _harmonics).
-            two_a1 = 2.0 * self.a1
-            uc, us = -gc / two_a1, -gs / two_a1
-            wc, ws = -ca1 * g[2][1] / sa1, -ca1 * g[2][2] / sa1
-            p0 = sum(gk[0] * gk[0] + 0.5 * (gk[1] * gk[1] + gk[2] * gk[2]) for gk in g[:2])
-            pc = sum(2.0 * gk[0] * gk[1] for gk in g[:2])
-            ps = sum(2.0 * gk[0] * gk[2] for gk in g[:2])
-            pc2 = sum(0.5 * (gk[1] * gk[1] - gk[2] * gk[2]) for gk in g[:2])
-            ps2 = sum(gk[1] * gk[2] for gk in g[:2])
-            e = (
-                uc, us, wc, ws,
-                0.5 * (uc * uc + us * us + wc * wc + ws * ws) - p0,
-                pc, ps,
-                0.5 * (uc * uc - us * us + wc * wc - ws * ws) - pc2,
-                uc * us + wc * ws - ps2,
-            )  # fmt: skip
-        setattr_(self, "_e", e)
-        wrist: tuple[float, ...] = ()
-        for angle in (self.alpha1, self.alpha2, self.alpha3, self.alpha4, self.alpha5):
-            wrist += (math.sin(angle), math.cos(angle))
-        setattr_(self, "_wrist", wrist)
-        # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
-        setattr_(self, "_classic", abs(wrist[7]) < 1e-15 and abs(wrist[9]) < 1e-15)
-        if _arms_twin(self.family) is not None:
-            self._pack_twin()
+        lengths = (self.a1, self.d1, self.a2, self.d2, self.a3, self.d3, self.d4, self.d6)
+        twists = (self.alpha1, self.alpha2, self.alpha3, self.alpha4, self.alpha5)
+        frame = TargetFrame(self.T_base, self.T_tool)
+        batch = PieperBatch.of(self.family, self.offsets, frame, lengths, twists)
+        object.__setattr__(self, "_batch", batch)
+        fits = _arms_twin(self.family) is not None
+        fields = self.c_fields if fits else None
+        SixRFamily.of(self.name, batch.solve_block, self.compiled_twin, fields).hand_to(self)
 
-    def _c_own(self) -> dict[str, tuple[float, ...]]:
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (its ``LAYOUT``; [m], [rad])."""
+        batch = self._batch
         return {
+            **frame_fields(self.T_base, self.T_tool),
             "family": (float(_FAMILIES.index(self.family)),),
-            "k": self._k[2:5],
-            "e": self._e + (0.0,) * (9 - len(self._e)),
-            "g": tuple(v for row in self._g for v in row),
-            "wrist": self._wrist,
-            "classic": (float(self._classic),),
+            "k": batch.k[2:5],
+            "e": batch.e + (0.0,) * (9 - len(batch.e)),
+            "g": tuple(v for row in batch.g for v in row),
+            "wrist": batch.wrist,
+            "classic": (float(batch.classic),),
             "len": (self.a1, self.d1, self.d6),
             "off": self.offsets,
         }
+
+    @property
+    def c_params(self) -> np.ndarray:
+        """:meth:`c_fields` packed in the order the compiled twin declares (its ``LAYOUT``).
+
+        Raises:
+            RuntimeError: The twin is not built.
+        """
+        return self._solve.c_params
 
     @property
     def branch_labels(self) -> tuple[str, ...]:
@@ -344,12 +334,12 @@ class SphericalWrist6R(Pieper6R):
     @property
     def lateral(self) -> float:
         """Offset of the wrist centre along axis 2 in frame 1, ``d2 + d3 + cos(alpha3) d4`` [m]."""
-        return self._e[4]
+        return self._batch.e[4]
 
     @property
     def forearm(self) -> tuple[float, float]:
         """In-plane vector from axis 3 to the wrist centre, ``(a3, -sin(alpha3) d4)`` [m]."""
-        return self._e[0], self._e[1]
+        return self._batch.e[0], self._batch.e[1]
 
     @classmethod
     def recognise(cls, table: DHTable) -> SphericalWrist6R:

@@ -3,30 +3,132 @@
 The one form of the family (one target is N = 1; the compiled twin ``_pieper_arms.c`` repeats it
 for every case): the arm by its family's equations (the general family's quartic in ``t3``
 polished, :mod:`.pieper_quartic`), then the spherical wrist; the steps are those of
-:mod:`.pieper`'s docstring. Angles in [rad], lengths in [m].
+:mod:`.pieper`'s docstring. :class:`PieperBatch` holds the arm's constants (read once from its
+parameters, :meth:`PieperBatch.of`) and is held by the :class:`~.pieper.Pieper6R` it solves.
+Angles in [rad], lengths in [m].
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._six_r import SINGULAR, SLACK, clip_cosines, wrap_array
+from ._six_r import SINGULAR, SLACK, TargetFrame, clip_cosines, wrap_array
 from .pieper_quartic import PieperQuartic
 
 
-class PieperBatch(PieperQuartic):
-    """The NumPy algorithm of a :class:`~.pieper.Pieper6R` (its base: reads its fields)."""
+@dataclass(frozen=True)
+class PieperBatch:
+    """The NumPy algorithm of a :class:`~.pieper.Pieper6R` and the constants it reads.
 
+    Attributes:
+        family: The arm's family (``"intersecting"``, ``"parallel"``, ``"general"``,
+            ``"parallel23"``; see :mod:`.pieper`).
+        offsets: Joint offsets ``theta1 .. theta6`` [rad].
+        a1, d1, a2, d6: The arm's lengths of those names [m].
+        k: ``(a1, d1, sin alpha1, cos alpha1, G0, Gc, Gs)`` with ``|g|^2 = G0 + Gc cos t3 + Gs
+            sin t3`` [m], [-], [m^2].
+        g: The harmonics ``(g_k0, g_kc, g_ks)`` of the components of ``g(t3)`` [m].
+        e: The family's own constants: ``(lx, ly, |l|, angle of l, h)`` (parallel23), ``(size,
+            psi)`` of the ``t3`` equation (intersecting, parallel), the harmonics of ``E``
+            (general) [m], [rad], [m^2].
+        wrist: ``sin``, ``cos`` of ``alpha1 .. alpha5`` in turn [-].
+        classic: Both wrist twists +-90 deg (``|sin t5|`` is then read without cancellation).
+        frame: World tool pose -> pose of standard frame 6 in frame 0.
+        quartic: The general family's equation in ``t3`` (None in the other families).
+    """
+
+    family: str
+    offsets: tuple[float, ...]
+    a1: float
     d1: float
     a2: float
     d6: float
-    _wrist: tuple[float, ...]
+    k: tuple[float, ...]
+    g: tuple[tuple[float, float, float], ...]
+    e: tuple[float, ...]
+    wrist: tuple[float, ...]
+    classic: bool
+    frame: TargetFrame = field(repr=False, compare=False)
+    quartic: PieperQuartic | None = field(default=None, repr=False, compare=False)
 
-    def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
+    @classmethod
+    def of(
+        cls,
+        family: str,
+        offsets: tuple[float, ...],
+        frame: TargetFrame,
+        lengths: tuple[float, ...],
+        twists: tuple[float, ...],
+    ) -> PieperBatch:
+        """The algorithm of an arm from its parameters (those of :class:`~.pieper.Pieper6R`).
+
+        Args:
+            family: The arm's family.
+            offsets: Joint offsets ``theta1 .. theta6`` [rad].
+            frame: World tool pose -> pose of standard frame 6 in frame 0.
+            lengths: ``(a1, d1, a2, d2, a3, d3, d4, d6)`` [m].
+            twists: ``(alpha1, alpha2, alpha3, alpha4, alpha5)`` [rad].
+        """
+        a1, d1, a2, d2, a3, d3, d4, d6 = lengths
+        alpha1, alpha2, alpha3, _, _ = twists
+        sa2, ca2 = math.sin(alpha2), math.cos(alpha2)
+        sa3, ca3 = math.sin(alpha3), math.cos(alpha3)
+        f3 = d3 + ca3 * d4
+        ly = sa3 * d4  # f = Rz(t3) (a3, -ly, f3)
+        g = (
+            (a2, a3, ly),
+            (-sa2 * f3, -ca2 * ly, ca2 * a3),
+            (d2 + ca2 * f3, -sa2 * ly, sa2 * a3),
+        )
+        sa1, ca1 = math.sin(alpha1), math.cos(alpha1)
+        # |g|^2 = G0 + Gc cos t3 + Gs sin t3
+        g0 = sum(gk[0] * gk[0] + 0.5 * (gk[1] * gk[1] + gk[2] * gk[2]) for gk in g)
+        gc = sum(2.0 * gk[0] * gk[1] for gk in g)
+        gs = sum(2.0 * gk[0] * gk[2] for gk in g)
+        k = (a1, d1, sa1, ca1, g0, gc, gs)
+        e: tuple[float, ...] = ()
+        if family == "parallel23":
+            # the forearm from axis 3 to the wrist centre in the arm plane, and the wrist
+            # centre's offset along axis 2: (lx, ly, |l|, angle of l, h)
+            lx, ly = a3, -sa3 * d4
+            lateral = d2 + d3 + ca3 * d4
+            e = (lx, ly, math.hypot(lx, ly), math.atan2(ly, lx), lateral)
+        elif family == "intersecting":
+            e = (math.hypot(gc, gs), math.atan2(gs, gc))
+        elif family == "parallel":
+            e = (math.hypot(g[2][1], g[2][2]), math.atan2(g[2][2], g[2][1]))
+        else:
+            # E = u^2 + w^2 - P: the t3-parts of u, w (uc, us, wc, ws) and the harmonics of the
+            # fixed terms; the target adds u0, w0 (see PieperQuartic.harmonics).
+            two_a1 = 2.0 * a1
+            uc, us = -gc / two_a1, -gs / two_a1
+            wc, ws = -ca1 * g[2][1] / sa1, -ca1 * g[2][2] / sa1
+            p0 = sum(gk[0] * gk[0] + 0.5 * (gk[1] * gk[1] + gk[2] * gk[2]) for gk in g[:2])
+            pc = sum(2.0 * gk[0] * gk[1] for gk in g[:2])
+            ps = sum(2.0 * gk[0] * gk[2] for gk in g[:2])
+            pc2 = sum(0.5 * (gk[1] * gk[1] - gk[2] * gk[2]) for gk in g[:2])
+            ps2 = sum(gk[1] * gk[2] for gk in g[:2])
+            e = (
+                uc, us, wc, ws,
+                0.5 * (uc * uc + us * us + wc * wc + ws * ws) - p0,
+                pc, ps,
+                0.5 * (uc * uc - us * us + wc * wc - ws * ws) - pc2,
+                uc * us + wc * ws - ps2,
+            )  # fmt: skip
+        wrist: tuple[float, ...] = ()
+        for angle in twists:
+            wrist += (math.sin(angle), math.cos(angle))
+        # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
+        classic = abs(wrist[7]) < 1e-15 and abs(wrist[9]) < 1e-15
+        quartic = PieperQuartic(a1, offsets[2], k, g, e) if family == "general" else None
+        return cls(family, offsets, a1, d1, a2, d6, k, g, e, wrist, classic, frame, quartic)
+
+    def solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
         """The 8 branches (N, 8, 6) [rad] of N world tool poses, NaN where a branch is missing."""
-        p, r = self._frame.batch(positions, rotations)
+        p, r = self.frame.batch(positions, rotations)
         with np.errstate(invalid="ignore", divide="ignore"):
             wx, wy, wz = (p - self.d6 * r[:, :, 2]).T
             t = self._arms_batch(wx, wy, wz)  # (N, 4, 3)
@@ -42,17 +144,17 @@ class PieperBatch(PieperQuartic):
         """
         if self.family == "parallel23":
             return self._parallel23_arms(wx, wy, wz)
-        a1, d1, sa1, ca1, g0, _, _ = self._k
-        (g10, g1c, g1s), (g20, g2c, g2s), (g30, g3c, g3s) = self._g
+        a1, d1, sa1, ca1, g0, _, _ = self.k
+        (g10, g1c, g1s), (g20, g2c, g2s), (g30, g3c, g3s) = self.g
         z = wz - d1
         rho2 = wx * wx + wy * wy
         big_r = rho2 + z * z
         heading = np.arctan2(wy, wx)[:, None]
         n = wx.shape[0]
-        if self.family == "general":
-            t3 = self._general_t3_batch(big_r - a1 * a1, z)  # (N, 4)
+        if self.quartic is not None:  # the general family
+            t3 = self.quartic.roots(big_r - a1 * a1, z)  # (N, 4)
         else:
-            size, psi = self._e
+            size, psi = self.e
             cos3 = (big_r - g0) / size if self.family == "intersecting" else (ca1 * z - g30) / size
             delta = np.arccos(clip_cosines(cos3))
             t3 = np.stack((psi - delta, psi + delta), axis=1)  # (N, 2): elbow up, down
@@ -96,8 +198,8 @@ class PieperBatch(PieperQuartic):
     def _parallel23_arms(self, wx: np.ndarray, wy: np.ndarray, wz: np.ndarray) -> np.ndarray:
         """:meth:`_arms_batch` of the parallel23 family (axes 2, 3 parallel): (N, 4, 3) [rad]."""
         a1, d1, a2 = self.a1, self.d1, self.a2
-        _, _, s1, c1, *_ = self._k
-        lx, ly, l3, phi3, h = self._e
+        _, _, s1, c1, *_ = self.k
+        lx, ly, l3, phi3, h = self.e
         y1 = (wz - d1 - c1 * h) / s1
         b = c1 * y1 - s1 * h
         rho2 = wx * wx + wy * wy
@@ -122,7 +224,7 @@ class PieperBatch(PieperQuartic):
 
     def _wrist_batch(self, t: np.ndarray, r: np.ndarray, free: float) -> np.ndarray:
         """The 8 rows of N targets from their arm slots ``t`` (N, 4, 3): ``q`` (N, 8, 6) [rad]."""
-        s1, c1, s2, c2, s3, c3, s4, c4, s5, c5 = self._wrist
+        s1, c1, s2, c2, s3, c3, s4, c4, s5, c5 = self.wrist
         o1, o2, o3, o4, o5, o6 = self.offsets
         vx, vy, vz = (r[:, i, 0][:, None] for i in range(3))  # broadcast to (N, 4) below
         nx, ny, nz = (r[:, i, 2][:, None] for i in range(3))
@@ -138,7 +240,7 @@ class PieperBatch(PieperQuartic):
             vy, vz = ca * vy + sa * vz, -sa * vy + ca * vz
             ny, nz = ca * ny + sa * nz, -sa * ny + ca * nz
         cos5 = (c4 * c5 - nz) / (s4 * s5)
-        if self._classic:
+        if self.classic:
             sin5 = np.sqrt(nx * nx + ny * ny)
         else:
             cos5 = clip_cosines(cos5)

@@ -60,15 +60,20 @@ family's quartic by NumPy's LAPACK or SciPy's).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, ClassVar
+
+import numpy as np
 
 from dh2urdf import DHTable
 from kin._native import twin
 
-from ._six_r import LENGTH_TOL, SixRChecker, sin_cos
-from .six_r_twin import quartic_twin
+from ...targets.target import PoseTarget
+from ._six_r import LENGTH_TOL, SixRChecker, TargetFrame, sin_cos
+from .six_r_family import SixRFamily
+from .six_r_twin import TwinVerifier, frame_fields, quartic_twin
 from .three_parallel_batch import REACH_TOL, ThreeParallelBatch
 
 __all__ = ["NEAR_MEET", "REACH_TOL", "ThreeParallel6R", "URWrist6R"]
@@ -146,33 +151,101 @@ def _read(table: DHTable, solver: str, meet: bool) -> dict[str, Any]:
 
 
 @dataclass(frozen=True)
-class ThreeParallel6R(ThreeParallelBatch):
+class ThreeParallel6R:
     """A 6R arm with axes 2, 3, 4 parallel: parameters in SI, and its closed form (8 branches).
 
-    :meth:`recognise` gives the UR case (``a5 = 0``) as a :class:`URWrist6R`.
+    :meth:`recognise` gives the UR case (``a5 = 0``) as a :class:`URWrist6R`. It holds its NumPy
+    algorithm (:class:`~.three_parallel_batch.ThreeParallelBatch`) and its solve of one or N
+    targets (:class:`~.six_r_family.SixRFamily`: the compiled twin where it fits, else that
+    algorithm).
 
-    Fields: those of :class:`~.three_parallel_batch.ThreeParallelBatch`.
+    Attributes:
+        robot: Robot name.
+        family: ``"intersecting"`` (``a5 = 0``) or ``"general"`` (see the module).
+        offsets: Joint offsets ``theta1 .. theta6`` [rad] (DH angle = q + offset).
+        T_base: World -> standard DH frame 0 (4x4) [m].
+        T_tool: Standard frame 6 (``Rz(t6) Tz(d6)``) -> tool (4x4) [m].
+        alpha1: Twist between axis 1 and the parallel axes 2-4 [rad].
+        a1: Radial offset of axis 2 [m].
+        d1: Height of axis 2 along axis 1 [m].
+        a2: Upper-arm length [m].
+        a3: Forearm length [m].
+        lateral: ``h = d2 + d3 + d4 + cos(alpha4) d5``, offset of frame 5 along the parallel
+            axes from frame 1 at ``t5 = 0`` [m].
+        a4: Offset of axis 5 from axis 4 along ``x4`` [m].
+        alpha4: Twist between axis 4 and axis 5 [rad].
+        d5: Distance along axis 5 from axis 4 to the normal of axes 5 and 6 [m].
+        a5: Length of the common normal of axes 5 and 6 [m] (0 in the intersecting family).
+        alpha5: Twist between axis 5 and axis 6 [rad].
+        d6: Distance along axis 6 from frame 5 to standard frame 6 [m].
     """
 
     name: ClassVar[str] = "three_parallel"
+    #: Six revolute joints; a full pose as the target.
+    dof: ClassVar[int] = 6
+    target_kinds: ClassVar[tuple[type, ...]] = (PoseTarget,)
     #: The family's compiled twin (``kin/_native/ik/analytic/six_r/_three_parallel.c``, both families), or None
     #: when it is not built; a general-family arm uses it only when LAPACK loads for its quartic.
     compiled_twin: ClassVar[ModuleType | None] = _TWIN
+    #: The family's special cases (subclasses), asked first by the registry.
+    cases: ClassVar[tuple[type[ThreeParallel6R], ...]] = ()
+
+    robot: str
+    family: str
+    offsets: tuple[float, ...]
+    T_base: np.ndarray = field(repr=False)
+    T_tool: np.ndarray = field(repr=False)
+    alpha1: float
+    a1: float
+    d1: float
+    a2: float
+    a3: float
+    lateral: float
+    a4: float
+    alpha4: float
+    d5: float
+    a5: float
+    alpha5: float
+    d6: float
+    _batch: ThreeParallelBatch = field(init=False, repr=False, compare=False)
+    _solve: SixRFamily = field(init=False, repr=False, compare=False)
+    #: The held :class:`~.six_r_family.SixRFamily`'s ``solve`` (the 8 branches (8, 6) [rad] of
+    #: one tool pose), ``solve_batch`` ((N, 8, 6) of N) and ``verifier`` (the compiled
+    #: solve-and-verify, or None): its bound methods, no call in between.
+    solve: Callable[..., np.ndarray] = field(init=False, repr=False, compare=False)
+    solve_batch: Callable[..., np.ndarray] = field(init=False, repr=False, compare=False)
+    verifier: Callable[..., TwinVerifier | None] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        super().__post_init__()
-        if self.family == "intersecting" or _general_twin() is not None:
-            self._pack_twin()
+        lengths = (self.a1, self.d1, self.a2, self.a3, self.lateral, self.a4, self.d5, self.a5)
+        twists = (self.alpha1, self.alpha4, self.alpha5)
+        frame = TargetFrame(self.T_base, self.T_tool)
+        batch = ThreeParallelBatch.of(self.family, self.offsets, frame, (*lengths, self.d6), twists)
+        object.__setattr__(self, "_batch", batch)
+        fits = self.family == "intersecting" or _general_twin() is not None
+        fields = self.c_fields if fits else None
+        SixRFamily.of(self.name, batch.solve_block, self.compiled_twin, fields).hand_to(self)
 
-    def _c_own(self) -> dict[str, tuple[float, ...]]:
+    def c_fields(self) -> dict[str, tuple[float, ...]]:
+        """The compiled twin's parameters by field name (its ``LAYOUT``; [m], [rad])."""
         lengths = (self.a1, self.d1, self.a2, self.a3, self.lateral, self.a4, self.d5)
         return {
+            **frame_fields(self.T_base, self.T_tool),
             "family": (float(self.family == "general"),),
-            "k": self._k,
-            "classic": (float(self._classic),),
+            "k": self._batch.k,
+            "classic": (float(self._batch.classic),),
             "len": (*lengths, self.a5, self.d6),
             "off": self.offsets,
         }
+
+    @property
+    def c_params(self) -> np.ndarray:
+        """:meth:`c_fields` packed in the order the compiled twin declares (its ``LAYOUT``).
+
+        Raises:
+            RuntimeError: The twin is not built.
+        """
+        return self._solve.c_params
 
     @property
     def branch_labels(self) -> tuple[str, ...]:

@@ -3,21 +3,20 @@
 The one form of the family (one target is N = 1; the compiled twin ``_three_parallel.c`` repeats
 it, both cases): joint 1 from the wrist centre, in closed form when axes 5 and 6
 meet, else a quartic polished (:mod:`._trig_quartic`); the three parallel axes as a planar 2R;
-the wrist. The steps are those of :mod:`.three_parallel`'s docstring. Angles in [rad], lengths
-in [m].
+the wrist. The steps are those of :mod:`.three_parallel`'s docstring; :class:`ThreeParallelBatch`
+holds the arm's constants and is held by the arm it solves. Angles in [rad], lengths in [m].
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ._six_r import SINGULAR, clip_cosines, sin_cos, wrap_array
+from ._six_r import SINGULAR, TargetFrame, clip_cosines, sin_cos, wrap_array
 from ._trig_quartic import EPS, candidates_batch, polish_batch
-from .six_r_family import SixRFamily
 
 #: A general-family root is kept when, after polishing, ``|E(t1)| max(|sa4 a5| [m], |sa4 sa5|)
 #: <= 2 REACH_TOL`` (plus the rounding of ``E``): ``(sin t5, cos t5)`` then meets ``A`` within
@@ -26,53 +25,65 @@ REACH_TOL = 1e-10
 
 
 @dataclass(frozen=True)
-class ThreeParallelBatch(SixRFamily):
-    """An arm of the three-parallel family: its parameters in SI and its NumPy algorithm.
+class ThreeParallelBatch:
+    """The NumPy algorithm of a :class:`~.three_parallel.ThreeParallel6R` and what it reads.
 
-    The base of :class:`~.three_parallel.ThreeParallel6R` (which reads a table into it).
+    Held by the arm (:meth:`of` reads its parameters once).
 
-    Attributes (besides :class:`~.six_r_family.SixRFamily`'s):
-        family: ``"intersecting"`` (``a5 = 0``) or ``"general"`` (see the module).
-        alpha1: Twist between axis 1 and the parallel axes 2-4 [rad].
-        a1: Radial offset of axis 2 [m].
-        d1: Height of axis 2 along axis 1 [m].
-        a2: Upper-arm length [m].
-        a3: Forearm length [m].
-        lateral: ``h = d2 + d3 + d4 + cos(alpha4) d5``, offset of frame 5 along the parallel
-            axes from frame 1 at ``t5 = 0`` [m].
-        a4: Offset of axis 5 from axis 4 along ``x4`` [m].
-        alpha4: Twist between axis 4 and axis 5 [rad].
-        d5: Distance along axis 5 from axis 4 to the normal of axes 5 and 6 [m].
-        a5: Length of the common normal of axes 5 and 6 [m] (0 in the intersecting family).
-        alpha5: Twist between axis 5 and axis 6 [rad].
-        d6: Distance along axis 6 from frame 5 to standard frame 6 [m].
+    Attributes:
+        family: ``"intersecting"`` (``a5 = 0``) or ``"general"`` (see :mod:`.three_parallel`).
+        offsets: Joint offsets ``theta1 .. theta6`` [rad].
+        a1, d1, a2, a3, lateral, a4, d5, a5, d6: The arm's lengths of those names [m].
+        k: ``sin``, ``cos`` of ``alpha1``, ``alpha4`` and ``alpha5`` in turn [-].
+        classic: Both wrist twists +-90 deg (``|sin t5|`` is then read without cancellation).
+        frame: World tool pose -> pose of standard frame 6 in frame 0.
     """
 
-    alpha1: float
+    family: str
+    offsets: tuple[float, ...]
     a1: float
     d1: float
     a2: float
     a3: float
     lateral: float
     a4: float
-    alpha4: float
     d5: float
     a5: float
-    alpha5: float
     d6: float
+    k: tuple[float, ...]
+    classic: bool
+    frame: TargetFrame = field(repr=False, compare=False)
 
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        s1, c1 = sin_cos(self.alpha1)
-        s4, c4 = sin_cos(self.alpha4)
-        s5, c5 = sin_cos(self.alpha5)
-        object.__setattr__(self, "_k", (s1, c1, s4, c4, s5, c5))
+    @classmethod
+    def of(
+        cls,
+        family: str,
+        offsets: tuple[float, ...],
+        frame: TargetFrame,
+        lengths: tuple[float, ...],
+        twists: tuple[float, float, float],
+    ) -> ThreeParallelBatch:
+        """The algorithm of an arm from its parameters (:class:`~.three_parallel.ThreeParallel6R`).
+
+        Args:
+            family: The arm's family.
+            offsets: Joint offsets ``theta1 .. theta6`` [rad].
+            frame: World tool pose -> pose of standard frame 6 in frame 0.
+            lengths: ``(a1, d1, a2, a3, lateral, a4, d5, a5, d6)`` [m].
+            twists: ``(alpha1, alpha4, alpha5)`` [rad].
+        """
+        s1, c1 = sin_cos(twists[0])
+        s4, c4 = sin_cos(twists[1])
+        s5, c5 = sin_cos(twists[2])
         # Both wrist twists +-90 deg: |sin t5| is then read without cancellation.
-        object.__setattr__(self, "_classic", c4 == 0.0 and c5 == 0.0)
+        classic = c4 == 0.0 and c5 == 0.0
+        a1, d1, a2, a3, lateral, a4, d5, a5, d6 = lengths
+        k = (s1, c1, s4, c4, s5, c5)
+        return cls(family, offsets, a1, d1, a2, a3, lateral, a4, d5, a5, d6, k, classic, frame)
 
-    def _solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
+    def solve_block(self, positions: np.ndarray, rotations: np.ndarray, free: float) -> np.ndarray:
         """The 8 branches (N, 8, 6) [rad] of N world tool poses, NaN where a branch is missing."""
-        p, r = self._frame.batch(positions, rotations)
+        p, r = self.frame.batch(positions, rotations)
         with np.errstate(invalid="ignore", divide="ignore"):
             n = r[:, :, 2]
             w = p - self.d6 * n
@@ -89,7 +100,7 @@ class ThreeParallelBatch(SixRFamily):
 
         (N, 4, 3) [rad], [-], NaN: no slot.
         """
-        s1, c1, s4, c4, s5, c5 = self._k
+        s1, c1, s4, c4, s5, c5 = self.k
         wx, wy, wz = w.T
         rho = np.hypot(wx, wy)
         k = (c1 * (wz - self.d1) - self.lateral) / (s1 * rho)
@@ -101,7 +112,7 @@ class ThreeParallelBatch(SixRFamily):
             t1 = beta - asin_k if shoulder == 0 else beta - math.pi + asin_k
             z1 = (s1 * np.sin(t1), -s1 * np.cos(t1), c1)
             cos5 = (c4 * c5 - (n[:, 0] * z1[0] + n[:, 1] * z1[1] + n[:, 2] * z1[2])) / (s4 * s5)
-            if self._classic:
+            if self.classic:
                 sin5 = np.sqrt(
                     (n[:, 1] * z1[2] - n[:, 2] * z1[1]) ** 2
                     + (n[:, 2] * z1[0] - n[:, 0] * z1[2]) ** 2
@@ -133,7 +144,7 @@ class ThreeParallelBatch(SixRFamily):
         Arrays of N targets: ``(u0, uc, us, v0, vc, vs, su, sv)``, ``su``, ``sv`` the sums of the
         magnitudes that make up ``u``, ``v`` [-].
         """
-        s1, c1, s4, c4, s5, c5 = self._k
+        s1, c1, s4, c4, s5, c5 = self.k
         ka, kb = s4 * self.a5, s4 * s5
         u0 = (c1 * (wz - self.d1) - self.lateral) / ka
         v0 = (c4 * c5 - c1 * nz) / kb
@@ -150,7 +161,7 @@ class ThreeParallelBatch(SixRFamily):
         v = v0 + vc * c + vs * s
         e = u * u + v * v - 1.0
         de = 2.0 * (u * (us * c - uc * s) + v * (vs * c - vc * s))
-        _, _, s4, _, s5, _ = self._k
+        _, _, s4, _, s5, _ = self.k
         reach = 2.0 * REACH_TOL / max(abs(s4 * self.a5), abs(s4 * s5))
         bound = reach + 16.0 * EPS * (abs(u) * su + abs(v) * sv + 1.0)
         return e, de, bound, u, v
@@ -167,7 +178,7 @@ class ThreeParallelBatch(SixRFamily):
         self, slots: np.ndarray, w: np.ndarray, r: np.ndarray, free: float
     ) -> np.ndarray:
         """The 8 rows (N, 8, 6) [rad] of N targets from their slots ``(t1, cos t5, sin t5)``."""
-        s1, c1, s4, c4, s5a, c5a = self._k
+        s1, c1, s4, c4, s5a, c5a = self.k
         a2, a3, a5 = self.a2, self.a3, self.a5
         o1, o2, o3, o4, o5, o6 = self.offsets
         (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = (
