@@ -46,7 +46,8 @@ def build_context(robot: RobotModel, settings: NumericSettings) -> NumericContex
     Without a free-joint closed form, mink is imported here (once per process, about 0.3 s),
     not by the first call that falls back to a QP run; with one (humanoid7, Panda), which
     answers nearly every reachable pose, the import waits for a QP run (a one-shot command
-    stays fast).
+    stays fast). So does a solver built inside a call (``prepare`` False: a closed form's
+    numeric solver, built by the first target its closed form does not take).
     """
     model = robot.model
     data = model.createData()
@@ -69,7 +70,7 @@ def build_context(robot: RobotModel, settings: NumericSettings) -> NumericContex
             idealised = ideal if closed_form is not None else None
         if closed_form is None:
             closed_form = free_joint_closed_form(robot.table, lower, upper)
-    if closed_form is None:
+    if closed_form is None and settings.prepare:
         import_mink()
     draw_lower, draw_upper = sampling_limits(robot.table, lower, upper)
     x, y, z = np.asarray(robot.table.T_world_base, dtype=float)[:3, 3].tolist()
