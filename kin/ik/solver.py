@@ -4,11 +4,12 @@ Every solver the solver table builds (:mod:`.solver_table`: the closed form, the
 pipeline, the paper's Newton-Raphson, and any of them wrapped by the collision-aware solver)
 answers the same calls, as mink's and pink's solvers do: a ``name``, the ``robot`` it solves,
 the ``target_kinds`` it takes, ``solve(target, seed=None, *, timeout=None, all_branches=False)``
-and ``batch_route()``; and which of its parts answers what: ``closed_form_kinds`` (every branch
-in one solve), its ``numeric`` and ``partial`` solvers. No caller sniffs a signature, fishes an
-attribute out of a solver or asks which class it is: what a batch of 7R poses reads of the
-numeric solver is its :class:`FreeJointRoute`, asked through ``batch_route()`` (None: target by
-target); a path or the collision search asks ``closed_form_kinds``, ``numeric`` and ``partial``.
+and ``batch_route()``; ``route(target)``, the part of it that answers a target (decided once, by
+the rules of :mod:`.routing`); and its parts: ``closed_form_kinds`` (every branch in one solve),
+its ``numeric`` and ``partial`` solvers. No caller sniffs a signature, fishes an attribute out of
+a solver or asks which class it is: what a batch of 7R poses reads of the numeric solver is its
+:class:`FreeJointRoute`, asked through ``batch_route()`` (None: target by target); a path or the
+collision search asks ``route``, ``closed_form_kinds``, ``numeric`` and ``partial``.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy.typing as npt
 
 from .result import IKResult
+from .routing import Route
 
 __all__ = ["FreeJointRoute", "IKSolver", "PartialSolver"]
 
@@ -125,6 +127,14 @@ class IKSolver(Protocol):
 
         The numeric solver itself; a closed form's numeric solver of the same robot (built on
         first use); None when the solver has none (Newton-Raphson).
+        """
+        ...
+
+    def route(self, target: object) -> Route:
+        """The part of the solver that answers ``target`` (:mod:`kin.ik.routing`).
+
+        Decided when the solver is built, by the rule of its kind; ``REFUSED``: a kind it
+        does not take.
         """
         ...
 

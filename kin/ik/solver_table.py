@@ -36,6 +36,11 @@ are rejected and the search goes on where the arm has freedom left.
 Every solver answers one interface, :class:`kin.ik.solver.IKSolver` (``Solver`` here): no
 caller sniffs a signature or asks which class a solver is.
 
+**Routes**: which part of a row's solver answers each target kind (the closed form, its compiled
+twin, the partial-pose solver, the numeric search) is the table's too, decided in
+:mod:`.routing` by one rule per row (a module apart because the solvers read it when built) and
+stated by each solver as ``route(target)``.
+
 **Batches** take, before the rows, the vectorized closed form (:func:`vectorized_solver`:
 :class:`~.analytic.batch.BatchSolver`, every target at once) when the structure itself takes the
 target kind; else the ``batch`` front end's solver, target by target.

@@ -27,6 +27,7 @@ import numpy.typing as npt
 
 from ..ik.exceptions import TargetError
 from ..ik.result import IKResult
+from ..ik.routing import REFUSED, Route, own_search_routes
 from ..ik.targets.target import PoseTarget, PositionTarget
 from .starts import sample_table
 
@@ -65,7 +66,10 @@ class MimicSolver:
     """
 
     name = PIPELINE
-    target_kinds: tuple[type, ...] = (PoseTarget, PositionTarget)
+    #: A whole pose or a position, by its descent (:func:`kin.ik.routing.own_search_routes`); a
+    #: masked pose or another kind refused.
+    routes = own_search_routes((PoseTarget, PositionTarget))
+    target_kinds: tuple[type, ...] = routes.kinds
     #: No closed form, no numeric or partial-pose solver behind it: its own descent.
     closed_form_kinds: tuple[type, ...] = ()
     numeric = None
@@ -77,6 +81,10 @@ class MimicSolver:
         self.restarts = restarts
         self.max_iter = max_iter
         self._table: SeedTable | None = None  # the samples of the starts, made on first solve
+
+    def route(self, target: object) -> Route:
+        """The part that answers ``target``: its descent, or none (:mod:`kin.ik.routing`)."""
+        return self.routes.of(target)
 
     def batch_route(self) -> None:
         """None: a batch solves target by target (:class:`kin.ik.solver.IKSolver`)."""
@@ -115,12 +123,12 @@ class MimicSolver:
         cap = DEFAULT_TIMEOUT if timeout is None else timeout
         if not cap >= 0.0:
             raise TargetError(f"timeout must be a number of seconds >= 0, got {timeout!r}")
-        if not isinstance(target, (PoseTarget, PositionTarget)) or getattr(target, "mask", None):
+        if self.routes.of(target) is REFUSED:
             raise TargetError(
                 f"'{self.arm.name}' (a chain with mimic joints) takes a whole pose (--rpy or "
                 "--quat, no --mask) or a position"
             )
-        rotation = None if isinstance(target, PositionTarget) else np.asarray(target.rotation)
+        rotation = None if isinstance(target, PositionTarget) else np.asarray(target.rotation)  # type: ignore[union-attr]
         position = np.asarray(target.position)
 
         def near() -> np.ndarray:

@@ -152,6 +152,7 @@ class RelabelledSolver:
         self.closed_form_kinds = self.solver.closed_form_kinds
         self.numeric = self.solver.numeric
         self.partial = self.solver.partial
+        self.route = self.solver.route
 
     def solve(self, target, seed=None, *, timeout=None, all_branches=False):
         result = self.solver.solve(target, seed, timeout=timeout)

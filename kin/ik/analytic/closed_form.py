@@ -29,15 +29,8 @@ from kin.configuration import default_seed, seed_inside
 
 from ..judge import ToolJudge
 from ..result import IKResult
-from ..targets.target import (
-    AxisTarget,
-    PitchTarget,
-    PoseTarget,
-    PositionTarget,
-    Target,
-    is_partial,
-    kind_error,
-)
+from ..routing import BRANCHES, CLOSED, NUMERIC, REFUSED, TWIN, Route, closed_form_routes
+from ..targets.target import PitchTarget, PoseTarget, Target, kind_error
 from .branch_verification import BranchVerifier, log_miss
 from .closed_form_branches import ClosedFormArm, recognise_arm
 from .closed_form_routes import ClosedFormRoutes, OnFirstUse
@@ -97,26 +90,12 @@ class ClosedFormSolver:
         # One solve at a time: the judge's Pinocchio data is shared (threads get the answers
         # one thread would).
         self._lock = threading.Lock()
-        self.routes = ClosedFormRoutes(
+        self.handlers = ClosedFormRoutes(
             arm, self.verifier, self.polish, numeric, self.name, self._lock
         )
         #: Per joint, revolute (compared modulo a turn by IKResult.without_repeats); None: all.
         revolute = tuple(row.joint_type == "revolute" for row in robot.table.rows)
         self._revolute = None if all(revolute) else revolute
-        self._kinds = self.closed_form_kinds
-        # A full pose goes to the partial-pose solver on an arm of fewer than six joints whose
-        # closed form does not take it whole (a five-joint arm's does, with its own reasons).
-        # So does one whose closed form projects the pose on what the arm reaches (a SCARA's).
-        projects = bool(getattr(arm.structure, "projects", False))
-        whole = PoseTarget in self._kinds and not projects
-        self._partial_below = 6 if whole else len(arm.lower)
-        #: A full pose on an arm of fewer than six joints whose closed form solves positions only
-        #: (a planar 2R, a 3R arm) or projects poses on the arm's (a SCARA, any arm of parallel
-        #: axes): the closed form's branches are its only candidates, measured on the whole pose
-        #: (:meth:`.ClosedFormRoutes.pose_from_branches`) before the partial-pose solver is asked.
-        self._pose_by_branches = (
-            PositionTarget in self._kinds and PoseTarget not in self._kinds
-        ) or projects
         #: The seed of a call given none (:func:`kin.configuration.default_seed`); None when it
         #: is zero (the readers' own default).
         start_q = default_seed(robot)
@@ -142,6 +121,14 @@ class ClosedFormSolver:
             if self._twin is None
             else self._twin.solutions(arm.directions, arm.structure.branch_labels, self.name)
         )
+        #: Which part answers each target kind (:func:`kin.ik.routing.closed_form_routes`).
+        self.routes = closed_form_routes(
+            self.closed_form_kinds,
+            len(arm.lower),
+            projects=bool(getattr(arm.structure, "projects", False)),
+            twin=self._solutions is not None,
+        )
+        self._by_class = self.routes.by_class
 
     def _numeric_solver(self) -> Any:
         """The numeric solver of the same robot, for the target kinds the closed form lacks."""
@@ -154,7 +141,7 @@ class ClosedFormSolver:
     @property
     def numeric(self) -> Any:
         """The numeric solver of the same robot (built on first use)."""
-        return self.routes.numeric()
+        return self.handlers.numeric()
 
     @property
     def partial(self) -> Any:
@@ -162,13 +149,13 @@ class ClosedFormSolver:
 
         This closed form's branches are its candidates, then weighted least squares.
         """
-        return self.routes.partial()
+        return self.handlers.partial()
 
     def pose_candidates(
         self, position: np.ndarray, rotations: np.ndarray, seed: npt.ArrayLike
     ) -> list[tuple[np.ndarray, str]]:
         """The closed form's branches of full poses (:meth:`.ClosedFormRoutes.pose_candidates`)."""
-        return self.routes.pose_candidates(position, rotations, seed)
+        return self.handlers.pose_candidates(position, rotations, seed)
 
     @property
     def closed_form_kinds(self) -> tuple[type, ...]:
@@ -177,15 +164,16 @@ class ClosedFormSolver:
 
     @property
     def target_kinds(self) -> tuple[type, ...]:
-        """The target classes this solver accepts.
+        """The target classes this solver accepts (:func:`kin.ik.routing.closed_form_routes`).
 
-        The closed form's, and a position when the closed form does not take one (answered by
-        the numeric solver, see :meth:`solve`).
+        The closed form's, a position and a whole pose (the numeric or the partial-pose solver
+        answers those the closed form does not take) and an axis target (the partial-pose solver).
         """
-        kinds = self.closed_form_kinds
-        kinds = kinds if PositionTarget in kinds else (*kinds, PositionTarget)
-        extra = tuple(kind for kind in (PoseTarget, AxisTarget) if kind not in kinds)
-        return (*kinds, *extra)
+        return self.routes.kinds
+
+    def route(self, target: object) -> Route:
+        """The part of this solver that answers ``target`` (:mod:`kin.ik.routing`)."""
+        return self.routes.of(target)
 
     def batch_route(self) -> None:
         """None: a batch takes the vectorized closed form (:func:`kin.ik.solver_table.vectorized_solver`)."""
@@ -223,33 +211,30 @@ class ClosedFormSolver:
         """
         start = time.perf_counter()
         seed = self._default_seed if seed is None else seed_inside(self.robot, seed)
-        if target.__class__ is PoseTarget and self._solutions is not None:
-            if target.mask is None:  # type: ignore[attr-defined]
-                # One C call (no lock: the twin shares no state between calls), which makes the
-                # result when a branch is valid, none is off target and none repeats another.
-                answer = self._solutions(target, seed, start)
-                if answer.__class__ is IKResult:
-                    return answer  # type: ignore[no-any-return]
-                twin = twin_answer(self.verifier, self._solutions, answer, target, seed, start)  # type: ignore[arg-type]
-                return twin.without_repeats(self._revolute)
-        if not isinstance(target, self._kinds) or target.__class__ is PoseTarget:
-            if is_partial(target, self._partial_below):
-                if (
-                    self._pose_by_branches
-                    and isinstance(target, PoseTarget)
-                    and target.mask is None
-                ):
-                    with self._lock:
-                        done = self.routes.pose_from_branches(target, seed, start)
-                    if done is not None:
-                        return done
-                return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
-        if not isinstance(target, self._kinds):
-            if isinstance(target, self.target_kinds):
-                return self.routes.solve_numeric(target, seed, timeout)
+        route = self._by_class[target.__class__]
+        if route is TWIN and target.mask is None:  # type: ignore[union-attr]
+            # One C call (no lock: the twin shares no state between calls), which makes the
+            # result when a branch is valid, none is off target and none repeats another.
+            answer = self._solutions(target, seed, start)
+            if answer.__class__ is IKResult:
+                return answer  # type: ignore[no-any-return]
+            twin = twin_answer(self.verifier, self._solutions, answer, target, seed, start)  # type: ignore[arg-type]
+            return twin.without_repeats(self._revolute)
+        route = self.routes.of(target)
+        if route is CLOSED:
+            with self._lock:
+                closed = self._solve_closed(target, seed, start, timeout)
+            return closed.without_repeats(self._revolute)
+        if route is BRANCHES:
+            with self._lock:
+                done = self.handlers.pose_from_branches(target, seed, start)  # type: ignore[arg-type]
+            if done is not None:
+                return done
+        if route is NUMERIC:
+            return self.handlers.solve_numeric(target, seed, timeout)
+        if route is REFUSED:
             raise kind_error(self.robot.name, self.target_kinds, target)
-        with self._lock:
-            return self._solve_closed(target, seed, start, timeout).without_repeats(self._revolute)
+        return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
 
     def _solve_closed(
         self, target: Target, seed: npt.ArrayLike | None, start: float, timeout: float | None

@@ -7,7 +7,8 @@ its joint vector; a colliding one moves to :attr:`~kin.ik.IKResult.rejected` wit
 :attr:`~kin.ik.IKResult.solutions`. When the free answers that remain are none, the search goes
 on where the arm has freedom left, bounded by work (the timeout only a cap):
 
-- an axis target or a masked pose: every roll of the partial-pose sweep
+- a target that leaves components free (an axis target, a masked pose: the route
+  :attr:`~kin.ik.routing.PARTIAL`): every roll of the partial-pose sweep
   (:meth:`~kin.ik.partial_pose.PartialPoseIK.solve` with ``every_roll=True``);
 - a full pose on a 7R arm with a free-joint closed form: every branch of the all-branches grid
   (:mod:`kin.ik.numeric.all_branches`);
@@ -44,8 +45,9 @@ from dh2urdf.output_text import shown_name
 
 from ..numeric.sampling_box import sampling_limits
 from ..result import IKResult, IKSolution
+from ..routing import PARTIAL, Route
 from ..solver import IKSolver, PartialSolver
-from ..targets.target import AxisTarget, PoseTarget
+from ..targets.target import PoseTarget
 
 __all__ = ["EXTRA_STARTS", "CollisionAwareSolver", "collision_reason"]
 
@@ -141,6 +143,10 @@ class CollisionAwareSolver:
     def partial(self) -> PartialSolver | None:
         """The wrapped solver's partial-pose solver (its answers not judged)."""
         return self.solver.partial
+
+    def route(self, target: object) -> Route:
+        """The part of the wrapped solver that answers ``target`` (:mod:`kin.ik.routing`)."""
+        return self.solver.route(target)
 
     def solve(
         self,
@@ -290,7 +296,7 @@ class CollisionAwareSolver:
         """
         solver = self.solver
         cls = target.__class__
-        partial = cls is AxisTarget or (cls is PoseTarget and target.mask is not None)
+        partial = solver.route(target) is PARTIAL  # leaves components free: every roll
         numeric = _numeric_of(solver, partial, target)
         swept = False  # the free-joint grid swept the self-motion: the bound from the seed alone
         if partial:

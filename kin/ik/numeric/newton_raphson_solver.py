@@ -12,6 +12,7 @@ import numpy.typing as npt
 from ...robot_model import RobotModel
 from ..exceptions import TargetError
 from ..result import IKResult
+from ..routing import REFUSED, Route, own_search_routes
 from ..targets.target import PositionTarget
 
 
@@ -23,7 +24,9 @@ class NewtonRaphsonSolver:
     """
 
     name = "nr"
-    target_kinds: tuple[type, ...] = (PositionTarget,)
+    #: A position, by its one run (:func:`kin.ik.routing.own_search_routes`); no other kind.
+    routes = own_search_routes((PositionTarget,))
+    target_kinds: tuple[type, ...] = routes.kinds
     #: No closed form, no numeric or partial-pose solver behind it: one run from the seed.
     closed_form_kinds: tuple[type, ...] = ()
     numeric = None
@@ -31,6 +34,10 @@ class NewtonRaphsonSolver:
 
     def __init__(self, robot: RobotModel):
         self.robot = robot
+
+    def route(self, target: object) -> Route:
+        """The part that answers ``target``: its one run, or none (:mod:`kin.ik.routing`)."""
+        return self.routes.of(target)
 
     def batch_route(self) -> None:
         """None: a batch solves target by target."""
@@ -53,7 +60,7 @@ class NewtonRaphsonSolver:
         """
         from .newton_raphson import newton_raphson
 
-        if not isinstance(target, PositionTarget):
+        if self.routes.of(target) is REFUSED:
             raise TargetError(
                 "--solver nr is the paper's position-only method: drop --rpy/--quat/--pitch"
             )

@@ -53,8 +53,9 @@ from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
 from ..partial_pose import PartialPoseIK
 from ..result import IKResult
+from ..routing import NUMERIC, REFUSED, Route, numeric_routes
 from ..solver import FreeJointRoute
-from ..targets.target import AxisTarget, PoseTarget, PositionTarget, is_partial, kind_error
+from ..targets.target import AxisTarget, PoseTarget, PositionTarget, kind_error
 from .build_context import build_context, compiled_stage0
 from .damped_newton import load_linalg
 from .free_joint import METHOD as FREE_JOINT
@@ -122,8 +123,11 @@ class NumericIK:
         self.nq: int = context.nq
         self.lower, self.upper = context.lower, context.upper
         self._shape = (self.nq,)
-        # A pose on fewer than six joints, a masked pose, an axis target: kin.ik.partial_pose.
-        self._kinds: tuple[type, ...] = (NumericTarget, PoseTarget, PositionTarget, AxisTarget)
+        #: Which part answers each target kind (:func:`kin.ik.routing.numeric_routes`): a pose
+        #: on fewer than six joints, a masked pose, an axis target go to the partial-pose solver.
+        self.routes = numeric_routes(
+            self.nq, (NumericTarget, PoseTarget, PositionTarget, AxisTarget)
+        )
         self._partial: PartialPoseIK | None = None
         self._table: SeedTable | None = None
         self.stages: tuple[Stage, ...] = STAGES
@@ -184,12 +188,16 @@ class NumericIK:
 
     @property
     def target_kinds(self) -> tuple[type, ...]:
-        """Target types :meth:`solve` accepts: a position; a full pose with six joints or more."""
-        return self._kinds
+        """Target types :meth:`solve` accepts: a position, a pose, an axis, a numeric target."""
+        return self.routes.kinds
+
+    def route(self, target: object) -> Route:
+        """The part of this solver that answers ``target`` (:mod:`kin.ik.routing`)."""
+        return self.routes.of(target)
 
     def solve(
         self,
-        target: object,
+        target: Any,
         seed: npt.ArrayLike | None = None,
         *,
         timeout: float | None = None,
@@ -234,8 +242,8 @@ class NumericIK:
             the links laid end to end (:attr:`reach`) is ``out_of_reach`` at once.
 
         Raises:
-            TargetError: A target of a kind the arm cannot take (a pitch target; a full pose on
-                an arm of fewer than six joints), a malformed one, or a seed of the wrong size.
+            TargetError: A target of a kind it does not take (a pitch target: its routes,
+                :func:`kin.ik.routing.numeric_routes`), or a seed of the wrong size.
         """
         if all_branches:
             from .all_branches import solve_all_branches
@@ -252,32 +260,19 @@ class NumericIK:
             )
         start = time.perf_counter()
         seed = seed_inside(self.robot, seed)
+        route = self.routes.of(target)
+        if route is not NUMERIC:
+            if route is REFUSED:
+                raise kind_error(self.robot.name, self.routes.kinds, target)
+            return self.partial.solve(target, seed, timeout=timeout)
         cls = target.__class__
-        if cls is PoseTarget or cls is PositionTarget:
-            # Checked when built, read-only since: the numeric stages read it as it is.
-            if cls is PoseTarget and (target.mask is not None or self.nq < 6):  # type: ignore[attr-defined]
-                return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
-            if not target.finite:  # type: ignore[attr-defined]  # an array made writeable again
-                return IKResult(
-                    False, PIPELINE, "invalid_target", f"target is not finite: {target}"
-                )
-            return self._solve(
-                target,  # type: ignore[arg-type]  # read as a NumericTarget (same attributes)
-                seed,
-                start,
-                timeout,
-                random_seed,
-                position_tol,
-                rotation_tol,
-                max_attempts,
-            )
-        if is_partial(target, self.nq):
-            return self.partial.solve(target, seed, timeout=timeout)  # type: ignore[arg-type]
-        if not isinstance(target, self._kinds):
-            raise kind_error(self.robot.name, self._kinds, target)
-        if not getattr(target, "finite", True):  # a target's arrays changed after it was built
+        # Checked when built, read-only since: the numeric stages read a pose or a position as
+        # it is (a NumericTarget's attributes); another kind is made a NumericTarget.
+        plain = cls is PoseTarget or cls is PositionTarget
+        if not (target.finite if plain else getattr(target, "finite", True)):  # writeable again
             return IKResult(False, PIPELINE, "invalid_target", f"target is not finite: {target}")
-        target = NumericTarget.from_target(target)
+        if not plain:
+            target = NumericTarget.from_target(target)
         return self._solve(
             target, seed, start, timeout, random_seed, position_tol, rotation_tol, max_attempts
         )

@@ -234,11 +234,13 @@ def test_full_pose_on_a_position_closed_form_equals_the_partial_solver(name, cap
     measured on the whole pose, the same joint vectors as the partial-pose solver's (its tilted
     twin: unreachable, handed over without a warning)."""
     from kin.ik.analytic.closed_form import ClosedFormSolver
+    from kin.ik.routing import BRANCHES
 
     reference, source = _reference(name)
     robot = load_robot(source)
     solver = get_solver(robot)
-    assert isinstance(solver, ClosedFormSolver) and solver._pose_by_branches, solver.name
+    assert isinstance(solver, ClosedFormSolver), solver.name
+    assert solver.route(PoseTarget([0.1, 0, 0], np.eye(3))) is BRANCHES, solver.name
     rng = np.random.default_rng(3)
     fast = 0
     for q in _configurations(robot, 30, 11):
