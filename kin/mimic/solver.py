@@ -27,7 +27,7 @@ import numpy.typing as npt
 
 from ..ik.exceptions import TargetError
 from ..ik.result import IKResult
-from ..ik.routing import REFUSED, Route, own_search_routes
+from ..ik.routing import REFUSED, own_search_routes
 from ..ik.targets.target import PoseTarget, PositionTarget
 from .starts import sample_table
 
@@ -70,6 +70,8 @@ class MimicSolver:
     #: masked pose or another kind refused.
     routes = own_search_routes((PoseTarget, PositionTarget))
     target_kinds: tuple[type, ...] = routes.kinds
+    #: ``route(target)``: its descent, or none (:meth:`kin.ik.routing.Routes.of`).
+    route = routes.of
     #: No closed form, no numeric or partial-pose solver behind it: its own descent.
     closed_form_kinds: tuple[type, ...] = ()
     numeric = None
@@ -81,10 +83,6 @@ class MimicSolver:
         self.restarts = restarts
         self.max_iter = max_iter
         self._table: SeedTable | None = None  # the samples of the starts, made on first solve
-
-    def route(self, target: object) -> Route:
-        """The part that answers ``target``: its descent, or none (:mod:`kin.ik.routing`)."""
-        return self.routes.of(target)
 
     def batch_route(self) -> None:
         """None: a batch solves target by target (:class:`kin.ik.solver.IKSolver`)."""

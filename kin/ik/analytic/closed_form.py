@@ -29,7 +29,7 @@ from kin.configuration import default_seed, seed_inside
 
 from ..judge import ToolJudge
 from ..result import IKResult
-from ..routing import BRANCHES, CLOSED, NUMERIC, REFUSED, TWIN, Route, closed_form_routes
+from ..routing import BRANCHES, CLOSED, NUMERIC, REFUSED, TWIN, closed_form_routes
 from ..targets.target import PitchTarget, PoseTarget, Target, kind_error
 from .branch_verification import BranchVerifier, log_miss
 from .closed_form_branches import ClosedFormArm, recognise_arm
@@ -129,6 +129,8 @@ class ClosedFormSolver:
             twin=self._solutions is not None,
         )
         self._by_class = self.routes.by_class
+        #: ``route(target)``: the part that answers it (:meth:`kin.ik.routing.Routes.of`).
+        self.route = self.routes.of
 
     def _numeric_solver(self) -> Any:
         """The numeric solver of the same robot, for the target kinds the closed form lacks."""
@@ -170,10 +172,6 @@ class ClosedFormSolver:
         answers those the closed form does not take) and an axis target (the partial-pose solver).
         """
         return self.routes.kinds
-
-    def route(self, target: object) -> Route:
-        """The part of this solver that answers ``target`` (:mod:`kin.ik.routing`)."""
-        return self.routes.of(target)
 
     def batch_route(self) -> None:
         """None: a batch takes the vectorized closed form (:func:`kin.ik.solver_table.vectorized_solver`)."""
@@ -220,7 +218,7 @@ class ClosedFormSolver:
                 return answer  # type: ignore[no-any-return]
             twin = twin_answer(self.verifier, self._solutions, answer, target, seed, start)  # type: ignore[arg-type]
             return twin.without_repeats(self._revolute)
-        route = self.routes.of(target)
+        route = self.route(target)
         if route is CLOSED:
             with self._lock:
                 closed = self._solve_closed(target, seed, start, timeout)

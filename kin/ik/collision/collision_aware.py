@@ -45,7 +45,7 @@ from dh2urdf.output_text import shown_name
 
 from ..numeric.sampling_box import sampling_limits
 from ..result import IKResult, IKSolution
-from ..routing import PARTIAL, Route
+from ..routing import PARTIAL
 from ..solver import IKSolver, PartialSolver
 from ..targets.target import PoseTarget
 
@@ -115,6 +115,8 @@ class CollisionAwareSolver:
         self.every = every
         self.robot = solver.robot
         self.name = solver.name
+        #: ``route(target)``: the wrapped solver's (its answers judged, not routed again).
+        self.route = solver.route
         # imported here, not in the first capped call that needs it (10-15 ms cold)
         from .collision_bound import solve_clear
 
@@ -143,10 +145,6 @@ class CollisionAwareSolver:
     def partial(self) -> PartialSolver | None:
         """The wrapped solver's partial-pose solver (its answers not judged)."""
         return self.solver.partial
-
-    def route(self, target: object) -> Route:
-        """The part of the wrapped solver that answers ``target`` (:mod:`kin.ik.routing`)."""
-        return self.solver.route(target)
 
     def solve(
         self,

@@ -12,7 +12,7 @@ import numpy.typing as npt
 from ...robot_model import RobotModel
 from ..exceptions import TargetError
 from ..result import IKResult
-from ..routing import REFUSED, Route, own_search_routes
+from ..routing import REFUSED, own_search_routes
 from ..targets.target import PositionTarget
 
 
@@ -27,6 +27,8 @@ class NewtonRaphsonSolver:
     #: A position, by its one run (:func:`kin.ik.routing.own_search_routes`); no other kind.
     routes = own_search_routes((PositionTarget,))
     target_kinds: tuple[type, ...] = routes.kinds
+    #: ``route(target)``: its one run, or none (:meth:`kin.ik.routing.Routes.of`).
+    route = routes.of
     #: No closed form, no numeric or partial-pose solver behind it: one run from the seed.
     closed_form_kinds: tuple[type, ...] = ()
     numeric = None
@@ -34,10 +36,6 @@ class NewtonRaphsonSolver:
 
     def __init__(self, robot: RobotModel):
         self.robot = robot
-
-    def route(self, target: object) -> Route:
-        """The part that answers ``target``: its one run, or none (:mod:`kin.ik.routing`)."""
-        return self.routes.of(target)
 
     def batch_route(self) -> None:
         """None: a batch solves target by target."""

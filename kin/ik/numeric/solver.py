@@ -53,7 +53,7 @@ from ..exceptions import TargetError
 from ..judge import POSITION_TOLERANCE, ROTATION_TOLERANCE
 from ..partial_pose import PartialPoseIK
 from ..result import IKResult
-from ..routing import NUMERIC, REFUSED, Route, numeric_routes
+from ..routing import NUMERIC, REFUSED, numeric_routes
 from ..solver import FreeJointRoute
 from ..targets.target import AxisTarget, PoseTarget, PositionTarget, kind_error
 from .build_context import build_context, compiled_stage0
@@ -128,6 +128,8 @@ class NumericIK:
         self.routes = numeric_routes(
             self.nq, (NumericTarget, PoseTarget, PositionTarget, AxisTarget)
         )
+        #: ``route(target)``: the part that answers it (:meth:`kin.ik.routing.Routes.of`).
+        self.route = self.routes.of
         self._partial: PartialPoseIK | None = None
         self._table: SeedTable | None = None
         self.stages: tuple[Stage, ...] = STAGES
@@ -190,10 +192,6 @@ class NumericIK:
     def target_kinds(self) -> tuple[type, ...]:
         """Target types :meth:`solve` accepts: a position, a pose, an axis, a numeric target."""
         return self.routes.kinds
-
-    def route(self, target: object) -> Route:
-        """The part of this solver that answers ``target`` (:mod:`kin.ik.routing`)."""
-        return self.routes.of(target)
 
     def solve(
         self,
@@ -260,7 +258,7 @@ class NumericIK:
             )
         start = time.perf_counter()
         seed = seed_inside(self.robot, seed)
-        route = self.routes.of(target)
+        route = self.route(target)
         if route is not NUMERIC:
             if route is REFUSED:
                 raise kind_error(self.robot.name, self.routes.kinds, target)
