@@ -118,10 +118,10 @@ def goal_configurations(
         checker: The collision checker every answer must pass.
         timeout: Cap of the IK search [s].
     """
-    from ..ik import get_solver
-    from ..ik.collision.collision_aware import CollisionAwareSolver
+    from ..ik.solver_table import choose
 
-    solver = CollisionAwareSolver(get_solver(robot), checker, every=True)
+    # get_solver's choice, wrapped by the table's one wrapper (every free answer kept)
+    solver = choose(robot, "auto", collisions=checker, every=True)
     result = solver.solve(target, start, timeout=timeout)
     if not result.solutions:
         status = {"in_collision": "goal_in_collision", "out_of_reach": "out_of_reach"}.get(

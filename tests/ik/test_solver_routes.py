@@ -84,3 +84,18 @@ def test_no_module_asks_which_solver_class_a_solver_is():
                 if label in SOLVER_CLASSES:
                     found.append(f"{path.relative_to(root.parent)}:{node.lineno} {label}")
     assert not found, found
+
+
+def test_only_the_solver_table_wraps_a_solver_in_the_collision_checker():
+    """``with_collisions`` is the one place that builds the collision-aware solver."""
+    root = Path(kin.__file__).parent
+    table = root / "ik" / "solver_table.py"
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Call):
+                func = node.func
+                name = func.id if isinstance(func, ast.Name) else getattr(func, "attr", "")
+                if name == "CollisionAwareSolver" and path != table:
+                    found.append(f"{path.relative_to(root.parent)}:{node.lineno}")
+    assert not found, found
