@@ -156,11 +156,12 @@ class _Search:
         timeout: float,
     ):
         from ..ik import PoseTarget
+        from ..ik.routing import PARTIAL
         from ..ik.solver_table import with_collisions
 
         self.robot, self.path, self.bound, self.timeout = robot, path, bound, timeout
         self.aware = with_collisions(solver, checker, every=True)
-        partial = path.axes is not None or path.mask is not None
+        partial = solver.route(path.target(0)) is PARTIAL  # components left free
         closed = bool(solver.closed_form_kinds)
         #: Revolute joints turned toward the previous answers (the closed-form rule); the
         #: answers' labels are branches only then (a numeric answer's names its method).

@@ -24,6 +24,7 @@ import numpy.typing as npt
 
 from ..configuration import as_joint_vector
 from ..ik import StructureError
+from ..ik.routing import PARTIAL, SHORT
 from ..ik.solver import IKSolver
 from ..ik.solver_table import FRONT_ENDS, bind_timeout, front_end_solver
 from ..robot_model import RobotModel
@@ -91,7 +92,7 @@ def follow_path(
     if progress is not None:
         progress(0, len(path))  # at once: a numeric first sample may take its whole budget
     closed = bool(solver.closed_form_kinds)
-    if closed or _partial(path, robot.nq):
+    if closed or solver.route(path.target(0)) in (PARTIAL, SHORT):
         # A partial pose (a mask, a free tool axis, a pose on a short arm) is solved per sample
         # from the previous one (kin.ik.partial_pose), every answer verified: the nearest is kept.
         chosen = "closed_form" if closed else "partial"
@@ -132,11 +133,6 @@ def follow_path(
         max_joint_step=measured.max_joint_step,
         max_step_joint=measured.max_step_joint,
     )
-
-
-def _partial(path: CartesianPath, nq: int) -> bool:
-    """Whether the path's samples are partial poses (:func:`kin.ik.targets.target.is_partial`)."""
-    return path.axes is not None or path.mask is not None or (path.rotations is not None and nq < 6)
 
 
 def path_solver(robot: RobotModel, method: Method = "auto") -> IKSolver:
