@@ -2,8 +2,8 @@
 
 Judged apart from the shortcuts under test: the clearance against the checker's own
 ``distance`` (Pinocchio's ``computeDistances`` of every pair), the final check against a path
-through a shape that the search never showed free, and the memory of shown motions against the
-motions put in.
+through a shape that the search never showed free, the memory of shown motions against the
+motions put in, and every motion a real plan puts in against the checker's verdicts along it.
 """
 
 from __future__ import annotations
@@ -85,3 +85,32 @@ def test_a_motion_never_shown_free_is_judged_by_the_final_check(ur5):
     space.shown.add(start, goal)  # the memory is trusted: only the search puts motions there
     status, _ = certified(checker, path, goals, space.budget, answer, space)
     assert status == "ok"
+
+
+def test_every_motion_the_search_marks_shown_is_free_at_every_sampled_point(ur5, monkeypatch):
+    """What makes the final check's trust sound: the rules put only free motions in the memory.
+
+    Every motion a real plan marks shown (the spheres' rule and the exact one, through the cell's
+    wall) is sampled at 200 evenly spaced points and judged by the checker's own batch verdict
+    (coal on every pair): none may collide.
+    """
+    robot, checker = ur5
+    marked: list[tuple[np.ndarray, np.ndarray]] = []
+    add = ShownMotions.add
+
+    def recorded(self, q0, q1):
+        marked.append((np.array(q0, dtype=float), np.array(q1, dtype=float)))
+        add(self, q0, q1)
+
+    monkeypatch.setattr(ShownMotions, "add", recorded)
+    start, goal = (
+        np.array([-1.2, -1.3, 1.4, -1.6, -1.5, 0.0]),
+        np.array([2.0, -1.2, 1.2, -1.6, -1.5, 0.3]),
+    )
+    for seed in range(3):
+        result = plan(robot, start, goal, collisions=checker, seed=seed, time_limit=math.inf)
+        assert result.status == "ok", result.message
+    assert len(marked) > 20, len(marked)  # the search showed many motions free
+    s = np.linspace(0.0, 1.0, 200)[:, None]
+    for q0, q1 in marked:
+        assert not checker.in_collision_batch(q0 + s * (q1 - q0)).any(), (q0, q1)
