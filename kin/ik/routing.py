@@ -72,7 +72,11 @@ KNOWN_KINDS = (PositionTarget, PoseTarget, PitchTarget, AxisTarget)
 
 
 class _ByClass(dict[type, Route]):
-    """The routes of an unmasked target by its class; a class not yet routed by the rule."""
+    """The routes of an unmasked target by its class.
+
+    The known kinds' are made when built; any other class's by the rule when first asked (a
+    user's subclass; a wrong object: ``REFUSED``).
+    """
 
     def __init__(self, rule: Callable[[type], Route], kinds: tuple[type, ...]) -> None:
         super().__init__((kind, rule(kind)) for kind in kinds)
@@ -171,14 +175,14 @@ def numeric_routes(nq: int, kinds: tuple[type, ...]) -> Routes:
     return _routes(kinds, PARTIAL, rule)
 
 
-def own_search_routes(kinds: tuple[type, ...], *, masked: bool = False) -> Routes:
+def own_search_routes(kinds: tuple[type, ...]) -> Routes:
     """The routes of a solver that is one search of its own (Newton-Raphson, the mimic descent).
 
-    ``kinds``: the target classes it takes, each answered by its search; a masked pose too when
-    ``masked``, else refused (as every kind not in ``kinds``).
+    ``kinds``: the target classes it takes, each answered by its search; a masked pose and every
+    other kind refused.
     """
 
     def rule(cls: type) -> Route:
         return NUMERIC if issubclass(cls, kinds) else REFUSED
 
-    return _routes(kinds, NUMERIC if masked else REFUSED, rule)
+    return _routes(kinds, REFUSED, rule)
