@@ -5,7 +5,7 @@ Options: ``python scripts/audit_dh.py --help`` (the same as ``dh2urdf audit --he
 
 from __future__ import annotations
 
-from kin.audit import command
+from kin.commands import audit as command
 
 
 def get_argument_parser() -> command.ArgumentParser:

@@ -6,7 +6,7 @@ truncated, a link length used but not printed. :func:`audit_samples` tries the t
 every single change and every pair of changes (:mod:`kin.audit.readings`) on printed samples
 (:mod:`kin.audit.samples`) and ranks them; :func:`audit_urdf` fits the constant base and tool
 transforms that map each reading's tool onto a reference URDF frame and ranks the residuals.
-The command is ``dh2urdf audit`` (:mod:`kin.audit.command`).
+The command is ``dh2urdf audit`` (:mod:`kin.commands.audit`).
 """
 
 from .audited_table import AuditedTable, load_audited_table

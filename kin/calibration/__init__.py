@@ -9,7 +9,7 @@ the fit (:mod:`~kin.calibration.fit`, :func:`calibrate`), the report
 (:mod:`~kin.calibration.report`), the output files (:mod:`~kin.calibration.outputs`), pose planning
 (:mod:`~kin.calibration.pose_plan`) and synthetic cases with a known truth
 (:mod:`~kin.calibration.synthetic`). The command is ``dh2urdf calibrate``
-(:mod:`kin.calibration.command`).
+(:mod:`kin.commands.calibrate`).
 """
 
 from .calibration import Calibration, calibrate

@@ -2,7 +2,8 @@
 
 ``dh2urdf`` is the lower package and never imports ``kin``; this module, above both, gives
 :func:`dh2urdf.command.main` the subcommands of the two: ``dh2urdf audit`` (:mod:`kin.audit`)
-and ``dh2urdf calibrate`` (:mod:`kin.calibration`) beside dh2urdf's own (``from-urdf``). Each
+and ``dh2urdf calibrate`` (:mod:`kin.calibration`), their commands :mod:`.audit` and
+:mod:`.calibrate`, beside dh2urdf's own (``from-urdf``). Each
 subcommand's module is imported only when it is chosen. The console script ``dh2urdf`` runs
 :func:`console`, as ``python -m kin.commands.dh2urdf_program`` does; ``python -m dh2urdf`` runs
 dh2urdf's own forms alone.
@@ -17,13 +18,13 @@ __all__ = ["SUBCOMMANDS", "console", "main"]
 
 
 def _audit() -> SubcommandMain:
-    from ..audit.command import main
+    from .audit import main
 
     return main
 
 
 def _calibrate() -> SubcommandMain:
-    from ..calibration.command import main
+    from .calibrate import main
 
     return main
 

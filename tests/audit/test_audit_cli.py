@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from kin.audit.command import main
+from kin.commands.audit import main
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data" / "audit"

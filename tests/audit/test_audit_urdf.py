@@ -20,7 +20,7 @@ import pytest
 
 from dh2urdf import ROBOTS, get_robot
 from kin.audit import AuditError, audit_urdf
-from kin.audit.command import main
+from kin.commands.audit import main
 
 TOL = 1e-9
 RZ_PI = np.diag([-1.0, -1.0, 1.0, 1.0])

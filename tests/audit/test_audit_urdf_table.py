@@ -7,7 +7,7 @@ import json
 from support.cli_helper import call
 from support.urdf_reference import ARMS, erd
 
-from kin.audit.command import main
+from kin.commands.audit import main
 
 
 def test_a_urdf_audited_against_itself_is_reproduced_as_written(capsys):

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from dh2urdf.command_line import whole_number
 
 from ..cli import ArgumentParser, positive_float, positive_int, run_guarded
-from ..commands.json_output import dumps
+from .json_output import dumps
 
 if TYPE_CHECKING:
     from dh2urdf import DHTable
@@ -124,7 +124,7 @@ def _check(parser: ArgumentParser, args: argparse.Namespace) -> None:
 
 def _plan(args: argparse.Namespace, table: DHTable) -> int:
     """Print ``--plan-poses`` configurations as CSV (``#`` lines say how they were chosen)."""
-    from .pose_plan import plan_poses
+    from ..calibration.pose_plan import plan_poses
 
     collides = None
     if args.scene:
@@ -170,10 +170,10 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         from dh2urdf.output_file import checked_output, write_text_atomic
 
         from ..audit.audited_table import load_audited_table
-        from .calibration import calibrate
-        from .fit import Noise
-        from .outputs import calibrated_table, calibrated_urdf
-        from .report import calibration_json, calibration_text
+        from ..calibration.calibration import calibrate
+        from ..calibration.fit import Noise
+        from ..calibration.outputs import calibrated_table, calibrated_urdf
+        from ..calibration.report import calibration_json, calibration_text
 
         table = load_audited_table(args.robot, args.base, args.tip).table
         if args.plan_poses is not None:
@@ -205,7 +205,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
                 texts.append((path, calibrated_urdf(found)))
         print(dumps(calibration_json(found)) if args.json else calibration_text(found))
         if args.plot:
-            from .plot import plot_residuals
+            from ..calibration.plot import plot_residuals
 
             plot_residuals(found, args.plot)
         for path, text in texts:

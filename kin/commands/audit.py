@@ -15,7 +15,7 @@ from __future__ import annotations
 from dh2urdf.command_line import whole_number
 
 from ..cli import ArgumentParser, positive_float, positive_int, run_guarded
-from ..commands.json_output import dumps
+from .json_output import dumps
 
 PROG = "dh2urdf audit"
 
@@ -78,10 +78,10 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         parser.error("--base and --tip go with a URDF TABLE (a .urdf or .xacro file)")
 
     def body() -> int:
-        from . import report
-        from .audited_table import load_audited_table
-        from .sample_audit import audit_samples
-        from .urdf_audit import audit_urdf
+        from ..audit import report
+        from ..audit.audited_table import load_audited_table
+        from ..audit.sample_audit import audit_samples
+        from ..audit.urdf_audit import audit_urdf
 
         table = load_audited_table(args.table, args.base, args.tip)
         if args.samples:
