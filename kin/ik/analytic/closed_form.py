@@ -47,7 +47,9 @@ class ClosedFormSolver:
     (:class:`~.closed_form_branches.ClosedFormArm`), the branch verifier
     (:class:`~.branch_verification.BranchVerifier`), a rounded arm's polish
     (:class:`~.idealised_fallback.IdealisedPolish`, None for an exact arm) and the routes of the
-    target kinds its closed form does not take (:class:`~.closed_form_routes.ClosedFormRoutes`).
+    target kinds its closed form does not take (``handlers``:
+    :class:`~.closed_form_routes.ClosedFormRoutes`); which of them answers a target is its
+    ``routes`` (:func:`kin.ik.routing.closed_form_routes`).
 
     Args:
         robot: The loaded robot (its table must fit a registered structure, :mod:`.registry`).

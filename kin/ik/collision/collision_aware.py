@@ -8,7 +8,7 @@ its joint vector; a colliding one moves to :attr:`~kin.ik.IKResult.rejected` wit
 on where the arm has freedom left, bounded by work (the timeout only a cap):
 
 - a target that leaves components free (an axis target, a masked pose: the route
-  :attr:`~kin.ik.routing.PARTIAL`): every roll of the partial-pose sweep
+  :data:`~kin.ik.routing.PARTIAL`): every roll of the partial-pose sweep
   (:meth:`~kin.ik.partial_pose.PartialPoseIK.solve` with ``every_roll=True``);
 - a full pose on a 7R arm with a free-joint closed form: every branch of the all-branches grid
   (:mod:`kin.ik.numeric.all_branches`);
